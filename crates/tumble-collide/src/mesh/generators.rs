@@ -1,0 +1,383 @@
+//! Mesh generators for the standard solids (thesis 6.2, `BodyCreatorUtil`).
+//!
+//! Every generator returns a closed mesh wound counter-clockwise seen from
+//! outside, centred on its bounding box, with the symmetry axis along z.
+//! Curved solids are inscribed polyhedra: their volume converges to the
+//! analytic one from below as the resolution rises. Resolutions below the
+//! smallest sensible value are rejected with a [`GeneratorError`].
+
+use super::{MeshError, TriMesh};
+use crate::math::DVec3;
+use std::collections::HashMap;
+use std::f64::consts::{PI, TAU};
+
+/// Why a generator refused its parameters.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GeneratorError {
+    /// A dimension is not finite and positive.
+    #[error("{shape}: {name} must be finite and > 0, got {value}")]
+    BadDimension {
+        /// Which generator.
+        shape: &'static str,
+        /// Which parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A resolution is below the minimum.
+    #[error("{shape}: {name} must be >= {min}, got {value}")]
+    BadResolution {
+        /// Which generator.
+        shape: &'static str,
+        /// Which parameter.
+        name: &'static str,
+        /// Smallest accepted value.
+        min: usize,
+        /// The value given.
+        value: usize,
+    },
+    /// Geometric constraint between dimensions violated (e.g. torus r >= R).
+    #[error("{shape}: {0}", shape = .1)]
+    Constraint(String, &'static str),
+    /// The produced mesh failed validation (should not happen for valid input).
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+}
+
+fn dim(shape: &'static str, name: &'static str, value: f64) -> Result<(), GeneratorError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(GeneratorError::BadDimension { shape, name, value })
+    }
+}
+
+fn res(shape: &'static str, name: &'static str, value: usize, min: usize) -> Result<(), GeneratorError> {
+    if value >= min && value <= 1 << 20 {
+        Ok(())
+    } else {
+        Err(GeneratorError::BadResolution {
+            shape,
+            name,
+            min,
+            value,
+        })
+    }
+}
+
+/// Box with the given half extents (m): 8 vertices, 12 triangles.
+pub fn box_mesh(half_extents: DVec3) -> Result<TriMesh, GeneratorError> {
+    dim("box", "half_extents.x", half_extents.x)?;
+    dim("box", "half_extents.y", half_extents.y)?;
+    dim("box", "half_extents.z", half_extents.z)?;
+    // Corner i has x = +hx when bit 0 is set, y when bit 1, z when bit 2.
+    let vertices = (0..8)
+        .map(|i| {
+            DVec3::new(
+                if i & 1 != 0 { 1.0 } else { -1.0 },
+                if i & 2 != 0 { 1.0 } else { -1.0 },
+                if i & 4 != 0 { 1.0 } else { -1.0 },
+            ) * half_extents
+        })
+        .collect();
+    let quads: [[u32; 4]; 6] = [
+        [0, 2, 3, 1], // -z
+        [4, 5, 7, 6], // +z
+        [0, 1, 5, 4], // -y
+        [2, 6, 7, 3], // +y
+        [0, 4, 6, 2], // -x
+        [1, 3, 7, 5], // +x
+    ];
+    let triangles = quads
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    Ok(TriMesh::new(vertices, triangles)?)
+}
+
+/// Surface of revolution about z: `rings` are (radius, z) from bottom to top,
+/// closed by optional pole vertices below the first and above the last ring.
+fn revolve(
+    rings: &[(f64, f64)],
+    segments: usize,
+    bottom_pole: Option<f64>,
+    top_pole: Option<f64>,
+) -> Result<TriMesh, MeshError> {
+    let n = segments as u32;
+    let mut vertices = Vec::with_capacity(rings.len() * segments + 2);
+    for &(r, z) in rings {
+        for s in 0..segments {
+            let u = TAU * s as f64 / segments as f64;
+            vertices.push(DVec3::new(r * u.cos(), r * u.sin(), z));
+        }
+    }
+    let ring = |k: usize, s: u32| k as u32 * n + (s % n);
+    let mut triangles = Vec::new();
+    for k in 0..rings.len().saturating_sub(1) {
+        for s in 0..n {
+            let (a, b, c, d) = (ring(k, s), ring(k, s + 1), ring(k + 1, s + 1), ring(k + 1, s));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    if let Some(z) = bottom_pole {
+        let p = vertices.len() as u32;
+        vertices.push(DVec3::new(0.0, 0.0, z));
+        for s in 0..n {
+            triangles.push([p, ring(0, s + 1), ring(0, s)]);
+        }
+    }
+    if let Some(z) = top_pole {
+        let p = vertices.len() as u32;
+        let last = rings.len() - 1;
+        vertices.push(DVec3::new(0.0, 0.0, z));
+        for s in 0..n {
+            triangles.push([p, ring(last, s), ring(last, s + 1)]);
+        }
+    }
+    TriMesh::new(vertices, triangles)
+}
+
+/// UV sphere: `segments` around z (>= 3), `rings` from pole to pole (>= 2).
+pub fn uv_sphere_mesh(radius: f64, segments: usize, rings: usize) -> Result<TriMesh, GeneratorError> {
+    dim("uv_sphere", "radius", radius)?;
+    res("uv_sphere", "segments", segments, 3)?;
+    res("uv_sphere", "rings", rings, 2)?;
+    let profile: Vec<(f64, f64)> = (1..rings)
+        .map(|k| {
+            let phi = -PI / 2.0 + PI * k as f64 / rings as f64;
+            (radius * phi.cos(), radius * phi.sin())
+        })
+        .collect();
+    Ok(revolve(&profile, segments, Some(-radius), Some(radius))?)
+}
+
+/// Geodesic sphere: an icosahedron subdivided `subdivisions` times
+/// (20 * 4^s triangles), vertices projected onto the sphere.
+pub fn icosphere_mesh(radius: f64, subdivisions: usize) -> Result<TriMesh, GeneratorError> {
+    dim("icosphere", "radius", radius)?;
+    if subdivisions > 8 {
+        return Err(GeneratorError::BadResolution {
+            shape: "icosphere",
+            name: "subdivisions (at most 8)",
+            min: 0,
+            value: subdivisions,
+        });
+    }
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut vertices: Vec<DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut triangles: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        // Lookup only (never iterated), so the HashMap keeps output deterministic.
+        let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut mid = |a: u32, b: u32, vertices: &mut Vec<DVec3>| -> u32 {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                vertices.push(((vertices[a as usize] + vertices[b as usize]) * 0.5).normalize());
+                vertices.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(triangles.len() * 4);
+        for &[a, b, c] in &triangles {
+            let ab = mid(a, b, &mut vertices);
+            let bc = mid(b, c, &mut vertices);
+            let ca = mid(c, a, &mut vertices);
+            next.extend_from_slice(&[[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        triangles = next;
+    }
+    for v in &mut vertices {
+        *v *= radius;
+    }
+    Ok(TriMesh::new(vertices, triangles)?)
+}
+
+/// Cylinder of `radius` from z = -half_height to +half_height, capped.
+pub fn cylinder_mesh(radius: f64, half_height: f64, segments: usize) -> Result<TriMesh, GeneratorError> {
+    dim("cylinder", "radius", radius)?;
+    dim("cylinder", "half_height", half_height)?;
+    res("cylinder", "segments", segments, 3)?;
+    Ok(revolve(
+        &[(radius, -half_height), (radius, half_height)],
+        segments,
+        Some(-half_height),
+        Some(half_height),
+    )?)
+}
+
+/// Capsule: a cylinder of `radius` and `half_height` with hemispherical caps;
+/// `rings` latitude bands per hemisphere (>= 1).
+pub fn capsule_mesh(
+    radius: f64,
+    half_height: f64,
+    segments: usize,
+    rings: usize,
+) -> Result<TriMesh, GeneratorError> {
+    dim("capsule", "radius", radius)?;
+    if !(half_height.is_finite() && half_height >= 0.0) {
+        return Err(GeneratorError::BadDimension {
+            shape: "capsule",
+            name: "half_height",
+            value: half_height,
+        });
+    }
+    res("capsule", "segments", segments, 3)?;
+    res("capsule", "rings", rings, 1)?;
+    let mut profile = Vec::new();
+    for k in 1..=rings {
+        let phi = -PI / 2.0 + PI / 2.0 * k as f64 / rings as f64;
+        profile.push((radius * phi.cos(), -half_height + radius * phi.sin()));
+    }
+    let start = if half_height > 0.0 { 0 } else { 1 };
+    for k in start..rings {
+        let phi = PI / 2.0 * k as f64 / rings as f64;
+        profile.push((radius * phi.cos(), half_height + radius * phi.sin()));
+    }
+    Ok(revolve(
+        &profile,
+        segments,
+        Some(-half_height - radius),
+        Some(half_height + radius),
+    )?)
+}
+
+/// Cone of base `radius` and `height`; base at z = -height/2, apex at +height/2.
+pub fn cone_mesh(radius: f64, height: f64, segments: usize) -> Result<TriMesh, GeneratorError> {
+    dim("cone", "radius", radius)?;
+    dim("cone", "height", height)?;
+    res("cone", "segments", segments, 3)?;
+    Ok(revolve(
+        &[(radius, -height / 2.0)],
+        segments,
+        Some(-height / 2.0),
+        Some(height / 2.0),
+    )?)
+}
+
+/// Torus around z with major radius `major` (R) and tube radius `minor` (r),
+/// laid out exactly as `torus_mesh` in shared/scenes.md: vertex (i, j) has index
+/// `i * n_minor + j`; triangles `2 (i n_minor + j)` = [a, b, c] and `+1` = [a, c, d].
+/// At 50 x 50 it has the thesis' 2,500 vertices and 5,000 triangles.
+pub fn torus_mesh(major: f64, minor: f64, n_major: usize, n_minor: usize) -> Result<TriMesh, GeneratorError> {
+    dim("torus", "major radius R", major)?;
+    dim("torus", "minor radius r", minor)?;
+    res("torus", "n_major", n_major, 3)?;
+    res("torus", "n_minor", n_minor, 3)?;
+    if minor >= major {
+        return Err(GeneratorError::Constraint(
+            format!(
+                "minor radius r = {minor} must be < major radius R = {major} (self-intersecting otherwise)"
+            ),
+            "torus",
+        ));
+    }
+    let mut vertices = Vec::with_capacity(n_major * n_minor);
+    for i in 0..n_major {
+        let u = TAU * i as f64 / n_major as f64;
+        for j in 0..n_minor {
+            let v = TAU * j as f64 / n_minor as f64;
+            let rho = major + minor * v.cos();
+            vertices.push(DVec3::new(rho * u.cos(), rho * u.sin(), minor * v.sin()));
+        }
+    }
+    let mut triangles = Vec::with_capacity(2 * n_major * n_minor);
+    for i in 0..n_major {
+        let i1 = (i + 1) % n_major;
+        for j in 0..n_minor {
+            let j1 = (j + 1) % n_minor;
+            let a = (i * n_minor + j) as u32;
+            let b = (i1 * n_minor + j) as u32;
+            let c = (i1 * n_minor + j1) as u32;
+            let d = (i * n_minor + j1) as u32;
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    Ok(TriMesh::new(vertices, triangles)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all() -> Vec<(&'static str, TriMesh)> {
+        vec![
+            ("box", box_mesh(DVec3::new(1.0, 2.0, 3.0)).unwrap()),
+            ("uv_sphere", uv_sphere_mesh(1.0, 16, 8).unwrap()),
+            ("icosphere", icosphere_mesh(1.0, 2).unwrap()),
+            ("cylinder", cylinder_mesh(0.5, 1.0, 12).unwrap()),
+            ("capsule", capsule_mesh(0.5, 1.0, 12, 4).unwrap()),
+            ("capsule0", capsule_mesh(0.5, 0.0, 12, 4).unwrap()),
+            ("cone", cone_mesh(0.5, 2.0, 12).unwrap()),
+            ("torus", torus_mesh(1.0, 0.3, 50, 50).unwrap()),
+        ]
+    }
+
+    #[test]
+    fn every_generator_makes_a_closed_outward_solid() {
+        for (name, m) in all() {
+            m.check_solid().unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(
+                m.degenerate_triangles(1e-9).is_empty(),
+                "{name} has degenerate triangles"
+            );
+        }
+    }
+
+    #[test]
+    fn torus_matches_thesis_size_and_layout() {
+        let m = torus_mesh(1.0, 0.3, 50, 50).unwrap();
+        assert_eq!(m.vertices().len(), 2500);
+        assert_eq!(m.triangles().len(), 5000);
+        // Vertex (i=1, j=0) sits at u = 2 pi / 50, v = 0.
+        let u = TAU / 50.0;
+        assert!((m.vertices()[50] - DVec3::new(1.3 * u.cos(), 1.3 * u.sin(), 0.0)).length() < 1e-15);
+        assert_eq!(m.triangles()[0], [0, 50, 51]);
+        assert_eq!(m.triangles()[1], [0, 51, 1]);
+    }
+
+    #[test]
+    fn bad_parameters_are_rejected() {
+        assert!(box_mesh(DVec3::new(1.0, -1.0, 1.0)).is_err());
+        assert!(uv_sphere_mesh(f64::NAN, 8, 8).is_err());
+        assert!(cylinder_mesh(1.0, 1.0, 2).is_err());
+        assert!(torus_mesh(1.0, 1.5, 8, 8).is_err());
+        assert!(icosphere_mesh(1.0, 30).is_err());
+    }
+}

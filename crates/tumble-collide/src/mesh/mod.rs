@@ -1,0 +1,16 @@
+//! Triangle meshes: the validated [`TriMesh`] type, its topology checks,
+//! generators for the standard solids and loaders for OBJ and STL files
+//! (thesis 6.2, `BodyCreatorUtil`).
+
+mod generators;
+mod load;
+mod topology;
+mod trimesh;
+
+pub use generators::{
+    box_mesh, capsule_mesh, cone_mesh, cylinder_mesh, icosphere_mesh, torus_mesh, uv_sphere_mesh,
+    GeneratorError,
+};
+pub use load::{load_mesh, load_obj, load_stl, LoadError};
+pub use topology::{EdgeReport, Topology};
+pub use trimesh::{MeshError, TriMesh};

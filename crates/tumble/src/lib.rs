@@ -1,0 +1,8 @@
+//! # tumble
+//!
+//! Rigid body dynamics with exact triangle-mesh contact, built on
+//! [`tumble_collide`].
+
+#![warn(missing_docs)]
+
+pub use tumble_collide as collide;

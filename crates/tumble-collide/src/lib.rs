@@ -7,13 +7,18 @@
 //! - [`math`]: glam f64 types and the helpers glam lacks (symmetric eigen, skew).
 //! - [`pose`]: validated rigid poses.
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
+//! - [`contact`]: the contact record shared by every narrow-phase routine.
+//! - [`hull`]: convex hulls of point sets.
 
 #![warn(missing_docs)]
 
+pub mod contact;
+pub mod hull;
 pub mod math;
 pub mod mesh;
 pub mod pose;
 
+pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;
 pub use pose::{Pose, PoseError};

@@ -74,6 +74,7 @@ pub fn symmetrize(m: &DMat3) -> DMat3 {
 /// working precision even for clustered eigenvalues (an analytic cubic solve
 /// loses digits when two moments of inertia nearly coincide, which is the
 /// common case for symmetric bodies).
+#[allow(clippy::needless_range_loop)] // index form mirrors the textbook algorithm
 pub fn sym_eigen(m: &DMat3) -> (DVec3, DMat3) {
     let s = symmetrize(m);
     // a[row][col]

@@ -73,7 +73,7 @@ impl Pose {
     /// Like [`Pose::new`] but any non-zero finite quaternion is normalised.
     pub fn new_normalized(position: DVec3, rotation: DQuat) -> Result<Pose, PoseError> {
         let length = rotation.length();
-        if !(length > 1e-12) || !length.is_finite() {
+        if length.is_nan() || length <= 1e-12 || !length.is_finite() {
             if !rotation.is_finite() {
                 return Err(PoseError::NonFiniteRotation(rotation));
             }

@@ -257,7 +257,7 @@ impl TriMesh {
     pub fn check_solid(&self) -> Result<(), MeshError> {
         crate::mesh::Topology::new(self).check_closed()?;
         let volume = self.signed_volume();
-        if !(volume > 0.0) {
+        if volume.is_nan() || volume <= 0.0 {
             return Err(MeshError::NonPositiveVolume { volume });
         }
         Ok(())

@@ -1,0 +1,139 @@
+//! Generational handles: `BodyId` = slot index + generation, so that a handle
+//! to a removed body is detected as stale instead of silently addressing the
+//! body that reused its slot (as in Box2D's ids and Rapier's arenas).
+
+use serde::{Deserialize, Serialize};
+
+/// Handle of a body in a [`World`](crate::world::World).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct BodyId {
+    /// Slot index.
+    pub index: u32,
+    /// Generation of the slot when the handle was issued.
+    pub generation: u32,
+}
+
+/// A slot arena with generational handles; iteration is in slot order, so it
+/// is deterministic.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Arena<T> {
+    slots: Vec<Slot<T>>,
+    free: Vec<u32>,
+    len: usize,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Slot<T> {
+    generation: u32,
+    value: Option<T>,
+}
+
+impl<T> Arena<T> {
+    /// An empty arena.
+    pub fn new() -> Self {
+        Arena {
+            slots: Vec::new(),
+            free: Vec::new(),
+            len: 0,
+        }
+    }
+
+    /// Number of live values.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// `true` when there are no live values.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Stores `value`, reusing the most recently freed slot.
+    pub fn insert(&mut self, value: T) -> BodyId {
+        self.len += 1;
+        if let Some(index) = self.free.pop() {
+            let slot = &mut self.slots[index as usize];
+            slot.value = Some(value);
+            BodyId {
+                index,
+                generation: slot.generation,
+            }
+        } else {
+            self.slots.push(Slot {
+                generation: 0,
+                value: Some(value),
+            });
+            BodyId {
+                index: self.slots.len() as u32 - 1,
+                generation: 0,
+            }
+        }
+    }
+
+    /// Removes and returns the value, or `None` if the handle is stale.
+    pub fn remove(&mut self, id: BodyId) -> Option<T> {
+        let slot = self.slots.get_mut(id.index as usize)?;
+        if slot.generation != id.generation || slot.value.is_none() {
+            return None;
+        }
+        slot.generation = slot.generation.wrapping_add(1);
+        self.free.push(id.index);
+        self.len -= 1;
+        slot.value.take()
+    }
+
+    /// The value, or `None` if the handle is stale.
+    pub fn get(&self, id: BodyId) -> Option<&T> {
+        let slot = self.slots.get(id.index as usize)?;
+        if slot.generation != id.generation {
+            return None;
+        }
+        slot.value.as_ref()
+    }
+
+    /// Mutable access, or `None` if the handle is stale.
+    pub fn get_mut(&mut self, id: BodyId) -> Option<&mut T> {
+        let slot = self.slots.get_mut(id.index as usize)?;
+        if slot.generation != id.generation {
+            return None;
+        }
+        slot.value.as_mut()
+    }
+
+    /// Live values with their handles, in slot order.
+    pub fn iter(&self) -> impl Iterator<Item = (BodyId, &T)> {
+        self.slots.iter().enumerate().filter_map(|(i, s)| {
+            s.value.as_ref().map(|v| {
+                (
+                    BodyId {
+                        index: i as u32,
+                        generation: s.generation,
+                    },
+                    v,
+                )
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stale_handles_are_detected() {
+        let mut a = Arena::new();
+        let x = a.insert(1);
+        let y = a.insert(2);
+        assert_eq!(a.remove(x), Some(1));
+        assert_eq!(a.remove(x), None, "removing twice");
+        let z = a.insert(3);
+        assert_eq!(z.index, x.index, "slot reused");
+        assert_eq!(a.get(x), None, "stale handle to a reused slot");
+        assert_eq!(a.get(z), Some(&3));
+        assert_eq!(a.get(y), Some(&2));
+        assert_eq!(a.len(), 2);
+        let order: Vec<i32> = a.iter().map(|(_, &v)| v).collect();
+        assert_eq!(order, vec![3, 2]);
+    }
+}

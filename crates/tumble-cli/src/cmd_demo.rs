@@ -51,7 +51,11 @@ fn elliptic_k(m: f64) -> f64 {
 fn analytic_period(i: DVec3, w: DVec3) -> f64 {
     let two_e = i.x * w.x * w.x + i.y * w.y * w.y + i.z * w.z * w.z;
     let l2 = (i * w).length_squared();
-    let (i1, i2, i3) = if l2 > two_e * i.y { (i.x, i.y, i.z) } else { (i.z, i.y, i.x) };
+    let (i1, i2, i3) = if l2 > two_e * i.y {
+        (i.x, i.y, i.z)
+    } else {
+        (i.z, i.y, i.x)
+    };
     let lam2 = (i3 - i2) * (l2 - two_e * i1) / (i1 * i2 * i3);
     let k2 = (i2 - i1) * (two_e * i3 - l2) / ((i3 - i2) * (l2 - two_e * i1));
     4.0 * elliptic_k(k2) / lam2.sqrt()
@@ -91,7 +95,11 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Input(format!("{}: cannot write: {e}", tmp.display())))?;
     let mut csv = std::io::BufWriter::new(file);
     let io = |e: std::io::Error| CliError::Internal(e.to_string());
-    writeln!(csv, "t,x,y,z,qx,qy,qz,qw,wx,wy,wz,w1_body,w2_body,w3_body,kinetic_energy,angular_momentum").map_err(io)?;
+    writeln!(
+        csv,
+        "t,x,y,z,qx,qy,qz,qw,wx,wy,wz,w1_body,w2_body,w3_body,kinetic_energy,angular_momentum"
+    )
+    .map_err(io)?;
 
     let steps = (args.duration / args.dt).round() as usize;
     let bar = if args.quiet {
@@ -99,7 +107,9 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     } else {
         ProgressBar::new(steps as u64)
     };
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed}").expect("static template"));
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} steps {elapsed}").expect("static template"),
+    );
     let mut bodies = [body];
     let mut crossings = Vec::new();
     let mut last_w2 = 0.0f64;
@@ -120,7 +130,19 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             writeln!(
                 csv,
                 "{t:.6},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                x.x, x.y, x.z, q.x, q.y, q.z, q.w, w.x, w.y, w.z, wb.x, wb.y, wb.z,
+                x.x,
+                x.y,
+                x.z,
+                q.x,
+                q.y,
+                q.z,
+                q.w,
+                w.x,
+                w.y,
+                w.z,
+                wb.x,
+                wb.y,
+                wb.z,
                 b.kinetic_energy(),
                 b.angular_momentum().length()
             )
@@ -137,9 +159,14 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     std::fs::rename(&tmp, &path).map_err(io)?;
 
     let b = &bodies[0];
-    println!("Dzhanibekov T-handle: mass {:.4} kg, principal moments {:.4e} {:.4e} {:.4e} kg m^2",
-        frame.mass, frame.moments.x, frame.moments.y, frame.moments.z);
-    println!("simulated {:.1} s in {steps} RK4 steps of {} s", args.duration, args.dt);
+    println!(
+        "Dzhanibekov T-handle: mass {:.4} kg, principal moments {:.4e} {:.4e} {:.4e} kg m^2",
+        frame.mass, frame.moments.x, frame.moments.y, frame.moments.z
+    );
+    println!(
+        "simulated {:.1} s in {steps} RK4 steps of {} s",
+        args.duration, args.dt
+    );
     if crossings.len() >= 2 {
         let measured = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
         println!(

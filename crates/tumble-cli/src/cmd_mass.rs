@@ -66,7 +66,12 @@ pub fn run(args: &MassArgs) -> Result<(), CliError> {
         println!("{text}");
     } else {
         let v = |a: [f64; 3]| format!("{:>14.8} {:>14.8} {:>14.8}", a[0], a[1], a[2]);
-        println!("mesh:              {} ({} vertices, {} triangles)", args.mesh, mesh.vertices().len(), mesh.triangles().len());
+        println!(
+            "mesh:              {} ({} vertices, {} triangles)",
+            args.mesh,
+            mesh.vertices().len(),
+            mesh.triangles().len()
+        );
         println!("volume (m^3):      {:.10}", report.volume);
         println!("mass (kg):         {:.10}", report.mass);
         println!("centre of mass (m):{}", v(report.com));

@@ -12,13 +12,18 @@ cylinder:r=,h=,n= | capsule:r=,h=,n= | cone:r=,h=,n= | torus:R=,r=,n= (or nu=,nv
 /// Loads a mesh from a file path or builds it from a generator spec.
 pub fn parse_mesh_arg(arg: &str) -> Result<TriMesh, String> {
     match arg.split_once(':') {
-        Some((name, params)) if is_generator(name) => generate(name, params).map_err(|e| format!("{arg}: {e}")),
+        Some((name, params)) if is_generator(name) => {
+            generate(name, params).map_err(|e| format!("{arg}: {e}"))
+        }
         _ => mesh::load_mesh(arg).map_err(|e| e.to_string()),
     }
 }
 
 fn is_generator(name: &str) -> bool {
-    matches!(name, "box" | "sphere" | "icosphere" | "cylinder" | "capsule" | "cone" | "torus")
+    matches!(
+        name,
+        "box" | "sphere" | "icosphere" | "cylinder" | "capsule" | "cone" | "torus"
+    )
 }
 
 struct Params<'a> {
@@ -34,7 +39,10 @@ impl<'a> Params<'a> {
                 .ok_or_else(|| format!("expected key=value, got '{item}'"))?;
             let k = k.trim();
             if !allowed.contains(&k) {
-                return Err(format!("unknown parameter '{k}' (expected one of {})", allowed.join(", ")));
+                return Err(format!(
+                    "unknown parameter '{k}' (expected one of {})",
+                    allowed.join(", ")
+                ));
             }
             if map.insert(k, v.trim()).is_some() {
                 return Err(format!("parameter '{k}' given twice"));
@@ -67,8 +75,12 @@ fn generate(name: &str, params: &str) -> Result<TriMesh, String> {
     match name {
         "box" => {
             let p = Params::parse(params, &["hx", "hy", "hz"])?;
-            mesh::box_mesh(DVec3::new(p.f64_or("hx", 0.5)?, p.f64_or("hy", 0.5)?, p.f64_or("hz", 0.5)?))
-                .map_err(e)
+            mesh::box_mesh(DVec3::new(
+                p.f64_or("hx", 0.5)?,
+                p.f64_or("hy", 0.5)?,
+                p.f64_or("hz", 0.5)?,
+            ))
+            .map_err(e)
         }
         "sphere" => {
             let p = Params::parse(params, &["r", "n"])?;
@@ -113,11 +125,21 @@ mod tests {
 
     #[test]
     fn generator_specs() {
-        assert_eq!(parse_mesh_arg("torus:R=1,r=0.3,n=50").unwrap().triangles().len(), 5000);
-        assert_eq!(parse_mesh_arg("box:hx=1,hy=2,hz=3").unwrap().triangles().len(), 12);
-        assert!(parse_mesh_arg("torus:R=1,q=2").unwrap_err().contains("unknown parameter 'q'"));
+        assert_eq!(
+            parse_mesh_arg("torus:R=1,r=0.3,n=50").unwrap().triangles().len(),
+            5000
+        );
+        assert_eq!(
+            parse_mesh_arg("box:hx=1,hy=2,hz=3").unwrap().triangles().len(),
+            12
+        );
+        assert!(parse_mesh_arg("torus:R=1,q=2")
+            .unwrap_err()
+            .contains("unknown parameter 'q'"));
         assert!(parse_mesh_arg("box:hx=-1").is_err());
-        assert!(parse_mesh_arg("box:hx=abc").unwrap_err().contains("must be a number"));
+        assert!(parse_mesh_arg("box:hx=abc")
+            .unwrap_err()
+            .contains("must be a number"));
         assert!(parse_mesh_arg("/no/such/file.obj").is_err());
     }
 }

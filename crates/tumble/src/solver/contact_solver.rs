@@ -1,0 +1,535 @@
+//! Sub-stepped soft contact solver: non-penetration, Coulomb friction and
+//! restitution by sequential impulses (projected Gauss-Seidel on the contact
+//! LCP of thesis 7.2), after E. Catto's "soft step" (Solver2D 2024, Box2D v3).
+//!
+//! One step of `dt` is split into `n` sub-steps of `h = dt / n`. The contact
+//! points, normals and effective masses are computed once per step; within
+//! each sub-step the separation of every point is updated from the bodies'
+//! motion since the start of the step (`s = s0 + n . (dA - dB)` with `d` the
+//! displacement of each anchor), so the narrow phase runs once per step while
+//! the solver sees the contact close and open. Per sub-step:
+//!
+//! 1. integrate velocities (gravity, forces),
+//! 2. warm start: apply the impulses accumulated so far,
+//! 3. solve with bias (soft push-out of overlap, speculative gap closing),
+//! 4. integrate positions,
+//! 5. relax: solve without the push-out bias, removing the velocity the bias
+//!    added so that resting contacts do not gain energy.
+//!
+//! After the last sub-step, restitution (Newton's law `v_n+ = -e v_n-`, thesis
+//! 7.1) is applied once to points that were approaching faster than the
+//! threshold. Normals point from B to A; an impulse `lambda n` acts on A and
+//! `-lambda n` on B.
+//!
+//! Sign conventions: `v_n = n . (v_A + w_A x r_A - v_B - w_B x r_B)` is the
+//! separating speed; the accumulated normal impulse stays >= 0 (the LCP's
+//! z >= 0); friction impulses are clamped to the Coulomb cone of radius
+//! `mu * normal impulse`.
+
+use super::soft::Softness;
+use tumble_collide::{DMat3, DQuat, DVec3};
+
+/// Per-body solver state (a contiguous array; static bodies have zero inverse
+/// mass and inertia and never change).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverBody {
+    /// Linear velocity (m/s).
+    pub v: DVec3,
+    /// Angular velocity, world frame (rad/s).
+    pub w: DVec3,
+    /// Inverse mass (1/kg); 0 for static and kinematic bodies.
+    pub inv_mass: f64,
+    /// Inverse principal inertia in the body frame (1/(kg m^2)).
+    pub inv_inertia_body: DVec3,
+    /// Inverse inertia in the world frame for the current orientation.
+    pub inv_inertia: DMat3,
+    /// Orientation (body to world).
+    pub q: DQuat,
+    /// Displacement of the centre of mass since the start of the step (m).
+    pub dp: DVec3,
+    /// `true` for dynamic bodies (integrated and pushed by impulses).
+    pub dynamic: bool,
+}
+
+impl SolverBody {
+    /// World-frame inverse inertia `R diag(I^-1) R^T`.
+    pub fn world_inverse_inertia(q: DQuat, inv_inertia_body: DVec3) -> DMat3 {
+        let r = DMat3::from_quat(q);
+        r * DMat3::from_diagonal(inv_inertia_body) * r.transpose()
+    }
+
+    #[inline]
+    fn velocity_at(&self, r: DVec3) -> DVec3 {
+        self.v + self.w.cross(r)
+    }
+
+    #[inline]
+    fn apply_impulse(&mut self, impulse: DVec3, r: DVec3) {
+        self.v += impulse * self.inv_mass;
+        self.w += self.inv_inertia * r.cross(impulse);
+    }
+}
+
+/// One contact point prepared for the solver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactConstraint {
+    /// Index of body A in the solver body array.
+    pub a: u32,
+    /// Index of body B.
+    pub b: u32,
+    /// Unit normal from B to A.
+    pub normal: DVec3,
+    /// Two unit tangents completing a right-handed frame with the normal.
+    pub tangents: [DVec3; 2],
+    /// Anchor relative to A's centre of mass, A's body frame.
+    pub local_a: DVec3,
+    /// Anchor relative to B's centre of mass, B's body frame.
+    pub local_b: DVec3,
+    /// Anchor relative to A's centre of mass at the step start, world frame.
+    pub r_a: DVec3,
+    /// Anchor relative to B's centre of mass at the step start, world frame.
+    pub r_b: DVec3,
+    /// Signed separation at the start of the step (m), < 0 when overlapping.
+    pub separation: f64,
+    /// Effective mass along the normal (kg): 1 / (thesis 7.1 denominator).
+    pub normal_mass: f64,
+    /// Effective masses along the tangents (kg).
+    pub tangent_mass: [f64; 2],
+    /// Coulomb friction coefficient of the pair.
+    pub friction: f64,
+    /// Restitution coefficient of the pair.
+    pub restitution: f64,
+    /// Normal velocity before the solve (m/s), for restitution.
+    pub approach_speed: f64,
+    /// Accumulated normal impulse (N s), warm-started across steps.
+    pub normal_impulse: f64,
+    /// Accumulated tangent impulses (N s), warm-started across steps.
+    pub tangent_impulse: [f64; 2],
+    /// Largest normal impulse seen during the step (N s).
+    pub max_normal_impulse: f64,
+}
+
+/// Two unit tangents orthogonal to the unit `n`, right-handed (t1 x t2 = n).
+pub fn tangent_basis(n: DVec3) -> [DVec3; 2] {
+    // Pick the axis least aligned with n (Frisvad/Duff-style branch-free basis
+    // would also do; this one is deterministic and well conditioned).
+    let t1 = if n.x.abs() < 0.57735 {
+        DVec3::new(0.0, n.z, -n.y)
+    } else {
+        DVec3::new(n.y, -n.x, 0.0)
+    }
+    .normalize();
+    [t1, n.cross(t1)]
+}
+
+/// Inverse effective mass of an impulse along `dir` at anchors `ra`, `rb`:
+/// `1/Ma + 1/Mb + dir . (Ia^-1 (ra x dir)) x ra + dir . (Ib^-1 (rb x dir)) x rb`
+/// (thesis 7.1).
+pub fn inverse_effective_mass(a: &SolverBody, b: &SolverBody, ra: DVec3, rb: DVec3, dir: DVec3) -> f64 {
+    let rna = ra.cross(dir);
+    let rnb = rb.cross(dir);
+    a.inv_mass + b.inv_mass + rna.dot(a.inv_inertia * rna) + rnb.dot(b.inv_inertia * rnb)
+}
+
+/// Settings the solver reads (a subset of the world settings).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverParams {
+    /// Contact softness for the sub-step.
+    pub softness: Softness,
+    /// Overlap left uncorrected (m).
+    pub allowed_penetration: f64,
+    /// Largest push-out speed (m/s).
+    pub max_push_out_speed: f64,
+    /// Approach speed below which restitution is ignored (m/s).
+    pub restitution_threshold: f64,
+}
+
+/// Fills the derived fields of a constraint (tangents, world anchors,
+/// effective masses, approach speed) from the bodies at the step start.
+pub fn prepare(c: &mut ContactConstraint, bodies: &[SolverBody]) {
+    let a = &bodies[c.a as usize];
+    let b = &bodies[c.b as usize];
+    c.tangents = tangent_basis(c.normal);
+    c.r_a = a.q * c.local_a;
+    c.r_b = b.q * c.local_b;
+    let k = inverse_effective_mass(a, b, c.r_a, c.r_b, c.normal);
+    c.normal_mass = if k > 0.0 { 1.0 / k } else { 0.0 };
+    for i in 0..2 {
+        let k = inverse_effective_mass(a, b, c.r_a, c.r_b, c.tangents[i]);
+        c.tangent_mass[i] = if k > 0.0 { 1.0 / k } else { 0.0 };
+    }
+    c.approach_speed = c.normal.dot(a.velocity_at(c.r_a) - b.velocity_at(c.r_b));
+    c.max_normal_impulse = 0.0;
+}
+
+#[inline]
+fn pair(bodies: &mut [SolverBody], a: u32, b: u32) -> (SolverBody, SolverBody) {
+    (bodies[a as usize], bodies[b as usize])
+}
+
+#[inline]
+fn store(bodies: &mut [SolverBody], c: &ContactConstraint, ba: SolverBody, bb: SolverBody) {
+    if ba.dynamic {
+        bodies[c.a as usize] = ba;
+    }
+    if bb.dynamic {
+        bodies[c.b as usize] = bb;
+    }
+}
+
+/// Applies the accumulated impulses (warm start).
+pub fn warm_start(constraints: &[ContactConstraint], bodies: &mut [SolverBody]) {
+    for c in constraints {
+        let (mut ba, mut bb) = pair(bodies, c.a, c.b);
+        let ra = ba.q * c.local_a;
+        let rb = bb.q * c.local_b;
+        let p = c.normal * c.normal_impulse
+            + c.tangents[0] * c.tangent_impulse[0]
+            + c.tangents[1] * c.tangent_impulse[1];
+        ba.apply_impulse(p, ra);
+        bb.apply_impulse(-p, rb);
+        store(bodies, c, ba, bb);
+    }
+}
+
+/// One Gauss-Seidel pass over all contact points. With `use_bias`, overlap is
+/// pushed out softly; without it (relaxation) only the speculative gap is
+/// honoured. `h` is the sub-step (s).
+pub fn solve(
+    constraints: &mut [ContactConstraint],
+    bodies: &mut [SolverBody],
+    params: &SolverParams,
+    h: f64,
+    use_bias: bool,
+) {
+    let inv_h = 1.0 / h;
+    for c in constraints.iter_mut() {
+        let (mut ba, mut bb) = pair(bodies, c.a, c.b);
+        let ra = ba.q * c.local_a;
+        let rb = bb.q * c.local_b;
+        // s = s0 + n . ((dpA + rA(t) - rA0) - (dpB + rB(t) - rB0))
+        let d = (ba.dp + ra - c.r_a) - (bb.dp + rb - c.r_b);
+        let s = c.separation + c.normal.dot(d);
+
+        let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+            // Speculative: the gap may close within this sub-step, not more.
+            (s * inv_h, 1.0, 0.0)
+        } else if use_bias {
+            let sp = (s + params.allowed_penetration).min(0.0);
+            (
+                (params.softness.bias_rate * sp).max(-params.max_push_out_speed),
+                params.softness.mass_scale,
+                params.softness.impulse_scale,
+            )
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+
+        // Normal: the LCP row  v_n + bias >= 0, lambda >= 0, complementary.
+        let vn = c.normal.dot(ba.velocity_at(ra) - bb.velocity_at(rb));
+        let delta = -c.normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
+        let new_impulse = (c.normal_impulse + delta).max(0.0);
+        let applied = new_impulse - c.normal_impulse;
+        c.normal_impulse = new_impulse;
+        c.max_normal_impulse = c.max_normal_impulse.max(new_impulse);
+        let p = c.normal * applied;
+        ba.apply_impulse(p, ra);
+        bb.apply_impulse(-p, rb);
+
+        // Friction: Coulomb cone |lambda_t| <= mu lambda_n, solved per tangent
+        // then projected onto the disc (isotropic, unlike the pyramid).
+        let limit = c.friction * c.normal_impulse;
+        let dv = ba.velocity_at(ra) - bb.velocity_at(rb);
+        let old = c.tangent_impulse;
+        let mut t = [
+            old[0] - c.tangent_mass[0] * c.tangents[0].dot(dv),
+            old[1] - c.tangent_mass[1] * c.tangents[1].dot(dv),
+        ];
+        let len2 = t[0] * t[0] + t[1] * t[1];
+        if len2 > limit * limit {
+            let scale = limit / len2.sqrt();
+            t = [t[0] * scale, t[1] * scale];
+        }
+        c.tangent_impulse = t;
+        let p = c.tangents[0] * (t[0] - old[0]) + c.tangents[1] * (t[1] - old[1]);
+        ba.apply_impulse(p, ra);
+        bb.apply_impulse(-p, rb);
+        store(bodies, c, ba, bb);
+    }
+}
+
+/// Newton's restitution law on points that approached faster than the
+/// threshold and carried an impulse: drive `v_n` towards `-e v_n(before)`.
+pub fn apply_restitution(
+    constraints: &mut [ContactConstraint],
+    bodies: &mut [SolverBody],
+    params: &SolverParams,
+) {
+    for c in constraints.iter_mut() {
+        if c.restitution == 0.0
+            || c.approach_speed > -params.restitution_threshold
+            || c.max_normal_impulse == 0.0
+        {
+            continue;
+        }
+        let (mut ba, mut bb) = pair(bodies, c.a, c.b);
+        let ra = ba.q * c.local_a;
+        let rb = bb.q * c.local_b;
+        let vn = c.normal.dot(ba.velocity_at(ra) - bb.velocity_at(rb));
+        let delta = -c.normal_mass * (vn + c.restitution * c.approach_speed);
+        let new_impulse = (c.normal_impulse + delta).max(0.0);
+        let applied = new_impulse - c.normal_impulse;
+        c.normal_impulse = new_impulse;
+        let p = c.normal * applied;
+        ba.apply_impulse(p, ra);
+        bb.apply_impulse(-p, rb);
+        store(bodies, c, ba, bb);
+    }
+}
+
+/// Advances orientation and displacement of dynamic bodies by one sub-step
+/// with their current velocities (semi-implicit Euler), keeping angular
+/// momentum: `L = I(t) w` is carried across the rotation, so a free body
+/// precesses correctly (gyroscopic effect) instead of keeping `w` fixed.
+pub fn integrate_positions(bodies: &mut [SolverBody], h: f64) {
+    for b in bodies.iter_mut().filter(|b| b.dynamic) {
+        let r_old = DMat3::from_quat(b.q);
+        let inertia_body = DVec3::new(
+            recip_or_zero(b.inv_inertia_body.x),
+            recip_or_zero(b.inv_inertia_body.y),
+            recip_or_zero(b.inv_inertia_body.z),
+        );
+        let l = r_old * (inertia_body * (r_old.transpose() * b.w));
+        b.dp += b.v * h;
+        let dq = tumble_collide::math::quat_derivative(b.w, b.q);
+        b.q = (b.q + dq * h).normalize();
+        b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
+        b.w = b.inv_inertia * l;
+    }
+}
+
+fn recip_or_zero(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0 / x
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn body(inv_mass: f64, v: DVec3) -> SolverBody {
+        let iib = DVec3::splat(if inv_mass > 0.0 { 6.0 } else { 0.0 });
+        SolverBody {
+            v,
+            w: DVec3::ZERO,
+            inv_mass,
+            inv_inertia_body: iib,
+            inv_inertia: DMat3::from_diagonal(iib),
+            q: DQuat::IDENTITY,
+            dp: DVec3::ZERO,
+            dynamic: inv_mass > 0.0,
+        }
+    }
+
+    fn contact(a: u32, b: u32, local_a: DVec3, local_b: DVec3, separation: f64) -> ContactConstraint {
+        ContactConstraint {
+            a,
+            b,
+            normal: DVec3::Z,
+            tangents: [DVec3::X, DVec3::Y],
+            local_a,
+            local_b,
+            r_a: DVec3::ZERO,
+            r_b: DVec3::ZERO,
+            separation,
+            normal_mass: 0.0,
+            tangent_mass: [0.0; 2],
+            friction: 0.5,
+            restitution: 0.0,
+            approach_speed: 0.0,
+            normal_impulse: 0.0,
+            tangent_impulse: [0.0; 2],
+            max_normal_impulse: 0.0,
+        }
+    }
+
+    fn params(h: f64) -> SolverParams {
+        SolverParams {
+            softness: Softness::new(30.0, 10.0, h),
+            allowed_penetration: 0.0,
+            max_push_out_speed: 3.0,
+            restitution_threshold: 0.5,
+        }
+    }
+
+    #[test]
+    fn tangent_basis_is_orthonormal_right_handed() {
+        for n in [
+            DVec3::X,
+            DVec3::Y,
+            DVec3::Z,
+            DVec3::new(1.0, 2.0, -3.0).normalize(),
+            -DVec3::Z,
+        ] {
+            let [t1, t2] = tangent_basis(n);
+            assert!((t1.length() - 1.0).abs() < 1e-14 && (t2.length() - 1.0).abs() < 1e-14);
+            assert!(t1.dot(n).abs() < 1e-14 && t2.dot(n).abs() < 1e-14);
+            assert!((t1.cross(t2) - n).length() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn head_on_impulse_matches_thesis_formula_and_conserves_momentum() {
+        // A (above, moving down) hits B (below, moving up) at its centre:
+        // with e = 1 the velocities exchange along the normal (equal masses).
+        let mut bodies = vec![
+            body(1.0, DVec3::new(0.0, 0.0, -2.0)),
+            body(1.0, DVec3::new(0.0, 0.0, 1.0)),
+        ];
+        let mut c = contact(0, 1, DVec3::new(0.0, 0.0, -0.5), DVec3::new(0.0, 0.0, 0.5), 0.0);
+        c.restitution = 1.0;
+        c.friction = 0.0;
+        let mut cs = [c];
+        prepare(&mut cs[0], &bodies);
+        assert!(
+            (cs[0].normal_mass - 0.5).abs() < 1e-15,
+            "1/(1/ma + 1/mb) for central impact"
+        );
+        let p0 = bodies[0].v + bodies[1].v;
+        let h = 1.0 / 60.0;
+        solve(&mut cs, &mut bodies, &params(h), h, true);
+        apply_restitution(&mut cs, &mut bodies, &params(h));
+        assert!((bodies[0].v - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-12);
+        assert!((bodies[1].v - DVec3::new(0.0, 0.0, -2.0)).length() < 1e-12);
+        assert!((bodies[0].v + bodies[1].v - p0).length() < 1e-12);
+        // j = -(1 + e) v_rel / (1/ma + 1/mb) = 2 * 3 / 2
+        assert!((cs[0].normal_impulse - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn off_centre_impulse_conserves_linear_and_angular_momentum() {
+        let mut bodies = vec![
+            body(0.5, DVec3::new(0.3, -0.2, -1.5)),
+            body(0.25, DVec3::new(-0.1, 0.4, 0.7)),
+        ];
+        bodies[0].w = DVec3::new(0.2, -0.7, 0.1);
+        let xa = DVec3::new(0.1, 0.2, 1.0);
+        let xb = DVec3::new(-0.2, 0.1, -0.3);
+        let point = DVec3::new(0.15, 0.05, 0.4);
+        let mut c = contact(0, 1, point - xa, point - xb, 0.0);
+        c.normal = DVec3::new(0.2, -0.1, 1.0).normalize();
+        c.restitution = 0.6;
+        let mut cs = [c];
+        prepare(&mut cs[0], &bodies);
+        let momentum = |bs: &[SolverBody]| {
+            let mass = |b: &SolverBody| 1.0 / b.inv_mass;
+            let inertia = |b: &SolverBody| b.inv_inertia.inverse();
+            let p = bs[0].v * mass(&bs[0]) + bs[1].v * mass(&bs[1]);
+            let l = xa.cross(bs[0].v * mass(&bs[0]))
+                + inertia(&bs[0]) * bs[0].w
+                + xb.cross(bs[1].v * mass(&bs[1]))
+                + inertia(&bs[1]) * bs[1].w;
+            let e = 0.5 * (mass(&bs[0]) * bs[0].v.length_squared() + mass(&bs[1]) * bs[1].v.length_squared())
+                + 0.5 * (bs[0].w.dot(inertia(&bs[0]) * bs[0].w) + bs[1].w.dot(inertia(&bs[1]) * bs[1].w));
+            (p, l, e)
+        };
+        let (p0, l0, e0) = momentum(&bodies);
+        let h = 1.0 / 60.0;
+        solve(&mut cs, &mut bodies, &params(h), h, false);
+        apply_restitution(&mut cs, &mut bodies, &params(h));
+        let (p1, l1, e1) = momentum(&bodies);
+        assert!((p1 - p0).length() < 1e-12);
+        assert!((l1 - l0).length() < 1e-12);
+        assert!(e1 <= e0 + 1e-12, "energy grew: {e0} -> {e1}");
+    }
+
+    #[test]
+    fn resting_box_on_static_ground_needs_m_g_h_per_substep() {
+        // A unit-mass box resting on 4 contacts: after gravity adds -g h, the
+        // solve must remove exactly that, with impulses summing to m g h.
+        let h = 1.0 / 240.0;
+        let g = 9.81;
+        let mut bodies = vec![body(1.0, DVec3::new(0.0, 0.0, -g * h)), body(0.0, DVec3::ZERO)];
+        let mut cs: Vec<ContactConstraint> = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+            .iter()
+            .map(|&(x, y)| contact(0, 1, DVec3::new(x, y, -0.5), DVec3::new(x, y, 0.0), 0.0))
+            .collect();
+        for c in cs.iter_mut() {
+            prepare(c, &bodies);
+        }
+        for _ in 0..50 {
+            solve(&mut cs, &mut bodies, &params(h), h, false);
+        }
+        assert!(bodies[0].v.length() < 1e-9);
+        assert!(bodies[0].w.length() < 1e-9);
+        let total: f64 = cs.iter().map(|c| c.normal_impulse).sum();
+        assert!((total - g * h).abs() < 1e-9);
+        // The split among 4 coplanar contacts is not unique (the LCP matrix is
+        // only semi-definite); only the total and the zero torque are physical.
+        let torque: DVec3 = cs
+            .iter()
+            .map(|c| c.local_a.cross(DVec3::Z * c.normal_impulse))
+            .sum();
+        assert!(torque.length() < 1e-9);
+    }
+
+    #[test]
+    fn speculative_contact_lets_the_gap_close_but_not_more() {
+        // Body 1 cm above the ground falling at 10 m/s: in one step of 1/60 s it
+        // would travel 16.7 cm; the speculative constraint allows 1 cm.
+        let h = 1.0 / 60.0;
+        let mut bodies = vec![body(1.0, DVec3::new(0.0, 0.0, -10.0)), body(0.0, DVec3::ZERO)];
+        let mut cs = [contact(0, 1, DVec3::new(0.0, 0.0, -0.5), DVec3::ZERO, 0.01)];
+        prepare(&mut cs[0], &bodies);
+        solve(&mut cs, &mut bodies, &params(h), h, true);
+        assert!((bodies[0].v.z * h + 0.01).abs() < 1e-12, "v h = -gap");
+    }
+
+    #[test]
+    fn friction_holds_below_the_cone_and_slides_on_it() {
+        // A body pressed onto the ground by a unit normal impulse, sliding.
+        let h = 1.0 / 60.0;
+        for (mu, sticks) in [(1.0, true), (0.05, false)] {
+            let vx = if sticks { 0.5 } else { 1.0 };
+            let mut bodies = vec![body(1.0, DVec3::new(vx, 0.0, -1.0)), body(0.0, DVec3::ZERO)];
+            bodies[0].inv_inertia_body = DVec3::ZERO; // translation only: clean test
+            bodies[0].inv_inertia = DMat3::ZERO;
+            let mut c = contact(0, 1, DVec3::ZERO, DVec3::ZERO, 0.0);
+            c.friction = mu;
+            let mut cs = [c];
+            prepare(&mut cs[0], &bodies);
+            for _ in 0..20 {
+                solve(&mut cs, &mut bodies, &params(h), h, false);
+            }
+            let t = (cs[0].tangent_impulse[0].powi(2) + cs[0].tangent_impulse[1].powi(2)).sqrt();
+            if sticks {
+                assert!(bodies[0].v.length() < 1e-9);
+                assert!(t < mu * cs[0].normal_impulse);
+            } else {
+                assert!((t - mu * cs[0].normal_impulse).abs() < 1e-12, "saturated");
+                assert!(
+                    (bodies[0].v.x - (1.0 - mu * 1.0)).abs() < 1e-9,
+                    "kinetic: dv = mu * jn / m"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn free_rotation_conserves_angular_momentum() {
+        let mut b = body(1.0, DVec3::ZERO);
+        b.inv_inertia_body = DVec3::new(1.0, 0.5, 0.25);
+        b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
+        b.w = DVec3::new(0.1, 2.0, 0.3);
+        let l0 = b.inv_inertia.inverse() * b.w;
+        let mut bodies = [b];
+        for _ in 0..1000 {
+            integrate_positions(&mut bodies, 1e-3);
+        }
+        let l1 = bodies[0].inv_inertia.inverse() * bodies[0].w;
+        assert!((l1 - l0).length() < 1e-12 * l0.length().max(1.0));
+    }
+}

@@ -100,6 +100,30 @@ impl<T> Arena<T> {
         slot.value.as_mut()
     }
 
+    /// Number of slots (live or free): slot indices are below this.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Handle of the live value in slot `index`, if any.
+    pub fn id_at(&self, index: u32) -> Option<BodyId> {
+        let slot = self.slots.get(index as usize)?;
+        slot.value.as_ref().map(|_| BodyId {
+            index,
+            generation: slot.generation,
+        })
+    }
+
+    /// The live value in slot `index`, if any.
+    pub fn at(&self, index: u32) -> Option<&T> {
+        self.slots.get(index as usize)?.value.as_ref()
+    }
+
+    /// Mutable access to the live value in slot `index`, if any.
+    pub fn at_mut(&mut self, index: u32) -> Option<&mut T> {
+        self.slots.get_mut(index as usize)?.value.as_mut()
+    }
+
     /// Live values with their handles, in slot order.
     pub fn iter(&self) -> impl Iterator<Item = (BodyId, &T)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| {

@@ -1,0 +1,197 @@
+//! Body descriptions: what the user hands to [`World::add_body`](super::World::add_body).
+//! Descriptions in, handles out: a `BodyDesc` is plain data with a `Default`,
+//! validated when added, never referenced by the world afterwards.
+
+use crate::body::BodyKind;
+use serde::{Deserialize, Serialize};
+use tumble_collide::shape::Shape;
+use tumble_collide::{DVec3, Pose};
+
+/// One shape of a body, placed in the body's model frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeDesc {
+    /// The geometry.
+    pub shape: Shape,
+    /// Pose of the shape in the body's model frame. Default identity.
+    pub local_pose: Pose,
+}
+
+impl ShapeDesc {
+    /// A shape at the model frame's origin.
+    pub fn new(shape: impl Into<Shape>) -> ShapeDesc {
+        ShapeDesc {
+            shape: shape.into(),
+            local_pose: Pose::IDENTITY,
+        }
+    }
+
+    /// The same shape at `local_pose` in the model frame.
+    pub fn at(mut self, local_pose: Pose) -> ShapeDesc {
+        self.local_pose = local_pose;
+        self
+    }
+}
+
+/// How the mass of a dynamic body is given.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MassDesc {
+    /// Uniform density of every shape (kg/m^3); mass, centre of mass and
+    /// inertia follow from the geometry.
+    Density(f64),
+    /// Total mass (kg), spread over the shapes in proportion to their volume.
+    Mass(f64),
+}
+
+impl Default for MassDesc {
+    fn default() -> Self {
+        MassDesc::Density(1000.0)
+    }
+}
+
+/// Surface material. Pair values combine as: friction = sqrt(mu_a mu_b)
+/// (geometric mean: equal values give that value, a frictionless surface
+/// makes the pair frictionless), restitution = max(e_a, e_b) (a bouncy ball
+/// bounces on any floor).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// Coulomb friction coefficient (dimensionless, >= 0). Default 0.5.
+    pub friction: f64,
+    /// Coefficient of restitution (dimensionless, in [0, 1]). Default 0.
+    pub restitution: f64,
+}
+
+impl Default for MaterialDesc {
+    fn default() -> Self {
+        MaterialDesc {
+            friction: 0.5,
+            restitution: 0.0,
+        }
+    }
+}
+
+impl MaterialDesc {
+    /// Friction of a pair (geometric mean).
+    pub fn combine_friction(a: f64, b: f64) -> f64 {
+        (a * b).sqrt()
+    }
+
+    /// Restitution of a pair (maximum).
+    pub fn combine_restitution(a: f64, b: f64) -> f64 {
+        a.max(b)
+    }
+}
+
+/// Everything needed to add a body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyDesc {
+    /// Dynamic (pushed by forces and contacts), static (never moves, infinite
+    /// mass) or kinematic (follows its prescribed velocity, pushes others,
+    /// is never pushed). Default dynamic.
+    pub kind: BodyKind,
+    /// The shapes, each with its pose in the model frame. At least one.
+    pub shapes: Vec<ShapeDesc>,
+    /// Mass or density (dynamic bodies only). Default density 1000 kg/m^3.
+    pub mass: MassDesc,
+    /// Pose of the model frame in the world. Default identity.
+    pub pose: Pose,
+    /// Linear velocity of the centre of mass (m/s). Default zero.
+    pub linear_velocity: DVec3,
+    /// Angular velocity, world frame (rad/s). Default zero.
+    pub angular_velocity: DVec3,
+    /// Surface material. Default friction 0.5, restitution 0.
+    pub material: MaterialDesc,
+    /// Linear damping (1/s, >= 0): velocity scaled by 1/(1 + c dt) per step. Default 0.
+    pub linear_damping: f64,
+    /// Angular damping (1/s, >= 0). Default 0.
+    pub angular_damping: f64,
+    /// Optional name (scene files, exports). Default empty.
+    pub name: String,
+}
+
+impl Default for BodyDesc {
+    fn default() -> Self {
+        BodyDesc {
+            kind: BodyKind::Dynamic,
+            shapes: Vec::new(),
+            mass: MassDesc::default(),
+            pose: Pose::IDENTITY,
+            linear_velocity: DVec3::ZERO,
+            angular_velocity: DVec3::ZERO,
+            material: MaterialDesc::default(),
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            name: String::new(),
+        }
+    }
+}
+
+impl BodyDesc {
+    /// A dynamic body made of one shape.
+    pub fn dynamic(shape: impl Into<Shape>) -> BodyDesc {
+        BodyDesc {
+            shapes: vec![ShapeDesc::new(shape)],
+            ..BodyDesc::default()
+        }
+    }
+
+    /// A static body made of one shape.
+    pub fn fixed(shape: impl Into<Shape>) -> BodyDesc {
+        BodyDesc {
+            kind: BodyKind::Static,
+            ..BodyDesc::dynamic(shape)
+        }
+    }
+
+    /// A kinematic body made of one shape.
+    pub fn kinematic(shape: impl Into<Shape>) -> BodyDesc {
+        BodyDesc {
+            kind: BodyKind::Kinematic,
+            ..BodyDesc::dynamic(shape)
+        }
+    }
+
+    /// Builder: place the model frame at `position` (identity orientation kept).
+    pub fn at(mut self, position: DVec3) -> BodyDesc {
+        self.pose.position = position;
+        self
+    }
+
+    /// Builder: the whole pose.
+    pub fn with_pose(mut self, pose: Pose) -> BodyDesc {
+        self.pose = pose;
+        self
+    }
+
+    /// Builder: total mass (kg).
+    pub fn with_mass(mut self, mass: f64) -> BodyDesc {
+        self.mass = MassDesc::Mass(mass);
+        self
+    }
+
+    /// Builder: density (kg/m^3).
+    pub fn with_density(mut self, density: f64) -> BodyDesc {
+        self.mass = MassDesc::Density(density);
+        self
+    }
+
+    /// Builder: friction and restitution.
+    pub fn with_material(mut self, friction: f64, restitution: f64) -> BodyDesc {
+        self.material = MaterialDesc { friction, restitution };
+        self
+    }
+
+    /// Builder: initial velocities (m/s, rad/s world frame).
+    pub fn with_velocity(mut self, linear: DVec3, angular: DVec3) -> BodyDesc {
+        self.linear_velocity = linear;
+        self.angular_velocity = angular;
+        self
+    }
+
+    /// Builder: name.
+    pub fn named(mut self, name: impl Into<String>) -> BodyDesc {
+        self.name = name.into();
+        self
+    }
+}

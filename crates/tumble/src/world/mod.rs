@@ -1,0 +1,530 @@
+//! The world: the thesis' Simulator, RigidBodyManager and contact manager
+//! (thesis 6.1.3, 6.1.4, ch. 7) in one facade. Descriptions in
+//! ([`BodyDesc`], [`WorldSettings`]), handles out ([`BodyId`]), a
+//! [`StepReport`] back from every [`World::step`].
+//!
+//! Frames: a body's *model frame* is the frame its description places shapes
+//! in; its *body frame* is the centre of mass with principal axes, where the
+//! momentum state (x, q, P, L) lives. Poses read and written through the API
+//! are model-frame poses; velocities are those of the centre of mass.
+
+mod body_mass;
+mod desc;
+mod error;
+mod handles;
+mod islands;
+mod manifold;
+mod report;
+mod settings;
+mod step;
+
+pub use desc::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc};
+pub use error::WorldError;
+pub use handles::{Arena, BodyId};
+pub use islands::{label_islands, UnionFind};
+pub use report::{ContactEvent, Quarantined, Stage, StepReport};
+pub use settings::{SolverKind, WorldSettings};
+
+use crate::body::{BodyKind, Material, RigidBody};
+use manifold::CachedContact;
+use tumble_collide::broad::{ProxyId, SweepAndPrune};
+use tumble_collide::shape::Shape;
+use tumble_collide::{DQuat, DVec3, Pose};
+
+/// A shape attached to a body, posed in the body frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Collider {
+    /// The geometry.
+    pub shape: Shape,
+    /// Pose of the shape in the body frame (centre of mass, principal axes).
+    pub local: Pose,
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct BodyEntry {
+    pub body: RigidBody,
+    pub colliders: Vec<Collider>,
+    /// The body frame expressed in the model frame (centre of mass and
+    /// principal axes); identity for static and kinematic bodies.
+    pub body_in_model: Pose,
+    /// Sweep-and-prune proxy; `None` for bodies with an unbounded shape
+    /// (half-space), which are tested against every body instead.
+    pub proxy: Option<ProxyId>,
+    pub name: String,
+    pub sleeping: bool,
+    /// Time the body has been slow enough to sleep (s).
+    pub rest_time: f64,
+    /// Island label when it fell asleep: the island wakes together.
+    pub sleep_group: u32,
+}
+
+/// One contact point of the last step, with the impulses the solver applied.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorldContact {
+    /// Body A (normal points from B towards A).
+    pub body_a: BodyId,
+    /// Body B.
+    pub body_b: BodyId,
+    /// The geometric contact (world frame) at the start of the step.
+    pub contact: tumble_collide::Contact,
+    /// Normal impulse applied over the step (N s).
+    pub normal_impulse: f64,
+    /// Friction impulse applied over the step, world frame (N s).
+    pub tangent_impulse: DVec3,
+}
+
+/// A simulated world of rigid bodies.
+#[derive(Debug, Clone)]
+pub struct World {
+    settings: WorldSettings,
+    bodies: Arena<BodyEntry>,
+    broad: SweepAndPrune,
+    /// Slots of bodies with unbounded shapes (kept out of the broad phase).
+    unbounded: Vec<u32>,
+    cache: Vec<CachedContact>,
+    contacts: Vec<WorldContact>,
+    touching: Vec<(BodyId, BodyId)>,
+    time: f64,
+    step_count: u64,
+}
+
+fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(WorldError::BadValue {
+            field,
+            message: format!("must be finite, got {v:?}"),
+        })
+    }
+}
+
+fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
+    let positive = |field: &'static str, x: f64| {
+        if x.is_finite() && x > 0.0 {
+            Ok(())
+        } else {
+            Err(WorldError::BadValue {
+                field,
+                message: format!("must be finite and > 0, got {x}"),
+            })
+        }
+    };
+    let non_negative = |field: &'static str, x: f64| {
+        if x.is_finite() && x >= 0.0 {
+            Ok(())
+        } else {
+            Err(WorldError::BadValue {
+                field,
+                message: format!("must be finite and >= 0, got {x}"),
+            })
+        }
+    };
+    check_vec("settings.gravity", s.gravity)?;
+    positive("settings.dt", s.dt)?;
+    if s.dt > 1.0 {
+        return Err(WorldError::BadValue {
+            field: "settings.dt",
+            message: format!("must be at most 1 s, got {}", s.dt),
+        });
+    }
+    if s.substeps == 0 || s.substeps > 64 {
+        return Err(WorldError::BadValue {
+            field: "settings.substeps",
+            message: format!("must be in 1..=64, got {}", s.substeps),
+        });
+    }
+    if s.iterations == 0 || s.iterations > 1000 {
+        return Err(WorldError::BadValue {
+            field: "settings.iterations",
+            message: format!("must be in 1..=1000, got {}", s.iterations),
+        });
+    }
+    if s.relax_iterations > 1000 {
+        return Err(WorldError::BadValue {
+            field: "settings.relax_iterations",
+            message: format!("must be at most 1000, got {}", s.relax_iterations),
+        });
+    }
+    non_negative("settings.contact_margin", s.contact_margin)?;
+    non_negative("settings.allowed_penetration", s.allowed_penetration)?;
+    non_negative("settings.contact_hertz", s.contact_hertz)?;
+    non_negative("settings.contact_damping_ratio", s.contact_damping_ratio)?;
+    positive("settings.max_push_out_speed", s.max_push_out_speed)?;
+    non_negative("settings.restitution_threshold", s.restitution_threshold)?;
+    non_negative("settings.sleep_linear_speed", s.sleep_linear_speed)?;
+    non_negative("settings.sleep_angular_speed", s.sleep_angular_speed)?;
+    non_negative("settings.time_to_sleep", s.time_to_sleep)?;
+    Ok(())
+}
+
+impl World {
+    /// An empty world. Settings are validated.
+    pub fn new(settings: WorldSettings) -> Result<World, WorldError> {
+        check_settings(&settings)?;
+        Ok(World {
+            settings,
+            bodies: Arena::new(),
+            broad: SweepAndPrune::new(),
+            unbounded: Vec::new(),
+            cache: Vec::new(),
+            contacts: Vec::new(),
+            touching: Vec::new(),
+            time: 0.0,
+            step_count: 0,
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &WorldSettings {
+        &self.settings
+    }
+
+    /// Replaces the settings (validated; unchanged on error).
+    pub fn set_settings(&mut self, settings: WorldSettings) -> Result<(), WorldError> {
+        check_settings(&settings)?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn step_count(&self) -> u64 {
+        self.step_count
+    }
+
+    /// Number of bodies.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Handles of all bodies, in slot order (deterministic).
+    pub fn body_ids(&self) -> Vec<BodyId> {
+        self.bodies.iter().map(|(id, _)| id).collect()
+    }
+
+    /// Adds a body. The description is validated completely before anything
+    /// changes; on error the world is unchanged.
+    pub fn add_body(&mut self, desc: &BodyDesc) -> Result<BodyId, WorldError> {
+        if desc.shapes.is_empty() {
+            return Err(WorldError::NoShapes);
+        }
+        check_vec("body.linear_velocity", desc.linear_velocity)?;
+        check_vec("body.angular_velocity", desc.angular_velocity)?;
+        let pose = Pose::new(desc.pose.position, desc.pose.rotation).map_err(|e| WorldError::BadValue {
+            field: "body.pose",
+            message: e.to_string(),
+        })?;
+        for (index, s) in desc.shapes.iter().enumerate() {
+            Pose::new(s.local_pose.position, s.local_pose.rotation).map_err(|e| WorldError::BadShape {
+                index,
+                message: format!("local_pose: {e}"),
+            })?;
+        }
+        let material = Material::new(desc.material.restitution, desc.material.friction).map_err(|e| {
+            WorldError::BadValue {
+                field: "body.material",
+                message: e.to_string(),
+            }
+        })?;
+        if desc.material.restitution > 1.0 {
+            return Err(WorldError::BadValue {
+                field: "body.material.restitution",
+                message: format!("must be in [0, 1], got {}", desc.material.restitution),
+            });
+        }
+        let (mut body, body_in_model) = match desc.kind {
+            BodyKind::Dynamic => {
+                let frame = body_mass::body_mass(&desc.shapes, desc.mass)?;
+                let body_in_model = Pose::new(frame.com, frame.rotation).map_err(|e| WorldError::BadShape {
+                    index: 0,
+                    message: e.to_string(),
+                })?;
+                let body_pose = pose.mul_pose(&body_in_model);
+                let body = RigidBody::new_dynamic(frame.mass, frame.moments, body_pose).map_err(|e| {
+                    WorldError::BadShape {
+                        index: 0,
+                        message: e.to_string(),
+                    }
+                })?;
+                (body, body_in_model)
+            }
+            BodyKind::Static => (RigidBody::new_static(pose), Pose::IDENTITY),
+            BodyKind::Kinematic => (RigidBody::new_kinematic(pose), Pose::IDENTITY),
+        };
+        let inv = body_in_model.inverse();
+        let colliders: Vec<Collider> = desc
+            .shapes
+            .iter()
+            .map(|s| Collider {
+                shape: s.shape.clone(),
+                local: inv.mul_pose(&s.local_pose),
+            })
+            .collect();
+        body.set_material(material);
+        let bad = |field: &'static str| {
+            move |e: crate::body::BodyError| WorldError::BadValue {
+                field,
+                message: e.to_string(),
+            }
+        };
+        body.set_damping(desc.linear_damping, desc.angular_damping)
+            .map_err(bad("body.damping"))?;
+        match desc.kind {
+            BodyKind::Dynamic => {
+                body.set_linear_velocity(desc.linear_velocity)
+                    .map_err(bad("body.linear_velocity"))?;
+                body.set_angular_velocity(desc.angular_velocity)
+                    .map_err(bad("body.angular_velocity"))?;
+            }
+            BodyKind::Kinematic => body
+                .set_kinematic_velocity(desc.linear_velocity, desc.angular_velocity)
+                .map_err(bad("body.linear_velocity"))?,
+            BodyKind::Static => {
+                if desc.linear_velocity != DVec3::ZERO || desc.angular_velocity != DVec3::ZERO {
+                    return Err(WorldError::BadValue {
+                        field: "body.linear_velocity",
+                        message: "a static body cannot move: use a kinematic body".into(),
+                    });
+                }
+            }
+        }
+        let unbounded = colliders.iter().any(|c| matches!(c.shape, Shape::HalfSpace(_)));
+        if unbounded && desc.kind != BodyKind::Static {
+            return Err(WorldError::BadShape {
+                index: 0,
+                message: "a half-space can only belong to a static body".into(),
+            });
+        }
+        let entry = BodyEntry {
+            body,
+            colliders,
+            body_in_model,
+            proxy: None,
+            name: desc.name.clone(),
+            sleeping: false,
+            rest_time: 0.0,
+            sleep_group: u32::MAX,
+        };
+        let id = self.bodies.insert(entry);
+        if unbounded {
+            self.unbounded.push(id.index);
+        } else {
+            let aabb = step::body_aabb(self.bodies.get(id).expect("just inserted"), 0.0);
+            match self.broad.insert(id.index, aabb) {
+                Ok(proxy) => self.bodies.get_mut(id).expect("just inserted").proxy = Some(proxy),
+                Err(e) => {
+                    self.bodies.remove(id);
+                    return Err(WorldError::BadShape {
+                        index: 0,
+                        message: e.to_string(),
+                    });
+                }
+            }
+        }
+        Ok(id)
+    }
+
+    /// Removes a body (its contacts end with the next step).
+    pub fn remove_body(&mut self, id: BodyId) -> Result<(), WorldError> {
+        let entry = self.bodies.get(id).ok_or(WorldError::StaleBody(id))?;
+        if let Some(proxy) = entry.proxy {
+            self.broad
+                .remove(proxy)
+                .map_err(|e| WorldError::BadValue { field: "body", message: e.to_string() })?;
+        }
+        self.bodies.remove(id);
+        self.unbounded.retain(|&s| s != id.index);
+        self.cache.retain(|c| c.key.0 != id.index && c.key.1 != id.index);
+        self.contacts.retain(|c| c.body_a != id && c.body_b != id);
+        Ok(())
+    }
+
+    fn entry(&self, id: BodyId) -> Result<&BodyEntry, WorldError> {
+        self.bodies.get(id).ok_or(WorldError::StaleBody(id))
+    }
+
+    fn entry_mut(&mut self, id: BodyId) -> Result<&mut BodyEntry, WorldError> {
+        self.bodies.get_mut(id).ok_or(WorldError::StaleBody(id))
+    }
+
+    /// The rigid body (state in the body frame: centre of mass, principal axes).
+    pub fn body(&self, id: BodyId) -> Result<&RigidBody, WorldError> {
+        Ok(&self.entry(id)?.body)
+    }
+
+    /// The colliders of a body (shapes posed in the body frame).
+    pub fn colliders(&self, id: BodyId) -> Result<&[Collider], WorldError> {
+        Ok(&self.entry(id)?.colliders)
+    }
+
+    /// The body's name from its description.
+    pub fn name(&self, id: BodyId) -> Result<&str, WorldError> {
+        Ok(&self.entry(id)?.name)
+    }
+
+    /// Pose of the body's model frame in the world.
+    pub fn pose(&self, id: BodyId) -> Result<Pose, WorldError> {
+        let e = self.entry(id)?;
+        Ok(e.body.pose().mul_pose(&e.body_in_model.inverse()))
+    }
+
+    /// Position of the centre of mass (m).
+    pub fn center_of_mass(&self, id: BodyId) -> Result<DVec3, WorldError> {
+        Ok(self.entry(id)?.body.position())
+    }
+
+    /// Linear velocity of the centre of mass (m/s).
+    pub fn linear_velocity(&self, id: BodyId) -> Result<DVec3, WorldError> {
+        let e = self.entry(id)?;
+        Ok(match e.body.kind() {
+            BodyKind::Kinematic => e.body.kinematic_velocity().0,
+            _ => e.body.velocity(),
+        })
+    }
+
+    /// Angular velocity, world frame (rad/s).
+    pub fn angular_velocity(&self, id: BodyId) -> Result<DVec3, WorldError> {
+        let e = self.entry(id)?;
+        Ok(match e.body.kind() {
+            BodyKind::Kinematic => e.body.kinematic_velocity().1,
+            _ => e.body.angular_velocity(),
+        })
+    }
+
+    /// `true` when the body is asleep.
+    pub fn is_sleeping(&self, id: BodyId) -> Result<bool, WorldError> {
+        Ok(self.entry(id)?.sleeping)
+    }
+
+    /// Wakes a body (and, at the next step, its island).
+    pub fn wake(&mut self, id: BodyId) -> Result<(), WorldError> {
+        let e = self.entry_mut(id)?;
+        e.sleeping = false;
+        e.rest_time = 0.0;
+        Ok(())
+    }
+
+    /// Moves the model frame to `pose` (teleport; velocities kept).
+    pub fn set_pose(&mut self, id: BodyId, pose: Pose) -> Result<(), WorldError> {
+        let pose = Pose::new(pose.position, pose.rotation).map_err(|e| WorldError::BadValue {
+            field: "pose",
+            message: e.to_string(),
+        })?;
+        let e = self.entry_mut(id)?;
+        let body_pose = pose.mul_pose(&e.body_in_model);
+        e.body.set_pose(body_pose);
+        e.sleeping = false;
+        e.rest_time = 0.0;
+        Ok(())
+    }
+
+    /// Sets the velocities of a dynamic body (centre of mass, world frame) or
+    /// the prescribed velocities of a kinematic one.
+    pub fn set_velocity(&mut self, id: BodyId, linear: DVec3, angular: DVec3) -> Result<(), WorldError> {
+        check_vec("linear_velocity", linear)?;
+        check_vec("angular_velocity", angular)?;
+        let e = self.entry_mut(id)?;
+        let err = |e: crate::body::BodyError| WorldError::BadValue {
+            field: "velocity",
+            message: e.to_string(),
+        };
+        match e.body.kind() {
+            BodyKind::Static => {
+                return Err(WorldError::WrongKind {
+                    body: id,
+                    message: "a static body has no velocity",
+                })
+            }
+            BodyKind::Kinematic => e.body.set_kinematic_velocity(linear, angular).map_err(err)?,
+            BodyKind::Dynamic => {
+                let before = e.body.clone();
+                if let Err(x) = e
+                    .body
+                    .set_linear_velocity(linear)
+                    .and_then(|_| e.body.set_angular_velocity(angular))
+                {
+                    e.body = before;
+                    return Err(err(x));
+                }
+            }
+        }
+        e.sleeping = false;
+        e.rest_time = 0.0;
+        Ok(())
+    }
+
+    /// Adds a force (N) at the centre of mass for the next step; wakes the body.
+    pub fn apply_force(&mut self, id: BodyId, force: DVec3) -> Result<(), WorldError> {
+        self.with_dynamic(id, |b| b.apply_force(force))
+    }
+
+    /// Adds a force (N) at a world point for the next step (torque (p - x) x F).
+    pub fn apply_force_at_point(&mut self, id: BodyId, force: DVec3, point: DVec3) -> Result<(), WorldError> {
+        self.with_dynamic(id, |b| b.apply_force_at_point(force, point))
+    }
+
+    /// Adds a torque (N m, world frame) for the next step.
+    pub fn apply_torque(&mut self, id: BodyId, torque: DVec3) -> Result<(), WorldError> {
+        self.with_dynamic(id, |b| b.apply_torque(torque))
+    }
+
+    /// Applies an impulse (N s) at a world point now.
+    pub fn apply_impulse_at_point(&mut self, id: BodyId, impulse: DVec3, point: DVec3) -> Result<(), WorldError> {
+        self.with_dynamic(id, |b| b.apply_impulse_at_point(impulse, point))
+    }
+
+    fn with_dynamic(
+        &mut self,
+        id: BodyId,
+        f: impl FnOnce(&mut RigidBody) -> Result<(), crate::body::BodyError>,
+    ) -> Result<(), WorldError> {
+        let e = self.entry_mut(id)?;
+        if e.body.kind() != BodyKind::Dynamic {
+            return Err(WorldError::WrongKind {
+                body: id,
+                message: "forces and impulses act on dynamic bodies only",
+            });
+        }
+        f(&mut e.body).map_err(|x| WorldError::BadValue {
+            field: "force",
+            message: x.to_string(),
+        })?;
+        e.sleeping = false;
+        e.rest_time = 0.0;
+        Ok(())
+    }
+
+    /// Contact points of the last step with their impulses.
+    pub fn contacts(&self) -> &[WorldContact] {
+        &self.contacts
+    }
+
+    /// Total kinetic energy of the dynamic bodies (J).
+    pub fn kinetic_energy(&self) -> f64 {
+        self.bodies
+            .iter()
+            .filter(|(_, e)| e.body.kind() == BodyKind::Dynamic)
+            .map(|(_, e)| e.body.kinetic_energy())
+            .sum()
+    }
+
+    /// Total gravitational potential energy of the dynamic bodies relative to
+    /// the origin (J): `-m g . x`.
+    pub fn potential_energy(&self) -> f64 {
+        self.bodies
+            .iter()
+            .filter(|(_, e)| e.body.kind() == BodyKind::Dynamic)
+            .map(|(_, e)| -e.body.mass() * self.settings.gravity.dot(e.body.position()))
+            .sum()
+    }
+
+    /// Orientation helper: the model-frame orientation of a body.
+    pub fn orientation(&self, id: BodyId) -> Result<DQuat, WorldError> {
+        Ok(self.pose(id)?.rotation)
+    }
+}

@@ -1,0 +1,504 @@
+//! One step of the world, stage by stage (see [`Stage`] and docs/pipeline.md):
+//! forces, broad, narrow, islands, solve, integrate, events.
+//!
+//! Determinism: bodies are visited in slot order, broad-phase pairs in sorted
+//! order, contacts in the order the narrow phase produces them; nothing
+//! iterates a hash map. The same world stepped twice gives the same bits.
+
+use super::manifold::{self, CachedContact};
+use super::report::{ContactEvent, Quarantined, Stage, StepReport};
+use super::{BodyEntry, BodyId, MaterialDesc, SolverKind, World, WorldContact};
+use crate::body::{BodyKind, BodyState};
+use crate::integrate::{integrate, Integrator};
+use crate::solver::contact_solver::{self, ContactConstraint, SolverBody, SolverParams};
+use crate::solver::soft::Softness;
+use std::time::Instant;
+use tumble_collide::broad::Aabb;
+use tumble_collide::narrow::contact_shapes;
+use tumble_collide::{Contact, DMat3, DQuat, DVec3, Pose};
+
+/// Fattened world AABB of a body: the union of its colliders' boxes, grown
+/// by `fatten` (m) on every side.
+pub(crate) fn body_aabb(e: &BodyEntry, fatten: f64) -> Aabb {
+    let pose = e.body.pose();
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for c in &e.colliders {
+        let b = c.shape.aabb(&pose.mul_pose(&c.local));
+        lo = lo.min(b.min());
+        hi = hi.max(b.max());
+    }
+    Aabb::new(lo - DVec3::splat(fatten), hi + DVec3::splat(fatten))
+        .unwrap_or_else(|_| Aabb::new(DVec3::ZERO, DVec3::ZERO).expect("zero box is valid"))
+}
+
+/// Largest distance of a collider point from the centre of mass (m): bounds
+/// how far rotation can move a surface point.
+fn bounding_radius(e: &BodyEntry) -> f64 {
+    let pose = Pose::IDENTITY;
+    e.colliders
+        .iter()
+        .map(|c| {
+            let b = c.shape.aabb(&pose.mul_pose(&c.local));
+            b.min().abs().max(b.max().abs()).length()
+        })
+        .filter(|r| r.is_finite())
+        .fold(0.0, f64::max)
+}
+
+fn is_active(e: &BodyEntry) -> bool {
+    match e.body.kind() {
+        BodyKind::Dynamic => !e.sleeping,
+        BodyKind::Kinematic => {
+            let (v, w) = e.body.kinematic_velocity();
+            v != DVec3::ZERO || w != DVec3::ZERO
+        }
+        BodyKind::Static => false,
+    }
+}
+
+fn velocities(e: &BodyEntry) -> (DVec3, DVec3) {
+    match e.body.kind() {
+        BodyKind::Dynamic if !e.sleeping => (e.body.velocity(), e.body.angular_velocity()),
+        BodyKind::Kinematic => e.body.kinematic_velocity(),
+        _ => (DVec3::ZERO, DVec3::ZERO),
+    }
+}
+
+/// A constraint plus what is needed to report and cache it.
+struct Prepared {
+    constraint: ContactConstraint,
+    ids: (BodyId, BodyId),
+    key: manifold::PairKey,
+    contact: Contact,
+}
+
+impl World {
+    /// Advances the world by `settings.dt` and reports what happened.
+    pub fn step(&mut self) -> StepReport {
+        let mut report = StepReport::default();
+        let s = self.settings.clone();
+        let dt = s.dt;
+        let mut clock = Instant::now();
+        let mut lap = |report: &mut StepReport, stage: Stage| {
+            let now = Instant::now();
+            report.stage_time[stage as usize] += now - clock;
+            clock = now;
+        };
+
+        // -- Stage::Forces: keep the state for quarantine; forces are read in solve.
+        let n_slots = self.bodies.slot_count();
+        let before: Vec<Option<BodyState>> = (0..n_slots as u32)
+            .map(|i| self.bodies.at(i).map(|e| e.body.state().clone()))
+            .collect();
+        lap(&mut report, Stage::Forces);
+
+        // -- Stage::Broad
+        let mut events = Vec::new();
+        for i in 0..n_slots as u32 {
+            let Some(e) = self.bodies.at(i) else { continue };
+            let Some(proxy) = e.proxy else { continue };
+            if !is_active(e) {
+                continue;
+            }
+            let (v, w) = velocities(e);
+            let fatten = s.contact_margin + (v.length() + w.length() * bounding_radius(e)) * dt;
+            let aabb = body_aabb(e, fatten);
+            if let Err(err) = self.broad.set_aabb(proxy, aabb) {
+                report.warnings.push(format!("body slot {i}: broad phase: {err}"));
+            }
+        }
+        if let Err(err) = self.broad.update(&mut events) {
+            report.warnings.push(format!("broad phase: {err}"));
+        }
+        let mut pairs: Vec<(u32, u32)> = self
+            .broad
+            .pairs()
+            .map(|(a, b)| if a < b { (a, b) } else { (b, a) })
+            .collect();
+        for &u in &self.unbounded {
+            for i in 0..n_slots as u32 {
+                if i != u && self.bodies.at(i).is_some_and(|e| e.body.kind() != BodyKind::Static) {
+                    pairs.push((u.min(i), u.max(i)));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        report.broad_pairs = pairs.len();
+        // Wake sleeping islands that an active body has come close to.
+        loop {
+            let mut woke = false;
+            for &(a, b) in &pairs {
+                let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
+                let group = match (is_active(ea), is_active(eb)) {
+                    (true, false) if eb.sleeping => Some(b),
+                    (false, true) if ea.sleeping => Some(a),
+                    _ => None,
+                };
+                if let Some(slot) = group {
+                    self.wake_island_of(slot);
+                    woke = true;
+                }
+            }
+            if !woke {
+                break;
+            }
+        }
+        lap(&mut report, Stage::Broad);
+
+        // -- Stage::Narrow
+        let mut prepared: Vec<Prepared> = Vec::new();
+        let mut buffer: Vec<Contact> = Vec::new();
+        let mut warned_unsupported = false;
+        for &(a, b) in &pairs {
+            let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
+            if !is_active(ea) && !is_active(eb) {
+                continue;
+            }
+            if ea.body.kind() != BodyKind::Dynamic && eb.body.kind() != BodyKind::Dynamic {
+                continue;
+            }
+            let (va, wa) = velocities(ea);
+            let (vb, wb) = velocities(eb);
+            let motion = ((va - vb).length() + wa.length() * bounding_radius(ea) + wb.length() * bounding_radius(eb)) * dt;
+            let margin = s.contact_margin + motion;
+            let (pa, pb) = (ea.body.pose(), eb.body.pose());
+            let ids = (self.bodies.id_at(a).expect("live"), self.bodies.id_at(b).expect("live"));
+            let friction = MaterialDesc::combine_friction(ea.body.material().friction(), eb.body.material().friction());
+            let restitution =
+                MaterialDesc::combine_restitution(ea.body.material().restitution(), eb.body.material().restitution());
+            for (ia, ca) in ea.colliders.iter().enumerate() {
+                for (ib, cb) in eb.colliders.iter().enumerate() {
+                    buffer.clear();
+                    let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
+                    if let Err(err) = contact_shapes(&ca.shape, &wpa, &cb.shape, &wpb, margin, &mut buffer) {
+                        if !warned_unsupported {
+                            report.warnings.push(format!("bodies {a} and {b}: {err}"));
+                            warned_unsupported = true;
+                        }
+                        continue;
+                    }
+                    let key = (a, b, ia as u16, ib as u16);
+                    for contact in &buffer {
+                        let mut c = ContactConstraint {
+                            a: 0,
+                            b: 0,
+                            normal: contact.normal,
+                            tangents: [DVec3::ZERO; 2],
+                            local_a: pa.rotation.inverse() * (contact.point - pa.position),
+                            local_b: pb.rotation.inverse() * (contact.point - pb.position),
+                            r_a: DVec3::ZERO,
+                            r_b: DVec3::ZERO,
+                            separation: contact.distance,
+                            normal_mass: 0.0,
+                            tangent_mass: [0.0; 2],
+                            friction,
+                            restitution,
+                            approach_speed: 0.0,
+                            normal_impulse: 0.0,
+                            tangent_impulse: [0.0; 2],
+                            max_normal_impulse: 0.0,
+                        };
+                        if let Some(old) = manifold::lookup(&self.cache, key, contact.feature_a, contact.feature_b) {
+                            c.normal_impulse = old.normal_impulse;
+                            let t = contact_solver::tangent_basis(contact.normal);
+                            c.tangent_impulse = [old.tangent_impulse.dot(t[0]), old.tangent_impulse.dot(t[1])];
+                            report.warm_started += 1;
+                        }
+                        report.max_penetration = report.max_penetration.max(-contact.distance);
+                        prepared.push(Prepared {
+                            constraint: c,
+                            ids,
+                            key,
+                            contact: *contact,
+                        });
+                    }
+                }
+            }
+        }
+        report.contacts = prepared.len();
+        lap(&mut report, Stage::Narrow);
+
+        // -- Stage::Islands: contacts link dynamic bodies; wake what touches the active.
+        let mut links: Vec<(u32, u32)> = prepared.iter().map(|p| (p.key.0, p.key.1)).collect();
+        links.dedup();
+        let dynamic_awake: Vec<bool> = (0..n_slots as u32)
+            .map(|i| {
+                self.bodies
+                    .at(i)
+                    .is_some_and(|e| e.body.kind() == BodyKind::Dynamic && !e.sleeping)
+            })
+            .collect();
+        let labels = super::islands::label_islands(&dynamic_awake, &links);
+        let mut roots: Vec<u32> = labels.iter().copied().filter(|&l| l != u32::MAX).collect();
+        roots.sort_unstable();
+        roots.dedup();
+        report.islands = roots.len();
+        lap(&mut report, Stage::Islands);
+
+        // -- Stage::Solve
+        // Solver body 0 is the shared immovable body (static or asleep).
+        let mut slot_to_solver = vec![0u32; n_slots];
+        let mut solver_bodies = vec![SolverBody {
+            v: DVec3::ZERO,
+            w: DVec3::ZERO,
+            inv_mass: 0.0,
+            inv_inertia_body: DVec3::ZERO,
+            inv_inertia: DMat3::ZERO,
+            q: DQuat::IDENTITY,
+            dp: DVec3::ZERO,
+            dynamic: false,
+            kinematic: false,
+        }];
+        let mut solver_slots = vec![u32::MAX];
+        let mut has_contact = vec![false; n_slots];
+        for p in &prepared {
+            has_contact[p.key.0 as usize] = true;
+            has_contact[p.key.1 as usize] = true;
+        }
+        let semi_implicit = s.integrator == Integrator::SemiImplicitEuler;
+        for i in 0..n_slots as u32 {
+            let Some(e) = self.bodies.at(i) else { continue };
+            if !is_active(e) {
+                continue;
+            }
+            // Free bodies of a world with an explicit integrator are advanced by
+            // that integrator in the integrate stage, not by the solver.
+            if e.body.kind() == BodyKind::Dynamic && !semi_implicit && !has_contact[i as usize] {
+                continue;
+            }
+            let (v, w) = velocities(e);
+            let q = e.body.orientation();
+            let dynamic = e.body.kind() == BodyKind::Dynamic;
+            slot_to_solver[i as usize] = solver_bodies.len() as u32;
+            solver_slots.push(i);
+            solver_bodies.push(SolverBody {
+                v,
+                w,
+                inv_mass: if dynamic { e.body.inv_mass() } else { 0.0 },
+                inv_inertia_body: if dynamic { e.body.inv_principal_inertia() } else { DVec3::ZERO },
+                inv_inertia: if dynamic { e.body.inv_inertia_world() } else { DMat3::ZERO },
+                q,
+                dp: DVec3::ZERO,
+                dynamic,
+                kinematic: !dynamic,
+            });
+        }
+        report.awake_bodies = solver_bodies.len() - 1;
+        let mut constraints: Vec<ContactConstraint> = prepared
+            .iter()
+            .map(|p| {
+                let mut c = p.constraint;
+                c.a = slot_to_solver[p.key.0 as usize];
+                c.b = slot_to_solver[p.key.1 as usize];
+                contact_solver::prepare(&mut c, &solver_bodies);
+                c
+            })
+            .collect();
+        let substeps = if semi_implicit { s.substeps } else { 1 };
+        let h = dt / substeps as f64;
+        let params = SolverParams {
+            softness: Softness::new(s.contact_hertz, s.contact_damping_ratio, h),
+            allowed_penetration: s.allowed_penetration,
+            max_push_out_speed: s.max_push_out_speed,
+            restitution_threshold: s.restitution_threshold,
+        };
+        // Forces and damping per solver body, constant over the step.
+        let accel: Vec<(DVec3, DVec3, f64, f64)> = solver_slots
+            .iter()
+            .map(|&slot| match self.bodies.at(slot) {
+                Some(e) if e.body.kind() == BodyKind::Dynamic => (
+                    s.gravity + e.body.force() * e.body.inv_mass(),
+                    e.body.torque(),
+                    e.body.linear_damping(),
+                    e.body.angular_damping(),
+                ),
+                _ => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
+            })
+            .collect();
+        if s.solver == SolverKind::Lemke {
+            report
+                .warnings
+                .push("solver = lemke is not available yet; the PGS solver ran instead".into());
+        }
+        let linear_accel: Vec<DVec3> = accel.iter().map(|a| a.0).collect();
+        contact_solver::resolve_collisions(&constraints, &mut solver_bodies, &linear_accel, &params, dt);
+        for _ in 0..substeps {
+            for (b, &(a, tau, ld, ad)) in solver_bodies.iter_mut().zip(&accel) {
+                if !b.dynamic {
+                    continue;
+                }
+                b.v = (b.v + a * h) / (1.0 + ld * h);
+                b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
+            }
+            contact_solver::warm_start(&constraints, &mut solver_bodies);
+            for _ in 0..s.iterations {
+                contact_solver::solve(&mut constraints, &mut solver_bodies, &params, h, true);
+            }
+            contact_solver::integrate_positions(&mut solver_bodies, h);
+            for _ in 0..s.relax_iterations {
+                contact_solver::solve(&mut constraints, &mut solver_bodies, &params, h, false);
+            }
+        }
+        report.substeps = substeps;
+        report.iterations = s.iterations + s.relax_iterations;
+        lap(&mut report, Stage::Solve);
+
+        // -- Stage::Integrate
+        for (k, &slot) in solver_slots.iter().enumerate().skip(1) {
+            let sb = solver_bodies[k];
+            let e = self.bodies.at_mut(slot).expect("live");
+            if sb.dynamic {
+                let state = BodyState {
+                    position: e.body.position() + sb.dp,
+                    orientation: sb.q,
+                    linear_momentum: sb.v * e.body.mass(),
+                    angular_momentum: sb.inv_inertia.inverse() * sb.w,
+                };
+                let _ = e.body.set_state(state);
+            } else {
+                let pose = e.body.pose();
+                e.body.set_pose(Pose {
+                    position: pose.position + sb.dp,
+                    rotation: sb.q,
+                });
+            }
+            e.body.clear_forces();
+        }
+        if !semi_implicit {
+            for i in 0..n_slots as u32 {
+                let Some(e) = self.bodies.at_mut(i) else { continue };
+                if e.body.kind() == BodyKind::Dynamic && !e.sleeping && !has_contact[i as usize] {
+                    let _ = integrate(std::slice::from_mut(&mut e.body), s.gravity, dt, s.integrator);
+                    e.body.clear_forces();
+                }
+            }
+        }
+        lap(&mut report, Stage::Integrate);
+
+        // -- Stage::Events: contacts, cache, quarantine, sleep.
+        self.cache.clear();
+        self.contacts.clear();
+        let mut touching: Vec<(BodyId, BodyId)> = Vec::new();
+        for (p, c) in prepared.iter().zip(&constraints) {
+            let t = c.tangents[0] * c.tangent_impulse[0] + c.tangents[1] * c.tangent_impulse[1];
+            self.cache.push(CachedContact {
+                key: p.key,
+                feature_a: p.contact.feature_a,
+                feature_b: p.contact.feature_b,
+                normal_impulse: c.normal_impulse,
+                tangent_impulse: t,
+            });
+            self.contacts.push(WorldContact {
+                body_a: p.ids.0,
+                body_b: p.ids.1,
+                contact: p.contact,
+                normal_impulse: c.normal_impulse * substeps as f64,
+                tangent_impulse: t * substeps as f64,
+            });
+            if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
+                touching.push(p.ids);
+            }
+        }
+        manifold::finish(&mut self.cache);
+        touching.sort_unstable();
+        touching.dedup();
+        let (mut i, mut j) = (0, 0);
+        while i < touching.len() || j < self.touching.len() {
+            match (touching.get(i), self.touching.get(j)) {
+                (Some(a), Some(b)) if a == b => {
+                    i += 1;
+                    j += 1;
+                }
+                (Some(a), Some(b)) if a < b => {
+                    report.events.push(ContactEvent::Begin(a.0, a.1));
+                    i += 1;
+                }
+                (Some(a), None) => {
+                    report.events.push(ContactEvent::Begin(a.0, a.1));
+                    i += 1;
+                }
+                (_, Some(b)) => {
+                    report.events.push(ContactEvent::End(b.0, b.1));
+                    j += 1;
+                }
+                (None, None) => break,
+            }
+        }
+        report.events.sort_unstable();
+        self.touching = touching;
+
+        for (i, old) in before.iter().enumerate() {
+            let Some(e) = self.bodies.at_mut(i as u32) else { continue };
+            if e.body.state().is_finite() {
+                continue;
+            }
+            if let Some(old) = old {
+                let mut restored = old.clone();
+                restored.linear_momentum = DVec3::ZERO;
+                restored.angular_momentum = DVec3::ZERO;
+                let _ = e.body.set_state(restored);
+            }
+            e.body.clear_forces();
+            report.quarantined.push(Quarantined {
+                body: self.bodies.id_at(i as u32).expect("live"),
+            });
+        }
+        if s.sleeping {
+            self.update_sleep(&labels, dt);
+        }
+        report.sleeping_bodies = self.bodies.iter().filter(|(_, e)| e.sleeping).count();
+        self.time += dt;
+        self.step_count += 1;
+        lap(&mut report, Stage::Events);
+        report
+    }
+
+    /// Wakes every body of the sleeping island that contains `slot`.
+    fn wake_island_of(&mut self, slot: u32) {
+        let group = self.bodies.at(slot).map(|e| e.sleep_group).unwrap_or(u32::MAX);
+        for i in 0..self.bodies.slot_count() as u32 {
+            if let Some(e) = self.bodies.at_mut(i) {
+                if e.sleeping && (i == slot || (group != u32::MAX && e.sleep_group == group)) {
+                    e.sleeping = false;
+                    e.rest_time = 0.0;
+                }
+            }
+        }
+    }
+
+    /// Accumulates rest time per body and puts islands to sleep whose every
+    /// body has rested long enough.
+    fn update_sleep(&mut self, labels: &[u32], dt: f64) {
+        let s = &self.settings;
+        let n = self.bodies.slot_count();
+        let mut island_min_rest = vec![f64::INFINITY; n];
+        for i in 0..n as u32 {
+            let Some(e) = self.bodies.at_mut(i) else { continue };
+            if e.body.kind() != BodyKind::Dynamic || e.sleeping {
+                continue;
+            }
+            let slow = e.body.velocity().length() < s.sleep_linear_speed
+                && e.body.angular_velocity().length() < s.sleep_angular_speed;
+            e.rest_time = if slow { e.rest_time + dt } else { 0.0 };
+            let l = labels[i as usize];
+            if l != u32::MAX {
+                island_min_rest[l as usize] = island_min_rest[l as usize].min(e.rest_time);
+            }
+        }
+        for i in 0..n as u32 {
+            let l = labels.get(i as usize).copied().unwrap_or(u32::MAX);
+            if l == u32::MAX || island_min_rest[l as usize] < s.time_to_sleep {
+                continue;
+            }
+            let Some(e) = self.bodies.at_mut(i) else { continue };
+            e.sleeping = true;
+            e.sleep_group = l;
+            let mut state = e.body.state().clone();
+            state.linear_momentum = DVec3::ZERO;
+            state.angular_momentum = DVec3::ZERO;
+            let _ = e.body.set_state(state);
+        }
+    }
+}

@@ -1,0 +1,319 @@
+//! Contact physics of the world against analytic results and conservation
+//! laws (issue: world and contact solver). Release mode: `cargo test --release`.
+
+use tumble::scenes;
+use tumble::world::{BodyDesc, World, WorldSettings};
+use tumble_collide::shape::{Cuboid, HalfSpace, Shape, Sphere};
+use tumble_collide::DVec3;
+
+/// Apex heights (of the lowest point above the ground) after each bounce.
+fn bounce_apexes(e: f64, bounces: usize) -> (f64, Vec<f64>) {
+    let scene = scenes::ball_drop(1.0, e);
+    let (mut world, ids) = scene.build().unwrap();
+    let ball = ids[1];
+    let r = 0.1;
+    let mut apexes = Vec::new();
+    let mut last_vz = 0.0;
+    for _ in 0..(240 * 6) {
+        world.step();
+        let vz = world.linear_velocity(ball).unwrap().z;
+        if last_vz > 0.0 && vz <= 0.0 {
+            apexes.push(world.center_of_mass(ball).unwrap().z - r);
+            if apexes.len() == bounces {
+                break;
+            }
+        }
+        last_vz = vz;
+    }
+    (1.0 - r, apexes)
+}
+
+#[test]
+fn bounce_heights_follow_e_squared() {
+    let e = 0.8;
+    let (h0, apexes) = bounce_apexes(e, 3);
+    assert_eq!(apexes.len(), 3, "three bounces within 6 s");
+    for (k, &h) in apexes.iter().enumerate() {
+        let expected = h0 * e.powi(2 * (k as i32 + 1));
+        assert!(
+            (h - expected).abs() < 0.02 * expected,
+            "bounce {k}: apex {h:.4} m, e^2k law {expected:.4} m"
+        );
+    }
+}
+
+#[test]
+fn elastic_ball_keeps_its_energy_over_five_bounces() {
+    let (h0, apexes) = bounce_apexes(1.0, 5);
+    assert_eq!(apexes.len(), 5);
+    for &h in &apexes {
+        assert!((h - h0).abs() < 0.01 * h0, "apex {h} vs drop height {h0}");
+    }
+}
+
+#[test]
+fn inelastic_ball_comes_to_rest_without_jitter() {
+    let (mut world, ids) = scenes::ball_drop(1.0, 0.0).build().unwrap();
+    let ball = ids[1];
+    for _ in 0..480 {
+        world.step();
+    }
+    let mut max_speed: f64 = 0.0;
+    let mut z = Vec::new();
+    for _ in 0..240 {
+        world.step();
+        max_speed = max_speed.max(world.linear_velocity(ball).unwrap().length());
+        z.push(world.center_of_mass(ball).unwrap().z);
+    }
+    assert!(max_speed < 1e-3, "resting ball moves at {max_speed} m/s");
+    let (lo, hi) = z.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+    assert!(hi - lo < 1e-4, "height jitters by {} m", hi - lo);
+    let allowed = world.settings().allowed_penetration;
+    assert!((lo - 0.1).abs() <= allowed + 1e-4, "rests at z = {lo}");
+}
+
+fn incline_after_one_second(mu: f64) -> (DVec3, DVec3) {
+    let scene = scenes::incline(mu);
+    let (mut world, ids) = scene.build().unwrap();
+    let cube = ids[1];
+    let start = world.center_of_mass(cube).unwrap();
+    for _ in 0..scene.steps {
+        world.step();
+    }
+    (world.center_of_mass(cube).unwrap() - start, world.linear_velocity(cube).unwrap())
+}
+
+#[test]
+fn incline_sticks_with_high_friction() {
+    let (d, v) = incline_after_one_second(0.7);
+    assert!(d.length() < 1e-3, "moved {d:?}");
+    assert!(v.length() < 1e-3);
+}
+
+#[test]
+fn incline_slides_with_coulomb_acceleration() {
+    let theta = 30f64.to_radians();
+    let g = 9.81;
+    let a = g * (theta.sin() - 0.2 * theta.cos());
+    let (d, v) = incline_after_one_second(0.2);
+    // The slope normal is Ry(theta) z = (sin, 0, cos); gravity's tangential
+    // part points downhill along (cos theta, 0, -sin theta).
+    let downhill = DVec3::new(theta.cos(), 0.0, -theta.sin());
+    let speed = v.dot(downhill);
+    assert!((speed - a).abs() < 0.02 * a, "speed after 1 s {speed}, expected {a}");
+    assert!((d.dot(downhill) - 0.5 * a).abs() < 0.02 * 0.5 * a);
+}
+
+#[test]
+fn cradle_transfers_momentum_to_the_last_ball() {
+    let scene = scenes::cradle();
+    let (mut world, ids) = scene.build().unwrap();
+    let momentum = |w: &World| ids.iter().map(|&id| w.linear_velocity(id).unwrap()).sum::<DVec3>();
+    let p0 = momentum(&world);
+    let e0 = world.kinetic_energy();
+    for _ in 0..scene.steps {
+        world.step();
+    }
+    let last = world.linear_velocity(ids[4]).unwrap();
+    assert!((last.x - 1.0).abs() < 0.05, "last ball leaves at {last:?}");
+    for &id in &ids[..4] {
+        assert!(world.linear_velocity(id).unwrap().length() < 0.05);
+    }
+    assert!(world.linear_velocity(ids[5]).unwrap().length() < 0.05, "striker stops");
+    assert!((momentum(&world) - p0).length() < 1e-9, "momentum conserved");
+    assert!((world.kinetic_energy() - e0).abs() < 0.01 * e0, "energy conserved");
+}
+
+#[test]
+fn tower_of_ten_stands() {
+    let scene = scenes::tower(10);
+    let (mut world, ids) = scene.build().unwrap();
+    let top = *ids.last().unwrap();
+    let start = world.center_of_mass(top).unwrap();
+    let mut deepest: f64 = 0.0;
+    for _ in 0..600 {
+        let r = world.step();
+        deepest = deepest.max(r.max_penetration);
+    }
+    let drift = (world.center_of_mass(top).unwrap() - start).length();
+    assert!(drift < 0.01, "top box moved {drift} m");
+    assert!(deepest < world.settings().contact_margin, "penetration {deepest}");
+}
+
+#[test]
+fn no_tunnelling_of_a_fast_small_sphere() {
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    world
+        .add_body(&BodyDesc::fixed(Shape::Cuboid(Cuboid::new(DVec3::new(1.0, 1.0, 0.005)).unwrap())))
+        .unwrap();
+    let ball = world
+        .add_body(
+            &BodyDesc::dynamic(Shape::Sphere(Sphere::new(0.01).unwrap()))
+                .at(DVec3::new(0.0, 0.0, 0.5))
+                .with_velocity(DVec3::new(0.0, 0.0, -100.0), DVec3::ZERO),
+        )
+        .unwrap();
+    for _ in 0..60 {
+        world.step();
+        assert!(world.center_of_mass(ball).unwrap().z > 0.0, "tunnelled through the plate");
+    }
+}
+
+#[test]
+fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let cube = || Shape::Cuboid(Cuboid::new(DVec3::new(0.3, 0.2, 0.1)).unwrap());
+    let a = world
+        .add_body(
+            &BodyDesc::dynamic(cube())
+                .at(DVec3::new(-1.0, 0.15, 0.05))
+                .with_mass(2.0)
+                .with_material(0.3, 0.5)
+                .with_velocity(DVec3::new(3.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 1.0)),
+        )
+        .unwrap();
+    let b = world
+        .add_body(&BodyDesc::dynamic(cube()).at(DVec3::new(1.0, 0.0, 0.0)).with_mass(1.0).with_material(0.3, 0.5))
+        .unwrap();
+    let momentum = |w: &World| {
+        let (ma, mb) = (w.body(a).unwrap().mass(), w.body(b).unwrap().mass());
+        let p = w.linear_velocity(a).unwrap() * ma + w.linear_velocity(b).unwrap() * mb;
+        let l = w.center_of_mass(a).unwrap().cross(w.linear_velocity(a).unwrap() * ma)
+            + w.body(a).unwrap().angular_momentum()
+            + w.center_of_mass(b).unwrap().cross(w.linear_velocity(b).unwrap() * mb)
+            + w.body(b).unwrap().angular_momentum();
+        (p, l)
+    };
+    let (p0, l0) = momentum(&world);
+    let mut e_prev = world.kinetic_energy();
+    let mut touched = false;
+    for _ in 0..120 {
+        let r = world.step();
+        touched |= r.contacts > 0;
+        let (p, l) = momentum(&world);
+        assert!((p - p0).length() < 1e-9 * p0.length().max(1.0), "linear momentum");
+        assert!((l - l0).length() < 1e-9 * l0.length().max(1.0), "angular momentum {l:?} vs {l0:?}");
+        let e = world.kinetic_energy();
+        assert!(e <= e_prev * (1.0 + 1e-9) + 1e-12, "energy grew {e_prev} -> {e}");
+        e_prev = e;
+    }
+    assert!(touched, "the boxes collided");
+}
+
+#[test]
+fn sleeping_stack_stays_bit_still_and_wakes_when_hit() {
+    let mut world = World::new(WorldSettings::default()).unwrap();
+    world.add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground()))).unwrap();
+    let cube = || Shape::Cuboid(Cuboid::new(DVec3::splat(0.5)).unwrap());
+    let boxes: Vec<_> = (0..3)
+        .map(|i| world.add_body(&BodyDesc::dynamic(cube()).at(DVec3::new(0.0, 0.0, 0.5 + i as f64))).unwrap())
+        .collect();
+    for _ in 0..240 {
+        world.step();
+    }
+    assert!(boxes.iter().all(|&b| world.is_sleeping(b).unwrap()), "stack fell asleep");
+    let poses: Vec<_> = boxes.iter().map(|&b| world.pose(b).unwrap()).collect();
+    for _ in 0..60 {
+        world.step();
+    }
+    for (&b, p) in boxes.iter().zip(&poses) {
+        assert_eq!(world.pose(b).unwrap(), *p, "sleeping body moved");
+    }
+    let ball = world
+        .add_body(
+            &BodyDesc::dynamic(Shape::Sphere(Sphere::new(0.2).unwrap()))
+                .at(DVec3::new(-3.0, 0.0, 2.5))
+                .with_velocity(DVec3::new(10.0, 0.0, 0.0), DVec3::ZERO),
+        )
+        .unwrap();
+    for _ in 0..30 {
+        world.step();
+    }
+    assert!(!world.is_sleeping(boxes[2]).unwrap(), "top box woke");
+    let _ = ball;
+}
+
+#[test]
+fn bad_descriptions_leave_the_world_unchanged() {
+    let mut world = World::new(WorldSettings::default()).unwrap();
+    let sphere = || Shape::Sphere(Sphere::new(0.5).unwrap());
+    let good = world.add_body(&BodyDesc::dynamic(sphere())).unwrap();
+    let bad = [
+        BodyDesc::dynamic(sphere()).with_mass(-1.0),
+        BodyDesc::dynamic(sphere()).with_density(f64::NAN),
+        BodyDesc::dynamic(sphere()).at(DVec3::new(f64::INFINITY, 0.0, 0.0)),
+        BodyDesc::dynamic(sphere()).with_velocity(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::ZERO),
+        BodyDesc::dynamic(sphere()).with_material(-0.5, 0.0),
+        BodyDesc::dynamic(sphere()).with_material(0.5, 1.5),
+        BodyDesc::dynamic(Shape::HalfSpace(HalfSpace::ground())),
+        BodyDesc {
+            shapes: vec![],
+            ..BodyDesc::default()
+        },
+    ];
+    for desc in &bad {
+        assert!(world.add_body(desc).is_err(), "accepted {desc:?}");
+        assert_eq!(world.body_count(), 1);
+    }
+    world.remove_body(good).unwrap();
+    assert!(world.remove_body(good).is_err(), "removing twice");
+    assert!(world.pose(good).is_err(), "stale handle");
+    assert!(World::new(WorldSettings {
+        dt: -1.0,
+        ..WorldSettings::default()
+    })
+    .is_err());
+}
+
+#[test]
+fn non_finite_state_is_quarantined_not_spread() {
+    let mut world = World::new(WorldSettings::default()).unwrap();
+    let sphere = || Shape::Sphere(Sphere::new(0.5).unwrap());
+    // A light body and a finite but absurd force: F/m overflows to infinity.
+    let a = world
+        .add_body(&BodyDesc::dynamic(sphere()).at(DVec3::new(0.0, 0.0, 5.0)).with_mass(1e-6))
+        .unwrap();
+    let b = world.add_body(&BodyDesc::dynamic(sphere()).at(DVec3::new(0.9, 0.0, 5.0))).unwrap();
+    world.apply_force(a, DVec3::new(1e308, 0.0, 0.0)).unwrap();
+    let before = world.pose(a).unwrap();
+    let report = world.step();
+    assert_eq!(report.quarantined.len(), 1, "{report:?}");
+    assert_eq!(report.quarantined[0].body, a);
+    assert_eq!(world.pose(a).unwrap(), before, "restored to its state before the step");
+    assert_eq!(world.linear_velocity(a).unwrap(), DVec3::ZERO, "and stopped");
+    for _ in 0..10 {
+        world.step();
+    }
+    for id in [a, b] {
+        assert!(world.center_of_mass(id).unwrap().is_finite());
+        assert!(world.linear_velocity(id).unwrap().is_finite());
+    }
+}
+
+#[test]
+fn same_scene_gives_identical_bits() {
+    let run = || {
+        let (mut world, ids) = scenes::pile(1).build().unwrap();
+        for _ in 0..120 {
+            world.step();
+        }
+        ids.iter()
+            .flat_map(|&id| {
+                let p = world.pose(id).unwrap();
+                [p.position.x, p.position.y, p.position.z, p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w]
+            })
+            .map(f64::to_bits)
+            .collect::<Vec<u64>>()
+    };
+    assert_eq!(run(), run());
+}

@@ -1,0 +1,112 @@
+//! Analytic oracles and small helpers shared by the integration tests.
+#![allow(dead_code)] // each test binary uses a different subset
+
+use tumble::collide::math::{DQuat, DVec3};
+use tumble::collide::Pose;
+use tumble::integrate::{integrate_with_field, ForceField, Integrator, NoField};
+use tumble::{BodyState, RigidBody};
+
+/// Complete elliptic integral of the first kind `K(m) = int_0^{pi/2} dθ / sqrt(1 - m sin²θ)`
+/// (parameter `m = k²`), by the arithmetic-geometric mean: `K(m) = π / (2 AGM(1, sqrt(1 - m)))`
+/// (Abramowitz & Stegun 17.6). Converges quadratically.
+pub fn elliptic_k(m: f64) -> f64 {
+    assert!((0.0..1.0).contains(&m));
+    let (mut a, mut b) = (1.0f64, (1.0 - m).sqrt());
+    for _ in 0..64 {
+        if (a - b).abs() <= 1e-16 * a {
+            break;
+        }
+        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
+        a = an;
+        b = bn;
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
+
+/// A test pose with a generic orientation.
+pub fn tilted_pose() -> Pose {
+    Pose::new(
+        DVec3::new(0.5, -1.0, 2.0),
+        DQuat::from_euler(glam::EulerRot::ZYX, 0.7, -0.4, 1.3),
+    )
+    .unwrap()
+}
+
+/// A dynamic body with principal moments `inertia` at `pose`, spinning with body-frame
+/// angular velocity `omega_body`.
+pub fn spinning_body(inertia: DVec3, omega_body: DVec3, pose: Pose) -> RigidBody {
+    let mut b = RigidBody::new_dynamic(1.0, inertia, pose).unwrap();
+    b.set_angular_velocity(pose.rotation * omega_body).unwrap();
+    b
+}
+
+/// Body-frame angular velocity `R^T omega`.
+pub fn omega_body(b: &RigidBody) -> DVec3 {
+    b.orientation().conjugate() * b.angular_velocity()
+}
+
+/// Rotation angle (rad) between two orientations, insensitive to the quaternion sign and
+/// accurate for small angles.
+pub fn rotation_error(q: DQuat, exact: DQuat) -> f64 {
+    let d = exact.conjugate() * q;
+    let s = DVec3::new(d.x, d.y, d.z).length();
+    2.0 * s.atan2(d.w.abs())
+}
+
+/// Analytic orientation of a torque-free axisymmetric body (`I1 = I2`, symmetry axis
+/// body z) with world angular momentum `l` and initial orientation `q0`.
+///
+/// omega = L / I1 + (1/I3 - 1/I1) L3 e3 with e3 the world symmetry axis and L3 = L . e3
+/// constant. Both terms are uniform rotations that commute with the motion they generate,
+/// so R(t) = Rot(L t / I1) R0 Rot_body(z, (1/I3 - 1/I1) L3 t): differentiating,
+/// dR/dt = [L/I1]x R + R [c L3 z]x = [L/I1 + c L3 R z]x R = [omega]x R.
+pub fn axisymmetric_top_orientation(i1: f64, i3: f64, l: DVec3, q0: DQuat, t: f64) -> DQuat {
+    let l3 = l.dot(q0 * DVec3::Z);
+    let spin = (1.0 / i3 - 1.0 / i1) * l3 * t;
+    DQuat::from_scaled_axis(l * (t / i1)) * q0 * DQuat::from_scaled_axis(DVec3::Z * spin)
+}
+
+/// Steps `bodies` `steps` times by `dt` with `field`, no gravity; panics on a refused
+/// step or a roll-back.
+pub fn run_with<F: ForceField + ?Sized>(
+    bodies: &mut [RigidBody],
+    integrator: Integrator,
+    dt: f64,
+    steps: usize,
+    field: &F,
+) {
+    for n in 0..steps {
+        let r = integrate_with_field(bodies, DVec3::ZERO, n as f64 * dt, dt, integrator, field).unwrap();
+        assert_eq!(r.rolled_back, 0);
+    }
+}
+
+/// Torque-free, force-free steps.
+pub fn run_free(body: &mut RigidBody, integrator: Integrator, dt: f64, steps: usize) {
+    run_with(std::slice::from_mut(body), integrator, dt, steps, &NoField);
+}
+
+/// Observed order `log2(e(h) / e(h/2))`.
+pub fn observed_order(coarse: f64, fine: f64) -> f64 {
+    (coarse / fine).log2()
+}
+
+/// Unused-state helper so the type is named in every binary.
+pub fn state_of(b: &RigidBody) -> BodyState {
+    *b.state()
+}
+
+#[test]
+fn elliptic_k_matches_known_values() {
+    // K(0) = π/2; K(1/2) = Γ(1/4)² / (4 sqrt(π)).
+    assert!((elliptic_k(0.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    let gamma_quarter = 3.625_609_908_221_908_f64;
+    let k_half = gamma_quarter * gamma_quarter / (4.0 * std::f64::consts::PI.sqrt());
+    assert!((elliptic_k(0.5) - k_half).abs() < 1e-14);
+    // Near m = 1 (A&S 17.3.26): K = ln(4/k') + k'^2/4 (ln(4/k') - 1) + O(k'^4 ln k'),
+    // k' = sqrt(1 - m).
+    let kp: f64 = 1e-3;
+    let lead = (4.0 / kp).ln();
+    let asymptotic = lead + 0.25 * kp * kp * (lead - 1.0);
+    assert!((elliptic_k(1.0 - kp * kp) - asymptotic).abs() < 1e-9);
+}

@@ -99,6 +99,9 @@ impl MassError {
     /// [`MassError::NonPositiveVolume`].
     pub(crate) fn from_solid_check(e: MeshError) -> MassError {
         match e {
+            MeshError::NonPositiveVolume { volume } if !volume.is_finite() => {
+                MassError::NonFiniteResult { what: "volume" }
+            }
             MeshError::NonPositiveVolume { volume } => MassError::NonPositiveVolume { volume },
             other => MassError::NotSolid(other),
         }

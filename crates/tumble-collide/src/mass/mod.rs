@@ -10,6 +10,23 @@
 //! - [`shell_mass_properties`]: thin shells over open or closed surfaces.
 //! - [`mesh_mass_properties`] / [`mesh_mass_report`]: the entry point, with an
 //!   explicit [`MassFallback`] for meshes that are not solids.
+//!
+//! ```
+//! use tumble_collide::mass::{mesh_mass_properties, solid_box, MassFallback, MassSpec};
+//! use tumble_collide::mesh::box_mesh;
+//! use tumble_collide::DVec3;
+//!
+//! let half = DVec3::new(0.5, 0.25, 0.1); // m
+//! let steel = MassSpec::Density(7850.0); // kg/m^3
+//! let mesh = box_mesh(half)?;
+//! let props = mesh_mass_properties(&mesh, steel, MassFallback::None)?;
+//! let exact = solid_box(half, steel)?;
+//! assert!((props.mass - exact.mass).abs() < 1e-9 * exact.mass); // 785 kg
+//! // Body frame for the dynamics: centre of mass + principal axes.
+//! let frame = props.principal();
+//! assert!(frame.moments.x <= frame.moments.y && frame.moments.y <= frame.moments.z);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod error;
 mod integrals;

@@ -22,7 +22,12 @@ pub fn solid_mass_properties(mesh: &TriMesh, spec: MassSpec) -> Result<(MassProp
     mesh.check_solid().map_err(MassError::from_solid_check)?;
     let pass1 = integrate(mesh, Domain::Solid, bounds_centre(mesh));
     let volume = pass1.measure;
-    if !(volume.is_finite() && volume > VOLUME_NOISE * pass1.abs_measure) {
+    if !volume.is_finite() {
+        return Err(MassError::NonFiniteResult { what: "volume" });
+    }
+    // A closed surface enclosing nothing (e.g. two triangles glued back to
+    // back) sums to round-off; dividing by it would give garbage, not an error.
+    if volume <= VOLUME_NOISE * pass1.abs_measure {
         return Err(MassError::NonPositiveVolume { volume });
     }
     let centroid = bounds_centre(mesh) + pass1.first / volume;
@@ -74,6 +79,21 @@ mod tests {
         let about0 = p.inertia_about(DVec3::ZERO);
         assert!((about0.x_axis.x - 2.0 / 60.0).abs() < 1e-15);
         assert!((about0.y_axis.x + 1.0 / 120.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn flat_and_overflowing_meshes_are_errors() {
+        // Two triangles back to back: closed, consistently wound, no volume.
+        let flat = TriMesh::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], vec![[0, 1, 2], [0, 2, 1]]).unwrap();
+        assert!(matches!(
+            solid_mass_properties(&flat, MassSpec::Density(1.0)),
+            Err(MassError::NonPositiveVolume { .. })
+        ));
+        let huge = box_mesh(DVec3::splat(1e200)).unwrap();
+        assert!(matches!(
+            solid_mass_properties(&huge, MassSpec::Density(1.0)),
+            Err(MassError::NonFiniteResult { .. })
+        ));
     }
 
     #[test]

@@ -9,16 +9,19 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`mass`]: mass properties of primitives, meshes and composite bodies.
 
 #![warn(missing_docs)]
 
 pub mod contact;
 pub mod hull;
+pub mod mass;
 pub mod math;
 pub mod mesh;
 pub mod pose;
 
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
+pub use mass::{mesh_mass_properties, MassError, MassFallback, MassProperties, MassSpec, PrincipalFrame};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;
 pub use pose::{Pose, PoseError};

@@ -65,8 +65,8 @@ fn matrix_equals_explicit_jacobian_product() {
         };
         for col in 0..k {
             let x = minv_jt(&j[col]);
-            for row in 0..k {
-                let v: f64 = j[row].iter().zip(&x).map(|(p, q)| p * q).sum();
+            for (row, jr) in j.iter().enumerate() {
+                let v: f64 = jr.iter().zip(&x).map(|(p, q)| p * q).sum();
                 assert!((lcp.a.get(row, col) - v).abs() < 1e-12 * (1.0 + v.abs()));
             }
         }

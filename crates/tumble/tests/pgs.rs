@@ -100,8 +100,8 @@ fn boxed_pgs_satisfies_the_box_kkt_conditions() {
             .collect();
         let s = pgs_boxed(&a, &q, &limits, 20_000, 1e-12, None).unwrap();
         assert!(s.converged, "case {case}");
-        for i in 0..n {
-            let RowLimit::Box { lo, hi } = limits[i] else {
+        for (i, limit) in limits.iter().enumerate() {
+            let RowLimit::Box { lo, hi } = *limit else {
                 unreachable!()
             };
             let (z, w) = (s.z[i], s.w[i]);

@@ -183,3 +183,28 @@ fn bad_inputs_are_typed_errors() {
         Err(LcpError::SizeMismatch { .. })
     ));
 }
+
+#[test]
+fn solvers_are_bit_deterministic() {
+    let mut rng = Rng::new(15);
+    let (bodies, contacts) = random_contacts(&mut rng, 4, 12);
+    let lcp = build_contact_lcp(&bodies, &contacts, true).unwrap();
+    let run = || {
+        let n = contacts.len();
+        let normal = tumble::solver::DenseMatrix::from_row_major(
+            n,
+            (0..n * n).map(|k| lcp.a.get(k / n, k % n)).collect(),
+        )
+        .unwrap();
+        (
+            lemke(&normal, &lcp.b[..n]).unwrap(),
+            pgs_boxed(&lcp.a, &lcp.b, &lcp.limits, 300, 0.0, None).unwrap(),
+        )
+    };
+    let (l1, p1) = run();
+    let (l2, p2) = run();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&l1.z), bits(&l2.z));
+    assert_eq!(bits(&p1.z), bits(&p2.z));
+    assert_eq!(bits(&p1.w), bits(&p2.w));
+}

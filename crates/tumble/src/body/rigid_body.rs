@@ -220,15 +220,15 @@ impl RigidBody {
     }
 }
 
-/// `omega = R diag(inv_inertia) R^T L` for a possibly non-unit quaternion `q` (the
-/// rotation of a quaternion is scale-free once normalised; RK stages are not unit).
-#[inline]
+/// `omega = R diag(inv_inertia) R^T L` for a possibly non-unit quaternion `q` (RK
+/// stages are not unit).
+///
+/// Why no normalisation: the sandwich `q v q*`, which glam evaluates as
+/// `(w² - b·b) v + 2 (b·v) b + 2 w (b × v)` for `q = (b, w)`, equals `|q|² R v` for any
+/// quaternion, so two sandwiches give `|q|⁴ R diag R^T L`, and one division by `|q|⁴`
+/// (no square root) recovers omega.
+#[inline(always)]
 pub(crate) fn angular_velocity_of(q: DQuat, inv_inertia: DVec3, l: DVec3) -> DVec3 {
     let len2 = q.length_squared();
-    let qn = if (len2 - 1.0).abs() > 1e-15 {
-        q * (1.0 / len2.sqrt())
-    } else {
-        q
-    };
-    qn * (inv_inertia * (qn.conjugate() * l))
+    (q * (inv_inertia * (q.conjugate() * l))) * (1.0 / (len2 * len2))
 }

@@ -164,6 +164,22 @@ fn kinematic_velocity_is_reported() {
     assert!((k.velocity_at_point(p) - DVec3::ZERO).length() < 1e-15);
 }
 
+#[test]
+fn angular_velocity_ignores_quaternion_scale() {
+    // RK stages evaluate omega at non-unit quaternions; the scale must not matter.
+    let q = DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.2, 2.2);
+    let inv_i = DVec3::new(2.0, 1.5, 1.1);
+    let l = DVec3::new(0.3, -2.0, 1.2);
+    let w = angular_velocity_of(q, inv_i, l);
+    for s in [0.9, 1.0 + 1e-7, 1.3] {
+        let ws = angular_velocity_of(q * s, inv_i, l);
+        assert!((ws - w).length() < 1e-14 * w.length(), "scale {s}");
+    }
+    let r = DMat3::from_quat(q);
+    let expected = r * DMat3::from_diagonal(inv_i) * r.transpose() * l;
+    assert!((w - expected).length() < 1e-14 * w.length());
+}
+
 fn arb_vec(r: f64) -> impl Strategy<Value = DVec3> {
     (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
 }

@@ -122,6 +122,21 @@ pub struct IntegrateReport {
 
 /// Advances every body by `dt` (s) under uniform gravity `gravity` (m/s^2, applied as
 /// `M g`) and the bodies' accumulated forces and torques.
+///
+/// ```
+/// use tumble::collide::{math::DVec3, Pose};
+/// use tumble::{integrate, Integrator, RigidBody};
+///
+/// let mut bodies = vec![RigidBody::new_dynamic(1.0, DVec3::splat(0.1), Pose::IDENTITY)?];
+/// bodies[0].set_linear_velocity(DVec3::new(0.0, 0.0, 5.0))?;
+/// let gravity = DVec3::new(0.0, 0.0, -9.81);
+/// for _ in 0..100 {
+///     integrate(&mut bodies, gravity, 0.01, Integrator::Rk4)?;
+/// }
+/// // RK4 is exact on constant forces: z(1 s) = 5 - 9.81 / 2.
+/// assert!((bodies[0].position().z - (5.0 - 4.905)).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn integrate(
     bodies: &mut [RigidBody],
     gravity: DVec3,
@@ -133,6 +148,23 @@ pub fn integrate(
 
 /// Like [`integrate`], plus the force field `field` evaluated at every stage; `time` (s)
 /// is the time at the start of the step, passed on to the field.
+///
+/// ```
+/// use tumble::collide::{math::DVec3, Pose};
+/// use tumble::{integrate_with_field, BodyState, Integrator, RigidBody};
+///
+/// // A unit mass on a spring of stiffness 4 N/m: x(t) = cos(2 t).
+/// let start = Pose::from_translation(DVec3::X);
+/// let mut bodies = vec![RigidBody::new_dynamic(1.0, DVec3::splat(0.1), start)?];
+/// let spring = |_: usize, s: &BodyState, _t: f64| (-4.0 * s.position, DVec3::ZERO);
+/// let dt = 0.001;
+/// for n in 0..1000 {
+///     let t = n as f64 * dt;
+///     integrate_with_field(&mut bodies, DVec3::ZERO, t, dt, Integrator::Rk4, &spring)?;
+/// }
+/// assert!((bodies[0].position().x - 2.0f64.cos()).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn integrate_with_field<F: ForceField + ?Sized>(
     bodies: &mut [RigidBody],
     gravity: DVec3,

@@ -25,7 +25,7 @@ fn arb_inertia() -> impl Strategy<Value = DVec3> {
 }
 
 fn arb_integrator() -> impl Strategy<Value = Integrator> {
-    (0usize..4).prop_map(|i| Integrator::ALL[i])
+    (0usize..Integrator::ALL.len()).prop_map(|i| Integrator::ALL[i])
 }
 
 #[allow(clippy::too_many_arguments)]

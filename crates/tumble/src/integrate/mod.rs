@@ -20,6 +20,7 @@
 mod explicit;
 mod kinematic;
 mod ode;
+mod splitting;
 mod symplectic;
 
 use crate::body::{BodyKind, BodyState, RigidBody};
@@ -43,23 +44,38 @@ pub enum Integrator {
     /// solvers.
     #[default]
     SemiImplicitEuler,
+    /// Semi-implicit Euler for the momenta and translation, with the rotation under the
+    /// new `L` advanced by a symmetric, symplectic splitting about the principal axes
+    /// (McLachlan 1993). Order 1 overall, order 2 for torque-free rotation, and no energy
+    /// drift for tumbling asymmetric bodies, at the price of five sine/cosine pairs per
+    /// body and step.
+    SemiImplicitSplitting,
 }
 
 impl Integrator {
     /// All methods, for tests and benchmarks that loop over them.
-    pub const ALL: [Integrator; 4] = [
+    pub const ALL: [Integrator; 5] = [
         Integrator::Euler,
         Integrator::Midpoint,
         Integrator::Rk4,
         Integrator::SemiImplicitEuler,
+        Integrator::SemiImplicitSplitting,
     ];
 
     /// Global order of accuracy on smooth problems.
     pub fn order(self) -> u32 {
         match self {
-            Integrator::Euler | Integrator::SemiImplicitEuler => 1,
+            Integrator::Euler | Integrator::SemiImplicitEuler | Integrator::SemiImplicitSplitting => 1,
             Integrator::Midpoint => 2,
             Integrator::Rk4 => 4,
+        }
+    }
+
+    /// Global order of accuracy for the orientation of a torque-free body.
+    pub fn rotation_order(self) -> u32 {
+        match self {
+            Integrator::SemiImplicitSplitting => 2,
+            other => other.order(),
         }
     }
 }
@@ -196,6 +212,15 @@ pub fn integrate_with_field<F: ForceField + ?Sized>(
             field,
             &mut report,
             symplectic::semi_implicit_euler,
+        ),
+        Integrator::SemiImplicitSplitting => run(
+            bodies,
+            gravity,
+            time,
+            dt,
+            field,
+            &mut report,
+            splitting::semi_implicit_splitting,
         ),
     }
     Ok(report)

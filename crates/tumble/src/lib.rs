@@ -4,7 +4,7 @@
 //! [`tumble_collide`].
 //!
 //! - [`body`]: rigid body state, mass properties, material, force accumulators.
-//! - [`integrate`]: explicit Euler, midpoint, RK4 and semi-implicit Euler steps.
+//! - [`mod@integrate`]: explicit Euler, midpoint, RK4 and semi-implicit Euler steps.
 
 #![warn(missing_docs)]
 

@@ -40,7 +40,7 @@ fn projectile_follows_the_parabola() {
         let exact = x0 + v0 * t + G * (0.5 * t * t);
         let offset = match integrator {
             Integrator::Euler => -G * (0.5 * h * t),
-            Integrator::SemiImplicitEuler => G * (0.5 * h * t),
+            Integrator::SemiImplicitEuler | Integrator::SemiImplicitSplitting => G * (0.5 * h * t),
             Integrator::Midpoint | Integrator::Rk4 => DVec3::ZERO,
         };
         let b = &bodies[0];

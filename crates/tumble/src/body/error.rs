@@ -35,6 +35,9 @@ pub enum BodyError {
     /// real mass distribution satisfies (most likely a typo or a swapped inverse).
     #[error("principal moments {0:?} violate the triangle inequality I_a + I_b >= I_c")]
     InertiaTriangleInequality(DVec3),
+    /// The inertia tensor is not symmetric; the value is its largest `|I_ij - I_ji|`.
+    #[error("inertia tensor must be symmetric, largest |I_ij - I_ji| = {0} kg m^2")]
+    AsymmetricInertia(f64),
     /// A coefficient that must be non-negative is negative.
     #[error("{what} must be >= 0, got {value}")]
     Negative {

@@ -8,8 +8,8 @@
 use super::error::BodyError;
 use super::material::Material;
 use super::state::{BodyKind, BodyState};
-use super::validate::{inverse_inertia, inverse_mass};
-use tumble_collide::math::{DMat3, DQuat, DVec3};
+use super::validate::{finite_vec, inverse_inertia, inverse_mass};
+use tumble_collide::math::{sym_eigen, DMat3, DQuat, DVec3};
 use tumble_collide::Pose;
 
 /// A rigid body: state `(x, q, P, L)`, constant mass properties, material, damping and
@@ -64,6 +64,42 @@ impl RigidBody {
         let inv_mass = inverse_mass(mass)?;
         let inv_inertia = inverse_inertia(principal_inertia)?;
         Ok(Self::with_kind(BodyKind::Dynamic, pose, inv_mass, inv_inertia))
+    }
+
+    /// A dynamic body at rest from a full inertia tensor `inertia` (kg m^2, about the
+    /// centre of mass, expressed in the axes of the frame `frame`, whose origin is the
+    /// centre of mass).
+    ///
+    /// The tensor is diagonalised (Jacobi, [`sym_eigen`]) and the body frame becomes the
+    /// principal frame: the body's orientation is `frame.rotation * V`, with `V` the
+    /// rotation whose columns are the principal axes in `frame`'s axes. `V` is returned
+    /// too, so that geometry given in `frame` can be re-expressed in the body frame as
+    /// `V^-1 p`. The tensor must be finite and symmetric (relative asymmetry <= 1e-9),
+    /// with eigenvalues that pass the checks of [`RigidBody::new_dynamic`].
+    pub fn new_dynamic_from_tensor(
+        mass: f64,
+        inertia: DMat3,
+        frame: Pose,
+    ) -> Result<(RigidBody, DQuat), BodyError> {
+        for (what, col) in [
+            ("inertia tensor column 0", inertia.x_axis),
+            ("inertia tensor column 1", inertia.y_axis),
+            ("inertia tensor column 2", inertia.z_axis),
+        ] {
+            finite_vec(what, col)?;
+        }
+        let asym = tumble_collide::math::max_abs_diff_mat(&inertia, &inertia.transpose());
+        let scale = inertia.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if asym > 1e-9 * scale {
+            return Err(BodyError::AsymmetricInertia(asym));
+        }
+        let (moments, axes) = sym_eigen(&inertia);
+        let v = DQuat::from_mat3(&axes).normalize();
+        let pose = Pose {
+            position: frame.position,
+            rotation: (frame.rotation * v).normalize(),
+        };
+        Ok((Self::new_dynamic(mass, moments, pose)?, v))
     }
 
     /// A static body (infinite mass, never moves) at `pose`.
@@ -220,15 +256,15 @@ impl RigidBody {
     }
 }
 
-/// `omega = R diag(inv_inertia) R^T L` for a possibly non-unit quaternion `q` (the
-/// rotation of a quaternion is scale-free once normalised; RK stages are not unit).
-#[inline]
+/// `omega = R diag(inv_inertia) R^T L` for a possibly non-unit quaternion `q` (RK
+/// stages are not unit).
+///
+/// Why no normalisation: the sandwich `q v q*`, which glam evaluates as
+/// `(w² - b·b) v + 2 (b·v) b + 2 w (b × v)` for `q = (b, w)`, equals `|q|² R v` for any
+/// quaternion, so two sandwiches give `|q|⁴ R diag R^T L`, and one division by `|q|⁴`
+/// (no square root) recovers omega.
+#[inline(always)]
 pub(crate) fn angular_velocity_of(q: DQuat, inv_inertia: DVec3, l: DVec3) -> DVec3 {
     let len2 = q.length_squared();
-    let qn = if (len2 - 1.0).abs() > 1e-15 {
-        q * (1.0 / len2.sqrt())
-    } else {
-        q
-    };
-    qn * (inv_inertia * (qn.conjugate() * l))
+    (q * (inv_inertia * (q.conjugate() * l))) * (1.0 / (len2 * len2))
 }

@@ -164,6 +164,39 @@ fn kinematic_velocity_is_reported() {
     assert!((k.velocity_at_point(p) - DVec3::ZERO).length() < 1e-15);
 }
 
+#[test]
+fn angular_velocity_ignores_quaternion_scale() {
+    // RK stages evaluate omega at non-unit quaternions; the scale must not matter.
+    let q = DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -1.2, 2.2);
+    let inv_i = DVec3::new(2.0, 1.5, 1.1);
+    let l = DVec3::new(0.3, -2.0, 1.2);
+    let w = angular_velocity_of(q, inv_i, l);
+    for s in [0.9, 1.0 + 1e-7, 1.3] {
+        let ws = angular_velocity_of(q * s, inv_i, l);
+        assert!((ws - w).length() < 1e-14 * w.length(), "scale {s}");
+    }
+    let r = DMat3::from_quat(q);
+    let expected = r * DMat3::from_diagonal(inv_i) * r.transpose() * l;
+    assert!((w - expected).length() < 1e-14 * w.length());
+}
+
+#[test]
+fn tensor_constructor_rejects_bad_tensors() {
+    let mut m = DMat3::from_diagonal(DVec3::new(1.0, 2.0, 2.5));
+    m.x_axis.y = 0.5; // not mirrored in y_axis.x
+    assert!(matches!(
+        RigidBody::new_dynamic_from_tensor(1.0, m, pose()),
+        Err(BodyError::AsymmetricInertia(_))
+    ));
+    let nan = DMat3::from_diagonal(DVec3::new(1.0, f64::NAN, 1.0));
+    assert!(RigidBody::new_dynamic_from_tensor(1.0, nan, pose()).is_err());
+    let indefinite = DMat3::from_diagonal(DVec3::new(1.0, -1.0, 1.0));
+    assert!(matches!(
+        RigidBody::new_dynamic_from_tensor(1.0, indefinite, pose()),
+        Err(BodyError::NonPositiveInertia(_))
+    ));
+}
+
 fn arb_vec(r: f64) -> impl Strategy<Value = DVec3> {
     (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| DVec3::new(x, y, z))
 }
@@ -189,6 +222,32 @@ proptest! {
         // Kinetic energy 1/2 omega . I omega.
         let e = 0.5 * w.dot(i_world * w);
         prop_assert!((body.kinetic_energy() - e).abs() < 1e-12 * (1.0 + e));
+    }
+
+    /// A tensor given in an arbitrary frame gives the same physics as the principal
+    /// body: same moments, same L = I omega and kinetic energy for any omega, and the
+    /// returned V maps principal axes into the given frame.
+    #[test]
+    fn tensor_constructor_matches_principal_body(
+        a in -3.0f64..3.0, b in -3.0f64..3.0, c in -3.0f64..3.0,
+        i1 in 0.2f64..1.0, i2 in 0.2f64..1.0, i3 in 0.2f64..1.0, w in arb_vec(5.0),
+    ) {
+        prop_assume!(i1 + i2 >= i3 && i1 + i3 >= i2 && i2 + i3 >= i1);
+        let r = DMat3::from_quat(DQuat::from_euler(glam::EulerRot::ZYX, a, b, c));
+        let tensor = r * DMat3::from_diagonal(DVec3::new(i1, i2, i3)) * r.transpose();
+        let frame = pose();
+        let (mut body, v) = RigidBody::new_dynamic_from_tensor(2.0, tensor, frame).unwrap();
+        let mut sorted = [i1, i2, i3];
+        sorted.sort_by(f64::total_cmp);
+        prop_assert!((body.principal_inertia() - DVec3::from(sorted)).length() < 1e-12);
+        let diag = DMat3::from_diagonal(body.principal_inertia());
+        let back = DMat3::from_quat(v) * diag * DMat3::from_quat(v).transpose();
+        prop_assert!(tumble_collide::math::max_abs_diff_mat(&back, &tensor) < 1e-12);
+        body.set_angular_velocity(w).unwrap();
+        let rf = DMat3::from_quat(frame.rotation);
+        let l_expected = rf * tensor * rf.transpose() * w;
+        prop_assert!((body.angular_momentum() - l_expected).length() < 1e-12 * (1.0 + w.length()));
+        prop_assert!((body.kinetic_energy() - 0.5 * w.dot(l_expected)).abs() < 1e-12 * (1.0 + w.length_squared()));
     }
 
     #[test]

@@ -20,6 +20,7 @@
 mod explicit;
 mod kinematic;
 mod ode;
+mod splitting;
 mod symplectic;
 
 use crate::body::{BodyKind, BodyState, RigidBody};
@@ -43,23 +44,38 @@ pub enum Integrator {
     /// solvers.
     #[default]
     SemiImplicitEuler,
+    /// Semi-implicit Euler for the momenta and translation, with the rotation under the
+    /// new `L` advanced by a symmetric, symplectic splitting about the principal axes
+    /// (McLachlan 1993). Order 1 overall, order 2 for torque-free rotation, and no energy
+    /// drift for tumbling asymmetric bodies, at the price of five sine/cosine pairs per
+    /// body and step.
+    SemiImplicitSplitting,
 }
 
 impl Integrator {
     /// All methods, for tests and benchmarks that loop over them.
-    pub const ALL: [Integrator; 4] = [
+    pub const ALL: [Integrator; 5] = [
         Integrator::Euler,
         Integrator::Midpoint,
         Integrator::Rk4,
         Integrator::SemiImplicitEuler,
+        Integrator::SemiImplicitSplitting,
     ];
 
     /// Global order of accuracy on smooth problems.
     pub fn order(self) -> u32 {
         match self {
-            Integrator::Euler | Integrator::SemiImplicitEuler => 1,
+            Integrator::Euler | Integrator::SemiImplicitEuler | Integrator::SemiImplicitSplitting => 1,
             Integrator::Midpoint => 2,
             Integrator::Rk4 => 4,
+        }
+    }
+
+    /// Global order of accuracy for the orientation of a torque-free body.
+    pub fn rotation_order(self) -> u32 {
+        match self {
+            Integrator::SemiImplicitSplitting => 2,
+            other => other.order(),
         }
     }
 }
@@ -122,6 +138,21 @@ pub struct IntegrateReport {
 
 /// Advances every body by `dt` (s) under uniform gravity `gravity` (m/s^2, applied as
 /// `M g`) and the bodies' accumulated forces and torques.
+///
+/// ```
+/// use tumble::collide::{math::DVec3, Pose};
+/// use tumble::{integrate, Integrator, RigidBody};
+///
+/// let mut bodies = vec![RigidBody::new_dynamic(1.0, DVec3::splat(0.1), Pose::IDENTITY)?];
+/// bodies[0].set_linear_velocity(DVec3::new(0.0, 0.0, 5.0))?;
+/// let gravity = DVec3::new(0.0, 0.0, -9.81);
+/// for _ in 0..100 {
+///     integrate(&mut bodies, gravity, 0.01, Integrator::Rk4)?;
+/// }
+/// // RK4 is exact on constant forces: z(1 s) = 5 - 9.81 / 2.
+/// assert!((bodies[0].position().z - (5.0 - 4.905)).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn integrate(
     bodies: &mut [RigidBody],
     gravity: DVec3,
@@ -133,6 +164,23 @@ pub fn integrate(
 
 /// Like [`integrate`], plus the force field `field` evaluated at every stage; `time` (s)
 /// is the time at the start of the step, passed on to the field.
+///
+/// ```
+/// use tumble::collide::{math::DVec3, Pose};
+/// use tumble::{integrate_with_field, BodyState, Integrator, RigidBody};
+///
+/// // A unit mass on a spring of stiffness 4 N/m: x(t) = cos(2 t).
+/// let start = Pose::from_translation(DVec3::X);
+/// let mut bodies = vec![RigidBody::new_dynamic(1.0, DVec3::splat(0.1), start)?];
+/// let spring = |_: usize, s: &BodyState, _t: f64| (-4.0 * s.position, DVec3::ZERO);
+/// let dt = 0.001;
+/// for n in 0..1000 {
+///     let t = n as f64 * dt;
+///     integrate_with_field(&mut bodies, DVec3::ZERO, t, dt, Integrator::Rk4, &spring)?;
+/// }
+/// assert!((bodies[0].position().x - 2.0f64.cos()).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn integrate_with_field<F: ForceField + ?Sized>(
     bodies: &mut [RigidBody],
     gravity: DVec3,
@@ -164,6 +212,15 @@ pub fn integrate_with_field<F: ForceField + ?Sized>(
             field,
             &mut report,
             symplectic::semi_implicit_euler,
+        ),
+        Integrator::SemiImplicitSplitting => run(
+            bodies,
+            gravity,
+            time,
+            dt,
+            field,
+            &mut report,
+            splitting::semi_implicit_splitting,
         ),
     }
     Ok(report)

@@ -1,0 +1,62 @@
+//! Semi-implicit Euler with a symplectic splitting for the rotation (McLachlan, "Explicit
+//! Lie-Poisson integration and the Euler equations", Phys. Rev. Lett. 71, 1993; Dullweber,
+//! Leimkuhler & McLachlan, "Symplectic splitting methods for rigid body molecular
+//! dynamics", J. Chem. Phys. 107, 1997; Reich 1994).
+//!
+//! Why: with `L` held fixed, both forward and semi-implicit Euler turn the body with the
+//! `omega` of the start of the step; for an asymmetric body the kinetic energy
+//! `1/2 L . I^-1(t) L` then grows steadily (tens of percent over a few hundred steps of
+//! a fast-tumbling box). Here the kick of the momenta is the same as semi-implicit Euler,
+//! but the free rotation under the new `L` is advanced by Strang splitting of the
+//! free-rotor Hamiltonian `H = sum_i Pi_i² / (2 I_i)` (`Pi = R^T L`, body frame). The
+//! flow of each term is exact: the body turns about its own axis `e_i` by the angle
+//! `h Pi_i / I_i` (`Pi_i` is constant under it), i.e. `q <- q exp(e_i h Pi_i / (2 I_i))`.
+//! The composition 1(h/2) 2(h/2) 3(h) 2(h/2) 1(h/2) is symmetric, hence second order,
+//! and symplectic: the energy error stays bounded (O(h²), no drift), `L` is untouched, and
+//! `q` stays unit up to round-off. Translation is semi-implicit Euler (first order).
+
+use super::ode::Params;
+use super::ForceField;
+use crate::body::BodyState;
+use tumble_collide::math::{DQuat, DVec3};
+
+/// Turns `q` about its body axis `axis` (0, 1, 2) for time `h` under the part
+/// `Pi_axis² / (2 I_axis)` of the free-rotor Hamiltonian with world momentum `l`.
+#[inline(always)]
+fn principal_flow(q: DQuat, l: DVec3, inv_inertia: DVec3, axis: usize, h: f64) -> DQuat {
+    let pi = q.conjugate() * l;
+    let angle = h * pi[axis] * inv_inertia[axis];
+    let (s, c) = (0.5 * angle).sin_cos();
+    let mut v = DVec3::ZERO;
+    v[axis] = s;
+    q * DQuat::from_xyzw(v.x, v.y, v.z, c)
+}
+
+/// `P1 = P + h F(y)`, `L1 = L + h tau(y)`, `x1 = x + h P1 / M`, and `q1` from the
+/// symmetric principal-axis splitting of the free rotation under `L1`.
+#[inline(always)]
+pub(crate) fn semi_implicit_splitting<F: ForceField + ?Sized>(
+    p: &Params,
+    y: &BodyState,
+    t: f64,
+    h: f64,
+    field: &F,
+) -> BodyState {
+    let (f_ext, tau_ext) = field.wrench(p.index, y, t);
+    let linear_momentum = y.linear_momentum + (p.force + f_ext) * h;
+    let l = y.angular_momentum + (p.torque + tau_ext) * h;
+    let half = 0.5 * h;
+    let inv_i = p.inv_inertia;
+    let mut q = y.orientation;
+    q = principal_flow(q, l, inv_i, 0, half);
+    q = principal_flow(q, l, inv_i, 1, half);
+    q = principal_flow(q, l, inv_i, 2, h);
+    q = principal_flow(q, l, inv_i, 1, half);
+    q = principal_flow(q, l, inv_i, 0, half);
+    BodyState {
+        position: y.position + linear_momentum * (p.inv_mass * h),
+        orientation: q,
+        linear_momentum,
+        angular_momentum: l,
+    }
+}

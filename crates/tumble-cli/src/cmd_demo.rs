@@ -13,7 +13,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use tumble::body::RigidBody;
 use tumble::integrate::{integrate, Integrator};
-use tumble_collide::mass::{box_properties, MassProperties, MassSpec};
+use tumble_collide::mass::{solid_box, MassProperties, MassSpec};
 use tumble_collide::{DMat3, DVec3, Pose};
 
 /// Arguments of `tumble demo`.
@@ -72,8 +72,8 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let internal = |e: &dyn std::fmt::Display| CliError::Internal(e.to_string());
     // Shaft along z and a cross bar along x on top: a T-handle of steel-like density.
     let density = MassSpec::Density(7800.0);
-    let shaft = box_properties(DVec3::new(0.01, 0.01, 0.05), density).map_err(|e| internal(&e))?;
-    let bar = box_properties(DVec3::new(0.04, 0.01, 0.01), density)
+    let shaft = solid_box(DVec3::new(0.01, 0.01, 0.05), density).map_err(|e| internal(&e))?;
+    let bar = solid_box(DVec3::new(0.04, 0.01, 0.01), density)
         .map_err(|e| internal(&e))?
         .translated(DVec3::new(0.0, 0.0, 0.06));
     let handle = MassProperties::combine(&[shaft, bar]).map_err(|e| internal(&e))?;

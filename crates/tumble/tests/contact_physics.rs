@@ -66,7 +66,9 @@ fn inelastic_ball_comes_to_rest_without_jitter() {
         z.push(world.center_of_mass(ball).unwrap().z);
     }
     assert!(max_speed < 1e-3, "resting ball moves at {max_speed} m/s");
-    let (lo, hi) = z.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+    let (lo, hi) = z.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+        (l.min(v), h.max(v))
+    });
     assert!(hi - lo < 1e-4, "height jitters by {} m", hi - lo);
     let allowed = world.settings().allowed_penetration;
     assert!((lo - 0.1).abs() <= allowed + 1e-4, "rests at z = {lo}");
@@ -80,7 +82,10 @@ fn incline_after_one_second(mu: f64) -> (DVec3, DVec3) {
     for _ in 0..scene.steps {
         world.step();
     }
-    (world.center_of_mass(cube).unwrap() - start, world.linear_velocity(cube).unwrap())
+    (
+        world.center_of_mass(cube).unwrap() - start,
+        world.linear_velocity(cube).unwrap(),
+    )
 }
 
 #[test]
@@ -100,7 +105,10 @@ fn incline_slides_with_coulomb_acceleration() {
     // part points downhill along (cos theta, 0, -sin theta).
     let downhill = DVec3::new(theta.cos(), 0.0, -theta.sin());
     let speed = v.dot(downhill);
-    assert!((speed - a).abs() < 0.02 * a, "speed after 1 s {speed}, expected {a}");
+    assert!(
+        (speed - a).abs() < 0.02 * a,
+        "speed after 1 s {speed}, expected {a}"
+    );
     assert!((d.dot(downhill) - 0.5 * a).abs() < 0.02 * 0.5 * a);
 }
 
@@ -108,7 +116,11 @@ fn incline_slides_with_coulomb_acceleration() {
 fn cradle_transfers_momentum_to_the_last_ball() {
     let scene = scenes::cradle();
     let (mut world, ids) = scene.build().unwrap();
-    let momentum = |w: &World| ids.iter().map(|&id| w.linear_velocity(id).unwrap()).sum::<DVec3>();
+    let momentum = |w: &World| {
+        ids.iter()
+            .map(|&id| w.linear_velocity(id).unwrap())
+            .sum::<DVec3>()
+    };
     let p0 = momentum(&world);
     let e0 = world.kinetic_energy();
     for _ in 0..scene.steps {
@@ -119,9 +131,15 @@ fn cradle_transfers_momentum_to_the_last_ball() {
     for &id in &ids[..4] {
         assert!(world.linear_velocity(id).unwrap().length() < 0.05);
     }
-    assert!(world.linear_velocity(ids[5]).unwrap().length() < 0.05, "striker stops");
+    assert!(
+        world.linear_velocity(ids[5]).unwrap().length() < 0.05,
+        "striker stops"
+    );
     assert!((momentum(&world) - p0).length() < 1e-9, "momentum conserved");
-    assert!((world.kinetic_energy() - e0).abs() < 0.01 * e0, "energy conserved");
+    assert!(
+        (world.kinetic_energy() - e0).abs() < 0.01 * e0,
+        "energy conserved"
+    );
 }
 
 #[test]
@@ -149,7 +167,9 @@ fn no_tunnelling_of_a_fast_small_sphere() {
     })
     .unwrap();
     world
-        .add_body(&BodyDesc::fixed(Shape::Cuboid(Cuboid::new(DVec3::new(1.0, 1.0, 0.005)).unwrap())))
+        .add_body(&BodyDesc::fixed(Shape::Cuboid(
+            Cuboid::new(DVec3::new(1.0, 1.0, 0.005)).unwrap(),
+        )))
         .unwrap();
     let ball = world
         .add_body(
@@ -160,7 +180,10 @@ fn no_tunnelling_of_a_fast_small_sphere() {
         .unwrap();
     for _ in 0..60 {
         world.step();
-        assert!(world.center_of_mass(ball).unwrap().z > 0.0, "tunnelled through the plate");
+        assert!(
+            world.center_of_mass(ball).unwrap().z > 0.0,
+            "tunnelled through the plate"
+        );
     }
 }
 
@@ -183,14 +206,24 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
         )
         .unwrap();
     let b = world
-        .add_body(&BodyDesc::dynamic(cube()).at(DVec3::new(1.0, 0.0, 0.0)).with_mass(1.0).with_material(0.3, 0.5))
+        .add_body(
+            &BodyDesc::dynamic(cube())
+                .at(DVec3::new(1.0, 0.0, 0.0))
+                .with_mass(1.0)
+                .with_material(0.3, 0.5),
+        )
         .unwrap();
     let momentum = |w: &World| {
         let (ma, mb) = (w.body(a).unwrap().mass(), w.body(b).unwrap().mass());
         let p = w.linear_velocity(a).unwrap() * ma + w.linear_velocity(b).unwrap() * mb;
-        let l = w.center_of_mass(a).unwrap().cross(w.linear_velocity(a).unwrap() * ma)
+        let l = w
+            .center_of_mass(a)
+            .unwrap()
+            .cross(w.linear_velocity(a).unwrap() * ma)
             + w.body(a).unwrap().angular_momentum()
-            + w.center_of_mass(b).unwrap().cross(w.linear_velocity(b).unwrap() * mb)
+            + w.center_of_mass(b)
+                .unwrap()
+                .cross(w.linear_velocity(b).unwrap() * mb)
             + w.body(b).unwrap().angular_momentum();
         (p, l)
     };
@@ -202,7 +235,10 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
         touched |= r.contacts > 0;
         let (p, l) = momentum(&world);
         assert!((p - p0).length() < 1e-9 * p0.length().max(1.0), "linear momentum");
-        assert!((l - l0).length() < 1e-9 * l0.length().max(1.0), "angular momentum {l:?} vs {l0:?}");
+        assert!(
+            (l - l0).length() < 1e-9 * l0.length().max(1.0),
+            "angular momentum {l:?} vs {l0:?}"
+        );
         let e = world.kinetic_energy();
         assert!(e <= e_prev * (1.0 + 1e-9) + 1e-12, "energy grew {e_prev} -> {e}");
         e_prev = e;
@@ -213,15 +249,24 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
 #[test]
 fn sleeping_stack_stays_bit_still_and_wakes_when_hit() {
     let mut world = World::new(WorldSettings::default()).unwrap();
-    world.add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground()))).unwrap();
+    world
+        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
+        .unwrap();
     let cube = || Shape::Cuboid(Cuboid::new(DVec3::splat(0.5)).unwrap());
     let boxes: Vec<_> = (0..3)
-        .map(|i| world.add_body(&BodyDesc::dynamic(cube()).at(DVec3::new(0.0, 0.0, 0.5 + i as f64))).unwrap())
+        .map(|i| {
+            world
+                .add_body(&BodyDesc::dynamic(cube()).at(DVec3::new(0.0, 0.0, 0.5 + i as f64)))
+                .unwrap()
+        })
         .collect();
     for _ in 0..240 {
         world.step();
     }
-    assert!(boxes.iter().all(|&b| world.is_sleeping(b).unwrap()), "stack fell asleep");
+    assert!(
+        boxes.iter().all(|&b| world.is_sleeping(b).unwrap()),
+        "stack fell asleep"
+    );
     let poses: Vec<_> = boxes.iter().map(|&b| world.pose(b).unwrap()).collect();
     for _ in 0..60 {
         world.step();
@@ -281,15 +326,25 @@ fn non_finite_state_is_quarantined_not_spread() {
     let sphere = || Shape::Sphere(Sphere::new(0.5).unwrap());
     // A light body and a finite but absurd force: F/m overflows to infinity.
     let a = world
-        .add_body(&BodyDesc::dynamic(sphere()).at(DVec3::new(0.0, 0.0, 5.0)).with_mass(1e-6))
+        .add_body(
+            &BodyDesc::dynamic(sphere())
+                .at(DVec3::new(0.0, 0.0, 5.0))
+                .with_mass(1e-6),
+        )
         .unwrap();
-    let b = world.add_body(&BodyDesc::dynamic(sphere()).at(DVec3::new(0.9, 0.0, 5.0))).unwrap();
+    let b = world
+        .add_body(&BodyDesc::dynamic(sphere()).at(DVec3::new(0.9, 0.0, 5.0)))
+        .unwrap();
     world.apply_force(a, DVec3::new(1e308, 0.0, 0.0)).unwrap();
     let before = world.pose(a).unwrap();
     let report = world.step();
     assert_eq!(report.quarantined.len(), 1, "{report:?}");
     assert_eq!(report.quarantined[0].body, a);
-    assert_eq!(world.pose(a).unwrap(), before, "restored to its state before the step");
+    assert_eq!(
+        world.pose(a).unwrap(),
+        before,
+        "restored to its state before the step"
+    );
     assert_eq!(world.linear_velocity(a).unwrap(), DVec3::ZERO, "and stopped");
     for _ in 0..10 {
         world.step();
@@ -310,7 +365,15 @@ fn same_scene_gives_identical_bits() {
         ids.iter()
             .flat_map(|&id| {
                 let p = world.pose(id).unwrap();
-                [p.position.x, p.position.y, p.position.z, p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w]
+                [
+                    p.position.x,
+                    p.position.y,
+                    p.position.z,
+                    p.rotation.x,
+                    p.rotation.y,
+                    p.rotation.z,
+                    p.rotation.w,
+                ]
             })
             .map(f64::to_bits)
             .collect::<Vec<u64>>()

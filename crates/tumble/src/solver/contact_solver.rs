@@ -413,7 +413,13 @@ mod tests {
         bodies[5].v = DVec3::new(1.0, 0.0, 0.0);
         let mut cs = vec![];
         for i in 0..4u32 {
-            let mut c = contact(i + 1, i, DVec3::new(-0.1, 0.0, 0.0), DVec3::new(0.1, 0.0, 0.0), 0.0);
+            let mut c = contact(
+                i + 1,
+                i,
+                DVec3::new(-0.1, 0.0, 0.0),
+                DVec3::new(0.1, 0.0, 0.0),
+                0.0,
+            );
             c.normal = DVec3::X;
             c.restitution = 1.0;
             cs.push(c);
@@ -447,7 +453,13 @@ mod tests {
         let mut cs = [c];
         prepare(&mut cs[0], &bodies);
         let h = 1.0 / 60.0;
-        resolve_collisions(&cs, &mut bodies, &[DVec3::new(0.0, 0.0, -g), DVec3::ZERO], &params(h), h);
+        resolve_collisions(
+            &cs,
+            &mut bodies,
+            &[DVec3::new(0.0, 0.0, -g), DVec3::ZERO],
+            &params(h),
+            h,
+        );
         let vi = (16.0 + 2.0 * g * 0.01f64).sqrt();
         let apex_true = (0.5 * vi).powi(2) / (2.0 * g);
         let apex = 0.01 + bodies[0].v.z.powi(2) / (2.0 * g);

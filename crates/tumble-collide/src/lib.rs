@@ -9,6 +9,7 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`triangle`]: triangle-level narrow phase (overlap, distance, contacts, merging).
 
 #![warn(missing_docs)]
 
@@ -17,6 +18,7 @@ pub mod hull;
 pub mod math;
 pub mod mesh;
 pub mod pose;
+pub mod triangle;
 
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use math::{DMat3, DQuat, DVec3};

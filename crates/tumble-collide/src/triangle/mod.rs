@@ -26,4 +26,8 @@ pub mod tri_distance;
 pub mod tri_tri_overlap;
 
 pub use orient::{orient2d, orient3d};
+pub use tri_box::tri_box_overlap;
+pub use tri_distance::{
+    closest_point_on_triangle, closest_points_segments, triangle_distance, SegmentClosest, TriDistance,
+};
 pub use tri_tri_overlap::{segment_triangle_overlap, tri_tri_overlap};

@@ -10,6 +10,7 @@
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
 //! - [`mass`]: mass properties of primitives, meshes and composite bodies.
+//! - [`triangle`]: triangle-level narrow phase (overlap, distance, contacts, merging).
 
 #![warn(missing_docs)]
 
@@ -19,6 +20,7 @@ pub mod mass;
 pub mod math;
 pub mod mesh;
 pub mod pose;
+pub mod triangle;
 
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use mass::{mesh_mass_properties, MassError, MassFallback, MassProperties, MassSpec, PrincipalFrame};

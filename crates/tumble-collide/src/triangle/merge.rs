@@ -1,0 +1,275 @@
+//! Removal of duplicate contacts produced by triangle-pair contact generation.
+//!
+//! The thesis (5.4) notes that per-triangle-pair contacts repeat: a mesh vertex
+//! shared by six triangles is reported six times against the same face, a
+//! vertex above the shared edge of two faces twice, an edge shared by two
+//! triangles twice. Two passes, both deterministic:
+//! 1. identity: contacts that name the same mesh vertex (vertex/face, or the
+//!    vertex side of a penetrating contact) or the same pair of mesh edges
+//!    (edge/edge), found through the caller's per-triangle vertex index
+//!    triples, are duplicates when their normals also agree;
+//! 2. geometry: any two contacts whose points are within `point_tolerance`
+//!    and whose normals agree are duplicates.
+//!
+//! Of each duplicate group the deepest contact (smallest `distance`) is kept:
+//! contacts are visited deepest first (ties by original position) and a contact
+//! is dropped when it duplicates one already kept. Survivors keep their
+//! original relative order.
+
+use crate::contact::{Contact, Feature, SubFeature};
+
+/// Tolerances for [`merge_contacts`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MergeParams {
+    /// Points closer than this are the same contact (m). Default 1e-6 m; raise
+    /// it to thin out contacts that are merely close (a coarser manifold).
+    pub point_tolerance: f64,
+    /// Normals within this angle agree (radians, in [0, pi]). Default 0.05 rad
+    /// (about 3 degrees); contacts with the same feature but normals further
+    /// apart (a vertex in a concave corner touching two faces) are both kept.
+    pub normal_angle: f64,
+}
+
+impl Default for MergeParams {
+    fn default() -> Self {
+        MergeParams {
+            point_tolerance: 1e-6,
+            normal_angle: 0.05,
+        }
+    }
+}
+
+/// Invalid merge parameters.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum MergeError {
+    /// `point_tolerance` negative or not finite.
+    #[error("merge point_tolerance must be finite and >= 0 (m), got {0}")]
+    PointTolerance(f64),
+    /// `normal_angle` outside [0, pi] or NaN.
+    #[error("merge normal_angle must be in [0, pi] (rad), got {0}")]
+    NormalAngle(f64),
+}
+
+/// A feature named by mesh-global vertex ids (faces carry no identity here:
+/// a vertex touching two coplanar faces is one contact).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum GlobalFeature {
+    Vertex(u32),
+    Edge(u32, u32),
+}
+
+/// Global identity of one side of a contact, if the triangle is known.
+fn global(f: Feature, tris: &[[u32; 3]]) -> Option<GlobalFeature> {
+    let t = tris.get(f.index as usize)?;
+    match f.sub {
+        SubFeature::Vertex(k) => t.get(k as usize).map(|&v| GlobalFeature::Vertex(v)),
+        SubFeature::Edge(k) if k < 3 => {
+            let (u, v) = (t[k as usize], t[(k as usize + 1) % 3]);
+            Some(GlobalFeature::Edge(u.min(v), u.max(v)))
+        }
+        _ => None,
+    }
+}
+
+/// Removes duplicate contacts from `contacts` in place and returns how many
+/// were removed.
+///
+/// `tris_a` / `tris_b` are the vertex index triples of the meshes of shape A
+/// and B (`TriMesh::triangles()`), indexed by the triangle ids in the contacts'
+/// features; pass `&[]` for a shape without mesh identity (then only the
+/// geometric pass applies to it). Out-of-range ids are treated as unknown, not
+/// as errors. Deterministic: the result depends only on the input order and
+/// values.
+pub fn merge_contacts(
+    contacts: &mut Vec<Contact>,
+    tris_a: &[[u32; 3]],
+    tris_b: &[[u32; 3]],
+    params: &MergeParams,
+) -> Result<usize, MergeError> {
+    let tol = params.point_tolerance;
+    if !(tol >= 0.0 && tol.is_finite()) {
+        return Err(MergeError::PointTolerance(tol));
+    }
+    let angle = params.normal_angle;
+    if !(0.0..=std::f64::consts::PI).contains(&angle) {
+        return Err(MergeError::NormalAngle(angle));
+    }
+    let min_cos = angle.cos();
+    let tol2 = tol * tol;
+    let n = contacts.len();
+    let keys: Vec<_> = contacts
+        .iter()
+        .map(|c| (global(c.feature_a, tris_a), global(c.feature_b, tris_b)))
+        .collect();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| {
+        contacts[i]
+            .distance
+            .total_cmp(&contacts[j].distance)
+            .then(i.cmp(&j))
+    });
+    let mut kept: Vec<usize> = Vec::with_capacity(n);
+    let mut keep = vec![false; n];
+    for &i in &order {
+        let c = &contacts[i];
+        let duplicate = kept.iter().any(|&k| {
+            let d = &contacts[k];
+            if c.normal.dot(d.normal) < min_cos {
+                return false;
+            }
+            let same_feature = keys[i] == keys[k] && (keys[i].0.is_some() || keys[i].1.is_some());
+            same_feature || (c.point - d.point).length_squared() <= tol2
+        });
+        if !duplicate {
+            kept.push(i);
+            keep[i] = true;
+        }
+    }
+    let mut idx = 0;
+    contacts.retain(|_| {
+        idx += 1;
+        keep[idx - 1]
+    });
+    Ok(n - contacts.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tri_contact::triangle_contacts;
+    use super::*;
+    use crate::contact::ContactKind;
+    use crate::math::DVec3;
+    use crate::mesh::{box_mesh, TriMesh};
+
+    /// A 20 m x 20 m ground of two triangles in z = 0, normal +z, with its
+    /// diagonal far from the cube placed below.
+    fn ground() -> TriMesh {
+        let v = vec![
+            DVec3::new(-10.0, -10.0, 0.0),
+            DVec3::new(10.0, -10.0, 0.0),
+            DVec3::new(10.0, 10.0, 0.0),
+            DVec3::new(-10.0, 10.0, 0.0),
+        ];
+        TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).unwrap()
+    }
+
+    /// All triangle-pair contacts of a unit cube at height `gap` above the ground.
+    fn cube_on_ground(gap: f64, margin: f64) -> (TriMesh, TriMesh, Vec<Contact>) {
+        let centre = DVec3::new(3.0, -3.0, 0.5 + gap);
+        let cube = box_mesh(DVec3::splat(0.5))
+            .unwrap()
+            .map_vertices(|p| p + centre)
+            .unwrap();
+        let g = ground();
+        let mut out = Vec::new();
+        for ta in 0..cube.triangles().len() {
+            for tb in 0..g.triangles().len() {
+                let (a, b) = (cube.triangle(ta), g.triangle(tb));
+                triangle_contacts(&a, ta as u32, &b, tb as u32, margin, &mut out).unwrap();
+            }
+        }
+        (cube, g, out)
+    }
+
+    fn assert_four_corners(contacts: &[Contact], gap: f64) {
+        assert_eq!(contacts.len(), 4, "{contacts:?}");
+        let mut corners: Vec<(i64, i64)> = contacts
+            .iter()
+            .map(|c| {
+                assert!((c.normal - DVec3::Z).length() < 1e-12);
+                assert!((c.distance - gap).abs() < 1e-12);
+                assert!((c.point.z - gap / 2.0).abs() < 1e-12);
+                ((c.point.x * 2.0).round() as i64, (c.point.y * 2.0).round() as i64)
+            })
+            .collect();
+        corners.sort();
+        assert_eq!(corners, vec![(5, -7), (5, -5), (7, -7), (7, -5)]);
+    }
+
+    #[test]
+    fn cube_resting_on_a_plane_mesh_merges_to_its_four_corners() {
+        let gap = 1e-3;
+        let (cube, g, mut c) = cube_on_ground(gap, 0.01);
+        // Each bottom corner is in 4 to 6 cube triangles: many duplicates.
+        assert!(c.len() >= 16, "{}", c.len());
+        assert!(c.iter().all(|x| x.kind == ContactKind::VertexFace));
+        let removed =
+            merge_contacts(&mut c, cube.triangles(), g.triangles(), &MergeParams::default()).unwrap();
+        assert!(removed >= 12);
+        assert_four_corners(&c, gap);
+    }
+
+    #[test]
+    fn cube_touching_a_plane_mesh_merges_to_its_four_corners() {
+        // Exactly touching: every pair that meets is an intersecting pair.
+        let (cube, g, mut c) = cube_on_ground(0.0, 0.01);
+        assert!(c.iter().all(|x| x.kind == ContactKind::Penetrating));
+        merge_contacts(&mut c, cube.triangles(), g.triangles(), &MergeParams::default()).unwrap();
+        assert_four_corners(&c, 0.0);
+    }
+
+    #[test]
+    fn geometric_merge_works_without_mesh_identity() {
+        let gap = 1e-3;
+        let (_, _, mut c) = cube_on_ground(gap, 0.01);
+        merge_contacts(&mut c, &[], &[], &MergeParams::default()).unwrap();
+        assert_four_corners(&c, gap);
+    }
+
+    fn contact(point: DVec3, normal: DVec3, distance: f64, fa: Feature) -> Contact {
+        Contact {
+            point,
+            normal,
+            distance,
+            kind: ContactKind::VertexFace,
+            feature_a: fa,
+            feature_b: Feature::face(0),
+        }
+    }
+
+    #[test]
+    fn deepest_of_a_group_is_kept_and_distinct_normals_survive() {
+        let tris = [[0, 1, 2], [2, 1, 3]];
+        // Vertex 2 is corner 2 of triangle 0 and corner 0 of triangle 1.
+        let mut c = vec![
+            contact(DVec3::ZERO, DVec3::Z, 0.02, Feature::vertex(0, 2)),
+            contact(DVec3::new(0.0, 0.0, 0.001), DVec3::Z, 0.01, Feature::vertex(1, 0)),
+            // Same vertex against a perpendicular face: kept.
+            contact(DVec3::ZERO, DVec3::X, 0.03, Feature::vertex(1, 0)),
+            // Another vertex: kept.
+            contact(DVec3::ONE, DVec3::Z, 0.05, Feature::vertex(1, 2)),
+        ];
+        let removed = merge_contacts(&mut c, &tris, &[], &MergeParams::default()).unwrap();
+        assert_eq!(removed, 1);
+        assert_eq!(c.len(), 3);
+        // Survivors in original order; of the duplicate pair the deeper one.
+        assert_eq!(c[0].distance, 0.01);
+        assert_eq!(c[1].normal, DVec3::X);
+        assert_eq!(c[2].point, DVec3::ONE);
+    }
+
+    #[test]
+    fn bad_parameters_are_errors_and_unknown_ids_are_not() {
+        let mut c = vec![contact(DVec3::ZERO, DVec3::Z, 0.0, Feature::vertex(99, 2))];
+        let bad = MergeParams {
+            point_tolerance: -1.0,
+            ..MergeParams::default()
+        };
+        assert_eq!(
+            merge_contacts(&mut c, &[], &[], &bad),
+            Err(MergeError::PointTolerance(-1.0))
+        );
+        let bad = MergeParams {
+            normal_angle: f64::NAN,
+            ..MergeParams::default()
+        };
+        assert!(matches!(
+            merge_contacts(&mut c, &[], &[], &bad),
+            Err(MergeError::NormalAngle(_))
+        ));
+        assert_eq!(
+            merge_contacts(&mut c, &[[0, 1, 2]], &[], &MergeParams::default()),
+            Ok(0)
+        );
+    }
+}

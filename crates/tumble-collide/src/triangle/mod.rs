@@ -1,0 +1,35 @@
+//! Triangle-level narrow phase: the exact tests every mesh-mesh query ends in
+//! once the OBBTrees have narrowed a body pair down to triangle pairs.
+//!
+//! - [`orient`]: orientation predicates (3x3 determinants, exact for small
+//!   integer coordinates).
+//! - [`tri_tri_overlap`](mod@tri_tri_overlap): closed triangle-triangle
+//!   intersection (Guigue & Devillers 2003), coplanar and degenerate cases included.
+//! - [`tri_box`]: triangle vs oriented box (Akenine-Moller 2001, 13 axes).
+//! - [`tri_distance`]: closest points between points, segments and triangles
+//!   (Ericson, Real-Time Collision Detection 5.1.5, 5.1.9).
+//! - [`tri_contact`]: vertex/face, face/vertex and edge/edge contacts of a
+//!   triangle pair within a margin, and push-out contacts for intersecting pairs
+//!   (thesis 5.2, 7.1).
+//! - [`merge`]: removal of the duplicates that shared vertices and edges produce.
+//!
+//! All functions take triangles as `[DVec3; 3]` in one common frame: the caller
+//! transforms B into A's frame or both into the world frame.
+
+#[cfg(test)]
+mod exact_oracle;
+pub mod merge;
+pub mod orient;
+pub mod tri_box;
+pub mod tri_contact;
+pub mod tri_distance;
+pub mod tri_tri_overlap;
+
+pub use merge::{merge_contacts, MergeError, MergeParams};
+pub use orient::{orient2d, orient3d};
+pub use tri_box::tri_box_overlap;
+pub use tri_contact::{triangle_contacts, TriContactError};
+pub use tri_distance::{
+    closest_point_on_triangle, closest_points_segments, triangle_distance, SegmentClosest, TriDistance,
+};
+pub use tri_tri_overlap::{segment_triangle_overlap, tri_tri_overlap};

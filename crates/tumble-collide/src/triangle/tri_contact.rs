@@ -1,0 +1,680 @@
+//! Exact contact generation for one triangle pair within a margin (thesis 5.2
+//! and 7.1: vertex/face contacts with the face normal, edge/edge contacts with
+//! the cross product of the edges, normals from B to A).
+//!
+//! Separated (or touching-free) pairs give feature contacts, each a candidate
+//! for the speculative-contact solver:
+//! - `VertexFace`: a vertex of A at signed height `0 <= d <= margin` above B's
+//!   plane whose projection falls inside B; normal = B's unit face normal.
+//!   Vertices behind the face (`d < 0`) are not reported: on a closed mesh they
+//!   belong to the far side of the body (a vertex resting on a thin plate would
+//!   otherwise be pushed through by the plate's bottom face); real penetration
+//!   shows up as intersecting triangle pairs instead.
+//! - `FaceVertex`: the same with the roles swapped; normal = -(A's face normal).
+//! - `EdgeEdge`: two edges whose closest points are interior to both and no
+//!   farther apart than `margin`; normal = unit `edge_a x edge_b`, oriented from
+//!   B's closest point to A's.
+//!
+//! Intersecting pairs (touching included, decided exactly by
+//! [`tri_tri_overlap`]) give `Penetrating` contacts along the axis of minimum
+//! overlap among the two face normals and the 9 edge cross products (the
+//! complete separating-axis set of two triangles), so moving A by the deepest
+//! contact's `-distance` along the normal separates the pair. For an edge axis
+//! that is one contact at the edges' closest points; for a face axis it is the
+//! deepest corner of the other triangle plus every other corner that is past
+//! the face and projects inside it (up to 3 contacts, same normal). Face axes win ties against
+//! edge axes unless an edge axis is clearly shallower (by
+//! [`FACE_PREFERENCE`]), which keeps resting contacts on face normals.
+
+use super::tri_distance::closest_points_segments;
+use super::tri_tri_overlap::tri_tri_overlap;
+use crate::contact::{Contact, ContactKind, Feature};
+use crate::math::DVec3;
+
+/// Why contacts could not be generated for a triangle pair.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum TriContactError {
+    /// The margin is negative, NaN or infinite.
+    #[error("contact margin must be finite and >= 0 (m), got {0}")]
+    InvalidMargin(f64),
+    /// A vertex coordinate of one triangle is NaN or infinite.
+    #[error("triangle {id} of shape {shape} has a non-finite vertex coordinate (expected finite)")]
+    NonFinite {
+        /// `'A'` or `'B'`.
+        shape: char,
+        /// The triangle id the caller passed for that shape.
+        id: u32,
+    },
+}
+
+/// An edge axis must be shallower than this fraction of the best face axis to
+/// be chosen for a penetrating contact.
+pub const FACE_PREFERENCE: f64 = 0.95;
+
+/// Edge parameters within this of 0 or 1 count as vertices, not edge
+/// interiors: those contacts are the vertex/face ones.
+const PARAM_EPS: f64 = 1e-9;
+/// Barycentric tolerance of the projection-inside-face test, so that a vertex
+/// exactly above a shared edge is reported by both faces (then merged) rather
+/// than by neither.
+const INSIDE_EPS: f64 = 1e-12;
+/// A triangle whose doubled area is below this times its longest edge squared
+/// has no usable face normal.
+const AREA_EPS: f64 = 1e-12;
+/// Edge pairs with `sin^2(angle)` below this are parallel: no edge/edge normal.
+const PARALLEL_EPS: f64 = 1e-12;
+
+/// Unit normal of a triangle, and its unnormalised normal, if it has an area.
+#[derive(Clone, Copy)]
+struct Face {
+    unit: DVec3,
+    raw: DVec3,
+}
+
+#[inline]
+fn face(t: &[DVec3; 3]) -> Option<Face> {
+    let raw = (t[1] - t[0]).cross(t[2] - t[0]);
+    let len = raw.length();
+    let longest2 = (t[1] - t[0])
+        .length_squared()
+        .max((t[2] - t[1]).length_squared())
+        .max((t[0] - t[2]).length_squared());
+    (len > AREA_EPS * longest2).then(|| Face { unit: raw / len, raw })
+}
+
+/// Signed heights of the corners of `t` over the plane of `f` through `origin`.
+#[inline]
+fn heights(t: &[DVec3; 3], f: Face, origin: DVec3) -> [f64; 3] {
+    [
+        f.unit.dot(t[0] - origin),
+        f.unit.dot(t[1] - origin),
+        f.unit.dot(t[2] - origin),
+    ]
+}
+
+/// All heights beyond the margin on one side: the plane separates the
+/// triangles by more than the margin, so no feature pair can be within it.
+#[inline]
+fn beyond(d: [f64; 3], margin: f64) -> bool {
+    (d[0] > margin && d[1] > margin && d[2] > margin) || (d[0] < -margin && d[1] < -margin && d[2] < -margin)
+}
+
+/// `q` (in the plane of `t`) lies inside the closed triangle `t`, with a
+/// relative tolerance.
+#[inline]
+fn inside(q: DVec3, t: &[DVec3; 3], f: Face) -> bool {
+    let tol = -INSIDE_EPS * f.raw.length_squared();
+    (0..3).all(|k| (t[(k + 1) % 3] - t[k]).cross(q - t[k]).dot(f.raw) >= tol)
+}
+
+/// Appends the contacts of triangle `a` (id `id_a` on shape A) and triangle `b`
+/// (id `id_b` on shape B) to `out`, and returns how many were appended.
+///
+/// `margin` (m, >= 0) is the largest gap still reported. Both triangles must be
+/// in one common frame. Contact conventions are those of [`Contact`]: normal
+/// from B to A, `distance` the signed gap (negative for the one `Penetrating`
+/// contact of an intersecting pair), `point` the midpoint of the two closest
+/// points, features from the caller's triangle ids (`Feature::vertex(id, k)`,
+/// `edge(id, k)` for corner `k` to `k + 1`, `face(id)`). Zero-area triangles
+/// give no face contacts. Nothing is allocated beyond growing `out`.
+///
+/// Errors: [`TriContactError::InvalidMargin`] for a negative or non-finite
+/// margin, [`TriContactError::NonFinite`] for a NaN/infinite coordinate; `out`
+/// is unchanged then.
+pub fn triangle_contacts(
+    a: &[DVec3; 3],
+    id_a: u32,
+    b: &[DVec3; 3],
+    id_b: u32,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> Result<usize, TriContactError> {
+    if !(margin >= 0.0 && margin.is_finite()) {
+        return Err(TriContactError::InvalidMargin(margin));
+    }
+    if !a.iter().all(|p| p.is_finite()) {
+        return Err(TriContactError::NonFinite { shape: 'A', id: id_a });
+    }
+    if !b.iter().all(|p| p.is_finite()) {
+        return Err(TriContactError::NonFinite { shape: 'B', id: id_b });
+    }
+    let fa = face(a);
+    let fb = face(b);
+    // Early outs: a face plane that separates by more than the margin.
+    let da = fb.map(|f| heights(a, f, b[0]));
+    if da.is_some_and(|d| beyond(d, margin)) {
+        return Ok(0);
+    }
+    let db = fa.map(|f| heights(b, f, a[0]));
+    if db.is_some_and(|d| beyond(d, margin)) {
+        return Ok(0);
+    }
+    if tri_tri_overlap(a, b) {
+        return Ok(penetrating_contacts(a, id_a, fa, b, id_b, fb, out));
+    }
+    let start = out.len();
+    if let (Some(f), Some(d)) = (fb, da) {
+        for k in 0..3 {
+            let h = d[k];
+            if (0.0..=margin).contains(&h) && inside(a[k] - f.unit * h, b, f) {
+                out.push(Contact {
+                    point: a[k] - f.unit * (0.5 * h),
+                    normal: f.unit,
+                    distance: h,
+                    kind: ContactKind::VertexFace,
+                    feature_a: Feature::vertex(id_a, k as u8),
+                    feature_b: Feature::face(id_b),
+                });
+            }
+        }
+    }
+    if let (Some(f), Some(d)) = (fa, db) {
+        for k in 0..3 {
+            let h = d[k];
+            if (0.0..=margin).contains(&h) && inside(b[k] - f.unit * h, a, f) {
+                out.push(Contact {
+                    point: b[k] - f.unit * (0.5 * h),
+                    normal: -f.unit,
+                    distance: h,
+                    kind: ContactKind::FaceVertex,
+                    feature_a: Feature::face(id_a),
+                    feature_b: Feature::vertex(id_b, k as u8),
+                });
+            }
+        }
+    }
+    edge_edge_contacts(a, id_a, b, id_b, fb, margin, out);
+    Ok(out.len() - start)
+}
+
+/// Edge/edge contacts of a non-intersecting pair.
+#[inline]
+fn edge_edge_contacts(
+    a: &[DVec3; 3],
+    id_a: u32,
+    b: &[DVec3; 3],
+    id_b: u32,
+    fb: Option<Face>,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let margin2 = margin * margin;
+    let interior = |s: f64| s > PARAM_EPS && s < 1.0 - PARAM_EPS;
+    for i in 0..3 {
+        let (p1, q1) = (a[i], a[(i + 1) % 3]);
+        let ea = q1 - p1;
+        for j in 0..3 {
+            let (p2, q2) = (b[j], b[(j + 1) % 3]);
+            let r = closest_points_segments(p1, q1, p2, q2);
+            if !interior(r.s) || !interior(r.t) {
+                continue;
+            }
+            let gap = r.point_a - r.point_b;
+            if gap.length_squared() > margin2 {
+                continue;
+            }
+            let eb = q2 - p2;
+            let c = ea.cross(eb);
+            let c2 = c.length_squared();
+            if c2 <= PARALLEL_EPS * ea.length_squared() * eb.length_squared() {
+                continue;
+            }
+            let mut n = c / c2.sqrt();
+            // For interior closest points the gap is perpendicular to both
+            // edges, so it is parallel to n: orient n from B's point to A's.
+            // When the points coincide, point away from B's interior.
+            let along = n.dot(gap);
+            let flip = if along != 0.0 {
+                along < 0.0
+            } else if let Some(f) = fb {
+                n.dot(f.unit) < 0.0
+            } else {
+                let ca = (a[0] + a[1] + a[2]) - (b[0] + b[1] + b[2]);
+                n.dot(ca) < 0.0
+            };
+            if flip {
+                n = -n;
+            }
+            out.push(Contact {
+                point: (r.point_a + r.point_b) * 0.5,
+                normal: n,
+                distance: n.dot(gap),
+                kind: ContactKind::EdgeEdge,
+                feature_a: Feature::edge(id_a, i as u8),
+                feature_b: Feature::edge(id_b, j as u8),
+            });
+        }
+    }
+}
+
+/// Which separating axis a penetrating contact uses.
+#[derive(Clone, Copy)]
+enum Axis {
+    FaceB,
+    FaceA,
+    Edges(usize, usize),
+}
+
+/// Overlap of the projections of `a` and `b` on unit axis `u`: the smaller of
+/// the two push-outs of A (along `+u` or `-u`), and the oriented normal.
+#[inline]
+fn overlap_on(u: DVec3, a: &[DVec3; 3], b: &[DVec3; 3]) -> (f64, DVec3) {
+    let pa = [u.dot(a[0]), u.dot(a[1]), u.dot(a[2])];
+    let pb = [u.dot(b[0]), u.dot(b[1]), u.dot(b[2])];
+    let (min_a, max_a) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
+    let (min_b, max_b) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
+    let up = max_b - min_a; // move A along +u by this to clear B
+    let down = max_a - min_b; // or along -u by this
+    if up <= down {
+        (up, u)
+    } else {
+        (down, -u)
+    }
+}
+
+/// Index of the first minimum of `n . t[k]`.
+#[inline]
+fn deepest(t: &[DVec3; 3], n: DVec3) -> usize {
+    let mut k = 0;
+    for j in 1..3 {
+        if n.dot(t[j]) < n.dot(t[k]) {
+            k = j;
+        }
+    }
+    k
+}
+
+/// The push-out contacts of an intersecting pair (see the module docs);
+/// returns how many were appended.
+#[cold]
+fn penetrating_contacts(
+    a: &[DVec3; 3],
+    id_a: u32,
+    fa: Option<Face>,
+    b: &[DVec3; 3],
+    id_b: u32,
+    fb: Option<Face>,
+    out: &mut Vec<Contact>,
+) -> usize {
+    let mut best: Option<(f64, DVec3, Axis)> = None;
+    if let Some(f) = fb {
+        let (d, n) = overlap_on(f.unit, a, b);
+        best = Some((d, n, Axis::FaceB));
+    }
+    if let Some(f) = fa {
+        let (d, n) = overlap_on(f.unit, a, b);
+        if improves(&best, d) {
+            best = Some((d, n, Axis::FaceA));
+        }
+    }
+    let face_depth = best.map_or(f64::INFINITY, |(d, _, _)| d);
+    for i in 0..3 {
+        let ea = a[(i + 1) % 3] - a[i];
+        for j in 0..3 {
+            let eb = b[(j + 1) % 3] - b[j];
+            let c = ea.cross(eb);
+            let c2 = c.length_squared();
+            if c2 <= PARALLEL_EPS * ea.length_squared() * eb.length_squared() || c2 == 0.0 {
+                continue;
+            }
+            let (d, n) = overlap_on(c / c2.sqrt(), a, b);
+            if d < FACE_PREFERENCE * face_depth && improves(&best, d) {
+                best = Some((d, n, Axis::Edges(i, j)));
+            }
+        }
+    }
+    let Some((depth, n, axis)) = best else {
+        // Both triangles are degenerate and all their edges parallel: they
+        // overlap along a common line. No axis is defined; push apart along
+        // the line between centroids (or +z when that is zero too).
+        let ca = (a[0] + a[1] + a[2]) / 3.0;
+        let cb = (b[0] + b[1] + b[2]) / 3.0;
+        out.push(Contact {
+            point: (ca + cb) * 0.5,
+            normal: (ca - cb).try_normalize().unwrap_or(DVec3::Z),
+            distance: 0.0,
+            kind: ContactKind::Penetrating,
+            feature_a: Feature::vertex(id_a, 0),
+            feature_b: Feature::vertex(id_b, 0),
+        });
+        return 1;
+    };
+    let contact = |point, distance, feature_a, feature_b| Contact {
+        point,
+        normal: n,
+        distance,
+        kind: ContactKind::Penetrating,
+        feature_a,
+        feature_b,
+    };
+    // For a face axis every corner of the other triangle that is past the
+    // face (depth >= 0) and projects inside it is a contact, not only the
+    // deepest one: a triangle lying flat on another must report all of its
+    // corners, or corners of a resting mesh go missing. The deepest corner is
+    // always reported.
+    match axis {
+        Axis::FaceB => {
+            let k0 = deepest(a, n);
+            let level = n.dot(b[0]);
+            let mut count = 0;
+            for k in 0..3 {
+                let d = level - n.dot(a[k]);
+                let report = k == k0 || (d >= 0.0 && fb.is_some_and(|f| inside(a[k] + n * d, b, f)));
+                if report {
+                    let fa_k = Feature::vertex(id_a, k as u8);
+                    out.push(contact(a[k] + n * (0.5 * d), -d, fa_k, Feature::face(id_b)));
+                    count += 1;
+                }
+            }
+            count
+        }
+        Axis::FaceA => {
+            let k0 = deepest(b, -n);
+            let level = n.dot(a[0]);
+            let mut count = 0;
+            for k in 0..3 {
+                let d = n.dot(b[k]) - level;
+                let report = k == k0 || (d >= 0.0 && fa.is_some_and(|f| inside(b[k] - n * d, a, f)));
+                if report {
+                    let fb_k = Feature::vertex(id_b, k as u8);
+                    out.push(contact(b[k] - n * (0.5 * d), -d, Feature::face(id_a), fb_k));
+                    count += 1;
+                }
+            }
+            count
+        }
+        Axis::Edges(i, j) => {
+            let r = closest_points_segments(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]);
+            out.push(contact(
+                (r.point_a + r.point_b) * 0.5,
+                -depth,
+                Feature::edge(id_a, i as u8),
+                Feature::edge(id_b, j as u8),
+            ));
+            1
+        }
+    }
+}
+
+/// `d` is a smaller overlap than the best axis so far (ties keep the earlier axis, so the choice is deterministic).
+#[inline]
+fn improves(best: &Option<(f64, DVec3, Axis)>, d: f64) -> bool {
+    match best {
+        Some((b, _, _)) => d < *b,
+        None => true,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::exact_oracle::Rng;
+    use super::super::tri_distance::triangle_distance;
+    use super::*;
+    use crate::contact::SubFeature;
+
+    fn contacts(a: &[DVec3; 3], b: &[DVec3; 3], margin: f64) -> Vec<Contact> {
+        let mut out = Vec::new();
+        triangle_contacts(a, 7, b, 9, margin, &mut out).unwrap();
+        out
+    }
+
+    fn random_tri(rng: &mut Rng, r: f64) -> [DVec3; 3] {
+        let mut p = || DVec3::new(rng.float(-r, r), rng.float(-r, r), rng.float(-r, r));
+        [p(), p(), p()]
+    }
+
+    #[test]
+    fn vertex_hovering_above_a_face_gives_one_vertex_face_contact() {
+        let b = [
+            DVec3::new(-2.0, -2.0, 0.0),
+            DVec3::new(3.0, -2.0, 0.0),
+            DVec3::new(-2.0, 3.0, 0.0),
+        ];
+        let h = 0.01;
+        let tip = DVec3::new(0.1, 0.2, h);
+        let a = [DVec3::new(1.0, 1.0, 1.0), tip, DVec3::new(-1.0, 0.5, 1.0)];
+        let c = contacts(&a, &b, 0.05);
+        assert_eq!(c.len(), 1, "{c:?}");
+        let c = c[0];
+        assert_eq!(c.kind, ContactKind::VertexFace);
+        assert_eq!(c.normal, DVec3::Z);
+        assert!((c.distance - h).abs() < 1e-15);
+        assert!((c.point - DVec3::new(0.1, 0.2, h / 2.0)).length() < 1e-15);
+        assert_eq!(c.feature_a, Feature::vertex(7, 1));
+        assert_eq!(c.feature_b, Feature::face(9));
+        assert!((c.distance - triangle_distance(&a, &b).distance).abs() < 1e-15);
+        // Beyond the margin: nothing.
+        assert!(contacts(&a, &b, 0.009).is_empty());
+        // Seen from the other side it is a face/vertex contact, flipped.
+        let d = contacts(&b, &a, 0.05);
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].kind, ContactKind::FaceVertex);
+        assert_eq!(d[0].normal, -DVec3::Z);
+        assert!((d[0].distance - h).abs() < 1e-15);
+    }
+
+    #[test]
+    fn vertex_behind_a_face_is_not_a_contact() {
+        // A thin plate's bottom face (normal -z, at z = -0.001) must not pull a
+        // vertex resting on the top down through the plate.
+        let bottom = [
+            DVec3::new(-2.0, -2.0, -0.001),
+            DVec3::new(-2.0, 3.0, -0.001),
+            DVec3::new(3.0, -2.0, -0.001),
+        ];
+        let a = [
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(0.1, 0.2, 0.0005),
+            DVec3::new(-1.0, 0.5, 1.0),
+        ];
+        assert!(contacts(&a, &bottom, 0.01).is_empty());
+    }
+
+    #[test]
+    fn crossed_edges_give_an_edge_edge_contact_along_the_cross_product() {
+        let h = 0.1;
+        // A: vertical triangle in y = 0 with its lower edge along x at height h.
+        let a = [
+            DVec3::new(-1.0, 0.0, h),
+            DVec3::new(1.0, 0.0, h),
+            DVec3::new(0.0, 0.0, h + 1.0),
+        ];
+        // B: vertical triangle in x = 0 with its upper edge along y at height 0.
+        let b = [
+            DVec3::new(0.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.3, -1.0),
+        ];
+        let c = contacts(&a, &b, 0.5);
+        assert_eq!(c.len(), 1, "{c:?}");
+        let c = c[0];
+        assert_eq!(c.kind, ContactKind::EdgeEdge);
+        let cross = (a[1] - a[0]).cross(b[1] - b[0]).normalize();
+        assert!((c.normal.dot(cross).abs() - 1.0).abs() < 1e-15);
+        // Oriented from B (below) to A (above).
+        assert!((c.normal - DVec3::Z).length() < 1e-15);
+        assert!((c.distance - h).abs() < 1e-15);
+        assert!((c.point - DVec3::new(0.0, 0.0, h / 2.0)).length() < 1e-15);
+        assert_eq!(
+            (c.feature_a, c.feature_b),
+            (Feature::edge(7, 0), Feature::edge(9, 0))
+        );
+        assert!((c.distance - triangle_distance(&a, &b).distance).abs() < 1e-15);
+        // Reversing A's winding reverses the cross product but not the normal.
+        let ar = [a[1], a[0], a[2]];
+        let c2 = contacts(&ar, &b, 0.5);
+        assert_eq!(c2.len(), 1);
+        assert!((c2[0].normal - DVec3::Z).length() < 1e-15);
+    }
+
+    #[test]
+    fn penetrating_pair_is_pushed_out_by_its_contact() {
+        let mut rng = Rng(3);
+        let mut seen = 0;
+        for _ in 0..4_000 {
+            let a = random_tri(&mut rng, 1.0);
+            let b = random_tri(&mut rng, 1.0);
+            if !tri_tri_overlap(&a, &b) {
+                continue;
+            }
+            seen += 1;
+            let all = contacts(&a, &b, 0.01);
+            assert!((1..=3).contains(&all.len()));
+            for k in &all {
+                assert_eq!(k.kind, ContactKind::Penetrating);
+                assert_eq!(k.normal, all[0].normal);
+                assert!(k.distance <= 0.0);
+            }
+            let c = deepest_contact(&all);
+            assert!((c.normal.length() - 1.0).abs() < 1e-12);
+            // The minimum-overlap axis of a complete SAT axis set: moving A by
+            // the depth (plus a hair) along the normal separates the pair.
+            let eps = 1e-9;
+            let moved = a.map(|p| p + c.normal * (c.depth() + eps));
+            assert!(!tri_tri_overlap(&moved, &b), "{a:?} {b:?} {c:?}");
+            // Swapping A and B gives the flipped contact.
+            let d = deepest_contact(&contacts(&b, &a, 0.01));
+            assert!((d.normal + c.normal).length() < 1e-9, "{c:?} {d:?}");
+            assert!((d.distance - c.distance).abs() < 1e-12);
+            assert!((d.point - c.point).length() < 1e-9);
+        }
+        assert!(seen > 200, "only {seen} intersecting pairs");
+    }
+
+    fn deepest_contact(c: &[Contact]) -> Contact {
+        *c.iter().min_by(|x, y| x.distance.total_cmp(&y.distance)).unwrap()
+    }
+
+    #[test]
+    fn triangle_lying_on_a_triangle_reports_all_its_corners() {
+        let ground = [
+            DVec3::new(-5.0, -5.0, 0.0),
+            DVec3::new(5.0, -5.0, 0.0),
+            DVec3::new(0.0, 5.0, 0.0),
+        ];
+        let flat = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+        ];
+        let c = contacts(&flat, &ground, 0.01);
+        assert_eq!(c.len(), 3, "{c:?}");
+        for (k, x) in c.iter().enumerate() {
+            assert_eq!(x.normal, DVec3::Z);
+            assert_eq!(x.distance, 0.0);
+            assert_eq!(x.feature_a, Feature::vertex(7, k as u8));
+            assert_eq!(x.point, flat[k]);
+        }
+    }
+
+    /// Sorts contacts into a canonical order for comparisons.
+    fn canonical(mut v: Vec<Contact>) -> Vec<Contact> {
+        v.sort_by(|x, y| (x.kind, x.feature_a, x.feature_b).cmp(&(y.kind, y.feature_a, y.feature_b)));
+        v
+    }
+
+    #[test]
+    fn separated_contacts_agree_with_triangle_distance_and_flip_under_swap() {
+        let mut rng = Rng(99);
+        let margin = 0.5;
+        let mut exact_hits = 0;
+        for _ in 0..4_000 {
+            let a = random_tri(&mut rng, 1.0);
+            let shift = DVec3::new(rng.float(-1.0, 1.0), rng.float(-1.0, 1.0), rng.float(-1.0, 1.0));
+            let b = random_tri(&mut rng, 1.0).map(|p| p + shift);
+            let td = triangle_distance(&a, &b);
+            if td.distance == 0.0 {
+                continue;
+            }
+            let c = contacts(&a, &b, margin);
+            for k in &c {
+                // No contact claims to be closer than the triangles are.
+                assert!(k.distance >= td.distance - 1e-12, "{k:?} vs {}", td.distance);
+                assert!(k.distance <= margin);
+                assert!((k.normal.length() - 1.0).abs() < 1e-12);
+            }
+            // When the closest features are a front-side vertex/face pair or two
+            // edge interiors, a contact reports exactly the triangle distance.
+            let gap = td.point_a - td.point_b;
+            let na = (a[1] - a[0]).cross(a[2] - a[0]);
+            let nb = (b[1] - b[0]).cross(b[2] - b[0]);
+            let expected = td.distance <= margin
+                && match (td.feature_a, td.feature_b) {
+                    (SubFeature::Vertex(_), SubFeature::Face) => nb.dot(gap) > 0.0,
+                    (SubFeature::Face, SubFeature::Vertex(_)) => na.dot(gap) < 0.0,
+                    (SubFeature::Edge(_), SubFeature::Edge(_)) => true,
+                    _ => false,
+                };
+            if expected {
+                exact_hits += 1;
+                let best = c.iter().map(|k| k.distance).fold(f64::INFINITY, f64::min);
+                assert!((best - td.distance).abs() < 1e-9, "{c:?} vs {td:?}");
+                let k = c
+                    .iter()
+                    .find(|k| (k.distance - td.distance).abs() < 1e-9)
+                    .unwrap();
+                assert!((k.normal.dot(gap) - td.distance).abs() < 1e-9);
+            }
+            // Swapping A and B flips every contact.
+            let mut d = Vec::new();
+            triangle_contacts(&b, 9, &a, 7, margin, &mut d).unwrap();
+            let c = canonical(c.iter().map(Contact::flipped).collect());
+            let d = canonical(d);
+            assert_eq!(c.len(), d.len(), "{c:?} vs {d:?}");
+            for (x, y) in c.iter().zip(&d) {
+                assert_eq!(
+                    (x.kind, x.feature_a, x.feature_b),
+                    (y.kind, y.feature_a, y.feature_b)
+                );
+                assert!((x.normal - y.normal).length() < 1e-9);
+                assert!((x.point - y.point).length() < 1e-9);
+                assert!((x.distance - y.distance).abs() < 1e-9);
+            }
+        }
+        assert!(exact_hits > 200, "only {exact_hits} checked pairs");
+    }
+
+    #[test]
+    fn bad_input_is_an_error_and_leaves_out_unchanged() {
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let bad = [DVec3::ZERO, DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Y];
+        let mut out = Vec::new();
+        assert_eq!(
+            triangle_contacts(&t, 1, &bad, 2, 0.1, &mut out),
+            Err(TriContactError::NonFinite { shape: 'B', id: 2 })
+        );
+        assert_eq!(
+            triangle_contacts(&bad, 1, &t, 2, 0.1, &mut out),
+            Err(TriContactError::NonFinite { shape: 'A', id: 1 })
+        );
+        for m in [-1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                triangle_contacts(&t, 1, &t, 2, m, &mut out),
+                Err(TriContactError::InvalidMargin(_))
+            ));
+        }
+        assert!(out.is_empty());
+    }
+
+    #[test]
+    fn degenerate_triangles_do_not_panic() {
+        let line = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0];
+        let dot = [DVec3::ONE; 3];
+        let t = [
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(3.0, -1.0, 0.0),
+            DVec3::new(-1.0, 3.0, 0.0),
+        ];
+        for (x, y) in [
+            (&line, &t),
+            (&t, &line),
+            (&dot, &t),
+            (&line, &dot),
+            (&line, &line),
+        ] {
+            for c in contacts(x, y, 1.5) {
+                assert!(c.normal.is_finite() && c.point.is_finite() && c.distance.is_finite());
+            }
+        }
+    }
+}

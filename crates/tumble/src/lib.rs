@@ -6,3 +6,5 @@
 #![warn(missing_docs)]
 
 pub use tumble_collide as collide;
+
+pub mod export;

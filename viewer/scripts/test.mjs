@@ -10,6 +10,7 @@ import { join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import validator from 'gltf-validator';
 import { chromium } from 'playwright-core';
+import { frameIndexAt } from '../src/timeline.js';
 import { startServer } from './serve.mjs';
 
 const here = resolve(fileURLToPath(import.meta.url), '../..');
@@ -115,6 +116,25 @@ const browser = await chromium.launch({
 mkdirSync(outDir, { recursive: true });
 
 try {
+  await check('frame lookup matches a linear scan', async () => {
+    // Oracle: the last index whose time is <= t, found by scanning.
+    let seed = 12345;
+    const rand = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+    for (let trial = 0; trial < 200; trial++) {
+      const times = [];
+      let t = rand();
+      for (let i = 0, n = 1 + Math.floor(rand() * 40); i < n; i++) times.push((t += 0.001 + rand()));
+      for (let q = 0; q < 50; q++) {
+        const x = rand() * (t + 2) - 1;
+        let want = 0;
+        times.forEach((ti, i) => ti <= x && (want = i));
+        const got = frameIndexAt(times, x);
+        assert(got === want, `t=${x} in ${times.length} frames: got ${got}, want ${want}`);
+      }
+      assert(frameIndexAt(times, times[times.length - 1]) === times.length - 1, 'last frame');
+    }
+  });
+
   await check('fixture is valid glTF 2.0 (Khronos glTF-Validator)', async () => {
     const report = await validator.validateBytes(new Uint8Array(readFileSync(fixture)));
     const { numErrors, numWarnings, messages } = report.issues;
@@ -180,6 +200,9 @@ try {
     assert(s.changed > 200, `toggling OBB boxes changed only ${s.changed} pixels`);
     assert(problems.length === 0, problems.join('; '));
   });
+  // A hidden page still renders with software GL; close it so that it does
+  // not slow the live-mode page down.
+  await page.close();
 
   await check('live mode draws bodies streamed over a WebSocket', async () => {
     const live = await browser.newPage({ viewport: { width: 960, height: 640 } });

@@ -38,11 +38,16 @@ export class EnergyPlot {
     this.series = { times, kinetic: has(kinetic) && kinetic, potential: has(potential) && potential, total, contacts: has(contacts) && contacts };
     this.t0 = times[0];
     this.t1 = Math.max(times[times.length - 1], this.t0 + 1e-9);
-    const energies = [this.series.kinetic, this.series.potential, total].filter(Boolean).flat();
-    this.eMin = energies.length ? Math.min(0, ...energies) : 0;
-    this.eMax = energies.length ? Math.max(...energies) : 1;
-    if (this.eMax - this.eMin < 1e-12) this.eMax = this.eMin + 1;
-    this.cMax = this.series.contacts ? Math.max(1, ...this.series.contacts) : 1;
+    // Loops rather than Math.max(...a): long recordings would overflow the
+    // argument stack.
+    const range = (arrays, lo, hi) => {
+      for (const a of arrays) for (const v of a) (lo = Math.min(lo, v)), (hi = Math.max(hi, v));
+      return [lo, hi];
+    };
+    const energies = [this.series.kinetic, this.series.potential, total].filter(Boolean);
+    [this.eMin, this.eMax] = energies.length ? range(energies, 0, -Infinity) : [0, 1];
+    if (!(this.eMax - this.eMin >= 1e-12)) this.eMax = this.eMin + 1;
+    this.cMax = this.series.contacts ? Math.max(1, range([this.series.contacts], 0, 1)[1]) : 1;
     this.draw();
   }
 

@@ -18,3 +18,4 @@ pub use integrate::{
 pub use tumble_collide as collide;
 
 pub mod solver;
+pub mod export;

@@ -1,0 +1,252 @@
+// Headless browser test of the built viewer (run by scripts/test.sh):
+// serves dist/ and the fixture .glb on 127.0.0.1, drives Debian's chromium
+// through playwright-core, and checks what a person would see. Pixels are
+// decoded by the browser itself (screenshot PNG -> <img> -> 2D canvas), so no
+// image library is needed. The fixture is first checked with Khronos'
+// glTF-Validator. Prints `viewer: N passed, M failed`; exit code 1
+// on any failure.
+import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import validator from 'gltf-validator';
+import { chromium } from 'playwright-core';
+import { frameIndexAt } from '../src/timeline.js';
+import { startServer } from './serve.mjs';
+
+const here = resolve(fileURLToPath(import.meta.url), '../..');
+const outDir = resolve(process.env.VIEWER_TEST_OUT ?? join(here, '../out/viewer-test'));
+const fixture = process.env.VIEWER_FIXTURE ?? join(outDir, 'fixture.glb');
+const results = [];
+let liveSend = null;
+
+async function check(name, fn) {
+  const t0 = Date.now();
+  try {
+    await fn();
+    results.push([name, null]);
+    console.log(`ok   - ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    results.push([name, e]);
+    console.log(`FAIL - ${name}: ${e.message ?? e}`);
+  }
+}
+
+function assert(cond, msg) {
+  if (!cond) throw new Error(msg);
+}
+
+/** Pixel statistics of a PNG, decoded in the page. */
+async function stats(page, png, other = null) {
+  return page.evaluate(
+    async ([a, b]) => {
+      const decode = async (b64) => {
+        const img = new Image();
+        img.src = `data:image/png;base64,${b64}`;
+        await img.decode();
+        const c = document.createElement('canvas');
+        c.width = img.width;
+        c.height = img.height;
+        const g = c.getContext('2d');
+        g.drawImage(img, 0, 0);
+        return g.getImageData(0, 0, c.width, c.height).data;
+      };
+      const p = await decode(a);
+      const colors = new Set();
+      let reddish = 0;
+      let bluish = 0;
+      let greenish = 0;
+      for (let i = 0; i < p.length; i += 4) {
+        const [r, g, bl] = [p[i], p[i + 1], p[i + 2]];
+        colors.add(((r >> 3) << 10) | ((g >> 3) << 5) | (bl >> 3));
+        if (r > g + 50 && r > bl + 50) reddish++;
+        if (bl > r + 50 && bl > g + 20) bluish++;
+        if (g > r + 40 && g > bl + 30) greenish++;
+      }
+      let changed = -1;
+      if (b) {
+        const q = await decode(b);
+        changed = 0;
+        for (let i = 0; i < p.length; i += 4) {
+          const d = Math.abs(p[i] - q[i]) + Math.abs(p[i + 1] - q[i + 1]) + Math.abs(p[i + 2] - q[i + 2]);
+          if (d > 24) changed++;
+        }
+      }
+      return { pixels: p.length / 4, colors: colors.size, reddish, bluish, greenish, changed };
+    },
+    [png.toString('base64'), other ? other.toString('base64') : null],
+  );
+}
+
+/** Screenshot of the 3D view above the control panel. */
+async function shot(page) {
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  return page.screenshot({ clip: { x: 0, y: 40, width: 960, height: 400 } });
+}
+
+function liveScene() {
+  // A unit-ish box and a tetrahedron, streamed as the live format expects.
+  const box = {
+    name: 'box',
+    color: [0.2, 0.45, 0.95, 1],
+    is_static: false,
+    vertices: [-0.3, -0.3, -0.3, 0.3, -0.3, -0.3, 0.3, 0.3, -0.3, -0.3, 0.3, -0.3, -0.3, -0.3, 0.3, 0.3, -0.3, 0.3, 0.3, 0.3, 0.3, -0.3, 0.3, 0.3],
+    triangles: [0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7],
+  };
+  const tet = {
+    name: 'tet',
+    color: [0.95, 0.3, 0.2, 1],
+    is_static: false,
+    vertices: [0.4, 0, 0, -0.2, 0.35, 0, -0.2, -0.35, 0, 0, 0, 0.5],
+    triangles: [0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3],
+  };
+  return { type: 'scene', bodies: [box, tet] };
+}
+
+const server = await startServer({
+  root: join(here, 'dist'),
+  fixtureDir: resolve(fixture, '..'),
+  onLive: (send) => (liveSend = send),
+});
+const base = `http://127.0.0.1:${server.port}`;
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+});
+mkdirSync(outDir, { recursive: true });
+
+try {
+  await check('frame lookup matches a linear scan', async () => {
+    // Oracle: the last index whose time is <= t, found by scanning.
+    let seed = 12345;
+    const rand = () => ((seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648);
+    for (let trial = 0; trial < 200; trial++) {
+      const times = [];
+      let t = rand();
+      for (let i = 0, n = 1 + Math.floor(rand() * 40); i < n; i++) times.push((t += 0.001 + rand()));
+      for (let q = 0; q < 50; q++) {
+        const x = rand() * (t + 2) - 1;
+        let want = 0;
+        times.forEach((ti, i) => ti <= x && (want = i));
+        const got = frameIndexAt(times, x);
+        assert(got === want, `t=${x} in ${times.length} frames: got ${got}, want ${want}`);
+      }
+      assert(frameIndexAt(times, times[times.length - 1]) === times.length - 1, 'last frame');
+    }
+  });
+
+  await check('fixture is valid glTF 2.0 (Khronos glTF-Validator)', async () => {
+    const report = await validator.validateBytes(new Uint8Array(readFileSync(fixture)));
+    const { numErrors, numWarnings, messages } = report.issues;
+    const first = messages.slice(0, 3).map((m) => `${m.code} at ${m.pointer}: ${m.message}`);
+    assert(numErrors === 0 && numWarnings === 0, `${numErrors} errors, ${numWarnings} warnings: ${first.join('; ')}`);
+    assert(report.info.animationCount === 1, `expected 1 animation, validator saw ${report.info.animationCount}`);
+  });
+
+  const page = await browser.newPage({ viewport: { width: 960, height: 640 } });
+  const problems = [];
+  page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
+  page.on('pageerror', (e) => problems.push(`pageerror: ${e.message}`));
+  page.on('requestfailed', (r) => problems.push(`request failed: ${r.url()}`));
+  const fixtureName = fixture.split('/').pop();
+
+  await check('loads the fixture without console errors', async () => {
+    await page.goto(`${base}/index.html?file=/fixture/${fixtureName}&paused=1`);
+    await page.waitForFunction(() => window.tumbleViewer?.status === 'ready' || window.tumbleViewer?.status === 'error', null, {
+      timeout: 20000,
+    });
+    const v = await page.evaluate(() => ({ ...window.tumbleViewer, statusText: window.tumbleViewer.statusText }));
+    assert(v.status === 'ready', `status ${v.status}: ${v.statusText}`);
+    assert(v.bodies === 4, `expected 4 bodies, got ${v.bodies}`);
+    assert(v.frames > 10 && v.duration > 1, `expected a multi-second recording, got ${v.frames} frames / ${v.duration} s`);
+    assert(problems.length === 0, problems.join('; '));
+  });
+
+  let first = null;
+  await check('renders non-blank frames showing the bodies', async () => {
+    await page.evaluate(() => window.tumbleViewer.seek(0.3));
+    first = await shot(page);
+    const s = await stats(page, first);
+    assert(s.colors > 50, `only ${s.colors} distinct colours: blank frame?`);
+    // Ball (orange-red), slider (blue) and torus (green) must all be visible.
+    assert(s.reddish > 200 && s.bluish > 200 && s.greenish > 200, `body colours missing: ${JSON.stringify(s)}`);
+    writeFileSync(join(outDir, 'viewer.png'), await page.screenshot());
+  });
+
+  await check('the picture changes as time advances', async () => {
+    await page.evaluate(() => window.tumbleViewer.seek(1.5));
+    const later = await shot(page);
+    const s = await stats(page, first, later);
+    assert(s.changed > 0.002 * s.pixels, `only ${s.changed} of ${s.pixels} pixels changed between t=0.3 s and t=1.5 s`);
+    writeFileSync(join(outDir, 'viewer-t1.5.png'), await page.screenshot());
+    // Playback moves the clock on its own.
+    const t0 = await page.evaluate(() => window.tumbleViewer.time);
+    await page.evaluate(() => window.tumbleViewer.setPlaying(true));
+    await page.waitForTimeout(600);
+    const t1 = await page.evaluate(() => window.tumbleViewer.time);
+    await page.evaluate(() => window.tumbleViewer.setPlaying(false));
+    assert(Math.abs(t1 - t0) > 0.2, `playing for 0.6 s moved the clock from ${t0} to ${t1}`);
+  });
+
+  await check('OBB overlay toggle draws boxes', async () => {
+    await page.evaluate(() => window.tumbleViewer.seek(0.3));
+    const label = await page.textContent('#obb-label');
+    assert(/\(\d+\)/.test(label), `OBB label says ${label}`);
+    const off = await shot(page);
+    await page.check('#show-obb');
+    const on = await shot(page);
+    await page.uncheck('#show-obb');
+    const s = await stats(page, off, on);
+    assert(s.changed > 200, `toggling OBB boxes changed only ${s.changed} pixels`);
+    assert(problems.length === 0, problems.join('; '));
+  });
+  // A hidden page still renders with software GL; close it so that it does
+  // not slow the live-mode page down.
+  await page.close();
+
+  await check('live mode draws bodies streamed over a WebSocket', async () => {
+    const live = await browser.newPage({ viewport: { width: 960, height: 640 } });
+    const liveProblems = [];
+    live.on('console', (m) => m.type() === 'error' && liveProblems.push(`console: ${m.text()}`));
+    live.on('pageerror', (e) => liveProblems.push(`pageerror: ${e.message}`));
+    liveSend = null;
+    await live.goto(`${base}/index.html?live=ws://127.0.0.1:${server.port}/live`);
+    for (let i = 0; i < 100 && !liveSend; i++) await live.waitForTimeout(50);
+    assert(liveSend, 'the page did not open the WebSocket');
+    liveSend(JSON.stringify(liveScene()));
+    const n = 40;
+    for (let f = 0; f < n; f++) {
+      const t = f / 30;
+      liveSend(
+        JSON.stringify({
+          type: 'frame',
+          t,
+          poses: [
+            [0, 0, 0.8 + 0.3 * Math.sin(3 * t), 0, 0, Math.sin(t / 2), Math.cos(t / 2)],
+            [0.9, 0.2, 0.6, 0, 0, 0, 1],
+          ],
+          kinetic_energy: 0.5 * (0.9 * Math.cos(3 * t)) ** 2,
+          potential_energy: 9.81 * (0.8 + 0.3 * Math.sin(3 * t)),
+          contacts: f > 20 ? [[0.9, 0.2, 0.0, 0, 0, 1, 0]] : [],
+        }),
+      );
+    }
+    await live.waitForFunction((k) => window.tumbleViewer?.frames === k, n, { timeout: 10000 });
+    const v = await live.evaluate(() => ({ bodies: window.tumbleViewer.bodies, time: window.tumbleViewer.time }));
+    assert(v.bodies === 2, `expected 2 live bodies, got ${v.bodies}`);
+    assert(Math.abs(v.time - (n - 1) / 30) < 1e-9, `live view should follow the newest frame, at ${v.time}`);
+    const s = await stats(live, await shot(live));
+    assert(s.bluish > 100 && s.reddish > 100, `live bodies not visible: ${JSON.stringify(s)}`);
+    writeFileSync(join(outDir, 'viewer-live.png'), await live.screenshot());
+    assert(liveProblems.length === 0, liveProblems.join('; '));
+    await live.close();
+  });
+} finally {
+  await browser.close();
+  await server.close();
+}
+
+const failed = results.filter(([, e]) => e).length;
+console.log(`screenshots: ${outDir}/viewer.png, viewer-t1.5.png, viewer-live.png`);
+console.log(`viewer: ${results.length - failed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);

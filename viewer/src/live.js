@@ -1,0 +1,108 @@
+// Live mode: `?live=ws://host:port/path` streams JSON messages (format in
+// viewer/README.md, "Live mode"):
+//   {"type":"scene","bodies":[{"name","color":[r,g,b,a],"is_static",
+//                              "vertices":[x,y,z,...],"triangles":[i,j,k,...]}]}
+//   {"type":"frame","t":s,"poses":[[x,y,z,qx,qy,qz,qw],...],
+//    "kinetic_energy":J,"potential_energy":J,"contact_count":n,
+//    "contacts":[[px,py,pz,nx,ny,nz,d],...]}
+// All vectors are in tumble's z-up world frame. Frames are kept so that the
+// timeline and plot cover the whole session; a new "scene" message starts over.
+import { BufferAttribute, BufferGeometry, Group, Mesh, MeshStandardMaterial, Quaternion, Vector3 } from 'three';
+import { frameIndexAt } from './timeline.js';
+
+/** Flat-shaded geometry from an indexed triangle list (one vertex per corner). */
+function flatGeometry(vertices, triangles) {
+  const pos = new Float32Array(3 * triangles.length);
+  for (let i = 0; i < triangles.length; i++) {
+    const v = triangles[i];
+    pos[3 * i] = vertices[3 * v];
+    pos[3 * i + 1] = vertices[3 * v + 1];
+    pos[3 * i + 2] = vertices[3 * v + 2];
+  }
+  const g = new BufferGeometry();
+  g.setAttribute('position', new BufferAttribute(pos, 3));
+  g.computeVertexNormals(); // non-indexed: face normals
+  return g;
+}
+
+/** A live recording with the same shape as loader.js's file recordings. */
+export function createLiveRecording(sceneMsg) {
+  const root = new Group();
+  const world = new Group();
+  world.name = 'tumble_world';
+  world.quaternion.setFromAxisAngle(new Vector3(1, 0, 0), -Math.PI / 2); // z-up -> y-up
+  root.add(world);
+  const bodyNodes = sceneMsg.bodies.map((b) => {
+    const [r, g, bl, a] = b.color ?? [0.7, 0.7, 0.7, 1];
+    const mat = new MeshStandardMaterial({ roughness: 0.8, metalness: 0, transparent: a < 1, opacity: a });
+    mat.color.setRGB(r, g, bl);
+    const mesh = new Mesh(flatGeometry(b.vertices, b.triangles), mat);
+    mesh.name = b.name ?? '';
+    world.add(mesh);
+    return mesh;
+  });
+  const rec = {
+    kind: 'live',
+    root,
+    world,
+    bodyNodes,
+    times: [],
+    poses: [],
+    duration: 0,
+    extras: { kinetic_energy: [], potential_energy: [], contact_count: [], contacts: [], obb_boxes: [] },
+    apply(t) {
+      if (!rec.times.length) return;
+      const frame = rec.poses[frameIndexAt(rec.times, t)];
+      frame.forEach((p, i) => {
+        const node = bodyNodes[i];
+        if (!node) return;
+        node.position.set(p[0], p[1], p[2]);
+        node.quaternion.copy(new Quaternion(p[3], p[4], p[5], p[6]).normalize());
+      });
+    },
+    push(msg) {
+      if (rec.times.length && !(msg.t > rec.times[rec.times.length - 1])) return false; // out of order
+      rec.times.push(msg.t);
+      rec.poses.push(msg.poses);
+      rec.extras.kinetic_energy.push(msg.kinetic_energy ?? 0);
+      rec.extras.potential_energy.push(msg.potential_energy ?? 0);
+      rec.extras.contact_count.push(msg.contact_count ?? (msg.contacts ?? []).length);
+      rec.extras.contacts.push(msg.contacts ?? []);
+      rec.duration = msg.t;
+      return true;
+    },
+  };
+  return rec;
+}
+
+/**
+ * Connects to `url`; calls onScene(recording) for each scene message and
+ * onFrame(recording) after each accepted frame; onStatus(text, isError).
+ */
+export function connectLive(url, { onScene, onFrame, onStatus }) {
+  let rec = null;
+  const ws = new WebSocket(url);
+  ws.addEventListener('open', () => onStatus(`live: connected to ${url}`, false));
+  let failed = false;
+  ws.addEventListener('error', () => {
+    failed = true;
+    onStatus(`live: cannot connect to ${url}`, true);
+  });
+  ws.addEventListener('close', () => failed || onStatus(`live: disconnected from ${url}`, false));
+  ws.addEventListener('message', (ev) => {
+    let msg;
+    try {
+      msg = JSON.parse(ev.data);
+    } catch {
+      onStatus('live: ignored a message that is not JSON', true);
+      return;
+    }
+    if (msg.type === 'scene' && Array.isArray(msg.bodies)) {
+      rec = createLiveRecording(msg);
+      onScene(rec);
+    } else if (msg.type === 'frame' && rec && Array.isArray(msg.poses) && Number.isFinite(msg.t)) {
+      if (rec.push(msg)) onFrame(rec);
+    }
+  });
+  return ws;
+}

@@ -9,15 +9,18 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`broad`]: sweep-and-prune broad phase over AABBs with persistent pairs.
 
 #![warn(missing_docs)]
 
+pub mod broad;
 pub mod contact;
 pub mod hull;
 pub mod math;
 pub mod mesh;
 pub mod pose;
 
+pub use broad::{Aabb, PairEvent, ProxyId, SweepAndPrune};
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;

@@ -1,0 +1,84 @@
+//! Full rebuild: sort the three endpoint lists from scratch and find every
+//! overlapping pair by one sweep along a single axis (thesis 4.7, figure 4.2:
+//! the "active list" sweep). Used for the first build, for large batches of
+//! insertions, and when incoherent motion (teleports) would make the insertion
+//! sort quadratic. O(n log n + n * a + k) with `a` the mean active-list length on
+//! the sweep axis, which is chosen as the axis of largest spread of box centres
+//! to keep `a` small.
+
+use super::endpoint::Endpoint;
+use super::pairs::pair_key;
+use super::proxy::Slot;
+
+/// Sorts `list` by the total endpoint order and refreshes `slots[..].ends[axis]`.
+pub(crate) fn sort_full(list: &mut [Endpoint], axis: usize, slots: &mut [Slot]) {
+    list.sort_unstable_by(Endpoint::total_cmp);
+    reindex(list, axis, slots);
+}
+
+/// Refreshes `slots[..].ends[axis]` from the positions in `list`.
+pub(crate) fn reindex(list: &[Endpoint], axis: usize, slots: &mut [Slot]) {
+    for (pos, e) in list.iter().enumerate() {
+        slots[e.slot() as usize].ends[axis][e.end()] = pos as u32;
+    }
+}
+
+/// Axis (0..3) along which the box centres in `list`'s owner slots spread most.
+pub(crate) fn widest_axis(list: &[Endpoint], slots: &[Slot]) -> usize {
+    let n = (list.len() / 2).max(1) as f64;
+    let mut sum = [0.0f64; 3];
+    let mut sum_sq = [0.0f64; 3];
+    for e in list.iter().filter(|e| !e.is_max()) {
+        let c = slots[e.slot() as usize].aabb.center();
+        for k in 0..3 {
+            sum[k] += c[k];
+            sum_sq[k] += c[k] * c[k];
+        }
+    }
+    let var = |k: usize| sum_sq[k] / n - (sum[k] / n).powi(2);
+    // Strict comparisons: ties go to the lower axis, deterministically.
+    let mut best = 0;
+    for k in 1..3 {
+        if var(k) > var(best) {
+            best = k;
+        }
+    }
+    best
+}
+
+/// Appends the key of every overlapping pair to `out` (unsorted, each once) by
+/// sweeping the sorted `list`. `active` and `active_pos` are scratch buffers;
+/// `active_pos` must have one entry per slot.
+pub(crate) fn sweep_pairs(
+    list: &[Endpoint],
+    slots: &[Slot],
+    active: &mut Vec<u32>,
+    active_pos: &mut [u32],
+    out: &mut Vec<u64>,
+) {
+    active.clear();
+    for e in list {
+        let s = e.slot();
+        if e.is_max() {
+            // Swap-remove `s` from the active list in O(1).
+            let pos = active_pos[s as usize] as usize;
+            let last = active.pop().expect("max endpoint of an active slot");
+            if last != s {
+                active[pos] = last;
+                active_pos[last as usize] = pos as u32;
+            }
+        } else {
+            // Every active box starts at or before this one and has not ended,
+            // so they overlap on this axis (touching included, as min endpoints
+            // sort before max endpoints); test the full boxes.
+            let aabb = &slots[s as usize].aabb;
+            for &other in active.iter() {
+                if aabb.overlaps(&slots[other as usize].aabb) {
+                    out.push(pair_key(s, other));
+                }
+            }
+            active_pos[s as usize] = active.len() as u32;
+            active.push(s);
+        }
+    }
+}

@@ -1,0 +1,356 @@
+//! The sweep-and-prune broad phase object: proxies in, sorted pair events out.
+//! See the [module documentation](super) for the algorithm and its two modes.
+
+use super::aabb::Aabb;
+use super::endpoint::{Endpoint, MAX_SLOTS};
+use super::error::BroadPhaseError;
+use super::incremental;
+use super::pairs::{diff_sets, merge_set, split_key, Changes, PairEvent};
+use super::proxy::{ProxyId, Slot, SlotState};
+use super::rebuild;
+
+/// Default of [`SweepAndPrune::with_swap_budget_factor`].
+pub const DEFAULT_SWAP_BUDGET_FACTOR: u32 = 2;
+
+/// Swaps always allowed, so that tiny scenes never rebuild for nothing.
+const MIN_SWAP_BUDGET: u64 = 64;
+
+/// What one [`SweepAndPrune::update`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct UpdateReport {
+    /// Endpoint swaps done by the insertion sorts (including the ones of an
+    /// attempt that ran out of budget).
+    pub swaps: u64,
+    /// `true` when the lists were re-sorted and the pairs found by a sweep
+    /// (first build, large batch of insertions, or swap budget exceeded).
+    pub rebuilt: bool,
+    /// Number of [`PairEvent::Begin`] events emitted.
+    pub begins: usize,
+    /// Number of [`PairEvent::End`] events emitted.
+    pub ends: usize,
+    /// Overlapping pairs after the update.
+    pub pairs: usize,
+}
+
+/// Incremental sweep-and-prune over axis-aligned boxes with a persistent set of
+/// overlapping pairs (thesis 4.7 and 5.3; Baraff 1992; Cohen et al. 1995).
+#[derive(Debug, Clone)]
+pub struct SweepAndPrune {
+    /// One record per slot ever used (live, removed or free).
+    slots: Vec<Slot>,
+    /// Endpoint lists for x, y, z; `2 * (live + removed)` entries each, sorted
+    /// after every update.
+    lists: [Vec<Endpoint>; 3],
+    /// Slots ready for reuse.
+    free: Vec<u32>,
+    /// Slots removed since the last update.
+    removed: Vec<u32>,
+    /// Proxies inserted since the last update.
+    inserted: usize,
+    /// Live proxies.
+    live: usize,
+    /// Overlapping pairs as of the last update: sorted, unique pair keys.
+    pairs: Vec<u64>,
+    /// Scratch: begins and ends of the running update.
+    changes: Changes,
+    /// Scratch: the next pair set.
+    next_pairs: Vec<u64>,
+    /// Scratch for the rebuild sweep.
+    active: Vec<u32>,
+    active_pos: Vec<u32>,
+    swap_budget_factor: u32,
+}
+
+impl Default for SweepAndPrune {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SweepAndPrune {
+    /// An empty broad phase with the default swap budget.
+    pub fn new() -> SweepAndPrune {
+        Self::with_swap_budget_factor(DEFAULT_SWAP_BUDGET_FACTOR)
+    }
+
+    /// An empty broad phase whose updates fall back to a full rebuild once the
+    /// insertion sorts exceed `factor * n * ceil(log2(n + 2)) + 64` swaps in total
+    /// (`n` live proxies), i.e. about what the full sort would cost. Raising the
+    /// factor keeps the incremental path longer under incoherent motion; `0`
+    /// rebuilds on almost any large motion. Default [`DEFAULT_SWAP_BUDGET_FACTOR`].
+    pub fn with_swap_budget_factor(factor: u32) -> SweepAndPrune {
+        SweepAndPrune {
+            slots: Vec::new(),
+            lists: [Vec::new(), Vec::new(), Vec::new()],
+            free: Vec::new(),
+            removed: Vec::new(),
+            inserted: 0,
+            live: 0,
+            pairs: Vec::new(),
+            changes: Changes::default(),
+            next_pairs: Vec::new(),
+            active: Vec::new(),
+            active_pos: Vec::new(),
+            swap_budget_factor: factor,
+        }
+    }
+
+    /// Number of live (inserted and not removed) proxies.
+    pub fn len(&self) -> usize {
+        self.live
+    }
+
+    /// `true` when no proxy is live.
+    pub fn is_empty(&self) -> bool {
+        self.live == 0
+    }
+
+    /// The swap budget of the next update (see [`Self::with_swap_budget_factor`]).
+    pub fn swap_budget(&self) -> u64 {
+        let n = self.live as u64;
+        let log2 = u64::from(64 - (n + 1).leading_zeros());
+        u64::from(self.swap_budget_factor)
+            .saturating_mul(n)
+            .saturating_mul(log2)
+            .saturating_add(MIN_SWAP_BUDGET)
+    }
+
+    /// Adds a box tagged with the caller's `user_id` (not required to be unique).
+    /// Its pairs appear at the next [`Self::update`].
+    pub fn insert(&mut self, user_id: u32, aabb: Aabb) -> Result<ProxyId, BroadPhaseError> {
+        let index = match self.free.pop() {
+            Some(index) => {
+                let slot = &mut self.slots[index as usize];
+                slot.generation = slot.generation.wrapping_add(1);
+                index
+            }
+            None => {
+                if self.slots.len() >= MAX_SLOTS as usize {
+                    return Err(BroadPhaseError::TooManyProxies { max: MAX_SLOTS });
+                }
+                self.slots.push(Slot {
+                    aabb,
+                    ends: [[0; 2]; 3],
+                    user_id,
+                    generation: 0,
+                    state: SlotState::Free,
+                });
+                (self.slots.len() - 1) as u32
+            }
+        };
+        let slot = &mut self.slots[index as usize];
+        slot.aabb = aabb;
+        slot.user_id = user_id;
+        slot.state = SlotState::Live;
+        // Appended after everything: as if the box had been at +infinity, separated
+        // from all others, so the old pair set (without it) matches the list order.
+        for (axis, list) in self.lists.iter_mut().enumerate() {
+            let at = list.len() as u32;
+            list.push(Endpoint::new(aabb.min()[axis], index, false));
+            list.push(Endpoint::new(aabb.max()[axis], index, true));
+            slot.ends[axis] = [at, at + 1];
+        }
+        self.inserted += 1;
+        self.live += 1;
+        Ok(ProxyId::new(index, slot.generation))
+    }
+
+    /// Removes a proxy; its pairs end at the next [`Self::update`]. Removing twice,
+    /// or an id from another broad phase, is an error.
+    pub fn remove(&mut self, id: ProxyId) -> Result<(), BroadPhaseError> {
+        let index = self.check_live(id)?;
+        self.slots[index].state = SlotState::Removed;
+        self.removed.push(index as u32);
+        self.live -= 1;
+        Ok(())
+    }
+
+    /// Moves or resizes a proxy's box; takes effect at the next [`Self::update`].
+    pub fn set_aabb(&mut self, id: ProxyId, aabb: Aabb) -> Result<(), BroadPhaseError> {
+        let index = self.check_live(id)?;
+        let slot = &mut self.slots[index];
+        slot.aabb = aabb;
+        for (axis, list) in self.lists.iter_mut().enumerate() {
+            list[slot.ends[axis][0] as usize].value = aabb.min()[axis];
+            list[slot.ends[axis][1] as usize].value = aabb.max()[axis];
+        }
+        Ok(())
+    }
+
+    /// The current box of a live proxy.
+    pub fn aabb(&self, id: ProxyId) -> Result<Aabb, BroadPhaseError> {
+        Ok(self.slots[self.check_live(id)?].aabb)
+    }
+
+    /// The `user_id` given at insertion.
+    pub fn user_id(&self, id: ProxyId) -> Result<u32, BroadPhaseError> {
+        Ok(self.slots[self.check_live(id)?].user_id)
+    }
+
+    /// `true` when `id` names a live proxy.
+    pub fn contains(&self, id: ProxyId) -> bool {
+        self.check_live(id).is_ok()
+    }
+
+    /// Overlapping pairs as of the last update, sorted, each as (smaller id,
+    /// larger id). Touching boxes count as overlapping.
+    pub fn pairs(&self) -> impl ExactSizeIterator<Item = (ProxyId, ProxyId)> + '_ {
+        self.pairs.iter().map(move |&key| self.ids(key))
+    }
+
+    /// Number of overlapping pairs as of the last update.
+    pub fn pair_count(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// Applies the insertions, removals and box changes made since the last call,
+    /// and replaces the contents of `events` with the changes of the pair set,
+    /// sorted by pair (each pair at most once).
+    pub fn update(&mut self, events: &mut Vec<PairEvent>) -> UpdateReport {
+        events.clear();
+        self.changes.clear();
+        if !self.removed.is_empty() {
+            self.purge_removed();
+        }
+        let purged = self.changes.ends.len();
+        let budget = self.swap_budget();
+        // Each new proxy travels O(n) places from the end of the lists: a large
+        // batch (including the first build) goes straight to the full sort.
+        let batch = (self.inserted as u64).saturating_mul(self.live as u64) > budget;
+        let mut swaps = 0;
+        let mut rebuilt = batch;
+        if !batch {
+            for axis in 0..3 {
+                let out = incremental::sort_axis(
+                    &mut self.lists[axis],
+                    axis,
+                    &mut self.slots,
+                    &self.pairs,
+                    &mut self.changes,
+                    swaps,
+                    budget,
+                );
+                swaps += out.swaps;
+                if !out.finished {
+                    rebuilt = true;
+                    break;
+                }
+            }
+        }
+        if rebuilt {
+            // Drop what the aborted insertion sort found; keep removal ends.
+            self.changes.begins.clear();
+            self.changes.ends.truncate(purged);
+            self.rebuild();
+            self.changes.normalize();
+        } else {
+            self.changes.normalize();
+            merge_set(
+                &self.pairs,
+                &self.changes.ends,
+                &self.changes.begins,
+                &mut self.next_pairs,
+            );
+            std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+        }
+        self.emit(events);
+        for index in self.removed.drain(..) {
+            self.slots[index as usize].state = SlotState::Free;
+            self.free.push(index);
+        }
+        self.inserted = 0;
+        UpdateReport {
+            swaps,
+            rebuilt,
+            begins: self.changes.begins.len(),
+            ends: self.changes.ends.len(),
+            pairs: self.pairs.len(),
+        }
+    }
+
+    /// Index of the live slot named by `id`.
+    fn check_live(&self, id: ProxyId) -> Result<usize, BroadPhaseError> {
+        let index = id.index() as usize;
+        match self.slots.get(index) {
+            Some(slot) if slot.generation == id.generation() => match slot.state {
+                SlotState::Live => Ok(index),
+                SlotState::Removed | SlotState::Free => Err(BroadPhaseError::AlreadyRemoved(id)),
+            },
+            _ => Err(BroadPhaseError::UnknownProxy(id)),
+        }
+    }
+
+    /// The ids of a pair key (slots still hold the generations of its proxies:
+    /// removed slots are released only at the end of the update).
+    fn ids(&self, key: u64) -> (ProxyId, ProxyId) {
+        let (a, b) = split_key(key);
+        (
+            ProxyId::new(a, self.slots[a as usize].generation),
+            ProxyId::new(b, self.slots[b as usize].generation),
+        )
+    }
+
+    /// Drops the endpoints of removed proxies (O(n) per list, order kept) and
+    /// ends their pairs.
+    fn purge_removed(&mut self) {
+        for axis in 0..3 {
+            let slots = &self.slots;
+            self.lists[axis].retain(|e| slots[e.slot() as usize].state == SlotState::Live);
+            rebuild::reindex(&self.lists[axis], axis, &mut self.slots);
+        }
+        let slots = &self.slots;
+        let ends = &mut self.changes.ends;
+        self.pairs.retain(|&key| {
+            let (a, b) = split_key(key);
+            let keep =
+                slots[a as usize].state == SlotState::Live && slots[b as usize].state == SlotState::Live;
+            if !keep {
+                ends.push(key);
+            }
+            keep
+        });
+    }
+
+    /// Full sort of the three lists and a single-axis sweep; the events are the
+    /// difference between the old and the new pair set.
+    fn rebuild(&mut self) {
+        for axis in 0..3 {
+            rebuild::sort_full(&mut self.lists[axis], axis, &mut self.slots);
+        }
+        let axis = rebuild::widest_axis(&self.lists[0], &self.slots);
+        self.active_pos.resize(self.slots.len(), 0);
+        self.next_pairs.clear();
+        rebuild::sweep_pairs(
+            &self.lists[axis],
+            &self.slots,
+            &mut self.active,
+            &mut self.active_pos,
+            &mut self.next_pairs,
+        );
+        self.next_pairs.sort_unstable();
+        diff_sets(
+            &self.pairs,
+            &self.next_pairs,
+            &mut self.changes.begins,
+            &mut self.changes.ends,
+        );
+        std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+    }
+
+    /// Writes the sorted begins and ends as events, in pair order.
+    fn emit(&self, events: &mut Vec<PairEvent>) {
+        let (begins, ends) = (&self.changes.begins, &self.changes.ends);
+        let (mut i, mut j) = (0, 0);
+        while i < begins.len() || j < ends.len() {
+            if j == ends.len() || (i < begins.len() && begins[i] < ends[j]) {
+                let (a, b) = self.ids(begins[i]);
+                events.push(PairEvent::Begin(a, b));
+                i += 1;
+            } else {
+                let (a, b) = self.ids(ends[j]);
+                events.push(PairEvent::End(a, b));
+                j += 1;
+            }
+        }
+    }
+}

@@ -10,11 +10,15 @@
 //!   pair begins. Such a pair was separated on this axis before, so it cannot be
 //!   in the old set, and it ends the update overlapping, so it cannot end later.
 //! - max of `e` moves before min of `f`: the intervals separate on this axis; if
-//!   the pair was in the old set it ends.
+//!   the pair was in the old set it ends. Membership is a binary search, skipped
+//!   when either slot had no pair at all (per-slot pair counts, an upper bound).
 //!
 //! A begin may be found on up to three axes and an end likewise, so the caller
 //! sorts and de-duplicates the two lists. A pair never both begins and ends in one
 //! update: every swap moves a pair towards its final (new-value) state.
+//!
+//! The per-slot endpoint positions are not touched during the sort (a random
+//! write per swap); the caller re-indexes the list once afterwards, O(n).
 
 use super::endpoint::Endpoint;
 use super::pairs::{pair_key, Changes};
@@ -28,14 +32,14 @@ pub(crate) struct SortOutcome {
     pub finished: bool,
 }
 
-/// Insertion-sorts `list` (axis `axis`), keeps `slots[..].ends` in step, pushes
+/// Insertion-sorts `list`, pushes
 /// candidate begins and ends to `changes` (pair keys, possibly repeated). Stops early, with
 /// `list` a valid permutation, once `swaps_before + swaps > budget`.
 pub(crate) fn sort_axis(
     list: &mut [Endpoint],
-    axis: usize,
-    slots: &mut [Slot],
+    slots: &[Slot],
     old_pairs: &[u64],
+    pair_counts: &[u32],
     changes: &mut Changes,
     swaps_before: u64,
     budget: u64,
@@ -55,17 +59,18 @@ pub(crate) fn sort_axis(
                     changes.begins.push(pair_key(e.slot(), f.slot()));
                 }
             } else if e.is_max() && !f.is_max() {
-                let key = pair_key(e.slot(), f.slot());
-                if old_pairs.binary_search(&key).is_ok() {
-                    changes.ends.push(key);
+                let (a, b) = (e.slot(), f.slot());
+                if pair_counts[a as usize] > 0 && pair_counts[b as usize] > 0 {
+                    let key = pair_key(a, b);
+                    if old_pairs.binary_search(&key).is_ok() {
+                        changes.ends.push(key);
+                    }
                 }
             }
             list[j] = f;
-            slots[f.slot() as usize].ends[axis][f.end()] = j as u32;
             j -= 1;
         }
         list[j] = e;
-        slots[e.slot() as usize].ends[axis][e.end()] = j as u32;
         swaps += (i - j) as u64;
         if swaps_before + swaps > budget {
             return SortOutcome {

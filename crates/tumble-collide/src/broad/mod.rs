@@ -21,8 +21,9 @@
 //!   pass and their pairs end.
 //! - **Rebuild** (first build, large batches, incoherent motion such as
 //!   teleports): when `inserted * n` exceeds the swap budget, or the insertion
-//!   sorts run past it (`factor * n * ceil(log2(n + 2)) + 64` swaps, about the
-//!   cost of a full sort, see [`SweepAndPrune::with_swap_budget_factor`]), the
+//!   sorts run past it (`factor * (n * ceil(log2(n + 2)) + t / 8) + 64` swaps with
+//!   `t` the box tests of the last rebuild sweep, about the cost of a rebuild,
+//!   see [`SweepAndPrune::with_swap_budget_factor`]), the
 //!   lists are fully sorted and all pairs found by one sweep along the axis of
 //!   widest spread. The events are the difference between the old and the new
 //!   pair set, so both modes report exactly the same events.

@@ -46,39 +46,62 @@ pub(crate) fn widest_axis(list: &[Endpoint], slots: &[Slot]) -> usize {
     best
 }
 
+/// An entry of the active list: the slot and its box on the two axes other than
+/// the sweep axis, stored inline so that the inner loop scans memory in order.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Active {
+    slot: u32,
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
 /// Appends the key of every overlapping pair to `out` (unsorted, each once) by
-/// sweeping the sorted `list`. `active` and `active_pos` are scratch buffers;
+/// sweeping the sorted `list` of axis `axis`; returns the number of box tests
+/// done (the sweep's cost). `active` and `active_pos` are scratch buffers;
 /// `active_pos` must have one entry per slot.
 pub(crate) fn sweep_pairs(
     list: &[Endpoint],
+    axis: usize,
     slots: &[Slot],
-    active: &mut Vec<u32>,
+    active: &mut Vec<Active>,
     active_pos: &mut [u32],
     out: &mut Vec<u64>,
-) {
+) -> u64 {
+    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+    let mut tests = 0u64;
     active.clear();
     for e in list {
         let s = e.slot();
         if e.is_max() {
             // Swap-remove `s` from the active list in O(1).
             let pos = active_pos[s as usize] as usize;
-            let last = active.pop().expect("max endpoint of an active slot");
-            if last != s {
-                active[pos] = last;
-                active_pos[last as usize] = pos as u32;
+            active.swap_remove(pos);
+            if let Some(moved) = active.get(pos) {
+                active_pos[moved.slot as usize] = pos as u32;
             }
         } else {
             // Every active box starts at or before this one and has not ended,
-            // so they overlap on this axis (touching included, as min endpoints
-            // sort before max endpoints); test the full boxes.
-            let aabb = &slots[s as usize].aabb;
-            for &other in active.iter() {
-                if aabb.overlaps(&slots[other as usize].aabb) {
-                    out.push(pair_key(s, other));
+            // so they overlap on the sweep axis (touching included, as min
+            // endpoints sort before max endpoints); test the other two axes.
+            let b = &slots[s as usize].aabb;
+            let me = Active {
+                slot: s,
+                lo: [b.min()[u], b.min()[v]],
+                hi: [b.max()[u], b.max()[v]],
+            };
+            tests += active.len() as u64;
+            for other in active.iter() {
+                if me.lo[0] <= other.hi[0]
+                    && other.lo[0] <= me.hi[0]
+                    && me.lo[1] <= other.hi[1]
+                    && other.lo[1] <= me.hi[1]
+                {
+                    out.push(pair_key(s, other.slot));
                 }
             }
             active_pos[s as usize] = active.len() as u32;
-            active.push(s);
+            active.push(me);
         }
     }
+    tests
 }

@@ -51,13 +51,18 @@ pub struct SweepAndPrune {
     live: usize,
     /// Overlapping pairs as of the last update: sorted, unique pair keys.
     pairs: Vec<u64>,
+    /// Number of pairs of each slot as of the last update, plus pairs of removed
+    /// partners not yet purged (an upper bound used to skip membership searches).
+    pair_counts: Vec<u32>,
     /// Scratch: begins and ends of the running update.
     changes: Changes,
     /// Scratch: the next pair set.
     next_pairs: Vec<u64>,
     /// Scratch for the rebuild sweep.
-    active: Vec<u32>,
+    active: Vec<rebuild::Active>,
     active_pos: Vec<u32>,
+    /// Box tests done by the last rebuild sweep, a measure of what a rebuild costs.
+    last_sweep_tests: u64,
     swap_budget_factor: u32,
 }
 
@@ -74,8 +79,10 @@ impl SweepAndPrune {
     }
 
     /// An empty broad phase whose updates fall back to a full rebuild once the
-    /// insertion sorts exceed `factor * n * ceil(log2(n + 2)) + 64` swaps in total
-    /// (`n` live proxies), i.e. about what the full sort would cost. Raising the
+    /// insertion sorts exceed `factor * (n * ceil(log2(n + 2)) + t / 8) + 64` swaps
+    /// in total, with `n` live proxies and `t` the box tests done by the last
+    /// rebuild sweep: about what a rebuild (full sorts + sweep) would cost, as a
+    /// swap costs several times a sweep box test (measured). Raising the
     /// factor keeps the incremental path longer under incoherent motion; `0`
     /// rebuilds on almost any large motion. Default [`DEFAULT_SWAP_BUDGET_FACTOR`].
     pub fn with_swap_budget_factor(factor: u32) -> SweepAndPrune {
@@ -87,10 +94,12 @@ impl SweepAndPrune {
             inserted: 0,
             live: 0,
             pairs: Vec::new(),
+            pair_counts: Vec::new(),
             changes: Changes::default(),
             next_pairs: Vec::new(),
             active: Vec::new(),
             active_pos: Vec::new(),
+            last_sweep_tests: 0,
             swap_budget_factor: factor,
         }
     }
@@ -110,8 +119,7 @@ impl SweepAndPrune {
         let n = self.live as u64;
         let log2 = u64::from(64 - (n + 1).leading_zeros());
         u64::from(self.swap_budget_factor)
-            .saturating_mul(n)
-            .saturating_mul(log2)
+            .saturating_mul(n.saturating_mul(log2).saturating_add(self.last_sweep_tests / 8))
             .saturating_add(MIN_SWAP_BUDGET)
     }
 
@@ -135,6 +143,7 @@ impl SweepAndPrune {
                     generation: 0,
                     state: SlotState::Free,
                 });
+                self.pair_counts.push(0);
                 (self.slots.len() - 1) as u32
             }
         };
@@ -223,9 +232,9 @@ impl SweepAndPrune {
             for axis in 0..3 {
                 let out = incremental::sort_axis(
                     &mut self.lists[axis],
-                    axis,
-                    &mut self.slots,
+                    &self.slots,
                     &self.pairs,
+                    &self.pair_counts,
                     &mut self.changes,
                     swaps,
                     budget,
@@ -234,6 +243,9 @@ impl SweepAndPrune {
                 if !out.finished {
                     rebuilt = true;
                     break;
+                }
+                if out.swaps > 0 {
+                    rebuild::reindex(&self.lists[axis], axis, &mut self.slots);
                 }
             }
         }
@@ -253,6 +265,7 @@ impl SweepAndPrune {
             );
             std::mem::swap(&mut self.pairs, &mut self.next_pairs);
         }
+        self.count_changes();
         self.emit(events);
         for index in self.removed.drain(..) {
             self.slots[index as usize].state = SlotState::Free;
@@ -320,8 +333,9 @@ impl SweepAndPrune {
         let axis = rebuild::widest_axis(&self.lists[0], &self.slots);
         self.active_pos.resize(self.slots.len(), 0);
         self.next_pairs.clear();
-        rebuild::sweep_pairs(
+        self.last_sweep_tests = rebuild::sweep_pairs(
             &self.lists[axis],
+            axis,
             &self.slots,
             &mut self.active,
             &mut self.active_pos,
@@ -335,6 +349,20 @@ impl SweepAndPrune {
             &mut self.changes.ends,
         );
         std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+    }
+
+    /// Applies the begins and ends of this update to the per-slot pair counts.
+    fn count_changes(&mut self) {
+        for &key in &self.changes.begins {
+            let (a, b) = split_key(key);
+            self.pair_counts[a as usize] += 1;
+            self.pair_counts[b as usize] += 1;
+        }
+        for &key in &self.changes.ends {
+            let (a, b) = split_key(key);
+            self.pair_counts[a as usize] -= 1;
+            self.pair_counts[b as usize] -= 1;
+        }
     }
 
     /// Writes the sorted begins and ends as events, in pair order.

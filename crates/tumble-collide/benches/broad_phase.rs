@@ -1,5 +1,6 @@
 //! Broad phase timing: sweep-and-prune update under coherent random motion for
-//! 1k, 10k and 100k boxes, against brute-force O(n^2) (1k, 10k), plus the
+//! 1k, 10k and 100k boxes, against brute-force O(n^2) (1k, 10k); the same with
+//! speeds scaled so that the swaps per box are the same at every n; and the
 //! incoherent case (every box teleports every frame, forcing the rebuild path).
 //!
 //! Scene: unit cubes, centres uniform in a cube of side 2 n^(1/3) m (about one
@@ -42,10 +43,15 @@ struct Scene {
 
 impl Scene {
     fn new(n: usize) -> Scene {
+        Scene::with_speed(n, 1.0)
+    }
+
+    /// Velocities uniform in `[-speed, speed]^3` m/s.
+    fn with_speed(n: usize, speed: f64) -> Scene {
         let side = 2.0 * (n as f64).cbrt();
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
         let centers = (0..n).map(|_| rng.vec() * side).collect();
-        let velocities = (0..n).map(|_| rng.vec() * 2.0 - 1.0).collect();
+        let velocities = (0..n).map(|_| (rng.vec() * 2.0 - 1.0) * speed).collect();
         Scene {
             side,
             centers,
@@ -103,15 +109,16 @@ fn advance(scene: &mut Scene, sap: &mut SweepAndPrune, ids: &[ProxyId], teleport
 
 /// Prints the work behind the timings: the swap count grows with the number of
 /// endpoints crossed per step, which grows as n^(2/3) at fixed 3D density.
-fn describe(n: usize, teleport: bool) {
-    let mut scene = Scene::new(n);
+fn describe(n: usize, speed: f64, teleport: bool) {
+    let mut scene = Scene::with_speed(n, speed);
     let (mut sap, ids, mut events) = build(&scene);
     advance(&mut scene, &mut sap, &ids, teleport);
     let r = sap.update(&mut events);
     eprintln!(
-        "n = {n}{}: swaps/body {:.1}, rebuilt {}, pairs {}, events {}",
+        "n = {n}, speed {speed:.3}{}: swaps/body {:.1} (predicted {:.1}), rebuilt {}, pairs {}, events {}",
         if teleport { " (teleport)" } else { "" },
         r.swaps as f64 / n as f64,
+        r.estimated_swaps as f64 / n as f64,
         r.rebuilt,
         r.pairs,
         r.begins + r.ends
@@ -122,8 +129,30 @@ fn sap_coherent(c: &mut Criterion) {
     let mut group = c.benchmark_group("sap_coherent");
     group.sample_size(10);
     for n in [1_000, 10_000, 100_000] {
-        describe(n, false);
+        describe(n, 1.0, false);
         let mut scene = Scene::new(n);
+        let (mut sap, ids, mut events) = build(&scene);
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            b.iter(|| {
+                advance(&mut scene, &mut sap, &ids, false);
+                black_box(sap.update(&mut events))
+            })
+        });
+    }
+    group.finish();
+}
+
+/// Same scene with speeds scaled by `(1000 / n)^(2/3)`, so that each box passes
+/// the same number of endpoints per step at every n (the endpoint spacing on an
+/// axis shrinks as n^(-2/3) at fixed 3D density): isolates the O(n + swaps) cost.
+fn sap_fixed_crossings(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sap_fixed_crossings");
+    group.sample_size(10);
+    for n in [1_000, 10_000, 100_000] {
+        let speed = (1000.0 / n as f64).powf(2.0 / 3.0);
+        describe(n, speed, false);
+        let mut scene = Scene::with_speed(n, speed);
         let (mut sap, ids, mut events) = build(&scene);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(BenchmarkId::from_parameter(n), |b| {
@@ -140,7 +169,7 @@ fn sap_teleport(c: &mut Criterion) {
     let mut group = c.benchmark_group("sap_teleport");
     group.sample_size(10);
     for n in [1_000, 10_000, 100_000] {
-        describe(n, true);
+        describe(n, 1.0, true);
         let mut scene = Scene::new(n);
         let (mut sap, ids, mut events) = build(&scene);
         group.throughput(Throughput::Elements(n as u64));
@@ -183,5 +212,11 @@ fn brute_force(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, sap_coherent, sap_teleport, brute_force);
+criterion_group!(
+    benches,
+    sap_coherent,
+    sap_fixed_crossings,
+    sap_teleport,
+    brute_force
+);
 criterion_main!(benches);

@@ -20,13 +20,23 @@
 //!   from +infinity); removed proxies are filtered out of the lists in one O(n)
 //!   pass and their pairs end.
 //! - **Rebuild** (first build, large batches, incoherent motion such as
-//!   teleports): when `inserted * n` exceeds the swap budget, or the insertion
-//!   sorts run past it (`factor * (n * ceil(log2(n + 2)) + t / 8) + 64` swaps with
-//!   `t` the box tests of the last rebuild sweep, about the cost of a rebuild,
-//!   see [`SweepAndPrune::with_swap_budget_factor`]), the
-//!   lists are fully sorted and all pairs found by one sweep along the axis of
-//!   widest spread. The events are the difference between the old and the new
-//!   pair set, so both modes report exactly the same events.
+//!   teleports): the lists are fully sorted and all pairs found by one sweep
+//!   along the axis of widest spread. The events are the difference between the
+//!   old and the new pair set, so both modes report exactly the same events.
+//!   The switch is made on the swap budget `factor * (n * ceil(log2(n + 2)) +
+//!   t / 8) + 64` (`t`: box tests of the last rebuild sweep; together about the
+//!   cost of a rebuild, see [`SweepAndPrune::with_swap_budget_factor`]):
+//!   1. before sorting, the swaps are *predicted* from the motion: each
+//!      `set_aabb` adds its centre displacement over the scene extent per axis
+//!      (`2n` endpoints spread over the extent are passed in proportion), and
+//!      each new proxy counts `n`; a prediction over budget rebuilds at once
+//!      (teleports, first build, big batches);
+//!   2. otherwise the insertion sorts run, and if they still exceed the budget
+//!      (the prediction assumed an even spread) they stop and the update
+//!      rebuilds, discarding the partial results.
+//!
+//!   [`UpdateReport`] says which path was taken, with the predicted and actual
+//!   swaps.
 //!
 //! Ids are (slot, generation) handles: removing twice, or using an id after its
 //! slot was reused, is a typed error. Memory: 96 bytes of endpoints and about 80

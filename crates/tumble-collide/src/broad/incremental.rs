@@ -20,9 +20,9 @@
 //! The per-slot endpoint positions are not touched during the sort (a random
 //! write per swap); the caller re-indexes the list once afterwards, O(n).
 
+use super::aabb::Aabb;
 use super::endpoint::Endpoint;
 use super::pairs::{pair_key, Changes};
-use super::proxy::Slot;
 
 /// Output of one list's sort.
 pub(crate) struct SortOutcome {
@@ -37,7 +37,7 @@ pub(crate) struct SortOutcome {
 /// `list` a valid permutation, once `swaps_before + swaps > budget`.
 pub(crate) fn sort_axis(
     list: &mut [Endpoint],
-    slots: &[Slot],
+    boxes: &[Aabb],
     old_pairs: &[u64],
     pair_counts: &[u32],
     changes: &mut Changes,
@@ -55,7 +55,7 @@ pub(crate) fn sort_axis(
             let f = list[j - 1];
             if !e.is_max() && f.is_max() {
                 let (a, b) = (e.slot() as usize, f.slot() as usize);
-                if slots[a].aabb.overlaps(&slots[b].aabb) {
+                if boxes[a].overlaps(&boxes[b]) {
                     changes.begins.push(pair_key(e.slot(), f.slot()));
                 }
             } else if e.is_max() && !f.is_max() {

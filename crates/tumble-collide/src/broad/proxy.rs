@@ -4,7 +4,6 @@
 //! reused only after the update that follows its removal, and reuse bumps the
 //! generation, so a stale id is detected instead of silently naming a new box.
 
-use super::aabb::Aabb;
 use std::fmt;
 
 /// Handle of one box in a [`super::SweepAndPrune`].
@@ -50,13 +49,14 @@ pub(crate) enum SlotState {
     Free,
 }
 
-/// Everything the broad phase keeps per slot.
+/// Position of a slot's min (`[axis][0]`) and max (`[axis][1]`) endpoint in
+/// each list.
+pub(crate) type EndIndex = [[u32; 2]; 3];
+
+/// Identity and life cycle of a slot (its box and endpoint positions live in
+/// separate dense arrays, which the sorts touch far more often).
 #[derive(Debug, Clone)]
 pub(crate) struct Slot {
-    /// Current box (the values also sit in the endpoint lists).
-    pub aabb: Aabb,
-    /// Position of the min (`[axis][0]`) and max (`[axis][1]`) endpoint in each list.
-    pub ends: [[u32; 2]; 3],
     /// The caller's tag.
     pub user_id: u32,
     /// Generation of the id that owns the slot now.

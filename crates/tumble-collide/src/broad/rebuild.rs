@@ -6,30 +6,31 @@
 //! the sweep axis, which is chosen as the axis of largest spread of box centres
 //! to keep `a` small.
 
+use super::aabb::Aabb;
 use super::endpoint::Endpoint;
 use super::pairs::pair_key;
-use super::proxy::Slot;
+use super::proxy::EndIndex;
 
-/// Sorts `list` by the total endpoint order and refreshes `slots[..].ends[axis]`.
-pub(crate) fn sort_full(list: &mut [Endpoint], axis: usize, slots: &mut [Slot]) {
+/// Sorts `list` by the total endpoint order and refreshes `ends[..][axis]`.
+pub(crate) fn sort_full(list: &mut [Endpoint], axis: usize, ends: &mut [EndIndex]) {
     list.sort_unstable_by(Endpoint::total_cmp);
-    reindex(list, axis, slots);
+    reindex(list, axis, ends);
 }
 
-/// Refreshes `slots[..].ends[axis]` from the positions in `list`.
-pub(crate) fn reindex(list: &[Endpoint], axis: usize, slots: &mut [Slot]) {
+/// Refreshes `ends[..][axis]` from the positions in `list`.
+pub(crate) fn reindex(list: &[Endpoint], axis: usize, ends: &mut [EndIndex]) {
     for (pos, e) in list.iter().enumerate() {
-        slots[e.slot() as usize].ends[axis][e.end()] = pos as u32;
+        ends[e.slot() as usize][axis][e.end()] = pos as u32;
     }
 }
 
 /// Axis (0..3) along which the box centres in `list`'s owner slots spread most.
-pub(crate) fn widest_axis(list: &[Endpoint], slots: &[Slot]) -> usize {
+pub(crate) fn widest_axis(list: &[Endpoint], boxes: &[Aabb]) -> usize {
     let n = (list.len() / 2).max(1) as f64;
     let mut sum = [0.0f64; 3];
     let mut sum_sq = [0.0f64; 3];
     for e in list.iter().filter(|e| !e.is_max()) {
-        let c = slots[e.slot() as usize].aabb.center();
+        let c = boxes[e.slot() as usize].center();
         for k in 0..3 {
             sum[k] += c[k];
             sum_sq[k] += c[k] * c[k];
@@ -62,7 +63,7 @@ pub(crate) struct Active {
 pub(crate) fn sweep_pairs(
     list: &[Endpoint],
     axis: usize,
-    slots: &[Slot],
+    boxes: &[Aabb],
     active: &mut Vec<Active>,
     active_pos: &mut [u32],
     out: &mut Vec<u64>,
@@ -83,7 +84,7 @@ pub(crate) fn sweep_pairs(
             // Every active box starts at or before this one and has not ended,
             // so they overlap on the sweep axis (touching included, as min
             // endpoints sort before max endpoints); test the other two axes.
-            let b = &slots[s as usize].aabb;
+            let b = &boxes[s as usize];
             let me = Active {
                 slot: s,
                 lo: [b.min()[u], b.min()[v]],

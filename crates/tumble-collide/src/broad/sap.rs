@@ -6,7 +6,7 @@ use super::endpoint::{Endpoint, MAX_SLOTS};
 use super::error::BroadPhaseError;
 use super::incremental;
 use super::pairs::{diff_sets, merge_set, split_key, Changes, PairEvent};
-use super::proxy::{ProxyId, Slot, SlotState};
+use super::proxy::{EndIndex, ProxyId, Slot, SlotState};
 use super::rebuild;
 
 /// Default of [`SweepAndPrune::with_swap_budget_factor`].
@@ -42,6 +42,10 @@ pub struct UpdateReport {
 pub struct SweepAndPrune {
     /// One record per slot ever used (live, removed or free).
     slots: Vec<Slot>,
+    /// Current box per slot (the values also sit in the endpoint lists).
+    boxes: Vec<Aabb>,
+    /// Endpoint positions per slot.
+    ends: Vec<EndIndex>,
     /// Endpoint lists for x, y, z; `2 * (live + removed)` entries each, sorted
     /// after every update.
     lists: [Vec<Endpoint>; 3],
@@ -97,6 +101,8 @@ impl SweepAndPrune {
     pub fn with_swap_budget_factor(factor: u32) -> SweepAndPrune {
         SweepAndPrune {
             slots: Vec::new(),
+            boxes: Vec::new(),
+            ends: Vec::new(),
             lists: [Vec::new(), Vec::new(), Vec::new()],
             free: Vec::new(),
             removed: Vec::new(),
@@ -147,9 +153,9 @@ impl SweepAndPrune {
                 if self.slots.len() >= MAX_SLOTS as usize {
                     return Err(BroadPhaseError::TooManyProxies { max: MAX_SLOTS });
                 }
+                self.boxes.push(aabb);
+                self.ends.push([[0; 2]; 3]);
                 self.slots.push(Slot {
-                    aabb,
-                    ends: [[0; 2]; 3],
                     user_id,
                     generation: 0,
                     state: SlotState::Free,
@@ -158,8 +164,8 @@ impl SweepAndPrune {
                 (self.slots.len() - 1) as u32
             }
         };
+        self.boxes[index as usize] = aabb;
         let slot = &mut self.slots[index as usize];
-        slot.aabb = aabb;
         slot.user_id = user_id;
         slot.state = SlotState::Live;
         // Appended after everything: as if the box had been at +infinity, separated
@@ -168,7 +174,7 @@ impl SweepAndPrune {
             let at = list.len() as u32;
             list.push(Endpoint::new(aabb.min()[axis], index, false));
             list.push(Endpoint::new(aabb.max()[axis], index, true));
-            slot.ends[axis] = [at, at + 1];
+            self.ends[index as usize][axis] = [at, at + 1];
         }
         self.inserted += 1;
         self.live += 1;
@@ -188,21 +194,21 @@ impl SweepAndPrune {
     /// Moves or resizes a proxy's box; takes effect at the next [`Self::update`].
     pub fn set_aabb(&mut self, id: ProxyId, aabb: Aabb) -> Result<(), BroadPhaseError> {
         let index = self.check_live(id)?;
-        let slot = &mut self.slots[index];
-        let moved = (aabb.center() - slot.aabb.center()).abs();
+        let moved = (aabb.center() - self.boxes[index].center()).abs();
         self.travel +=
             moved.x * self.inv_extent[0] + moved.y * self.inv_extent[1] + moved.z * self.inv_extent[2];
-        slot.aabb = aabb;
+        self.boxes[index] = aabb;
+        let ends = &self.ends[index];
         for (axis, list) in self.lists.iter_mut().enumerate() {
-            list[slot.ends[axis][0] as usize].value = aabb.min()[axis];
-            list[slot.ends[axis][1] as usize].value = aabb.max()[axis];
+            list[ends[axis][0] as usize].value = aabb.min()[axis];
+            list[ends[axis][1] as usize].value = aabb.max()[axis];
         }
         Ok(())
     }
 
     /// The current box of a live proxy.
     pub fn aabb(&self, id: ProxyId) -> Result<Aabb, BroadPhaseError> {
-        Ok(self.slots[self.check_live(id)?].aabb)
+        Ok(self.boxes[self.check_live(id)?])
     }
 
     /// The `user_id` given at insertion.
@@ -245,7 +251,7 @@ impl SweepAndPrune {
             for axis in 0..3 {
                 let out = incremental::sort_axis(
                     &mut self.lists[axis],
-                    &self.slots,
+                    &self.boxes,
                     &self.pairs,
                     &self.pair_counts,
                     &mut self.changes,
@@ -258,7 +264,7 @@ impl SweepAndPrune {
                     break;
                 }
                 if out.swaps > 0 {
-                    rebuild::reindex(&self.lists[axis], axis, &mut self.slots);
+                    rebuild::reindex(&self.lists[axis], axis, &mut self.ends);
                 }
             }
         }
@@ -344,7 +350,7 @@ impl SweepAndPrune {
         for axis in 0..3 {
             let slots = &self.slots;
             self.lists[axis].retain(|e| slots[e.slot() as usize].state == SlotState::Live);
-            rebuild::reindex(&self.lists[axis], axis, &mut self.slots);
+            rebuild::reindex(&self.lists[axis], axis, &mut self.ends);
         }
         let slots = &self.slots;
         let ends = &mut self.changes.ends;
@@ -363,15 +369,15 @@ impl SweepAndPrune {
     /// difference between the old and the new pair set.
     fn rebuild(&mut self) {
         for axis in 0..3 {
-            rebuild::sort_full(&mut self.lists[axis], axis, &mut self.slots);
+            rebuild::sort_full(&mut self.lists[axis], axis, &mut self.ends);
         }
-        let axis = rebuild::widest_axis(&self.lists[0], &self.slots);
+        let axis = rebuild::widest_axis(&self.lists[0], &self.boxes);
         self.active_pos.resize(self.slots.len(), 0);
         self.next_pairs.clear();
         self.last_sweep_tests = rebuild::sweep_pairs(
             &self.lists[axis],
             axis,
-            &self.slots,
+            &self.boxes,
             &mut self.active,
             &mut self.active_pos,
             &mut self.next_pairs,

@@ -9,11 +9,13 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`broad`]: sweep-and-prune broad phase over AABBs with persistent pairs.
 //! - [`mass`]: mass properties of primitives, meshes and composite bodies.
 //! - [`triangle`]: triangle-level narrow phase (overlap, distance, contacts, merging).
 
 #![warn(missing_docs)]
 
+pub mod broad;
 pub mod contact;
 pub mod hull;
 pub mod mass;
@@ -22,6 +24,7 @@ pub mod mesh;
 pub mod pose;
 pub mod triangle;
 
+pub use broad::{Aabb, PairEvent, ProxyId, SweepAndPrune};
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use mass::{mesh_mass_properties, MassError, MassFallback, MassProperties, MassSpec, PrincipalFrame};
 pub use math::{DMat3, DQuat, DVec3};

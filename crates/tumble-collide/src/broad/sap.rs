@@ -1,0 +1,425 @@
+//! The sweep-and-prune broad phase object: proxies in, sorted pair events out.
+//! See the [module documentation](super) for the algorithm and its two modes.
+
+use super::aabb::Aabb;
+use super::endpoint::{Endpoint, MAX_SLOTS};
+use super::error::BroadPhaseError;
+use super::incremental;
+use super::pairs::{diff_sets, merge_set, split_key, Changes, PairEvent};
+use super::proxy::{EndIndex, ProxyId, Slot, SlotState};
+use super::rebuild;
+
+/// Default of [`SweepAndPrune::with_swap_budget_factor`].
+pub const DEFAULT_SWAP_BUDGET_FACTOR: u32 = 1;
+
+/// Swaps always allowed, so that tiny scenes never rebuild for nothing.
+const MIN_SWAP_BUDGET: u64 = 64;
+
+/// What one [`SweepAndPrune::update`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct UpdateReport {
+    /// Swaps predicted before sorting from the motion since the last update
+    /// (see the module documentation); above the budget the update rebuilds
+    /// without trying the insertion sort.
+    pub estimated_swaps: u64,
+    /// Endpoint swaps done by the insertion sorts (including the ones of an
+    /// attempt that ran out of budget).
+    pub swaps: u64,
+    /// `true` when the lists were re-sorted and the pairs found by a sweep
+    /// (first build, large batch of insertions, or swap budget exceeded).
+    pub rebuilt: bool,
+    /// Number of [`PairEvent::Begin`] events emitted.
+    pub begins: usize,
+    /// Number of [`PairEvent::End`] events emitted.
+    pub ends: usize,
+    /// Overlapping pairs after the update.
+    pub pairs: usize,
+}
+
+/// Incremental sweep-and-prune over axis-aligned boxes with a persistent set of
+/// overlapping pairs (thesis 4.7 and 5.3; Baraff 1992; Cohen et al. 1995).
+#[derive(Debug, Clone)]
+pub struct SweepAndPrune {
+    /// One record per slot ever used (live, removed or free).
+    slots: Vec<Slot>,
+    /// Current box per slot (the values also sit in the endpoint lists).
+    boxes: Vec<Aabb>,
+    /// Endpoint positions per slot.
+    ends: Vec<EndIndex>,
+    /// Endpoint lists for x, y, z; `2 * (live + removed)` entries each, sorted
+    /// after every update.
+    lists: [Vec<Endpoint>; 3],
+    /// Slots ready for reuse.
+    free: Vec<u32>,
+    /// Slots removed since the last update.
+    removed: Vec<u32>,
+    /// Proxies inserted since the last update.
+    inserted: usize,
+    /// Sum over `set_aabb` calls since the last update of the centre displacement
+    /// per axis divided by the extent of the scene on that axis.
+    travel: f64,
+    /// `1 / extent` of the scene per axis at the last update (0 if flat).
+    inv_extent: [f64; 3],
+    /// Live proxies.
+    live: usize,
+    /// Overlapping pairs as of the last update: sorted, unique pair keys.
+    pairs: Vec<u64>,
+    /// Number of pairs of each slot as of the last update, plus pairs of removed
+    /// partners not yet purged (an upper bound used to skip membership searches).
+    pair_counts: Vec<u32>,
+    /// Scratch: begins and ends of the running update.
+    changes: Changes,
+    /// Scratch: the next pair set.
+    next_pairs: Vec<u64>,
+    /// Scratch for the rebuild sweep.
+    active: Vec<rebuild::Active>,
+    active_pos: Vec<u32>,
+    /// Box tests done by the last rebuild sweep, a measure of what a rebuild costs.
+    last_sweep_tests: u64,
+    swap_budget_factor: u32,
+}
+
+impl Default for SweepAndPrune {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl SweepAndPrune {
+    /// An empty broad phase with the default swap budget.
+    pub fn new() -> SweepAndPrune {
+        Self::with_swap_budget_factor(DEFAULT_SWAP_BUDGET_FACTOR)
+    }
+
+    /// An empty broad phase whose updates fall back to a full rebuild once the
+    /// insertion sorts exceed `factor * (n * ceil(log2(n + 2)) + t / 8) + 64` swaps
+    /// in total, with `n` live proxies and `t` the box tests done by the last
+    /// rebuild sweep: about what a rebuild (full sorts + sweep) would cost, as a
+    /// swap costs several times a sweep box test (measured). Raising the
+    /// factor keeps the incremental path longer under incoherent motion; `0`
+    /// rebuilds on almost any large motion. Default [`DEFAULT_SWAP_BUDGET_FACTOR`].
+    pub fn with_swap_budget_factor(factor: u32) -> SweepAndPrune {
+        SweepAndPrune {
+            slots: Vec::new(),
+            boxes: Vec::new(),
+            ends: Vec::new(),
+            lists: [Vec::new(), Vec::new(), Vec::new()],
+            free: Vec::new(),
+            removed: Vec::new(),
+            inserted: 0,
+            travel: 0.0,
+            inv_extent: [0.0; 3],
+            live: 0,
+            pairs: Vec::new(),
+            pair_counts: Vec::new(),
+            changes: Changes::default(),
+            next_pairs: Vec::new(),
+            active: Vec::new(),
+            active_pos: Vec::new(),
+            last_sweep_tests: 0,
+            swap_budget_factor: factor,
+        }
+    }
+
+    /// Number of live (inserted and not removed) proxies.
+    pub fn len(&self) -> usize {
+        self.live
+    }
+
+    /// `true` when no proxy is live.
+    pub fn is_empty(&self) -> bool {
+        self.live == 0
+    }
+
+    /// The swap budget of the next update (see [`Self::with_swap_budget_factor`]).
+    pub fn swap_budget(&self) -> u64 {
+        let n = self.live as u64;
+        let log2 = u64::from(64 - (n + 1).leading_zeros());
+        u64::from(self.swap_budget_factor)
+            .saturating_mul(n.saturating_mul(log2).saturating_add(self.last_sweep_tests / 8))
+            .saturating_add(MIN_SWAP_BUDGET)
+    }
+
+    /// Adds a box tagged with the caller's `user_id` (not required to be unique).
+    /// Its pairs appear at the next [`Self::update`].
+    pub fn insert(&mut self, user_id: u32, aabb: Aabb) -> Result<ProxyId, BroadPhaseError> {
+        let index = match self.free.pop() {
+            Some(index) => {
+                let slot = &mut self.slots[index as usize];
+                slot.generation = slot.generation.wrapping_add(1);
+                index
+            }
+            None => {
+                if self.slots.len() >= MAX_SLOTS as usize {
+                    return Err(BroadPhaseError::TooManyProxies { max: MAX_SLOTS });
+                }
+                self.boxes.push(aabb);
+                self.ends.push([[0; 2]; 3]);
+                self.slots.push(Slot {
+                    user_id,
+                    generation: 0,
+                    state: SlotState::Free,
+                });
+                self.pair_counts.push(0);
+                (self.slots.len() - 1) as u32
+            }
+        };
+        self.boxes[index as usize] = aabb;
+        let slot = &mut self.slots[index as usize];
+        slot.user_id = user_id;
+        slot.state = SlotState::Live;
+        // Appended after everything: as if the box had been at +infinity, separated
+        // from all others, so the old pair set (without it) matches the list order.
+        for (axis, list) in self.lists.iter_mut().enumerate() {
+            let at = list.len() as u32;
+            list.push(Endpoint::new(aabb.min()[axis], index, false));
+            list.push(Endpoint::new(aabb.max()[axis], index, true));
+            self.ends[index as usize][axis] = [at, at + 1];
+        }
+        self.inserted += 1;
+        self.live += 1;
+        Ok(ProxyId::new(index, slot.generation))
+    }
+
+    /// Removes a proxy; its pairs end at the next [`Self::update`]. Removing twice,
+    /// or an id from another broad phase, is an error.
+    pub fn remove(&mut self, id: ProxyId) -> Result<(), BroadPhaseError> {
+        let index = self.check_live(id)?;
+        self.slots[index].state = SlotState::Removed;
+        self.removed.push(index as u32);
+        self.live -= 1;
+        Ok(())
+    }
+
+    /// Moves or resizes a proxy's box; takes effect at the next [`Self::update`].
+    pub fn set_aabb(&mut self, id: ProxyId, aabb: Aabb) -> Result<(), BroadPhaseError> {
+        let index = self.check_live(id)?;
+        let moved = (aabb.center() - self.boxes[index].center()).abs();
+        self.travel +=
+            moved.x * self.inv_extent[0] + moved.y * self.inv_extent[1] + moved.z * self.inv_extent[2];
+        self.boxes[index] = aabb;
+        let ends = &self.ends[index];
+        for (axis, list) in self.lists.iter_mut().enumerate() {
+            list[ends[axis][0] as usize].value = aabb.min()[axis];
+            list[ends[axis][1] as usize].value = aabb.max()[axis];
+        }
+        Ok(())
+    }
+
+    /// The current box of a live proxy.
+    pub fn aabb(&self, id: ProxyId) -> Result<Aabb, BroadPhaseError> {
+        Ok(self.boxes[self.check_live(id)?])
+    }
+
+    /// The `user_id` given at insertion.
+    pub fn user_id(&self, id: ProxyId) -> Result<u32, BroadPhaseError> {
+        Ok(self.slots[self.check_live(id)?].user_id)
+    }
+
+    /// `true` when `id` names a live proxy.
+    pub fn contains(&self, id: ProxyId) -> bool {
+        self.check_live(id).is_ok()
+    }
+
+    /// Overlapping pairs as of the last update, sorted, each as (smaller id,
+    /// larger id). Touching boxes count as overlapping.
+    pub fn pairs(&self) -> impl ExactSizeIterator<Item = (ProxyId, ProxyId)> + '_ {
+        self.pairs.iter().map(move |&key| self.ids(key))
+    }
+
+    /// Number of overlapping pairs as of the last update.
+    pub fn pair_count(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// Applies the insertions, removals and box changes made since the last call,
+    /// and replaces the contents of `events` with the changes of the pair set,
+    /// sorted by pair (each pair at most once).
+    pub fn update(&mut self, events: &mut Vec<PairEvent>) -> UpdateReport {
+        events.clear();
+        self.changes.clear();
+        if !self.removed.is_empty() {
+            self.purge_removed();
+        }
+        let purged = self.changes.ends.len();
+        let budget = self.swap_budget();
+        let estimate = self.estimated_swaps();
+        let batch = estimate > budget as f64;
+        let mut swaps = 0;
+        let mut rebuilt = batch;
+        if !batch {
+            for axis in 0..3 {
+                let out = incremental::sort_axis(
+                    &mut self.lists[axis],
+                    &self.boxes,
+                    &self.pairs,
+                    &self.pair_counts,
+                    &mut self.changes,
+                    swaps,
+                    budget,
+                );
+                swaps += out.swaps;
+                if !out.finished {
+                    rebuilt = true;
+                    break;
+                }
+                if out.swaps > 0 {
+                    rebuild::reindex(&self.lists[axis], axis, &mut self.ends);
+                }
+            }
+        }
+        if rebuilt {
+            // Drop what the aborted insertion sort found; keep removal ends.
+            self.changes.begins.clear();
+            self.changes.ends.truncate(purged);
+            self.rebuild();
+            self.changes.normalize();
+        } else {
+            self.changes.normalize();
+            merge_set(
+                &self.pairs,
+                &self.changes.ends,
+                &self.changes.begins,
+                &mut self.next_pairs,
+            );
+            std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+        }
+        self.count_changes();
+        self.emit(events);
+        for index in self.removed.drain(..) {
+            self.slots[index as usize].state = SlotState::Free;
+            self.free.push(index);
+        }
+        self.inserted = 0;
+        self.travel = 0.0;
+        for (axis, list) in self.lists.iter().enumerate() {
+            let extent = match (list.first(), list.last()) {
+                (Some(lo), Some(hi)) => hi.value - lo.value,
+                _ => 0.0,
+            };
+            self.inv_extent[axis] = if extent > 0.0 { 1.0 / extent } else { 0.0 };
+        }
+        UpdateReport {
+            estimated_swaps: estimate.min(u64::MAX as f64) as u64,
+            swaps,
+            rebuilt,
+            begins: self.changes.begins.len(),
+            ends: self.changes.ends.len(),
+            pairs: self.pairs.len(),
+        }
+    }
+
+    /// Swaps the insertion sorts are expected to need, predicted before sorting.
+    ///
+    /// An endpoint moving by `d` on an axis of extent `L` with `2n` endpoints
+    /// spread over it passes about `2n d / L` others; with two endpoints per box
+    /// and each swap shared by two movers this is `2n` times the summed relative
+    /// displacement `travel`. A new proxy comes from the end of the lists and
+    /// passes about `n` endpoints. The prediction assumes an even spread; when it
+    /// is wrong the swap budget still stops the sort.
+    fn estimated_swaps(&self) -> f64 {
+        let n = self.live as f64;
+        2.0 * n * self.travel + self.inserted as f64 * n
+    }
+
+    /// Index of the live slot named by `id`.
+    fn check_live(&self, id: ProxyId) -> Result<usize, BroadPhaseError> {
+        let index = id.index() as usize;
+        match self.slots.get(index) {
+            Some(slot) if slot.generation == id.generation() => match slot.state {
+                SlotState::Live => Ok(index),
+                SlotState::Removed | SlotState::Free => Err(BroadPhaseError::AlreadyRemoved(id)),
+            },
+            _ => Err(BroadPhaseError::UnknownProxy(id)),
+        }
+    }
+
+    /// The ids of a pair key (slots still hold the generations of its proxies:
+    /// removed slots are released only at the end of the update).
+    fn ids(&self, key: u64) -> (ProxyId, ProxyId) {
+        let (a, b) = split_key(key);
+        (
+            ProxyId::new(a, self.slots[a as usize].generation),
+            ProxyId::new(b, self.slots[b as usize].generation),
+        )
+    }
+
+    /// Drops the endpoints of removed proxies (O(n) per list, order kept) and
+    /// ends their pairs.
+    fn purge_removed(&mut self) {
+        for axis in 0..3 {
+            let slots = &self.slots;
+            self.lists[axis].retain(|e| slots[e.slot() as usize].state == SlotState::Live);
+            rebuild::reindex(&self.lists[axis], axis, &mut self.ends);
+        }
+        let slots = &self.slots;
+        let ends = &mut self.changes.ends;
+        self.pairs.retain(|&key| {
+            let (a, b) = split_key(key);
+            let keep =
+                slots[a as usize].state == SlotState::Live && slots[b as usize].state == SlotState::Live;
+            if !keep {
+                ends.push(key);
+            }
+            keep
+        });
+    }
+
+    /// Full sort of the three lists and a single-axis sweep; the events are the
+    /// difference between the old and the new pair set.
+    fn rebuild(&mut self) {
+        for axis in 0..3 {
+            rebuild::sort_full(&mut self.lists[axis], axis, &mut self.ends);
+        }
+        let axis = rebuild::widest_axis(&self.lists[0], &self.boxes);
+        self.active_pos.resize(self.slots.len(), 0);
+        self.next_pairs.clear();
+        self.last_sweep_tests = rebuild::sweep_pairs(
+            &self.lists[axis],
+            axis,
+            &self.boxes,
+            &mut self.active,
+            &mut self.active_pos,
+            &mut self.next_pairs,
+        );
+        self.next_pairs.sort_unstable();
+        diff_sets(
+            &self.pairs,
+            &self.next_pairs,
+            &mut self.changes.begins,
+            &mut self.changes.ends,
+        );
+        std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+    }
+
+    /// Applies the begins and ends of this update to the per-slot pair counts.
+    fn count_changes(&mut self) {
+        for &key in &self.changes.begins {
+            let (a, b) = split_key(key);
+            self.pair_counts[a as usize] += 1;
+            self.pair_counts[b as usize] += 1;
+        }
+        for &key in &self.changes.ends {
+            let (a, b) = split_key(key);
+            self.pair_counts[a as usize] -= 1;
+            self.pair_counts[b as usize] -= 1;
+        }
+    }
+
+    /// Writes the sorted begins and ends as events, in pair order.
+    fn emit(&self, events: &mut Vec<PairEvent>) {
+        let (begins, ends) = (&self.changes.begins, &self.changes.ends);
+        let (mut i, mut j) = (0, 0);
+        while i < begins.len() || j < ends.len() {
+            if j == ends.len() || (i < begins.len() && begins[i] < ends[j]) {
+                let (a, b) = self.ids(begins[i]);
+                events.push(PairEvent::Begin(a, b));
+                i += 1;
+            } else {
+                let (a, b) = self.ids(ends[j]);
+                events.push(PairEvent::End(a, b));
+                j += 1;
+            }
+        }
+    }
+}

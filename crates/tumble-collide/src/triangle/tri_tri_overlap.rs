@@ -391,7 +391,13 @@ mod tests {
             let p = point(rng, 3);
             let d = point(rng, 1);
             let s = rng.int(-2, 2);
-            let b = match rng.int(0, 2) {
+            let b = match rng.int(0, 3) {
+                // Sliver: nearly collinear, small but non-zero area.
+                3 => [
+                    p,
+                    [p[0] + 3 * d[0], p[1] + 3 * d[1], p[2] + 3 * d[2]],
+                    [p[0] + 6 * d[0] + 1, p[1] + 6 * d[1], p[2] + 6 * d[2]],
+                ],
                 0 => [
                     p,
                     [p[0] + d[0], p[1] + d[1], p[2] + d[2]],

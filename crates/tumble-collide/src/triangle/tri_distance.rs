@@ -217,16 +217,16 @@ pub fn triangle_distance(a: &[DVec3; 3], b: &[DVec3; 3]) -> TriDistance {
             feature_b: SubFeature::Face,
         };
     }
-    let mut best = closest_pair_features(a, b);
-    if tri_tri_overlap(a, b) {
-        if best.distance > 0.0 {
-            best = piercing_point(a, b).unwrap_or(best);
-        }
-        best.distance = 0.0;
-        let mid = (best.point_a + best.point_b) * 0.5;
-        best.point_a = mid;
-        best.point_b = mid;
+    if !tri_tri_overlap(a, b) {
+        return closest_pair_features(a, b);
     }
+    // Intersecting: a crossing point of an edge through the other triangle,
+    // or (coplanar, or both degenerate) the touching vertex/edge pair.
+    let mut best = piercing_point(a, b).unwrap_or_else(|| closest_pair_features(a, b));
+    best.distance = 0.0;
+    let mid = (best.point_a + best.point_b) * 0.5;
+    best.point_a = mid;
+    best.point_b = mid;
     best
 }
 

@@ -248,6 +248,84 @@ mod tests {
         assert_eq!(c[2].point, DVec3::ONE);
     }
 
+    /// All contacts between two small meshes given as (vertices, triangles).
+    fn mesh_contacts(
+        va: &[DVec3],
+        ta: &[[u32; 3]],
+        vb: &[DVec3],
+        tb: &[[u32; 3]],
+        margin: f64,
+    ) -> Vec<Contact> {
+        let tri = |v: &[DVec3], t: [u32; 3]| t.map(|k| v[k as usize]);
+        let mut out = Vec::new();
+        for (i, &x) in ta.iter().enumerate() {
+            for (j, &y) in tb.iter().enumerate() {
+                triangle_contacts(&tri(va, x), i as u32, &tri(vb, y), j as u32, margin, &mut out).unwrap();
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn vertex_above_a_shared_edge_is_reported_twice_and_merged_once() {
+        // B: a square of two faces sharing the diagonal from (0,0) to (2,2).
+        let vb = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(2.0, 2.0, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+        ];
+        let tb = [[0, 1, 2], [0, 2, 3]];
+        // A: one triangle with a corner hovering exactly above the diagonal.
+        let va = [
+            DVec3::new(1.0, 1.0, 0.01),
+            DVec3::new(1.5, 1.0, 1.0),
+            DVec3::new(1.0, 1.5, 1.0),
+        ];
+        let ta = [[0, 1, 2]];
+        let mut c = mesh_contacts(&va, &ta, &vb, &tb, 0.05);
+        assert_eq!(c.len(), 2, "{c:?}");
+        assert!(c.iter().all(|x| x.kind == ContactKind::VertexFace));
+        merge_contacts(&mut c, &ta, &tb, &MergeParams::default()).unwrap();
+        assert_eq!(c.len(), 1);
+        assert!((c[0].distance - 0.01).abs() < 1e-15);
+    }
+
+    #[test]
+    fn edge_shared_by_two_triangles_on_each_side_is_merged_once() {
+        let h = 0.1;
+        // A: a downward wedge whose ridge runs along x at height h.
+        let va = [
+            DVec3::new(-1.0, 0.0, h),
+            DVec3::new(1.0, 0.0, h),
+            DVec3::new(0.0, 1.0, h + 1.0),
+            DVec3::new(0.0, -1.0, h + 1.0),
+        ];
+        let ta = [[0, 1, 2], [1, 0, 3]];
+        // B: an upward wedge whose ridge runs along y at height 0.
+        let vb = [
+            DVec3::new(0.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(-1.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+        ];
+        let tb = [[0, 1, 2], [1, 0, 3]];
+        let mut c = mesh_contacts(&va, &ta, &vb, &tb, 0.5);
+        let ridge = |x: &Contact| {
+            x.kind == ContactKind::EdgeEdge && x.point.distance(DVec3::new(0.0, 0.0, h / 2.0)) < 1e-12
+        };
+        assert_eq!(c.iter().filter(|x| ridge(x)).count(), 4, "{c:?}");
+        // Geometric tolerance zero: only the edge identity can merge them.
+        let params = MergeParams {
+            point_tolerance: 0.0,
+            ..MergeParams::default()
+        };
+        merge_contacts(&mut c, &ta, &tb, &params).unwrap();
+        assert_eq!(c.iter().filter(|x| ridge(x)).count(), 1, "{c:?}");
+        let r = c.iter().find(|x| ridge(x)).unwrap();
+        assert!((r.normal - DVec3::Z).length() < 1e-15 && (r.distance - h).abs() < 1e-15);
+    }
+
     #[test]
     fn bad_parameters_are_errors_and_unknown_ids_are_not() {
         let mut c = vec![contact(DVec3::ZERO, DVec3::Z, 0.0, Feature::vertex(99, 2))];

@@ -357,12 +357,12 @@ fn penetrating_contacts(
             let k0 = deepest(a, n);
             let level = n.dot(b[0]);
             let mut count = 0;
-            for k in 0..3 {
-                let d = level - n.dot(a[k]);
-                let report = k == k0 || (d >= 0.0 && fb.is_some_and(|f| inside(a[k] + n * d, b, f)));
+            for (k, &p) in a.iter().enumerate() {
+                let d = level - n.dot(p);
+                let report = k == k0 || (d >= 0.0 && fb.is_some_and(|f| inside(p + n * d, b, f)));
                 if report {
                     let fa_k = Feature::vertex(id_a, k as u8);
-                    out.push(contact(a[k] + n * (0.5 * d), -d, fa_k, Feature::face(id_b)));
+                    out.push(contact(p + n * (0.5 * d), -d, fa_k, Feature::face(id_b)));
                     count += 1;
                 }
             }
@@ -372,12 +372,12 @@ fn penetrating_contacts(
             let k0 = deepest(b, -n);
             let level = n.dot(a[0]);
             let mut count = 0;
-            for k in 0..3 {
-                let d = n.dot(b[k]) - level;
-                let report = k == k0 || (d >= 0.0 && fa.is_some_and(|f| inside(b[k] - n * d, a, f)));
+            for (k, &p) in b.iter().enumerate() {
+                let d = n.dot(p) - level;
+                let report = k == k0 || (d >= 0.0 && fa.is_some_and(|f| inside(p - n * d, a, f)));
                 if report {
                     let fb_k = Feature::vertex(id_b, k as u8);
-                    out.push(contact(b[k] - n * (0.5 * d), -d, Feature::face(id_a), fb_k));
+                    out.push(contact(p - n * (0.5 * d), -d, Feature::face(id_a), fb_k));
                     count += 1;
                 }
             }
@@ -569,7 +569,7 @@ mod tests {
 
     /// Sorts contacts into a canonical order for comparisons.
     fn canonical(mut v: Vec<Contact>) -> Vec<Contact> {
-        v.sort_by(|x, y| (x.kind, x.feature_a, x.feature_b).cmp(&(y.kind, y.feature_a, y.feature_b)));
+        v.sort_by_key(|x| (x.kind, x.feature_a, x.feature_b));
         v
     }
 

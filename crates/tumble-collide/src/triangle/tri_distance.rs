@@ -21,8 +21,17 @@ use crate::math::DVec3;
 /// Closest point on the closed triangle `t` to `p`, and the feature of `t` whose
 /// Voronoi region contains `p`: `Vertex(k)`, `Edge(k)` (corner `k` to `k + 1`)
 /// or `Face`. Zero-area triangles are handled (the answer lies on an edge or
-/// vertex). Non-finite input gives a non-finite point.
+/// vertex). A non-finite coordinate anywhere gives `(DVec3::NAN, Face)`.
 pub fn closest_point_on_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeature) {
+    if !(p.is_finite() && t[0].is_finite() && t[1].is_finite() && t[2].is_finite()) {
+        return (DVec3::NAN, SubFeature::Face);
+    }
+    closest_point_on_finite_triangle(p, t)
+}
+
+/// [`closest_point_on_triangle`] for input known to be finite.
+#[inline]
+fn closest_point_on_finite_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeature) {
     let [a, b, c] = *t;
     let ab = b - a;
     let ac = c - a;
@@ -126,6 +135,7 @@ impl SegmentClosest {
 /// Closest points between the closed segments `p1 q1` and `p2 q2` (Ericson
 /// 5.1.9). Either segment may have zero length. For parallel segments one of
 /// the (infinitely many) closest pairs is returned, with `s` chosen as 0.
+/// A non-finite coordinate gives a NaN [`SegmentClosest::distance`].
 pub fn closest_points_segments(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> SegmentClosest {
     let d1 = q1 - p1;
     let d2 = q2 - p2;
@@ -207,16 +217,16 @@ pub fn triangle_distance(a: &[DVec3; 3], b: &[DVec3; 3]) -> TriDistance {
             feature_b: SubFeature::Face,
         };
     }
-    let mut best = closest_pair_features(a, b);
-    if tri_tri_overlap(a, b) {
-        if best.distance > 0.0 {
-            best = piercing_point(a, b).unwrap_or(best);
-        }
-        best.distance = 0.0;
-        let mid = (best.point_a + best.point_b) * 0.5;
-        best.point_a = mid;
-        best.point_b = mid;
+    if !tri_tri_overlap(a, b) {
+        return closest_pair_features(a, b);
     }
+    // Intersecting: a crossing point of an edge through the other triangle,
+    // or (coplanar, or both degenerate) the touching vertex/edge pair.
+    let mut best = piercing_point(a, b).unwrap_or_else(|| closest_pair_features(a, b));
+    best.distance = 0.0;
+    let mid = (best.point_a + best.point_b) * 0.5;
+    best.point_a = mid;
+    best.point_b = mid;
     best
 }
 
@@ -234,7 +244,7 @@ fn closest_pair_features(a: &[DVec3; 3], b: &[DVec3; 3]) -> TriDistance {
     };
     let mut best_d2 = f64::INFINITY;
     for (k, &p) in a.iter().enumerate() {
-        let (q, f) = closest_point_on_triangle(p, b);
+        let (q, f) = closest_point_on_finite_triangle(p, b);
         let d2 = (p - q).length_squared();
         if d2 < best_d2 {
             best_d2 = d2;
@@ -248,7 +258,7 @@ fn closest_pair_features(a: &[DVec3; 3], b: &[DVec3; 3]) -> TriDistance {
         }
     }
     for (k, &p) in b.iter().enumerate() {
-        let (q, f) = closest_point_on_triangle(p, a);
+        let (q, f) = closest_point_on_finite_triangle(p, a);
         let d2 = (p - q).length_squared();
         if d2 < best_d2 {
             best_d2 = d2;
@@ -297,7 +307,7 @@ fn piercing_point(a: &[DVec3; 3], b: &[DVec3; 3]) -> Option<TriDistance> {
                 continue;
             }
             let x = p + (q - p) * (dp / (dp - dq));
-            let (y, _) = closest_point_on_triangle(x, other);
+            let (y, _) = closest_point_on_finite_triangle(x, other);
             let miss = (x - y).length_squared();
             let better = match &best {
                 Some((m, _)) => miss < *m,
@@ -427,6 +437,15 @@ mod tests {
         let b = [DVec3::splat(f64::NAN), DVec3::X, DVec3::Y];
         assert!(triangle_distance(&a, &b).distance.is_nan());
         assert!(triangle_distance(&b, &a).distance.is_nan());
+        let nan = DVec3::new(0.0, f64::NAN, 0.0);
+        assert!(closest_point_on_triangle(nan, &a).0.is_nan());
+        assert!(closest_point_on_triangle(DVec3::ONE, &b).0.is_nan());
+        for k in 0..4 {
+            let mut pts = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE];
+            pts[k] = nan;
+            let r = closest_points_segments(pts[0], pts[1], pts[2], pts[3]);
+            assert!(r.distance().is_nan(), "{k}");
+        }
     }
 
     proptest! {

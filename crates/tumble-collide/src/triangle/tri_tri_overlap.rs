@@ -383,6 +383,34 @@ mod tests {
     }
 
     #[test]
+    fn large_integer_coordinates_stay_exact() {
+        // Coordinates up to 10^4 (the documented exact range): B's first
+        // vertex at the midpoint of one of A's edges, offset by at most one unit,
+        // so the answer hinges on single-unit differences.
+        let n = 5_000;
+        run(n, 2718, |rng| {
+            let mut even = || {
+                [
+                    2 * rng.int(-5_000, 5_000),
+                    2 * rng.int(-5_000, 5_000),
+                    2 * rng.int(-5_000, 5_000),
+                ]
+            };
+            let a = [even(), even(), even()];
+            let (p, q) = (even(), even());
+            let k = rng.int(0, 2) as usize;
+            let (u, v) = (a[k], a[(k + 1) % 3]);
+            let o = [rng.int(-1, 1), rng.int(-1, 1), rng.int(-1, 1)];
+            let m = [
+                (u[0] + v[0]) / 2 + o[0],
+                (u[1] + v[1]) / 2 + o[1],
+                (u[2] + v[2]) / 2 + o[2],
+            ];
+            (a, [m, p, q])
+        });
+    }
+
+    #[test]
     fn degenerate_triangles_match_exact_oracle() {
         let n = 20_000;
         let hits = run(n, 31337, |rng| {
@@ -391,7 +419,13 @@ mod tests {
             let p = point(rng, 3);
             let d = point(rng, 1);
             let s = rng.int(-2, 2);
-            let b = match rng.int(0, 2) {
+            let b = match rng.int(0, 3) {
+                // Sliver: nearly collinear, small but non-zero area.
+                3 => [
+                    p,
+                    [p[0] + 3 * d[0], p[1] + 3 * d[1], p[2] + 3 * d[2]],
+                    [p[0] + 6 * d[0] + 1, p[1] + 6 * d[1], p[2] + 6 * d[2]],
+                ],
                 0 => [
                     p,
                     [p[0] + d[0], p[1] + d[1], p[2] + d[2]],

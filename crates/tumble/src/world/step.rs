@@ -108,12 +108,11 @@ impl World {
                 report.warnings.push(format!("body slot {i}: broad phase: {err}"));
             }
         }
-        if let Err(err) = self.broad.update(&mut events) {
-            report.warnings.push(format!("broad phase: {err}"));
-        }
-        let mut pairs: Vec<(u32, u32)> = self
-            .broad
+        self.broad.update(&mut events);
+        let broad = &self.broad;
+        let mut pairs: Vec<(u32, u32)> = broad
             .pairs()
+            .filter_map(|(a, b)| Some((broad.user_id(a).ok()?, broad.user_id(b).ok()?)))
             .map(|(a, b)| if a < b { (a, b) } else { (b, a) })
             .collect();
         for &u in &self.unbounded {

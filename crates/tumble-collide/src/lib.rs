@@ -9,6 +9,8 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`shape`]: primitive shapes (sphere, cuboid, capsule, convex hull, half-space).
+//! - [`narrow`]: contact manifolds between shape pairs, one dispatch table.
 
 #![warn(missing_docs)]
 
@@ -16,9 +18,13 @@ pub mod contact;
 pub mod hull;
 pub mod math;
 pub mod mesh;
+pub mod narrow;
 pub mod pose;
+pub mod shape;
 
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;
+pub use narrow::{contact_shapes, NarrowError};
 pub use pose::{Pose, PoseError};
+pub use shape::{Aabb, Capsule, ConvexHull, Cuboid, HalfSpace, Shape, ShapeError, Sphere};

@@ -12,6 +12,8 @@
 //! - [`broad`]: sweep-and-prune broad phase over AABBs with persistent pairs.
 //! - [`mass`]: mass properties of primitives, meshes and composite bodies.
 //! - [`triangle`]: triangle-level narrow phase (overlap, distance, contacts, merging).
+//! - [`shape`]: primitive shapes (sphere, cuboid, capsule, convex hull, half-space).
+//! - [`narrow`]: contact manifolds between shape pairs, one dispatch table.
 
 #![warn(missing_docs)]
 
@@ -21,12 +23,16 @@ pub mod hull;
 pub mod mass;
 pub mod math;
 pub mod mesh;
+pub mod narrow;
 pub mod pose;
 pub mod triangle;
+pub mod shape;
 
 pub use broad::{Aabb, PairEvent, ProxyId, SweepAndPrune};
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use mass::{mesh_mass_properties, MassError, MassFallback, MassProperties, MassSpec, PrincipalFrame};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;
+pub use narrow::{contact_shapes, NarrowError};
 pub use pose::{Pose, PoseError};
+pub use shape::{Capsule, ConvexHull, Cuboid, HalfSpace, Shape, ShapeError, Sphere};

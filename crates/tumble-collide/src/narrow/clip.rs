@@ -1,0 +1,218 @@
+//! Face-clipping contact manifolds for polytope pairs (Sutherland-Hodgman
+//! clipping of the incident face against the side planes of the reference
+//! face, as in Box2D's `b2ClipPolygons` lifted to 3D; Ericson 8.3.4 for the
+//! clipping itself) and the reduction of a manifold to at most 4 points.
+//!
+//! Feature ids are carried through the clipping so that every output point
+//! names what produced it: an incident corner (`vertex(inc, k)` against
+//! `face(ref)`), an incident edge cut by a reference side (`edge(inc, i)`
+//! against `edge(ref, j)`), or a reference corner inside the incident face
+//! (`face(inc)` against `vertex(ref, k)`). These ids do not change under small
+//! motions, which is what warm starting needs.
+
+use crate::contact::{Contact, ContactKind, Feature};
+use crate::math::DVec3;
+use crate::pose::Pose;
+use crate::shape::{Polytope, MAX_FACE_VERTICES};
+
+const CAP: usize = 2 * MAX_FACE_VERTICES + 2;
+
+/// Which line the polygon edge leaving a point lies on.
+#[derive(Clone, Copy, PartialEq)]
+enum Label {
+    Incident(u8),
+    Side(u8),
+}
+
+#[derive(Clone, Copy)]
+struct ClipPoint {
+    p: DVec3,
+    /// Feature on the reference polytope.
+    f_ref: Feature,
+    /// Feature on the incident polytope.
+    f_inc: Feature,
+    /// Label of the edge from this point to the next.
+    label: Label,
+}
+
+const EMPTY: ClipPoint = ClipPoint {
+    p: DVec3::ZERO,
+    f_ref: Feature::WHOLE,
+    f_inc: Feature::WHOLE,
+    label: Label::Side(0),
+};
+
+/// Contacts between reference face `ref_face` of `refp` and the most
+/// anti-parallel face of `incp`; `ref_is_a` tells which of the two is shape A
+/// (for the normal direction and feature order). Pushes at most 4 contacts
+/// with `distance <= margin`; returns how many.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
+    refp: &R,
+    ref_pose: &Pose,
+    ref_face: usize,
+    incp: &I,
+    inc_pose: &Pose,
+    ref_is_a: bool,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> usize {
+    let n_ref = ref_pose.transform_vector(refp.face_normal(ref_face));
+    let d_ref = refp.face_offset(ref_face) + n_ref.dot(ref_pose.position);
+    let inc_face = incp.best_face(inc_pose.rotation.inverse() * -n_ref);
+
+    let mut buf_a = [EMPTY; CAP];
+    let mut buf_b = [EMPTY; CAP];
+    let mut len = incp.face_len(inc_face);
+    for (k, slot) in buf_a.iter_mut().enumerate().take(len) {
+        *slot = ClipPoint {
+            p: inc_pose.transform_point(incp.vertex(incp.face_vertex(inc_face, k))),
+            f_ref: Feature::face(ref_face as u32),
+            f_inc: Feature::vertex(inc_face as u32, k as u8),
+            label: Label::Incident(k as u8),
+        };
+    }
+    let nr = refp.face_len(ref_face);
+    let (mut src, mut dst) = (&mut buf_a, &mut buf_b);
+    for j in 0..nr {
+        let v0 = ref_pose.transform_point(refp.vertex(refp.face_vertex(ref_face, j)));
+        let v1 = ref_pose.transform_point(refp.vertex(refp.face_vertex(ref_face, (j + 1) % nr)));
+        // Outward side-plane normal: the face is counter-clockwise around n_ref,
+        // so its interior is to the left of each edge and (v1 - v0) x n points out.
+        let s = (v1 - v0).cross(n_ref);
+        let c = s.dot(v0);
+        let mut m = 0;
+        for i in 0..len {
+            let pt = src[i];
+            let q = src[(i + 1) % len];
+            let dp = s.dot(pt.p) - c;
+            let dq = s.dot(q.p) - c;
+            let p_in = dp <= 0.0;
+            if p_in {
+                dst[m] = pt;
+                m += 1;
+            }
+            if p_in != (dq <= 0.0) {
+                let t = dp / (dp - dq);
+                let (f_ref, f_inc) = match pt.label {
+                    Label::Incident(e) => (
+                        Feature::edge(ref_face as u32, j as u8),
+                        Feature::edge(inc_face as u32, e),
+                    ),
+                    Label::Side(jj) => {
+                        // Two reference sides meet at a reference corner.
+                        let corner = if (jj as usize + 1) % nr == j {
+                            j
+                        } else {
+                            jj as usize
+                        };
+                        (
+                            Feature::vertex(ref_face as u32, corner as u8),
+                            Feature::face(inc_face as u32),
+                        )
+                    }
+                };
+                dst[m] = ClipPoint {
+                    p: pt.p + (q.p - pt.p) * t,
+                    f_ref,
+                    f_inc,
+                    label: if p_in { Label::Side(j as u8) } else { pt.label },
+                };
+                m += 1;
+            }
+        }
+        len = m;
+        std::mem::swap(&mut src, &mut dst);
+        if len == 0 {
+            return 0;
+        }
+    }
+
+    // Keep points within the margin of the reference plane.
+    let mut m = 0;
+    let mut dist = [0.0f64; CAP];
+    for i in 0..len {
+        let d = n_ref.dot(src[i].p) - d_ref;
+        if d <= margin {
+            src[m] = src[i];
+            dist[m] = d;
+            m += 1;
+        }
+    }
+    let (keep, count) = reduce_to_four(m, n_ref, |i| (src[i].p, dist[i]));
+    let normal = if ref_is_a { -n_ref } else { n_ref };
+    for &i in &keep[..count] {
+        let cp = &src[i];
+        let (feature_a, feature_b) = if ref_is_a {
+            (cp.f_ref, cp.f_inc)
+        } else {
+            (cp.f_inc, cp.f_ref)
+        };
+        out.push(Contact {
+            point: cp.p - n_ref * (0.5 * dist[i]),
+            normal,
+            distance: dist[i],
+            kind: ContactKind::FaceFace,
+            feature_a,
+            feature_b,
+        });
+    }
+    count
+}
+
+/// Chooses at most 4 of `n` points (position, distance) that keep the
+/// manifold's support area: the deepest point, the point farthest from it,
+/// the point making the largest triangle with those two, and the point
+/// farthest outside that triangle (the usual heuristic of Bullet's and Jolt's
+/// contact reduction). Returns indices in increasing order.
+pub(crate) fn reduce_to_four(
+    n: usize,
+    normal: DVec3,
+    get: impl Fn(usize) -> (DVec3, f64),
+) -> ([usize; 4], usize) {
+    let mut keep = [0usize; 4];
+    if n <= 4 {
+        for (i, k) in keep.iter_mut().enumerate().take(n) {
+            *k = i;
+        }
+        return (keep, n);
+    }
+    let argmax = |score: &dyn Fn(usize) -> f64| {
+        let mut best = 0;
+        let mut best_s = f64::NEG_INFINITY;
+        for i in 0..n {
+            let s = score(i);
+            if s > best_s {
+                best_s = s;
+                best = i;
+            }
+        }
+        (best, best_s)
+    };
+    let (i0, _) = argmax(&|i| -get(i).1);
+    let p0 = get(i0).0;
+    let (i1, _) = argmax(&|i| (get(i).0 - p0).length_squared());
+    let p1 = get(i1).0;
+    let area = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a).dot(normal);
+    let (i2, _) = argmax(&|i| area(p0, p1, get(i).0).abs());
+    let p2 = get(i2).0;
+    let sign = area(p0, p1, p2).signum();
+    let (i3, s3) = argmax(&|i| {
+        let q = get(i).0;
+        let o = -sign * area(p0, p1, q);
+        o.max(-sign * area(p1, p2, q)).max(-sign * area(p2, p0, q))
+    });
+    keep = [i0, i1, i2, i3];
+    let mut count = if s3 > 0.0 { 4 } else { 3 };
+    keep[..count].sort_unstable();
+    // Drop duplicates (degenerate input: all points coincide or are collinear).
+    let mut m = 1;
+    for k in 1..count {
+        if keep[k] != keep[m - 1] {
+            keep[m] = keep[k];
+            m += 1;
+        }
+    }
+    count = m;
+    (keep, count)
+}

@@ -1,0 +1,111 @@
+//! Shapes vs half-space (ground): every supporting point of the shape below
+//! `margin` above the plane is a contact (Ericson 5.2.2, plane tests): the
+//! sphere's lowest point, both end spheres of a capsule, the corners of a box
+//! or the vertices of a hull (reduced to the 4 that span the largest area).
+//! The half-space is always shape B; the normal is its outward plane normal.
+
+use super::clip::reduce_to_four;
+use super::{capsule_feature, push_ball_ball};
+use crate::contact::{Contact, ContactKind, Feature};
+use crate::pose::Pose;
+use crate::shape::{Capsule, HalfSpace, Polytope, Sphere};
+
+/// Contact between sphere A and half-space B (at most one).
+pub fn contact_sphere_halfspace(
+    a: &Sphere,
+    pose_a: &Pose,
+    b: &HalfSpace,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    push_ball_plane(
+        pose_a.position,
+        a.radius(),
+        Feature::WHOLE,
+        b,
+        pose_b,
+        margin,
+        out,
+    );
+}
+
+/// Contacts between capsule A and half-space B: each end sphere within the
+/// margin (one when the capsule has zero length).
+pub fn contact_capsule_halfspace(
+    a: &Capsule,
+    pose_a: &Pose,
+    b: &HalfSpace,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let [p, q] = a.world_segment(pose_a);
+    push_ball_plane(p, a.radius(), capsule_feature(0.0), b, pose_b, margin, out);
+    if a.half_height() > 0.0 {
+        push_ball_plane(q, a.radius(), capsule_feature(1.0), b, pose_b, margin, out);
+    }
+}
+
+fn push_ball_plane(
+    c: crate::math::DVec3,
+    r: f64,
+    fa: Feature,
+    b: &HalfSpace,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let (n, d) = b.world_plane(pose_b);
+    let dist = n.dot(c) - d;
+    if dist - r > margin {
+        return;
+    }
+    // The plane acts like a ball of infinite radius: reuse the ball formula
+    // with B's centre at the projection of c.
+    let foot = c - n * dist;
+    let start = out.len();
+    push_ball_ball(c, r, foot, 0.0, fa, Feature::face(0), margin, out);
+    if let Some(ct) = out.get_mut(start) {
+        // Exact even for a centre below the plane (the ball formula would flip).
+        ct.normal = n;
+        ct.distance = dist - r;
+        ct.point = c - n * (r + 0.5 * ct.distance);
+    }
+}
+
+/// Contacts between polytope A (box or convex hull) and half-space B: the
+/// vertices within the margin, reduced to at most 4.
+pub fn contact_polytope_halfspace<P: Polytope + ?Sized>(
+    a: &P,
+    pose_a: &Pose,
+    b: &HalfSpace,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let (n, d) = b.world_plane(pose_b);
+    let start = out.len();
+    for v in 0..a.vertex_count() {
+        let p = pose_a.transform_point(a.vertex(v));
+        let dist = n.dot(p) - d;
+        if dist <= margin {
+            out.push(Contact {
+                point: p - n * (0.5 * dist),
+                normal: n,
+                distance: dist,
+                kind: ContactKind::VertexFace,
+                feature_a: a.vertex_feature(v),
+                feature_b: Feature::face(0),
+            });
+        }
+    }
+    let count = out.len() - start;
+    if count > 4 {
+        let (keep, k) = reduce_to_four(count, n, |i| (out[start + i].point, out[start + i].distance));
+        for (slot, &i) in keep[..k].iter().enumerate() {
+            out[start + slot] = out[start + i];
+        }
+        out.truncate(start + k);
+    }
+}

@@ -1,0 +1,249 @@
+//! Sphere or capsule vs polytope (box or convex hull): the round shape is its
+//! core (a point or a segment) inflated by its radius, so the contact comes
+//! from the distance between the core and the polytope (Ericson 9.5; van den
+//! Bergen 2003, 4.3):
+//!
+//! - core outside: GJK gives the distance and closest points; when the closest
+//!   point lies inside a face (GJK normal = face normal), the core segment is
+//!   clipped to that face's prism and both clipped ends become contacts, so a
+//!   capsule lying on a box gets a 2-point manifold;
+//! - core touching or inside: GJK cannot give a depth, so a separating-axis
+//!   test over the face normals and the (edge x segment) axes finds the
+//!   direction of least penetration (exact for a point; for a segment the
+//!   candidate set is complete, as for two polytopes).
+
+use super::capsule_feature;
+use super::geometry::closest_points_segments;
+use super::gjk::{gjk_distance, PolytopeSupport, SegmentSupport};
+use crate::contact::{Contact, ContactKind, Feature};
+use crate::math::{DMat3, DVec3};
+use crate::pose::Pose;
+use crate::shape::{Capsule, Polytope, Sphere};
+
+/// Contact between sphere A and polytope B (box or convex hull), at most one.
+pub fn contact_sphere_polytope<P: Polytope + ?Sized>(
+    a: &Sphere,
+    pose_a: &Pose,
+    b: &P,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let c = pose_a.position;
+    segment_polytope([c, c], a.radius(), |_| Feature::WHOLE, b, pose_b, margin, out);
+}
+
+/// Contacts between capsule A and polytope B (box or convex hull): one, or
+/// two when the capsule lies along a face.
+pub fn contact_capsule_polytope<P: Polytope + ?Sized>(
+    a: &Capsule,
+    pose_a: &Pose,
+    b: &P,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    segment_polytope(
+        a.world_segment(pose_a),
+        a.radius(),
+        capsule_feature,
+        b,
+        pose_b,
+        margin,
+        out,
+    );
+}
+
+/// How much an edge axis must beat the best face axis before it is used
+/// (relative to the face separation, plus an absolute part relative to size):
+/// face contacts are steadier.
+const EDGE_REL_BIAS: f64 = 0.05;
+const ABS_BIAS: f64 = 1e-6;
+
+#[allow(clippy::too_many_arguments)]
+fn segment_polytope<P: Polytope + ?Sized>(
+    seg_world: [DVec3; 2],
+    radius: f64,
+    seg_feature: impl Fn(f64) -> Feature,
+    b: &P,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    // Work in B's frame.
+    let s0 = pose_b.inverse_transform_point(seg_world[0]);
+    let s1 = pose_b.inverse_transform_point(seg_world[1]);
+    let scale = (0..b.vertex_count().min(8))
+        .map(|i| b.vertex(i).length())
+        .fold(radius, f64::max);
+    let poly = PolytopeSupport {
+        poly: b,
+        rot: DMat3::IDENTITY,
+        trans: DVec3::ZERO,
+    };
+    let g = gjk_distance(&SegmentSupport([s0, s1]), &poly, scale);
+    let emit = |n_local: DVec3,
+                p_core: DVec3,
+                p_b: DVec3,
+                distance: f64,
+                t: f64,
+                face: usize,
+                out: &mut Vec<Contact>| {
+        let pa = p_core - n_local * radius;
+        out.push(Contact {
+            point: pose_b.transform_point((pa + p_b) * 0.5),
+            normal: pose_b.transform_vector(n_local),
+            distance,
+            kind: ContactKind::Smooth,
+            feature_a: seg_feature(t),
+            feature_b: Feature::face(face as u32),
+        });
+    };
+    let param = |p: DVec3| {
+        let d = s1 - s0;
+        let l2 = d.length_squared();
+        if l2 > 0.0 {
+            ((p - s0).dot(d) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    };
+    if !g.overlap {
+        if g.distance - radius > margin {
+            return;
+        }
+        let n = (g.point_a - g.point_b) / g.distance;
+        let f = b.best_face(n);
+        if b.face_normal(f).dot(n) >= 1.0 - 1e-9
+            && face_prism_manifold(s0, s1, radius, b, f, margin, &seg_feature, pose_b, out)
+        {
+            return;
+        }
+        emit(
+            n,
+            g.point_a,
+            g.point_b,
+            g.distance - radius,
+            param(g.point_a),
+            f,
+            out,
+        );
+        return;
+    }
+
+    // Overlapping core: least-penetration axis over faces and edge x segment.
+    let mut best_face = 0;
+    let mut face_sep = f64::NEG_INFINITY;
+    for f in 0..b.face_count() {
+        let n = b.face_normal(f);
+        let sep = n.dot(s0).min(n.dot(s1)) - b.face_offset(f);
+        if sep > face_sep {
+            face_sep = sep;
+            best_face = f;
+        }
+    }
+    let dir = s1 - s0;
+    let mut edge_best: Option<(f64, DVec3, usize)> = None;
+    if dir.length_squared() > 0.0 {
+        let centre = b.interior_point();
+        for e in 0..b.edge_count() {
+            let ([v0, v1], _) = b.edge(e);
+            let (p, q) = (b.vertex(v0 as usize), b.vertex(v1 as usize));
+            let axis = (q - p).cross(dir);
+            let len = axis.length();
+            if len <= 1e-9 * (q - p).length() * dir.length() {
+                continue;
+            }
+            let mut l = axis / len;
+            if l.dot(p - centre) < 0.0 {
+                l = -l;
+            }
+            let sep = l.dot(s0).min(l.dot(s1)) - l.dot(b.vertex(b.support_vertex(l)));
+            if !matches!(edge_best, Some((s, _, _)) if s >= sep) {
+                edge_best = Some((sep, l, e));
+            }
+        }
+    }
+    if let Some((sep, l, e)) = edge_best {
+        if sep > face_sep + EDGE_REL_BIAS * face_sep.abs() + ABS_BIAS * scale && sep - radius <= margin {
+            let ([v0, v1], _) = b.edge(e);
+            let (p, q) = (b.vertex(v0 as usize), b.vertex(v1 as usize));
+            let (t, _, pc, pe) = closest_points_segments(s0, s1, p, q);
+            // Depth along the axis, not the (zero) core-to-edge distance.
+            let pb = pc - l * sep;
+            let _ = pe;
+            emit(l, pc, pb, sep - radius, t, b.best_face(l), out);
+            return;
+        }
+    }
+    if face_sep - radius <= margin {
+        face_prism_manifold(s0, s1, radius, b, best_face, margin, &seg_feature, pose_b, out);
+    }
+}
+
+/// Clips the core segment to the prism over face `f` and pushes a contact for
+/// each clipped end within the margin (one if the ends coincide). Returns
+/// whether anything was clipped inside the prism.
+#[allow(clippy::too_many_arguments)]
+fn face_prism_manifold<P: Polytope + ?Sized>(
+    s0: DVec3,
+    s1: DVec3,
+    radius: f64,
+    b: &P,
+    f: usize,
+    margin: f64,
+    seg_feature: &impl Fn(f64) -> Feature,
+    pose_b: &Pose,
+    out: &mut Vec<Contact>,
+) -> bool {
+    let n = b.face_normal(f);
+    let d = b.face_offset(f);
+    let k = b.face_len(f);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let dir = s1 - s0;
+    for j in 0..k {
+        let v0 = b.vertex(b.face_vertex(f, j));
+        let v1 = b.vertex(b.face_vertex(f, (j + 1) % k));
+        let side = (v1 - v0).cross(n);
+        // side . (s0 + t dir) <= side . v0
+        let a = side.dot(s0) - side.dot(v0);
+        let rate = side.dot(dir);
+        if rate.abs() <= 1e-300 {
+            if a > 0.0 {
+                return false;
+            }
+        } else {
+            let t = -a / rate;
+            if rate > 0.0 {
+                hi = hi.min(t);
+            } else {
+                lo = lo.max(t);
+            }
+        }
+    }
+    if lo > hi {
+        return false;
+    }
+    let same = (hi - lo) * dir.length() <= 1e-12 * (1.0 + s0.length());
+    let ts: &[f64] = if same { &[lo] } else { &[lo, hi] };
+    for &t in ts {
+        let p = s0 + dir * t;
+        let dist = n.dot(p) - d - radius;
+        if dist <= margin {
+            // Midpoint of the sphere's surface point p - n r and its
+            // projection on the face plane p - n (dist + r).
+            let point = p - n * (radius + 0.5 * dist);
+            let t_feature = if same { 0.5 } else { t };
+            let t_feature = if t <= 0.0 || t >= 1.0 { t } else { t_feature };
+            out.push(Contact {
+                point: pose_b.transform_point(point),
+                normal: pose_b.transform_vector(n),
+                distance: dist,
+                kind: ContactKind::Smooth,
+                feature_a: seg_feature(t_feature),
+                feature_b: Feature::face(f as u32),
+            });
+        }
+    }
+    true
+}

@@ -1,0 +1,85 @@
+//! The one table that routes a pair of shapes to its contact routine, laid
+//! out as a matrix (rows: shape A, columns: shape B) in the manner of MuJoCo's
+//! collision table. Pairs below the diagonal are the mirror of a pair above
+//! it: the routine runs with A and B swapped and its contacts are flipped, so
+//! `contact_shapes(b, a)` is exactly the flip of `contact_shapes(a, b)`.
+//!
+//! ```text
+//!  A \ B      | Sphere         Cuboid          Capsule          ConvexHull       HalfSpace
+//! ------------+-----------------------------------------------------------------------------
+//!  Sphere     | sphere_sphere  sphere_cuboid   sphere_capsule   sphere_polytope  sphere_halfspace
+//!  Cuboid     | mirror         cuboid_cuboid   mirror           mirror           polytope_halfspace
+//!  Capsule    | mirror         capsule_polytope capsule_capsule capsule_polytope capsule_halfspace
+//!  ConvexHull | mirror         polytope_polytope mirror         polytope_polytope polytope_halfspace
+//!  HalfSpace  | mirror         mirror          mirror           mirror           Unsupported
+//! ```
+
+use super::*;
+use crate::contact::Contact;
+use crate::pose::Pose;
+use crate::shape::Shape;
+
+/// Contacts between shape A at `pose_a` and shape B at `pose_b` whose signed
+/// distance is at most `margin` (m, >= 0), appended to `out` (normals from B
+/// to A). A pair without a routine is an error, never an empty answer.
+pub fn contact_shapes(
+    a: &Shape,
+    pose_a: &Pose,
+    b: &Shape,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> Result<(), NarrowError> {
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(NarrowError::BadMargin(margin));
+    }
+    use Shape::*;
+    let (pa, pb, m) = (pose_a, pose_b, margin);
+    match (a, b) {
+        // Row: Sphere
+        (Sphere(x), Sphere(y)) => contact_sphere_sphere(x, pa, y, pb, m, out),
+        (Sphere(x), Cuboid(y)) => contact_sphere_cuboid(x, pa, y, pb, m, out),
+        (Sphere(x), Capsule(y)) => contact_sphere_capsule(x, pa, y, pb, m, out),
+        (Sphere(x), ConvexHull(y)) => contact_sphere_polytope(x, pa, y, pb, m, out),
+        (Sphere(x), HalfSpace(y)) => contact_sphere_halfspace(x, pa, y, pb, m, out),
+        // Row: Cuboid
+        (Cuboid(x), Sphere(y)) => mirror(out, |o| contact_sphere_cuboid(y, pb, x, pa, m, o)),
+        (Cuboid(x), Cuboid(y)) => contact_cuboid_cuboid(x, pa, y, pb, m, out),
+        (Cuboid(x), Capsule(y)) => mirror(out, |o| contact_capsule_polytope(y, pb, x, pa, m, o)),
+        (Cuboid(x), ConvexHull(y)) => mirror(out, |o| contact_polytope_polytope(y, pb, x, pa, m, o)),
+        (Cuboid(x), HalfSpace(y)) => contact_polytope_halfspace(x, pa, y, pb, m, out),
+        // Row: Capsule
+        (Capsule(x), Sphere(y)) => mirror(out, |o| contact_sphere_capsule(y, pb, x, pa, m, o)),
+        (Capsule(x), Cuboid(y)) => contact_capsule_polytope(x, pa, y, pb, m, out),
+        (Capsule(x), Capsule(y)) => contact_capsule_capsule(x, pa, y, pb, m, out),
+        (Capsule(x), ConvexHull(y)) => contact_capsule_polytope(x, pa, y, pb, m, out),
+        (Capsule(x), HalfSpace(y)) => contact_capsule_halfspace(x, pa, y, pb, m, out),
+        // Row: ConvexHull
+        (ConvexHull(x), Sphere(y)) => mirror(out, |o| contact_sphere_polytope(y, pb, x, pa, m, o)),
+        (ConvexHull(x), Cuboid(y)) => contact_polytope_polytope(x, pa, y, pb, m, out),
+        (ConvexHull(x), Capsule(y)) => mirror(out, |o| contact_capsule_polytope(y, pb, x, pa, m, o)),
+        (ConvexHull(x), ConvexHull(y)) => contact_polytope_polytope(x, pa, y, pb, m, out),
+        (ConvexHull(x), HalfSpace(y)) => contact_polytope_halfspace(x, pa, y, pb, m, out),
+        // Row: HalfSpace
+        (HalfSpace(x), Sphere(y)) => mirror(out, |o| contact_sphere_halfspace(y, pb, x, pa, m, o)),
+        (HalfSpace(x), Cuboid(y)) => mirror(out, |o| contact_polytope_halfspace(y, pb, x, pa, m, o)),
+        (HalfSpace(x), Capsule(y)) => mirror(out, |o| contact_capsule_halfspace(y, pb, x, pa, m, o)),
+        (HalfSpace(x), ConvexHull(y)) => mirror(out, |o| contact_polytope_halfspace(y, pb, x, pa, m, o)),
+        (HalfSpace(_), HalfSpace(_)) => {
+            return Err(NarrowError::Unsupported {
+                a: a.kind_name(),
+                b: b.kind_name(),
+            })
+        }
+    }
+    Ok(())
+}
+
+/// Runs a routine for the swapped pair (B, A) and flips what it appended.
+fn mirror(out: &mut Vec<Contact>, routine: impl FnOnce(&mut Vec<Contact>)) {
+    let start = out.len();
+    routine(out);
+    for c in &mut out[start..] {
+        *c = c.flipped();
+    }
+}

@@ -1,0 +1,193 @@
+//! Primitive collision shapes (design map: `shape`): sphere, cuboid, capsule,
+//! convex hull and half-space, each validated at construction, with world
+//! bounding boxes for a pose and support functions (Ericson, "Real-Time
+//! Collision Detection", 3.8 and 9.2) used by the narrow phase.
+//!
+//! Every shape is described in its own body frame; a [`crate::Pose`] places
+//! it in the world. Cuboids and convex hulls share the [`Polytope`] view so
+//! that the SAT, clipping and GJK routines in [`crate::narrow`] are written
+//! once for both.
+
+mod aabb;
+mod capsule;
+mod convex_hull;
+mod cuboid;
+mod halfspace;
+mod polytope;
+mod sphere;
+
+pub use aabb::Aabb;
+pub use capsule::Capsule;
+pub use convex_hull::{ConvexHull, HullEdge, HullFace, MAX_FACE_VERTICES};
+pub use cuboid::Cuboid;
+pub use halfspace::HalfSpace;
+pub use polytope::Polytope;
+pub use sphere::Sphere;
+
+use crate::hull::HullError;
+use crate::math::DVec3;
+use crate::mesh::MeshError;
+use crate::pose::Pose;
+
+/// Why a shape could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ShapeError {
+    /// A dimension is NaN, infinite, zero or negative (or negative where zero
+    /// is allowed).
+    #[error("{shape}: {name} must be finite and {expected}, got {value}")]
+    BadDimension {
+        /// Which shape.
+        shape: &'static str,
+        /// Which parameter.
+        name: &'static str,
+        /// What was expected ("> 0" or ">= 0").
+        expected: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A direction that must be a unit vector is not finite or not of unit length.
+    #[error("{shape}: {name} must be a finite unit vector, got {value:?} (length {length})")]
+    NotUnit {
+        /// Which shape.
+        shape: &'static str,
+        /// Which parameter.
+        name: &'static str,
+        /// The value given.
+        value: DVec3,
+        /// Its length.
+        length: f64,
+    },
+    /// The mesh given to a convex hull is not a valid closed solid.
+    #[error("convex hull: mesh is not a closed solid: {0}")]
+    Mesh(#[from] MeshError),
+    /// A triangle of the mesh has (almost) no area, so its plane is undefined.
+    #[error("convex hull: triangle {triangle} is degenerate (zero area); remove it first")]
+    DegenerateTriangle {
+        /// Index of the triangle in the mesh.
+        triangle: usize,
+    },
+    /// A vertex lies outside the plane of a face by more than the tolerance.
+    #[error("convex hull: mesh is not convex: vertex {vertex} is {excess:e} m outside the plane of face {face} (tolerance {tolerance:e} m)")]
+    NotConvex {
+        /// Face (merged polygon) whose plane is violated.
+        face: usize,
+        /// Mesh vertex outside it.
+        vertex: usize,
+        /// Distance outside the plane (m).
+        excess: f64,
+        /// The tolerance used (m).
+        tolerance: f64,
+    },
+    /// A merged face has more corners than the narrow phase's fixed buffers hold.
+    #[error("convex hull: face {face} has {count} corners, at most {max} are supported")]
+    FaceTooLarge {
+        /// Face index.
+        face: usize,
+        /// Its number of corners.
+        count: usize,
+        /// [`MAX_FACE_VERTICES`].
+        max: usize,
+    },
+    /// Merging coplanar triangles did not give a simple polygon boundary.
+    #[error("convex hull: the coplanar triangles of face {face} do not form a single polygon")]
+    BadFace {
+        /// Face index.
+        face: usize,
+    },
+    /// Building the hull of a point set failed.
+    #[error("convex hull of points failed: {0}")]
+    Hull(#[from] HullError),
+}
+
+pub(crate) fn check_positive(shape: &'static str, name: &'static str, value: f64) -> Result<(), ShapeError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(ShapeError::BadDimension {
+            shape,
+            name,
+            expected: "> 0",
+            value,
+        })
+    }
+}
+
+/// A collision shape. New variants (triangle meshes) will be added, so
+/// matches outside this crate need a wildcard arm.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Shape {
+    /// A ball.
+    Sphere(Sphere),
+    /// A box.
+    Cuboid(Cuboid),
+    /// A capsule along the body z axis.
+    Capsule(Capsule),
+    /// A convex polyhedron.
+    ConvexHull(ConvexHull),
+    /// An infinite solid below a plane (ground).
+    HalfSpace(HalfSpace),
+}
+
+impl Shape {
+    /// A short name of the variant, for error messages.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Sphere(_) => "sphere",
+            Shape::Cuboid(_) => "cuboid",
+            Shape::Capsule(_) => "capsule",
+            Shape::ConvexHull(_) => "convex_hull",
+            Shape::HalfSpace(_) => "half_space",
+        }
+    }
+
+    /// World-space bounding box of the shape placed at `pose` (unbounded axes of
+    /// a half-space are infinite).
+    pub fn aabb(&self, pose: &Pose) -> Aabb {
+        match self {
+            Shape::Sphere(s) => s.aabb(pose),
+            Shape::Cuboid(s) => s.aabb(pose),
+            Shape::Capsule(s) => s.aabb(pose),
+            Shape::ConvexHull(s) => s.aabb(pose),
+            Shape::HalfSpace(s) => s.aabb(pose),
+        }
+    }
+
+    /// Support point in the body frame: a point of the shape farthest along the
+    /// body-frame direction `dir`. `None` for a half-space (unbounded).
+    pub fn support(&self, dir: DVec3) -> Option<DVec3> {
+        match self {
+            Shape::Sphere(s) => Some(s.support(dir)),
+            Shape::Cuboid(s) => Some(s.support(dir)),
+            Shape::Capsule(s) => Some(s.support(dir)),
+            Shape::ConvexHull(s) => Some(s.support(dir)),
+            Shape::HalfSpace(_) => None,
+        }
+    }
+}
+
+impl From<Sphere> for Shape {
+    fn from(s: Sphere) -> Shape {
+        Shape::Sphere(s)
+    }
+}
+impl From<Cuboid> for Shape {
+    fn from(s: Cuboid) -> Shape {
+        Shape::Cuboid(s)
+    }
+}
+impl From<Capsule> for Shape {
+    fn from(s: Capsule) -> Shape {
+        Shape::Capsule(s)
+    }
+}
+impl From<ConvexHull> for Shape {
+    fn from(s: ConvexHull) -> Shape {
+        Shape::ConvexHull(s)
+    }
+}
+impl From<HalfSpace> for Shape {
+    fn from(s: HalfSpace) -> Shape {
+        Shape::HalfSpace(s)
+    }
+}

@@ -1,0 +1,34 @@
+//! Sphere centred on the body origin.
+
+use super::{check_positive, Aabb, ShapeError};
+use crate::math::DVec3;
+use crate::pose::Pose;
+
+/// A ball of `radius` (m) around the body origin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    radius: f64,
+}
+
+impl Sphere {
+    /// A sphere; `radius` must be finite and > 0 (m).
+    pub fn new(radius: f64) -> Result<Sphere, ShapeError> {
+        check_positive("sphere", "radius", radius)?;
+        Ok(Sphere { radius })
+    }
+
+    /// Radius (m).
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// Farthest point along `dir` (body frame); the centre for a zero `dir`.
+    pub fn support(&self, dir: DVec3) -> DVec3 {
+        dir.normalize_or_zero() * self.radius
+    }
+
+    /// World bounding box at `pose`.
+    pub fn aabb(&self, pose: &Pose) -> Aabb {
+        Aabb::from_center_half_extents(pose.position, DVec3::splat(self.radius))
+    }
+}

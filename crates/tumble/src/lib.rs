@@ -19,3 +19,5 @@ pub use tumble_collide as collide;
 
 pub mod solver;
 pub mod export;
+pub mod scenes;
+pub mod world;

@@ -71,9 +71,10 @@ fn inelastic_ball_comes_to_rest_without_jitter() {
     });
     assert!(hi - lo < 1e-4, "height jitters by {} m", hi - lo);
     let allowed = world.settings().allowed_penetration;
-    assert!((lo - 0.1).abs() <= allowed + 1e-4, "rests at z = {lo}");
+    assert!(lo <= 0.1 + 1e-9 && lo >= 0.1 - allowed - 1e-4, "rests at z = {lo}: touching, within the allowance");
 }
 
+/// Displacement and velocity of the cube after 1 s on the 30 degree slope.
 fn incline_after_one_second(mu: f64) -> (DVec3, DVec3) {
     let scene = scenes::incline(mu);
     let (mut world, ids) = scene.build().unwrap();
@@ -92,7 +93,7 @@ fn incline_after_one_second(mu: f64) -> (DVec3, DVec3) {
 fn incline_sticks_with_high_friction() {
     let (d, v) = incline_after_one_second(0.7);
     assert!(d.length() < 1e-3, "moved {d:?}");
-    assert!(v.length() < 1e-3);
+    assert!(v.length() < 1e-4, "still moving at {v:?}");
 }
 
 #[test]

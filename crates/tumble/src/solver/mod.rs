@@ -1,8 +1,8 @@
 //! Contact constraint solvers (thesis 7.1-7.2 "Resting Contact", which the thesis
 //! left as further work; design map: `solve` stage).
 //!
-//! - [`contact_solver`]: the sub-stepped soft sequential-impulse solver the
-//!   world runs every step, with [`soft`] constraint coefficients;
+//! - [`contact_solver`]: the sub-stepped sequential-impulse solver with
+//!   split-impulse push-out that the world runs every step;
 //! - [`dense`]: the small row-major matrix the solvers share;
 //! - [`lcp`]: the problem statement, solution and error types, and an
 //!   independent residual checker;
@@ -51,7 +51,6 @@ pub mod dense;
 pub mod lcp;
 pub mod lemke;
 pub mod pgs;
-pub mod soft;
 
 pub use delassus::{
     build_contact_lcp, tangent_basis, BodyState, BodyVelocity, ContactLcp, ContactLcpError, ContactRow,

@@ -140,16 +140,20 @@ fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
             message: format!("must be in 1..=1000, got {}", s.iterations),
         });
     }
-    if s.relax_iterations > 1000 {
+    if s.push_out_iterations > 1000 {
         return Err(WorldError::BadValue {
-            field: "settings.relax_iterations",
-            message: format!("must be at most 1000, got {}", s.relax_iterations),
+            field: "settings.push_out_iterations",
+            message: format!("must be at most 1000, got {}", s.push_out_iterations),
+        });
+    }
+    if !(s.push_out_fraction > 0.0 && s.push_out_fraction <= 1.0) {
+        return Err(WorldError::BadValue {
+            field: "settings.push_out_fraction",
+            message: format!("must be in (0, 1], got {}", s.push_out_fraction),
         });
     }
     non_negative("settings.contact_margin", s.contact_margin)?;
     non_negative("settings.allowed_penetration", s.allowed_penetration)?;
-    non_negative("settings.contact_hertz", s.contact_hertz)?;
-    non_negative("settings.contact_damping_ratio", s.contact_damping_ratio)?;
     positive("settings.max_push_out_speed", s.max_push_out_speed)?;
     non_negative("settings.restitution_threshold", s.restitution_threshold)?;
     non_negative("settings.sleep_linear_speed", s.sleep_linear_speed)?;

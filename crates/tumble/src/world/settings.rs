@@ -10,7 +10,7 @@ use tumble_collide::DVec3;
 #[serde(rename_all = "snake_case")]
 pub enum SolverKind {
     /// Sub-stepped, warm-started projected Gauss-Seidel / sequential impulses
-    /// with soft contacts and relaxation. Fast, the default.
+    /// with split-impulse push-out. Fast, the default.
     #[default]
     Pgs,
     /// Direct pivoting LCP solve (Lemke) of each island's normal impulses,
@@ -39,24 +39,25 @@ pub struct WorldSettings {
     pub integrator: Integrator,
     /// Contact solver. Default [`SolverKind::Pgs`].
     pub solver: SolverKind,
-    /// Gauss-Seidel iterations per sub-step. Default 1 (with 4 sub-steps).
+    /// Velocity Gauss-Seidel iterations per sub-step. Default 2 (with 4
+    /// sub-steps). More converge stacks further each sub-step.
     pub iterations: u32,
-    /// Relaxation iterations per sub-step (solve without position bias, to
-    /// remove the energy the bias added). Default 1.
-    pub relax_iterations: u32,
+    /// Push-out (position correction) iterations per sub-step. Default 1.
+    pub push_out_iterations: u32,
     /// Speculative contact margin (m): feature pairs closer than this, plus
     /// the bodies' motion over the step, become contacts whose gap may close
     /// but not go negative. Larger catches faster bodies and costs more
     /// contacts. Default 0.02.
     pub contact_margin: f64,
-    /// Penetration left uncorrected (m), so resting contacts stay touching
-    /// instead of flickering. Default 0.002.
+    /// Penetration left uncorrected (m): resting contacts within it are held
+    /// rigidly where they are (no push-out, so no jitter); deeper overlap is
+    /// pushed back to it. Stacks sink by at most this per contact layer.
+    /// Default 0.0005.
     pub allowed_penetration: f64,
-    /// Stiffness of the contact softness (Hz): how fast overlap is pushed out.
-    /// Default 30.
-    pub contact_hertz: f64,
-    /// Damping ratio of the contact softness (dimensionless). Default 10.
-    pub contact_damping_ratio: f64,
+    /// Fraction of the overlap beyond `allowed_penetration` removed per
+    /// sub-step by the push-out pass (dimensionless, in (0, 1]). Larger
+    /// corrects faster and is stiffer. Default 0.2.
+    pub push_out_fraction: f64,
     /// Largest speed at which overlap is pushed out (m/s). Bounds the energy
     /// that spawning bodies overlapping can inject. Default 3.
     pub max_push_out_speed: f64,
@@ -81,12 +82,11 @@ impl Default for WorldSettings {
             substeps: 4,
             integrator: Integrator::default(),
             solver: SolverKind::default(),
-            iterations: 1,
-            relax_iterations: 1,
+            iterations: 2,
+            push_out_iterations: 1,
             contact_margin: 0.02,
-            allowed_penetration: 0.002,
-            contact_hertz: 30.0,
-            contact_damping_ratio: 10.0,
+            allowed_penetration: 0.0005,
+            push_out_fraction: 0.2,
             max_push_out_speed: 3.0,
             restitution_threshold: 0.5,
             sleeping: true,

@@ -11,7 +11,6 @@ use super::{BodyEntry, BodyId, MaterialDesc, SolverKind, World, WorldContact};
 use crate::body::{BodyKind, BodyState};
 use crate::integrate::{integrate, Integrator};
 use crate::solver::contact_solver::{self, ContactConstraint, SolverBody, SolverParams};
-use crate::solver::soft::Softness;
 use std::time::Instant;
 use tumble_collide::broad::Aabb;
 use tumble_collide::narrow::contact_shapes;
@@ -25,8 +24,8 @@ pub(crate) fn body_aabb(e: &BodyEntry, fatten: f64) -> Aabb {
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for c in &e.colliders {
         let b = c.shape.aabb(&pose.mul_pose(&c.local));
-        lo = lo.min(b.min());
-        hi = hi.max(b.max());
+        lo = lo.min(b.min);
+        hi = hi.max(b.max);
     }
     Aabb::new(lo - DVec3::splat(fatten), hi + DVec3::splat(fatten))
         .unwrap_or_else(|_| Aabb::new(DVec3::ZERO, DVec3::ZERO).expect("zero box is valid"))
@@ -40,7 +39,7 @@ fn bounding_radius(e: &BodyEntry) -> f64 {
         .iter()
         .map(|c| {
             let b = c.shape.aabb(&pose.mul_pose(&c.local));
-            b.min().abs().max(b.max().abs()).length()
+            b.min.abs().max(b.max.abs()).length()
         })
         .filter(|r| r.is_finite())
         .fold(0.0, f64::max)
@@ -198,8 +197,9 @@ impl World {
                             normal_impulse: 0.0,
                             tangent_impulse: [0.0; 2],
                             max_normal_impulse: 0.0,
+                            push_impulse: 0.0,
                         };
-                        if let Some(old) = manifold::lookup(&self.cache, key, contact.feature_a, contact.feature_b) {
+                        if let Some(old) = manifold::lookup(&self.cache, key, contact.feature_a, contact.feature_b, c.local_a) {
                             c.normal_impulse = old.normal_impulse;
                             let t = contact_solver::tangent_basis(contact.normal);
                             c.tangent_impulse = [old.tangent_impulse.dot(t[0]), old.tangent_impulse.dot(t[1])];
@@ -247,6 +247,8 @@ impl World {
             inv_inertia: DMat3::ZERO,
             q: DQuat::IDENTITY,
             dp: DVec3::ZERO,
+            push_v: DVec3::ZERO,
+            push_w: DVec3::ZERO,
             dynamic: false,
             kinematic: false,
         }];
@@ -280,6 +282,8 @@ impl World {
                 inv_inertia: if dynamic { e.body.inv_inertia_world() } else { DMat3::ZERO },
                 q,
                 dp: DVec3::ZERO,
+                push_v: DVec3::ZERO,
+                push_w: DVec3::ZERO,
                 dynamic,
                 kinematic: !dynamic,
             });
@@ -298,7 +302,7 @@ impl World {
         let substeps = if semi_implicit { s.substeps } else { 1 };
         let h = dt / substeps as f64;
         let params = SolverParams {
-            softness: Softness::new(s.contact_hertz, s.contact_damping_ratio, h),
+            push_out_fraction: s.push_out_fraction,
             allowed_penetration: s.allowed_penetration,
             max_push_out_speed: s.max_push_out_speed,
             restitution_threshold: s.restitution_threshold,
@@ -316,13 +320,33 @@ impl World {
                 _ => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
             })
             .collect();
+        // Quarantine before solving: a body whose forces or velocities are not
+        // finite is frozen for this step (immovable in the solver) and restored
+        // afterwards, so NaN cannot travel through contacts to its neighbours.
+        let mut frozen = vec![false; solver_bodies.len()];
+        for k in 1..solver_bodies.len() {
+            let b = &solver_bodies[k];
+            let (a, tau, _, _) = accel[k];
+            let finite = b.v.is_finite() && b.w.is_finite() && a.is_finite() && tau.is_finite();
+            let next_v = b.v + a * dt;
+            let next_w = b.w + b.inv_inertia * tau * dt;
+            if !finite || !next_v.is_finite() || !next_w.is_finite() {
+                frozen[k] = true;
+                let sb = &mut solver_bodies[k];
+                (sb.v, sb.w, sb.inv_mass, sb.inv_inertia, sb.dynamic, sb.kinematic) =
+                    (DVec3::ZERO, DVec3::ZERO, 0.0, DMat3::ZERO, false, false);
+                for c in constraints.iter_mut().filter(|c| c.a as usize == k || c.b as usize == k) {
+                    contact_solver::prepare(c, &solver_bodies);
+                }
+            }
+        }
         if s.solver == SolverKind::Lemke {
             report
                 .warnings
                 .push("solver = lemke is not available yet; the PGS solver ran instead".into());
         }
         let linear_accel: Vec<DVec3> = accel.iter().map(|a| a.0).collect();
-        contact_solver::resolve_collisions(&constraints, &mut solver_bodies, &linear_accel, &params, dt);
+        contact_solver::resolve_collisions(&constraints, &mut solver_bodies, &linear_accel, &params, dt, h);
         for _ in 0..substeps {
             for (b, &(a, tau, ld, ad)) in solver_bodies.iter_mut().zip(&accel) {
                 if !b.dynamic {
@@ -333,21 +357,39 @@ impl World {
             }
             contact_solver::warm_start(&constraints, &mut solver_bodies);
             for _ in 0..s.iterations {
-                contact_solver::solve(&mut constraints, &mut solver_bodies, &params, h, true);
+                contact_solver::solve(&mut constraints, &mut solver_bodies, h);
+            }
+            for c in constraints.iter_mut() {
+                c.push_impulse = 0.0;
+            }
+            for _ in 0..s.push_out_iterations {
+                contact_solver::push_out(&mut constraints, &mut solver_bodies, &params, h);
             }
             contact_solver::integrate_positions(&mut solver_bodies, h);
-            for _ in 0..s.relax_iterations {
-                contact_solver::solve(&mut constraints, &mut solver_bodies, &params, h, false);
-            }
         }
         report.substeps = substeps;
-        report.iterations = s.iterations + s.relax_iterations;
+        report.iterations = s.iterations;
         lap(&mut report, Stage::Solve);
 
         // -- Stage::Integrate
         for (k, &slot) in solver_slots.iter().enumerate().skip(1) {
             let sb = solver_bodies[k];
             let e = self.bodies.at_mut(slot).expect("live");
+            let finite = sb.v.is_finite() && sb.w.is_finite() && sb.dp.is_finite() && sb.q.is_finite();
+            if frozen[k] || !finite {
+                // Restored to the state before the step, stopped, reported.
+                if let Some(old) = &before[slot as usize] {
+                    let mut restored = old.clone();
+                    restored.linear_momentum = DVec3::ZERO;
+                    restored.angular_momentum = DVec3::ZERO;
+                    let _ = e.body.set_state(restored);
+                }
+                e.body.clear_forces();
+                report.quarantined.push(Quarantined {
+                    body: self.bodies.id_at(slot).expect("live"),
+                });
+                continue;
+            }
             if sb.dynamic {
                 let state = BodyState {
                     position: e.body.position() + sb.dp,
@@ -386,6 +428,7 @@ impl World {
                 key: p.key,
                 feature_a: p.contact.feature_a,
                 feature_b: p.contact.feature_b,
+                local_a: c.local_a,
                 normal_impulse: c.normal_impulse,
                 tangent_impulse: t,
             });
@@ -428,6 +471,8 @@ impl World {
         report.events.sort_unstable();
         self.touching = touching;
 
+        // Bodies advanced by an explicit integrator are checked here (the
+        // integrator already refuses non-finite states; this is the backstop).
         for (i, old) in before.iter().enumerate() {
             let Some(e) = self.bodies.at_mut(i as u32) else { continue };
             if e.body.state().is_finite() {

@@ -161,7 +161,7 @@ pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
 }
 
 /// Chooses at most 4 of `n` points (position, distance) that keep the
-/// manifold's support area: the deepest point, the point farthest from it,
+/// manifold's support area: the deepest point (see the tie rule inside), the point farthest from it,
 /// the point making the largest triangle with those two, and the point
 /// farthest outside that triangle (the usual heuristic of Bullet's and Jolt's
 /// contact reduction). Returns indices in increasing order.
@@ -189,7 +189,11 @@ pub(crate) fn reduce_to_four(
         }
         (best, best_s)
     };
-    let (i0, _) = argmax(&|i| -get(i).1);
+    // Deepest point; equal depths (a flat resting face) are told apart by a
+    // small weight on position along a fixed tangent, so that the choice does
+    // not flip under round-off (feature ids must stay put for warm starting).
+    let tangent = normal.any_orthonormal_vector();
+    let (i0, _) = argmax(&|i| -get(i).1 + 1e-3 * get(i).0.dot(tangent));
     let p0 = get(i0).0;
     let (i1, _) = argmax(&|i| (get(i).0 - p0).length_squared());
     let p1 = get(i1).0;

@@ -189,11 +189,24 @@ pub(crate) fn reduce_to_four(
         }
         (best, best_s)
     };
-    // Deepest point; equal depths (a flat resting face) are told apart by a
-    // small weight on position along a fixed tangent, so that the choice does
-    // not flip under round-off (feature ids must stay put for warm starting).
+    // Deepest point; depths equal within TIE x (manifold size) (a flat resting
+    // face) are told apart by position along a fixed tangent, so that the
+    // choice does not flip under round-off (feature ids must stay put for
+    // warm starting). The kept depth is then within that tolerance of the
+    // deepest.
+    const TIE: f64 = 1e-5;
+    let (deepest, _) = argmax(&|i| -get(i).1);
+    let pd = get(deepest).0;
+    let size = (0..n).map(|i| (get(i).0 - pd).length()).fold(0.0, f64::max);
+    let dmin = get(deepest).1;
     let tangent = normal.any_orthonormal_vector();
-    let (i0, _) = argmax(&|i| -get(i).1 + 1e-3 * get(i).0.dot(tangent));
+    let (i0, _) = argmax(&|i| {
+        if get(i).1 <= dmin + TIE * size {
+            get(i).0.dot(tangent)
+        } else {
+            f64::NEG_INFINITY
+        }
+    });
     let p0 = get(i0).0;
     let (i1, _) = argmax(&|i| (get(i).0 - p0).length_squared());
     let p1 = get(i1).0;

@@ -60,9 +60,52 @@ pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
     let n_ref = ref_pose.transform_vector(refp.face_normal(ref_face));
     let d_ref = refp.face_offset(ref_face) + n_ref.dot(ref_pose.position);
     let inc_face = incp.best_face(inc_pose.rotation.inverse() * -n_ref);
+    // Clipping an n-gon against m planes gives at most n + m points. Small
+    // faces (boxes) get small stack buffers: initialising the large ones
+    // would dominate the cost of a box-box query.
+    let need = incp.face_len(inc_face) + refp.face_len(ref_face);
+    let f = Faces {
+        n_ref,
+        d_ref,
+        ref_face,
+        inc_face,
+    };
+    if need <= SMALL {
+        clip::<SMALL, R, I>(refp, ref_pose, incp, inc_pose, f, ref_is_a, margin, out)
+    } else {
+        clip::<CAP, R, I>(refp, ref_pose, incp, inc_pose, f, ref_is_a, margin, out)
+    }
+}
 
-    let mut buf_a = [EMPTY; CAP];
-    let mut buf_b = [EMPTY; CAP];
+const SMALL: usize = 16;
+
+#[derive(Clone, Copy)]
+struct Faces {
+    n_ref: DVec3,
+    d_ref: f64,
+    ref_face: usize,
+    inc_face: usize,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn clip<const N: usize, R: Polytope + ?Sized, I: Polytope + ?Sized>(
+    refp: &R,
+    ref_pose: &Pose,
+    incp: &I,
+    inc_pose: &Pose,
+    faces: Faces,
+    ref_is_a: bool,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> usize {
+    let Faces {
+        n_ref,
+        d_ref,
+        ref_face,
+        inc_face,
+    } = faces;
+    let mut buf_a = [EMPTY; N];
+    let mut buf_b = [EMPTY; N];
     let mut len = incp.face_len(inc_face);
     for (k, slot) in buf_a.iter_mut().enumerate().take(len) {
         *slot = ClipPoint {
@@ -130,7 +173,7 @@ pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
 
     // Keep points within the margin of the reference plane.
     let mut m = 0;
-    let mut dist = [0.0f64; CAP];
+    let mut dist = [0.0f64; N];
     for i in 0..len {
         let d = n_ref.dot(src[i].p) - d_ref;
         if d <= margin {

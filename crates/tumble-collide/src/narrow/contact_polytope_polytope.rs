@@ -157,19 +157,20 @@ pub(crate) fn edge_query<A: Polytope + ?Sized, B: Polytope + ?Sized>(
 ) -> Option<(f64, [usize; 2], [usize; 2])> {
     let ca = a.interior_point();
     let mut best: Option<(f64, [usize; 2], [usize; 2])> = None;
-    for ea in 0..a.edge_count() {
-        let ([a0, a1], [fa0, fa1]) = a.edge(ea);
-        let pa = a.vertex(a0 as usize);
-        let da = a.vertex(a1 as usize) - pa;
-        let (u1, u2) = (a.face_normal(fa0 as usize), a.face_normal(fa1 as usize));
-        for eb in 0..b.edge_count() {
-            let ([b0, b1], [fb0, fb1]) = b.edge(eb);
-            let (c1, c2) = (r * b.face_normal(fb0 as usize), r * b.face_normal(fb1 as usize));
+    // B's edges outside: each is rotated into A's frame once.
+    for eb in 0..b.edge_count() {
+        let ([b0, b1], [fb0, fb1]) = b.edge(eb);
+        let (c1, c2) = (r * b.face_normal(fb0 as usize), r * b.face_normal(fb1 as usize));
+        let pb = r * b.vertex(b0 as usize) + t;
+        let db = r * (b.vertex(b1 as usize) - b.vertex(b0 as usize));
+        for ea in 0..a.edge_count() {
+            let ([a0, a1], [fa0, fa1]) = a.edge(ea);
+            let (u1, u2) = (a.face_normal(fa0 as usize), a.face_normal(fa1 as usize));
             if !is_minkowski_face(u1, u2, -c1, -c2) {
                 continue;
             }
-            let pb = r * b.vertex(b0 as usize) + t;
-            let db = r * (b.vertex(b1 as usize) - b.vertex(b0 as usize));
+            let pa = a.vertex(a0 as usize);
+            let da = a.vertex(a1 as usize) - pa;
             let axis = da.cross(db);
             let len = axis.length();
             // Parallel edges: their axis is a face normal, already tested.

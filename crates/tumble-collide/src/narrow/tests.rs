@@ -113,8 +113,7 @@ fn check_pair(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> Result<(), String> 
             ));
         }
     }
-    let exact = !(both_poly && d > 0.0);
-    if d <= MARGIN - TOL && exact {
+    if d <= MARGIN - TOL {
         let Some(m) = min_distance(&cs) else {
             return Err(format!("nothing reported within the margin: {}", ctx()));
         };

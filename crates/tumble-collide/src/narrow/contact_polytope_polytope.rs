@@ -228,13 +228,20 @@ fn face_query<P: Polytope + ?Sized, Q: Polytope + ?Sized>(p: &P, q: &Q, r: DMat3
 /// Here a, b are the normals of the faces at an edge of A and c, d the
 /// negated normals at an edge of B (Gregorius 2013).
 fn is_minkowski_face(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    // c and d on opposite sides of the plane of arc (a, b) (cheap early out:
+    // most edge pairs fail here).
     let bxa = b.cross(a);
-    let dxc = d.cross(c);
     let cba = c.dot(bxa);
     let dba = d.dot(bxa);
+    if cba * dba >= 0.0 {
+        return false;
+    }
+    // a and b on opposite sides of the plane of arc (c, d), and the arcs on
+    // the same hemisphere (not antipodal crossings).
+    let dxc = d.cross(c);
     let adc = a.dot(dxc);
     let bdc = b.dot(dxc);
-    cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
+    adc * bdc < 0.0 && cba * bdc > 0.0
 }
 
 /// Best edge pair axis (in A's frame), if any edge pair builds a face of the

@@ -410,3 +410,62 @@ fn sphere_sphere_closed_form() {
     // Surface points 0.3 and 0.5 on x; midpoint 0.4.
     assert!((cs[0].point - DVec3::new(0.4, 0.0, 0.0)).length() < 1e-15);
 }
+
+/// A unit box turned 45 degrees on a larger box: the overlap is an octagon
+/// (8 clipped points), reduced to 4 that lie on it, all at the same depth.
+#[test]
+fn turned_box_on_box_is_reduced_to_four_points_of_the_octagon() {
+    let small = unit_box();
+    let big: Shape = Cuboid::new(DVec3::new(0.6, 0.6, 0.5)).unwrap().into();
+    let pa = Pose::new(
+        DVec3::new(0.0, 0.0, 0.995),
+        DQuat::from_rotation_z(std::f64::consts::FRAC_PI_4),
+    )
+    .unwrap();
+    let cs = contacts(&small, &pa, &big, &Pose::IDENTITY, 0.0);
+    assert_eq!(cs.len(), 4, "{cs:#?}");
+    for c in &cs {
+        assert!((c.distance + 0.005).abs() < 1e-12);
+        // On the boundary of the octagon: inside both squares, on the edge of one.
+        let p = c.point;
+        let in_big = p.x.abs() <= 0.6 + 1e-12 && p.y.abs() <= 0.6 + 1e-12;
+        let diamond = (p.x.abs() + p.y.abs()) / std::f64::consts::SQRT_2; // rotated square's "radius"
+        let in_small = diamond <= 0.5 + 1e-12;
+        let on_edge = (p.x.abs() - 0.6).abs() < 1e-12
+            || (p.y.abs() - 0.6).abs() < 1e-12
+            || (diamond - 0.5).abs() < 1e-12;
+        assert!(in_big && in_small && on_edge, "{p}");
+    }
+    // The four points span the octagon rather than bunching on one side.
+    let centroid = cs.iter().map(|c| c.point).sum::<DVec3>() / 4.0;
+    assert!(centroid.truncate().length() < 0.2, "{centroid}");
+}
+
+/// Same input, same output, bit for bit (no hidden state, no hashing).
+#[test]
+fn results_are_deterministic() {
+    let lib = library();
+    let pa = pose([0.3, -0.2, 0.35], [0.4, -0.3, 1.1]);
+    let pb = pose([0.0, 0.1, -0.1], [-0.2, 0.5, 0.3]);
+    for a in &lib {
+        for b in &lib {
+            if matches!((a, b), (Shape::HalfSpace(_), Shape::HalfSpace(_))) {
+                continue;
+            }
+            let first = contacts(a, &pa, b, &pb, MARGIN);
+            let second = contacts(a, &pa, b, &pb, MARGIN);
+            let bits = |cs: &[Contact]| -> Vec<u64> {
+                cs.iter()
+                    .flat_map(|c| {
+                        [
+                            c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z, c.distance,
+                        ]
+                    })
+                    .map(f64::to_bits)
+                    .collect()
+            };
+            assert_eq!(bits(&first), bits(&second));
+            assert_eq!(first, second);
+        }
+    }
+}

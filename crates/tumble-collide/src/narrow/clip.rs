@@ -60,9 +60,52 @@ pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
     let n_ref = ref_pose.transform_vector(refp.face_normal(ref_face));
     let d_ref = refp.face_offset(ref_face) + n_ref.dot(ref_pose.position);
     let inc_face = incp.best_face(inc_pose.rotation.inverse() * -n_ref);
+    // Clipping an n-gon against m planes gives at most n + m points. Small
+    // faces (boxes) get small stack buffers: initialising the large ones
+    // would dominate the cost of a box-box query.
+    let need = incp.face_len(inc_face) + refp.face_len(ref_face);
+    let f = Faces {
+        n_ref,
+        d_ref,
+        ref_face,
+        inc_face,
+    };
+    if need <= SMALL {
+        clip::<SMALL, R, I>(refp, ref_pose, incp, inc_pose, f, ref_is_a, margin, out)
+    } else {
+        clip::<CAP, R, I>(refp, ref_pose, incp, inc_pose, f, ref_is_a, margin, out)
+    }
+}
 
-    let mut buf_a = [EMPTY; CAP];
-    let mut buf_b = [EMPTY; CAP];
+const SMALL: usize = 16;
+
+#[derive(Clone, Copy)]
+struct Faces {
+    n_ref: DVec3,
+    d_ref: f64,
+    ref_face: usize,
+    inc_face: usize,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn clip<const N: usize, R: Polytope + ?Sized, I: Polytope + ?Sized>(
+    refp: &R,
+    ref_pose: &Pose,
+    incp: &I,
+    inc_pose: &Pose,
+    faces: Faces,
+    ref_is_a: bool,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> usize {
+    let Faces {
+        n_ref,
+        d_ref,
+        ref_face,
+        inc_face,
+    } = faces;
+    let mut buf_a = [EMPTY; N];
+    let mut buf_b = [EMPTY; N];
     let mut len = incp.face_len(inc_face);
     for (k, slot) in buf_a.iter_mut().enumerate().take(len) {
         *slot = ClipPoint {
@@ -130,7 +173,7 @@ pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
 
     // Keep points within the margin of the reference plane.
     let mut m = 0;
-    let mut dist = [0.0f64; CAP];
+    let mut dist = [0.0f64; N];
     for i in 0..len {
         let d = n_ref.dot(src[i].p) - d_ref;
         if d <= margin {
@@ -161,7 +204,7 @@ pub(crate) fn face_manifold<R: Polytope + ?Sized, I: Polytope + ?Sized>(
 }
 
 /// Chooses at most 4 of `n` points (position, distance) that keep the
-/// manifold's support area: the deepest point, the point farthest from it,
+/// manifold's support area: the deepest point (see the tie rule inside), the point farthest from it,
 /// the point making the largest triangle with those two, and the point
 /// farthest outside that triangle (the usual heuristic of Bullet's and Jolt's
 /// contact reduction). Returns indices in increasing order.
@@ -189,7 +232,24 @@ pub(crate) fn reduce_to_four(
         }
         (best, best_s)
     };
-    let (i0, _) = argmax(&|i| -get(i).1);
+    // Deepest point; depths equal within TIE x (manifold size) (a flat resting
+    // face) are told apart by position along a fixed tangent, so that the
+    // choice does not flip under round-off (feature ids must stay put for
+    // warm starting). The kept depth is then within that tolerance of the
+    // deepest.
+    const TIE: f64 = 1e-5;
+    let (deepest, _) = argmax(&|i| -get(i).1);
+    let pd = get(deepest).0;
+    let size = (0..n).map(|i| (get(i).0 - pd).length()).fold(0.0, f64::max);
+    let dmin = get(deepest).1;
+    let tangent = normal.any_orthonormal_vector();
+    let (i0, _) = argmax(&|i| {
+        if get(i).1 <= dmin + TIE * size {
+            get(i).0.dot(tangent)
+        } else {
+            f64::NEG_INFINITY
+        }
+    });
     let p0 = get(i0).0;
     let (i1, _) = argmax(&|i| (get(i).0 - p0).length_squared());
     let p1 = get(i1).0;

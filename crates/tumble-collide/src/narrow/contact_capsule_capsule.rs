@@ -6,6 +6,7 @@
 use super::geometry::{closest_point_on_segment, closest_points_segments};
 use super::{capsule_feature, push_ball_ball};
 use crate::contact::Contact;
+use crate::math::DVec3;
 use crate::pose::Pose;
 use crate::shape::Capsule;
 
@@ -44,6 +45,7 @@ pub fn contact_capsule_capsule(
                     rb,
                     capsule_feature(s),
                     capsule_feature(t),
+                    u.any_orthonormal_vector(),
                     margin,
                     out,
                 );
@@ -54,6 +56,13 @@ pub fn contact_capsule_capsule(
         }
     }
     let (s, t, ca, cb) = closest_points_segments(p1, q1, p2, q2);
+    // Crossing cores: the common perpendicular, oriented from B's centre to A's.
+    let mut fallback = d1
+        .cross(d2)
+        .normalize_or(d1.normalize_or(DVec3::X).any_orthonormal_vector());
+    if fallback.dot((p1 + q1) - (p2 + q2)) < 0.0 {
+        fallback = -fallback;
+    }
     push_ball_ball(
         ca,
         ra,
@@ -61,6 +70,7 @@ pub fn contact_capsule_capsule(
         rb,
         capsule_feature(s),
         capsule_feature(t),
+        fallback,
         margin,
         out,
     );

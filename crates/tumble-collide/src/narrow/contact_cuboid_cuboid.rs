@@ -4,8 +4,7 @@
 //! edge-edge contact, sharing `clip` and the axis choice (face axes preferred
 //! within a tolerance) with the generic polytope routine.
 
-use super::clip::face_manifold;
-use super::contact_polytope_polytope::{choose_axis, push_edge_edge, Axis};
+use super::contact_polytope_polytope::{build_manifold, SatResult};
 use crate::contact::Contact;
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
@@ -101,15 +100,13 @@ pub fn contact_cuboid_cuboid(
         }
     }
     let scale = ha.max_element().max(hb.max_element());
-    match choose_axis(sep_a, face_a, sep_b, face_b, edge, scale) {
-        Axis::Face { of_a: true, face } => {
-            face_manifold(a, pose_a, face, b, pose_b, true, margin, out);
-        }
-        Axis::Face { of_a: false, face } => {
-            face_manifold(b, pose_b, face, a, pose_a, false, margin, out);
-        }
-        Axis::Edge { a: ea, b: eb, sep } => {
-            push_edge_edge(a, pose_a, ea, b, pose_b, eb, sep, margin, out);
-        }
-    }
+    let sat = SatResult {
+        sep_a,
+        face_a,
+        sep_b,
+        face_b,
+        edge,
+        scale,
+    };
+    build_manifold(a, pose_a, b, pose_b, &sat, margin, out);
 }

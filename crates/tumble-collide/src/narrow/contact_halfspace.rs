@@ -4,8 +4,8 @@
 //! or the vertices of a hull (reduced to the 4 that span the largest area).
 //! The half-space is always shape B; the normal is its outward plane normal.
 
+use super::capsule_feature;
 use super::clip::reduce_to_four;
-use super::{capsule_feature, push_ball_ball};
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::pose::Pose;
 use crate::shape::{Capsule, HalfSpace, Polytope, Sphere};
@@ -61,17 +61,16 @@ fn push_ball_plane(
     if dist - r > margin {
         return;
     }
-    // The plane acts like a ball of infinite radius: reuse the ball formula
-    // with B's centre at the projection of c.
-    let foot = c - n * dist;
-    let start = out.len();
-    push_ball_ball(c, r, foot, 0.0, fa, Feature::face(0), margin, out);
-    if let Some(ct) = out.get_mut(start) {
-        // Exact even for a centre below the plane (the ball formula would flip).
-        ct.normal = n;
-        ct.distance = dist - r;
-        ct.point = c - n * (r + 0.5 * ct.distance);
-    }
+    let distance = dist - r;
+    out.push(Contact {
+        // Midpoint of the ball's lowest point c - n r and its projection.
+        point: c - n * (r + 0.5 * distance),
+        normal: n,
+        distance,
+        kind: ContactKind::Smooth,
+        feature_a: fa,
+        feature_b: Feature::face(0),
+    });
 }
 
 /// Contacts between polytope A (box or convex hull) and half-space B: the

@@ -11,6 +11,7 @@
 
 use super::clip::face_manifold;
 use super::geometry::closest_points_segments;
+use super::gjk::{gjk_distance, PolytopeSupport};
 use crate::contact::{Contact, ContactKind};
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
@@ -99,7 +100,49 @@ pub fn contact_polytope_polytope<A: Polytope + ?Sized, B: Polytope + ?Sized>(
             return;
         }
     }
-    match choose_axis(sep_a, face_a, sep_b, face_b, edge, scale) {
+    let sat = SatResult {
+        sep_a,
+        face_a,
+        sep_b,
+        face_b,
+        edge,
+        scale,
+    };
+    build_manifold(a, pose_a, b, pose_b, &sat, margin, out);
+}
+
+/// What the separating axis test found (shared with the box-box routine).
+pub(crate) struct SatResult {
+    /// Best separation over A's face normals (m) and that face.
+    pub sep_a: f64,
+    pub face_a: usize,
+    /// Best separation over B's face normals (m) and that face.
+    pub sep_b: f64,
+    pub face_b: usize,
+    /// Best edge pair, if any: separation and the edges' vertex ids.
+    pub edge: Option<(f64, [usize; 2], [usize; 2])>,
+    /// Size of the shapes (m), for tolerances.
+    pub scale: f64,
+}
+
+/// The manifold for the winning axis. When the shapes are apart, the SAT
+/// value is only a lower bound of the distance, so GJK supplies the exact
+/// distance: nothing is reported beyond the margin, and if the face or edge
+/// contacts miss the closest features (corner against corner), a single
+/// contact at the GJK closest points replaces them.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
+    a: &A,
+    pose_a: &Pose,
+    b: &B,
+    pose_b: &Pose,
+    sat: &SatResult,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let start = out.len();
+    let axis = choose_axis(sat.sep_a, sat.face_a, sat.sep_b, sat.face_b, sat.edge, sat.scale);
+    match axis {
         Axis::Face { of_a: true, face } => {
             face_manifold(a, pose_a, face, b, pose_b, true, margin, out);
         }
@@ -110,6 +153,53 @@ pub fn contact_polytope_polytope<A: Polytope + ?Sized, B: Polytope + ?Sized>(
             push_edge_edge(a, pose_a, ea, b, pose_b, eb, sep, margin, out);
         }
     }
+    let max_sep = sat
+        .sep_a
+        .max(sat.sep_b)
+        .max(sat.edge.map_or(f64::NEG_INFINITY, |e| e.0));
+    if max_sep <= 0.0 {
+        return;
+    }
+    let ra = DMat3::from_quat(pose_a.rotation);
+    let rb = DMat3::from_quat(pose_b.rotation);
+    let g = gjk_distance(
+        &PolytopeSupport {
+            poly: a,
+            rot: ra,
+            trans: pose_a.position,
+        },
+        &PolytopeSupport {
+            poly: b,
+            rot: rb,
+            trans: pose_b.position,
+        },
+        sat.scale,
+    );
+    if g.overlap {
+        return;
+    }
+    if g.distance > margin {
+        out.truncate(start);
+        return;
+    }
+    let got = out[start..]
+        .iter()
+        .map(|c| c.distance)
+        .fold(f64::INFINITY, f64::min);
+    if got <= g.distance + 1e-9 * sat.scale {
+        return;
+    }
+    out.truncate(start);
+    let n = (g.point_a - g.point_b) / g.distance;
+    out.push(Contact {
+        point: (g.point_a + g.point_b) * 0.5,
+        normal: n,
+        distance: g.distance,
+        // Closest-point fallback: the features are the support vertices.
+        kind: ContactKind::VertexFace,
+        feature_a: a.vertex_feature(a.support_vertex(ra.transpose() * -n)),
+        feature_b: b.vertex_feature(b.support_vertex(rb.transpose() * n)),
+    });
 }
 
 fn extent<P: Polytope + ?Sized>(p: &P) -> f64 {
@@ -138,13 +228,20 @@ fn face_query<P: Polytope + ?Sized, Q: Polytope + ?Sized>(p: &P, q: &Q, r: DMat3
 /// Here a, b are the normals of the faces at an edge of A and c, d the
 /// negated normals at an edge of B (Gregorius 2013).
 fn is_minkowski_face(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
+    // c and d on opposite sides of the plane of arc (a, b) (cheap early out:
+    // most edge pairs fail here).
     let bxa = b.cross(a);
-    let dxc = d.cross(c);
     let cba = c.dot(bxa);
     let dba = d.dot(bxa);
+    if cba * dba >= 0.0 {
+        return false;
+    }
+    // a and b on opposite sides of the plane of arc (c, d), and the arcs on
+    // the same hemisphere (not antipodal crossings).
+    let dxc = d.cross(c);
     let adc = a.dot(dxc);
     let bdc = b.dot(dxc);
-    cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0
+    adc * bdc < 0.0 && cba * bdc > 0.0
 }
 
 /// Best edge pair axis (in A's frame), if any edge pair builds a face of the
@@ -157,19 +254,20 @@ pub(crate) fn edge_query<A: Polytope + ?Sized, B: Polytope + ?Sized>(
 ) -> Option<(f64, [usize; 2], [usize; 2])> {
     let ca = a.interior_point();
     let mut best: Option<(f64, [usize; 2], [usize; 2])> = None;
-    for ea in 0..a.edge_count() {
-        let ([a0, a1], [fa0, fa1]) = a.edge(ea);
-        let pa = a.vertex(a0 as usize);
-        let da = a.vertex(a1 as usize) - pa;
-        let (u1, u2) = (a.face_normal(fa0 as usize), a.face_normal(fa1 as usize));
-        for eb in 0..b.edge_count() {
-            let ([b0, b1], [fb0, fb1]) = b.edge(eb);
-            let (c1, c2) = (r * b.face_normal(fb0 as usize), r * b.face_normal(fb1 as usize));
+    // B's edges outside: each is rotated into A's frame once.
+    for eb in 0..b.edge_count() {
+        let ([b0, b1], [fb0, fb1]) = b.edge(eb);
+        let (c1, c2) = (r * b.face_normal(fb0 as usize), r * b.face_normal(fb1 as usize));
+        let pb = r * b.vertex(b0 as usize) + t;
+        let db = r * (b.vertex(b1 as usize) - b.vertex(b0 as usize));
+        for ea in 0..a.edge_count() {
+            let ([a0, a1], [fa0, fa1]) = a.edge(ea);
+            let (u1, u2) = (a.face_normal(fa0 as usize), a.face_normal(fa1 as usize));
             if !is_minkowski_face(u1, u2, -c1, -c2) {
                 continue;
             }
-            let pb = r * b.vertex(b0 as usize) + t;
-            let db = r * (b.vertex(b1 as usize) - b.vertex(b0 as usize));
+            let pa = a.vertex(a0 as usize);
+            let da = a.vertex(a1 as usize) - pa;
             let axis = da.cross(db);
             let len = axis.length();
             // Parallel edges: their axis is a face normal, already tested.

@@ -59,6 +59,9 @@ pub fn contact_capsule_polytope<P: Polytope + ?Sized>(
 /// face contacts are steadier.
 const EDGE_REL_BIAS: f64 = 0.05;
 const ABS_BIAS: f64 = 1e-6;
+/// A capsule counts as lying along a face when the sine of the angle between
+/// its axis and the face is at most this (about 3 degrees).
+pub(crate) const PARALLEL_SIN: f64 = 0.05;
 
 #[allow(clippy::too_many_arguments)]
 fn segment_polytope<P: Polytope + ?Sized>(
@@ -176,8 +179,28 @@ fn segment_polytope<P: Polytope + ?Sized>(
             return;
         }
     }
-    if face_sep - radius <= margin {
-        face_prism_manifold(s0, s1, radius, b, best_face, margin, &seg_feature, pose_b, out);
+    let want = face_sep - radius;
+    if want <= margin {
+        let start = out.len();
+        let ok = face_prism_manifold(s0, s1, radius, b, best_face, margin, &seg_feature, pose_b, out);
+        let got = out[start..]
+            .iter()
+            .map(|c| c.distance)
+            .fold(f64::INFINITY, f64::min);
+        if !ok || got > want + 1e-9 * scale {
+            // The deepest end lies outside the face's prism (the core dives
+            // under an edge): report it unclipped with the SAT depth, so that
+            // pushing out by the reported depth does separate.
+            out.truncate(start);
+            let n = b.face_normal(best_face);
+            let (p, t) = if n.dot(s0) <= n.dot(s1) {
+                (s0, 0.0)
+            } else {
+                (s1, 1.0)
+            };
+            let foot = p - n * (n.dot(p) - b.face_offset(best_face));
+            emit(n, p, foot, want, t, best_face, out);
+        }
     }
 }
 
@@ -225,7 +248,18 @@ fn face_prism_manifold<P: Polytope + ?Sized>(
         return false;
     }
     let same = (hi - lo) * dir.length() <= 1e-12 * (1.0 + s0.length());
-    let ts: &[f64] = if same { &[lo] } else { &[lo, hi] };
+    // Both clipped ends only when the core lies (nearly) along the face: for a
+    // slanted core the shallower end's point p - n r would sit inside the
+    // capsule (by r (1 - sqrt(1 - (n.u)^2))); then only the deeper end counts.
+    let len = dir.length();
+    let parallel = len > 0.0 && (n.dot(dir) / len).abs() <= PARALLEL_SIN;
+    let deeper = if n.dot(dir) >= 0.0 { lo } else { hi };
+    let both = [lo, hi];
+    let ts: &[f64] = if same || !parallel {
+        std::slice::from_ref(if same { &both[0] } else { &deeper })
+    } else {
+        &both
+    };
     for &t in ts {
         let p = s0 + dir * t;
         let dist = n.dot(p) - d - radius;

@@ -4,6 +4,7 @@
 use super::geometry::closest_point_on_segment;
 use super::{capsule_feature, push_ball_ball};
 use crate::contact::{Contact, Feature};
+use crate::math::DVec3;
 use crate::pose::Pose;
 use crate::shape::{Capsule, Sphere};
 
@@ -25,6 +26,8 @@ pub fn contact_sphere_capsule(
         b.radius(),
         Feature::WHOLE,
         capsule_feature(t),
+        // Centre on the core: any direction perpendicular to the core frees it.
+        (q - p).normalize_or(DVec3::X).any_orthonormal_vector(),
         margin,
         out,
     );

@@ -2,6 +2,7 @@
 
 use super::push_ball_ball;
 use crate::contact::{Contact, Feature};
+use crate::math::DVec3;
 use crate::pose::Pose;
 use crate::shape::Sphere;
 
@@ -21,6 +22,7 @@ pub fn contact_sphere_sphere(
         b.radius(),
         Feature::WHOLE,
         Feature::WHOLE,
+        DVec3::Z,
         margin,
         out,
     );

@@ -69,10 +69,6 @@ pub(crate) fn closest_points_segments(
     (s, t, p1 + d1 * s, p2 + d2 * t)
 }
 
-/// A unit vector perpendicular-ish fallback used when two centres coincide:
-/// deterministic, so coincident shapes are pushed apart along +z.
-pub(crate) const FALLBACK_NORMAL: DVec3 = DVec3::Z;
-
 #[cfg(test)]
 mod tests {
     use super::*;

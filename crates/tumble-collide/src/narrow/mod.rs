@@ -62,7 +62,9 @@ pub enum NarrowError {
 
 /// Contact between two balls: centres `ca`, `cb` with radii `ra`, `rb` (any
 /// of them may be the closest point of a capsule's core segment). Pushes it
-/// if the gap is at most `margin`.
+/// if the gap is at most `margin`. `fallback` is the normal used when the
+/// centres coincide (it must separate the cores, e.g. the common
+/// perpendicular of two crossing segments).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn push_ball_ball(
     ca: DVec3,
@@ -71,6 +73,7 @@ pub(crate) fn push_ball_ball(
     rb: f64,
     feature_a: Feature,
     feature_b: Feature,
+    fallback: DVec3,
     margin: f64,
     out: &mut Vec<Contact>,
 ) -> bool {
@@ -83,7 +86,7 @@ pub(crate) fn push_ball_ball(
     let normal = if len > 1e-12 * (ra + rb) {
         d / len
     } else {
-        geometry::FALLBACK_NORMAL
+        fallback
     };
     let pa = ca - normal * ra;
     let pb = cb + normal * rb;

@@ -1,1 +1,471 @@
+//! Narrow-phase tests against the brute-force oracles of `oracle`, and the
+//! manifold, symmetry, feature-stability and dispatch properties.
 
+use super::oracle::{boundary_distance, oshape, signed_distance};
+use super::*;
+use crate::math::{DQuat, DVec3};
+use crate::mesh::{cylinder_mesh, icosphere_mesh};
+use crate::pose::Pose;
+use crate::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, Shape, Sphere};
+use proptest::prelude::*;
+
+fn library() -> Vec<Shape> {
+    vec![
+        Sphere::new(0.4).unwrap().into(),
+        Cuboid::new(DVec3::new(0.5, 0.3, 0.2)).unwrap().into(),
+        Capsule::new(0.25, 0.4).unwrap().into(),
+        ConvexHull::from_mesh(&cylinder_mesh(0.4, 0.3, 7).unwrap())
+            .unwrap()
+            .into(),
+        ConvexHull::from_mesh(&icosphere_mesh(0.5, 0).unwrap())
+            .unwrap()
+            .into(),
+        HalfSpace::ground().into(),
+    ]
+}
+
+fn is_poly(s: &Shape) -> bool {
+    matches!(s, Shape::Cuboid(_) | Shape::ConvexHull(_))
+}
+
+fn pose(p: [f64; 3], r: [f64; 3]) -> Pose {
+    Pose::new(
+        DVec3::from_array(p),
+        DQuat::from_euler(glam::EulerRot::ZYX, r[0], r[1], r[2]),
+    )
+    .unwrap()
+}
+
+fn contacts(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose, margin: f64) -> Vec<Contact> {
+    let mut out = Vec::new();
+    contact_shapes(a, pa, b, pb, margin, &mut out).unwrap();
+    out
+}
+
+fn min_distance(cs: &[Contact]) -> Option<&Contact> {
+    cs.iter().min_by(|x, y| x.distance.total_cmp(&y.distance))
+}
+
+/// Distance from `p` to the surface that produced a contact: the end sphere
+/// for a capsule's end feature (the other end's contact may lie inside the
+/// capsule's body when it dips steeply, by design), else the whole boundary.
+fn side_distance(s: &Shape, pose: &Pose, o: &super::oracle::OShape, f: Feature, p: DVec3) -> f64 {
+    if let (Shape::Capsule(c), crate::contact::SubFeature::Vertex(k)) = (s, f.sub) {
+        let end = c.world_segment(pose)[k as usize];
+        return ((p - end).length() - c.radius()).abs();
+    }
+    boundary_distance(o, p)
+}
+
+const MARGIN: f64 = 0.15;
+const TOL: f64 = 1e-6;
+
+/// Checks one configuration of one pair against the oracle; returns a
+/// description of the first violation.
+fn check_pair(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> Result<(), String> {
+    let oa = oshape(a, pa);
+    let ob = oshape(b, pb);
+    let d = signed_distance(&oa, &ob);
+    let cs = contacts(a, pa, b, pb, MARGIN);
+    let both_poly = is_poly(a) && is_poly(b);
+    // SAT (polytope pairs, capsule in polytope) prefers a face axis up to 5 %
+    // deeper than the best axis.
+    let capsule = |s: &Shape| matches!(s, Shape::Capsule(_));
+    let biased = both_poly || (is_poly(a) && capsule(b)) || (capsule(a) && is_poly(b));
+    let slack = if biased && d < 0.0 { 0.06 * d.abs() } else { 0.0 };
+    let ctx = || {
+        format!(
+            "{} vs {}: oracle {d:.9}, contacts {cs:#?}",
+            a.kind_name(),
+            b.kind_name()
+        )
+    };
+    if d > MARGIN + TOL && !cs.is_empty() {
+        return Err(format!("reported beyond the margin: {}", ctx()));
+    }
+    for c in &cs {
+        if (c.normal.length() - 1.0).abs() > 1e-9 {
+            return Err(format!("normal not unit: {}", ctx()));
+        }
+        if c.distance > MARGIN + 1e-12 {
+            return Err(format!("distance above margin: {}", ctx()));
+        }
+        if c.distance < d - slack - TOL {
+            return Err(format!("contact deeper than the shapes overlap: {}", ctx()));
+        }
+        // The point lies between the surfaces.
+        // A capsule lying along a face within PARALLEL_SIN gets contact points
+        // up to r (1 - sqrt(1 - 0.05^2)) inside its surface (r = 0.25 here).
+        let lim = c.distance.abs() + TOL + if c.kind == ContactKind::Smooth { 4e-4 } else { 0.0 };
+        let (da, db) = (
+            side_distance(a, pa, &oa, c.feature_a, c.point),
+            side_distance(b, pb, &ob, c.feature_b, c.point),
+        );
+        // Only for shallow overlaps (a simulation's regime): when a core dives
+        // deep under a polytope's edge the contact point is a stand-in.
+        if d > -0.05 && (da > lim || db > lim) {
+            return Err(format!(
+                "point not between the surfaces ({} / {} for {:?}): {}",
+                da,
+                db,
+                c.point,
+                ctx()
+            ));
+        }
+    }
+    if d <= MARGIN - TOL {
+        let Some(m) = min_distance(&cs) else {
+            return Err(format!("nothing reported within the margin: {}", ctx()));
+        };
+        // 1e-5 x size: manifold reduction breaks depth ties (see clip.rs).
+        if m.distance > d + slack + 2e-5 {
+            return Err(format!("minimum distance too large: {}", ctx()));
+        }
+    }
+    if let Some(m) = min_distance(&cs) {
+        // The normal points from B to A: moving A along it separates.
+        let delta = 1e-3;
+        let moved = Pose::from_translation(pa.position + m.normal * delta);
+        let moved = Pose {
+            rotation: pa.rotation,
+            ..moved
+        };
+        let d2 = signed_distance(&oshape(a, &moved), &ob);
+        if d2 < d + 0.2 * delta - slack {
+            return Err(format!(
+                "normal does not point from B to A (d2 = {d2}): {}",
+                ctx()
+            ));
+        }
+        // Pushing A out by the reported depth makes the shapes touch.
+        if m.distance < -1e-3 {
+            let out_pose = Pose {
+                position: pa.position - m.normal * m.distance,
+                rotation: pa.rotation,
+            };
+            let d3 = signed_distance(&oshape(a, &out_pose), &ob);
+            if d3 < -TOL - 1e-9 || d3 > slack + 1e-6 {
+                return Err(format!(
+                    "push-out by the depth does not touch (d3 = {d3}): {}",
+                    ctx()
+                ));
+            }
+            let touching = contacts(a, &out_pose, b, pb, slack + 1e-6);
+            match min_distance(&touching) {
+                Some(t) if t.distance.abs() <= slack + 1e-6 => {}
+                _ => {
+                    let wide = contacts(a, &out_pose, b, pb, 0.1);
+                    return Err(format!(
+                        "touching pair not reported at zero distance: {touching:?} (margin 0.1: {wide:?}) {}",
+                        ctx()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn arb_pose(reach: f64) -> impl Strategy<Value = Pose> {
+    (
+        prop::array::uniform3(-reach..reach),
+        prop::array::uniform3(-3.2f64..3.2),
+    )
+        .prop_map(|(p, r)| pose(p, r))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    #[test]
+    fn every_pair_matches_the_oracle(pa in arb_pose(0.9), pb in arb_pose(0.2)) {
+        let lib = library();
+        for a in &lib {
+            for b in &lib {
+                if matches!((a, b), (Shape::HalfSpace(_), Shape::HalfSpace(_))) {
+                    continue;
+                }
+                if let Err(e) = check_pair(a, &pa, b, &pb) {
+                    prop_assert!(false, "{}", e);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn mirrored_pairs_give_flipped_contacts(pa in arb_pose(0.9), pb in arb_pose(0.2)) {
+        let lib = library();
+        for (i, a) in lib.iter().enumerate() {
+            for b in &lib[i + 1..] {
+                if std::mem::discriminant(a) == std::mem::discriminant(b) {
+                    continue;
+                }
+                let ab = contacts(a, &pa, b, &pb, MARGIN);
+                let ba = contacts(b, &pb, a, &pa, MARGIN);
+                let flipped: Vec<Contact> = ab.iter().map(|c| c.flipped()).collect();
+                prop_assert_eq!(ba, flipped);
+            }
+        }
+    }
+}
+
+fn unit_box() -> Shape {
+    Cuboid::new(DVec3::splat(0.5)).unwrap().into()
+}
+
+/// Corners of the overlap rectangle of two unit boxes offset by (0.3, 0.3)
+/// horizontally and resting with 1 cm of overlap, in any yaw and position.
+#[test]
+fn box_resting_on_box_gives_the_overlap_rectangle() {
+    let b = unit_box();
+    for (yaw, shift) in [
+        (0.0, DVec3::ZERO),
+        (0.7, DVec3::new(3.0, -2.0, 1.0)),
+        (-2.1, DVec3::new(-1.0, 0.5, -4.0)),
+    ] {
+        let frame = Pose::new(shift, DQuat::from_rotation_z(yaw)).unwrap();
+        let pa = frame.mul_pose(&Pose::from_translation(DVec3::new(0.3, 0.3, 0.99)));
+        let pb = frame;
+        let cs = contacts(&b, &pa, &b, &pb, 0.0);
+        assert_eq!(cs.len(), 4, "{cs:#?}");
+        let mut expected = vec![];
+        for x in [-0.2, 0.5] {
+            for y in [-0.2, 0.5] {
+                expected.push(frame.transform_point(DVec3::new(x, y, 0.495)));
+            }
+        }
+        for c in &cs {
+            assert!((c.distance + 0.01).abs() < 1e-12, "{c:?}");
+            assert!((c.normal - frame.transform_vector(DVec3::Z)).length() < 1e-12);
+            assert!(expected.iter().any(|e| (*e - c.point).length() < 1e-12), "{c:?}");
+            assert_eq!(c.kind, ContactKind::FaceFace);
+        }
+        // The manifold is the same seen from the other box.
+        let ba = contacts(&b, &pb, &b, &pa, 0.0);
+        assert_eq!(ba.len(), 4);
+        for c in &ba {
+            assert!((c.normal + frame.transform_vector(DVec3::Z)).length() < 1e-12);
+            assert!(expected.iter().any(|e| (*e - c.point).length() < 1e-12));
+        }
+    }
+}
+
+#[test]
+fn box_on_half_space_gives_its_corners() {
+    let b: Shape = Cuboid::new(DVec3::new(0.5, 0.3, 0.2)).unwrap().into();
+    let ground: Shape = HalfSpace::ground().into();
+    let cs = contacts(
+        &b,
+        &Pose::from_translation(DVec3::new(1.0, 2.0, 0.19)),
+        &ground,
+        &Pose::IDENTITY,
+        0.0,
+    );
+    assert_eq!(cs.len(), 4);
+    for c in &cs {
+        assert!((c.distance + 0.01).abs() < 1e-12);
+        assert_eq!(c.normal, DVec3::Z);
+        assert!(
+            ((c.point.x - 1.0).abs() - 0.5).abs() < 1e-12 && ((c.point.y - 2.0).abs() - 0.3).abs() < 1e-12
+        );
+        assert!((c.point.z + 0.005).abs() < 1e-12);
+    }
+}
+
+/// A box tilted about x by 0.3 rad: only its two lowest corners (the bottom
+/// edge along x) are within a 1 cm margin, at the heights z = c - (h_y sin + h_z cos).
+#[test]
+fn tilted_box_on_half_space_gives_the_lowest_corners() {
+    let h = DVec3::new(0.5, 0.3, 0.2);
+    let b: Shape = Cuboid::new(h).unwrap().into();
+    let ground: Shape = HalfSpace::ground().into();
+    let th: f64 = 0.3;
+    let low = h.y * th.sin() + h.z * th.cos();
+    let centre_z = low - 0.004; // 4 mm deep
+    let pa = Pose::new(DVec3::new(0.0, 0.0, centre_z), DQuat::from_rotation_x(th)).unwrap();
+    let cs = contacts(&b, &pa, &ground, &Pose::IDENTITY, 0.01);
+    assert_eq!(cs.len(), 2, "{cs:#?}");
+    let second = h.z * th.cos() - h.y * th.sin(); // next corner pair is higher
+    assert!(centre_z - second > 0.01);
+    for c in &cs {
+        assert!((c.distance + 0.004).abs() < 1e-12);
+        let corner = c.point + DVec3::Z * (0.5 * c.distance);
+        let local = pa.inverse_transform_point(corner);
+        assert!(((local.abs() - h).length()) < 1e-12, "not a corner: {local}");
+        assert!(local.y < 0.0 && local.z < 0.0);
+    }
+}
+
+#[test]
+fn capsule_lying_on_box_and_capsule_gives_two_contacts() {
+    let cap: Shape = Capsule::new(0.1, 0.3).unwrap().into();
+    let lying = Pose::new(
+        DVec3::new(0.05, 0.0, 0.5 + 0.099),
+        DQuat::from_rotation_y(std::f64::consts::FRAC_PI_2),
+    )
+    .unwrap();
+    let cs = contacts(&cap, &lying, &unit_box(), &Pose::IDENTITY, 0.0);
+    assert_eq!(cs.len(), 2, "{cs:#?}");
+    for c in &cs {
+        assert!((c.distance + 0.001).abs() < 1e-12);
+        assert!((c.normal - DVec3::Z).length() < 1e-12);
+        assert!(((c.point.x - 0.05).abs() - 0.3).abs() < 1e-12);
+    }
+    let below = Pose::new(DVec3::new(0.0, 0.0, 0.0), lying.rotation).unwrap();
+    let cs = contacts(
+        &cap,
+        &Pose {
+            position: DVec3::new(0.1, 0.0, 0.19),
+            ..lying
+        },
+        &cap,
+        &below,
+        0.0,
+    );
+    assert_eq!(cs.len(), 2, "{cs:#?}");
+    for c in &cs {
+        assert!((c.distance + 0.01).abs() < 1e-12);
+        assert!((c.normal - DVec3::Z).length() < 1e-12);
+    }
+}
+
+/// Face contacts keep their feature ids under a 1e-6 perturbation.
+#[test]
+fn feature_ids_are_stable_under_tiny_motion() {
+    let lib = library();
+    let resting = [
+        (1usize, 1usize, DVec3::new(0.1, 0.05, 0.395)),
+        (1, 5, DVec3::new(0.0, 0.0, 0.195)),
+        (3, 3, DVec3::new(0.05, 0.02, 0.595)),
+        (3, 1, DVec3::new(0.1, 0.0, 0.495)),
+        (2, 1, DVec3::new(0.0, 0.0, 0.2 + 0.25 + 0.4 - 0.005)),
+    ];
+    for (ia, ib, p) in resting {
+        let (a, b) = (&lib[ia], &lib[ib]);
+        let base = Pose::from_translation(p);
+        let ids = |pa: &Pose| -> Vec<(Feature, Feature)> {
+            contacts(a, pa, b, &Pose::IDENTITY, 0.01)
+                .iter()
+                .map(|c| (c.feature_a, c.feature_b))
+                .collect()
+        };
+        let before = ids(&base);
+        assert!(!before.is_empty(), "{} on {}", a.kind_name(), b.kind_name());
+        for k in 0..6 {
+            let mut dp = DVec3::ZERO;
+            dp[k % 3] = if k < 3 { 1e-6 } else { -1e-6 };
+            let q = DQuat::from_scaled_axis(DVec3::new(dp.z, dp.x, dp.y));
+            let moved = Pose::new(p + dp, q).unwrap();
+            assert_eq!(ids(&moved), before, "{} on {}", a.kind_name(), b.kind_name());
+        }
+    }
+}
+
+#[test]
+fn dispatch_covers_every_pair_but_half_space_pairs() {
+    let lib = library();
+    for a in &lib {
+        for b in &lib {
+            let mut out = Vec::new();
+            let r = contact_shapes(
+                a,
+                &Pose::IDENTITY,
+                b,
+                &Pose::from_translation(DVec3::X),
+                0.1,
+                &mut out,
+            );
+            if matches!((a, b), (Shape::HalfSpace(_), Shape::HalfSpace(_))) {
+                assert_eq!(
+                    r,
+                    Err(NarrowError::Unsupported {
+                        a: "half_space",
+                        b: "half_space"
+                    })
+                );
+            } else {
+                assert_eq!(r, Ok(()), "{} vs {}", a.kind_name(), b.kind_name());
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let s = &lib[0];
+    for m in [-1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            contact_shapes(s, &Pose::IDENTITY, s, &Pose::IDENTITY, m, &mut out),
+            Err(NarrowError::BadMargin(_))
+        ));
+    }
+}
+
+/// Sphere-sphere against the closed form, including the exact contact point.
+#[test]
+fn sphere_sphere_closed_form() {
+    let a: Shape = Sphere::new(0.3).unwrap().into();
+    let b: Shape = Sphere::new(0.5).unwrap().into();
+    let pa = Pose::from_translation(DVec3::new(0.6, 0.0, 0.0));
+    let cs = contacts(&a, &pa, &b, &Pose::IDENTITY, 0.0);
+    assert_eq!(cs.len(), 1);
+    assert!((cs[0].distance + 0.2).abs() < 1e-15);
+    assert_eq!(cs[0].normal, DVec3::X);
+    // Surface points 0.3 and 0.5 on x; midpoint 0.4.
+    assert!((cs[0].point - DVec3::new(0.4, 0.0, 0.0)).length() < 1e-15);
+}
+
+/// A unit box turned 45 degrees on a larger box: the overlap is an octagon
+/// (8 clipped points), reduced to 4 that lie on it, all at the same depth.
+#[test]
+fn turned_box_on_box_is_reduced_to_four_points_of_the_octagon() {
+    let small = unit_box();
+    let big: Shape = Cuboid::new(DVec3::new(0.6, 0.6, 0.5)).unwrap().into();
+    let pa = Pose::new(
+        DVec3::new(0.0, 0.0, 0.995),
+        DQuat::from_rotation_z(std::f64::consts::FRAC_PI_4),
+    )
+    .unwrap();
+    let cs = contacts(&small, &pa, &big, &Pose::IDENTITY, 0.0);
+    assert_eq!(cs.len(), 4, "{cs:#?}");
+    for c in &cs {
+        assert!((c.distance + 0.005).abs() < 1e-12);
+        // On the boundary of the octagon: inside both squares, on the edge of one.
+        let p = c.point;
+        let in_big = p.x.abs() <= 0.6 + 1e-12 && p.y.abs() <= 0.6 + 1e-12;
+        let diamond = (p.x.abs() + p.y.abs()) / std::f64::consts::SQRT_2; // rotated square's "radius"
+        let in_small = diamond <= 0.5 + 1e-12;
+        let on_edge = (p.x.abs() - 0.6).abs() < 1e-12
+            || (p.y.abs() - 0.6).abs() < 1e-12
+            || (diamond - 0.5).abs() < 1e-12;
+        assert!(in_big && in_small && on_edge, "{p}");
+    }
+    // The four points span the octagon rather than bunching on one side.
+    let centroid = cs.iter().map(|c| c.point).sum::<DVec3>() / 4.0;
+    assert!(centroid.truncate().length() < 0.2, "{centroid}");
+}
+
+/// Same input, same output, bit for bit (no hidden state, no hashing).
+#[test]
+fn results_are_deterministic() {
+    let lib = library();
+    let pa = pose([0.3, -0.2, 0.35], [0.4, -0.3, 1.1]);
+    let pb = pose([0.0, 0.1, -0.1], [-0.2, 0.5, 0.3]);
+    for a in &lib {
+        for b in &lib {
+            if matches!((a, b), (Shape::HalfSpace(_), Shape::HalfSpace(_))) {
+                continue;
+            }
+            let first = contacts(a, &pa, b, &pb, MARGIN);
+            let second = contacts(a, &pa, b, &pb, MARGIN);
+            let bits = |cs: &[Contact]| -> Vec<u64> {
+                cs.iter()
+                    .flat_map(|c| {
+                        [
+                            c.point.x, c.point.y, c.point.z, c.normal.x, c.normal.y, c.normal.z, c.distance,
+                        ]
+                    })
+                    .map(f64::to_bits)
+                    .collect()
+            };
+            assert_eq!(bits(&first), bits(&second));
+            assert_eq!(first, second);
+        }
+    }
+}

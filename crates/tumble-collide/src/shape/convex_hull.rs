@@ -154,6 +154,9 @@ impl ConvexHull {
                     }
                 }
             }
+            if boundary.is_empty() {
+                return Err(ShapeError::BadFace { face: g });
+            }
             let normal = nsum.normalize();
             let start = corners.len();
             let mut cur = boundary[0];

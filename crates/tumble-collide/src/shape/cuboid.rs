@@ -160,6 +160,15 @@ mod tests {
             let area2 = (c[1] - c[0]).cross(c[2] - c[0]);
             assert!(area2.dot(n) > 0.0);
         }
+        let mut keys: Vec<(u32, u32)> = (0..12)
+            .map(|e| {
+                let ([a, bb], _) = b.edge(e);
+                (a.min(bb), a.max(bb))
+            })
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        assert_eq!(keys.len(), 12, "edges must be distinct");
         for e in 0..12 {
             let ([a, bb], [f0, f1]) = b.edge(e);
             let on = |f: u32, v: u32| (0..4).any(|k| b.face_vertex(f as usize, k) == v as usize);

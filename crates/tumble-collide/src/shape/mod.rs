@@ -24,6 +24,9 @@ pub use halfspace::HalfSpace;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
 
+#[cfg(test)]
+mod tests;
+
 use crate::hull::HullError;
 use crate::math::DVec3;
 use crate::mesh::MeshError;

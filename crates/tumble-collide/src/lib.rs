@@ -9,15 +9,18 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`bvh`]: the OBBTree: build, box tests, tree-tree and tree-volume traversal.
 
 #![warn(missing_docs)]
 
+pub mod bvh;
 pub mod contact;
 pub mod hull;
 pub mod math;
 pub mod mesh;
 pub mod pose;
 
+pub use bvh::{ObbTree, TraversalStats, Traverse};
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;

@@ -34,7 +34,8 @@ pub fn triangle_covariance(tris: impl IntoIterator<Item = [DVec3; 3]>) -> Option
         let outer = |v: DVec3| DMat3::from_cols(v * v.x, v * v.y, v * v.z);
         second += (outer(m) * 9.0 + outer(p) + outer(q) + outer(r)) * (a / 12.0);
     }
-    if !(area > 1e-14 * len2) {
+    // Written so that a NaN area also counts as degenerate.
+    if area.is_nan() || area <= 1e-14 * len2 {
         return None;
     }
     let mu = first / area;

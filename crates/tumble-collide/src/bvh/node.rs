@@ -1,20 +1,24 @@
-//! The memory-compact tree node: an f32 oriented box (64 bytes in all) whose
+//! The memory-compact tree node: an f32 oriented box (44 bytes in all) whose
 //! half extents are rounded outward so that the stored box provably contains
-//! every vertex it bounds (thesis 5.4.2 on memory; PQP's `BV`).
+//! every vertex it bounds (thesis 5.4.2 on memory; PQP's `BV`, which spends
+//! 9 floats on a rotation matrix where a quaternion needs 4).
 //!
-//! Conservative rounding: the centre and axes are first rounded to f32, then
-//! the half extents are recomputed in f64 from the *rounded* centre and axes,
-//! padded by a relative `AXIS_PAD` (the f32 axes are orthonormal only to
-//! ~1e-7, and the separating axis test assumes orthonormality) and rounded up
-//! to the next f32. Checking `|a_k . (v - c)| <= h_k` in f64 with the stored
-//! values therefore holds for every vertex with no further tolerance.
+//! Conservative rounding: the orientation (a quaternion) and the centre are
+//! first rounded to f32; the axes used everywhere are the f64 rotation matrix
+//! of the stored quaternion normalised in f64, so they are orthonormal to f64
+//! precision. The half extents are then recomputed in f64 from the *rounded*
+//! centre and axes, padded by a relative `AXIS_PAD` (f64 round-off of the box
+//! tests, which also see the centre's magnitude) and rounded up to the next
+//! f32. Checking `|a_k . (v - c)| <= h_k` in f64 with the stored values
+//! therefore holds for every vertex with no further tolerance.
 
 use super::obb::Obb;
-use crate::math::{DMat3, DVec3};
+use crate::math::{DMat3, DQuat, DVec3};
 
-/// Relative pad on the half extents (fraction of the half diagonal) that
-/// covers the non-orthonormality of f32 axes (|A^T A - I| ~ 1e-7).
-pub const AXIS_PAD: f64 = 1e-6;
+/// Relative pad on the half extents, as a fraction of `|h| + |c|` (half
+/// diagonal plus distance of the centre from the mesh origin): covers the f64
+/// round-off of the relative frames computed during traversal.
+pub const AXIS_PAD: f64 = 1e-9;
 
 /// Bit marking a leaf in [`Node::link`].
 const LEAF_BIT: u32 = 1 << 31;
@@ -32,8 +36,9 @@ pub const MAX_TRIANGLES: usize = 1 << 28;
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[repr(C)]
 pub struct Node {
-    /// Box axes, column-major (axis 0, axis 1, axis 2), in the mesh frame.
-    pub axes: [f32; 9],
+    /// Box orientation in the mesh frame, quaternion (x, y, z, w); the box
+    /// axes are the columns of its rotation matrix (normalised in f64).
+    pub rot: [f32; 4],
     /// Box centre in the mesh frame (m).
     pub center: [f32; 3],
     /// Half extents along the axes (m), rounded outward.
@@ -56,10 +61,11 @@ impl Node {
     /// A node with the orientation and centre of `obb` (rounded to f32) and
     /// half extents recomputed so that every point of `points` is inside.
     pub fn conservative(obb: &Obb, points: impl Iterator<Item = DVec3> + Clone) -> Node {
-        let axes: [f32; 9] = obb.axes.to_cols_array().map(|x| x as f32);
+        let q = DQuat::from_mat3(&obb.axes).normalize();
+        let rot = q.to_array().map(|x| x as f32);
         let center = obb.center.to_array().map(|x| x as f32);
         let mut node = Node {
-            axes,
+            rot,
             center,
             half: [0.0; 3],
             link: 0,
@@ -69,15 +75,22 @@ impl Node {
         for p in points {
             h = h.max((a.transpose() * (p - c)).abs());
         }
-        let pad = AXIS_PAD * h.length();
+        let pad = AXIS_PAD * (h.length() + c.length());
         node.half = (h + DVec3::splat(pad)).to_array().map(round_up);
         node
     }
 
-    /// The axes as an f64 matrix (columns).
+    /// The orientation as a unit f64 quaternion.
+    #[inline]
+    pub fn quat_f64(&self) -> DQuat {
+        let [x, y, z, w] = self.rot.map(|v| v as f64);
+        DQuat::from_xyzw(x, y, z, w).normalize()
+    }
+
+    /// The axes as an f64 rotation matrix (columns).
     #[inline]
     pub fn axes_f64(&self) -> DMat3 {
-        DMat3::from_cols_array(&self.axes.map(|x| x as f64))
+        DMat3::from_quat(self.quat_f64())
     }
 
     /// The centre in f64 (m).
@@ -96,7 +109,7 @@ impl Node {
         [self.half[0] as f64, self.half[1] as f64, self.half[2] as f64]
     }
 
-    /// The box as an f64 [`Obb`] (axes as stored, not re-orthonormalised).
+    /// The box as an f64 [`Obb`].
     pub fn obb(&self) -> Obb {
         Obb {
             center: self.center_f64(),
@@ -146,17 +159,18 @@ impl Node {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::DQuat;
 
     #[test]
-    fn node_is_64_bytes() {
-        assert_eq!(std::mem::size_of::<Node>(), 64);
+    fn node_is_44_bytes() {
+        assert_eq!(std::mem::size_of::<Node>(), 44);
     }
 
     #[test]
     fn link_round_trips() {
-        let mut n = Node::default();
-        n.link = Node::leaf_link(MAX_TRIANGLES - 1, 7);
+        let mut n = Node {
+            link: Node::leaf_link(MAX_TRIANGLES - 1, 7),
+            ..Node::default()
+        };
         assert!(n.is_leaf());
         assert_eq!(n.leaf_range(), (MAX_TRIANGLES as u32 - 1, 7));
         n.link = 12345;

@@ -224,8 +224,13 @@ mod tests {
             let mut pb = s;
             for _ in 0..400 {
                 let pa = clamp(a, pb);
-                pb = clamp(b, pa);
-                best = best.min((pa - pb).length());
+                let next = clamp(b, pa);
+                best = best.min((pa - next).length());
+                let moved = (next - pb).length();
+                pb = next;
+                if moved < 1e-13 {
+                    break;
+                }
             }
         }
         best

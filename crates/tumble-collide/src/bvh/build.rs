@@ -345,6 +345,29 @@ mod tests {
         assert!(tree.stats().flat_fallbacks > 0);
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+        /// Random triangle soups, with vertices snapped to a coarse grid so
+        /// that duplicate points, coplanar sets and zero-area triangles are
+        /// common: the tree must still contain every triangle.
+        #[test]
+        fn random_soups_are_contained(seed in 0u64..u64::MAX, n in 1usize..120, leaf_size in 1usize..=7, snap in proptest::bool::ANY) {
+            let mut r = crate::bvh::traverse::tests::rng(seed);
+            let mut v = Vec::new();
+            for _ in 0..3 * n {
+                let mut p = DVec3::new(r(), r(), r()) * 4.0 - DVec3::splat(2.0);
+                if snap {
+                    p = (p * 2.0).round() * 0.5;
+                }
+                v.push(p);
+            }
+            let t: Vec<[u32; 3]> = (0..n as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+            let mesh = TriMesh::new(v, t).unwrap();
+            let tree = ObbTree::build_with(&mesh, &BuildOptions { leaf_size }).unwrap();
+            check_tree(&mesh, &tree, leaf_size);
+        }
+    }
+
     #[test]
     fn bad_options_are_errors() {
         let mesh = icosphere_mesh(1.0, 0).unwrap();

@@ -81,10 +81,18 @@ impl Node {
     }
 
     /// The orientation as a unit f64 quaternion.
+    ///
+    /// The stored f32 quaternion has `|q|^2 = 1 + e` with `|e| < 1e-6`; one
+    /// Newton step for `1 / sqrt(s)` from 1, `(3 - s) / 2`, normalises it to
+    /// `O(e^2) < 1e-12` without a square root or division (this runs for every
+    /// box test), and the result is deterministic, so build-time containment
+    /// and traversal see the very same axes.
     #[inline]
     pub fn quat_f64(&self) -> DQuat {
         let [x, y, z, w] = self.rot.map(|v| v as f64);
-        DQuat::from_xyzw(x, y, z, w).normalize()
+        let s = x * x + y * y + z * z + w * w;
+        let k = 1.5 - 0.5 * s;
+        DQuat::from_xyzw(x * k, y * k, z * k, w * k)
     }
 
     /// The axes as an f64 rotation matrix (columns).

@@ -87,7 +87,9 @@ struct Face {
     n: DVec3,
     /// `adj[k]`: face across edge `v[k] -> v[k+1]`.
     adj: [u32; 3],
-    outside: Vec<u32>,
+    /// First point of the outside set, linked through `Quickhull::next`
+    /// (an intrusive list: no allocation per face).
+    outside: u32,
     /// Farthest outside point and its distance.
     far: u32,
     far_dist: f64,
@@ -101,6 +103,8 @@ struct Quickhull<'a> {
     p: &'a [DVec3],
     eps: f64,
     faces: Vec<Face>,
+    /// Next point in the same outside set, per point.
+    next: Vec<u32>,
     stamp: u32,
     /// Per point: new face whose horizon edge starts at it (during one step).
     start_face: Vec<u32>,
@@ -123,6 +127,7 @@ impl<'a> Quickhull<'a> {
             p,
             eps,
             faces: Vec::new(),
+            next: vec![NONE; p.len()],
             stamp: 0,
             start_face: vec![NONE; p.len()],
             start_stamp: vec![0; p.len()],
@@ -145,7 +150,7 @@ impl<'a> Quickhull<'a> {
             v,
             n,
             adj: [NONE; 3],
-            outside: Vec::new(),
+            outside: NONE,
             far: NONE,
             far_dist: 0.0,
             alive: true,
@@ -256,7 +261,8 @@ impl<'a> Quickhull<'a> {
 
     fn add_outside(&mut self, f: usize, i: u32, d: f64) {
         let face = &mut self.faces[f];
-        face.outside.push(i);
+        self.next[i as usize] = face.outside;
+        face.outside = i;
         if d > face.far_dist {
             face.far_dist = d;
             face.far = i;
@@ -270,9 +276,10 @@ impl<'a> Quickhull<'a> {
         let mut horizon: Vec<(u32, u32, u32)> = Vec::new();
         let mut dfs: Vec<u32> = Vec::new();
         let mut new_faces: Vec<u32> = Vec::new();
+        let mut planes: Vec<(DVec3, f64)> = Vec::new();
         while let Some(f0) = work.pop() {
             let f0 = f0 as usize;
-            if !self.faces[f0].alive || self.faces[f0].outside.is_empty() {
+            if !self.faces[f0].alive || self.faces[f0].outside == NONE {
                 continue;
             }
             let apex = self.faces[f0].far;
@@ -347,25 +354,37 @@ impl<'a> Quickhull<'a> {
                 self.faces[id as usize].adj[1] = next;
                 self.faces[next as usize].adj[2] = id;
             }
-            // Redistribute the outside points of the deleted faces.
+            // Redistribute the outside points of the deleted faces. This is
+            // the hot loop of the whole hull: the new planes are copied into a
+            // contiguous array (normal, offset) so the test is one dot product
+            // over cache-resident data; the offset form loses only ~ulp(|x|),
+            // which the magnitude term of eps covers.
+            planes.clear();
+            planes.extend(new_faces.iter().map(|&nf| {
+                let f = &self.faces[nf as usize];
+                (f.n, f.n.dot(self.p[f.v[0] as usize]))
+            }));
             for &f in &visible {
                 self.faces[f as usize].alive = false;
-                let pts = std::mem::take(&mut self.faces[f as usize].outside);
-                for i in pts {
+                let mut cursor = std::mem::replace(&mut self.faces[f as usize].outside, NONE);
+                while cursor != NONE {
+                    let i = cursor;
+                    cursor = self.next[i as usize];
                     if i == apex {
                         continue;
                     }
-                    for &nf in &new_faces {
-                        let d = self.dist(&self.faces[nf as usize], i);
+                    let x = self.p[i as usize];
+                    for (k, &(n, off)) in planes.iter().enumerate() {
+                        let d = n.dot(x) - off;
                         if d > self.eps {
-                            self.add_outside(nf as usize, i, d);
+                            self.add_outside(new_faces[k] as usize, i, d);
                             break;
                         }
                     }
                 }
             }
             for &nf in new_faces.iter().rev() {
-                if !self.faces[nf as usize].outside.is_empty() {
+                if self.faces[nf as usize].outside != NONE {
                     work.push(nf);
                 }
             }

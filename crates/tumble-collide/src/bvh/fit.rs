@@ -40,7 +40,13 @@ pub fn triangle_covariance(tris: impl IntoIterator<Item = [DVec3; 3]>) -> Option
     }
     let mu = first / area;
     let outer_mu = DMat3::from_cols(mu * mu.x, mu * mu.y, mu * mu.z);
-    Some((area, mu + origin, second * (1.0 / area) - outer_mu))
+    let cov = second * (1.0 / area) - outer_mu;
+    // Coordinates near f64::MAX overflow the second moments: treat as degenerate
+    // rather than hand NaN axes to the box.
+    if !cov.is_finite() || !mu.is_finite() {
+        return None;
+    }
+    Some((area, mu + origin, cov))
 }
 
 /// Where the box axes came from.

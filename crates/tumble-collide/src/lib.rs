@@ -9,6 +9,7 @@
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
 //! - [`hull`]: convex hulls of point sets.
+//! - [`bvh`]: the OBBTree: build, box tests, tree-tree and tree-volume traversal.
 //! - [`broad`]: sweep-and-prune broad phase over AABBs with persistent pairs.
 //! - [`mass`]: mass properties of primitives, meshes and composite bodies.
 //! - [`triangle`]: triangle-level narrow phase (overlap, distance, contacts, merging).
@@ -18,6 +19,7 @@
 #![warn(missing_docs)]
 
 pub mod broad;
+pub mod bvh;
 pub mod contact;
 pub mod hull;
 pub mod mass;
@@ -29,6 +31,7 @@ pub mod triangle;
 pub mod shape;
 
 pub use broad::{Aabb, PairEvent, ProxyId, SweepAndPrune};
+pub use bvh::{ObbTree, TraversalStats, Traverse};
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
 pub use mass::{mesh_mass_properties, MassError, MassFallback, MassProperties, MassSpec, PrincipalFrame};
 pub use math::{DMat3, DQuat, DVec3};

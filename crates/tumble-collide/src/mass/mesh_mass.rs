@@ -210,7 +210,6 @@ mod tests {
     }
 
     #[test]
-    #[ignore = "needs hull::convex_hull"]
     fn hull_fallback_on_open_box_is_the_closed_box() {
         let h = DVec3::new(1.0, 2.0, 0.5);
         let r = mesh_mass_report(&open_box(), MassSpec::Density(3.0), MassFallback::ConvexHull).unwrap();
@@ -222,11 +221,16 @@ mod tests {
     }
 
     #[test]
-    fn hull_fallback_error_is_typed_until_hull_lands() {
-        // While convex_hull is a stub its error must come through, typed.
-        match mesh_mass_properties(&open_box(), MassSpec::Density(1.0), MassFallback::ConvexHull) {
-            Err(MassError::Hull(_)) | Ok(_) => {}
-            Err(e) => panic!("unexpected error {e}"),
-        }
+    fn hull_fallback_of_flat_points_is_a_typed_error() {
+        // All vertices in one plane: no hull volume, a Hull error, not a number.
+        let flat = TriMesh::new(
+            vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)],
+            vec![[0, 1, 2], [1, 3, 2]],
+        )
+        .unwrap();
+        assert!(matches!(
+            mesh_mass_properties(&flat, MassSpec::Density(1.0), MassFallback::ConvexHull),
+            Err(MassError::Hull(_))
+        ));
     }
 }

@@ -1,0 +1,184 @@
+//! One OBBTree against a query volume in world space: an oriented box, an
+//! axis-aligned box or a sphere (for primitive-versus-mesh contact). Same
+//! depth-first walk and callback protocol as [`super::traverse::collide`].
+
+use super::build::ObbTree;
+use super::node::Node;
+use super::obb::Obb;
+use super::sat::{obb_disjoint, RelFrame};
+use super::stack::SmallStack;
+use super::traverse::{check_nonneg, TraversalError, TraversalStats, Traverse};
+use crate::math::{DMat3, DVec3};
+use crate::pose::Pose;
+
+/// Shared walk: `hit(node)` decides whether a node's box passes.
+fn walk(
+    tree: &ObbTree,
+    mut hit: impl FnMut(&Node) -> bool,
+    mut on_tri: impl FnMut(u32) -> Traverse,
+) -> TraversalStats {
+    let nodes = tree.nodes();
+    let mut stats = TraversalStats {
+        bv_tests: 1,
+        ..TraversalStats::default()
+    };
+    if nodes.is_empty() || !hit(&nodes[0]) {
+        return stats;
+    }
+    let mut stack = SmallStack::<u32>::new();
+    stack.push(0);
+    while let Some(i) = stack.pop() {
+        let n = &nodes[i as usize];
+        if n.is_leaf() {
+            stats.leaf_pairs += 1;
+            for &t in tree.leaf_triangles(n) {
+                stats.triangle_pairs += 1;
+                if on_tri(t) == Traverse::Stop {
+                    stats.stopped = true;
+                    return stats;
+                }
+            }
+            continue;
+        }
+        let c = n.first_child();
+        for child in [c + 1, c] {
+            stats.bv_tests += 1;
+            if hit(&nodes[child as usize]) {
+                stack.push(child);
+            }
+        }
+    }
+    stats
+}
+
+/// Reports every triangle of the tree (mesh placed by `pose`) whose leaf box
+/// overlaps `query` (world frame) grown by `margin` (m) along its axes.
+pub fn query_obb(
+    tree: &ObbTree,
+    pose: &Pose,
+    query: &Obb,
+    margin: f64,
+    on_tri: impl FnMut(u32) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
+    check_nonneg("query margin", margin)?;
+    // The query box in the mesh frame.
+    let r_t = DMat3::from_quat(pose.rotation).transpose();
+    let qc = r_t * (query.center - pose.position);
+    let qa = r_t * query.axes;
+    let hb = (query.half_extents + DVec3::splat(margin)).to_array();
+    let hit = |n: &Node| {
+        let na_t = n.axes_f64().transpose();
+        let f = RelFrame::new(&(na_t * qa), na_t * (qc - n.center_f64()));
+        !obb_disjoint(n.half_f64(), hb, &f)
+    };
+    Ok(walk(tree, hit, on_tri))
+}
+
+/// Reports every triangle whose leaf box overlaps the world-space
+/// axis-aligned box `[min, max]` grown by `margin` (m).
+pub fn query_aabb(
+    tree: &ObbTree,
+    pose: &Pose,
+    min: DVec3,
+    max: DVec3,
+    margin: f64,
+    on_tri: impl FnMut(u32) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
+    if !min.is_finite() || !max.is_finite() || !min.cmple(max).all() {
+        return Err(TraversalError::BadParameter {
+            what: "query AABB (min <= max, finite); min.x",
+            value: min.x,
+        });
+    }
+    query_obb(tree, pose, &Obb::from_aabb(min, max), margin, on_tri)
+}
+
+/// Reports every triangle whose leaf box comes within `radius` (m) of
+/// `center` (world frame).
+pub fn query_sphere(
+    tree: &ObbTree,
+    pose: &Pose,
+    center: DVec3,
+    radius: f64,
+    on_tri: impl FnMut(u32) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
+    check_nonneg("query sphere radius", radius)?;
+    let c = pose.inverse_transform_point(center);
+    // The f32 axes are orthonormal to ~1e-7: a relative slack keeps the
+    // per-axis distance sum conservative.
+    let r2 = (radius * (1.0 + 1e-6)).powi(2);
+    let hit = |n: &Node| {
+        let u = n.axes_f64().transpose() * (c - n.center_f64());
+        let h = DVec3::from_array(n.half_f64());
+        let e = (u.abs() - h).max(DVec3::ZERO);
+        e.length_squared() <= r2
+    };
+    Ok(walk(tree, hit, on_tri))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bvh::traverse::tests::{random_pose, rng};
+    use crate::math::DQuat;
+    use crate::mesh::torus_mesh;
+
+    #[test]
+    fn queries_report_every_triangle_with_a_vertex_inside() {
+        let m = torus_mesh(1.0, 0.3, 24, 12).unwrap();
+        let t = ObbTree::build(&m).unwrap();
+        let mut r = rng(17);
+        for _ in 0..30 {
+            let pose = random_pose(&mut r, 1.0);
+            let world: Vec<[DVec3; 3]> = (0..m.triangles().len())
+                .map(|i| m.triangle(i).map(|v| pose.transform_point(v)))
+                .collect();
+            let center = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 3.0;
+            let radius = 0.2 + r() * 0.5;
+            let q = DQuat::from_xyzw(r() - 0.5, r() - 0.5, r() - 0.5, r() - 0.5).normalize();
+            let obb = Obb {
+                center,
+                axes: DMat3::from_quat(q),
+                half_extents: DVec3::new(r(), r(), r()) * 0.5,
+            };
+            let (lo, hi) = (center - DVec3::splat(radius), center + DVec3::splat(radius));
+            let mut s = vec![];
+            query_sphere(&t, &pose, center, radius, |i| {
+                s.push(i);
+                Traverse::Continue
+            })
+            .unwrap();
+            let mut o = vec![];
+            query_obb(&t, &pose, &obb, 0.0, |i| {
+                o.push(i);
+                Traverse::Continue
+            })
+            .unwrap();
+            let mut a = vec![];
+            query_aabb(&t, &pose, lo, hi, 0.0, |i| {
+                a.push(i);
+                Traverse::Continue
+            })
+            .unwrap();
+            let aabb = Obb::from_aabb(lo, hi);
+            for (i, tri) in world.iter().enumerate() {
+                let i = i as u32;
+                if tri.iter().any(|v| (*v - center).length() <= radius) {
+                    assert!(s.contains(&i));
+                }
+                if tri.iter().any(|v| obb.contains(*v, 0.0)) {
+                    assert!(o.contains(&i));
+                }
+                if tri.iter().any(|v| aabb.contains(*v, 0.0)) {
+                    assert!(a.contains(&i));
+                }
+            }
+            // Pruning: the sphere query never reports every triangle of a
+            // torus when the sphere is smaller than the hole.
+            assert!(s.len() < world.len());
+        }
+        let p = Pose::IDENTITY;
+        assert!(query_sphere(&t, &p, DVec3::ZERO, -1.0, |_| Traverse::Continue).is_err());
+        assert!(query_aabb(&t, &p, DVec3::ONE, DVec3::ZERO, 0.0, |_| Traverse::Continue).is_err());
+    }
+}

@@ -229,7 +229,8 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
         (p, l)
     };
     let (p0, l0) = momentum(&world);
-    let mut e_prev = world.kinetic_energy();
+    let e0 = world.kinetic_energy();
+    let mut e_prev = e0;
     let mut touched = false;
     for _ in 0..120 {
         let r = world.step();
@@ -240,11 +241,16 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
             (l - l0).length() < 1e-9 * l0.length().max(1.0),
             "angular momentum {l:?} vs {l0:?}"
         );
+        // Impulses never add energy; the free tumbling between them is
+        // integrated by a symplectic splitting whose energy error is bounded
+        // (O(h^2), no drift): allow that, far below what a bad impulse adds.
         let e = world.kinetic_energy();
-        assert!(e <= e_prev * (1.0 + 1e-9) + 1e-12, "energy grew {e_prev} -> {e}");
+        assert!(e <= e_prev * (1.0 + 1e-6), "energy grew {e_prev} -> {e}");
+        assert!(e <= e0 * (1.0 + 1e-6), "energy above the initial {e0}: {e}");
         e_prev = e;
     }
     assert!(touched, "the boxes collided");
+    assert!(e_prev < 0.95 * e0, "e = 0.5 dissipated energy: {e0} -> {e_prev}");
 }
 
 #[test]

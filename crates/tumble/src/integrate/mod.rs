@@ -21,6 +21,7 @@ mod explicit;
 mod kinematic;
 mod ode;
 mod splitting;
+pub use splitting::free_rotation;
 mod symplectic;
 
 use crate::body::{BodyKind, BodyState, RigidBody};

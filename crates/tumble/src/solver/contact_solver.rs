@@ -79,17 +79,6 @@ impl SolverBody {
         self.v += impulse * self.inv_mass;
         self.w += self.inv_inertia * r.cross(impulse);
     }
-
-    #[inline]
-    fn push_velocity_at(&self, r: DVec3) -> DVec3 {
-        self.push_v + self.push_w.cross(r)
-    }
-
-    #[inline]
-    fn apply_push(&mut self, impulse: DVec3, r: DVec3) {
-        self.push_v += impulse * self.inv_mass;
-        self.push_w += self.inv_inertia * r.cross(impulse);
-    }
 }
 
 /// One contact point prepared for the solver.
@@ -131,6 +120,31 @@ pub struct ContactConstraint {
     pub max_normal_impulse: f64,
     /// Accumulated push-out pseudo-impulse of the current sub-step.
     pub push_impulse: f64,
+    /// Anchor on A for the current sub-step's poses (world frame offset).
+    pub ra_now: DVec3,
+    /// Anchor on B for the current sub-step's poses.
+    pub rb_now: DVec3,
+    /// Separation for the current sub-step's poses (m).
+    pub separation_now: f64,
+    /// Jacobian rows for the current sub-step: `r x d` and `I^-1 (r x d)`
+    /// on A and B for d = normal, tangent 1, tangent 2 (precomputed so that a
+    /// row costs dot products only).
+    pub rows: [RowJacobian; 3],
+    /// Inverse masses of A and B (1/kg).
+    pub inv_mass: [f64; 2],
+}
+
+/// The angular part of one constraint row on both bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RowJacobian {
+    /// `r_A x d`.
+    pub ra_x_d: DVec3,
+    /// `r_B x d`.
+    pub rb_x_d: DVec3,
+    /// `I_A^-1 (r_A x d)`.
+    pub ia_ra_x_d: DVec3,
+    /// `I_B^-1 (r_B x d)`.
+    pub ib_rb_x_d: DVec3,
 }
 
 /// Two unit tangents orthogonal to the unit `n`, right-handed (t1 x t2 = n).
@@ -184,6 +198,10 @@ pub fn prepare(c: &mut ContactConstraint, bodies: &[SolverBody]) {
     }
     c.approach_speed = c.normal.dot(a.velocity_at(c.r_a) - b.velocity_at(c.r_b));
     c.max_normal_impulse = 0.0;
+    c.ra_now = c.r_a;
+    c.rb_now = c.r_b;
+    c.separation_now = c.separation;
+    fill_rows(c, a, b);
 }
 
 #[inline]
@@ -201,18 +219,80 @@ fn store(bodies: &mut [SolverBody], c: &ContactConstraint, ba: SolverBody, bb: S
     }
 }
 
+/// Pseudo-velocity of the point at offset `r` of body `i`.
+#[inline(always)]
+fn push_velocity(bodies: &[SolverBody], i: u32, r: DVec3) -> DVec3 {
+    let b = &bodies[i as usize];
+    b.push_v + b.push_w.cross(r)
+}
+
+/// Applies a push-out pseudo-impulse at offset `r` of body `i`.
+#[inline(always)]
+fn push_at(bodies: &mut [SolverBody], i: u32, impulse: DVec3, r: DVec3) {
+    let b = &mut bodies[i as usize];
+    if b.dynamic {
+        b.push_v += impulse * b.inv_mass;
+        b.push_w += b.inv_inertia * r.cross(impulse);
+    }
+}
+
+/// Refreshes each point's anchors and separation for the bodies' current
+/// poses; called once per sub-step before the passes (the poses do not change
+/// until positions are integrated), so the passes do no rotations.
+/// `s = s0 + n . ((dpA + rA(t) - rA0) - (dpB + rB(t) - rB0))`.
+pub fn begin_substep(constraints: &mut [ContactConstraint], bodies: &[SolverBody]) {
+    for c in constraints.iter_mut() {
+        let (ba, bb) = (&bodies[c.a as usize], &bodies[c.b as usize]);
+        c.ra_now = ba.q * c.local_a;
+        c.rb_now = bb.q * c.local_b;
+        let d = (ba.dp + c.ra_now - c.r_a) - (bb.dp + c.rb_now - c.r_b);
+        c.separation_now = c.separation + c.normal.dot(d);
+        c.push_impulse = 0.0;
+        fill_rows(c, ba, bb);
+    }
+}
+
+fn fill_rows(c: &mut ContactConstraint, ba: &SolverBody, bb: &SolverBody) {
+    let dirs = [c.normal, c.tangents[0], c.tangents[1]];
+    for (row, d) in c.rows.iter_mut().zip(dirs) {
+        let ra_x_d = c.ra_now.cross(d);
+        let rb_x_d = c.rb_now.cross(d);
+        *row = RowJacobian {
+            ra_x_d,
+            rb_x_d,
+            ia_ra_x_d: ba.inv_inertia * ra_x_d,
+            ib_rb_x_d: bb.inv_inertia * rb_x_d,
+        };
+    }
+    c.inv_mass = [ba.inv_mass, bb.inv_mass];
+}
+
+/// Relative velocity of the row: `d . (vA - vB) + (rA x d) . wA - (rB x d) . wB`.
+#[inline(always)]
+fn row_velocity(bodies: &[SolverBody], c: &ContactConstraint, row: usize, d: DVec3) -> f64 {
+    let (a, b) = (&bodies[c.a as usize], &bodies[c.b as usize]);
+    let j = &c.rows[row];
+    d.dot(a.v - b.v) + j.ra_x_d.dot(a.w) - j.rb_x_d.dot(b.w)
+}
+
+/// Applies `lambda` along the row: `+lambda d` on A, `-lambda d` on B.
+#[inline(always)]
+fn row_impulse(bodies: &mut [SolverBody], c: &ContactConstraint, row: usize, d: DVec3, lambda: f64) {
+    let j = &c.rows[row];
+    let a = &mut bodies[c.a as usize];
+    a.v += d * (lambda * c.inv_mass[0]);
+    a.w += j.ia_ra_x_d * lambda;
+    let b = &mut bodies[c.b as usize];
+    b.v -= d * (lambda * c.inv_mass[1]);
+    b.w -= j.ib_rb_x_d * lambda;
+}
+
 /// Applies the accumulated impulses (warm start).
 pub fn warm_start(constraints: &[ContactConstraint], bodies: &mut [SolverBody]) {
     for c in constraints {
-        let (mut ba, mut bb) = pair(bodies, c.a, c.b);
-        let ra = ba.q * c.local_a;
-        let rb = bb.q * c.local_b;
-        let p = c.normal * c.normal_impulse
-            + c.tangents[0] * c.tangent_impulse[0]
-            + c.tangents[1] * c.tangent_impulse[1];
-        ba.apply_impulse(p, ra);
-        bb.apply_impulse(-p, rb);
-        store(bodies, c, ba, bb);
+        row_impulse(bodies, c, 0, c.normal, c.normal_impulse);
+        row_impulse(bodies, c, 1, c.tangents[0], c.tangent_impulse[0]);
+        row_impulse(bodies, c, 2, c.tangents[1], c.tangent_impulse[1]);
     }
 }
 
@@ -222,24 +302,16 @@ pub fn warm_start(constraints: &[ContactConstraint], bodies: &mut [SolverBody]) 
 pub fn solve(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], h: f64) {
     let inv_h = 1.0 / h;
     for c in constraints.iter_mut() {
-        let (mut ba, mut bb) = pair(bodies, c.a, c.b);
-        let ra = ba.q * c.local_a;
-        let rb = bb.q * c.local_b;
-        // s = s0 + n . ((dpA + rA(t) - rA0) - (dpB + rB(t) - rB0))
-        let d = (ba.dp + ra - c.r_a) - (bb.dp + rb - c.r_b);
-        let s = c.separation + c.normal.dot(d);
+        let s = c.separation_now;
         let bias = if s > 0.0 { s * inv_h } else { 0.0 };
 
         // Normal: the LCP row  v_n + bias >= 0, lambda >= 0, complementary.
-        let vn = c.normal.dot(ba.velocity_at(ra) - bb.velocity_at(rb));
-        let delta = -c.normal_mass * (vn + bias);
-        let new_impulse = (c.normal_impulse + delta).max(0.0);
+        let vn = row_velocity(bodies, c, 0, c.normal);
+        let new_impulse = (c.normal_impulse - c.normal_mass * (vn + bias)).max(0.0);
         let applied = new_impulse - c.normal_impulse;
         c.normal_impulse = new_impulse;
         c.max_normal_impulse = c.max_normal_impulse.max(new_impulse);
-        let p = c.normal * applied;
-        ba.apply_impulse(p, ra);
-        bb.apply_impulse(-p, rb);
+        row_impulse(bodies, c, 0, c.normal, applied);
 
         // Friction: Coulomb cone |lambda_t| <= mu lambda_n. The two tangent
         // rows are solved one after the other (Gauss-Seidel: they are coupled
@@ -247,24 +319,21 @@ pub fn solve(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], h
         let limit = c.friction * c.normal_impulse;
         let mut t = c.tangent_impulse;
         for i in 0..2 {
-            let dv = ba.velocity_at(ra) - bb.velocity_at(rb);
+            let d = c.tangents[i];
             let before = t[i];
-            t[i] = before - c.tangent_mass[i] * c.tangents[i].dot(dv);
-            let p = c.tangents[i] * (t[i] - before);
-            ba.apply_impulse(p, ra);
-            bb.apply_impulse(-p, rb);
+            t[i] = before - c.tangent_mass[i] * row_velocity(bodies, c, i + 1, d);
+            row_impulse(bodies, c, i + 1, d, t[i] - before);
         }
         let len2 = t[0] * t[0] + t[1] * t[1];
         if len2 > limit * limit {
             let scale = if len2 > 0.0 { limit / len2.sqrt() } else { 0.0 };
-            let clamped = [t[0] * scale, t[1] * scale];
-            let p = c.tangents[0] * (clamped[0] - t[0]) + c.tangents[1] * (clamped[1] - t[1]);
-            ba.apply_impulse(p, ra);
-            bb.apply_impulse(-p, rb);
-            t = clamped;
+            for i in 0..2 {
+                let clamped = t[i] * scale;
+                row_impulse(bodies, c, i + 1, c.tangents[i], clamped - t[i]);
+                t[i] = clamped;
+            }
         }
         c.tangent_impulse = t;
-        store(bodies, c, ba, bb);
     }
 }
 
@@ -276,27 +345,23 @@ pub fn solve(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], h
 pub fn push_out(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], params: &SolverParams, h: f64) {
     let inv_h = 1.0 / h;
     for c in constraints.iter_mut() {
-        let (mut ba, mut bb) = pair(bodies, c.a, c.b);
-        let ra = ba.q * c.local_a;
-        let rb = bb.q * c.local_b;
-        let d = (ba.dp + ra - c.r_a) - (bb.dp + rb - c.r_b);
-        let excess = c.separation + c.normal.dot(d) + params.allowed_penetration;
+        let excess = c.separation_now + params.allowed_penetration;
+        if excess >= 0.0 && c.push_impulse == 0.0 {
+            continue;
+        }
         let target = if excess < 0.0 {
             (-params.push_out_fraction * excess * inv_h).min(params.max_push_out_speed)
         } else {
             0.0
         };
-        let vn = c.normal.dot(ba.push_velocity_at(ra) - bb.push_velocity_at(rb));
+        let (ra, rb) = (c.ra_now, c.rb_now);
+        let vn = c.normal.dot(push_velocity(bodies, c.a, ra) - push_velocity(bodies, c.b, rb));
         let new_impulse = (c.push_impulse + c.normal_mass * (target - vn)).max(0.0);
         let applied = new_impulse - c.push_impulse;
-        if applied == 0.0 {
-            continue;
-        }
         c.push_impulse = new_impulse;
         let p = c.normal * applied;
-        ba.apply_push(p, ra);
-        bb.apply_push(-p, rb);
-        store(bodies, c, ba, bb);
+        push_at(bodies, c.a, p, ra);
+        push_at(bodies, c.b, -p, rb);
     }
 }
 
@@ -370,6 +435,7 @@ pub fn resolve_collisions(
 /// with their current velocities (semi-implicit Euler), keeping angular
 /// momentum: `L = I(t) w` is carried across the rotation, so a free body
 /// precesses correctly (gyroscopic effect) instead of keeping `w` fixed.
+/// The push-out pseudo-velocities move the body too and are then cleared.
 pub fn integrate_positions(bodies: &mut [SolverBody], h: f64) {
     for b in bodies.iter_mut() {
         if b.kinematic {
@@ -388,8 +454,10 @@ pub fn integrate_positions(bodies: &mut [SolverBody], h: f64) {
         );
         let l = r_old * (inertia_body * (r_old.transpose() * b.w));
         b.dp += (b.v + b.push_v) * h;
-        // Exponential map: exact for the sub-step's constant rate, |q| stays 1.
-        b.q = (DQuat::from_scaled_axis(b.w * h) * b.q).normalize();
+        // Free rotation under the constant L by the symplectic principal-axis
+        // splitting: no energy drift for tumbling bodies (a plain exponential
+        // map with the step's w gains energy steadily on asymmetric bodies).
+        b.q = crate::integrate::free_rotation(b.q, l, b.inv_inertia_body, h).normalize();
         b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
         b.w = b.inv_inertia * l;
         if b.push_w != DVec3::ZERO {
@@ -456,6 +524,11 @@ mod tests {
             tangent_impulse: [0.0; 2],
             max_normal_impulse: 0.0,
             push_impulse: 0.0,
+            ra_now: DVec3::ZERO,
+            rb_now: DVec3::ZERO,
+            separation_now: 0.0,
+            rows: [RowJacobian::default(); 3],
+            inv_mass: [0.0; 2],
         }
     }
 

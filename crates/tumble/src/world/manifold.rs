@@ -39,13 +39,9 @@ pub(crate) struct CachedContact {
     pub tangent_impulse: DVec3,
 }
 
-impl CachedContact {
-    fn order(&self) -> (PairKey, Feature, Feature) {
-        (self.key, self.feature_a, self.feature_b)
-    }
-}
-
 /// Finds the remembered impulses of a contact: by features, else by position.
+/// The cache must be sorted by key (see [`finish`]); a key holds a handful of
+/// points, scanned linearly.
 pub(crate) fn lookup(
     cache: &[CachedContact],
     key: PairKey,
@@ -53,27 +49,33 @@ pub(crate) fn lookup(
     fb: Feature,
     local_a: DVec3,
 ) -> Option<&CachedContact> {
-    let near = |c: &CachedContact| (c.local_a - local_a).length_squared() <= MATCH_DISTANCE * MATCH_DISTANCE;
-    if let Ok(i) = cache.binary_search_by(|c| c.order().cmp(&(key, fa, fb))) {
-        // Same features but elsewhere means the ids were reused for another
-        // point (a clipped polygon renumbered): do not trust them.
-        if near(&cache[i]) {
-            return Some(&cache[i]);
-        }
-    }
     let start = cache.partition_point(|c| c.key < key);
     let end = start + cache[start..].partition_point(|c| c.key == key);
-    cache[start..end]
-        .iter()
-        .map(|c| ((c.local_a - local_a).length_squared(), c))
-        .filter(|(d2, _)| *d2 <= MATCH_DISTANCE * MATCH_DISTANCE)
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, c)| c)
+    let near = |c: &&CachedContact| (c.local_a - local_a).length_squared() <= MATCH_DISTANCE * MATCH_DISTANCE;
+    let same = &cache[start..end];
+    // Same features but elsewhere means the ids were reused for another point
+    // (a clipped polygon renumbered): then they are not trusted.
+    same.iter()
+        .filter(near)
+        .find(|c| c.feature_a == fa && c.feature_b == fb)
+        .or_else(|| {
+            same.iter()
+                .filter(near)
+                .min_by(|x, y| {
+                    (x.local_a - local_a)
+                        .length_squared()
+                        .total_cmp(&(y.local_a - local_a).length_squared())
+                })
+        })
 }
 
-/// Sorts a freshly built cache so that [`lookup`] works.
+/// Orders a freshly built cache by key so that [`lookup`] works. The world
+/// builds it in pair order already, so this is a check plus a stable sort
+/// that does nothing in that case.
 pub(crate) fn finish(cache: &mut [CachedContact]) {
-    cache.sort_unstable_by(|a, b| a.order().cmp(&b.order()));
+    if !cache.windows(2).all(|w| w[0].key <= w[1].key) {
+        cache.sort_by_key(|c| c.key);
+    }
 }
 
 #[cfg(test)]

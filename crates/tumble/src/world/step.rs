@@ -198,6 +198,11 @@ impl World {
                             tangent_impulse: [0.0; 2],
                             max_normal_impulse: 0.0,
                             push_impulse: 0.0,
+                            ra_now: DVec3::ZERO,
+                            rb_now: DVec3::ZERO,
+                            separation_now: 0.0,
+                            rows: Default::default(),
+                            inv_mass: [0.0; 2],
                         };
                         if let Some(old) = manifold::lookup(&self.cache, key, contact.feature_a, contact.feature_b, c.local_a) {
                             c.normal_impulse = old.normal_impulse;
@@ -355,12 +360,10 @@ impl World {
                 b.v = (b.v + a * h) / (1.0 + ld * h);
                 b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
             }
+            contact_solver::begin_substep(&mut constraints, &solver_bodies);
             contact_solver::warm_start(&constraints, &mut solver_bodies);
             for _ in 0..s.iterations {
                 contact_solver::solve(&mut constraints, &mut solver_bodies, h);
-            }
-            for c in constraints.iter_mut() {
-                c.push_impulse = 0.0;
             }
             for _ in 0..s.push_out_iterations {
                 contact_solver::push_out(&mut constraints, &mut solver_bodies, &params, h);

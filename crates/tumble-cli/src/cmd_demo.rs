@@ -149,7 +149,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             .map_err(io)?;
         }
         if step < steps {
-            integrate(&mut bodies, DVec3::ZERO, args.dt, Integrator::Rk4);
+            integrate(&mut bodies, DVec3::ZERO, args.dt, Integrator::Rk4).map_err(|e| internal(&e))?;
             bar.inc(1);
         }
     }

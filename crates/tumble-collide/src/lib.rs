@@ -27,8 +27,8 @@ pub mod math;
 pub mod mesh;
 pub mod narrow;
 pub mod pose;
-pub mod triangle;
 pub mod shape;
+pub mod triangle;
 
 pub use broad::{Aabb, PairEvent, ProxyId, SweepAndPrune};
 pub use bvh::{ObbTree, TraversalStats, Traverse};

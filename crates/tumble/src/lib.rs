@@ -17,7 +17,7 @@ pub use integrate::{
 };
 pub use tumble_collide as collide;
 
-pub mod solver;
 pub mod export;
 pub mod scenes;
+pub mod solver;
 pub mod world;

@@ -1,6 +1,7 @@
 //! Lemke's method: answers verified by the independent residual checker, by a
 //! brute-force enumeration of complementary bases, and typed errors.
 
+#[path = "lcp_common/mod.rs"]
 mod common;
 
 use common::{

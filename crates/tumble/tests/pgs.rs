@@ -2,6 +2,7 @@
 //! unique w and velocities on redundant PSD contact problems), box KKT
 //! conditions, warm starting, typed errors.
 
+#[path = "lcp_common/mod.rs"]
 mod common;
 
 use common::{max_abs, max_abs_diff, random_contacts, random_spd, Rng};

@@ -318,19 +318,19 @@ pub fn solve(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], h
         // through the rotation), then the pair is projected onto the disc.
         let limit = c.friction * c.normal_impulse;
         let mut t = c.tangent_impulse;
-        for i in 0..2 {
+        for (i, ti) in t.iter_mut().enumerate() {
             let d = c.tangents[i];
-            let before = t[i];
-            t[i] = before - c.tangent_mass[i] * row_velocity(bodies, c, i + 1, d);
-            row_impulse(bodies, c, i + 1, d, t[i] - before);
+            let before = *ti;
+            *ti = before - c.tangent_mass[i] * row_velocity(bodies, c, i + 1, d);
+            row_impulse(bodies, c, i + 1, d, *ti - before);
         }
         let len2 = t[0] * t[0] + t[1] * t[1];
         if len2 > limit * limit {
             let scale = if len2 > 0.0 { limit / len2.sqrt() } else { 0.0 };
-            for i in 0..2 {
-                let clamped = t[i] * scale;
-                row_impulse(bodies, c, i + 1, c.tangents[i], clamped - t[i]);
-                t[i] = clamped;
+            for (i, ti) in t.iter_mut().enumerate() {
+                let clamped = *ti * scale;
+                row_impulse(bodies, c, i + 1, c.tangents[i], clamped - *ti);
+                *ti = clamped;
             }
         }
         c.tangent_impulse = t;
@@ -342,7 +342,12 @@ pub fn solve(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], h
 /// removes `push_out_fraction` of the excess in this sub-step (at most
 /// `max_push_out_speed`). Pseudo-velocities move the bodies in
 /// [`integrate_positions`] and are then discarded.
-pub fn push_out(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], params: &SolverParams, h: f64) {
+pub fn push_out(
+    constraints: &mut [ContactConstraint],
+    bodies: &mut [SolverBody],
+    params: &SolverParams,
+    h: f64,
+) {
     let inv_h = 1.0 / h;
     for c in constraints.iter_mut() {
         let excess = c.separation_now + params.allowed_penetration;
@@ -355,7 +360,9 @@ pub fn push_out(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody]
             0.0
         };
         let (ra, rb) = (c.ra_now, c.rb_now);
-        let vn = c.normal.dot(push_velocity(bodies, c.a, ra) - push_velocity(bodies, c.b, rb));
+        let vn = c
+            .normal
+            .dot(push_velocity(bodies, c.a, ra) - push_velocity(bodies, c.b, rb));
         let new_impulse = (c.push_impulse + c.normal_mass * (target - vn)).max(0.0);
         let applied = new_impulse - c.push_impulse;
         c.push_impulse = new_impulse;
@@ -586,7 +593,10 @@ mod tests {
         let g = 9.81;
         let h = 1.0 / 240.0;
         let stored = |v: f64| v + 0.5 * g * h;
-        let mut bodies = vec![body(1.0, DVec3::new(0.0, 0.0, stored(-4.0))), body(0.0, DVec3::ZERO)];
+        let mut bodies = vec![
+            body(1.0, DVec3::new(0.0, 0.0, stored(-4.0))),
+            body(0.0, DVec3::ZERO),
+        ];
         let mut c = contact(0, 1, DVec3::new(0.0, 0.0, -0.1), DVec3::ZERO, 0.01);
         c.restitution = 0.5;
         let mut cs = [c];

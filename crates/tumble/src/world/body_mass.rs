@@ -78,10 +78,11 @@ pub(crate) fn body_mass(shapes: &[ShapeDesc], mass: MassDesc) -> Result<Principa
     })?;
     if let MassDesc::Mass(m) = mass {
         let scale = m / total.mass;
-        total = MassProperties::new(m, total.com, total.inertia * scale).map_err(|e| WorldError::BadShape {
-            index: 0,
-            message: e.to_string(),
-        })?;
+        total =
+            MassProperties::new(m, total.com, total.inertia * scale).map_err(|e| WorldError::BadShape {
+                index: 0,
+                message: e.to_string(),
+            })?;
     }
     Ok(total.principal())
 }

@@ -178,7 +178,10 @@ impl BodyDesc {
 
     /// Builder: friction and restitution.
     pub fn with_material(mut self, friction: f64, restitution: f64) -> BodyDesc {
-        self.material = MaterialDesc { friction, restitution };
+        self.material = MaterialDesc {
+            friction,
+            restitution,
+        };
         self
     }
 

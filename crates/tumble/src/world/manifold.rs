@@ -59,13 +59,11 @@ pub(crate) fn lookup(
         .filter(near)
         .find(|c| c.feature_a == fa && c.feature_b == fb)
         .or_else(|| {
-            same.iter()
-                .filter(near)
-                .min_by(|x, y| {
-                    (x.local_a - local_a)
-                        .length_squared()
-                        .total_cmp(&(y.local_a - local_a).length_squared())
-                })
+            same.iter().filter(near).min_by(|x, y| {
+                (x.local_a - local_a)
+                    .length_squared()
+                    .total_cmp(&(y.local_a - local_a).length_squared())
+            })
         })
 }
 
@@ -92,19 +90,42 @@ mod tests {
             normal_impulse: j,
             tangent_impulse: DVec3::ZERO,
         };
-        let mut cache = vec![c((3, 4, 0, 0), 7, 1.0), c((1, 2, 0, 0), 5, 2.0), c((1, 2, 0, 1), 5, 3.0)];
+        let mut cache = vec![
+            c((3, 4, 0, 0), 7, 1.0),
+            c((1, 2, 0, 0), 5, 2.0),
+            c((1, 2, 0, 1), 5, 3.0),
+        ];
         finish(&mut cache);
         let far = DVec3::splat(100.0);
         let found = |key, fa, p| lookup(&cache, key, fa, Feature::face(1), p).map(|c| c.normal_impulse);
-        assert_eq!(found((1, 2, 0, 1), Feature::vertex(5, 0), DVec3::new(5.0, 0.0, 0.0)), Some(3.0), "by features");
-        assert_eq!(found((1, 2, 0, 1), Feature::vertex(5, 0), far), None, "same features, elsewhere");
-        assert_eq!(found((1, 2, 0, 1), Feature::vertex(5, 1), far), None, "features differ, far away");
+        assert_eq!(
+            found((1, 2, 0, 1), Feature::vertex(5, 0), DVec3::new(5.0, 0.0, 0.0)),
+            Some(3.0),
+            "by features"
+        );
+        assert_eq!(
+            found((1, 2, 0, 1), Feature::vertex(5, 0), far),
+            None,
+            "same features, elsewhere"
+        );
+        assert_eq!(
+            found((1, 2, 0, 1), Feature::vertex(5, 1), far),
+            None,
+            "features differ, far away"
+        );
         assert_eq!(
             found((1, 2, 0, 1), Feature::edge(9, 1), DVec3::new(5.005, 0.0, 0.0)),
             Some(3.0),
             "features differ, same place"
         );
-        assert_eq!(found((1, 2, 0, 0), Feature::edge(9, 1), DVec3::new(5.005, 0.0, 0.0)), Some(2.0));
-        assert_eq!(found((9, 9, 0, 0), Feature::vertex(5, 0), DVec3::new(5.0, 0.0, 0.0)), None, "other pair");
+        assert_eq!(
+            found((1, 2, 0, 0), Feature::edge(9, 1), DVec3::new(5.005, 0.0, 0.0)),
+            Some(2.0)
+        );
+        assert_eq!(
+            found((9, 9, 0, 0), Feature::vertex(5, 0), DVec3::new(5.0, 0.0, 0.0)),
+            None,
+            "other pair"
+        );
     }
 }

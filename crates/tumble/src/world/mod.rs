@@ -244,10 +244,11 @@ impl World {
         let (mut body, body_in_model) = match desc.kind {
             BodyKind::Dynamic => {
                 let frame = body_mass::body_mass(&desc.shapes, desc.mass)?;
-                let body_in_model = Pose::new(frame.com, frame.rotation).map_err(|e| WorldError::BadShape {
-                    index: 0,
-                    message: e.to_string(),
-                })?;
+                let body_in_model =
+                    Pose::new(frame.com, frame.rotation).map_err(|e| WorldError::BadShape {
+                        index: 0,
+                        message: e.to_string(),
+                    })?;
                 let body_pose = pose.mul_pose(&body_in_model);
                 let body = RigidBody::new_dynamic(frame.mass, frame.moments, body_pose).map_err(|e| {
                     WorldError::BadShape {
@@ -337,9 +338,10 @@ impl World {
     pub fn remove_body(&mut self, id: BodyId) -> Result<(), WorldError> {
         let entry = self.bodies.get(id).ok_or(WorldError::StaleBody(id))?;
         if let Some(proxy) = entry.proxy {
-            self.broad
-                .remove(proxy)
-                .map_err(|e| WorldError::BadValue { field: "body", message: e.to_string() })?;
+            self.broad.remove(proxy).map_err(|e| WorldError::BadValue {
+                field: "body",
+                message: e.to_string(),
+            })?;
         }
         self.bodies.remove(id);
         self.unbounded.retain(|&s| s != id.index);
@@ -478,7 +480,12 @@ impl World {
     }
 
     /// Applies an impulse (N s) at a world point now.
-    pub fn apply_impulse_at_point(&mut self, id: BodyId, impulse: DVec3, point: DVec3) -> Result<(), WorldError> {
+    pub fn apply_impulse_at_point(
+        &mut self,
+        id: BodyId,
+        impulse: DVec3,
+        point: DVec3,
+    ) -> Result<(), WorldError> {
         self.with_dynamic(id, |b| b.apply_impulse_at_point(impulse, point))
     }
 

@@ -31,7 +31,7 @@ pub struct WorldSettings {
     /// Solver sub-steps per step. Each sub-step integrates velocities, solves
     /// the contacts once and integrates positions, reusing the contact points
     /// of the step. More sub-steps stiffen stacks and chains far more cheaply
-    /// than more iterations. Default 4.
+    /// than more iterations. Default 8.
     pub substeps: u32,
     /// ODE integrator for free motion. Default semi-implicit Euler, the only
     /// one that is sub-stepped with the contact solver; the explicit methods
@@ -39,7 +39,7 @@ pub struct WorldSettings {
     pub integrator: Integrator,
     /// Contact solver. Default [`SolverKind::Pgs`].
     pub solver: SolverKind,
-    /// Velocity Gauss-Seidel iterations per sub-step. Default 2 (with 4
+    /// Velocity Gauss-Seidel iterations per sub-step. Default 2 (with 8
     /// sub-steps). More converge stacks further each sub-step.
     pub iterations: u32,
     /// Push-out (position correction) iterations per sub-step. Default 1.
@@ -79,7 +79,7 @@ impl Default for WorldSettings {
         WorldSettings {
             gravity: DVec3::new(0.0, 0.0, -9.81),
             dt: 1.0 / 60.0,
-            substeps: 4,
+            substeps: 8,
             integrator: Integrator::default(),
             solver: SolverKind::default(),
             iterations: 2,

@@ -88,7 +88,7 @@ impl World {
         // -- Stage::Forces: keep the state for quarantine; forces are read in solve.
         let n_slots = self.bodies.slot_count();
         let before: Vec<Option<BodyState>> = (0..n_slots as u32)
-            .map(|i| self.bodies.at(i).map(|e| e.body.state().clone()))
+            .map(|i| self.bodies.at(i).map(|e| *e.body.state()))
             .collect();
         lap(&mut report, Stage::Forces);
 
@@ -116,7 +116,12 @@ impl World {
             .collect();
         for &u in &self.unbounded {
             for i in 0..n_slots as u32 {
-                if i != u && self.bodies.at(i).is_some_and(|e| e.body.kind() != BodyKind::Static) {
+                if i != u
+                    && self
+                        .bodies
+                        .at(i)
+                        .is_some_and(|e| e.body.kind() != BodyKind::Static)
+                {
                     pairs.push((u.min(i), u.max(i)));
                 }
             }
@@ -159,13 +164,21 @@ impl World {
             }
             let (va, wa) = velocities(ea);
             let (vb, wb) = velocities(eb);
-            let motion = ((va - vb).length() + wa.length() * bounding_radius(ea) + wb.length() * bounding_radius(eb)) * dt;
+            let motion =
+                ((va - vb).length() + wa.length() * bounding_radius(ea) + wb.length() * bounding_radius(eb))
+                    * dt;
             let margin = s.contact_margin + motion;
             let (pa, pb) = (ea.body.pose(), eb.body.pose());
-            let ids = (self.bodies.id_at(a).expect("live"), self.bodies.id_at(b).expect("live"));
-            let friction = MaterialDesc::combine_friction(ea.body.material().friction(), eb.body.material().friction());
-            let restitution =
-                MaterialDesc::combine_restitution(ea.body.material().restitution(), eb.body.material().restitution());
+            let ids = (
+                self.bodies.id_at(a).expect("live"),
+                self.bodies.id_at(b).expect("live"),
+            );
+            let friction =
+                MaterialDesc::combine_friction(ea.body.material().friction(), eb.body.material().friction());
+            let restitution = MaterialDesc::combine_restitution(
+                ea.body.material().restitution(),
+                eb.body.material().restitution(),
+            );
             for (ia, ca) in ea.colliders.iter().enumerate() {
                 for (ib, cb) in eb.colliders.iter().enumerate() {
                     buffer.clear();
@@ -204,10 +217,17 @@ impl World {
                             rows: Default::default(),
                             inv_mass: [0.0; 2],
                         };
-                        if let Some(old) = manifold::lookup(&self.cache, key, contact.feature_a, contact.feature_b, c.local_a) {
+                        if let Some(old) = manifold::lookup(
+                            &self.cache,
+                            key,
+                            contact.feature_a,
+                            contact.feature_b,
+                            c.local_a,
+                        ) {
                             c.normal_impulse = old.normal_impulse;
                             let t = contact_solver::tangent_basis(contact.normal);
-                            c.tangent_impulse = [old.tangent_impulse.dot(t[0]), old.tangent_impulse.dot(t[1])];
+                            c.tangent_impulse =
+                                [old.tangent_impulse.dot(t[0]), old.tangent_impulse.dot(t[1])];
                             report.warm_started += 1;
                         }
                         report.max_penetration = report.max_penetration.max(-contact.distance);
@@ -283,8 +303,16 @@ impl World {
                 v,
                 w,
                 inv_mass: if dynamic { e.body.inv_mass() } else { 0.0 },
-                inv_inertia_body: if dynamic { e.body.inv_principal_inertia() } else { DVec3::ZERO },
-                inv_inertia: if dynamic { e.body.inv_inertia_world() } else { DMat3::ZERO },
+                inv_inertia_body: if dynamic {
+                    e.body.inv_principal_inertia()
+                } else {
+                    DVec3::ZERO
+                },
+                inv_inertia: if dynamic {
+                    e.body.inv_inertia_world()
+                } else {
+                    DMat3::ZERO
+                },
                 q,
                 dp: DVec3::ZERO,
                 push_v: DVec3::ZERO,
@@ -340,7 +368,10 @@ impl World {
                 let sb = &mut solver_bodies[k];
                 (sb.v, sb.w, sb.inv_mass, sb.inv_inertia, sb.dynamic, sb.kinematic) =
                     (DVec3::ZERO, DVec3::ZERO, 0.0, DMat3::ZERO, false, false);
-                for c in constraints.iter_mut().filter(|c| c.a as usize == k || c.b as usize == k) {
+                for c in constraints
+                    .iter_mut()
+                    .filter(|c| c.a as usize == k || c.b as usize == k)
+                {
                     contact_solver::prepare(c, &solver_bodies);
                 }
             }
@@ -382,7 +413,7 @@ impl World {
             if frozen[k] || !finite {
                 // Restored to the state before the step, stopped, reported.
                 if let Some(old) = &before[slot as usize] {
-                    let mut restored = old.clone();
+                    let mut restored = *old;
                     restored.linear_momentum = DVec3::ZERO;
                     restored.angular_momentum = DVec3::ZERO;
                     let _ = e.body.set_state(restored);
@@ -477,12 +508,14 @@ impl World {
         // Bodies advanced by an explicit integrator are checked here (the
         // integrator already refuses non-finite states; this is the backstop).
         for (i, old) in before.iter().enumerate() {
-            let Some(e) = self.bodies.at_mut(i as u32) else { continue };
+            let Some(e) = self.bodies.at_mut(i as u32) else {
+                continue;
+            };
             if e.body.state().is_finite() {
                 continue;
             }
             if let Some(old) = old {
-                let mut restored = old.clone();
+                let mut restored = *old;
                 restored.linear_momentum = DVec3::ZERO;
                 restored.angular_momentum = DVec3::ZERO;
                 let _ = e.body.set_state(restored);
@@ -542,7 +575,7 @@ impl World {
             let Some(e) = self.bodies.at_mut(i) else { continue };
             e.sleeping = true;
             e.sleep_group = l;
-            let mut state = e.body.state().clone();
+            let mut state = *e.body.state();
             state.linear_momentum = DVec3::ZERO;
             state.angular_momentum = DVec3::ZERO;
             let _ = e.body.set_state(state);

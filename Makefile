@@ -5,12 +5,12 @@
 CARGO ?= cargo
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test lint fmt-check clippy rust-test bench
+.PHONY: demo test lint fmt-check clippy rust-test viewer-test bench
 
 demo:
 	$(CARGO) run --release -p tumble-cli -- demo --out out
 
-test: lint rust-test
+test: lint rust-test viewer-test
 
 lint: fmt-check clippy
 
@@ -22,6 +22,12 @@ clippy:
 
 rust-test:
 	$(CARGO) test --workspace --release
+
+# Builds the web viewer and checks it in headless Chromium (installs chromium
+# and the npm packages on first use, see viewer/scripts/setup.sh).
+viewer-test:
+	bash viewer/scripts/setup.sh
+	bash viewer/scripts/test.sh
 
 bench:
 	$(CARGO) bench --workspace

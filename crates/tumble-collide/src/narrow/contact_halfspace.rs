@@ -74,7 +74,7 @@ fn push_ball_plane(
 }
 
 /// Contacts between polytope A (box or convex hull) and half-space B: the
-/// vertices within the margin, reduced to at most 4.
+/// vertices within the margin (all of them up to 8, else reduced to 4).
 pub fn contact_polytope_halfspace<P: Polytope + ?Sized>(
     a: &P,
     pose_a: &Pose,
@@ -99,8 +99,12 @@ pub fn contact_polytope_halfspace<P: Polytope + ?Sized>(
             });
         }
     }
+    // Up to 8 vertices (a whole box) are kept as they are: a reduction by
+    // spread in the plane can drop a deep vertex in favour of a shallow one
+    // above it (a thin plate landing on its face), and speculative contacts
+    // need every vertex that can arrive within the step.
     let count = out.len() - start;
-    if count > 4 {
+    if count > 8 {
         let (keep, k) = reduce_to_four(count, n, |i| (out[start + i].point, out[start + i].distance));
         for (slot, &i) in keep[..k].iter().enumerate() {
             out[start + slot] = out[start + i];

@@ -40,10 +40,12 @@ pub mod csv;
 pub mod glb;
 mod mesh_data;
 pub mod recording;
+pub mod world_recorder;
 
 pub use csv::write_trajectory_csv;
 pub use glb::{glb_bytes, write_glb};
 pub use recording::{ContactMark, ExportError, FrameExtras, ObbBox, RecordedBody, Recording};
+pub use world_recorder::{shape_mesh, WorldRecorder};
 
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,155 @@
+//! Recording a running [`World`] for export: one triangle mesh per body from
+//! its shapes (primitives tessellated, half-spaces drawn as a large slab), and
+//! one pose per body per recorded frame, with energies and contacts for the
+//! viewer's plots and overlays.
+
+use super::{ContactMark, ExportError, FrameExtras, RecordedBody, Recording};
+use crate::body::BodyKind;
+use crate::world::{BodyId, World};
+use tumble_collide::mesh::{self, TriMesh};
+use tumble_collide::shape::Shape;
+use tumble_collide::{DQuat, DVec3, Pose};
+
+/// Half width (m) of the slab that stands for a half-space in exports.
+pub const HALF_SPACE_DRAW_EXTENT: f64 = 20.0;
+
+/// A display mesh of a shape in its own frame; `None` for shapes that have
+/// no tessellation yet.
+pub fn shape_mesh(shape: &Shape) -> Option<TriMesh> {
+    match shape {
+        Shape::Sphere(s) => mesh::icosphere_mesh(s.radius(), 3).ok(),
+        Shape::Cuboid(c) => mesh::box_mesh(c.half_extents()).ok(),
+        Shape::Capsule(c) => mesh::capsule_mesh(c.radius(), c.half_height(), 24, 6).ok(),
+        Shape::ConvexHull(h) => {
+            let mut triangles = Vec::new();
+            for f in 0..h.faces().len() {
+                let c = h.face_corners(f);
+                for k in 1..c.len().saturating_sub(1) {
+                    triangles.push([c[0], c[k], c[k + 1]]);
+                }
+            }
+            TriMesh::new(h.vertices().to_vec(), triangles).ok()
+        }
+        Shape::HalfSpace(hs) => {
+            let thickness = 0.05;
+            let slab = mesh::box_mesh(DVec3::new(
+                HALF_SPACE_DRAW_EXTENT,
+                HALF_SPACE_DRAW_EXTENT,
+                thickness,
+            ))
+            .ok()?;
+            let rotation = DQuat::from_rotation_arc(DVec3::Z, hs.normal());
+            let centre = hs.normal() * (hs.offset() - thickness);
+            slab.map_vertices(|v| rotation * v + centre).ok()
+        }
+        _ => None,
+    }
+}
+
+/// Appends `part` placed by `pose` to the vertex and triangle lists.
+fn append(vertices: &mut Vec<DVec3>, triangles: &mut Vec<[u32; 3]>, part: &TriMesh, pose: &Pose) {
+    let base = vertices.len() as u32;
+    vertices.extend(part.vertices().iter().map(|&v| pose.transform_point(v)));
+    triangles.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
+}
+
+const PALETTE: [[f32; 4]; 6] = [
+    [0.90, 0.45, 0.30, 1.0],
+    [0.30, 0.60, 0.90, 1.0],
+    [0.45, 0.80, 0.45, 1.0],
+    [0.95, 0.75, 0.30, 1.0],
+    [0.70, 0.45, 0.85, 1.0],
+    [0.35, 0.80, 0.80, 1.0],
+];
+
+/// Samples a world into a [`Recording`]: create it before stepping, call
+/// [`WorldRecorder::record`] after each step to keep, then [`finish`](Self::finish).
+#[derive(Debug, Clone)]
+pub struct WorldRecorder {
+    ids: Vec<BodyId>,
+    recording: Recording,
+    max_contacts_drawn: usize,
+}
+
+impl WorldRecorder {
+    /// Takes the bodies of `world` (in slot order) and records its current
+    /// state as the first frame. Bodies are recorded in their body frame
+    /// (centre of mass, principal axes).
+    pub fn new(world: &World) -> Result<WorldRecorder, ExportError> {
+        let ids = world.body_ids();
+        let mut bodies = Vec::with_capacity(ids.len());
+        for (k, &id) in ids.iter().enumerate() {
+            let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
+            let colliders = world
+                .colliders(id)
+                .map_err(|_| ExportError::Empty { bodies: 0, frames: 0 })?;
+            for c in colliders {
+                if let Some(m) = shape_mesh(&c.shape) {
+                    append(&mut vertices, &mut triangles, &m, &c.local);
+                }
+            }
+            let mesh = TriMesh::new(vertices, triangles)
+                .or_else(|_| mesh::box_mesh(DVec3::splat(0.01)).map_err(|e| e.to_string()))
+                .map_err(|_| ExportError::Empty { bodies: k, frames: 0 })?;
+            let body = world
+                .body(id)
+                .map_err(|_| ExportError::Empty { bodies: k, frames: 0 })?;
+            let is_static = body.kind() == BodyKind::Static;
+            let name = world.name(id).unwrap_or("").to_string();
+            bodies.push(RecordedBody {
+                name: if name.is_empty() { format!("body{k}") } else { name },
+                mesh,
+                color: if is_static {
+                    [0.75, 0.76, 0.80, 1.0]
+                } else {
+                    PALETTE[k % PALETTE.len()]
+                },
+                is_static,
+            });
+        }
+        let mut recorder = WorldRecorder {
+            ids,
+            recording: Recording {
+                bodies,
+                ..Recording::default()
+            },
+            max_contacts_drawn: 512,
+        };
+        recorder.record(world);
+        Ok(recorder)
+    }
+
+    /// Records the world's current poses, energies and contacts as a frame.
+    /// Bodies added after the recorder was created are not recorded.
+    pub fn record(&mut self, world: &World) {
+        let poses = self
+            .ids
+            .iter()
+            .map(|&id| world.body(id).map(|b| b.pose()).unwrap_or(Pose::IDENTITY))
+            .collect();
+        let contacts = world.contacts();
+        self.recording.frame_times.push(world.time());
+        self.recording.frames.push(poses);
+        self.recording.extras.push(FrameExtras {
+            kinetic_energy: world.kinetic_energy(),
+            potential_energy: world.potential_energy(),
+            contact_count: contacts.len(),
+            contacts: contacts
+                .iter()
+                .filter(|c| c.contact.distance <= 0.0 || c.normal_impulse > 0.0)
+                .take(self.max_contacts_drawn)
+                .map(|c| ContactMark::from(&c.contact))
+                .collect(),
+        });
+    }
+
+    /// Number of frames recorded.
+    pub fn frames(&self) -> usize {
+        self.recording.frames.len()
+    }
+
+    /// The finished recording.
+    pub fn finish(self) -> Recording {
+        self.recording
+    }
+}

@@ -220,3 +220,34 @@ proptest! {
         prop_assert!(sol.converged);
     }
 }
+
+#[test]
+fn compliance_makes_wedged_contacts_solvable() {
+    // Many contacts on few bodies with zero bias: the exact LCP sits on the
+    // edge of feasibility (see above) and may end on a ray in floating point.
+    // A + eps I is positive definite, so Lemke must succeed on every case,
+    // and the answer nearly solves the rigid problem: w_rigid = w - eps z.
+    let eps = 1e-9;
+    let mut rng = Rng::new(5);
+    for case in 0..100 {
+        let nb = 2 + rng.index(3);
+        let m = 6 * (nb - 1) + 1 + rng.index(12);
+        let (bodies, contacts) = random_contacts(&mut rng, nb, m);
+        let lcp = build_contact_lcp(&bodies, &contacts, false).unwrap();
+        let mut soft = lcp.a.clone();
+        soft.add_diagonal(eps).unwrap();
+        let sol = lemke(&soft, &lcp.b).unwrap_or_else(|e| panic!("case {case}: {e}"));
+        let tol = tol_for(&soft, &lcp.b) * (1.0 + max_abs(&sol.z));
+        assert!(check(&soft, &lcp.b, &sol.z).unwrap().within(tol), "case {case}");
+        let rigid = check(&lcp.a, &lcp.b, &sol.z).unwrap();
+        assert!(
+            rigid.min_w >= -eps * max_abs(&sol.z) - tol,
+            "case {case}: {rigid:?}"
+        );
+    }
+    let mut a = DenseMatrix::identity(2);
+    assert!(matches!(
+        a.add_diagonal(f64::NAN),
+        Err(LcpError::BadParameter { .. })
+    ));
+}

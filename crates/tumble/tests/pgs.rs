@@ -36,7 +36,6 @@ fn pgs_matches_lemke_velocities_on_redundant_contacts() {
     // and the body velocities u + M^-1 J^T z are (A(z1 - z2) = 0 implies
     // M^-1 J^T (z1 - z2) = 0 for PSD A = J M^-1 J^T).
     let mut rng = Rng::new(11);
-    let mut compared = 0;
     for case in 0..60 {
         let nb = 2 + rng.index(2);
         let m = 6 * (nb - 1) + 1 + rng.index(6);
@@ -49,12 +48,7 @@ fn pgs_matches_lemke_velocities_on_redundant_contacts() {
             panic!("case {case}: Lemke failed")
         };
         let iter = pgs(&lcp.a, &lcp.b, 50_000, 1e-10, None).unwrap();
-        if !iter.converged {
-            // Wedged configurations can be very slow for Gauss-Seidel; the
-            // comparison needs a converged answer.
-            continue;
-        }
-        compared += 1;
+        assert!(iter.converged, "case {case}: residual {}", iter.residual);
         let scale = 1.0 + max_abs(&lcp.b);
         assert!(max_abs_diff(&iter.w, &exact.w) < 1e-6 * scale, "case {case}");
         let ve = lcp.velocities_after(&bodies, &exact.z).unwrap();
@@ -64,7 +58,6 @@ fn pgs_matches_lemke_velocities_on_redundant_contacts() {
             assert!((e.angular - i.angular).length() < 1e-6 * scale, "case {case}");
         }
     }
-    assert!(compared >= 40, "only {compared} problems converged");
 }
 
 #[test]

@@ -119,6 +119,29 @@ impl DenseMatrix {
         Ok((0..self.n).map(|i| dot(self.row(i), x)).collect())
     }
 
+    /// Adds `value` to every diagonal entry: `A <- A + value I`.
+    ///
+    /// On a contact matrix this is constraint compliance ("constraint force
+    /// mixing", units of `A`, e.g. m/s per N s): contacts may yield by
+    /// `value * z`. Any `value > 0` turns a PSD `J M^-1 J^T` into a positive
+    /// definite matrix, whose LCP has exactly one solution for every `q`;
+    /// that is the cure when bodies are wedged (more contacts than degrees of
+    /// freedom) and round-off makes the exact problem infeasible.
+    /// Errors with [`LcpError::BadParameter`] if `value` is not finite.
+    pub fn add_diagonal(&mut self, value: f64) -> Result<(), LcpError> {
+        if !value.is_finite() {
+            return Err(LcpError::BadParameter {
+                what: "diagonal shift".into(),
+                value,
+                expected: "finite",
+            });
+        }
+        for i in 0..self.n {
+            self.data[i * self.n + i] += value;
+        }
+        Ok(())
+    }
+
     /// The transpose.
     pub fn transpose(&self) -> DenseMatrix {
         let mut t = DenseMatrix::zeros(self.n);

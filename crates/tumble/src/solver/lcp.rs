@@ -22,6 +22,8 @@ pub struct LcpSolution {
     pub iterations: usize,
     /// Natural-map residual `max_i |z_i - proj_i(z_i - w_i)|` (`proj` onto the
     /// row's bounds; `[0, inf)` for a plain LCP). Zero exactly at a solution.
+    /// It compares `z` and `w` directly, so it is in mixed units and scales
+    /// with the problem: choose tolerances accordingly.
     pub residual: f64,
     /// Whether the solver met its stopping criterion (always `true` for Lemke;
     /// `false` when projected Gauss-Seidel ran out of sweeps).

@@ -411,3 +411,46 @@ fn same_scene_gives_identical_bits() {
     };
     assert_eq!(run(), run());
 }
+
+#[test]
+fn exact_and_iterative_solvers_agree_on_a_resting_stack() {
+    use tumble::world::SolverKind;
+    let run = |solver: SolverKind| {
+        let mut scene = scenes::tower(3);
+        scene.settings.solver = solver;
+        let (mut world, ids) = scene.build().unwrap();
+        for _ in 0..120 {
+            let report = world.step();
+            assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+        }
+        // Impulse carried by each contact layer over one step.
+        let mut per_layer = [0.0f64; 3];
+        for c in world.contacts() {
+            let layer = c.body_a.index.min(c.body_b.index) as usize;
+            per_layer[layer] += c.normal_impulse;
+        }
+        let poses: Vec<_> = ids.iter().map(|&id| world.pose(id).unwrap().position).collect();
+        (per_layer, poses)
+    };
+    let (exact, exact_poses) = run(SolverKind::Lemke);
+    let (iterative, iterative_poses) = run(SolverKind::Pgs);
+    let dt = WorldSettings::default().dt;
+    for layer in 0..3 {
+        // Layer k carries the 3 - k boxes above it (1 kg each): m g dt.
+        let weight = (3 - layer) as f64 * 9.81 * dt;
+        assert!(
+            (exact[layer] - weight).abs() < 0.01 * weight,
+            "exact layer {layer}: {} vs {weight}",
+            exact[layer]
+        );
+        assert!(
+            (iterative[layer] - exact[layer]).abs() < 0.02 * weight,
+            "layer {layer}: PGS {} vs Lemke {}",
+            iterative[layer],
+            exact[layer]
+        );
+    }
+    for (a, b) in exact_poses.iter().zip(&iterative_poses) {
+        assert!((*a - *b).length() < 1e-3, "poses differ: {a:?} vs {b:?}");
+    }
+}

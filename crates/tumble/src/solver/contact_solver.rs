@@ -313,28 +313,108 @@ pub fn solve(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody], h
         c.max_normal_impulse = c.max_normal_impulse.max(new_impulse);
         row_impulse(bodies, c, 0, c.normal, applied);
 
-        // Friction: Coulomb cone |lambda_t| <= mu lambda_n. The two tangent
-        // rows are solved one after the other (Gauss-Seidel: they are coupled
-        // through the rotation), then the pair is projected onto the disc.
-        let limit = c.friction * c.normal_impulse;
-        let mut t = c.tangent_impulse;
-        for (i, ti) in t.iter_mut().enumerate() {
-            let d = c.tangents[i];
-            let before = *ti;
-            *ti = before - c.tangent_mass[i] * row_velocity(bodies, c, i + 1, d);
-            row_impulse(bodies, c, i + 1, d, *ti - before);
-        }
-        let len2 = t[0] * t[0] + t[1] * t[1];
-        if len2 > limit * limit {
-            let scale = if len2 > 0.0 { limit / len2.sqrt() } else { 0.0 };
-            for (i, ti) in t.iter_mut().enumerate() {
-                let clamped = *ti * scale;
-                row_impulse(bodies, c, i + 1, c.tangents[i], clamped - *ti);
-                *ti = clamped;
-            }
-        }
-        c.tangent_impulse = t;
+        solve_friction_row(c, bodies);
     }
+}
+
+/// Friction of one point: Coulomb cone |lambda_t| <= mu lambda_n. The two
+/// tangent rows are solved one after the other (Gauss-Seidel: they are
+/// coupled through the rotation), then the pair is projected onto the disc.
+#[inline]
+fn solve_friction_row(c: &mut ContactConstraint, bodies: &mut [SolverBody]) {
+    let limit = c.friction * c.normal_impulse;
+    let mut t = c.tangent_impulse;
+    for (i, ti) in t.iter_mut().enumerate() {
+        let d = c.tangents[i];
+        let before = *ti;
+        *ti = before - c.tangent_mass[i] * row_velocity(bodies, c, i + 1, d);
+        row_impulse(bodies, c, i + 1, d, *ti - before);
+    }
+    let len2 = t[0] * t[0] + t[1] * t[1];
+    if len2 > limit * limit {
+        let scale = if len2 > 0.0 { limit / len2.sqrt() } else { 0.0 };
+        for (i, ti) in t.iter_mut().enumerate() {
+            let clamped = *ti * scale;
+            row_impulse(bodies, c, i + 1, c.tangents[i], clamped - *ti);
+            *ti = clamped;
+        }
+    }
+    c.tangent_impulse = t;
+}
+
+/// One Gauss-Seidel pass over the friction rows only, the normal impulses
+/// held fixed (used after an exact normal solve).
+pub fn solve_friction(constraints: &mut [ContactConstraint], bodies: &mut [SolverBody]) {
+    for c in constraints.iter_mut() {
+        solve_friction_row(c, bodies);
+    }
+}
+
+/// Why the exact normal solve failed (the caller falls back to PGS).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExactSolveError {
+    /// The contact rows could not be assembled into an LCP.
+    #[error("contact LCP assembly: {0}")]
+    Assembly(#[from] super::ContactLcpError),
+    /// Lemke's method failed (ray termination, pivot limit, bad input).
+    #[error("Lemke: {0}")]
+    Lcp(#[from] super::LcpError),
+}
+
+/// Largest number of contact points solved exactly by [`solve_normals_exactly`]
+/// (Lemke's method costs O(n^3)); the world falls back to PGS above it.
+pub const EXACT_MAX_CONTACTS: usize = 256;
+
+/// Solves the normal impulses of all points of the sub-step `h` exactly as
+/// the LCP of thesis 7.2 (`w = A z + b >= 0, z >= 0, z.w = 0` with
+/// `A = J M^-1 J^T` and `b` the relative normal velocities plus the
+/// speculative allowance) by Lemke's method, and applies them. The bodies'
+/// velocities must not contain any impulse of this sub-step yet (no warm
+/// start). Friction is left to [`solve_friction`].
+pub fn solve_normals_exactly(
+    constraints: &mut [ContactConstraint],
+    bodies: &mut [SolverBody],
+    h: f64,
+) -> Result<(), ExactSolveError> {
+    let states: Vec<super::BodyState> = bodies
+        .iter()
+        .map(|b| super::BodyState {
+            inv_mass: b.inv_mass,
+            inv_inertia: b.inv_inertia,
+            linear_velocity: b.v,
+            angular_velocity: b.w,
+        })
+        .collect();
+    let rows: Vec<super::ContactRow> = constraints
+        .iter()
+        .map(|c| super::ContactRow {
+            body_a: c.a as usize,
+            body_b: c.b as usize,
+            r_a: c.ra_now,
+            r_b: c.rb_now,
+            normal: c.normal,
+            bias: if c.separation_now > 0.0 {
+                c.separation_now / h
+            } else {
+                0.0
+            },
+            friction: c.friction,
+        })
+        .collect();
+    let mut lcp = super::build_contact_lcp(&states, &rows, false)?;
+    // Redundant contacts (four corners of a box face) make A only positive
+    // semi-definite; a compliance far below any physical one keeps Lemke's
+    // pivots away from ray termination without changing the answer visibly.
+    let n = lcp.a.n().max(1);
+    let mean_diagonal = (0..n).map(|i| lcp.a.get(i, i)).sum::<f64>() / n as f64;
+    lcp.a.add_diagonal(1e-9 * mean_diagonal)?;
+    let solution = super::lemke(&lcp.a, &lcp.b)?;
+    for (c, &z) in constraints.iter_mut().zip(&solution.z) {
+        row_impulse(bodies, c, 0, c.normal, z);
+        c.normal_impulse = z;
+        c.max_normal_impulse = c.max_normal_impulse.max(z);
+    }
+    Ok(())
 }
 
 /// One Gauss-Seidel pass of position correction by pseudo-velocities: each

@@ -13,9 +13,11 @@ pub enum SolverKind {
     /// with split-impulse push-out. Fast, the default.
     #[default]
     Pgs,
-    /// Direct pivoting LCP solve (Lemke) of each island's normal impulses,
-    /// then friction by PGS. Exact complementarity; cost grows as n^3 with the
-    /// island's contact count: for small systems and as a reference.
+    /// Direct pivoting LCP solve (Lemke) of the normal impulses of every
+    /// sub-step, then friction by PGS with the normal impulses fixed. Exact
+    /// complementarity; cost grows as n^3 with the contact count: for small
+    /// systems (at most 256 contact points, else PGS runs and the step
+    /// report says so) and as a reference for the iterative solver.
     Lemke,
 }
 

@@ -376,10 +376,14 @@ impl World {
                 }
             }
         }
-        if s.solver == SolverKind::Lemke {
-            report
-                .warnings
-                .push("solver = lemke is not available yet; the PGS solver ran instead".into());
+        let mut exact = s.solver == SolverKind::Lemke;
+        if exact && constraints.len() > contact_solver::EXACT_MAX_CONTACTS {
+            report.warnings.push(format!(
+                "solver = lemke: {} contacts exceed the exact solver's limit of {}; PGS ran instead",
+                constraints.len(),
+                contact_solver::EXACT_MAX_CONTACTS
+            ));
+            exact = false;
         }
         let linear_accel: Vec<DVec3> = accel.iter().map(|a| a.0).collect();
         contact_solver::resolve_collisions(&constraints, &mut solver_bodies, &linear_accel, &params, dt, h);
@@ -392,9 +396,28 @@ impl World {
                 b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
             }
             contact_solver::begin_substep(&mut constraints, &solver_bodies);
-            contact_solver::warm_start(&constraints, &mut solver_bodies);
-            for _ in 0..s.iterations {
-                contact_solver::solve(&mut constraints, &mut solver_bodies, h);
+            if exact {
+                for c in constraints.iter_mut() {
+                    c.normal_impulse = 0.0;
+                    c.tangent_impulse = [0.0; 2];
+                }
+                if let Err(e) = contact_solver::solve_normals_exactly(&mut constraints, &mut solver_bodies, h)
+                {
+                    report
+                        .warnings
+                        .push(format!("solver = lemke failed ({e}); PGS ran instead"));
+                    exact = false;
+                } else {
+                    for _ in 0..s.iterations {
+                        contact_solver::solve_friction(&mut constraints, &mut solver_bodies);
+                    }
+                }
+            }
+            if !exact {
+                contact_solver::warm_start(&constraints, &mut solver_bodies);
+                for _ in 0..s.iterations {
+                    contact_solver::solve(&mut constraints, &mut solver_bodies, h);
+                }
             }
             for _ in 0..s.push_out_iterations {
                 contact_solver::push_out(&mut constraints, &mut solver_bodies, &params, h);

@@ -236,10 +236,15 @@ fn push_at(bodies: &mut [SolverBody], i: u32, impulse: DVec3, r: DVec3) {
     }
 }
 
-/// Refreshes each point's anchors and separation for the bodies' current
-/// poses; called once per sub-step before the passes (the poses do not change
-/// until positions are integrated), so the passes do no rotations.
+/// Refreshes each point's separation for the bodies' current poses; called
+/// once per sub-step before the passes (the poses do not change until
+/// positions are integrated):
 /// `s = s0 + n . ((dpA + rA(t) - rA0) - (dpB + rB(t) - rB0))`.
+///
+/// The Jacobian rows (lever arms, inverse inertia) stay those of the step
+/// start, as in Box2D v3: the bodies turn little within a step, and keeping
+/// them fixed halves the cost of a sub-step; the separation, which decides
+/// whether a point is active, follows the rotation exactly.
 pub fn begin_substep(constraints: &mut [ContactConstraint], bodies: &[SolverBody]) {
     for c in constraints.iter_mut() {
         let (ba, bb) = (&bodies[c.a as usize], &bodies[c.b as usize]);
@@ -248,7 +253,6 @@ pub fn begin_substep(constraints: &mut [ContactConstraint], bodies: &[SolverBody
         let d = (ba.dp + c.ra_now - c.r_a) - (bb.dp + c.rb_now - c.r_b);
         c.separation_now = c.separation + c.normal.dot(d);
         c.push_impulse = 0.0;
-        fill_rows(c, ba, bb);
     }
 }
 
@@ -390,8 +394,9 @@ pub fn solve_normals_exactly(
         .map(|c| super::ContactRow {
             body_a: c.a as usize,
             body_b: c.b as usize,
-            r_a: c.ra_now,
-            r_b: c.rb_now,
+            // The lever arms of the rows the impulses are applied through.
+            r_a: c.r_a,
+            r_b: c.r_b,
             normal: c.normal,
             bias: if c.separation_now > 0.0 {
                 c.separation_now / h

@@ -4,7 +4,7 @@
 
 mod generators;
 mod load;
-mod topology;
+pub mod topology;
 mod trimesh;
 
 pub use generators::{

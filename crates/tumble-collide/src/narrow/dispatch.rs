@@ -5,13 +5,14 @@
 //! `contact_shapes(b, a)` is exactly the flip of `contact_shapes(a, b)`.
 //!
 //! ```text
-//!  A \ B      | Sphere         Cuboid          Capsule          ConvexHull       HalfSpace
-//! ------------+-----------------------------------------------------------------------------
-//!  Sphere     | sphere_sphere  sphere_cuboid   sphere_capsule   sphere_polytope  sphere_halfspace
-//!  Cuboid     | mirror         cuboid_cuboid   mirror           mirror           polytope_halfspace
-//!  Capsule    | mirror         capsule_polytope capsule_capsule capsule_polytope capsule_halfspace
-//!  ConvexHull | mirror         polytope_polytope mirror         polytope_polytope polytope_halfspace
-//!  HalfSpace  | mirror         mirror          mirror           mirror           Unsupported
+//!  A \ B      | Sphere         Cuboid          Capsule          ConvexHull       HalfSpace          Mesh
+//! ------------+----------------------------------------------------------------------------------------------
+//!  Sphere     | sphere_sphere  sphere_cuboid   sphere_capsule   sphere_polytope  sphere_halfspace   sphere_mesh
+//!  Cuboid     | mirror         cuboid_cuboid   mirror           mirror           polytope_halfspace polytope_mesh
+//!  Capsule    | mirror         capsule_polytope capsule_capsule capsule_polytope capsule_halfspace  Unsupported
+//!  ConvexHull | mirror         polytope_polytope mirror         polytope_polytope polytope_halfspace polytope_mesh
+//!  HalfSpace  | mirror         mirror          mirror           mirror           Unsupported        mirror
+//!  Mesh       | mirror         mirror          Unsupported      mirror           mesh_halfspace     mesh_mesh
 //! ```
 
 use super::*;
@@ -65,7 +66,18 @@ pub fn contact_shapes(
         (HalfSpace(x), Cuboid(y)) => mirror(out, |o| contact_polytope_halfspace(y, pb, x, pa, m, o)),
         (HalfSpace(x), Capsule(y)) => mirror(out, |o| contact_capsule_halfspace(y, pb, x, pa, m, o)),
         (HalfSpace(x), ConvexHull(y)) => mirror(out, |o| contact_polytope_halfspace(y, pb, x, pa, m, o)),
-        (HalfSpace(_), HalfSpace(_)) => {
+        (HalfSpace(x), Mesh(y)) => mirror(out, |o| contact_mesh_halfspace(y, pb, x, pa, m, o)),
+        // Row: Mesh
+        (Mesh(x), Sphere(y)) => mirror(out, |o| contact_sphere_mesh(y, pb, x, pa, m, o)),
+        (Mesh(x), Cuboid(y)) => mirror(out, |o| contact_polytope_mesh(y, pb, x, pa, m, o)),
+        (Mesh(x), ConvexHull(y)) => mirror(out, |o| contact_polytope_mesh(y, pb, x, pa, m, o)),
+        (Mesh(x), HalfSpace(y)) => contact_mesh_halfspace(x, pa, y, pb, m, out),
+        (Mesh(x), Mesh(y)) => contact_mesh_mesh(x, pa, y, pb, m, out),
+        // Column: Mesh
+        (Sphere(x), Mesh(y)) => contact_sphere_mesh(x, pa, y, pb, m, out),
+        (Cuboid(x), Mesh(y)) => contact_polytope_mesh(x, pa, y, pb, m, out),
+        (ConvexHull(x), Mesh(y)) => contact_polytope_mesh(x, pa, y, pb, m, out),
+        (Capsule(_), Mesh(_)) | (Mesh(_), Capsule(_)) | (HalfSpace(_), HalfSpace(_)) => {
             return Err(NarrowError::Unsupported {
                 a: a.kind_name(),
                 b: b.kind_name(),

@@ -15,6 +15,7 @@ mod clip;
 mod contact_capsule_capsule;
 mod contact_cuboid_cuboid;
 mod contact_halfspace;
+mod contact_mesh;
 mod contact_polytope_polytope;
 mod contact_segment_polytope;
 mod contact_sphere_capsule;
@@ -28,11 +29,16 @@ mod gjk;
 mod oracle;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_mesh;
 
 pub use contact_capsule_capsule::contact_capsule_capsule;
 pub use contact_cuboid_cuboid::contact_cuboid_cuboid;
 pub use contact_halfspace::{
     contact_capsule_halfspace, contact_polytope_halfspace, contact_sphere_halfspace,
+};
+pub use contact_mesh::{
+    contact_mesh_halfspace, contact_mesh_mesh, contact_polytope_mesh, contact_sphere_mesh,
 };
 pub use contact_polytope_polytope::contact_polytope_polytope;
 pub use contact_segment_polytope::{contact_capsule_polytope, contact_sphere_polytope};

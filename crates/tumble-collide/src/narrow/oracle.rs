@@ -57,6 +57,7 @@ pub(crate) fn oshape(s: &Shape, pose: &Pose) -> OShape {
             let (n, d) = x.world_plane(pose);
             OShape::Plane { n, d }
         }
+        Shape::Mesh(_) => unreachable!("the convex oracle is not used for meshes"),
     }
 }
 

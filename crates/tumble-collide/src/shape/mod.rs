@@ -13,6 +13,7 @@ mod capsule;
 mod convex_hull;
 mod cuboid;
 mod halfspace;
+mod mesh_shape;
 mod polytope;
 mod sphere;
 
@@ -21,6 +22,7 @@ pub use capsule::Capsule;
 pub use convex_hull::{ConvexHull, HullEdge, HullFace, MAX_FACE_VERTICES};
 pub use cuboid::Cuboid;
 pub use halfspace::HalfSpace;
+pub use mesh_shape::MeshShape;
 pub use polytope::Polytope;
 pub use sphere::Sphere;
 
@@ -97,6 +99,9 @@ pub enum ShapeError {
         /// Face index.
         face: usize,
     },
+    /// The OBBTree of a mesh shape could not be built.
+    #[error("mesh shape: {0}")]
+    Bvh(String),
     /// Building the hull of a point set failed.
     #[error("convex hull of points failed: {0}")]
     Hull(#[from] HullError),
@@ -130,6 +135,8 @@ pub enum Shape {
     ConvexHull(ConvexHull),
     /// An infinite solid below a plane (ground).
     HalfSpace(HalfSpace),
+    /// A triangle mesh with its OBBTree (concave allowed).
+    Mesh(MeshShape),
 }
 
 impl Shape {
@@ -141,6 +148,7 @@ impl Shape {
             Shape::Capsule(_) => "capsule",
             Shape::ConvexHull(_) => "convex_hull",
             Shape::HalfSpace(_) => "half_space",
+            Shape::Mesh(_) => "mesh",
         }
     }
 
@@ -153,6 +161,7 @@ impl Shape {
             Shape::Capsule(s) => s.aabb(pose),
             Shape::ConvexHull(s) => s.aabb(pose),
             Shape::HalfSpace(s) => s.aabb(pose),
+            Shape::Mesh(s) => s.aabb(pose),
         }
     }
 
@@ -165,6 +174,7 @@ impl Shape {
             Shape::Capsule(s) => Some(s.support(dir)),
             Shape::ConvexHull(s) => Some(s.support(dir)),
             Shape::HalfSpace(_) => None,
+            Shape::Mesh(s) => Some(s.support(dir)),
         }
     }
 }
@@ -187,6 +197,11 @@ impl From<Capsule> for Shape {
 impl From<ConvexHull> for Shape {
     fn from(s: ConvexHull) -> Shape {
         Shape::ConvexHull(s)
+    }
+}
+impl From<MeshShape> for Shape {
+    fn from(s: MeshShape) -> Shape {
+        Shape::Mesh(s)
     }
 }
 impl From<HalfSpace> for Shape {

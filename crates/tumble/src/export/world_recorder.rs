@@ -30,6 +30,7 @@ pub fn shape_mesh(shape: &Shape) -> Option<TriMesh> {
             }
             TriMesh::new(h.vertices().to_vec(), triangles).ok()
         }
+        Shape::Mesh(m) => Some(m.mesh().clone()),
         Shape::HalfSpace(hs) => {
             let thickness = 0.05;
             let slab = mesh::box_mesh(DVec3::new(

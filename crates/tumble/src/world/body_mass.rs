@@ -33,6 +33,9 @@ fn shape_properties(shape: &Shape, spec: MassSpec, index: usize) -> Result<MassP
                 .map(|(p, _volume)| p)
                 .map_err(|e| bad(&e))
         }
+        Shape::Mesh(m) => mass::solid_mass_properties(m.mesh(), spec)
+            .map(|(p, _volume)| p)
+            .map_err(|e| bad(&e)),
         Shape::HalfSpace(_) => Err(WorldError::BadShape {
             index,
             message: "a half-space has infinite volume: it can only belong to a static body".into(),

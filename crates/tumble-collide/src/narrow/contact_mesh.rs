@@ -1,0 +1,256 @@
+//! Contacts involving triangle meshes (thesis 5.2, 7.1): both OBBTrees are
+//! walked together with a tolerance (the boxes grown by the margin), every
+//! candidate triangle pair goes through the exact triangle contact routine
+//! (vertex/face, edge/edge, and push-out contacts where triangles already
+//! intersect), and the duplicates that shared vertices and edges produce are
+//! merged. Primitives against meshes: boxes and hulls as their faces'
+//! triangles against the tree, spheres by the closest point on each nearby
+//! triangle, half-spaces by the mesh vertices within the margin.
+
+use super::clip::reduce_to_four;
+use crate::bvh::{self, Obb, Traverse};
+use crate::contact::{Contact, ContactKind, Feature, SubFeature};
+use crate::math::{DMat3, DVec3};
+use crate::pose::Pose;
+use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
+use crate::triangle::{closest_point_on_triangle, merge_contacts, triangle_contacts, MergeParams};
+
+#[inline]
+fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
+    m.mesh().triangle(t as usize).map(|v| pose.transform_point(v))
+}
+
+/// `true` when a contact uses an edge that cannot define a contact normal of
+/// its own: an edge between coplanar triangles of the mesh (internal edge;
+/// issue: no ghost bumps on flat ground made of many triangles).
+fn on_flat_edge(f: Feature, m: &MeshShape) -> bool {
+    match f.sub {
+        SubFeature::Edge(k) => m.is_flat_edge(f.index, k),
+        _ => false,
+    }
+}
+
+/// Removes edge/edge contacts on flat (internal) edges of either mesh side;
+/// the vertex/face contacts of the coplanar faces carry those points.
+fn drop_flat_edge_contacts(
+    out: &mut Vec<Contact>,
+    start: usize,
+    a: Option<&MeshShape>,
+    b: Option<&MeshShape>,
+) {
+    let mut i = start;
+    while i < out.len() {
+        let c = out[i];
+        let flat = c.kind == ContactKind::EdgeEdge
+            && (a.is_some_and(|m| on_flat_edge(c.feature_a, m))
+                || b.is_some_and(|m| on_flat_edge(c.feature_b, m)));
+        if flat {
+            out.remove(i);
+        } else {
+            i += 1;
+        }
+    }
+}
+
+/// Merges duplicates; the parameters are valid constants, so merging cannot fail.
+fn merge(out: &mut Vec<Contact>, start: usize, tris_a: &[[u32; 3]], tris_b: &[[u32; 3]]) {
+    let mut tail = out.split_off(start);
+    let _ = merge_contacts(&mut tail, tris_a, tris_b, &MergeParams::default());
+    out.extend(tail);
+}
+
+/// Mesh A against mesh B: exact triangle contacts within `margin`.
+pub fn contact_mesh_mesh(
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let start = out.len();
+    let _ = bvh::collide(a.tree(), pose_a, b.tree(), pose_b, margin, |ta, tb| {
+        let wa = world_triangle(a, pose_a, ta);
+        let wb = world_triangle(b, pose_b, tb);
+        let _ = triangle_contacts(&wa, ta, &wb, tb, margin, out);
+        Traverse::Continue
+    });
+    drop_flat_edge_contacts(out, start, Some(a), Some(b));
+    merge(out, start, a.mesh().triangles(), b.mesh().triangles());
+}
+
+/// Vertices of a mesh kept against a plane before reducing.
+pub const MESH_PLANE_MAX_POINTS: usize = 16;
+
+/// When there are more, only vertices within this of the deepest one are
+/// kept (m), then reduced to four well-spread ones if still too many.
+pub const MESH_PLANE_BAND: f64 = 0.002;
+
+/// Mesh A against half-space B: every mesh vertex within `margin` of the
+/// plane; past [`MESH_PLANE_MAX_POINTS`], the deepest band of them, reduced
+/// to four well-spread points.
+pub fn contact_mesh_halfspace(
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &HalfSpace,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let (n, d) = b.world_plane(pose_b);
+    let start = out.len();
+    // Vertex v is named as a corner of the first triangle that uses it.
+    let mut first_use = vec![u32::MAX; a.mesh().vertices().len()];
+    for (t, tri) in a.mesh().triangles().iter().enumerate() {
+        for (k, &v) in tri.iter().enumerate() {
+            if first_use[v as usize] == u32::MAX {
+                first_use[v as usize] = (t as u32) << 2 | k as u32;
+            }
+        }
+    }
+    for (v, &p) in a.mesh().vertices().iter().enumerate() {
+        let p = pose_a.transform_point(p);
+        let dist = n.dot(p) - d;
+        if dist <= margin && first_use[v] != u32::MAX {
+            out.push(Contact {
+                point: p - n * (0.5 * dist),
+                normal: n,
+                distance: dist,
+                kind: ContactKind::VertexFace,
+                feature_a: Feature::vertex(first_use[v] >> 2, (first_use[v] & 3) as u8),
+                feature_b: Feature::face(0),
+            });
+        }
+    }
+    if out.len() - start > MESH_PLANE_MAX_POINTS {
+        // Keep the deepest band first: reducing by spread alone can keep
+        // shallow vertices and drop the deep ones the body rests on.
+        let deepest = out[start..]
+            .iter()
+            .map(|c| c.distance)
+            .fold(f64::INFINITY, f64::min);
+        let band = deepest + MESH_PLANE_BAND;
+        let mut i = start;
+        while i < out.len() {
+            if out[i].distance > band {
+                out.remove(i);
+            } else {
+                i += 1;
+            }
+        }
+    }
+    let count = out.len() - start;
+    if count > MESH_PLANE_MAX_POINTS {
+        let (keep, k) = reduce_to_four(count, n, |i| (out[start + i].point, out[start + i].distance));
+        for (slot, &i) in keep[..k].iter().enumerate() {
+            out[start + slot] = out[start + i];
+        }
+        out.truncate(start + k);
+    }
+}
+
+/// Polytope A (box or hull) against mesh B: the polytope's faces, fanned
+/// into triangles, against the mesh triangles near the polytope's box.
+pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
+    a: &P,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    // The polytope's bounding box in its own frame, placed in the world.
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for v in 0..a.vertex_count() {
+        lo = lo.min(a.vertex(v));
+        hi = hi.max(a.vertex(v));
+    }
+    let query = Obb {
+        center: pose_a.transform_point((lo + hi) * 0.5),
+        axes: DMat3::from_quat(pose_a.rotation),
+        half_extents: (hi - lo) * 0.5,
+    };
+    // Polytope faces as triangles (world), named by face and fan index. The
+    // fan's diagonals are internal edges: edge 0 of fan triangle k > 1 and
+    // edge 2 of fan triangle k < len - 2.
+    let mut tris: Vec<([DVec3; 3], u32)> = Vec::new();
+    for f in 0..a.face_count() {
+        let len = a.face_len(f);
+        let corner = |k: usize| pose_a.transform_point(a.vertex(a.face_vertex(f, k)));
+        for k in 1..len.saturating_sub(1) {
+            tris.push(([corner(0), corner(k), corner(k + 1)], (f as u32) << 8 | k as u32));
+        }
+    }
+    let start = out.len();
+    let _ = bvh::query_obb(b.tree(), pose_b, &query, margin, |tb| {
+        let wb = world_triangle(b, pose_b, tb);
+        for (wa, id) in &tris {
+            let _ = triangle_contacts(wa, *id, &wb, tb, margin, out);
+        }
+        Traverse::Continue
+    });
+    let fan_diagonal = |f: Feature| {
+        let (face, k) = ((f.index >> 8) as usize, (f.index & 0xff) as usize);
+        let len = a.face_len(face);
+        matches!(f.sub, SubFeature::Edge(0) if k > 1) || matches!(f.sub, SubFeature::Edge(2) if k + 2 < len)
+    };
+    let mut i = start;
+    while i < out.len() {
+        let c = out[i];
+        if c.kind == ContactKind::EdgeEdge && (fan_diagonal(c.feature_a) || on_flat_edge(c.feature_b, b)) {
+            out.remove(i);
+        } else {
+            i += 1;
+        }
+    }
+    merge(out, start, &[], b.mesh().triangles());
+}
+
+/// Sphere A against mesh B: the closest point of every nearby triangle.
+pub fn contact_sphere_mesh(
+    a: &Sphere,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let c = pose_a.position;
+    let r = a.radius();
+    let start = out.len();
+    let _ = bvh::query_sphere(b.tree(), pose_b, c, r + margin, |tb| {
+        let wb = world_triangle(b, pose_b, tb);
+        let (q, sub) = closest_point_on_triangle(c, &wb);
+        // A closest point on an internal edge (or at a vertex where both of
+        // this triangle's edges are internal) belongs to the flat region:
+        // the neighbouring face reports it with the face normal.
+        let internal = match sub {
+            SubFeature::Edge(k) => b.is_flat_edge(tb, k),
+            SubFeature::Vertex(k) => b.is_flat_edge(tb, k) && b.is_flat_edge(tb, (k + 2) % 3),
+            _ => false,
+        };
+        let delta = c - q;
+        let dist = delta.length();
+        if dist - r <= margin && !internal {
+            let face_n = (wb[1] - wb[0]).cross(wb[2] - wb[0]);
+            // Centre on the surface or inside: push out along the face normal.
+            let normal = if dist > 1e-12 {
+                delta / dist
+            } else {
+                face_n.normalize_or_zero()
+            };
+            if normal != DVec3::ZERO {
+                out.push(Contact {
+                    point: q + normal * (0.5 * (dist - r)),
+                    normal,
+                    distance: dist - r,
+                    kind: ContactKind::Smooth,
+                    feature_a: Feature::WHOLE,
+                    feature_b: Feature { index: tb, sub },
+                });
+            }
+        }
+        Traverse::Continue
+    });
+    merge(out, start, &[], b.mesh().triangles());
+}

@@ -1,0 +1,180 @@
+//! Mesh contacts against brute force and against the primitive routines.
+
+use super::*;
+use crate::mesh::{box_mesh, icosphere_mesh};
+use crate::pose::Pose;
+use crate::shape::{Capsule, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
+use crate::triangle::triangle_distance;
+use crate::DQuat;
+
+fn mesh_box(h: f64) -> MeshShape {
+    MeshShape::new(box_mesh(DVec3::splat(h)).unwrap()).unwrap()
+}
+
+fn min_distance(out: &[Contact]) -> f64 {
+    out.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min)
+}
+
+/// Brute-force minimum distance between two meshes (all triangle pairs).
+fn brute_distance(a: &MeshShape, pa: &Pose, b: &MeshShape, pb: &Pose) -> f64 {
+    let mut best = f64::INFINITY;
+    for ta in 0..a.mesh().triangles().len() {
+        let wa = a.mesh().triangle(ta).map(|v| pa.transform_point(v));
+        for tb in 0..b.mesh().triangles().len() {
+            let wb = b.mesh().triangle(tb).map(|v| pb.transform_point(v));
+            best = best.min(triangle_distance(&wa, &wb).distance);
+        }
+    }
+    best
+}
+
+#[test]
+fn mesh_cube_on_box_matches_the_primitive_manifold() {
+    let gap = 0.003;
+    let ground = Shape::Cuboid(Cuboid::new(DVec3::new(2.0, 2.0, 0.5)).unwrap());
+    let ground_pose = Pose::from_translation(DVec3::new(0.0, 0.0, -0.5));
+    let pose = Pose::from_translation(DVec3::new(0.1, -0.2, 0.5 + gap));
+    let mut mesh_out = Vec::new();
+    contact_shapes(
+        &Shape::Mesh(mesh_box(0.5)),
+        &pose,
+        &ground,
+        &ground_pose,
+        0.01,
+        &mut mesh_out,
+    )
+    .unwrap();
+    let mut prim_out = Vec::new();
+    let cube = Shape::Cuboid(Cuboid::new(DVec3::splat(0.5)).unwrap());
+    contact_shapes(&cube, &pose, &ground, &ground_pose, 0.01, &mut prim_out).unwrap();
+    assert!((min_distance(&mesh_out) - gap).abs() < 1e-12);
+    assert!((min_distance(&prim_out) - gap).abs() < 1e-12);
+    // After merging, the four bottom corners remain (one contact each).
+    let corners: Vec<_> = mesh_out
+        .iter()
+        .filter(|c| (c.distance - gap).abs() < 1e-9)
+        .collect();
+    assert_eq!(corners.len(), 4, "{mesh_out:#?}");
+    for c in &mesh_out {
+        assert!(
+            (c.normal - DVec3::Z).length() < 1e-12,
+            "normal from the ground (B) up to the cube (A)"
+        );
+    }
+}
+
+#[test]
+fn mesh_mesh_distance_matches_brute_force() {
+    let a = MeshShape::new(icosphere_mesh(0.5, 1).unwrap()).unwrap();
+    let b = mesh_box(0.3);
+    for k in 0..20 {
+        let t = k as f64 * 0.37;
+        let pa = Pose::new(
+            DVec3::ZERO,
+            DQuat::from_euler(glam::EulerRot::XYZ, t, 0.5 * t, 0.2),
+        )
+        .unwrap();
+        let dir = DVec3::new(t.cos(), t.sin(), 0.3 * (2.0 * t).sin()).normalize();
+        let pb = Pose::new(dir * 0.82, DQuat::from_euler(glam::EulerRot::ZYX, 0.3 * t, t, -t)).unwrap();
+        let truth = brute_distance(&a, &pa, &b, &pb);
+        let margin = 0.05;
+        let mut out = Vec::new();
+        contact_shapes(
+            &Shape::Mesh(a.clone()),
+            &pa,
+            &Shape::Mesh(b.clone()),
+            &pb,
+            margin,
+            &mut out,
+        )
+        .unwrap();
+        if truth > margin {
+            assert!(out.iter().all(|c| c.distance <= margin));
+            continue;
+        }
+        assert!(
+            !out.is_empty(),
+            "pose {k}: distance {truth} within the margin but no contact"
+        );
+        if truth > 0.0 {
+            // No contact claims to be closer than the true distance, and the
+            // closest pair is found (vertex-face or edge-edge realises it).
+            assert!(min_distance(&out) >= truth - 1e-9, "pose {k}");
+            assert!(
+                min_distance(&out) <= truth + 1e-9,
+                "pose {k}: {} vs {truth}",
+                min_distance(&out)
+            );
+        }
+        for c in &out {
+            assert!((c.normal.length() - 1.0).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn mesh_on_half_space_reports_the_lowest_vertices() {
+    let m = Shape::Mesh(mesh_box(0.5));
+    let ground = Shape::HalfSpace(HalfSpace::ground());
+    let mut out = Vec::new();
+    contact_shapes(
+        &m,
+        &Pose::from_translation(DVec3::new(0.0, 0.0, 0.51)),
+        &ground,
+        &Pose::IDENTITY,
+        0.02,
+        &mut out,
+    )
+    .unwrap();
+    assert_eq!(out.len(), 4);
+    for c in &out {
+        assert!((c.distance - 0.01).abs() < 1e-12);
+        assert_eq!(c.normal, DVec3::Z);
+    }
+    let mut mirrored = Vec::new();
+    contact_shapes(
+        &ground,
+        &Pose::IDENTITY,
+        &m,
+        &Pose::from_translation(DVec3::new(0.0, 0.0, 0.51)),
+        0.02,
+        &mut mirrored,
+    )
+    .unwrap();
+    assert_eq!(mirrored.len(), 4);
+    assert!(mirrored.iter().all(|c| c.normal == -DVec3::Z));
+}
+
+#[test]
+fn sphere_on_mesh_face_has_the_analytic_distance() {
+    let m = Shape::Mesh(mesh_box(0.5));
+    let s = Shape::Sphere(Sphere::new(0.2).unwrap());
+    let mut out = Vec::new();
+    let centre = DVec3::new(0.1, 0.05, 0.5 + 0.2 + 0.004);
+    contact_shapes(
+        &s,
+        &Pose::from_translation(centre),
+        &m,
+        &Pose::IDENTITY,
+        0.01,
+        &mut out,
+    )
+    .unwrap();
+    assert!(!out.is_empty());
+    assert!((min_distance(&out) - 0.004).abs() < 1e-12);
+    assert!(out.iter().all(|c| (c.normal - DVec3::Z).length() < 1e-12));
+}
+
+#[test]
+fn capsule_against_mesh_is_unsupported_not_silent() {
+    let m = Shape::Mesh(mesh_box(0.5));
+    let c = Shape::Capsule(Capsule::new(0.1, 0.3).unwrap());
+    let mut out = Vec::new();
+    assert!(matches!(
+        contact_shapes(&c, &Pose::IDENTITY, &m, &Pose::IDENTITY, 0.01, &mut out),
+        Err(NarrowError::Unsupported {
+            a: "capsule",
+            b: "mesh"
+        })
+    ));
+}

@@ -1,0 +1,103 @@
+//! A triangle-mesh shape for the dynamics: the mesh with its OBBTree, built
+//! once and shared (cheap to clone), so that concave bodies collide exactly,
+//! triangle against triangle, without convex decomposition.
+
+use super::{Aabb, ShapeError};
+use crate::bvh::ObbTree;
+use crate::math::DVec3;
+use crate::mesh::topology::NO_NEIGHBOR;
+use crate::mesh::{Topology, TriMesh};
+use crate::pose::Pose;
+use std::sync::Arc;
+
+/// Two triangles are coplanar when their unit normals' dot product is within
+/// this of 1 (about 0.03 degrees).
+pub const FLAT_COS_TOLERANCE: f64 = 1e-7;
+
+/// A closed or open triangle mesh with its OBBTree, in its own frame.
+#[derive(Debug, Clone)]
+pub struct MeshShape {
+    mesh: Arc<TriMesh>,
+    tree: Arc<ObbTree>,
+    /// Bit `k` of entry `t`: edge `k` of triangle `t` is flat (shared with a
+    /// coplanar, consistently wound neighbour): an internal edge that can
+    /// define no contact normal of its own.
+    flat: Arc<Vec<u8>>,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl PartialEq for MeshShape {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.mesh, &other.mesh) || self.mesh == other.mesh
+    }
+}
+
+impl MeshShape {
+    /// Builds the OBBTree of `mesh`.
+    pub fn new(mesh: TriMesh) -> Result<MeshShape, ShapeError> {
+        let tree = ObbTree::build(&mesh).map_err(|e| ShapeError::Bvh(e.to_string()))?;
+        let (lo, hi) = mesh.bounds();
+        let topology = Topology::new(&mesh);
+        let unit = |t: usize| mesh.triangle_normal_scaled(t).normalize_or_zero();
+        let flat = topology
+            .neighbors
+            .iter()
+            .enumerate()
+            .map(|(t, nb)| {
+                let mut bits = 0u8;
+                for (k, &other) in nb.iter().enumerate() {
+                    if other != NO_NEIGHBOR && unit(t).dot(unit(other as usize)) > 1.0 - FLAT_COS_TOLERANCE {
+                        bits |= 1 << k;
+                    }
+                }
+                bits
+            })
+            .collect();
+        Ok(MeshShape {
+            mesh: Arc::new(mesh),
+            tree: Arc::new(tree),
+            flat: Arc::new(flat),
+            lo,
+            hi,
+        })
+    }
+
+    /// `true` when edge `k` (corner `k` to `k + 1`) of triangle `t` is an
+    /// internal edge between coplanar triangles.
+    pub fn is_flat_edge(&self, t: u32, k: u8) -> bool {
+        self.flat
+            .get(t as usize)
+            .is_some_and(|&bits| bits & (1 << k) != 0)
+    }
+
+    /// The mesh (shape frame).
+    pub fn mesh(&self) -> &TriMesh {
+        &self.mesh
+    }
+
+    /// Its OBBTree.
+    pub fn tree(&self) -> &ObbTree {
+        &self.tree
+    }
+
+    /// World bounding box at `pose`: the mesh's box in its own frame, turned.
+    pub fn aabb(&self, pose: &Pose) -> Aabb {
+        let c = (self.lo + self.hi) * 0.5;
+        let h = (self.hi - self.lo) * 0.5;
+        let r = glam::DMat3::from_quat(pose.rotation);
+        let abs = glam::DMat3::from_cols(r.x_axis.abs(), r.y_axis.abs(), r.z_axis.abs());
+        let center = pose.transform_point(c);
+        Aabb::from_center_half_extents(center, abs * h)
+    }
+
+    /// The vertex farthest along `dir` (shape frame).
+    pub fn support(&self, dir: DVec3) -> DVec3 {
+        self.mesh
+            .vertices()
+            .iter()
+            .copied()
+            .max_by(|a, b| a.dot(dir).total_cmp(&b.dot(dir)))
+            .unwrap_or(DVec3::ZERO)
+    }
+}

@@ -2,8 +2,10 @@
 //! tests, benchmarks, the CLI and the examples. Each function returns a
 //! [`Scene`]: world settings plus body descriptions in insertion order.
 
+mod mesh_scenes;
 mod primitives_scenes;
 
+pub use mesh_scenes::{chain, torus_on_ground};
 pub use primitives_scenes::{ball_drop, cradle, domino, incline, pile, pyramid, tower};
 
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};

@@ -1,0 +1,70 @@
+//! Scenes made of concave triangle meshes: the torus chain and the tori
+//! pass-through of shared/scenes.md.
+
+use super::Scene;
+use crate::world::{BodyDesc, MassDesc, WorldSettings};
+use tumble_collide::mesh::torus_mesh;
+use tumble_collide::shape::{HalfSpace, MeshShape, Shape};
+use tumble_collide::{DQuat, DVec3, Pose};
+
+/// chain: 21 interlocked torus links (`torus_mesh(1, 0.2, 32, 12)`), link 0
+/// static, hanging at 60 degrees from the vertical; dt 1/60, 600 steps. Links
+/// carry the mass of the solid torus, m = 2 pi^2 R r^2 (density 1).
+pub fn chain() -> Scene {
+    let link =
+        Shape::Mesh(MeshShape::new(torus_mesh(1.0, 0.2, 32, 12).expect("valid torus")).expect("tree builds"));
+    let theta = 60f64.to_radians();
+    let e = DVec3::new(-theta.sin(), 0.0, -theta.cos());
+    let tilt = DQuat::from_rotation_y(theta);
+    let mass = 2.0 * std::f64::consts::PI.powi(2) * 1.0 * 0.2 * 0.2;
+    let bodies = (0..21)
+        .map(|k| {
+            let rotation = if k % 2 == 0 {
+                tilt * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)
+            } else {
+                tilt * DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2)
+                    * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)
+            };
+            let desc = if k == 0 {
+                BodyDesc::fixed(link.clone())
+            } else {
+                BodyDesc {
+                    mass: MassDesc::Mass(mass),
+                    ..BodyDesc::dynamic(link.clone())
+                }
+            };
+            desc.with_pose(Pose {
+                position: e * (1.5 * k as f64),
+                rotation,
+            })
+            .named(format!("link{k}"))
+        })
+        .collect();
+    Scene {
+        name: "chain".into(),
+        settings: WorldSettings {
+            sleeping: false,
+            ..WorldSettings::default()
+        },
+        bodies,
+        steps: 600,
+    }
+}
+
+/// A torus (R 1, r 0.3, 50 x 50: the thesis' 5,000 triangles) lying on the
+/// ground: the resting half of the tori pass-through scene.
+pub fn torus_on_ground() -> Scene {
+    let torus =
+        Shape::Mesh(MeshShape::new(torus_mesh(1.0, 0.3, 50, 50).expect("valid torus")).expect("tree builds"));
+    Scene {
+        name: "torus_on_ground".into(),
+        settings: WorldSettings::default(),
+        bodies: vec![
+            BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())).named("ground"),
+            BodyDesc::dynamic(torus)
+                .at(DVec3::new(0.0, 0.0, 0.35))
+                .named("torus"),
+        ],
+        steps: 240,
+    }
+}

@@ -76,7 +76,7 @@ def deepest(d, geoms=None):
         if geoms is not None and not (c.geom1 in geoms and c.geom2 in geoms):
             continue
         x = min(x, c.dist)
-    return -x
+    return 0.0 - x
 
 
 def box_static(half, centre):

@@ -79,7 +79,7 @@ def deepest_penetration():
     d = 0.0
     for c in p.getContactPoints():
         d = min(d, c[8])
-    return -d
+    return 0.0 - d
 
 
 def run_pyramid(steps):

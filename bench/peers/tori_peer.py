@@ -196,13 +196,16 @@ def run_coal(ps, truth, bv):
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--engine", required=True, choices=["fcl", "coal-obbrss", "coal-obb"])
-    ap.add_argument("--poses", type=int, default=200, help="first N poses only (quick mode)")
+    ap.add_argument("--poses", type=int, default=200, help="N poses spread evenly over the 200 (quick mode)")
     a = ap.parse_args()
     if not 1 <= a.poses <= 200:
         ap.error("--poses must be in 1..200")
     with open(TRUTH) as f:
-        truth = json.load(f)["pairs_per_pose"][: a.poses]
-    ps = poses()[: a.poses]
+        truth_all = json.load(f)["pairs_per_pose"]
+    # --poses N takes N poses spread evenly over k = 0..199 (all 200 when N = 200).
+    ks = sorted({round(i * 199 / (a.poses - 1)) for i in range(a.poses)}) if a.poses > 1 else [0]
+    truth = [truth_all[k] for k in ks]
+    ps = [poses()[k] for k in ks]
     if a.engine == "fcl":
         out = run_fcl(ps, truth)
     else:

@@ -123,14 +123,17 @@ def run_tumble(scene, steps=None, n=None, poses=None, timeout=600):
 
 
 # ---------------------------------------------------------------- the run
-def collect(quick, only):
-    steps = QUICK_STEPS if quick else None
+def collect(quick, only, max_steps=None, pile_n=None, engines=None):
+    steps = QUICK_STEPS if quick else max_steps
     timeout = 300 if quick else 7200
-    piles = PILE_N_QUICK if quick else PILE_N_FULL
+    piles = pile_n or (PILE_N_QUICK if quick else PILE_N_FULL)
     results = []
 
     def want(scene):
         return only is None or scene in only
+
+    def on(engine):
+        return engines is None or engine in engines
 
     def step_args(n=None):
         a = [] if steps is None else ["--steps", str(steps)]
@@ -142,11 +145,14 @@ def collect(quick, only):
         ns = piles if scene == "pile" else [None]
         for n in ns:
             hint = f"pile{n}" if n else scene
-            results += run_tumble(scene, steps, n)
-            for eng in ["pybullet", "mujoco"]:
+            if on("tumble"):
+                results += run_tumble(scene, steps, n)
+            for eng in [e for e in ["pybullet", "mujoco"] if on(e)]:
                 print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
                 results += python_peer(eng, f"{eng}_peer.py", ["--scene", scene] + step_args(n), timeout, hint)
-            if scene in ("pyramid", "pile"):
+            if not on("rapier3d"):
+                pass
+            elif scene in ("pyramid", "pile"):
                 print(f"[bench] rapier {hint}", file=sys.stderr, flush=True)
                 results += rust_peer("rapier3d", "peer-rapier", ["--scene", scene] + step_args(n), timeout, hint)
             else:
@@ -154,13 +160,25 @@ def collect(quick, only):
                                 "detail": "peer-rapier covers pyramid and pile only"})
     if want("tori"):
         poses = QUICK_POSES if quick else 200
-        results += run_tumble("tori", poses=poses)
-        for eng in ["fcl", "coal-obbrss", "coal-obb"]:
+        if on("tumble"):
+            results += run_tumble("tori", poses=poses)
+        for eng in [e for e in ["fcl", "coal-obbrss", "coal-obb"] if on(e)]:
             print(f"[bench] {eng} tori", file=sys.stderr, flush=True)
             results += python_peer(eng, "tori_peer.py", ["--engine", eng, "--poses", str(poses)], timeout, "tori")
-        print("[bench] parry3d tori", file=sys.stderr, flush=True)
-        results += rust_peer("parry3d", "peer-parry", ["--poses", str(poses)], timeout, "tori")
+        if on("parry3d"):
+            print("[bench] parry3d tori", file=sys.stderr, flush=True)
+            results += rust_peer("parry3d", "peer-parry", ["--poses", str(poses)], timeout, "tori")
     return results
+
+
+def record_key(r):
+    return (r.get("engine"), r.get("scene"), (r.get("settings") or {}).get("bv"))
+
+
+def merge(old, new):
+    """Old records not re-run are kept (in their order); re-run ones are replaced."""
+    fresh = {record_key(r) for r in new}
+    return [r for r in old if record_key(r) not in fresh] + new
 
 
 def setup_peers():
@@ -185,6 +203,15 @@ def main():
     ap.add_argument("--setup", action="store_true", help="install peers (bench/setup.sh, cargo build) first")
     ap.add_argument("--only", nargs="*", help="subset of: pyramid pile chain cradle tori")
     ap.add_argument("--out", default=None, help="output directory")
+    ap.add_argument("--max-steps", type=int, default=None,
+                    help="--full: run each dynamics scene for this many steps instead of its full length "
+                         "(for slow peers such as the 10k pile; each record states its steps)")
+    ap.add_argument("--pile-n", type=int, nargs="*", help="pile sizes to run (default 100 1000 10000; quick 100 1000)")
+    ap.add_argument("--engines", nargs="*",
+                    help="subset of: tumble pybullet mujoco rapier3d fcl coal-obbrss coal-obb parry3d")
+    ap.add_argument("--append", action="store_true",
+                    help="merge into an existing results-<date>.json of <out>, replacing records of the same "
+                         "engine, scene and BV type")
     a = ap.parse_args()
     if a.setup:
         setup_peers()
@@ -192,7 +219,15 @@ def main():
     os.makedirs(out, exist_ok=True)
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
     started = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-    results = collect(a.quick, set(a.only) if a.only else None)
+    if a.max_steps is not None and a.max_steps <= 0:
+        ap.error("--max-steps must be positive")
+    if a.pile_n and any(n <= 0 or n % 100 for n in a.pile_n):
+        ap.error("--pile-n values must be positive multiples of 100")
+    results = collect(a.quick, set(a.only) if a.only else None, a.max_steps, a.pile_n,
+                      set(a.engines) if a.engines else None)
+    path = os.path.join(out, f"results-{date}.json")
+    if a.append and os.path.exists(path):
+        results = merge(json.load(open(path))["results"], results)
     versions = {}
     for r in results:
         if r.get("version"):
@@ -205,7 +240,6 @@ def main():
         "versions": versions,
         "results": results,
     }
-    path = os.path.join(out, f"results-{date}.json")
     with open(path, "w") as f:
         json.dump(doc, f, indent=1, default=float)
     sys.path.insert(0, BENCH)

@@ -203,7 +203,7 @@ def main():
     with open(TRUTH) as f:
         truth_all = json.load(f)["pairs_per_pose"]
     # --poses N takes N poses spread evenly over k = 0..199 (all 200 when N = 200).
-    ks = sorted({round(i * 199 / (a.poses - 1)) for i in range(a.poses)}) if a.poses > 1 else [0]
+    ks = sorted({math.floor(i * 199 / (a.poses - 1) + 0.5) for i in range(a.poses)}) if a.poses > 1 else [0]
     truth = [truth_all[k] for k in ks]
     ps = [poses()[k] for k in ks]
     if a.engine == "fcl":

@@ -215,7 +215,7 @@ def main():
     a = ap.parse_args()
     if a.setup:
         setup_peers()
-    out = a.out or os.path.join(ROOT, "target", "bench-quick" if a.quick else os.path.join("docs", "benchmarks"))
+    out = a.out or (os.path.join(ROOT, "target", "bench-quick") if a.quick else os.path.join(ROOT, "docs", "benchmarks"))
     os.makedirs(out, exist_ok=True)
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
     started = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")

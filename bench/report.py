@@ -92,7 +92,7 @@ def markdown(doc):
                 lines.append(f"| {s} | {_label(r)} | {r.get('status')} | - | - | - | {r.get('detail', '')[:80]} | - |")
                 continue
             st = r["figures"].get("step_time", {})
-            base = "pile" if s.startswith("pile") else s
+            base = "pile" if s.startswith("pile") else s.split("-")[0]
             q = "; ".join(f"{k.replace('_m', '')}={_fmt(r['figures'].get(k))}" for k in DYN_FIGURES.get(base, []))
             ratio = "-" if r["engine"] == "tumble" else _ratio(tmed, st.get("median"))
             lines.append(

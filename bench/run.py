@@ -150,14 +150,20 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None):
             for eng in [e for e in ["pybullet", "mujoco"] if on(e)]:
                 print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
                 results += python_peer(eng, f"{eng}_peer.py", ["--scene", scene] + step_args(n), timeout, hint)
+            if scene == "chain":
+                # The variant every peer needs to hold the chain: 32 convex pieces per link.
+                for eng in [e for e in ["pybullet", "mujoco"] if on(e)]:
+                    print(f"[bench] {eng} chain-decomposed", file=sys.stderr, flush=True)
+                    results += python_peer(eng, f"{eng}_peer.py", ["--scene", "chain", "--decomposed"] + step_args(),
+                                           timeout, "chain-decomposed")
             if not on("rapier3d"):
                 pass
-            elif scene in ("pyramid", "pile"):
+            elif scene in ("pyramid", "pile", "chain"):
                 print(f"[bench] rapier {hint}", file=sys.stderr, flush=True)
                 results += rust_peer("rapier3d", "peer-rapier", ["--scene", scene] + step_args(n), timeout, hint)
             else:
                 results.append({"engine": "rapier3d", "scene": hint, "status": "not implemented",
-                                "detail": "peer-rapier covers pyramid and pile only"})
+                                "detail": "peer-rapier covers pyramid, pile and chain"})
     if want("tori"):
         poses = QUICK_POSES if quick else 200
         if on("tumble"):

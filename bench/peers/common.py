@@ -168,6 +168,21 @@ def chain_links():
     return out
 
 
+def chain_link_pieces(n_major=32, n_minor=12):
+    """Convex decomposition of the link for peers that need one: piece i is the tube segment
+    between rings i and i + 1 (its 2 n_minor vertices, whose hull every engine computes) and
+    the 2 n_minor mesh triangles of that segment. 32 pieces as in scenes.md."""
+    verts, tris = torus_mesh(CHAIN_R, CHAIN_r, n_major, n_minor)
+    pieces = []
+    for i in range(n_major):
+        i1 = (i + 1) % n_major
+        ids = [i * n_minor + j for j in range(n_minor)] + [i1 * n_minor + j for j in range(n_minor)]
+        local = {g: k for k, g in enumerate(ids)}
+        ptris = [tuple(local[x] for x in tris[2 * (i * n_minor + j) + h]) for j in range(n_minor) for h in (0, 1)]
+        pieces.append(([verts[g] for g in ids], ptris))
+    return pieces
+
+
 class ChainMonitor:
     """Interlock check of scenes.md: adjacent link centres never further apart than 1.8 m."""
 
@@ -278,6 +293,8 @@ def parse_args(scenes, description):
     ap.add_argument("--scene", required=True, help="one of: " + ", ".join(scenes))
     ap.add_argument("--steps", type=int, default=None, help="override step count (quick mode)")
     ap.add_argument("--n", type=int, default=1000, help="pile: number of bodies (multiple of 100)")
+    ap.add_argument("--decomposed", action="store_true",
+                    help="chain: links as 32 convex pieces (chain_link_pieces) instead of the plain mesh")
     args = ap.parse_args()
     if args.scene not in scenes:
         ap.error(f"unknown scene {args.scene!r}; expected one of {', '.join(scenes)}")

@@ -85,7 +85,8 @@ def markdown(doc):
         if s != "tori" and s not in scenes:
             scenes.append(s)
     for s in scenes:
-        t = _tumble(res, s)
+        # Variants (pyramid-it200, chain-decomposed) are compared with tumble's base scene.
+        t = _tumble(res, s.split("-")[0])
         tmed = _step_median(t) if t else None
         for r in [r for r in res if _scene_key(r) == s]:
             if not _ok(r):

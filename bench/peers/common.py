@@ -286,7 +286,7 @@ def emit(engine, version, scene, settings, figures, status="ok"):
     sys.stdout.flush()
 
 
-def parse_args(scenes, description):
+def parse_args(scenes, description, extra=()):
     import argparse
 
     ap = argparse.ArgumentParser(description=description)
@@ -295,6 +295,8 @@ def parse_args(scenes, description):
     ap.add_argument("--n", type=int, default=1000, help="pile: number of bodies (multiple of 100)")
     ap.add_argument("--decomposed", action="store_true",
                     help="chain: links as 32 convex pieces (chain_link_pieces) instead of the plain mesh")
+    for flag, typ, help_text in extra:
+        ap.add_argument(flag, type=typ, default=None, help=help_text)
     args = ap.parse_args()
     if args.scene not in scenes:
         ap.error(f"unknown scene {args.scene!r}; expected one of {', '.join(scenes)}")

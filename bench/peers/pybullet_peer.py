@@ -82,9 +82,11 @@ def deepest_penetration():
     return 0.0 - d
 
 
-def run_pyramid(steps):
+def run_pyramid(steps, iterations=None):
     dt = C.DT["pyramid"]
     setup(dt)
+    if iterations is not None:
+        p.setPhysicsEngineParameter(numSolverIterations=iterations)
     g = p.createCollisionShape(p.GEOM_BOX, halfExtents=C.PYRAMID_GROUND["half"])
     body(g, 0.0, C.PYRAMID_GROUND["centre"])
     cube = p.createCollisionShape(p.GEOM_BOX, halfExtents=[C.PYRAMID_HALF] * 3)
@@ -101,7 +103,7 @@ def run_pyramid(steps):
     C.emit(
         "pybullet",
         version(),
-        "pyramid",
+        "pyramid" if iterations is None else f"pyramid-it{iterations}",
         settings(dt, steps),
         {
             "step_time": t.figures(),
@@ -236,9 +238,11 @@ def run_cradle(steps):
 
 
 def main():
-    a = C.parse_args(SCENES, __doc__)
+    a = C.parse_args(SCENES, __doc__, extra=[("--iterations", int, "pyramid: solver iterations (default: Bullet's 50)")])
+    if a.iterations is not None and a.iterations <= 0:
+        sys.exit("--iterations must be positive")
     steps = a.steps or C.FULL_STEPS[a.scene]
-    {"pyramid": lambda: run_pyramid(steps), "pile": lambda: run_pile(steps, a.n),
+    {"pyramid": lambda: run_pyramid(steps, a.iterations), "pile": lambda: run_pile(steps, a.n),
      "chain": lambda: run_chain(steps, a.decomposed), "cradle": lambda: run_cradle(steps)}[a.scene]()
 
 

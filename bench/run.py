@@ -189,7 +189,13 @@ def record_key(r):
 def merge(old, new):
     """Old records not re-run are kept (in their order); re-run ones are replaced."""
     fresh = {record_key(r) for r in new}
-    return [r for r in old if record_key(r) not in fresh] + new
+    rerun = {(r.get("engine"), r.get("scene")) for r in new}
+
+    def stale(r):
+        # A status record (not built, failed) has no BV type: any re-run of its engine and scene replaces it.
+        return record_key(r) in fresh or (r.get("status") != "ok" and (r.get("engine"), r.get("scene")) in rerun)
+
+    return [r for r in old if not stale(r)] + new
 
 
 def setup_peers():

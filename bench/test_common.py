@@ -1,4 +1,4 @@
-"""Fast checks of the shared scene data (python3 -m unittest bench/test_common.py; no deps)."""
+"""Fast checks of the shared scene data and the harness (python3 -m unittest bench/test_common.py; stdlib only)."""
 
 import math
 import os
@@ -79,3 +79,21 @@ class SceneData(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class Harness(unittest.TestCase):
+    def test_merge_replaces_rerun_records_and_status_placeholders(self):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import run
+
+        old = [
+            {"engine": "parry3d", "scene": "tori", "status": "not built"},
+            {"engine": "coal", "scene": "tori", "status": "ok", "settings": {"bv": "OBB"}},
+            {"engine": "coal", "scene": "tori", "status": "ok", "settings": {"bv": "OBBRSS"}},
+        ]
+        new = [
+            {"engine": "parry3d", "scene": "tori", "status": "ok", "settings": {"bv": "AABB"}},
+            {"engine": "coal", "scene": "tori", "status": "ok", "settings": {"bv": "OBB"}},
+        ]
+        got = [(r["engine"], (r.get("settings") or {}).get("bv")) for r in run.merge(old, new)]
+        self.assertEqual(got, [("coal", "OBBRSS"), ("parry3d", "AABB"), ("coal", "OBB")])

@@ -62,7 +62,11 @@ def run_json(label, cmd, timeout, scene_hint):
     """Runs cmd, parses each stdout line as JSON; failures become status records."""
     base = {"engine": label, "scene": scene_hint, "command": " ".join(cmd)}
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=ROOT)
+        # Run in target/ so that files a peer drops in its working directory (MuJoCo's
+        # MUJOCO_LOG.TXT) stay out of the source tree.
+        work = os.path.join(ROOT, "target")
+        os.makedirs(work, exist_ok=True)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=work)
     except subprocess.TimeoutExpired:
         return [dict(base, status="timeout", detail=f"no result within {timeout} s")]
     except OSError as e:

@@ -17,5 +17,5 @@ pub use integrate::{
 };
 pub use tumble_collide as collide;
 
-pub mod export;
 pub mod solver;
+pub mod export;

@@ -192,8 +192,11 @@ def plots(doc, out, date):
     if piles:
         fig, ax = plt.subplots(figsize=(6, 4.5))
         for e in sorted({r["engine"] for r in piles}):
-            pts = sorted((r["settings"]["n"], _step_median(r)) for r in piles if r["engine"] == e)
+            pts = sorted((r["settings"]["n"], _step_median(r), r["settings"].get("steps")) for r in piles if r["engine"] == e)
             ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=e)
+            for n, med, steps in pts:
+                if steps is not None and steps < 600:  # shortened run: not comparable with a full one
+                    ax.annotate(f"{steps} steps", (n, med), fontsize=7, textcoords="offset points", xytext=(4, -10))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("bodies N")

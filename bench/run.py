@@ -1,0 +1,286 @@
+#!/usr/bin/env python3
+"""Benchmark harness: runs every scene of scenes.md in tumble and in each peer engine.
+
+    python3 bench/run.py --quick          # a few steps per scene; CI smoke test, always exits 0
+    python3 bench/run.py --full [--setup] # full scenes; --setup installs peers (pip + cargo) first
+
+Each peer is a separate process (bench/peers/*.py in bench/.venv, target/release/peer-*)
+that prints one JSON object per line: engine, version, scene, status, settings, figures.
+A peer that is not installed or not built, fails or times out is recorded with that status
+rather than aborting the run. Results go to <out>/results-<date>.json plus a Markdown table
+(results-<date>.md) and PNG plots; <out> is docs/benchmarks for --full, target/bench-quick
+for --quick (so CI does not overwrite committed results).
+"""
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BENCH = os.path.join(ROOT, "bench")
+VENV_PY = os.path.join(BENCH, ".venv", "bin", "python")
+RELEASE = os.path.join(ROOT, "target", "release")
+
+DYNAMICS = ["pyramid", "pile", "chain", "cradle"]
+PILE_N_FULL = [100, 1000, 10000]
+PILE_N_QUICK = [100]
+QUICK_STEPS = 5
+QUICK_POSES = 5
+
+
+# ---------------------------------------------------------------- machine description
+def machine():
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    try:
+        load = os.getloadavg()
+    except OSError:
+        load = None
+    return {
+        "nproc": os.cpu_count(),
+        "cpu_model": cpu,
+        "kernel": platform.release(),
+        "python": platform.python_version(),
+        "load_average_at_start": load,
+    }
+
+
+# ---------------------------------------------------------------- running one peer process
+def run_json(label, cmd, timeout, scene_hint):
+    """Runs cmd, parses each stdout line as JSON; failures become status records."""
+    base = {"engine": label, "scene": scene_hint, "command": " ".join(cmd)}
+    try:
+        # Run in target/ so that files a peer drops in its working directory (MuJoCo's
+        # MUJOCO_LOG.TXT) stay out of the source tree.
+        work = os.path.join(ROOT, "target")
+        os.makedirs(work, exist_ok=True)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=work)
+    except subprocess.TimeoutExpired:
+        return [dict(base, status="timeout", detail=f"no result within {timeout} s")]
+    except OSError as e:
+        return [dict(base, status="failed", detail=str(e))]
+    out = []
+    for line in p.stdout.splitlines():
+        line = line.strip()
+        if line.startswith("{"):
+            try:
+                o = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            o["command"] = base["command"]
+            out.append(o)
+    if not out:
+        err = (p.stderr or "").strip().splitlines()
+        status = "not installed" if any("ModuleNotFoundError" in e for e in err) else "failed"
+        out.append(dict(base, status=status, returncode=p.returncode, detail=" | ".join(err[-3:])[:500]))
+    return out
+
+
+def python_peer(label, script, args, timeout, scene_hint):
+    py = VENV_PY if os.path.exists(VENV_PY) else sys.executable
+    return run_json(label, [py, os.path.join(BENCH, "peers", script)] + args, timeout, scene_hint)
+
+
+def rust_peer(label, binary, args, timeout, scene_hint):
+    path = os.path.join(RELEASE, binary)
+    if not os.path.exists(path):
+        return [{"engine": label, "scene": scene_hint, "status": "not built",
+                 "detail": f"{path} missing: cargo build --release -p tumble-bench"}]
+    return run_json(label, [path] + args, timeout, scene_hint)
+
+
+# ---------------------------------------------------------------- tumble plugs in here
+def run_tumble(scene, steps=None, n=None, poses=None, timeout=600):
+    """Runs one scene in tumble: `target/release/tumble bench --scene S [--steps K] [--n N]
+    [--poses P]` must print the same JSON shape as the peers (one object per line, engine
+    "tumble"). Until that verb exists the result is recorded as "not built"."""
+    exe = os.path.join(RELEASE, "tumble")
+    hint = f"pile{n}" if scene == "pile" else scene
+    if not os.path.exists(exe):
+        return [{"engine": "tumble", "scene": hint, "status": "not built", "detail": f"{exe} missing"}]
+    try:
+        probe = subprocess.run([exe, "bench", "--help"], capture_output=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return [{"engine": "tumble", "scene": hint, "status": "not built", "detail": str(e)}]
+    if probe.returncode != 0:
+        return [{"engine": "tumble", "scene": hint, "status": "not built", "detail": "no `bench` verb yet"}]
+    args = [exe, "bench", "--scene", scene]
+    if steps is not None:
+        args += ["--steps", str(steps)]
+    if n is not None:
+        args += ["--n", str(n)]
+    if poses is not None:
+        args += ["--poses", str(poses)]
+    return run_json("tumble", args, timeout, hint)
+
+
+# ---------------------------------------------------------------- the run
+def collect(quick, only, max_steps=None, pile_n=None, engines=None):
+    steps = QUICK_STEPS if quick else max_steps
+    timeout = 300 if quick else 7200
+    piles = pile_n or (PILE_N_QUICK if quick else PILE_N_FULL)
+    results = []
+
+    def want(scene):
+        return only is None or scene in only
+
+    def on(engine):
+        return engines is None or engine in engines
+
+    def step_args(n=None):
+        a = [] if steps is None else ["--steps", str(steps)]
+        return a + ([] if n is None else ["--n", str(n)])
+
+    for scene in DYNAMICS:
+        if not want(scene):
+            continue
+        ns = piles if scene == "pile" else [None]
+        for n in ns:
+            hint = f"pile{n}" if n else scene
+            if on("tumble"):
+                results += run_tumble(scene, steps, n)
+            for eng in [e for e in ["pybullet", "mujoco"] if on(e)]:
+                print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
+                results += python_peer(eng, f"{eng}_peer.py", ["--scene", scene] + step_args(n), timeout, hint)
+            if scene == "pyramid" and on("pybullet"):
+                # PyBullet's default 50 iterations do not hold the pyramid; scenes.md quotes 200.
+                print("[bench] pybullet pyramid-it200", file=sys.stderr, flush=True)
+                results += python_peer("pybullet", "pybullet_peer.py", ["--scene", "pyramid", "--iterations", "200"]
+                                       + step_args(), timeout, "pyramid-it200")
+            if scene == "chain":
+                # The variant every peer needs to hold the chain: 32 convex pieces per link.
+                for eng in [e for e in ["pybullet", "mujoco"] if on(e)]:
+                    print(f"[bench] {eng} chain-decomposed", file=sys.stderr, flush=True)
+                    results += python_peer(eng, f"{eng}_peer.py", ["--scene", "chain", "--decomposed"] + step_args(),
+                                           timeout, "chain-decomposed")
+            if not on("rapier3d"):
+                pass
+            elif scene in ("pyramid", "pile", "chain"):
+                print(f"[bench] rapier {hint}", file=sys.stderr, flush=True)
+                results += rust_peer("rapier3d", "peer-rapier", ["--scene", scene] + step_args(n), timeout, hint)
+            else:
+                results.append({"engine": "rapier3d", "scene": hint, "status": "not implemented",
+                                "detail": "peer-rapier covers pyramid, pile and chain"})
+    if want("tori"):
+        poses = QUICK_POSES if quick else 200
+        if on("tumble"):
+            results += run_tumble("tori", poses=poses)
+        for eng in [e for e in ["fcl", "coal-obbrss", "coal-obb"] if on(e)]:
+            print(f"[bench] {eng} tori", file=sys.stderr, flush=True)
+            results += python_peer(eng, "tori_peer.py", ["--engine", eng, "--poses", str(poses)], timeout, "tori")
+        if on("parry3d"):
+            print("[bench] parry3d tori", file=sys.stderr, flush=True)
+            results += rust_peer("parry3d", "peer-parry", ["--poses", str(poses)], timeout, "tori")
+    return results
+
+
+def record_key(r):
+    return (r.get("engine"), r.get("scene"), (r.get("settings") or {}).get("bv"))
+
+
+def merge(old, new):
+    """Old records not re-run are kept (in their order); re-run ones are replaced."""
+    fresh = {record_key(r) for r in new}
+    rerun = {(r.get("engine"), r.get("scene")) for r in new}
+
+    def stale(r):
+        # A status record (not built, failed) has no BV type: any re-run of its engine and scene replaces it.
+        return record_key(r) in fresh or (r.get("status") != "ok" and (r.get("engine"), r.get("scene")) in rerun)
+
+    return [r for r in old if not stale(r)] + new
+
+
+def setup_peers():
+    subprocess.run(["bash", os.path.join(BENCH, "setup.sh")], check=False)
+    if shutil.which("cargo"):
+        subprocess.run(["cargo", "build", "--release", "-p", "tumble-bench"], cwd=ROOT, check=False)
+        subprocess.run(["cargo", "build", "--release", "-p", "tumble-cli"], cwd=ROOT, check=False)
+
+
+def reexec_in_venv():
+    """Plots need matplotlib from bench/.venv: rerun this script there when it exists."""
+    if os.path.exists(VENV_PY) and os.path.realpath(sys.prefix) != os.path.realpath(os.path.join(BENCH, ".venv")):
+        os.execv(VENV_PY, [VENV_PY] + sys.argv)
+
+
+def main():
+    reexec_in_venv()
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    mode = ap.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--quick", action="store_true", help="a few steps per scene (CI)")
+    mode.add_argument("--full", action="store_true", help="full-length scenes")
+    ap.add_argument("--setup", action="store_true", help="install peers (bench/setup.sh, cargo build) first")
+    ap.add_argument("--only", nargs="*", help="subset of: pyramid pile chain cradle tori")
+    ap.add_argument("--out", default=None, help="output directory")
+    ap.add_argument("--max-steps", type=int, default=None,
+                    help="--full: run each dynamics scene for this many steps instead of its full length "
+                         "(for slow peers such as the 10k pile; each record states its steps)")
+    ap.add_argument("--pile-n", type=int, nargs="*", help="pile sizes to run (default 100 1000 10000; quick 100)")
+    ap.add_argument("--engines", nargs="*",
+                    help="subset of: tumble pybullet mujoco rapier3d fcl coal-obbrss coal-obb parry3d")
+    ap.add_argument("--append", action="store_true",
+                    help="merge into an existing results-<date>.json of <out>, replacing records of the same "
+                         "engine, scene and BV type")
+    a = ap.parse_args()
+    if a.setup:
+        setup_peers()
+    out = a.out or (os.path.join(ROOT, "target", "bench-quick") if a.quick else os.path.join(ROOT, "docs", "benchmarks"))
+    os.makedirs(out, exist_ok=True)
+    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+    started = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    if a.max_steps is not None and a.max_steps <= 0:
+        ap.error("--max-steps must be positive")
+    if a.pile_n and any(n <= 0 or n % 100 for n in a.pile_n):
+        ap.error("--pile-n values must be positive multiples of 100")
+    results = collect(a.quick, set(a.only) if a.only else None, a.max_steps, a.pile_n,
+                      set(a.engines) if a.engines else None)
+    path = os.path.join(out, f"results-{date}.json")
+    if a.append and os.path.exists(path):
+        results = merge(json.load(open(path))["results"], results)
+    versions = {}
+    for r in results:
+        if r.get("version"):
+            versions[r["engine"]] = r["version"]
+    doc = {
+        "date": date,
+        "started_utc": started,
+        "mode": "quick" if a.quick else "full",
+        "machine": machine(),
+        "versions": versions,
+        "results": results,
+    }
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1, default=float)
+    sys.path.insert(0, BENCH)
+    import report
+
+    md = report.markdown(doc)
+    with open(os.path.join(out, f"results-{date}.md"), "w") as f:
+        f.write(md)
+    plots = report.plots(doc, out, date)
+    print(md)
+    print(f"[bench] wrote {path}; plots: {', '.join(plots) if plots else 'none (matplotlib missing)'}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    try:
+        code = main()
+    except Exception as e:  # the harness must not rot silently, but --quick must not fail CI on a peer
+        import traceback
+
+        traceback.print_exc()
+        code = 1
+    sys.exit(code)

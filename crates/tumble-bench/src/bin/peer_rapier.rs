@@ -1,0 +1,275 @@
+//! `peer-rapier`: the pyramid, pile and chain scenes of scenes.md in Rapier (rapier3d, f32, one
+//! thread: the `parallel` feature is off). Prints one JSON record (see `record.rs`).
+//!
+//! Settings mirror the other peers: dt 1/60 s, gravity -9.81 z, friction 0.5 on every
+//! collider (Rapier's default combine rule, Average, yields 0.5), restitution 0, sleeping
+//! off (`can_sleep(false)`), Rapier's default solver iterations and substeps.
+//!
+//! The chain uses the plain 768-triangle link mesh (`TriMesh`, default flags) with the
+//! solid torus mass properties: no convex decomposition.
+//!
+//! Usage: `peer-rapier --scene pyramid|pile|chain [--steps K] [--n N]`
+
+use std::time::Instant;
+
+use rapier3d::prelude::*;
+use serde_json::json;
+use tumble_bench::scenes::{self, PileShape};
+use tumble_bench::{Args, Record, Stats};
+
+const FRICTION: f32 = 0.5;
+
+fn v(p: [f64; 3]) -> Vector {
+    Vector::new(p[0] as f32, p[1] as f32, p[2] as f32)
+}
+
+fn world() -> PhysicsWorld {
+    let mut w = PhysicsWorld::new();
+    w.gravity = Vector::new(0.0, 0.0, -9.81);
+    w.integration_parameters.dt = scenes::DT as f32;
+    w
+}
+
+fn add_static_box(w: &mut PhysicsWorld, half: [f64; 3], centre: [f64; 3]) {
+    w.insert(
+        RigidBodyBuilder::fixed().translation(v(centre)),
+        ColliderBuilder::cuboid(half[0] as f32, half[1] as f32, half[2] as f32)
+            .friction(FRICTION)
+            .restitution(0.0),
+    );
+}
+
+fn add_dynamic(w: &mut PhysicsWorld, collider: ColliderBuilder, centre: [f64; 3]) -> RigidBodyHandle {
+    w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(v(centre))
+            .can_sleep(false),
+        collider.friction(FRICTION).restitution(0.0).density(1.0),
+    )
+    .0
+}
+
+/// Steps `steps` times, timing the step call only; samples the deepest penetration every 10 steps.
+fn run(w: &mut PhysicsWorld, steps: usize) -> (Vec<f64>, f64) {
+    let mut times = Vec::with_capacity(steps);
+    let mut deepest = 0.0f64;
+    for s in 0..steps {
+        let t0 = Instant::now();
+        w.step();
+        times.push(t0.elapsed().as_secs_f64());
+        if s % 10 == 9 || s + 1 == steps {
+            deepest = deepest.max(contacts(w).1);
+        }
+    }
+    (times, deepest)
+}
+
+/// (contact points in all manifolds, deepest penetration in m).
+fn contacts(w: &PhysicsWorld) -> (usize, f64) {
+    let mut n = 0;
+    let mut deepest = 0.0f64;
+    for pair in w.narrow_phase.contact_pairs() {
+        for m in pair.manifolds() {
+            n += m.points.len();
+            for p in &m.points {
+                deepest = deepest.max(-(p.dist as f64));
+            }
+        }
+    }
+    (n, deepest)
+}
+
+fn position(w: &PhysicsWorld, h: RigidBodyHandle) -> [f64; 3] {
+    match w.bodies.get(h) {
+        Some(b) => {
+            let t = b.translation();
+            [t.x as f64, t.y as f64, t.z as f64]
+        }
+        None => [f64::NAN; 3],
+    }
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn settings(w: &PhysicsWorld, steps: usize) -> serde_json::Value {
+    let p = &w.integration_parameters;
+    json!({
+        "dt": p.dt,
+        "steps": steps,
+        "threads": 1,
+        "precision": "f32",
+        "solver_iterations": p.num_solver_iterations,
+        "internal_pgs_iterations": p.num_internal_pgs_iterations,
+        "friction_per_collider": FRICTION,
+        "friction_combine": "average",
+        "sleeping": "disabled",
+    })
+}
+
+fn pyramid(steps: usize) {
+    let mut w = world();
+    add_static_box(&mut w, scenes::PYRAMID_GROUND.0, scenes::PYRAMID_GROUND.1);
+    let starts = scenes::pyramid_boxes();
+    let h = scenes::PYRAMID_HALF as f32;
+    let ids: Vec<_> = starts
+        .iter()
+        .map(|&c| add_dynamic(&mut w, ColliderBuilder::cuboid(h, h, h), c))
+        .collect();
+    let (times, deepest) = run(&mut w, steps);
+    let disp: Vec<f64> = ids
+        .iter()
+        .zip(&starts)
+        .map(|(&id, &s)| dist(position(&w, id), s))
+        .collect();
+    Record {
+        engine: "rapier3d",
+        version: env!("PEER_RAPIER3D_VERSION"),
+        scene: "pyramid".into(),
+        status: "ok",
+        settings: settings(&w, steps),
+        figures: json!({
+            "step_time": Stats::ms(&times),
+            "top_box_displacement_m": disp.last(),
+            "largest_displacement_m": disp.iter().cloned().fold(0.0, f64::max),
+            "deepest_penetration_m": deepest,
+        }),
+        peak_rss_bytes: None,
+    }
+    .emit();
+}
+
+fn pile(steps: usize, n: usize) -> Result<(), String> {
+    let bodies = scenes::pile_bodies(n)
+        .ok_or_else(|| format!("pile: --n must be a positive multiple of 100, got {n}"))?;
+    let mut w = world();
+    for (half, centre) in scenes::pile_container(n) {
+        add_static_box(&mut w, half, centre);
+    }
+    let s = scenes::PILE_SIZE as f32;
+    let ids: Vec<_> = bodies
+        .iter()
+        .map(|&(shape, c)| {
+            let col = match shape {
+                PileShape::Sphere => ColliderBuilder::ball(s),
+                PileShape::Cube => ColliderBuilder::cuboid(s, s, s),
+            };
+            add_dynamic(&mut w, col, c)
+        })
+        .collect();
+    let (times, _) = run(&mut w, steps);
+    let ends: Vec<[f64; 3]> = ids.iter().map(|&id| position(&w, id)).collect();
+    let (points, deepest) = contacts(&w);
+    let mut set = settings(&w, steps);
+    set["n"] = json!(n);
+    Record {
+        engine: "rapier3d",
+        version: env!("PEER_RAPIER3D_VERSION"),
+        scene: format!("pile{n}"),
+        status: "ok",
+        settings: set,
+        figures: json!({
+            "step_time": Stats::ms(&times),
+            "bodies_outside": scenes::pile_outside(&ends),
+            "mean_final_height_m": ends.iter().map(|p| p[2]).sum::<f64>() / ends.len() as f64,
+            "contact_points": points,
+            "deepest_penetration_m": deepest,
+        }),
+        peak_rss_bytes: None,
+    }
+    .emit();
+    Ok(())
+}
+
+fn chain(steps: usize) -> Result<(), String> {
+    let mut w = world();
+    let (big_r, r) = scenes::CHAIN_RADII;
+    let (verts, tris) = scenes::torus_mesh(big_r, r, 32, 12);
+    let verts: Vec<Vector> = verts.into_iter().map(v).collect();
+    let inertia = scenes::chain_inertia();
+    let mut ids = Vec::with_capacity(21);
+    for (k, (c, q)) in scenes::chain_links().into_iter().enumerate() {
+        let pose = Pose::from_parts(
+            v(c),
+            Rotation::from_xyzw(q[0] as f32, q[1] as f32, q[2] as f32, q[3] as f32),
+        );
+        let body = if k == 0 {
+            RigidBodyBuilder::fixed()
+        } else {
+            RigidBodyBuilder::dynamic().can_sleep(false)
+        };
+        let col = ColliderBuilder::trimesh(verts.clone(), tris.clone())
+            .map_err(|e| format!("link mesh rejected by rapier: {e:?}"))?
+            .friction(FRICTION)
+            .restitution(0.0)
+            .mass_properties(MassProperties::new(
+                Vector::ZERO,
+                scenes::CHAIN_MASS as f32,
+                v(inertia),
+            ));
+        ids.push(w.insert(body.pose(pose), col).0);
+    }
+    let mut times = Vec::with_capacity(steps);
+    let (mut max_gap, mut deepest) = (0.0f64, 0.0f64);
+    for s in 0..steps {
+        let t0 = Instant::now();
+        w.step();
+        times.push(t0.elapsed().as_secs_f64());
+        if s % 10 == 9 || s + 1 == steps {
+            let p: Vec<[f64; 3]> = ids.iter().map(|&id| position(&w, id)).collect();
+            for pair in p.windows(2) {
+                max_gap = max_gap.max(dist(pair[0], pair[1]));
+            }
+            deepest = deepest.max(contacts(&w).1);
+        }
+    }
+    let ends: Vec<[f64; 3]> = ids.iter().map(|&id| position(&w, id)).collect();
+    let broken = ends
+        .windows(2)
+        .filter(|p| dist(p[0], p[1]) > scenes::CHAIN_MAX_GAP)
+        .count();
+    let mut set = settings(&w, steps);
+    set["collision"] = json!("plain concave TriMesh, 768 triangles, default flags");
+    Record {
+        engine: "rapier3d",
+        version: env!("PEER_RAPIER3D_VERSION"),
+        scene: "chain".into(),
+        status: "ok",
+        settings: set,
+        figures: json!({
+            "step_time": Stats::ms(&times),
+            "interlock_held": max_gap <= scenes::CHAIN_MAX_GAP,
+            "max_adjacent_centre_distance_m": max_gap,
+            "broken_links": broken,
+            "deepest_penetration_m": deepest,
+        }),
+        peak_rss_bytes: None,
+    }
+    .emit();
+    Ok(())
+}
+
+fn main() {
+    let args = match Args::parse(std::env::args().skip(1)) {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("peer-rapier: {e}");
+            std::process::exit(2);
+        }
+    };
+    let steps = args.steps.unwrap_or(scenes::FULL_STEPS);
+    let result = match args.scene.as_deref() {
+        Some("pyramid") => {
+            pyramid(steps);
+            Ok(())
+        }
+        Some("pile") => pile(steps, args.n.unwrap_or(1000)),
+        Some("chain") => chain(steps),
+        other => Err(format!("--scene must be pyramid, pile or chain, got {other:?}")),
+    };
+    if let Err(e) = result {
+        eprintln!("peer-rapier: {e}");
+        std::process::exit(2);
+    }
+}

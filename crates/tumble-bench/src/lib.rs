@@ -1,0 +1,13 @@
+//! Peer-engine side of the benchmark harness (issue 8): the standard scenes of
+//! `shared/scenes.md` as plain data, timing statistics and the JSON record that every
+//! peer prints, shared by the `peer-rapier` and `peer-parry` binaries.
+#![warn(missing_docs)]
+
+pub mod args;
+pub mod record;
+pub mod scenes;
+pub mod stats;
+
+pub use args::{ArgError, Args};
+pub use record::Record;
+pub use stats::Stats;

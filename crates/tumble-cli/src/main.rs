@@ -2,6 +2,7 @@
 //!
 //! Exit status: 0 success, 2 bad input (file, argument, mesh), 1 internal failure.
 
+mod cmd_bench;
 mod cmd_demo;
 mod cmd_mass;
 mod mesh_spec;
@@ -22,8 +23,11 @@ enum Command {
     /// Mass properties of a closed triangle mesh: volume, mass, centre of mass,
     /// inertia tensor about the centre of mass, principal moments and axes.
     Mass(cmd_mass::MassArgs),
-    /// Run the built-in demo simulation and write its outputs.
+    /// Run the built-in demo simulations and write their outputs.
     Demo(cmd_demo::DemoArgs),
+    /// Run one standard scene and print its timing and quality figures as one
+    /// JSON line (the format of the benchmark harness, docs/benchmarks.md).
+    Bench(cmd_bench::BenchArgs),
 }
 
 /// An error the user can fix (exit status 2) or an internal failure (1).
@@ -39,6 +43,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Mass(args) => cmd_mass::run(&args),
         Command::Demo(args) => cmd_demo::run(&args),
+        Command::Bench(args) => cmd_bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

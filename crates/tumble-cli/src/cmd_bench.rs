@@ -1,0 +1,200 @@
+//! `tumble bench`: runs one standard scene (shared/scenes.md) and prints one
+//! JSON line with the timing and quality figures that the side-by-side
+//! harness (`bench/run.py`, docs/benchmarks.md) compares with peer engines.
+
+use crate::CliError;
+use clap::Args;
+use serde_json::{json, Value};
+use std::time::Instant;
+use tumble::scenes::{self, Scene};
+use tumble::world::{BodyId, World};
+
+/// Arguments of `tumble bench`.
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene: pyramid, pile (with --n), chain or cradle.
+    #[arg(long)]
+    scene: String,
+    /// Steps to run (default: the scene's own, 600 or 240).
+    #[arg(long)]
+    steps: Option<usize>,
+    /// Bodies in the pile: 100, 1000 or 10000 (a multiple of 100).
+    #[arg(long, default_value_t = 1000)]
+    n: usize,
+    /// Tori poses (accepted for the harness; the tori queries are not wired into this verb yet).
+    #[arg(long)]
+    poses: Option<usize>,
+}
+
+/// Nearest-rank percentile of sorted samples: `int(q (n - 1) + 0.5)`.
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    sorted[((q * (sorted.len() - 1) as f64) + 0.5) as usize]
+}
+
+fn stats_ms(samples: &mut [f64]) -> Value {
+    samples.sort_by(f64::total_cmp);
+    let n = samples.len().max(1);
+    json!({
+        "unit": "ms", "count": samples.len(),
+        "median": percentile(samples, 0.5), "mean": samples.iter().sum::<f64>() / n as f64,
+        "p10": percentile(samples, 0.1), "p90": percentile(samples, 0.9),
+        "min": samples[0], "max": samples[samples.len() - 1],
+    })
+}
+
+fn peak_rss_bytes() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map(|kb| kb * 1024)
+        .unwrap_or(0)
+}
+
+/// Steps the world, timing each step call; `each` sees the world after every step.
+fn run_timed(world: &mut World, steps: usize, mut each: impl FnMut(usize, &World, f64)) -> Vec<f64> {
+    let mut times = Vec::with_capacity(steps);
+    for i in 0..steps {
+        let t = Instant::now();
+        let report = world.step();
+        times.push(t.elapsed().as_secs_f64() * 1000.0);
+        each(i, world, report.max_penetration);
+    }
+    times
+}
+
+fn centre(world: &World, id: BodyId) -> tumble_collide::DVec3 {
+    world.center_of_mass(id).unwrap_or(tumble_collide::DVec3::NAN)
+}
+
+/// Runs the verb.
+pub fn run(args: &BenchArgs) -> Result<(), CliError> {
+    let internal = |e: &dyn std::fmt::Display| CliError::Internal(e.to_string());
+    let (name, scene): (String, Scene) = match args.scene.as_str() {
+        "pyramid" => ("pyramid".into(), scenes::pyramid()),
+        "chain" => ("chain".into(), scenes::chain()),
+        "cradle" => ("cradle".into(), scenes::cradle()),
+        s if s.starts_with("pile") => {
+            let n = s.trim_start_matches("pile").parse::<usize>().unwrap_or(args.n);
+            if n == 0 || n % 100 != 0 || n > 100_000 {
+                return Err(CliError::Input(format!(
+                    "--n must be a positive multiple of 100 (at most 100000), got {n}"
+                )));
+            }
+            (format!("pile{n}"), scenes::pile(n / 100))
+        }
+        "tori" => {
+            let _ = args.poses;
+            return Err(CliError::Input(
+                "scene tori: the collision-query benchmark is `cargo bench -p tumble-collide --bench tori`; not wired into `tumble bench` yet".into(),
+            ));
+        }
+        other => {
+            return Err(CliError::Input(format!(
+                "unknown scene '{other}' (expected pyramid, pile, chain, cradle)"
+            )))
+        }
+    };
+    let steps = args.steps.unwrap_or(scene.steps);
+    let (mut world, ids) = scene.build().map_err(|e| internal(&e))?;
+    let settings = world.settings().clone();
+    let start: Vec<_> = ids.iter().map(|&id| centre(&world, id)).collect();
+    let mut deepest: f64 = 0.0;
+    let mut figures = serde_json::Map::new();
+    let mut times = match name.as_str() {
+        "pyramid" => {
+            let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
+            let moved: Vec<f64> = ids
+                .iter()
+                .zip(&start)
+                .map(|(&id, s)| (centre(&world, id) - *s).length())
+                .collect();
+            figures.insert("top_box_displacement_m".into(), json!(moved[moved.len() - 1]));
+            figures.insert(
+                "largest_displacement_m".into(),
+                json!(moved.iter().skip(1).fold(0.0f64, |m, &x| m.max(x))),
+            );
+            t
+        }
+        "chain" => {
+            let mut widest: f64 = 0.0;
+            let t = run_timed(&mut world, steps, |i, w, p| {
+                deepest = deepest.max(p);
+                if i % 10 == 0 {
+                    for pair in ids.windows(2) {
+                        widest = widest.max((centre(w, pair[0]) - centre(w, pair[1])).length());
+                    }
+                }
+            });
+            let broken = ids
+                .windows(2)
+                .filter(|p| (centre(&world, p[0]) - centre(&world, p[1])).length() > 1.8)
+                .count();
+            figures.insert(
+                "interlock_held".into(),
+                json!(if widest <= 1.8 { "yes" } else { "no" }),
+            );
+            figures.insert("max_adjacent_centre_distance_m".into(), json!(widest));
+            figures.insert("broken_links".into(), json!(broken));
+            t
+        }
+        "cradle" => {
+            let mass = |w: &World, id| w.body(id).map(|b| b.mass()).unwrap_or(0.0);
+            let p0: f64 = ids
+                .iter()
+                .map(|&id| mass(&world, id) * world.linear_velocity(id).unwrap_or_default().x)
+                .sum();
+            let e0 = world.kinetic_energy();
+            let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
+            let vx: Vec<f64> = ids
+                .iter()
+                .map(|&id| world.linear_velocity(id).unwrap_or_default().x)
+                .collect();
+            let p1: f64 = ids
+                .iter()
+                .map(|&id| mass(&world, id) * world.linear_velocity(id).unwrap_or_default().x)
+                .sum();
+            figures.insert("final_velocities_x".into(), json!(vx));
+            figures.insert("last_sphere_vx".into(), json!(vx[4]));
+            figures.insert("momentum_error".into(), json!((p1 - p0).abs()));
+            figures.insert(
+                "energy_error".into(),
+                json!((world.kinetic_energy() - e0).abs() / e0),
+            );
+            t
+        }
+        _ => {
+            let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
+            let dynamic: Vec<_> = ids.iter().skip(5).map(|&id| centre(&world, id)).collect();
+            let outside = dynamic
+                .iter()
+                .filter(|c| c.x.abs() > 3.01 || c.y.abs() > 3.01 || c.z < 0.0 || !c.is_finite())
+                .count();
+            figures.insert("bodies_outside".into(), json!(outside));
+            figures.insert(
+                "mean_final_height_m".into(),
+                json!(dynamic.iter().map(|c| c.z).sum::<f64>() / dynamic.len() as f64),
+            );
+            figures.insert("contact_points".into(), json!(world.contacts().len()));
+            t
+        }
+    };
+    figures.insert("deepest_penetration_m".into(), json!(deepest));
+    figures.insert("step_time".into(), stats_ms(&mut times));
+    let out = json!({
+        "engine": "tumble",
+        "version": env!("CARGO_PKG_VERSION"),
+        "scene": name,
+        "status": "ok",
+        "settings": {"dt": settings.dt, "steps": steps, "n": ids.len(), "substeps": settings.substeps,
+                     "iterations": settings.iterations, "threads": 1},
+        "figures": figures,
+        "peak_rss_bytes": peak_rss_bytes(),
+    });
+    println!("{out}");
+    Ok(())
+}

@@ -20,7 +20,10 @@ import common as C  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-TRUTH = os.environ.get("TORI_TRUTH", "/work/shared/data/tori_pairs.json")
+TRUTH = os.environ.get(
+    "TORI_TRUTH",
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data", "tori_pairs.json"),
+)
 BIG = 1_000_000  # "all pairs": far above the 416 pairs of the worst pose
 
 

@@ -22,7 +22,10 @@ use tumble_bench::scenes;
 use tumble_bench::{Args, Record, Stats};
 
 /// shared/ sits beside the repository (as on CI).
-const TRUTH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data/tori_pairs.json");
+const TRUTH: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../../shared/data/tori_pairs.json"
+);
 
 fn torus() -> Result<TriMesh, String> {
     let (v, t) = scenes::torus_mesh(1.0, 0.3, 50, 50);

@@ -13,13 +13,19 @@
 //! - `FaceVertex`: the same with the roles swapped; normal = -(A's face normal).
 //! - `EdgeEdge`: two edges whose closest points are interior to both and no
 //!   farther apart than `margin`; normal = unit `edge_a x edge_b`, oriented from
-//!   B's closest point to A's.
+//!   B's closest point to A's. A pair whose gap points into the solids
+//!   (against B's outward face normal and along A's: the edges have passed
+//!   each other) is not reported, for the same reason as vertices behind a face.
 //!
 //! Intersecting pairs (touching included, decided exactly by
 //! [`tri_tri_overlap`]) give `Penetrating` contacts along the axis of minimum
-//! overlap among the two face normals and the 9 edge cross products (the
+//! push-out among the two face normals and the 9 edge cross products (the
 //! complete separating-axis set of two triangles), so moving A by the deepest
-//! contact's `-distance` along the normal separates the pair. For an edge axis
+//! contact's `-distance` along the normal separates the pair. Each axis is
+//! oriented out of the solids (A in front of B's face, B in front of A's;
+//! edge axes by the faces' outward sense), as the triangles are pieces of
+//! closed, outward-wound surfaces: pushing A through B's triangle to its
+//! back would push it deeper into B. For an edge axis
 //! that is one contact at the edges' closest points; for a face axis it is the
 //! deepest corner of the other triangle plus every other corner that is past
 //! the face and projects inside it (up to 3 contacts, same normal). Face axes win ties against
@@ -183,15 +189,17 @@ pub fn triangle_contacts(
             }
         }
     }
-    edge_edge_contacts(a, id_a, b, id_b, fb, margin, out);
+    edge_edge_contacts(a, id_a, fa, b, id_b, fb, margin, out);
     Ok(out.len() - start)
 }
 
 /// Edge/edge contacts of a non-intersecting pair.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn edge_edge_contacts(
     a: &[DVec3; 3],
     id_a: u32,
+    fa: Option<Face>,
     b: &[DVec3; 3],
     id_b: u32,
     fb: Option<Face>,
@@ -235,6 +243,16 @@ fn edge_edge_contacts(
             if flip {
                 n = -n;
             }
+            // A gap that points into the solids (against B's outward face
+            // normal and along A's) says the edges have already passed each
+            // other: the triangles are pieces of two overlapping closed
+            // surfaces, and a contact along it would hold A inside B. The
+            // intersecting triangle pairs nearby carry that overlap with
+            // outward push-out normals instead.
+            let outward = fb.map_or(DVec3::ZERO, |f| f.unit) - fa.map_or(DVec3::ZERO, |f| f.unit);
+            if n.dot(outward) < 0.0 {
+                continue;
+            }
             out.push(Contact {
                 point: (r.point_a + r.point_b) * 0.5,
                 normal: n,
@@ -255,21 +273,13 @@ enum Axis {
     Edges(usize, usize),
 }
 
-/// Overlap of the projections of `a` and `b` on unit axis `u`: the smaller of
-/// the two push-outs of A (along `+u` or `-u`), and the oriented normal.
+/// How far A must move along the unit `n` to clear B on that axis:
+/// `max(n . b) - min(n . a)` (positive while the projections overlap).
 #[inline]
-fn overlap_on(u: DVec3, a: &[DVec3; 3], b: &[DVec3; 3]) -> (f64, DVec3) {
-    let pa = [u.dot(a[0]), u.dot(a[1]), u.dot(a[2])];
-    let pb = [u.dot(b[0]), u.dot(b[1]), u.dot(b[2])];
-    let (min_a, max_a) = (pa[0].min(pa[1]).min(pa[2]), pa[0].max(pa[1]).max(pa[2]));
-    let (min_b, max_b) = (pb[0].min(pb[1]).min(pb[2]), pb[0].max(pb[1]).max(pb[2]));
-    let up = max_b - min_a; // move A along +u by this to clear B
-    let down = max_a - min_b; // or along -u by this
-    if up <= down {
-        (up, u)
-    } else {
-        (down, -u)
-    }
+fn push_along(n: DVec3, a: &[DVec3; 3], b: &[DVec3; 3]) -> f64 {
+    let max_b = n.dot(b[0]).max(n.dot(b[1])).max(n.dot(b[2]));
+    let min_a = n.dot(a[0]).min(n.dot(a[1])).min(n.dot(a[2]));
+    max_b - min_a
 }
 
 /// Index of the first minimum of `n . t[k]`.
@@ -296,18 +306,32 @@ fn penetrating_contacts(
     fb: Option<Face>,
     out: &mut Vec<Contact>,
 ) -> usize {
+    // Every axis is oriented out of the solids, not towards the shorter
+    // push of the two triangles alone: on closed, outward-wound meshes the
+    // triangles are pieces of two surfaces, and A belongs in front of B's
+    // face (along +nB) and B in front of A's (A moves along -nA). The
+    // shorter push may go through the other triangle to the back of its
+    // surface, into the solid, and two such contacts of one body pair then
+    // push against each other.
     let mut best: Option<(f64, DVec3, Axis)> = None;
     if let Some(f) = fb {
-        let (d, n) = overlap_on(f.unit, a, b);
-        best = Some((d, n, Axis::FaceB));
+        best = Some((push_along(f.unit, a, b), f.unit, Axis::FaceB));
     }
     if let Some(f) = fa {
-        let (d, n) = overlap_on(f.unit, a, b);
+        let d = push_along(-f.unit, a, b);
         if improves(&best, d) {
-            best = Some((d, n, Axis::FaceA));
+            best = Some((d, -f.unit, Axis::FaceA));
         }
     }
     let face_depth = best.map_or(f64::INFINITY, |(d, _, _)| d);
+    // Edge axes are oriented along the faces' outward sense (B's normal,
+    // against A's); with no face to go by, from B's centroid to A's.
+    let outward = match (fa, fb) {
+        (Some(x), Some(y)) => y.unit - x.unit,
+        (Some(x), None) => -x.unit,
+        (None, Some(y)) => y.unit,
+        (None, None) => (a[0] + a[1] + a[2]) - (b[0] + b[1] + b[2]),
+    };
     for i in 0..3 {
         let ea = a[(i + 1) % 3] - a[i];
         for j in 0..3 {
@@ -317,7 +341,9 @@ fn penetrating_contacts(
             if c2 <= PARALLEL_EPS * ea.length_squared() * eb.length_squared() || c2 == 0.0 {
                 continue;
             }
-            let (d, n) = overlap_on(c / c2.sqrt(), a, b);
+            let u = c / c2.sqrt();
+            let n = if u.dot(outward) < 0.0 { -u } else { u };
+            let d = push_along(n, a, b);
             if d < FACE_PREFERENCE * face_depth && improves(&best, d) {
                 best = Some((d, n, Axis::Edges(i, j)));
             }
@@ -602,7 +628,10 @@ mod tests {
                 && match (td.feature_a, td.feature_b) {
                     (SubFeature::Vertex(_), SubFeature::Face) => nb.dot(gap) > 0.0,
                     (SubFeature::Face, SubFeature::Vertex(_)) => na.dot(gap) < 0.0,
-                    (SubFeature::Edge(_), SubFeature::Edge(_)) => true,
+                    // Edges count when the gap points out of the solids.
+                    (SubFeature::Edge(_), SubFeature::Edge(_)) => {
+                        gap.dot(nb.normalize() - na.normalize()) >= 0.0
+                    }
                     _ => false,
                 };
             if expected {

@@ -45,6 +45,36 @@ fn bounding_radius(e: &BodyEntry) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Bound on the speed at which a point of A approaches a point of B, for the
+/// points where the two can touch during the step (m/s).
+///
+/// Where A and B can meet is inside both swept boxes; around the centre `p0`
+/// of their intersection the relative velocity of coincident material points
+/// is `v_rel(p) = v_rel(p0) + (wA - wB) x (p - p0)`, so within the
+/// intersection's half diagonal `rho` it is at most
+/// `|v_rel(p0)| + |wA - wB| rho`. For bodies that turn together (the links
+/// of a swinging chain) this is far tighter than each body's own speed
+/// bound `|vA - vB| + |wA| rA + |wB| rB`, which is kept as the cap.
+fn relative_motion_bound(ea: &BodyEntry, eb: &BodyEntry, box_a: Option<Aabb>, box_b: Option<Aabb>) -> f64 {
+    let (va, wa) = velocities(ea);
+    let (vb, wb) = velocities(eb);
+    let coarse = (va - vb).length() + wa.length() * bounding_radius(ea) + wb.length() * bounding_radius(eb);
+    let region = match (box_a, box_b) {
+        (Some(x), Some(y)) => {
+            let (lo, hi) = (x.min().max(y.min()), x.max().min(y.max()));
+            // Disjoint boxes (cannot happen for a broad-phase pair): no bound.
+            lo.cmple(hi).all().then_some((lo, hi))
+        }
+        (Some(x), None) | (None, Some(x)) => Some((x.min(), x.max())),
+        (None, None) => None,
+    };
+    let Some((lo, hi)) = region else { return coarse };
+    let p0 = (lo + hi) * 0.5;
+    let rho = ((hi - lo) * 0.5).length();
+    let v_rel = (va + wa.cross(p0 - ea.body.position())) - (vb + wb.cross(p0 - eb.body.position()));
+    (v_rel.length() + (wa - wb).length() * rho).min(coarse)
+}
+
 fn is_active(e: &BodyEntry) -> bool {
     match e.body.kind() {
         BodyKind::Dynamic => !e.sleeping,
@@ -94,15 +124,19 @@ impl World {
 
         // -- Stage::Broad
         let mut events = Vec::new();
+        // Swept boxes: where each bounded body can be during the step
+        // (`None` for unbounded shapes, which are everywhere).
+        let mut swept: Vec<Option<Aabb>> = vec![None; n_slots];
         for i in 0..n_slots as u32 {
             let Some(e) = self.bodies.at(i) else { continue };
             let Some(proxy) = e.proxy else { continue };
-            if !is_active(e) {
-                continue;
-            }
             let (v, w) = velocities(e);
             let fatten = s.contact_margin + (v.length() + w.length() * bounding_radius(e)) * dt;
             let aabb = body_aabb(e, fatten);
+            swept[i as usize] = Some(aabb);
+            if !is_active(e) {
+                continue;
+            }
             if let Err(err) = self.broad.set_aabb(proxy, aabb) {
                 report.warnings.push(format!("body slot {i}: broad phase: {err}"));
             }
@@ -162,11 +196,7 @@ impl World {
             if ea.body.kind() != BodyKind::Dynamic && eb.body.kind() != BodyKind::Dynamic {
                 continue;
             }
-            let (va, wa) = velocities(ea);
-            let (vb, wb) = velocities(eb);
-            let motion =
-                ((va - vb).length() + wa.length() * bounding_radius(ea) + wb.length() * bounding_radius(eb))
-                    * dt;
+            let motion = relative_motion_bound(ea, eb, swept[a as usize], swept[b as usize]) * dt;
             let margin = s.contact_margin + motion;
             let (pa, pb) = (ea.body.pose(), eb.body.pose());
             let ids = (

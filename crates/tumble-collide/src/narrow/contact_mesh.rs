@@ -13,7 +13,10 @@ use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
-use crate::triangle::{closest_point_on_triangle, merge_contacts, triangle_contacts, MergeParams};
+use crate::triangle::{
+    closest_point_on_triangle, merge_contacts, triangle_contacts, triangle_contacts_unchecked, MergeParams,
+};
+use std::cell::RefCell;
 
 #[inline]
 fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
@@ -38,18 +41,24 @@ fn drop_flat_edge_contacts(
     a: Option<&MeshShape>,
     b: Option<&MeshShape>,
 ) {
-    let mut i = start;
-    while i < out.len() {
-        let c = out[i];
-        let flat = c.kind == ContactKind::EdgeEdge
+    retain_from(out, start, |c| {
+        !(c.kind == ContactKind::EdgeEdge
             && (a.is_some_and(|m| on_flat_edge(c.feature_a, m))
-                || b.is_some_and(|m| on_flat_edge(c.feature_b, m)));
-        if flat {
-            out.remove(i);
-        } else {
-            i += 1;
+                || b.is_some_and(|m| on_flat_edge(c.feature_b, m))))
+    });
+}
+
+/// `Vec::retain` on `out[start..]`, keeping the order (one pass, no shifting
+/// per removal).
+fn retain_from(out: &mut Vec<Contact>, start: usize, keep: impl Fn(&Contact) -> bool) {
+    let mut write = start;
+    for read in start..out.len() {
+        if keep(&out[read]) {
+            out[write] = out[read];
+            write += 1;
         }
     }
+    out.truncate(write);
 }
 
 /// Merges duplicates; the parameters are valid constants, so merging cannot fail.
@@ -59,7 +68,51 @@ fn merge(out: &mut Vec<Contact>, start: usize, tris_a: &[[u32; 3]], tris_b: &[[u
     out.extend(tail);
 }
 
+/// Mesh B's vertices in mesh A's frame, each transformed once per query on
+/// first use. Kept per thread and reused, so the narrow phase does not
+/// allocate once warmed up; a generation stamp marks the valid entries.
+struct VertexCache {
+    points: Vec<DVec3>,
+    stamp: Vec<u32>,
+    generation: u32,
+}
+
+impl VertexCache {
+    fn begin(&mut self, n: usize) {
+        if self.stamp.len() < n {
+            self.points.resize(n, DVec3::ZERO);
+            self.stamp.resize(n, 0);
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+    }
+
+    #[inline]
+    fn get(&mut self, v: u32, rot: &DMat3, trans: DVec3, vertices: &[DVec3]) -> DVec3 {
+        let i = v as usize;
+        if self.stamp[i] != self.generation {
+            self.stamp[i] = self.generation;
+            self.points[i] = *rot * vertices[i] + trans;
+        }
+        self.points[i]
+    }
+}
+
+thread_local! {
+    static VERTEX_CACHE: RefCell<VertexCache> = const {
+        RefCell::new(VertexCache { points: Vec::new(), stamp: Vec::new(), generation: 0 })
+    };
+}
+
 /// Mesh A against mesh B: exact triangle contacts within `margin`.
+///
+/// The triangle tests run in A's frame: A's triangles are used as stored and
+/// each of B's vertices is moved into A's frame once, instead of moving both
+/// triangles of every candidate pair into the world. The contacts are moved
+/// to the world at the end.
 pub fn contact_mesh_mesh(
     a: &MeshShape,
     pose_a: &Pose,
@@ -69,14 +122,26 @@ pub fn contact_mesh_mesh(
     out: &mut Vec<Contact>,
 ) {
     let start = out.len();
-    let _ = bvh::collide(a.tree(), pose_a, b.tree(), pose_b, margin, |ta, tb| {
-        let wa = world_triangle(a, pose_a, ta);
-        let wb = world_triangle(b, pose_b, tb);
-        let _ = triangle_contacts(&wa, ta, &wb, tb, margin, out);
-        Traverse::Continue
+    let rel = pose_a.inverse().mul_pose(pose_b);
+    let rot = DMat3::from_quat(rel.rotation);
+    let (verts_a, tris_a) = (a.mesh().vertices(), a.mesh().triangles());
+    let (verts_b, tris_b) = (b.mesh().vertices(), b.mesh().triangles());
+    VERTEX_CACHE.with_borrow_mut(|cache| {
+        cache.begin(verts_b.len());
+        let _ = bvh::collide(a.tree(), pose_a, b.tree(), pose_b, margin, |ta, tb| {
+            let [i, j, k] = tris_a[ta as usize];
+            let wa = [verts_a[i as usize], verts_a[j as usize], verts_a[k as usize]];
+            let wb = tris_b[tb as usize].map(|v| cache.get(v, &rot, rel.position, verts_b));
+            triangle_contacts_unchecked(&wa, ta, &wb, tb, margin, out);
+            Traverse::Continue
+        });
     });
     drop_flat_edge_contacts(out, start, Some(a), Some(b));
-    merge(out, start, a.mesh().triangles(), b.mesh().triangles());
+    merge(out, start, tris_a, tris_b);
+    for c in &mut out[start..] {
+        c.point = pose_a.transform_point(c.point);
+        c.normal = pose_a.rotation * c.normal;
+    }
 }
 
 /// Vertices of a mesh kept against a plane before reducing.
@@ -130,14 +195,7 @@ pub fn contact_mesh_halfspace(
             .map(|c| c.distance)
             .fold(f64::INFINITY, f64::min);
         let band = deepest + MESH_PLANE_BAND;
-        let mut i = start;
-        while i < out.len() {
-            if out[i].distance > band {
-                out.remove(i);
-            } else {
-                i += 1;
-            }
-        }
+        retain_from(out, start, |c| c.distance <= band);
     }
     let count = out.len() - start;
     if count > MESH_PLANE_MAX_POINTS {
@@ -194,15 +252,9 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
         let len = a.face_len(face);
         matches!(f.sub, SubFeature::Edge(0) if k > 1) || matches!(f.sub, SubFeature::Edge(2) if k + 2 < len)
     };
-    let mut i = start;
-    while i < out.len() {
-        let c = out[i];
-        if c.kind == ContactKind::EdgeEdge && (fan_diagonal(c.feature_a) || on_flat_edge(c.feature_b, b)) {
-            out.remove(i);
-        } else {
-            i += 1;
-        }
-    }
+    retain_from(out, start, |c| {
+        !(c.kind == ContactKind::EdgeEdge && (fan_diagonal(c.feature_a) || on_flat_edge(c.feature_b, b)))
+    });
     merge(out, start, &[], b.mesh().triangles());
 }
 

@@ -28,6 +28,7 @@ pub mod tri_tri_overlap;
 pub use merge::{merge_contacts, MergeError, MergeParams};
 pub use orient::{orient2d, orient3d};
 pub use tri_box::tri_box_overlap;
+pub(crate) use tri_contact::triangle_contacts_unchecked;
 pub use tri_contact::{triangle_contacts, TriContactError};
 pub use tri_distance::{
     closest_point_on_triangle, closest_points_segments, triangle_distance, SegmentClosest, TriDistance,

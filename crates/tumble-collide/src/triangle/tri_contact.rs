@@ -67,6 +67,9 @@ const INSIDE_EPS: f64 = 1e-12;
 /// A triangle whose doubled area is below this times its longest edge squared
 /// has no usable face normal.
 const AREA_EPS: f64 = 1e-12;
+/// Heights over a plane beyond this (times 1 + the coordinates' magnitude,
+/// m) are surely on that side despite round-off.
+const SIDE_EPS: f64 = 1e-12;
 /// Edge pairs with `sin^2(angle)` below this are parallel: no edge/edge normal.
 const PARALLEL_EPS: f64 = 1e-12;
 
@@ -144,19 +147,45 @@ pub fn triangle_contacts(
     if !b.iter().all(|p| p.is_finite()) {
         return Err(TriContactError::NonFinite { shape: 'B', id: id_b });
     }
+    Ok(triangle_contacts_unchecked(a, id_a, b, id_b, margin, out))
+}
+
+/// [`triangle_contacts`] for callers that guarantee a finite margin `>= 0`
+/// and finite coordinates (meshes are validated when built, poses when set):
+/// the mesh narrow phase calls it for every candidate triangle pair.
+#[inline]
+pub(crate) fn triangle_contacts_unchecked(
+    a: &[DVec3; 3],
+    id_a: u32,
+    b: &[DVec3; 3],
+    id_b: u32,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> usize {
     let fa = face(a);
     let fb = face(b);
     // Early outs: a face plane that separates by more than the margin.
     let da = fb.map(|f| heights(a, f, b[0]));
     if da.is_some_and(|d| beyond(d, margin)) {
-        return Ok(0);
+        return 0;
     }
     let db = fa.map(|f| heights(b, f, a[0]));
     if db.is_some_and(|d| beyond(d, margin)) {
-        return Ok(0);
+        return 0;
     }
-    if tri_tri_overlap(a, b) {
-        return Ok(penetrating_contacts(a, id_a, fa, b, id_b, fb, out));
+    // A triangle strictly on one side of the other's plane cannot meet it;
+    // only the rest need the exact intersection test. The tolerance covers
+    // the round-off of the heights, so the exact test decides every case
+    // that is close.
+    let scale = 1.0 + a[0].abs().max_element().max(b[0].abs().max_element());
+    let clear = |d: Option<[f64; 3]>| {
+        let tol = SIDE_EPS * scale;
+        d.is_some_and(|d| {
+            (d[0] > tol && d[1] > tol && d[2] > tol) || (d[0] < -tol && d[1] < -tol && d[2] < -tol)
+        })
+    };
+    if !clear(da) && !clear(db) && tri_tri_overlap(a, b) {
+        return penetrating_contacts(a, id_a, fa, b, id_b, fb, out);
     }
     let start = out.len();
     if let (Some(f), Some(d)) = (fb, da) {
@@ -190,7 +219,7 @@ pub fn triangle_contacts(
         }
     }
     edge_edge_contacts(a, id_a, fa, b, id_b, fb, margin, out);
-    Ok(out.len() - start)
+    out.len() - start
 }
 
 /// Edge/edge contacts of a non-intersecting pair.
@@ -213,18 +242,25 @@ fn edge_edge_contacts(
         let ea = q1 - p1;
         for j in 0..3 {
             let (p2, q2) = (b[j], b[(j + 1) % 3]);
+            let eb = q2 - p2;
+            let c = ea.cross(eb);
+            let c2 = c.length_squared();
+            if c2 <= PARALLEL_EPS * ea.length_squared() * eb.length_squared() {
+                continue;
+            }
+            // The segments are at least as far apart as their lines: skip
+            // the closest points when the lines are beyond the margin
+            // (|c . (p1 - p2)| / |c| > margin).
+            let line_gap = c.dot(p1 - p2);
+            if line_gap * line_gap > margin2 * c2 {
+                continue;
+            }
             let r = closest_points_segments(p1, q1, p2, q2);
             if !interior(r.s) || !interior(r.t) {
                 continue;
             }
             let gap = r.point_a - r.point_b;
             if gap.length_squared() > margin2 {
-                continue;
-            }
-            let eb = q2 - p2;
-            let c = ea.cross(eb);
-            let c2 = c.length_squared();
-            if c2 <= PARALLEL_EPS * ea.length_squared() * eb.length_squared() {
                 continue;
             }
             let mut n = c / c2.sqrt();

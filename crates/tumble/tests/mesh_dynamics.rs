@@ -89,3 +89,228 @@ fn torus_chain_keeps_its_links_interlocked_while_it_drops() {
     let z1 = world.center_of_mass(*ids.last().unwrap()).unwrap().z;
     assert!(z1 < z0 - 0.5, "free end went from z = {z0} to {z1}");
 }
+
+fn mesh(m: tumble_collide::TriMesh) -> Shape {
+    Shape::Mesh(MeshShape::new(m).unwrap())
+}
+
+/// Deepest penetration among the contacts between two given bodies (m).
+fn penetration_between(world: &World, a: tumble::world::BodyId, b: tumble::world::BodyId) -> f64 {
+    world
+        .contacts()
+        .iter()
+        .filter(|c| (c.body_a, c.body_b) == (a, b) || (c.body_a, c.body_b) == (b, a))
+        .map(|c| -c.contact.distance)
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn torus_chain_swings_for_ten_seconds_without_links_sinking_or_parting() {
+    // shared/scenes.md chain at dt 1/240 (4 sub-steps): concave link meshes
+    // against each other, no convex decomposition. Over 10 s of swinging the
+    // tubes never sink into each other by more than 1% of the tube radius
+    // (0.2 m), and adjacent centres never part beyond 2R - 2r + 0.2 = 1.8 m.
+    let mut scene = tumble::scenes::chain();
+    scene.settings.dt = 1.0 / 240.0;
+    scene.settings.substeps = 4;
+    let (mut world, ids) = scene.build().unwrap();
+    let mut deepest: f64 = 0.0;
+    let mut widest: f64 = 0.0;
+    for _ in 0..2400 {
+        world.step();
+        for w in ids.windows(2) {
+            deepest = deepest.max(penetration_between(&world, w[0], w[1]));
+            let d = (world.center_of_mass(w[0]).unwrap() - world.center_of_mass(w[1]).unwrap()).length();
+            widest = widest.max(d);
+        }
+    }
+    assert!(deepest < 0.002, "links sank {deepest} m into each other");
+    assert!(widest <= 1.8, "adjacent links {widest} m apart: the chain broke");
+    // It did swing: the links passed the vertical below the anchor.
+    let end = world.center_of_mass(*ids.last().unwrap()).unwrap();
+    assert!(end.z < -15.0, "free end at {end:?}");
+}
+
+#[test]
+fn torus_dropped_over_a_peg_settles_around_it() {
+    // A ring (R 0.5, r 0.1: hole radius 0.4) falls over a vertical peg of
+    // radius 0.15, off-centre by 0.1 m and tilted: it must slide down around
+    // the peg to the ground. A convex-hull collider would fill the hole and
+    // leave the ring sitting on top of the peg.
+    let mut world = World::new(WorldSettings {
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    world
+        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
+        .unwrap();
+    let peg = tumble_collide::mesh::cylinder_mesh(0.15, 0.6, 24).unwrap();
+    let peg = world
+        .add_body(&BodyDesc::fixed(mesh(peg)).at(DVec3::new(0.0, 0.0, 0.6)))
+        .unwrap();
+    let ring = world
+        .add_body(
+            &BodyDesc::dynamic(mesh(torus_mesh(0.5, 0.1, 32, 12).unwrap()))
+                .with_pose(tumble_collide::Pose {
+                    position: DVec3::new(0.1, 0.0, 1.6),
+                    rotation: tumble_collide::DQuat::from_rotation_x(0.2),
+                })
+                .with_density(500.0),
+        )
+        .unwrap();
+    let mut deepest: f64 = 0.0;
+    for _ in 0..300 {
+        world.step();
+        deepest = deepest.max(penetration_between(&world, ring, peg));
+    }
+    let c = world.center_of_mass(ring).unwrap();
+    // Down at the foot of the peg (resting on the ground, perhaps leaning on
+    // the peg: its centre is then at most R sin(tilt) + r above the ground).
+    assert!(c.z < 0.35, "ring centre at {c:?}: it did not go down the peg");
+    // The peg passes through the hole: the ring's centre is within the hole
+    // radius minus the peg radius of the peg axis (plus faceting).
+    let off_axis = (c.x * c.x + c.y * c.y).sqrt();
+    assert!(
+        off_axis < 0.4 - 0.15 + 0.01,
+        "ring centre {off_axis} m off the peg axis"
+    );
+    assert!(deepest < 0.005, "ring sank {deepest} m into the peg");
+}
+
+#[test]
+fn mesh_sphere_rolls_down_the_incline_at_five_sevenths_g_sin_theta() {
+    // shared/scenes.md incline (30 degrees, mu 0.7) with a faceted sphere
+    // (icosphere, 1280 triangles) instead of the cube: rolling without
+    // slipping, a solid sphere accelerates at 5/7 g sin(theta) = 3.50 m/s^2.
+    // The facets make it rock from face to face, slowing it slightly.
+    let mut scene = tumble::scenes::incline(0.7);
+    let theta = 30f64.to_radians();
+    let normal = DVec3::new(theta.sin(), 0.0, theta.cos());
+    let r = 0.25;
+    scene.bodies[1] = BodyDesc::dynamic(mesh(tumble_collide::mesh::icosphere_mesh(r, 3).unwrap()))
+        .at(normal * (0.5 + r))
+        .with_mass(1.0)
+        .with_material(0.7, 0.0);
+    let (mut world, ids) = scene.build().unwrap();
+    let ball = ids[1];
+    let start = world.center_of_mass(ball).unwrap();
+    let t = 1.0;
+    for _ in 0..(t / scene.settings.dt).round() as usize {
+        world.step();
+    }
+    let down_slope = DVec3::new(theta.cos(), 0.0, -theta.sin());
+    let travelled = (world.center_of_mass(ball).unwrap() - start).dot(down_slope);
+    let a = 2.0 * travelled / (t * t);
+    let ideal = 5.0 / 7.0 * 9.81 * theta.sin();
+    assert!(
+        a > 0.9 * ideal && a < 1.02 * ideal,
+        "rolled at {a} m/s^2, ideal {ideal}"
+    );
+    // Rolling, not sliding: the contact point is at rest, so v = w r.
+    let v = world.linear_velocity(ball).unwrap().length();
+    let w = world.angular_velocity(ball).unwrap().length();
+    assert!((v - w * r).abs() < 0.05 * v, "v {v} vs w r {}", w * r);
+}
+
+#[test]
+#[ignore = "yaw drift of per-point friction bends the path by 1.25%; patch friction next"]
+fn box_slides_straight_and_smoothly_across_a_ground_of_small_triangles() {
+    // A cube slides at 3 m/s across a static sheet of 0.25 m cells (3200
+    // triangles, diagonals in a checkerboard). The internal edges must not
+    // catch it: no vertical velocity spikes, no change of direction, and
+    // the deceleration is Coulomb's mu g.
+    let mut world = World::new(WorldSettings {
+        sleeping: false,
+        dt: 1.0 / 120.0,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let sheet = tumble_collide::mesh::grid_mesh(10.0, 10.0, 40, 40).unwrap();
+    world
+        .add_body(&BodyDesc::fixed(mesh(sheet)).with_material(0.3, 0.0))
+        .unwrap();
+    let dir = DVec3::new(1.0, 0.3, 0.0).normalize();
+    let cube = world
+        .add_body(
+            &BodyDesc::dynamic(Shape::Cuboid(Cuboid::new(DVec3::splat(0.2)).unwrap()))
+                .at(DVec3::new(-6.0, -2.0, 0.2))
+                .with_mass(1.0)
+                .with_material(0.3, 0.0)
+                .with_velocity(dir * 3.0, DVec3::ZERO),
+        )
+        .unwrap();
+    let start = world.center_of_mass(cube).unwrap();
+    let mut max_vz: f64 = 0.0;
+    let mut max_w: f64 = 0.0;
+    let t = 0.8;
+    for _ in 0..(t / 0.008333333333333333_f64).round() as usize {
+        world.step();
+        max_vz = max_vz.max(world.linear_velocity(cube).unwrap().z.abs());
+        max_w = max_w.max(world.angular_velocity(cube).unwrap().length());
+    }
+    let p = world.center_of_mass(cube).unwrap();
+    let moved = p - start;
+    assert!(max_vz < 0.02, "vertical velocity spike {max_vz} m/s");
+    // Per-point Gauss-Seidel friction leaves a small yaw drift (it shows on
+    // a primitive ground too, about 0.02 rad/s here); the cube must not
+    // tumble or spin up.
+    assert!(max_w < 0.2, "the cube turned at {max_w} rad/s");
+    let sideways = (moved - dir * moved.dot(dir)).length();
+    assert!(
+        sideways < 0.01 * moved.length(),
+        "left its straight path by {sideways} m over {} m",
+        moved.length()
+    );
+    // Coulomb: v = 3 - mu g t, distance = 3 t - mu g t^2 / 2.
+    let expected = 3.0 * t - 0.5 * 0.3 * 9.81 * t * t;
+    assert!(
+        (moved.dot(dir) - expected).abs() < 0.02 * expected,
+        "slid {} m, expected {expected}",
+        moved.dot(dir)
+    );
+}
+
+#[test]
+fn interpenetrating_tori_separate_without_gaining_energy() {
+    // Two tori spawned overlapping (B is A lifted by half the tube
+    // thickness: their tubes overlap all around), in zero gravity. The
+    // push-out must separate them along z within a bounded time, and since
+    // the correction moves bodies without giving them velocity, they must
+    // not fly apart with kinetic energy of their own.
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let torus = mesh(torus_mesh(1.0, 0.3, 32, 16).unwrap());
+    let a = world.add_body(&BodyDesc::dynamic(torus.clone())).unwrap();
+    let b = world
+        .add_body(&BodyDesc::dynamic(torus).at(DVec3::new(0.0, 0.0, 0.3)))
+        .unwrap();
+    let allowed = world.settings().allowed_penetration;
+    let mut separated_at = None;
+    for step in 0..120 {
+        let r = world.step();
+        if r.max_penetration <= allowed + 1e-6 {
+            separated_at.get_or_insert(step);
+        } else {
+            separated_at = None;
+        }
+    }
+    let step = separated_at.expect("still overlapping after 2 s");
+    assert!(step < 60, "took {step} steps to separate");
+    // Stacked along z, tube on tube (2r apart, less the allowed overlap),
+    // not slid sideways or tilted.
+    let (pa, pb) = (world.center_of_mass(a).unwrap(), world.center_of_mass(b).unwrap());
+    let d = pb - pa;
+    assert!(d.z >= 0.6 - 2.0 * allowed - 1e-3, "centres {pa:?} {pb:?}");
+    assert!(d.x.abs() < 1e-3 && d.y.abs() < 1e-3, "slid sideways: {d:?}");
+    let tilt = (world.orientation(b).unwrap() * DVec3::Z).z;
+    assert!(tilt > 0.9999, "B tilted: axis z {tilt}");
+    let ke = world.kinetic_energy();
+    let m = world.body(a).unwrap().mass();
+    // The split impulse leaves the velocities alone: no energy gained.
+    assert!(ke < 1e-6 * m, "kinetic energy {ke} J after separating");
+}

@@ -1,7 +1,7 @@
 //! Mesh generators for the standard solids (thesis 6.2, `BodyCreatorUtil`).
 //!
-//! Every generator returns a closed mesh wound counter-clockwise seen from
-//! outside, centred on its bounding box, with the symmetry axis along z.
+//! Every generator but the ground sheet [`grid_mesh`] returns a closed mesh
+//! wound counter-clockwise seen from outside, centred on its bounding box, with the symmetry axis along z.
 //! Curved solids are inscribed polyhedra: their volume converges to the
 //! analytic one from below as the resolution rises. Resolutions below the
 //! smallest sensible value are rejected with a [`GeneratorError`].
@@ -92,6 +92,41 @@ pub fn box_mesh(half_extents: DVec3) -> Result<TriMesh, GeneratorError> {
         .iter()
         .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
         .collect();
+    Ok(TriMesh::new(vertices, triangles)?)
+}
+
+/// Flat ground sheet in the plane z = 0 over `[-half_x, half_x] x [-half_y,
+/// half_y]`, split into `nx` by `ny` cells of two triangles each, facing +z.
+/// The one generator whose mesh is open: terrain for static bodies (it has
+/// no volume, so no mass). The cell diagonals alternate direction in a
+/// checkerboard, so sliding across it meets internal edges at every angle.
+pub fn grid_mesh(half_x: f64, half_y: f64, nx: usize, ny: usize) -> Result<TriMesh, GeneratorError> {
+    dim("grid", "half_x", half_x)?;
+    dim("grid", "half_y", half_y)?;
+    res("grid", "nx", nx, 1)?;
+    res("grid", "ny", ny, 1)?;
+    let mut vertices = Vec::with_capacity((nx + 1) * (ny + 1));
+    for j in 0..=ny {
+        for i in 0..=nx {
+            vertices.push(DVec3::new(
+                -half_x + 2.0 * half_x * i as f64 / nx as f64,
+                -half_y + 2.0 * half_y * j as f64 / ny as f64,
+                0.0,
+            ));
+        }
+    }
+    let index = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut triangles = Vec::with_capacity(2 * nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (index(i, j), index(i + 1, j), index(i + 1, j + 1), index(i, j + 1));
+            if (i + j) % 2 == 0 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
     Ok(TriMesh::new(vertices, triangles)?)
 }
 
@@ -379,5 +414,21 @@ mod tests {
         assert!(cylinder_mesh(1.0, 1.0, 2).is_err());
         assert!(torus_mesh(1.0, 1.5, 8, 8).is_err());
         assert!(icosphere_mesh(1.0, 30).is_err());
+        assert!(grid_mesh(1.0, 0.0, 4, 4).is_err());
+        assert!(grid_mesh(1.0, 1.0, 0, 4).is_err());
+    }
+
+    #[test]
+    fn grid_covers_its_rectangle_facing_up() {
+        let m = grid_mesh(2.0, 1.5, 8, 6).unwrap();
+        assert_eq!(m.vertices().len(), 9 * 7);
+        assert_eq!(m.triangles().len(), 2 * 8 * 6);
+        assert!((m.surface_area() - 4.0 * 3.0).abs() < 1e-12);
+        for t in 0..m.triangles().len() {
+            let n = m.triangle_normal_scaled(t);
+            assert!(n.x == 0.0 && n.y == 0.0 && n.z > 0.0, "triangle {t} faces {n:?}");
+        }
+        let (lo, hi) = m.bounds();
+        assert_eq!((lo, hi), (DVec3::new(-2.0, -1.5, 0.0), DVec3::new(2.0, 1.5, 0.0)));
     }
 }

@@ -8,7 +8,7 @@ pub mod topology;
 mod trimesh;
 
 pub use generators::{
-    box_mesh, capsule_mesh, cone_mesh, cylinder_mesh, icosphere_mesh, torus_mesh, uv_sphere_mesh,
+    box_mesh, capsule_mesh, cone_mesh, cylinder_mesh, grid_mesh, icosphere_mesh, torus_mesh, uv_sphere_mesh,
     GeneratorError,
 };
 pub use load::{load_mesh, load_obj, load_stl, LoadError};

@@ -23,28 +23,48 @@ fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
     m.mesh().triangle(t as usize).map(|v| pose.transform_point(v))
 }
 
-/// `true` when a contact uses an edge that cannot define a contact normal of
-/// its own: an edge between coplanar triangles of the mesh (internal edge;
-/// issue: no ghost bumps on flat ground made of many triangles).
-fn on_flat_edge(f: Feature, m: &MeshShape) -> bool {
+/// A contact on an internal feature of a mesh (a flat edge or a flat vertex)
+/// is valid only along the surrounding face normal: within about 2.5 degrees.
+pub const INTERNAL_FEATURE_COS: f64 = 0.999;
+
+/// `true` when the mesh side `f` of a contact is an internal feature: an
+/// edge between coplanar triangles or a vertex inside a flat region. Such a
+/// feature has no normal of its own (issue: no ghost bumps on flat ground
+/// made of many triangles).
+fn is_internal(f: Feature, m: &MeshShape) -> bool {
     match f.sub {
         SubFeature::Edge(k) => m.is_flat_edge(f.index, k),
+        SubFeature::Vertex(k) => m.is_flat_vertex(f.index, k),
         _ => false,
     }
 }
 
-/// Removes edge/edge contacts on flat (internal) edges of either mesh side;
-/// the vertex/face contacts of the coplanar faces carry those points.
-fn drop_flat_edge_contacts(
+/// `true` when `outward` (out of the mesh at feature `f`) is the face normal
+/// of `f`'s triangle, or `f` is not an internal feature.
+fn valid_on(f: Feature, m: &MeshShape, pose: &Pose, outward: DVec3) -> bool {
+    if !is_internal(f, m) {
+        return true;
+    }
+    let face = pose.rotation * m.mesh().triangle_normal_scaled(f.index as usize);
+    face.dot(outward) >= INTERNAL_FEATURE_COS * face.length()
+}
+
+/// Removes the ghost contacts of internal features (world frame): a contact
+/// whose mesh side is a flat edge or flat vertex and whose normal is not that
+/// flat region's normal, e.g. a vertex of flat ground that a sliding box's
+/// side face sweeps towards. The flat region's own face contacts carry the
+/// real support there. The normal points from B to A, so it leaves A along
+/// `-normal` and B along `+normal`.
+fn drop_internal_contacts(
     out: &mut Vec<Contact>,
     start: usize,
-    a: Option<&MeshShape>,
-    b: Option<&MeshShape>,
+    a: Option<(&MeshShape, &Pose)>,
+    b: Option<(&MeshShape, &Pose)>,
 ) {
     retain_from(out, start, |c| {
-        !(c.kind == ContactKind::EdgeEdge
-            && (a.is_some_and(|m| on_flat_edge(c.feature_a, m))
-                || b.is_some_and(|m| on_flat_edge(c.feature_b, m))))
+        c.kind == ContactKind::Penetrating
+            || (a.is_none_or(|(m, pose)| valid_on(c.feature_a, m, pose, -c.normal))
+                && b.is_none_or(|(m, pose)| valid_on(c.feature_b, m, pose, c.normal)))
     });
 }
 
@@ -136,12 +156,12 @@ pub fn contact_mesh_mesh(
             Traverse::Continue
         });
     });
-    drop_flat_edge_contacts(out, start, Some(a), Some(b));
-    merge(out, start, tris_a, tris_b);
     for c in &mut out[start..] {
         c.point = pose_a.transform_point(c.point);
         c.normal = pose_a.rotation * c.normal;
     }
+    drop_internal_contacts(out, start, Some((a, pose_a)), Some((b, pose_b)));
+    merge(out, start, tris_a, tris_b);
 }
 
 /// Vertices of a mesh kept against a plane before reducing.
@@ -253,8 +273,9 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
         matches!(f.sub, SubFeature::Edge(0) if k > 1) || matches!(f.sub, SubFeature::Edge(2) if k + 2 < len)
     };
     retain_from(out, start, |c| {
-        !(c.kind == ContactKind::EdgeEdge && (fan_diagonal(c.feature_a) || on_flat_edge(c.feature_b, b)))
+        !(c.kind == ContactKind::EdgeEdge && fan_diagonal(c.feature_a))
     });
+    drop_internal_contacts(out, start, None, Some((b, pose_b)));
     merge(out, start, &[], b.mesh().triangles());
 }
 
@@ -276,11 +297,7 @@ pub fn contact_sphere_mesh(
         // A closest point on an internal edge (or at a vertex where both of
         // this triangle's edges are internal) belongs to the flat region:
         // the neighbouring face reports it with the face normal.
-        let internal = match sub {
-            SubFeature::Edge(k) => b.is_flat_edge(tb, k),
-            SubFeature::Vertex(k) => b.is_flat_edge(tb, k) && b.is_flat_edge(tb, (k + 2) % 3),
-            _ => false,
-        };
+        let internal = is_internal(Feature { index: tb, sub }, b);
         let delta = c - q;
         let dist = delta.length();
         if dist - r <= margin && !internal {

@@ -21,7 +21,8 @@ pub struct MeshShape {
     tree: Arc<ObbTree>,
     /// Bit `k` of entry `t`: edge `k` of triangle `t` is flat (shared with a
     /// coplanar, consistently wound neighbour): an internal edge that can
-    /// define no contact normal of its own.
+    /// define no contact normal of its own. Bit `3 + k`: corner `k` is a flat
+    /// vertex (every edge around it is flat: inside a flat region).
     flat: Arc<Vec<u8>>,
     lo: DVec3,
     hi: DVec3,
@@ -40,7 +41,7 @@ impl MeshShape {
         let (lo, hi) = mesh.bounds();
         let topology = Topology::new(&mesh);
         let unit = |t: usize| mesh.triangle_normal_scaled(t).normalize_or_zero();
-        let flat = topology
+        let mut flat: Vec<u8> = topology
             .neighbors
             .iter()
             .enumerate()
@@ -54,6 +55,24 @@ impl MeshShape {
                 bits
             })
             .collect();
+        // Corner k of a triangle touches its edges k and k + 2; a vertex is
+        // flat when every edge of every triangle around it is.
+        let mut vertex_flat = vec![true; mesh.vertices().len()];
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            for k in 0..3 {
+                let edges = (1 << k) | (1 << ((k + 2) % 3));
+                if flat[t] & edges != edges {
+                    vertex_flat[tri[k] as usize] = false;
+                }
+            }
+        }
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            for k in 0..3 {
+                if vertex_flat[tri[k] as usize] {
+                    flat[t] |= 1 << (3 + k);
+                }
+            }
+        }
         Ok(MeshShape {
             mesh: Arc::new(mesh),
             tree: Arc::new(tree),
@@ -69,6 +88,15 @@ impl MeshShape {
         self.flat
             .get(t as usize)
             .is_some_and(|&bits| bits & (1 << k) != 0)
+    }
+
+    /// `true` when corner `k` of triangle `t` is a vertex inside a flat
+    /// region (all edges around it flat): like an internal edge, it has no
+    /// contact normal of its own.
+    pub fn is_flat_vertex(&self, t: u32, k: u8) -> bool {
+        self.flat
+            .get(t as usize)
+            .is_some_and(|&bits| bits & (1 << (3 + k)) != 0)
     }
 
     /// The mesh (shape frame).

@@ -11,6 +11,7 @@ use super::options::{CollideOptions, ReportMode};
 use super::report::{QueryStats, Report};
 use crate::bvh::{self, Traverse};
 use crate::contact::{Contact, ContactKind, SubFeature};
+use crate::math::DVec3;
 use crate::pose::Pose;
 use crate::shape::MeshShape;
 use crate::triangle::{merge_contacts, tri_tri_overlap, triangle_contacts, MergeParams};
@@ -96,7 +97,9 @@ pub fn collide(
         let wa = world_triangle(ma, &pose_a, ta);
         let wb = world_triangle(mb, &pose_b, tb);
         tests += 1;
-        let hit = tri_tri_overlap(&wa, &wb);
+        // Closed triangles that share a point have overlapping bounding
+        // boxes (min / max are exact): a cheap, exact first rejection.
+        let hit = aabbs_overlap(&wa, &wb) && tri_tri_overlap(&wa, &wb);
         if hit {
             report.intersect = true;
             if mode != ReportMode::Boolean {
@@ -146,4 +149,12 @@ fn finish_contacts(contacts: &mut Vec<Contact>, a: &MeshShape, b: &MeshShape) {
         b.mesh().triangles(),
         &MergeParams::default(),
     );
+}
+
+/// The axis-aligned bounding boxes of two triangles overlap (closed).
+#[inline]
+fn aabbs_overlap(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    let (lo_a, hi_a) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
+    let (lo_b, hi_b) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
+    lo_a.cmple(hi_b).all() && lo_b.cmple(hi_a).all()
 }

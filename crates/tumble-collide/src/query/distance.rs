@@ -8,6 +8,7 @@ use super::input::{checked_pose, world_triangle};
 use super::options::DistanceOptions;
 use super::report::{DistanceResult, QueryStats};
 use crate::bvh;
+use crate::math::DVec3;
 use crate::pose::Pose;
 use crate::shape::MeshShape;
 use crate::triangle::{triangle_distance, TriDistance};
@@ -47,8 +48,14 @@ pub fn distance(
         f64::INFINITY,
         &options.tolerance(),
         |ta, tb, best_so_far| {
+            let (wa, wb) = (world_triangle(ma, &pose_a, ta), world_triangle(mb, &pose_b, tb));
+            // The gap between the triangles' bounding boxes bounds their
+            // distance from below: a pair that cannot win is skipped.
+            if aabb_gap(&wa, &wb) >= best_so_far {
+                return best_so_far;
+            }
             tests += 1;
-            let td = triangle_distance(&world_triangle(ma, &pose_a, ta), &world_triangle(mb, &pose_b, tb));
+            let td = triangle_distance(&wa, &wb);
             // Same comparison as the traversal's, so the recorded pair is
             // the one whose distance it keeps.
             if td.distance < best_so_far {
@@ -71,4 +78,13 @@ pub fn distance(
         tri_b,
         stats: QueryStats::from_traversal(&traversal.stats, tests),
     })
+}
+
+/// Euclidean distance between the axis-aligned boxes of two triangles (m),
+/// a lower bound on the triangles' distance.
+#[inline]
+fn aabb_gap(a: &[DVec3; 3], b: &[DVec3; 3]) -> f64 {
+    let (lo_a, hi_a) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
+    let (lo_b, hi_b) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
+    (lo_b - hi_a).max(lo_a - hi_b).max(DVec3::ZERO).length()
 }

@@ -12,7 +12,7 @@ use tumble::world::{BodyId, World};
 /// Arguments of `tumble bench`.
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Scene: pyramid, pile (with --n), chain or cradle.
+    /// Scene: pyramid, pile (with --n), chain, cradle or tori.
     #[arg(long)]
     scene: String,
     /// Steps to run (default: the scene's own, 600 or 240).
@@ -21,7 +21,7 @@ pub struct BenchArgs {
     /// Bodies in the pile: 100, 1000 or 10000 (a multiple of 100).
     #[arg(long, default_value_t = 1000)]
     n: usize,
-    /// Tori poses (accepted for the harness; the tori queries are not wired into this verb yet).
+    /// Tori poses: P poses spread evenly over the 200 (default all).
     #[arg(long)]
     poses: Option<usize>,
 }
@@ -42,7 +42,7 @@ fn stats_ms(samples: &mut [f64]) -> Value {
     })
 }
 
-fn peak_rss_bytes() -> u64 {
+pub(crate) fn peak_rss_bytes() -> u64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
         .and_then(|s| {
@@ -88,14 +88,26 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             (format!("pile{n}"), scenes::pile(n / 100))
         }
         "tori" => {
-            let _ = args.poses;
-            return Err(CliError::Input(
-                "scene tori: the collision-query benchmark is `cargo bench -p tumble-collide --bench tori`; not wired into `tumble bench` yet".into(),
-            ));
+            let poses = args.poses.unwrap_or(crate::bench_tori::TORI_POSES);
+            if poses == 0 {
+                return Err(CliError::Input("--poses must be at least 1".into()));
+            }
+            let (settings, figures) = crate::bench_tori::run(poses)?;
+            let out = json!({
+                "engine": "tumble",
+                "version": env!("CARGO_PKG_VERSION"),
+                "scene": "tori",
+                "status": "ok",
+                "settings": settings,
+                "figures": figures,
+                "peak_rss_bytes": peak_rss_bytes(),
+            });
+            println!("{out}");
+            return Ok(());
         }
         other => {
             return Err(CliError::Input(format!(
-                "unknown scene '{other}' (expected pyramid, pile, chain, cradle)"
+                "unknown scene '{other}' (expected pyramid, pile, chain, cradle, tori)"
             )))
         }
     };

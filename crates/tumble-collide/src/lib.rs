@@ -15,6 +15,8 @@
 //! - [`triangle`]: triangle-level narrow phase (overlap, distance, contacts, merging).
 //! - [`shape`]: primitive shapes (sphere, cuboid, capsule, convex hull, half-space).
 //! - [`narrow`]: contact manifolds between shape pairs, one dispatch table.
+//! - [`query`]: the public collision, distance and tolerance queries on meshes
+//!   and primitives (see `docs/collision.md`).
 
 #![warn(missing_docs)]
 
@@ -27,6 +29,7 @@ pub mod math;
 pub mod mesh;
 pub mod narrow;
 pub mod pose;
+pub mod query;
 pub mod shape;
 pub mod triangle;
 
@@ -38,4 +41,8 @@ pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;
 pub use narrow::{contact_shapes, NarrowError};
 pub use pose::{Pose, PoseError};
-pub use shape::{Capsule, ConvexHull, Cuboid, HalfSpace, Shape, ShapeError, Sphere};
+pub use query::{
+    collide, collide_primitive, distance, distance_primitive, within_tolerance, within_tolerance_primitive,
+    CollideOptions, DistanceOptions, DistanceResult, Primitive, QueryError, QueryStats, Report, ReportMode,
+};
+pub use shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, ShapeError, Sphere};

@@ -3,10 +3,11 @@
 //!
 //! Each node's box is fitted to its triangles ([`super::fit`]), then the
 //! triangles are split by the plane through the mean of their centroids,
-//! orthogonal to the box's longest axis. A split that leaves one side empty
-//! (all centroids on one side of the mean, e.g. many triangles with one
-//! centroid) tries the other axes, then falls back to a median split, so every
-//! internal node has two non-empty children and the build always terminates.
+//! orthogonal to the box's longest axis. A lopsided split (one side below
+//! [`LOPSIDED_FRACTION`] of the triangles, or empty: e.g. many triangles with
+//! one centroid) tries the other axes; when all three are lopsided a median
+//! split is used, so every internal node has two non-empty children, the
+//! depth stays logarithmic and the build always terminates.
 //! Nodes with at most `leaf_size` triangles become leaves (thesis 5.4.2: a
 //! leaf per triangle wastes memory and box tests on tiny boxes).
 
@@ -215,22 +216,28 @@ impl ObbTree {
     }
 }
 
+/// A split leaving less than this fraction of the triangles on one side is
+/// lopsided: the other axes are tried for a more even one.
+pub const LOPSIDED_FRACTION: f64 = 0.1;
+
 /// Reorders `tris` into two non-empty halves and returns the split index.
+///
+/// The mean split along the longest axis is taken unless it is lopsided
+/// (a side below [`LOPSIDED_FRACTION`], or empty); then the other axes, by
+/// extent, are tried. When every axis is lopsided the median split along the
+/// longest axis is used, which bounds the depth by `log(n) / log(1 / 0.9)`
+/// even for triangles spaced exponentially along a line.
 fn split(tris: &mut [u32], centroids: &[DVec3], obb: &Obb, keyed: &mut Vec<(f64, u32)>) -> usize {
     let h = obb.half_extents;
     let mut order = [0usize, 1, 2];
     order.sort_by(|&i, &j| h[j].total_cmp(&h[i]));
+    let n = tris.len();
+    let smaller = |i: usize| i.min(n - i);
     for &k in &order {
         let axis = obb.axes.col(k);
-        let mean = tris.iter().map(|&t| axis.dot(centroids[t as usize])).sum::<f64>() / tris.len() as f64;
-        let mut i = 0;
-        for j in 0..tris.len() {
-            if axis.dot(centroids[tris[j] as usize]) < mean {
-                tris.swap(i, j);
-                i += 1;
-            }
-        }
-        if i > 0 && i < tris.len() {
+        let mean = tris.iter().map(|&t| axis.dot(centroids[t as usize])).sum::<f64>() / n as f64;
+        let i = partition_below(tris, centroids, axis, mean);
+        if i > 0 && smaller(i) as f64 >= LOPSIDED_FRACTION * n as f64 {
             return i;
         }
     }
@@ -244,6 +251,19 @@ fn split(tris: &mut [u32], centroids: &[DVec3], obb: &Obb, keyed: &mut Vec<(f64,
         *dst = t;
     }
     tris.len() / 2
+}
+
+/// Moves the triangles whose centroid lies below `mean` along `axis` to the
+/// front and returns how many there are.
+fn partition_below(tris: &mut [u32], centroids: &[DVec3], axis: DVec3, mean: f64) -> usize {
+    let mut i = 0;
+    for j in 0..tris.len() {
+        if axis.dot(centroids[tris[j] as usize]) < mean {
+            tris.swap(i, j);
+            i += 1;
+        }
+    }
+    i
 }
 
 #[cfg(test)]
@@ -367,6 +387,32 @@ mod tests {
             let tree = ObbTree::build_with(&mesh, &BuildOptions { leaf_size }).unwrap();
             check_tree(&mesh, &tree, leaf_size);
         }
+    }
+
+    /// Triangles spaced exponentially along x: every mean split along x
+    /// cuts off the farthest one (a chain of depth n without the lopsided
+    /// rule); the tree must stay logarithmic and contain every triangle.
+    #[test]
+    fn exponentially_spaced_triangles_give_a_shallow_tree() {
+        // 4^59 = 3e35 stays inside the f32 range of the stored boxes.
+        let n = 60;
+        let mut v = Vec::new();
+        let mut t = Vec::new();
+        for k in 0..n as u32 {
+            let x = 4f64.powi(k as i32);
+            v.extend([
+                DVec3::new(x, 0.0, 0.0),
+                DVec3::new(x, 0.1, 0.0),
+                DVec3::new(x, 0.0, 0.1),
+            ]);
+            t.push([3 * k, 3 * k + 1, 3 * k + 2]);
+        }
+        let mesh = TriMesh::new(v, t).unwrap();
+        let tree = ObbTree::build_with(&mesh, &BuildOptions { leaf_size: 1 }).unwrap();
+        check_tree(&mesh, &tree, 1);
+        // Balanced: log2(60) = 5.9 levels; peeling ~3 per level: about 20.
+        let bound = 3 * (n as f64).log2().ceil() as usize;
+        assert!(tree.stats().depth <= bound, "{:?} (bound {bound})", tree.stats());
     }
 
     #[test]

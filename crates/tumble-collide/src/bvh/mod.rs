@@ -9,7 +9,8 @@
 //! - [`node`]: the memory-compact f32 node with conservative rounding.
 //! - [`build`]: top-down construction, [`ObbTree`] and its statistics.
 //! - [`traverse`]: simultaneous traversal of two trees (overlap and distance).
-//! - [`query`]: one tree against a query box or sphere.
+//! - [`query`]: one tree against a query box, sphere or half-space.
+//! - [`volume_distance`]: one tree's distance to a convex query volume.
 
 pub mod build;
 pub mod fit;
@@ -19,9 +20,14 @@ pub mod query;
 pub mod sat;
 mod stack;
 pub mod traverse;
+pub mod volume_distance;
 
 pub use build::{BuildOptions, BvhError, ObbTree, TreeStats};
 pub use node::Node;
 pub use obb::Obb;
-pub use query::{query_aabb, query_obb, query_sphere};
-pub use traverse::{collide, distance, DistanceResult, TraversalError, TraversalStats, Traverse};
+pub use query::{query_aabb, query_halfspace, query_obb, query_sphere};
+pub use traverse::{
+    collide, distance, distance_with, DistanceResult, DistanceTolerance, TraversalError, TraversalStats,
+    Traverse,
+};
+pub use volume_distance::volume_distance;

@@ -116,6 +116,43 @@ pub fn query_sphere(
     Ok(walk(tree, hit, on_tri))
 }
 
+/// Reports every triangle whose leaf box reaches within `margin` (m) of the
+/// world-space half-space `normal . x <= offset` (`normal` a unit vector;
+/// the caller validates it, e.g. through [`crate::shape::HalfSpace`]).
+pub fn query_halfspace(
+    tree: &ObbTree,
+    pose: &Pose,
+    normal: DVec3,
+    offset: f64,
+    margin: f64,
+    on_tri: impl FnMut(u32) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
+    check_nonneg("query margin", margin)?;
+    if !normal.is_finite() || !offset.is_finite() {
+        return Err(TraversalError::BadParameter {
+            what: "half-space offset (finite, with a finite normal)",
+            value: offset,
+        });
+    }
+    // The plane in the mesh frame.
+    let n = pose.rotation.conjugate() * normal;
+    let d = offset - normal.dot(pose.position);
+    let hit = |node: &Node| box_height_above(node, n, d) <= margin;
+    Ok(walk(tree, hit, on_tri))
+}
+
+/// Lowest signed height of the node's box above the plane `n . x = d` (m;
+/// negative when the box reaches below it), with a relative slack so that
+/// round-off never makes it larger than the height of a contained vertex.
+#[inline]
+pub(crate) fn box_height_above(node: &Node, n: DVec3, d: f64) -> f64 {
+    let a = node.axes_f64();
+    let h = node.half_f64();
+    let reach = h[0] * n.dot(a.x_axis).abs() + h[1] * n.dot(a.y_axis).abs() + h[2] * n.dot(a.z_axis).abs();
+    let centre = n.dot(node.center_f64()) - d;
+    centre - reach - 1e-12 * (centre.abs() + reach)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -180,5 +217,43 @@ mod tests {
         let p = Pose::IDENTITY;
         assert!(query_sphere(&t, &p, DVec3::ZERO, -1.0, |_| Traverse::Continue).is_err());
         assert!(query_aabb(&t, &p, DVec3::ONE, DVec3::ZERO, 0.0, |_| Traverse::Continue).is_err());
+    }
+
+    #[test]
+    fn halfspace_query_reports_every_triangle_within_the_margin() {
+        let m = torus_mesh(1.0, 0.3, 24, 12).unwrap();
+        let t = ObbTree::build(&m).unwrap();
+        let mut r = rng(29);
+        for _ in 0..30 {
+            let pose = random_pose(&mut r, 1.0);
+            let n = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize();
+            let offset = r() - 0.5;
+            let margin = 0.2 * r();
+            let mut got = vec![];
+            let stats = query_halfspace(&t, &pose, n, offset, margin, |i| {
+                got.push(i);
+                Traverse::Continue
+            })
+            .unwrap();
+            let mut want = 0;
+            for i in 0..m.triangles().len() {
+                let low = m
+                    .triangle(i)
+                    .iter()
+                    .map(|&v| n.dot(pose.transform_point(v)) - offset)
+                    .fold(f64::INFINITY, f64::min);
+                if low <= margin {
+                    want += 1;
+                    assert!(got.contains(&(i as u32)), "missed triangle {i} at height {low}");
+                }
+            }
+            // Pruning: far fewer triangles than all when the plane cuts the torus.
+            if want > 0 && want < m.triangles().len() / 4 {
+                assert!(got.len() < m.triangles().len(), "{stats:?}");
+            }
+        }
+        let p = Pose::IDENTITY;
+        assert!(query_halfspace(&t, &p, DVec3::Z, 0.0, -1.0, |_| Traverse::Continue).is_err());
+        assert!(query_halfspace(&t, &p, DVec3::Z, f64::NAN, 0.0, |_| Traverse::Continue).is_err());
     }
 }

@@ -206,6 +206,52 @@ pub struct DistanceResult {
     pub stats: TraversalStats,
 }
 
+/// PQP-style pruning tolerances of a distance traversal (Larsen, Gottschalk,
+/// Lin & Manocha 1999, "Fast proximity queries with swept sphere volumes":
+/// the `rel_err` / `abs_err` of PQP's distance query).
+///
+/// A node pair is skipped when its box lower bound `lb` satisfies
+/// `lb * (1 + rel_err) >= best` or `lb + abs_err >= best`. The pair holding
+/// the true minimum `d` is then skipped only when `best <= (1 + rel_err) d` or
+/// `best <= d + abs_err`, so the returned distance lies in
+/// `[d, max((1 + rel_err) d, d + abs_err)]`. `(0, 0)` is the exact search.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct DistanceTolerance {
+    /// Relative error allowed (dimensionless, >= 0, finite). Default 0.
+    pub rel_err: f64,
+    /// Absolute error allowed (m, >= 0, finite). Default 0.
+    pub abs_err: f64,
+}
+
+impl DistanceTolerance {
+    /// The exact search.
+    pub const EXACT: DistanceTolerance = DistanceTolerance {
+        rel_err: 0.0,
+        abs_err: 0.0,
+    };
+
+    /// Checks both fields (finite and >= 0).
+    pub fn check(&self) -> Result<(), TraversalError> {
+        for (what, value) in [
+            ("distance rel_err", self.rel_err),
+            ("distance abs_err", self.abs_err),
+        ] {
+            check_nonneg(what, value)?;
+            if !value.is_finite() {
+                return Err(TraversalError::BadParameter { what, value });
+            }
+        }
+        Ok(())
+    }
+
+    /// `true` when a node pair with lower bound `lb` cannot improve `best`
+    /// by more than the allowed error.
+    #[inline]
+    pub fn prunes(&self, lb: f64, best: f64) -> bool {
+        lb >= best || lb * (1.0 + self.rel_err) >= best || lb + self.abs_err >= best
+    }
+}
+
 /// Branch-and-bound distance traversal: visits leaf pairs nearest-first (by
 /// the box lower bound) and skips every node pair whose lower bound is not
 /// below the best distance so far. `on_pair(ta, tb, best)` must return the
@@ -219,9 +265,32 @@ pub fn distance(
     b: &ObbTree,
     pose_b: &Pose,
     upper_bound: f64,
+    on_pair: impl FnMut(u32, u32, f64) -> f64,
+) -> Result<DistanceResult, TraversalError> {
+    distance_with(
+        a,
+        pose_a,
+        b,
+        pose_b,
+        upper_bound,
+        &DistanceTolerance::EXACT,
+        on_pair,
+    )
+}
+
+/// [`distance`] with PQP-style approximate pruning ([`DistanceTolerance`]).
+pub fn distance_with(
+    a: &ObbTree,
+    pose_a: &Pose,
+    b: &ObbTree,
+    pose_b: &Pose,
+    upper_bound: f64,
+    tolerance: &DistanceTolerance,
     mut on_pair: impl FnMut(u32, u32, f64) -> f64,
 ) -> Result<DistanceResult, TraversalError> {
     check_nonneg("distance upper bound", upper_bound)?;
+    tolerance.check()?;
+    let tol = *tolerance;
     let rel = Relative::new(pose_a, pose_b);
     let (na, nb) = (a.nodes(), b.nodes());
     let mut best = upper_bound;
@@ -237,11 +306,11 @@ pub fn distance(
     }
     let mut stack = SmallStack::<(u32, u32, f64)>::new();
     let lb = Placed::a(&na[0], 0.0).lower_bound(&rel.place_b(&nb[0], 0.0));
-    if lb < best {
+    if !tol.prunes(lb, best) {
         stack.push((0, 0, lb));
     }
     while let Some((ia, ib, lb)) = stack.pop() {
-        if lb >= best {
+        if tol.prunes(lb, best) {
             continue; // the best improved since this pair was pushed
         }
         let (x, y) = (&na[ia as usize], &nb[ib as usize]);
@@ -277,7 +346,7 @@ pub fn distance(
         // Push the farther pair first so the nearer one is explored first.
         let order = if lbs[0] <= lbs[1] { [1, 0] } else { [0, 1] };
         for k in order {
-            if lbs[k] < best {
+            if !tol.prunes(lbs[k], best) {
                 stack.push((pairs[k].0, pairs[k].1, lbs[k]));
             }
         }

@@ -9,10 +9,10 @@
 //! ------------+----------------------------------------------------------------------------------------------
 //!  Sphere     | sphere_sphere  sphere_cuboid   sphere_capsule   sphere_polytope  sphere_halfspace   sphere_mesh
 //!  Cuboid     | mirror         cuboid_cuboid   mirror           mirror           polytope_halfspace polytope_mesh
-//!  Capsule    | mirror         capsule_polytope capsule_capsule capsule_polytope capsule_halfspace  Unsupported
+//!  Capsule    | mirror         capsule_polytope capsule_capsule capsule_polytope capsule_halfspace  capsule_mesh
 //!  ConvexHull | mirror         polytope_polytope mirror         polytope_polytope polytope_halfspace polytope_mesh
 //!  HalfSpace  | mirror         mirror          mirror           mirror           Unsupported        mirror
-//!  Mesh       | mirror         mirror          Unsupported      mirror           mesh_halfspace     mesh_mesh
+//!  Mesh       | mirror         mirror          mirror           mirror           mesh_halfspace     mesh_mesh
 //! ```
 
 use super::*;
@@ -70,14 +70,16 @@ pub fn contact_shapes(
         // Row: Mesh
         (Mesh(x), Sphere(y)) => mirror(out, |o| contact_sphere_mesh(y, pb, x, pa, m, o)),
         (Mesh(x), Cuboid(y)) => mirror(out, |o| contact_polytope_mesh(y, pb, x, pa, m, o)),
+        (Mesh(x), Capsule(y)) => mirror(out, |o| contact_capsule_mesh(y, pb, x, pa, m, o)),
         (Mesh(x), ConvexHull(y)) => mirror(out, |o| contact_polytope_mesh(y, pb, x, pa, m, o)),
         (Mesh(x), HalfSpace(y)) => contact_mesh_halfspace(x, pa, y, pb, m, out),
         (Mesh(x), Mesh(y)) => contact_mesh_mesh(x, pa, y, pb, m, out),
         // Column: Mesh
         (Sphere(x), Mesh(y)) => contact_sphere_mesh(x, pa, y, pb, m, out),
         (Cuboid(x), Mesh(y)) => contact_polytope_mesh(x, pa, y, pb, m, out),
+        (Capsule(x), Mesh(y)) => contact_capsule_mesh(x, pa, y, pb, m, out),
         (ConvexHull(x), Mesh(y)) => contact_polytope_mesh(x, pa, y, pb, m, out),
-        (Capsule(_), Mesh(_)) | (Mesh(_), Capsule(_)) | (HalfSpace(_), HalfSpace(_)) => {
+        (HalfSpace(_), HalfSpace(_)) => {
             return Err(NarrowError::Unsupported {
                 a: a.kind_name(),
                 b: b.kind_name(),

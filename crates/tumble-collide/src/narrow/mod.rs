@@ -13,6 +13,7 @@
 
 mod clip;
 mod contact_capsule_capsule;
+mod contact_capsule_mesh;
 mod contact_cuboid_cuboid;
 mod contact_halfspace;
 mod contact_mesh;
@@ -33,6 +34,7 @@ mod tests;
 mod tests_mesh;
 
 pub use contact_capsule_capsule::contact_capsule_capsule;
+pub use contact_capsule_mesh::contact_capsule_mesh;
 pub use contact_cuboid_cuboid::contact_cuboid_cuboid;
 pub use contact_halfspace::{
     contact_capsule_halfspace, contact_polytope_halfspace, contact_sphere_halfspace,

@@ -166,15 +166,13 @@ fn sphere_on_mesh_face_has_the_analytic_distance() {
 }
 
 #[test]
-fn capsule_against_mesh_is_unsupported_not_silent() {
+fn capsule_against_mesh_is_routed_to_its_routine() {
+    // Capsule core 0.02 above the top face of a half-unit box mesh.
     let m = Shape::Mesh(mesh_box(0.5));
     let c = Shape::Capsule(Capsule::new(0.1, 0.3).unwrap());
+    let pc = Pose::from_translation(DVec3::new(0.1, 0.05, 0.5 + 0.3 + 0.1 + 0.02));
     let mut out = Vec::new();
-    assert!(matches!(
-        contact_shapes(&c, &Pose::IDENTITY, &m, &Pose::IDENTITY, 0.01, &mut out),
-        Err(NarrowError::Unsupported {
-            a: "capsule",
-            b: "mesh"
-        })
-    ));
+    contact_shapes(&c, &pc, &m, &Pose::IDENTITY, 0.05, &mut out).unwrap();
+    assert!((min_distance(&out) - 0.02).abs() < 1e-12);
+    assert!(out.iter().all(|c| (c.normal - DVec3::Z).length() < 1e-12));
 }

@@ -49,7 +49,10 @@ fn closest_point_on_finite_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeat
     }
     // vc, vb, va are the (scaled) barycentric coordinates of p's projection.
     let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+    // Each edge region also needs the edge to have a length (`d1 - d3 =
+    // |ab|^2` etc.): for a zero-length edge every barycentric product is 0
+    // and the region test would claim points that belong to the other edge.
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0 {
         return (a + ab * ratio(d1, d1 - d3), SubFeature::Edge(0));
     }
     let cp = p - c;
@@ -59,11 +62,11 @@ fn closest_point_on_finite_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeat
         return (c, SubFeature::Vertex(2));
     }
     let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0 {
         return (a + ac * ratio(d2, d2 - d6), SubFeature::Edge(2));
     }
     let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0 {
         let w = ratio(d4 - d3, (d4 - d3) + (d5 - d6));
         return (b + (c - b) * w, SubFeature::Edge(1));
     }
@@ -369,6 +372,25 @@ mod tests {
 
     fn point_triangle_distance(p: DVec3, t: &[DVec3; 3]) -> f64 {
         (closest_point_on_triangle(p, t).0 - p).length()
+    }
+
+    /// Regression: a triangle with two equal corners is the segment to the
+    /// third; points beside that segment used to snap to the repeated corner
+    /// (the zero-length edge's region claimed them).
+    #[test]
+    fn repeated_corner_triangle_is_its_segment() {
+        let (a, c) = (DVec3::new(0.0, -0.5, 0.0), DVec3::new(-1.5, 1.0, 0.5));
+        for k in 0..=10 {
+            let s = k as f64 / 10.0;
+            let on = a + (c - a) * s;
+            let off = on + (c - a).normalize().any_orthonormal_vector() * 0.3;
+            for t in [[a, a, c], [a, c, a], [c, a, a], [a, c, c], [c, c, a], [c, a, c]] {
+                for p in [on, off] {
+                    let (q, _) = closest_point_on_triangle(p, &t);
+                    assert!((q - on).length() < 1e-12, "{t:?} {p} -> {q}, want {on}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -1,0 +1,42 @@
+//! The one error type of the query API: what was wrong, where, and what was
+//! expected. Queries check their input before touching any geometry, so an
+//! error never leaves partial results behind.
+
+use crate::mesh::MeshError;
+use crate::pose::PoseError;
+use crate::shape::ShapeError;
+
+/// Why a query refused its input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QueryError {
+    /// A pose with a non-finite position or a quaternion that is not finite
+    /// or not of unit length (within [`crate::Pose::UNIT_TOLERANCE`]).
+    #[error("{which}: {source}")]
+    BadPose {
+        /// Which argument: `"pose_a"` or `"pose_b"`.
+        which: &'static str,
+        /// What was wrong with it.
+        source: PoseError,
+    },
+    /// An option or tolerance outside its valid range.
+    #[error("{option} must be {expected}, got {value}")]
+    BadOption {
+        /// The option's name, e.g. `"DistanceOptions::rel_err"`.
+        option: &'static str,
+        /// The valid range, e.g. `"finite and >= 0"`.
+        expected: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A mesh given to build a query object is invalid (NaN vertex,
+    /// out-of-range index, empty, ...).
+    #[error("mesh: {0}")]
+    Mesh(#[from] MeshError),
+    /// A shape could not be built (bad dimension, OBBTree failure).
+    #[error("shape: {0}")]
+    Shape(#[from] ShapeError),
+    /// The result overflowed (coordinates so large that distances are not
+    /// finite in f64).
+    #[error("{0}: the result is not finite (coordinates beyond the range of f64 arithmetic)")]
+    NotFinite(&'static str),
+}

@@ -1,0 +1,40 @@
+//! The collision query API, usable without any dynamics (thesis 4.6, 5.1,
+//! 5.2: the JAOC queries; PQP's `PQP_Collide`, `PQP_Distance`,
+//! `PQP_Tolerance`). A query object is a [`MeshShape`]: a validated
+//! [`crate::TriMesh`] with its OBBTree, built once and cheap to clone.
+//! Poses are position + unit quaternion ([`crate::Pose`]), re-checked by every
+//! query.
+//!
+//! - [`collide`]: intersecting triangle pairs, first-contact or all of them,
+//!   and contacts ([`CollideOptions`], [`ReportMode`]);
+//! - [`distance`]: minimum distance and closest points, exact or with PQP's
+//!   relative / absolute error ([`DistanceOptions`]);
+//! - [`within_tolerance`]: whether two meshes come within a distance;
+//! - [`collide_primitive`], [`distance_primitive`],
+//!   [`within_tolerance_primitive`]: the same for a sphere, box, capsule or
+//!   half-space ([`Primitive`]) against a mesh.
+//!
+//! Files: `options` (settings), `report` (results and statistics), `error`,
+//! `input` (pose checks, world triangles), one file per query, `primitive`
+//! (primitive-triangle tests) and `primitive_query`. Usage in
+//! `docs/collision.md` and the example on [`collide`].
+
+mod collide;
+mod distance;
+mod error;
+mod input;
+mod options;
+mod primitive;
+mod primitive_query;
+mod report;
+mod tolerance;
+
+pub use crate::shape::MeshShape;
+pub use collide::collide;
+pub use distance::distance;
+pub use error::QueryError;
+pub use options::{CollideOptions, DistanceOptions, ReportMode};
+pub use primitive::Primitive;
+pub use primitive_query::{collide_primitive, distance_primitive, within_tolerance_primitive};
+pub use report::{DistanceResult, QueryStats, Report};
+pub use tolerance::within_tolerance;

@@ -1,0 +1,204 @@
+//! Primitive-versus-mesh queries in the modes of the mesh-mesh ones: the
+//! mesh's OBBTree is walked against the primitive's bounding volume (sphere,
+//! oriented box, or plane), candidate triangles go through the exact
+//! primitive-triangle tests of [`super::primitive`], and contacts come from
+//! the narrow phase's primitive-mesh routines (`contact_sphere_mesh`,
+//! `contact_polytope_mesh`, `contact_capsule_mesh`, `contact_mesh_halfspace`).
+
+use super::error::QueryError;
+use super::input::{checked_pose, world_triangle};
+use super::options::{nonneg_finite, CollideOptions, DistanceOptions, ReportMode};
+use super::primitive::{Placed, PrimDistance, Primitive};
+use super::report::{DistanceResult, QueryStats, Report};
+use crate::bvh::{self, TraversalError, TraversalStats, Traverse};
+use crate::contact::Contact;
+use crate::narrow;
+use crate::pose::Pose;
+use crate::shape::MeshShape;
+
+/// Walks the mesh's tree against the primitive (world frame) grown by
+/// `margin` (m), handing every candidate triangle to `on_tri`.
+fn walk(
+    prim: &Placed,
+    mesh: &MeshShape,
+    pose_m: &Pose,
+    margin: f64,
+    on_tri: impl FnMut(u32) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
+    let tree = mesh.tree();
+    match *prim {
+        Placed::Ball { c, r } => bvh::query_sphere(tree, pose_m, c, r + margin, on_tri),
+        Placed::Capsule { obb, .. } | Placed::Box { obb, .. } => {
+            bvh::query_obb(tree, pose_m, &obb, margin, on_tri)
+        }
+        Placed::Plane { n, d } => bvh::query_halfspace(tree, pose_m, n, d, margin, on_tri),
+    }
+}
+
+fn bad_margin(value: f64) -> QueryError {
+    QueryError::BadOption {
+        option: "margin",
+        expected: "finite and >= 0",
+        value,
+    }
+}
+
+/// Collision query between primitive A at `pose_a` and mesh B at `pose_b`,
+/// in the modes of [`super::collide`]. `pairs` holds `(0, triangle of B)` for
+/// every triangle that shares a point with the solid primitive. In
+/// [`ReportMode::Contacts`] the contacts are the narrow phase's manifold for
+/// the pair (normals from the mesh to the primitive), computed whole even with
+/// `stop_at_first`.
+///
+/// # Errors
+/// [`QueryError::BadPose`], [`QueryError::BadOption`] (`contact_margin`).
+pub fn collide_primitive(
+    a: &Primitive,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    options: &CollideOptions,
+) -> Result<Report, QueryError> {
+    let pose_a = checked_pose("pose_a", pose_a)?;
+    let pose_b = checked_pose("pose_b", pose_b)?;
+    options.validate()?;
+    let mode = options.report;
+    let stop_first = options.stops_at_first();
+    let prim = Placed::new(a, &pose_a);
+    let mut report = Report::default();
+    let mut tests = 0u64;
+    let traversal = walk(&prim, b, &pose_b, 0.0, |t| {
+        tests += 1;
+        if !prim.intersects(&world_triangle(b.mesh(), &pose_b, t)) {
+            return Traverse::Continue;
+        }
+        report.intersect = true;
+        if mode != ReportMode::Boolean {
+            report.pairs.push((0, t));
+        }
+        if stop_first {
+            Traverse::Stop
+        } else {
+            Traverse::Continue
+        }
+    })
+    .map_err(|_| bad_margin(0.0))?;
+    report.pairs.sort_unstable();
+    if mode == ReportMode::Contacts {
+        primitive_contacts(
+            a,
+            &pose_a,
+            b,
+            &pose_b,
+            options.contact_margin,
+            &mut report.contacts,
+        );
+    }
+    report.stats = QueryStats::from_traversal(&traversal, tests);
+    Ok(report)
+}
+
+/// The narrow phase's contacts of primitive A against mesh B.
+fn primitive_contacts(
+    a: &Primitive,
+    pa: &Pose,
+    b: &MeshShape,
+    pb: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    match a {
+        Primitive::Sphere(s) => narrow::contact_sphere_mesh(s, pa, b, pb, margin, out),
+        Primitive::Cuboid(c) => narrow::contact_polytope_mesh(c, pa, b, pb, margin, out),
+        Primitive::Capsule(c) => narrow::contact_capsule_mesh(c, pa, b, pb, margin, out),
+        Primitive::HalfSpace(h) => {
+            let start = out.len();
+            narrow::contact_mesh_halfspace(b, pb, h, pa, margin, out);
+            for c in &mut out[start..] {
+                *c = c.flipped();
+            }
+        }
+    }
+}
+
+/// Minimum distance between primitive A at `pose_a` and mesh B at `pose_b`
+/// with the closest points (`tri_a` is 0), exact with the default options,
+/// within PQP's error bound otherwise (see [`DistanceOptions`]).
+///
+/// # Errors
+/// [`QueryError::BadPose`], [`QueryError::BadOption`],
+/// [`QueryError::NotFinite`].
+pub fn distance_primitive(
+    a: &Primitive,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    options: &DistanceOptions,
+) -> Result<DistanceResult, QueryError> {
+    let pose_a = checked_pose("pose_a", pose_a)?;
+    let pose_b = checked_pose("pose_b", pose_b)?;
+    options.validate()?;
+    let world = Placed::new(a, &pose_a);
+    // The primitive in the mesh frame, for the node lower bounds.
+    let local = Placed::new(a, &pose_b.inverse().mul_pose(&pose_a));
+    let mut best: Option<(u32, PrimDistance)> = None;
+    let mut tests = 0u64;
+    let traversal = bvh::volume_distance(
+        b.tree(),
+        f64::INFINITY,
+        &options.tolerance(),
+        |node| local.node_lower_bound(node),
+        |t, best_so_far| {
+            tests += 1;
+            let d = world.distance(&world_triangle(b.mesh(), &pose_b, t));
+            if d.distance < best_so_far {
+                best = Some((t, d));
+            }
+            d.distance
+        },
+    )
+    .map_err(|_| QueryError::BadOption {
+        option: "DistanceOptions",
+        expected: "finite and >= 0",
+        value: options.rel_err,
+    })?;
+    let (tri_b, d) = best.ok_or(QueryError::NotFinite("distance_primitive"))?;
+    Ok(DistanceResult {
+        distance: d.distance,
+        point_a: d.on_primitive,
+        point_b: d.on_triangle,
+        tri_a: 0,
+        tri_b,
+        stats: QueryStats::from_traversal(&traversal.stats, tests),
+    })
+}
+
+/// `true` when primitive A at `pose_a` and mesh B at `pose_b` come within
+/// `tol` (m, finite, >= 0); consistent with [`distance_primitive`] in its
+/// exact mode.
+///
+/// # Errors
+/// [`QueryError::BadPose`]; [`QueryError::BadOption`] for a bad `tol`.
+pub fn within_tolerance_primitive(
+    a: &Primitive,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    tol: f64,
+) -> Result<bool, QueryError> {
+    let pose_a = checked_pose("pose_a", pose_a)?;
+    let pose_b = checked_pose("pose_b", pose_b)?;
+    nonneg_finite("within_tolerance tol", tol)?;
+    let prim = Placed::new(a, &pose_a);
+    let mut within = false;
+    walk(&prim, b, &pose_b, tol, |t| {
+        if prim.distance(&world_triangle(b.mesh(), &pose_b, t)).distance <= tol {
+            within = true;
+            Traverse::Stop
+        } else {
+            Traverse::Continue
+        }
+    })
+    .map_err(|_| bad_margin(tol))?;
+    Ok(within)
+}

@@ -1,0 +1,67 @@
+//! What the queries return: the collision [`Report`], the
+//! [`DistanceResult`], and the work counters of both ([`QueryStats`], as PQP
+//! returns with every query, so tests and benchmarks can see a tree that got
+//! worse).
+
+use crate::bvh::TraversalStats;
+use crate::contact::Contact;
+use crate::math::DVec3;
+use serde::Serialize;
+
+/// Work done by one query.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct QueryStats {
+    /// Bounding-volume tests (box-box, or box against the query volume).
+    pub bv_tests: u64,
+    /// Exact triangle tests (overlap, distance or contact generation).
+    pub triangle_tests: u64,
+    /// `true` when the walk ended early (first contact found, or distance 0).
+    pub stopped_early: bool,
+}
+
+impl QueryStats {
+    /// From a traversal's counters and the number of exact tests run.
+    pub(crate) fn from_traversal(t: &TraversalStats, triangle_tests: u64) -> QueryStats {
+        QueryStats {
+            bv_tests: t.bv_tests,
+            triangle_tests,
+            stopped_early: t.stopped,
+        }
+    }
+}
+
+/// Result of a collision query.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct Report {
+    /// `true` when some triangle of A and some triangle of B share a point
+    /// (closed triangles: touching counts). For primitive queries: when the
+    /// solid primitive shares a point with a triangle of the mesh.
+    pub intersect: bool,
+    /// Intersecting triangle pairs `(triangle of A, triangle of B)`, sorted
+    /// and without repeats; empty in [`super::ReportMode::Boolean`]. For
+    /// primitive queries the first index is always 0 (the primitive).
+    pub pairs: Vec<(u32, u32)>,
+    /// Contacts (world frame, normal from B to A, see [`Contact`]); only in
+    /// [`super::ReportMode::Contacts`].
+    pub contacts: Vec<Contact>,
+    /// Work counters.
+    pub stats: QueryStats,
+}
+
+/// Result of a distance query.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DistanceResult {
+    /// Distance between the shapes (m); 0 when they intersect. With a
+    /// non-zero [`super::DistanceOptions`] error an upper bound within it.
+    pub distance: f64,
+    /// Closest point on A (world frame, m); a common point when intersecting.
+    pub point_a: DVec3,
+    /// Closest point on B (world frame, m).
+    pub point_b: DVec3,
+    /// Triangle of A holding `point_a` (0 for a primitive).
+    pub tri_a: u32,
+    /// Triangle of B holding `point_b`.
+    pub tri_b: u32,
+    /// Work counters.
+    pub stats: QueryStats,
+}

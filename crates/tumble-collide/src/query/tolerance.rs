@@ -1,0 +1,51 @@
+//! Tolerance query (PQP's `PQP_Tolerance`): are two meshes within a given
+//! distance? Cheaper than the distance: both trees are walked with every box
+//! grown by half the tolerance, and the walk ends at the first triangle pair
+//! that is close enough.
+
+use super::error::QueryError;
+use super::input::{checked_pose, world_triangle};
+use super::options::nonneg_finite;
+use crate::bvh::{self, Traverse};
+use crate::pose::Pose;
+use crate::shape::MeshShape;
+use crate::triangle::triangle_distance;
+
+/// `true` when mesh A at `pose_a` and mesh B at `pose_b` come within `tol`
+/// (m, finite, >= 0): some triangle pair has [`triangle_distance`] `<= tol`.
+/// Exactly consistent with [`super::distance`] in its exact mode:
+/// `within_tolerance(.., tol) == (distance(..) <= tol)`.
+///
+/// # Errors
+/// [`QueryError::BadPose`]; [`QueryError::BadOption`] for a negative or
+/// non-finite `tol`.
+pub fn within_tolerance(
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    tol: f64,
+) -> Result<bool, QueryError> {
+    let pose_a = checked_pose("pose_a", pose_a)?;
+    let pose_b = checked_pose("pose_b", pose_b)?;
+    nonneg_finite("within_tolerance tol", tol)?;
+    let (ma, mb) = (a.mesh(), b.mesh());
+    let mut within = false;
+    // Boxes grown by tol / 2 each overlap whenever they are within tol: the
+    // walk sees every pair that can be close enough.
+    bvh::collide(a.tree(), &pose_a, b.tree(), &pose_b, tol, |ta, tb| {
+        let d = triangle_distance(&world_triangle(ma, &pose_a, ta), &world_triangle(mb, &pose_b, tb));
+        if d.distance <= tol {
+            within = true;
+            Traverse::Stop
+        } else {
+            Traverse::Continue
+        }
+    })
+    .map_err(|_| QueryError::BadOption {
+        option: "within_tolerance tol",
+        expected: "finite and >= 0",
+        value: tol,
+    })?;
+    Ok(within)
+}

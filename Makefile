@@ -5,12 +5,12 @@
 CARGO ?= cargo
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test lint fmt-check clippy rust-test viewer-test bench-quick bench
+.PHONY: demo test lint fmt-check clippy rust-test viewer-test bench-quick bench python-env python-test
 
 demo:
 	$(CARGO) run --release -p tumble-cli -- demo --out out
 
-test: lint rust-test viewer-test bench-quick
+test: lint rust-test viewer-test bench-quick python-test
 
 lint: fmt-check clippy
 
@@ -38,3 +38,15 @@ bench-quick:
 
 bench:
 	$(CARGO) bench --workspace
+
+# The Python package: .venv with the pinned tools, `pip install .` of
+# crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
+PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests
+
+python-env:
+	bash scripts/python-env.sh
+
+python-test: python-env
+	.venv/bin/ruff check $(PYTHON_SOURCES)
+	.venv/bin/python -m pytest -q crates/tumble-py/tests
+

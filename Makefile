@@ -41,7 +41,7 @@ bench:
 
 # The Python package: .venv with the pinned tools, `pip install .` of
 # crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
-PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests
+PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python
 
 python-env:
 	bash scripts/python-env.sh
@@ -49,4 +49,5 @@ python-env:
 python-test: python-env
 	.venv/bin/ruff check $(PYTHON_SOURCES)
 	.venv/bin/python -m pytest -q crates/tumble-py/tests
+	bash scripts/python-examples.sh
 

@@ -141,7 +141,7 @@ impl World {
     #[new]
     #[pyo3(
         signature = (**settings),
-        text_signature = "(*, gravity=(0, 0, -9.81), dt=1/60, substeps=8, integrator='semi_implicit', \
+        text_signature = "(*, gravity=(0, 0, -9.81), dt=0.016666666666666666, substeps=8, integrator='semi_implicit', \
             solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.02, \
             allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
             restitution_threshold=0.5, sleeping=True, sleep_linear_speed=0.05, \

@@ -35,6 +35,13 @@ pub mod world;
 
 use pyo3::prelude::*;
 
+/// Panics inside the guard every entry point uses; for the test that checks
+/// that a panic arrives as `tumble.InternalError` and the process survives.
+#[pyfunction]
+fn _panic_for_tests(message: String) -> PyResult<()> {
+    errors::guard(|| panic!("{message}"))
+}
+
 /// The native module `tumble._tumble`.
 #[pymodule]
 fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -50,6 +57,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::Placed>()?;
     m.add_class::<trimesh::TriMesh>()?;
     m.add_function(wrap_pyfunction!(mass::mass_properties, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add("CONTACT_DTYPE_SPEC", report::CONTACT_FIELDS)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -254,3 +254,47 @@ def test_files(tmp_path) -> None:
 def test_world_cannot_be_pickled_yet() -> None:
     with pytest.raises(TypeError):
         pickle.dumps(tumble.World())
+
+
+def test_a_panic_arrives_as_internal_error() -> None:
+    from tumble import _tumble
+
+    for _ in range(2):  # and the process, and the module, go on working
+        with pytest.raises(tumble.InternalError) as info:
+            _tumble._panic_for_tests("boom")
+        assert str(info.value) == "internal error in tumble: boom"
+    world, _ = world_with_ball()
+    world.step()
+
+
+def test_step_warnings_arrive_as_runtime_warnings() -> None:
+    world, _ = world_with_ball()
+    world.add_body(tumble.Box((0.5, 0.5, 0.5)), velocity=(1e300, 0, 1e300))
+    with pytest.warns(RuntimeWarning, match="tumble step: bodies 0 and 2: contact margin"):
+        world.step(3)
+    assert any("contact margin" in w for w in world.step_report.warnings)
+    assert world.step_report.steps == 3
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")
+def test_nasty_numbers_never_crash() -> None:
+    # Every combination either works or raises TumbleError; none panics, none
+    # leaves a non-finite state behind.
+    values = [0.0, -1.0, 1e-300, 1e300, NAN, INF, -INF, 5e-324]
+    for v in values:
+        for kw in ["mass", "density", "friction", "restitution", "linear_damping"]:
+            world, _ = world_with_ball()
+            try:
+                world.add_body(tumble.Sphere(0.5), **{kw: v})
+            except tumble.TumbleError:
+                continue
+            world.step(3)
+            assert np.isfinite(world.positions).all()
+        for kw in ["position", "velocity", "angular_velocity"]:
+            world, _ = world_with_ball()
+            try:
+                world.add_body(tumble.Box((0.5, 0.5, 0.5)), **{kw: (v, 0, v)})
+            except tumble.TumbleError:
+                continue
+            world.step(3)
+            assert np.isfinite(world.positions).all()

@@ -19,6 +19,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// How long `step(n)` runs without looking at Python's signal handlers.
+const SIGNAL_CHECK_PERIOD: Duration = Duration::from_millis(50);
 use tumble::world::{BodyDesc, BodyId, MassDesc, MaterialDesc, World as RWorld, WorldSettings};
 use tumble::BodyKind;
 use tumble_collide::{DVec3, Pose};
@@ -247,6 +251,8 @@ impl World {
     }
 
     /// Advances the world by `n` steps of `dt` each, with the GIL released.
+    /// Ctrl-C stops it between two steps (KeyboardInterrupt; the steps taken
+    /// so far are kept).
     ///
     /// Contact events of these steps are in `contact_events()`, the report of
     /// the last step in `step_report`. Warnings of the solver (and bodies
@@ -259,27 +265,42 @@ impl World {
             inner,
             summary,
             recorder,
+            poisoned,
             ..
         } = self;
         summary.clear();
-        let run = py.detach(|| {
-            catch_unwind(AssertUnwindSafe(|| {
-                for _ in 0..n {
-                    let r = inner.step();
-                    summary.absorb(r, inner.time());
-                    if let Some(rec) = recorder.as_mut() {
-                        rec.after_step(inner);
+        let mut done = 0u64;
+        while done < n {
+            // Steps run in slices of about SIGNAL_CHECK_PERIOD with the GIL
+            // released; between slices Ctrl-C (or any signal handler) can
+            // stop a long step(n), always between two whole steps.
+            let run = py.detach(|| {
+                catch_unwind(AssertUnwindSafe(|| {
+                    let start = Instant::now();
+                    while done < n {
+                        let r = inner.step();
+                        summary.absorb(r, inner.time());
+                        if let Some(rec) = recorder.as_mut() {
+                            rec.after_step(inner);
+                        }
+                        done += 1;
+                        if start.elapsed() > SIGNAL_CHECK_PERIOD {
+                            break;
+                        }
                     }
-                }
-            }))
-        });
-        if let Err(payload) = run {
-            let message = panic_message(payload.as_ref());
-            self.poisoned = Some(message.clone());
-            return Err(error(
-                Kind::Internal,
-                format!("internal error in tumble during step(): {message}"),
-            ));
+                }))
+            });
+            if let Err(payload) = run {
+                let message = panic_message(payload.as_ref());
+                *poisoned = Some(message.clone());
+                return Err(error(
+                    Kind::Internal,
+                    format!("internal error in tumble during step(): {message}"),
+                ));
+            }
+            if done < n {
+                py.check_signals()?;
+            }
         }
         report::warn_summary(py, &self.summary)
     }

@@ -160,6 +160,26 @@ def test_step_releases_the_gil() -> None:
     assert world.step_count == 60
 
 
+def test_ctrl_c_stops_a_long_step_between_two_steps() -> None:
+    import _thread
+    import threading
+
+    world = tumble.World(sleeping=False)
+    world.add_body(tumble.HalfSpace(), kind="static")
+    for i in range(100):
+        world.add_body(tumble.Box((0.1, 0.1, 0.1)), position=(0.25 * (i % 10), 0.25 * (i // 10), 1))
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        world.step(10**9)
+    timer.join()
+    steps = world.step_count
+    assert 0 < steps < 10**9
+    assert world.time == pytest.approx(steps * world.dt)
+    world.step(2)  # whole steps only: the world goes on
+    assert world.step_count == steps + 2
+
+
 def test_repr_and_docs() -> None:
     world, bodies = small_world()
     assert repr(world).startswith("tumble.World(bodies=5")

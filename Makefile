@@ -5,12 +5,12 @@
 CARGO ?= cargo
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test lint fmt-check clippy rust-test viewer-test bench-quick bench
+.PHONY: demo test lint fmt-check clippy rust-test viewer-test bench-quick bench python-env python-test python-bench
 
 demo:
 	$(CARGO) run --release -p tumble-cli -- demo --out out
 
-test: lint rust-test viewer-test bench-quick
+test: lint rust-test viewer-test bench-quick python-test
 
 lint: fmt-check clippy
 
@@ -38,3 +38,24 @@ bench-quick:
 
 bench:
 	$(CARGO) bench --workspace
+
+# The Python package: .venv with the pinned tools, `pip install .` of
+# crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
+PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py
+
+python-env:
+	bash scripts/python-env.sh
+
+python-test: python-env
+	.venv/bin/ruff check $(PYTHON_SOURCES)
+	.venv/bin/python -m pytest -q crates/tumble-py/tests
+	bash scripts/python-examples.sh
+	$(CARGO) build --release -p tumble --example step_readback
+	.venv/bin/python bench/python_overhead.py --quick
+
+# Python-vs-Rust overhead of step() + pose readback for 1,000 bodies
+# (bench/python_overhead.py; results in out/python_overhead.json).
+python-bench: python-env
+	$(CARGO) build --release -p tumble --example step_readback
+	.venv/bin/python bench/python_overhead.py
+

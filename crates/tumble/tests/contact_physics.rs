@@ -2,7 +2,7 @@
 //! laws (issue: world and contact solver). Release mode: `cargo test --release`.
 
 use tumble::scenes;
-use tumble::world::{BodyDesc, World, WorldSettings};
+use tumble::world::{BodyDesc, ContactEvent, World, WorldSettings};
 use tumble_collide::shape::{Cuboid, HalfSpace, Shape, Sphere};
 use tumble_collide::DVec3;
 
@@ -40,6 +40,41 @@ fn bounce_heights_follow_e_squared() {
             "bounce {k}: apex {h:.4} m, e^2k law {expected:.4} m"
         );
     }
+}
+
+/// Each bounce is a touch: a Begin event on the step of the impact and an
+/// End event when the ball leaves, as many of each as there are impacts
+/// (counted independently from the sign changes of the velocity).
+#[test]
+fn bounces_begin_and_end_contacts() {
+    let (mut world, ids) = scenes::ball_drop(1.0, 0.8).build().unwrap();
+    let (ground, ball) = (ids[0], ids[1]);
+    let (mut begins, mut ends, mut impacts) = (0, 0, 0);
+    let mut last_vz = 0.0;
+    for _ in 0..240 * 2 {
+        let report = world.step();
+        let vz = world.linear_velocity(ball).unwrap().z;
+        if last_vz < 0.0 && vz > 0.0 {
+            impacts += 1;
+        }
+        last_vz = vz;
+        for e in report.events {
+            match e {
+                ContactEvent::Begin(a, b) => {
+                    assert!((a, b) == (ground, ball) || (a, b) == (ball, ground));
+                    assert_eq!(begins, ends, "a second Begin before the End");
+                    begins += 1;
+                }
+                ContactEvent::End(..) => {
+                    ends += 1;
+                    assert_eq!(begins, ends, "an End without a Begin");
+                }
+            }
+        }
+    }
+    assert!(impacts >= 3, "only {impacts} impacts in 2 s");
+    assert_eq!(begins, impacts);
+    assert_eq!(ends, impacts);
 }
 
 #[test]

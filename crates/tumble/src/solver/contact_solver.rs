@@ -483,7 +483,7 @@ pub const MAX_COLLISION_SWEEPS: usize = 32;
 /// `accel[i]` is body i's linear acceleration. Collision impulses are not
 /// accumulated into the warm-start impulses. Returns the sweeps used.
 pub fn resolve_collisions(
-    constraints: &[ContactConstraint],
+    constraints: &mut [ContactConstraint],
     bodies: &mut [SolverBody],
     accel: &[DVec3],
     params: &SolverParams,
@@ -492,7 +492,7 @@ pub fn resolve_collisions(
 ) -> usize {
     for sweep in 0..MAX_COLLISION_SWEEPS {
         let mut any = false;
-        for c in constraints.iter() {
+        for c in constraints.iter_mut() {
             if c.restitution == 0.0 || c.normal_mass == 0.0 {
                 continue;
             }
@@ -510,7 +510,10 @@ pub fn resolve_collisions(
             let vi2 = v_start * v_start - 2.0 * a_n * gap;
             let e = c.restitution;
             let v_out = (e * e * vi2 + 2.0 * a_n * gap).max(0.0).sqrt() - 0.5 * a_n * h;
-            let p = c.normal * (c.normal_mass * (v_out - vn));
+            let magnitude = c.normal_mass * (v_out - vn);
+            // A bounce is a touch: contact events see it like a resting impulse.
+            c.max_normal_impulse = c.max_normal_impulse.max(magnitude);
+            let p = c.normal * magnitude;
             ba.apply_impulse(p, c.r_a);
             bb.apply_impulse(-p, c.r_b);
             store(bodies, c, ba, bb);
@@ -659,7 +662,7 @@ mod tests {
             prepare(c, &bodies);
         }
         let h = 1.0 / 240.0;
-        let sweeps = resolve_collisions(&cs, &mut bodies, &[DVec3::ZERO; 6], &params(), h, h);
+        let sweeps = resolve_collisions(&mut cs, &mut bodies, &[DVec3::ZERO; 6], &params(), h, h);
         assert!(sweeps <= 6);
         assert!((bodies[4].v.x - 1.0).abs() < 1e-12, "last ball leaves at 1 m/s");
         for b in &bodies[..4] {
@@ -687,7 +690,7 @@ mod tests {
         let mut cs = [c];
         prepare(&mut cs[0], &bodies);
         let accel = [DVec3::new(0.0, 0.0, -g), DVec3::ZERO];
-        resolve_collisions(&cs, &mut bodies, &accel, &params(), 4.0 * h, h);
+        resolve_collisions(&mut cs, &mut bodies, &accel, &params(), 4.0 * h, h);
         let v_out = bodies[0].v.z - 0.5 * g * h;
         let vi = (16.0 + 2.0 * g * 0.01f64).sqrt();
         let apex_true = (0.5 * vi).powi(2) / (2.0 * g);
@@ -730,7 +733,7 @@ mod tests {
         );
         let p0 = bodies[0].v + bodies[1].v;
         let h = 1.0 / 60.0;
-        resolve_collisions(&cs, &mut bodies, &[DVec3::ZERO; 2], &params(), h, h);
+        resolve_collisions(&mut cs, &mut bodies, &[DVec3::ZERO; 2], &params(), h, h);
         assert!((bodies[0].v - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-12);
         assert!((bodies[1].v - DVec3::new(0.0, 0.0, -2.0)).length() < 1e-12);
         assert!((bodies[0].v + bodies[1].v - p0).length() < 1e-12);
@@ -765,7 +768,7 @@ mod tests {
         };
         let (p0, l0, e0) = momentum(&bodies);
         let h = 1.0 / 60.0;
-        resolve_collisions(&cs, &mut bodies, &[DVec3::ZERO; 2], &params(), h, h);
+        resolve_collisions(&mut cs, &mut bodies, &[DVec3::ZERO; 2], &params(), h, h);
         solve(&mut cs, &mut bodies, h);
         let (p1, l1, e1) = momentum(&bodies);
         assert!((p1 - p0).length() < 1e-12);

@@ -416,7 +416,14 @@ impl World {
             exact = false;
         }
         let linear_accel: Vec<DVec3> = accel.iter().map(|a| a.0).collect();
-        contact_solver::resolve_collisions(&constraints, &mut solver_bodies, &linear_accel, &params, dt, h);
+        contact_solver::resolve_collisions(
+            &mut constraints,
+            &mut solver_bodies,
+            &linear_accel,
+            &params,
+            dt,
+            h,
+        );
         for _ in 0..substeps {
             for (b, &(a, tau, ld, ad)) in solver_bodies.iter_mut().zip(&accel) {
                 if !b.dynamic {

@@ -1,0 +1,75 @@
+"""tumble: rigid body dynamics with exact triangle-mesh contact.
+
+Conventions: SI units (m, kg, s), z is up, gravity (0, 0, -9.81) by default,
+quaternions are (x, y, z, w), angular velocity is in the world frame.
+
+    >>> import tumble
+    >>> world = tumble.World(dt=1 / 240)
+    >>> ground = world.add_body(tumble.HalfSpace(), kind="static")
+    >>> ball = world.add_body(tumble.Sphere(0.1), mass=1.0, position=(0, 0, 1))
+    >>> world.step(240)
+    >>> world.positions.shape
+    (2, 3)
+
+Errors: everything tumble raises is a :class:`TumbleError`; bad arguments are
+:class:`InvalidArgument` (also a ``ValueError``), handles of removed bodies
+:class:`StaleBodyError`, file problems :class:`FileError` (also an ``OSError``).
+"""
+
+from __future__ import annotations
+
+import ast as _ast
+
+import numpy as _np
+
+from ._records import ContactEvent, MassProperties
+from ._tumble import CONTACT_DTYPE_SPEC as _CONTACT_DTYPE_SPEC
+from ._tumble import (
+    Body,
+    Box,
+    Capsule,
+    ConvexHull,
+    FileError,
+    HalfSpace,
+    InternalError,
+    InvalidArgument,
+    Placed,
+    Sphere,
+    StaleBodyError,
+    StepReport,
+    TriMesh,
+    TumbleError,
+    World,
+    __version__,
+    mass_properties,
+)
+
+#: dtype of the structured array returned by :meth:`World.contacts`.
+CONTACT_DTYPE: _np.dtype = _np.dtype(_ast.literal_eval(_CONTACT_DTYPE_SPEC))
+
+#: Integrator names accepted by ``World(integrator=...)``.
+INTEGRATORS = ("euler", "midpoint", "rk4", "semi_implicit", "semi_implicit_splitting")
+
+__all__ = [
+    "CONTACT_DTYPE",
+    "INTEGRATORS",
+    "Body",
+    "Box",
+    "Capsule",
+    "ContactEvent",
+    "ConvexHull",
+    "FileError",
+    "HalfSpace",
+    "InternalError",
+    "InvalidArgument",
+    "MassProperties",
+    "Placed",
+    "Sphere",
+    "StaleBodyError",
+    "StepReport",
+    "TriMesh",
+    "TumbleError",
+    "World",
+    "__version__",
+    "mass_properties",
+]

@@ -1,0 +1,64 @@
+//! # tumble-py
+//!
+//! Python bindings of tumble (PyO3 + numpy), built by maturin into the native
+//! module `tumble._tumble`; the package `tumble` (crates/tumble-py/python)
+//! re-exports it with the records of `_records.py` and the stubs `_tumble.pyi`.
+//! The bindings only translate (shared/DESIGN.md): every check and every
+//! error message is the Rust API's.
+//!
+//! - [`errors`]: the exception tree, the Rust-error mapping, panic guards.
+//! - [`convert`]: vectors, quaternions and (N, 3) arrays in and out.
+//! - [`shapes`], [`trimesh`]: shape classes and mesh input.
+//! - [`world`], [`body`]: the world and body handles.
+//! - [`report`]: step reports, contact events and the contacts array.
+//! - [`record`]: recording and glTF / CSV export.
+//! - [`mass`]: the `mass_properties` function.
+//!
+//! Second round: `tumble.collide` / `tumble.distance` go in a `query.rs`
+//! registered below; `tumble.load_scene` in a `scene.rs` that builds the Rust
+//! world and wraps it with `World::from_parts`; `World.save` / `World.load`
+//! as methods of `World` over the snapshot API (plus `__reduce__`).
+
+#![warn(missing_docs)]
+
+pub mod body;
+pub mod convert;
+pub mod errors;
+pub mod mass;
+pub mod record;
+pub mod records;
+pub mod report;
+pub mod settings;
+pub mod shapes;
+pub mod trimesh;
+pub mod world;
+
+use pyo3::prelude::*;
+
+/// Panics inside the guard every entry point uses; for the test that checks
+/// that a panic arrives as `tumble.InternalError` and the process survives.
+#[pyfunction]
+fn _panic_for_tests(message: String) -> PyResult<()> {
+    errors::guard(|| panic!("{message}"))
+}
+
+/// The native module `tumble._tumble`.
+#[pymodule]
+fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors::register(m)?;
+    m.add_class::<world::World>()?;
+    m.add_class::<body::Body>()?;
+    m.add_class::<report::PyStepReport>()?;
+    m.add_class::<shapes::PyBox>()?;
+    m.add_class::<shapes::PySphere>()?;
+    m.add_class::<shapes::PyCapsule>()?;
+    m.add_class::<shapes::PyConvexHull>()?;
+    m.add_class::<shapes::PyHalfSpace>()?;
+    m.add_class::<shapes::Placed>()?;
+    m.add_class::<trimesh::TriMesh>()?;
+    m.add_function(wrap_pyfunction!(mass::mass_properties, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
+    m.add("CONTACT_DTYPE_SPEC", report::CONTACT_FIELDS)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

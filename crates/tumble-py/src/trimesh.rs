@@ -1,0 +1,272 @@
+//! `TriMesh`: a validated triangle mesh from numpy arrays, files, the
+//! generators of `tumble_collide::mesh`, or any `trimesh.Trimesh`-like
+//! object (duck-typed on `.vertices` / `.faces`, so trimesh is optional).
+//! Its OBBTree is built on first use as a body shape and shared by every
+//! body made from it.
+
+use crate::convert::{self, describe, vec3};
+use crate::errors::{guard, invalid, OrRaise};
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use pyo3::types::{PyTuple, PyType};
+use std::path::PathBuf;
+use std::sync::{Arc, OnceLock};
+use tumble_collide::mesh::{self, Topology};
+use tumble_collide::shape::MeshShape;
+use tumble_collide::TriMesh as RMesh;
+
+/// A mesh from vertex and face arrays.
+pub fn mesh_from_arrays(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<RMesh> {
+    let v = convert::points(vertices, "vertices")?;
+    let f = convert::faces(faces, "faces")?;
+    RMesh::from_indices(v, &f).or_raise()
+}
+
+/// A mesh from a `TriMesh` or from any object with `.vertices` and `.faces`.
+pub fn mesh_from_object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<RMesh> {
+    if let Ok(m) = obj.cast::<TriMesh>() {
+        return Ok((*m.get().mesh).clone());
+    }
+    match (obj.getattr_opt("vertices")?, obj.getattr_opt("faces")?) {
+        (Some(v), Some(f)) => mesh_from_arrays(&v, &f),
+        _ => Err(invalid(format!(
+            "{name}: expected a TriMesh or an object with .vertices and .faces (e.g. trimesh.Trimesh), got {}",
+            describe(obj)
+        ))),
+    }
+}
+
+/// A triangle mesh (m), triangles wound counter-clockwise seen from outside.
+/// Used as a body shape it collides exactly, triangle against triangle
+/// (concave meshes allowed); mass from a density needs a closed mesh.
+///
+/// Args:
+///     vertices: (N, 3) array of numbers (m).
+///     faces: (M, 3) array of integer vertex indices (0 <= index < N).
+#[pyclass(module = "tumble", name = "TriMesh", frozen)]
+pub struct TriMesh {
+    pub(crate) mesh: Arc<RMesh>,
+    shape: OnceLock<MeshShape>,
+}
+
+impl TriMesh {
+    pub(crate) fn from_mesh(mesh: RMesh) -> TriMesh {
+        TriMesh {
+            mesh: Arc::new(mesh),
+            shape: OnceLock::new(),
+        }
+    }
+
+    /// The collision shape (OBBTree built once, then shared).
+    pub(crate) fn mesh_shape(&self) -> PyResult<MeshShape> {
+        if let Some(s) = self.shape.get() {
+            return Ok(s.clone());
+        }
+        let built = MeshShape::new((*self.mesh).clone()).or_raise()?;
+        Ok(self.shape.get_or_init(|| built).clone())
+    }
+}
+
+#[pymethods]
+impl TriMesh {
+    #[new]
+    #[pyo3(signature = (vertices, faces))]
+    fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
+        guard(|| Ok(TriMesh::from_mesh(mesh_from_arrays(vertices, faces)?)))
+    }
+
+    /// Loads a `.obj` or `.stl` file (ASCII or binary); all objects in the file
+    /// are merged into one mesh.
+    #[classmethod]
+    fn from_file(_cls: &Bound<'_, PyType>, path: PathBuf) -> PyResult<Self> {
+        guard(|| Ok(TriMesh::from_mesh(mesh::load_mesh(&path).or_raise()?)))
+    }
+
+    /// Converts a `trimesh.Trimesh` (or any object with `.vertices` and
+    /// `.faces`).
+    #[classmethod]
+    fn from_trimesh(_cls: &Bound<'_, PyType>, mesh: &Bound<'_, PyAny>) -> PyResult<Self> {
+        guard(|| Ok(TriMesh::from_mesh(mesh_from_object(mesh, "mesh")?)))
+    }
+
+    /// A box with the given half extents (m): 8 vertices, 12 triangles.
+    #[classmethod]
+    #[pyo3(signature = (half_extents))]
+    fn r#box(_cls: &Bound<'_, PyType>, half_extents: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let h = vec3(half_extents, "half_extents")?;
+        guard(|| Ok(TriMesh::from_mesh(mesh::box_mesh(h).or_raise()?)))
+    }
+
+    /// A geodesic sphere of `radius` (m): an icosahedron subdivided
+    /// `subdivisions` times (20 * 4^s triangles, s <= 8).
+    #[classmethod]
+    #[pyo3(signature = (radius, subdivisions=3))]
+    fn sphere(_cls: &Bound<'_, PyType>, radius: f64, subdivisions: usize) -> PyResult<Self> {
+        guard(|| {
+            Ok(TriMesh::from_mesh(
+                mesh::icosphere_mesh(radius, subdivisions).or_raise()?,
+            ))
+        })
+    }
+
+    /// A UV sphere of `radius` (m): `segments` around z (>= 3), `rings` from
+    /// pole to pole (>= 2).
+    #[classmethod]
+    #[pyo3(signature = (radius, segments=32, rings=16))]
+    fn uv_sphere(_cls: &Bound<'_, PyType>, radius: f64, segments: usize, rings: usize) -> PyResult<Self> {
+        guard(|| {
+            Ok(TriMesh::from_mesh(
+                mesh::uv_sphere_mesh(radius, segments, rings).or_raise()?,
+            ))
+        })
+    }
+
+    /// A capped cylinder along z from -half_height to +half_height (m).
+    #[classmethod]
+    #[pyo3(signature = (radius, half_height, segments=32))]
+    fn cylinder(_cls: &Bound<'_, PyType>, radius: f64, half_height: f64, segments: usize) -> PyResult<Self> {
+        guard(|| {
+            Ok(TriMesh::from_mesh(
+                mesh::cylinder_mesh(radius, half_height, segments).or_raise()?,
+            ))
+        })
+    }
+
+    /// A capsule along z: cylinder of `radius` and `half_height` (m) with
+    /// hemispherical caps of `rings` latitude bands each.
+    #[classmethod]
+    #[pyo3(signature = (radius, half_height, segments=24, rings=6))]
+    fn capsule(
+        _cls: &Bound<'_, PyType>,
+        radius: f64,
+        half_height: f64,
+        segments: usize,
+        rings: usize,
+    ) -> PyResult<Self> {
+        guard(|| {
+            Ok(TriMesh::from_mesh(
+                mesh::capsule_mesh(radius, half_height, segments, rings).or_raise()?,
+            ))
+        })
+    }
+
+    /// A cone of base `radius` and `height` (m): base at z = -height/2, apex
+    /// at +height/2.
+    #[classmethod]
+    #[pyo3(signature = (radius, height, segments=32))]
+    fn cone(_cls: &Bound<'_, PyType>, radius: f64, height: f64, segments: usize) -> PyResult<Self> {
+        guard(|| {
+            Ok(TriMesh::from_mesh(
+                mesh::cone_mesh(radius, height, segments).or_raise()?,
+            ))
+        })
+    }
+
+    /// A torus around z with major radius `major_radius` and tube radius
+    /// `minor_radius` (m), `major_segments` x `minor_segments` vertices (the
+    /// layout of shared/scenes.md; 50 x 50 gives 5,000 triangles).
+    #[classmethod]
+    #[pyo3(signature = (major_radius, minor_radius, major_segments=48, minor_segments=24))]
+    fn torus(
+        _cls: &Bound<'_, PyType>,
+        major_radius: f64,
+        minor_radius: f64,
+        major_segments: usize,
+        minor_segments: usize,
+    ) -> PyResult<Self> {
+        guard(|| {
+            Ok(TriMesh::from_mesh(
+                mesh::torus_mesh(major_radius, minor_radius, major_segments, minor_segments).or_raise()?,
+            ))
+        })
+    }
+
+    /// Vertex positions (m), float64 array of shape (N, 3) (a copy).
+    #[getter]
+    fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let data = self.mesh.vertices().iter().flat_map(|v| v.to_array()).collect();
+        convert::matrix_out(py, data, 3)
+    }
+
+    /// Triangles as vertex indices, int64 array of shape (M, 3) (a copy).
+    #[getter]
+    fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let data = self
+            .mesh
+            .triangles()
+            .iter()
+            .flat_map(|t| t.map(i64::from))
+            .collect();
+        convert::index_rows_out(py, data)
+    }
+
+    /// Number of vertices.
+    #[getter]
+    fn vertex_count(&self) -> usize {
+        self.mesh.vertices().len()
+    }
+
+    /// Number of triangles.
+    #[getter]
+    fn face_count(&self) -> usize {
+        self.mesh.triangles().len()
+    }
+
+    /// Signed volume (m^3); the volume of the solid when the mesh is closed
+    /// and wound outward.
+    #[getter]
+    fn volume(&self) -> f64 {
+        self.mesh.signed_volume()
+    }
+
+    /// Surface area (m^2).
+    #[getter]
+    fn area(&self) -> f64 {
+        self.mesh.surface_area()
+    }
+
+    /// Axis-aligned bounds: float64 array of shape (2, 3), rows min and max (m).
+    #[getter]
+    fn bounds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let (lo, hi) = self.mesh.bounds();
+        convert::matrix_out(py, [lo.to_array(), hi.to_array()].concat(), 3)
+    }
+
+    /// `True` when the mesh bounds a solid: closed, manifold, consistently
+    /// and outward wound, with positive volume (needed for mass from density).
+    #[getter]
+    fn is_solid(&self) -> bool {
+        self.mesh.check_solid().is_ok()
+    }
+
+    /// `True` when every edge is shared by exactly two triangles.
+    #[getter]
+    fn is_closed(&self) -> bool {
+        Topology::new(&self.mesh).check_closed().is_ok()
+    }
+
+    /// A `trimesh.Trimesh` with the same vertices and faces (needs trimesh).
+    fn to_trimesh<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let trimesh = py.import("trimesh")?;
+        let kwargs = pyo3::types::PyDict::new(py);
+        kwargs.set_item("vertices", self.vertices(py))?;
+        kwargs.set_item("faces", self.faces(py))?;
+        kwargs.set_item("process", false)?;
+        trimesh.getattr("Trimesh")?.call((), Some(&kwargs))
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let m = slf.get();
+        let args = PyTuple::new(py, [m.vertices(py).into_any(), m.faces(py).into_any()])?;
+        PyTuple::new(py, [slf.get_type().into_any(), args.into_any()])
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "tumble.TriMesh(<{} vertices, {} faces>)",
+            self.mesh.vertices().len(),
+            self.mesh.triangles().len()
+        )
+    }
+}

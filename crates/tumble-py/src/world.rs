@@ -1,0 +1,588 @@
+//! `tumble.World`: the Rust `World` with Python conventions. Bodies are kept
+//! in insertion order (the rows of every array the world returns), `step`
+//! releases the GIL and catches panics, and the world is poisoned (refuses
+//! further calls) if one ever happens mid-step.
+//!
+//! Second-round hooks: `World.load` / `save` (snapshots) and a
+//! `tumble.load_scene` build a world through [`World::from_parts`]; queries
+//! need nothing from here.
+
+use crate::body::{kind_from, Body};
+use crate::convert::{self, matrix_out};
+use crate::errors::{error, guard, invalid, panic_message, Kind, OrRaise};
+use crate::record::Recorder;
+use crate::report::{self, PyStepReport, StepSummary};
+use crate::settings;
+use crate::shapes::shape_descs;
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// How long `step(n)` runs without looking at Python's signal handlers.
+const SIGNAL_CHECK_PERIOD: Duration = Duration::from_millis(50);
+use tumble::world::{BodyDesc, BodyId, MassDesc, MaterialDesc, World as RWorld, WorldSettings};
+use tumble::BodyKind;
+use tumble_collide::{DVec3, Pose};
+
+/// A simulated world of rigid bodies (SI units, z up, quaternions (x, y, z, w),
+/// angular velocity in the world frame).
+///
+/// Keyword arguments are the fields of the Rust `WorldSettings`, with the same
+/// defaults; `None` keeps the default:
+///
+///     gravity=(0, 0, -9.81)      m/s^2
+///     dt=1/60                    s per step()
+///     substeps=8                 solver sub-steps per step
+///     integrator="semi_implicit" or "euler", "midpoint", "rk4",
+///                                "semi_implicit_splitting"
+///     solver="pgs"               or "lemke" (exact normal LCP, small systems)
+///     iterations=2               velocity iterations per sub-step
+///     push_out_iterations=1      position iterations per sub-step
+///     contact_margin=0.02        m, speculative contact distance
+///     allowed_penetration=0.0005 m, overlap left uncorrected
+///     push_out_fraction=0.2      overlap removed per sub-step, in (0, 1]
+///     max_push_out_speed=3       m/s
+///     restitution_threshold=0.5  m/s, slower impacts do not bounce
+///     sleeping=True              resting islands fall asleep
+///     sleep_linear_speed=0.05    m/s
+///     sleep_angular_speed=0.05   rad/s
+///     time_to_sleep=0.5          s
+///
+/// Arrays returned by the world (positions, contacts, ...) have one row per
+/// live body in the order the bodies were added.
+#[pyclass(module = "tumble", name = "World")]
+pub struct World {
+    pub(crate) inner: RWorld,
+    /// Live bodies in insertion order: the rows of every array.
+    order: Vec<BodyId>,
+    /// Slot index -> row in `order` (`u32::MAX` for an empty slot).
+    rows: Vec<u32>,
+    summary: StepSummary,
+    recorder: Option<Recorder>,
+    /// Set when a panic escaped `step`; the world's state may be torn.
+    poisoned: Option<String>,
+}
+
+impl World {
+    /// Wraps a Rust world whose bodies were added in the order `ids`
+    /// (for scene loading and snapshots).
+    pub fn from_parts(inner: RWorld, ids: Vec<BodyId>) -> World {
+        let mut w = World {
+            inner,
+            order: ids,
+            rows: Vec::new(),
+            summary: StepSummary::default(),
+            recorder: None,
+            poisoned: None,
+        };
+        w.reindex();
+        w
+    }
+
+    fn reindex(&mut self) {
+        let slots = self
+            .order
+            .iter()
+            .map(|id| id.index as usize + 1)
+            .max()
+            .unwrap_or(0);
+        self.rows = vec![u32::MAX; slots];
+        for (row, id) in self.order.iter().enumerate() {
+            self.rows[id.index as usize] = row as u32;
+        }
+    }
+
+    /// Row of a live body in the arrays.
+    pub(crate) fn row(&self, id: BodyId) -> Option<usize> {
+        let row = *self.rows.get(id.index as usize)?;
+        (row != u32::MAX && self.order[row as usize] == id).then_some(row as usize)
+    }
+
+    pub(crate) fn check_usable(&self) -> PyResult<()> {
+        match &self.poisoned {
+            Some(m) => Err(error(
+                Kind::Internal,
+                format!("this world is unusable after an internal error during step(): {m}"),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    pub(crate) fn remove(&mut self, id: BodyId) -> PyResult<()> {
+        self.check_usable()?;
+        self.inner.remove_body(id).or_raise()?;
+        self.order.retain(|&b| b != id);
+        self.reindex();
+        Ok(())
+    }
+
+    fn rows_of(&self, f: impl Fn(&RWorld, BodyId) -> [f64; 3]) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.order.len() * 3);
+        for &id in &self.order {
+            out.extend_from_slice(&f(&self.inner, id));
+        }
+        out
+    }
+
+    fn body_handle(slf: &Bound<'_, Self>, id: BodyId) -> Body {
+        Body {
+            world: slf.clone().unbind(),
+            id,
+        }
+    }
+}
+
+/// A 3-vector of a live body (ids come from `order`, so they are live).
+fn live3(r: Result<DVec3, tumble::world::WorldError>) -> [f64; 3] {
+    r.map(|v| v.to_array()).unwrap_or([f64::NAN; 3])
+}
+
+#[pymethods]
+impl World {
+    #[new]
+    #[pyo3(
+        signature = (**settings),
+        text_signature = "(*, gravity=(0, 0, -9.81), dt=0.016666666666666666, substeps=8, integrator='semi_implicit', \
+            solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.02, \
+            allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
+            restitution_threshold=0.5, sleeping=True, sleep_linear_speed=0.05, \
+            sleep_angular_speed=0.05, time_to_sleep=0.5)"
+    )]
+    fn new(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        guard(|| {
+            let mut s = WorldSettings::default();
+            settings::apply(&mut s, settings)?;
+            let inner = RWorld::new(s).or_raise()?;
+            Ok(World::from_parts(inner, Vec::new()))
+        })
+    }
+
+    /// Adds a body and returns its handle.
+    ///
+    /// Args:
+    ///     shape: a shape (Box, Sphere, Capsule, ConvexHull, TriMesh, HalfSpace),
+    ///         a trimesh.Trimesh-like object, a Placed shape, or a list of
+    ///         those for a compound body.
+    ///     mass: total mass (kg), spread by volume. Dynamic bodies only.
+    ///     density: uniform density (kg/m^3); default 1000 when neither is given.
+    ///     position: model-frame origin in the world (m), default (0, 0, 0).
+    ///     orientation: (x, y, z, w) unit quaternion, default identity.
+    ///     velocity: linear velocity of the centre of mass (m/s).
+    ///     angular_velocity: world frame (rad/s).
+    ///     kind: "dynamic" (default), "static" or "kinematic".
+    ///     restitution: coefficient of restitution in [0, 1], default 0.
+    ///     friction: Coulomb coefficient >= 0, default 0.5.
+    ///     linear_damping: 1/s, default 0.
+    ///     angular_damping: 1/s, default 0.
+    ///     name: optional name (exports, find()).
+    ///
+    /// Raises:
+    ///     InvalidArgument: a bad value or shape; the world is unchanged.
+    #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None,
+        velocity=None, angular_velocity=None, kind="dynamic", restitution=None, friction=None,
+        linear_damping=0.0, angular_damping=0.0, name=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_body(
+        slf: &Bound<'_, Self>,
+        shape: &Bound<'_, PyAny>,
+        mass: Option<f64>,
+        density: Option<f64>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        kind: &str,
+        restitution: Option<f64>,
+        friction: Option<f64>,
+        linear_damping: f64,
+        angular_damping: f64,
+        name: Option<String>,
+    ) -> PyResult<Body> {
+        guard(|| {
+            slf.borrow().check_usable()?;
+            let kind = kind_from(kind)?;
+            if kind != BodyKind::Dynamic && (mass.is_some() || density.is_some()) {
+                return Err(invalid("mass and density apply to dynamic bodies only"));
+            }
+            let mass = match (mass, density) {
+                (Some(_), Some(_)) => return Err(invalid("give mass or density, not both")),
+                (Some(m), None) => MassDesc::Mass(m),
+                (None, Some(d)) => MassDesc::Density(d),
+                (None, None) => MassDesc::default(),
+            };
+            let pose = Pose {
+                position: convert::vec3_or(position, "position", DVec3::ZERO)?,
+                rotation: convert::quat_or_identity(orientation, "orientation")?,
+            };
+            let defaults = MaterialDesc::default();
+            let desc = BodyDesc {
+                kind,
+                shapes: shape_descs(shape)?,
+                mass,
+                pose,
+                linear_velocity: convert::vec3_or(velocity, "velocity", DVec3::ZERO)?,
+                angular_velocity: convert::vec3_or(angular_velocity, "angular_velocity", DVec3::ZERO)?,
+                material: MaterialDesc {
+                    friction: friction.unwrap_or(defaults.friction),
+                    restitution: restitution.unwrap_or(defaults.restitution),
+                },
+                linear_damping,
+                angular_damping,
+                name: name.unwrap_or_default(),
+            };
+            let id = {
+                let mut w = slf.borrow_mut();
+                let id = w.inner.add_body(&desc).or_raise()?;
+                w.order.push(id);
+                w.reindex();
+                id
+            };
+            Ok(World::body_handle(slf, id))
+        })
+    }
+
+    /// Removes a body; its handle becomes stale. Same as `body.remove()`.
+    fn remove_body(slf: &Bound<'_, Self>, body: PyRef<'_, Body>) -> PyResult<()> {
+        let id = body.id_in(slf)?;
+        guard(|| slf.borrow_mut().remove(id))
+    }
+
+    /// Advances the world by `n` steps of `dt` each, with the GIL released.
+    /// Ctrl-C stops it between two steps (KeyboardInterrupt; the steps taken
+    /// so far are kept).
+    ///
+    /// Contact events of these steps are in `contact_events()`, the report of
+    /// the last step in `step_report`. Warnings of the solver (and bodies
+    /// stopped because their state became non-finite) are issued as Python
+    /// RuntimeWarnings.
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        self.check_usable()?;
+        let World {
+            inner,
+            summary,
+            recorder,
+            poisoned,
+            ..
+        } = self;
+        summary.clear();
+        let mut done = 0u64;
+        while done < n {
+            // Steps run in slices of about SIGNAL_CHECK_PERIOD with the GIL
+            // released; between slices Ctrl-C (or any signal handler) can
+            // stop a long step(n), always between two whole steps.
+            let run = py.detach(|| {
+                catch_unwind(AssertUnwindSafe(|| {
+                    let start = Instant::now();
+                    while done < n {
+                        let r = inner.step();
+                        summary.absorb(r, inner.time());
+                        if let Some(rec) = recorder.as_mut() {
+                            rec.after_step(inner);
+                        }
+                        done += 1;
+                        if start.elapsed() > SIGNAL_CHECK_PERIOD {
+                            break;
+                        }
+                    }
+                }))
+            });
+            if let Err(payload) = run {
+                let message = panic_message(payload.as_ref());
+                *poisoned = Some(message.clone());
+                return Err(error(
+                    Kind::Internal,
+                    format!("internal error in tumble during step(): {message}"),
+                ));
+            }
+            if done < n {
+                py.check_signals()?;
+            }
+        }
+        report::warn_summary(py, &self.summary)
+    }
+
+    /// Positions of the bodies' model-frame origins (m): float64 (N, 3).
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        let data = self.rows_of(|w, id| live3(w.pose(id).map(|p| p.position)));
+        Ok(matrix_out(py, data, 3))
+    }
+
+    /// Orientations of the bodies' model frames as (x, y, z, w): float64 (N, 4).
+    #[getter]
+    fn orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        let mut data = Vec::with_capacity(self.order.len() * 4);
+        for &id in &self.order {
+            let q = self
+                .inner
+                .orientation(id)
+                .map(|q| q.to_array())
+                .unwrap_or([f64::NAN; 4]);
+            data.extend_from_slice(&q);
+        }
+        Ok(matrix_out(py, data, 4))
+    }
+
+    /// Positions and orientations in one pass: float64 (N, 7), columns
+    /// x, y, z, qx, qy, qz, qw.
+    fn poses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        let mut data = Vec::with_capacity(self.order.len() * 7);
+        for &id in &self.order {
+            match self.inner.pose(id) {
+                Ok(p) => {
+                    data.extend_from_slice(&p.position.to_array());
+                    data.extend_from_slice(&p.rotation.to_array());
+                }
+                Err(_) => data.extend_from_slice(&[f64::NAN; 7]),
+            }
+        }
+        Ok(matrix_out(py, data, 7))
+    }
+
+    /// Linear velocities of the centres of mass (m/s): float64 (N, 3).
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        Ok(matrix_out(
+            py,
+            self.rows_of(|w, id| live3(w.linear_velocity(id))),
+            3,
+        ))
+    }
+
+    /// Angular velocities, world frame (rad/s): float64 (N, 3).
+    #[getter]
+    fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        Ok(matrix_out(
+            py,
+            self.rows_of(|w, id| live3(w.angular_velocity(id))),
+            3,
+        ))
+    }
+
+    /// Centres of mass (m): float64 (N, 3).
+    #[getter]
+    fn centers_of_mass<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        Ok(matrix_out(
+            py,
+            self.rows_of(|w, id| live3(w.center_of_mass(id))),
+            3,
+        ))
+    }
+
+    /// The bodies, in insertion order (the rows of the arrays).
+    #[getter]
+    fn bodies(slf: &Bound<'_, Self>) -> PyResult<Vec<Body>> {
+        let ids = slf.borrow().order.clone();
+        Ok(ids.into_iter().map(|id| World::body_handle(slf, id)).collect())
+    }
+
+    /// The first body with this name, or None.
+    fn find(slf: &Bound<'_, Self>, name: &str) -> Option<Body> {
+        let id = {
+            let w = slf.borrow();
+            w.order.iter().copied().find(|&id| w.inner.name(id) == Ok(name))
+        };
+        id.map(|id| World::body_handle(slf, id))
+    }
+
+    /// Adds a force (N) for the next step, at the centre of mass or, if
+    /// `point` is given, at that world point (adding the torque). Wakes the body.
+    #[pyo3(signature = (body, force, point=None))]
+    fn apply_force(
+        slf: &Bound<'_, Self>,
+        body: PyRef<'_, Body>,
+        force: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let id = body.id_in(slf)?;
+        crate::body::apply_force(&mut slf.borrow_mut(), id, force, point)
+    }
+
+    /// Adds one force per body (N) for the next step, at the centres of mass:
+    /// float array (N, 3) in row order. Rows of zeros are skipped; a non-zero
+    /// row for a static or kinematic body is an error (nothing is applied).
+    fn apply_forces(&mut self, forces: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check_usable()?;
+        guard(|| {
+            let f = convert::points(forces, "forces")?;
+            if f.len() != self.order.len() {
+                return Err(invalid(format!(
+                    "forces: expected one row per body ({} rows), got {}",
+                    self.order.len(),
+                    f.len()
+                )));
+            }
+            for (row, (&id, v)) in self.order.iter().zip(&f).enumerate() {
+                if !v.is_finite() {
+                    return Err(invalid(format!("forces: row {row} is not finite: {v:?}")));
+                }
+                if *v != DVec3::ZERO && self.inner.body(id).or_raise()?.kind() != BodyKind::Dynamic {
+                    return Err(invalid(format!(
+                        "forces: row {row} is a non-dynamic body; forces act on dynamic bodies only"
+                    )));
+                }
+            }
+            for (&id, v) in self.order.clone().iter().zip(f) {
+                if v != DVec3::ZERO {
+                    self.inner.apply_force(id, v).or_raise()?;
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Contact points of the last step as a numpy structured array with fields
+    /// body_a, body_b (int64 rows; the normal points from B towards A),
+    /// point (3,), normal (3,) (world frame), distance (m, negative when
+    /// penetrating), depth (= -distance), normal_impulse (N s),
+    /// tangent_impulse (3,) (N s), kind (str).
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.check_usable()?;
+        guard(|| report::contacts_array(py, self))
+    }
+
+    /// Contact begin/end events of the last `step(n)` call, in order: a list
+    /// of ContactEvent(kind, body_a, body_b, time) with kind "begin" or "end".
+    fn contact_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyList>> {
+        let events = slf.borrow().summary.events.clone();
+        let py = slf.py();
+        let list = PyList::empty(py);
+        for (begin, a, b, time) in events {
+            let ev = crate::records::record(
+                py,
+                "ContactEvent",
+                (
+                    if begin { "begin" } else { "end" },
+                    World::body_handle(slf, a),
+                    World::body_handle(slf, b),
+                    time,
+                ),
+            )?;
+            list.append(ev)?;
+        }
+        Ok(list)
+    }
+
+    /// Report of the last step (counters, stage times, warnings of the last
+    /// `step(n)` call).
+    #[getter]
+    fn step_report(slf: &Bound<'_, Self>) -> PyResult<PyStepReport> {
+        let w = slf.borrow();
+        let quarantined = w
+            .summary
+            .quarantined
+            .iter()
+            .map(|&id| World::body_handle(slf, id))
+            .collect();
+        Ok(PyStepReport::new(&w.summary, quarantined))
+    }
+
+    /// Total kinetic energy of the dynamic bodies (J).
+    #[getter]
+    fn kinetic_energy(&self) -> PyResult<f64> {
+        self.check_usable()?;
+        Ok(self.inner.kinetic_energy())
+    }
+
+    /// Gravitational potential energy of the dynamic bodies, -m g . x (J).
+    #[getter]
+    fn potential_energy(&self) -> PyResult<f64> {
+        self.check_usable()?;
+        Ok(self.inner.potential_energy())
+    }
+
+    /// Simulated time (s).
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn step_count(&self) -> u64 {
+        self.inner.step_count()
+    }
+
+    /// Time step (s).
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.settings().dt
+    }
+
+    /// The settings as a dict of keyword -> value.
+    #[getter]
+    fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        settings::to_dict(py, self.inner.settings())
+    }
+
+    /// Changes some settings (same keywords as the constructor); validated,
+    /// unchanged on error.
+    #[pyo3(signature = (**settings))]
+    fn update_settings(&mut self, settings: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        self.check_usable()?;
+        guard(|| {
+            let mut s = self.inner.settings().clone();
+            settings::apply(&mut s, settings)?;
+            self.inner.set_settings(s).or_raise()
+        })
+    }
+
+    /// Starts recording a frame every `every` steps (and the current state
+    /// now) for export_gltf / export_csv. Bodies added later are not recorded.
+    #[pyo3(signature = (every=1))]
+    fn start_recording(&mut self, every: u32) -> PyResult<()> {
+        self.check_usable()?;
+        guard(|| {
+            self.recorder = Some(Recorder::start(&self.inner, every)?);
+            Ok(())
+        })
+    }
+
+    /// Stops recording and forgets the frames.
+    fn stop_recording(&mut self) {
+        self.recorder = None;
+    }
+
+    /// Frames recorded so far (0 when not recording).
+    #[getter]
+    fn recorded_frames(&self) -> usize {
+        self.recorder.as_ref().map_or(0, Recorder::frames)
+    }
+
+    /// Writes the recording (or, when not recording, the current state as one
+    /// frame) as an animated binary glTF (.glb) for the viewer and any glTF tool.
+    fn export_gltf(&self, path: PathBuf) -> PyResult<()> {
+        self.check_usable()?;
+        guard(|| Recorder::export_glb(self.recorder.as_ref(), &self.inner, &path))
+    }
+
+    /// Writes the recording (or the current state) as a CSV trajectory table.
+    fn export_csv(&self, path: PathBuf) -> PyResult<()> {
+        self.check_usable()?;
+        guard(|| Recorder::export_csv(self.recorder.as_ref(), &self.inner, &path))
+    }
+
+    fn __len__(&self) -> usize {
+        self.order.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "tumble.World(bodies={}, time={:.6}, dt={}, steps={})",
+            self.order.len(),
+            self.inner.time(),
+            self.inner.settings().dt,
+            self.inner.step_count()
+        )
+    }
+}

@@ -1,0 +1,192 @@
+"""Physics through the Python API, against analytic results and conservation
+laws (the same laws the Rust tests check, so a binding that scrambles rows,
+units or frames fails here)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import tumble
+
+G = 9.81
+
+
+def ball_drop(e: float, height: float = 1.0) -> tuple[tumble.World, tumble.Body]:
+    world = tumble.World(dt=1 / 240, sleeping=False)
+    world.add_body(tumble.HalfSpace(), kind="static", restitution=e, name="ground")
+    ball = world.add_body(tumble.Sphere(0.1), mass=1.0, position=(0, 0, height), restitution=e)
+    return world, ball
+
+
+@pytest.mark.parametrize("e", [0.5, 0.8])
+def test_bounce_heights_follow_e_squared(e: float) -> None:
+    world, ball = ball_drop(e)
+    r = 0.1
+    apexes = []
+    last_vz = 0.0
+    for _ in range(240 * 6):
+        world.step()
+        vz = ball.velocity[2]
+        if last_vz > 0.0 and vz <= 0.0:
+            apexes.append(ball.position[2] - r)
+            if len(apexes) == 3:
+                break
+        last_vz = vz
+    assert len(apexes) == 3
+    heights = [1.0 - r, *apexes]
+    for before, after in zip(heights, heights[1:]):
+        assert after / before == pytest.approx(e * e, rel=0.02)
+
+
+def test_free_fall_follows_the_parabola() -> None:
+    # No ground: z(t) = z0 + v0 t - g t^2 / 2 and x(t) = x0 + vx t, exactly up
+    # to the semi-implicit Euler offset g h t / 2 of its sub-step h (see
+    # crates/tumble/tests/stepping.rs).
+    dt, n = 1 / 100, 100
+    world = tumble.World(dt=dt, substeps=4)
+    body = world.add_body(tumble.Box((0.1, 0.2, 0.3)), mass=2.0, position=(1, 2, 3),
+                          velocity=(2, -1, 6))
+    world.step(n)
+    t, h = dt * n, dt / 4
+    exact = np.array([1 + 2 * t, 2 - t, 3 + 6 * t - 0.5 * G * t * t])
+    offset = np.array([0, 0, -0.5 * G * h * t])
+    np.testing.assert_allclose(body.position, exact + offset, atol=1e-9)
+    np.testing.assert_allclose(body.velocity, [2, -1, 6 - G * t], atol=1e-9)
+    assert world.time == pytest.approx(t)
+
+
+def incline(mu: float) -> tuple[tumble.World, tumble.Body, np.ndarray]:
+    """A cube on a 30 degree slope (the scene `incline` of shared/scenes.md)."""
+    theta = math.radians(30)
+    q = (0.0, math.sin(theta / 2), 0.0, math.cos(theta / 2))  # about +y
+    normal = np.array([math.sin(theta), 0.0, math.cos(theta)])
+    down = np.array([math.cos(theta), 0.0, -math.sin(theta)])
+    world = tumble.World(dt=1 / 240, sleeping=False)
+    world.add_body(tumble.Box((10, 10, 0.5)), kind="static", orientation=q, friction=mu)
+    cube = world.add_body(tumble.Box((0.25, 0.25, 0.25)), mass=1.0, position=normal * 0.75,
+                          orientation=q, friction=mu)
+    return world, cube, down
+
+
+def test_incline_slides_with_coulomb_acceleration() -> None:
+    mu = 0.2
+    theta = math.radians(30)
+    world, cube, down = incline(mu)
+    world.step(48)  # settle the initial contact
+    t0, v0 = world.time, float(cube.velocity @ down)
+    world.step(192)
+    t1, v1 = world.time, float(cube.velocity @ down)
+    a = (v1 - v0) / (t1 - t0)
+    assert a == pytest.approx(G * (math.sin(theta) - mu * math.cos(theta)), rel=0.02)
+
+
+def test_incline_sticks_with_high_friction() -> None:
+    world, cube, _ = incline(0.7)  # tan 30 = 0.577 < 0.7
+    start = cube.position
+    world.step(240)
+    assert np.linalg.norm(cube.position - start) < 1e-3
+    assert np.linalg.norm(cube.velocity) < 1e-3
+
+
+def test_free_collision_conserves_momentum() -> None:
+    # Two spheres of different mass meet off-centre in zero gravity: total
+    # linear momentum and (with restitution 1) kinetic energy are conserved.
+    world = tumble.World(gravity=(0, 0, 0), dt=1 / 240, sleeping=False)
+    a = world.add_body(tumble.Sphere(0.2), mass=1.0, position=(-1, 0.1, 0), velocity=(3, 0, 0),
+                       restitution=1.0, friction=0.0)
+    b = world.add_body(tumble.Sphere(0.3), mass=3.0, position=(1, -0.1, 0), velocity=(-1, 0, 0),
+                       restitution=1.0, friction=0.0)
+    masses = np.array([1.0, 3.0])
+    p0 = masses @ world.velocities
+    e0 = world.kinetic_energy
+    touched = False
+    for _ in range(120):
+        world.step()
+        touched |= any(ev.kind == "begin" for ev in world.contact_events())
+    assert touched
+    p1 = masses @ world.velocities
+    np.testing.assert_allclose(p1, p0, atol=1e-9)
+    assert world.kinetic_energy == pytest.approx(e0, rel=1e-3)
+    # They did collide: the light sphere bounced back, the heavy one too.
+    assert a.velocity[0] < 0 < b.velocity[0]
+
+
+def test_bounce_raises_begin_and_end_events() -> None:
+    world, ball = ball_drop(0.8)
+    ground = world.bodies[0]
+    events = []
+    for _ in range(480):
+        world.step()
+        events += world.contact_events()
+    kinds = [ev.kind for ev in events]
+    assert kinds[:4] == ["begin", "end", "begin", "end"]
+    assert {events[0].body_a, events[0].body_b} == {ground, ball}
+    # The first impact: the ball falls 0.9 m, t = sqrt(2 * 0.9 / g).
+    assert events[0].time == pytest.approx(math.sqrt(2 * 0.9 / G), abs=2 / 240)
+
+
+def test_step_n_keeps_the_events_of_every_step() -> None:
+    world, _ = ball_drop(0.8)
+    world.step(480)
+    kinds = [ev.kind for ev in world.contact_events()]
+    assert kinds.count("begin") >= 2 and kinds.count("begin") == kinds.count("end")
+
+
+def test_identical_worlds_give_identical_arrays() -> None:
+    def pile() -> tumble.World:
+        world = tumble.World()
+        world.add_body(tumble.HalfSpace(), kind="static")
+        rng = np.random.default_rng(7)
+        for i in range(30):
+            shape = [tumble.Box((0.1, 0.15, 0.2)), tumble.Sphere(0.12),
+                     tumble.Capsule(0.08, 0.1)][i % 3]
+            world.add_body(shape, density=500.0, position=rng.uniform([-0.5, -0.5, 0.3],
+                                                                      [0.5, 0.5, 3.0]))
+        return world
+
+    w1, w2 = pile(), pile()
+    w1.step(120)
+    w2.step(60)
+    w2.step(60)
+    for attr in ["positions", "orientations", "velocities", "angular_velocities"]:
+        assert np.array_equal(getattr(w1, attr), getattr(w2, attr)), attr
+    assert w1.contacts().tobytes() == w2.contacts().tobytes()
+
+
+def test_forces_accelerate_as_newton_says() -> None:
+    world = tumble.World(gravity=(0, 0, 0), dt=1 / 100)
+    body = world.add_body(tumble.Sphere(0.5), mass=2.0)
+    world.apply_force(body, (4.0, 0, 0))  # a = 2 m/s^2 for one step
+    world.step()
+    assert body.velocity[0] == pytest.approx(2.0 * 0.01)
+    body.apply_impulse((0, 6.0, 0))  # dv = 3 m/s now
+    assert body.velocity[1] == pytest.approx(3.0)
+    # A force off the centre adds the torque r x F: L = tau dt.
+    point = np.array([0.5, 0, 0])
+    lever = point - body.center_of_mass
+    body.apply_force((0, 0, 1.0), point=point)
+    world.step()
+    inertia = 0.4 * 2.0 * 0.25
+    expected = np.cross(lever, [0, 0, 1.0]) * 0.01 / inertia
+    np.testing.assert_allclose(body.angular_velocity, expected, rtol=1e-9, atol=1e-15)
+
+
+def test_vectorised_forces_match_single_ones() -> None:
+    def make() -> tuple[tumble.World, list[tumble.Body]]:
+        w = tumble.World(gravity=(0, 0, 0))
+        bodies = [w.add_body(tumble.Sphere(0.1), mass=1.0 + i, position=(i, 0, 0))
+                  for i in range(4)]
+        return w, bodies
+
+    forces = np.arange(12, dtype=float).reshape(4, 3)
+    w1, b1 = make()
+    w1.apply_forces(forces)
+    w2, b2 = make()
+    for body, f in zip(b2, forces):
+        body.apply_force(f)
+    w1.step()
+    w2.step()
+    assert np.array_equal(w1.velocities, w2.velocities)

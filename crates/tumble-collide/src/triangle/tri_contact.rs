@@ -67,6 +67,9 @@ const INSIDE_EPS: f64 = 1e-12;
 /// A triangle whose doubled area is below this times its longest edge squared
 /// has no usable face normal.
 const AREA_EPS: f64 = 1e-12;
+/// An edge axis whose cosine with the faces' outward sense is below this is
+/// taken in whichever direction pushes less.
+const AMBIGUOUS_SIDE: f64 = 0.1;
 /// Heights over a plane beyond this (times 1 + the coordinates' magnitude,
 /// m) are surely on that side despite round-off.
 const SIDE_EPS: f64 = 1e-12;
@@ -378,8 +381,21 @@ fn penetrating_contacts(
                 continue;
             }
             let u = c / c2.sqrt();
-            let n = if u.dot(outward) < 0.0 { -u } else { u };
-            let d = push_along(n, a, b);
+            // An axis nearly perpendicular to the outward sense (two walls
+            // crossing edge-on, the axis along neither face normal) has no
+            // preferred sign: the shorter push decides, as for a lone pair.
+            let along = u.dot(outward);
+            let (d, n) = if along.abs() <= AMBIGUOUS_SIDE * outward.length() {
+                let (up, down) = (push_along(u, a, b), push_along(-u, a, b));
+                if up <= down {
+                    (up, u)
+                } else {
+                    (down, -u)
+                }
+            } else {
+                let n = if along < 0.0 { -u } else { u };
+                (push_along(n, a, b), n)
+            };
             if d < FACE_PREFERENCE * face_depth && improves(&best, d) {
                 best = Some((d, n, Axis::Edges(i, j)));
             }

@@ -158,3 +158,44 @@ fn standard_scene_files_build_the_worlds_of_the_code() {
         }
     }
 }
+
+/// The Dzhanibekov example does what its comment says: spun about its
+/// intermediate principal axis (x), the T-handle flips over (its x axis turns
+/// to point against the fixed angular momentum) and back, while energy and
+/// angular momentum stay constant (torque-free body, splitting integrator).
+#[test]
+fn dzhanibekov_example_flips_and_conserves_energy_and_momentum() {
+    let loaded = load_scene(examples_dir().join("dzhanibekov.toml")).unwrap();
+    let (mut world, ids) = loaded.build().unwrap();
+    let id = ids[0];
+    let body = |w: &World| w.body(id).unwrap().clone();
+    let (e0, l0) = (body(&world).kinetic_energy(), body(&world).angular_momentum());
+    let axis_along_l =
+        |w: &World| (w.orientation(id).unwrap() * tumble::collide::DVec3::X).dot(l0.normalize());
+    assert!(axis_along_l(&world) > 0.99, "starts spinning about x");
+    let (mut lowest, mut back_up) = (1.0f64, false);
+    // Largest relative energy error in each half of the run: bounded and not
+    // growing (no secular drift), as for a symplectic method.
+    let mut energy_error = [0.0f64; 2];
+    let steps = loaded.scene.steps;
+    for step in 0..steps {
+        world.step();
+        let c = axis_along_l(&world);
+        lowest = lowest.min(c);
+        back_up |= lowest < -0.9 && c > 0.9;
+        let b = body(&world);
+        let half = usize::from(2 * step >= steps);
+        energy_error[half] = energy_error[half].max((b.kinetic_energy() - e0).abs() / e0);
+        assert!(
+            (b.angular_momentum() - l0).length() < 1e-9 * l0.length(),
+            "L drifts"
+        );
+    }
+    assert!(energy_error[1] < 1e-3, "energy error {energy_error:?}");
+    assert!(
+        energy_error[1] < 2.0 * energy_error[0] + 1e-12,
+        "energy drifts: {energy_error:?}"
+    );
+    assert!(lowest < -0.9, "the handle never flipped (lowest cos {lowest})");
+    assert!(back_up, "the handle did not flip back within {} s", world.time());
+}

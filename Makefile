@@ -7,8 +7,20 @@ export CARGO_TERM_COLOR ?= never
 
 .PHONY: demo test lint fmt-check clippy rust-test viewer-test bench-quick bench python-env python-test python-bench
 
+# The torus demo first (two tori through exact mesh-mesh contact, then the
+# 21-link torus chain), then domino and Dzhanibekov; finally the web viewer
+# that `tumble view` serves (npm only, no browser install).
+TUMBLE := target/release/tumble
 demo:
-	$(CARGO) run --release -p tumble-cli -- demo --out out
+	$(CARGO) build --release -p tumble-cli
+	$(TUMBLE) run examples/scenes/tori_pass.toml --out out/tori_pass.glb --trajectory out/tori_pass.csv
+	$(TUMBLE) run examples/scenes/chain.toml --out out/chain.glb --trajectory out/chain.npz
+	$(TUMBLE) demo --out out --quiet
+	VIEWER_SETUP_NO_BROWSER=1 bash viewer/scripts/setup.sh
+	cd viewer && npm run build --silent
+	@echo
+	@echo "watch the demo:  $(TUMBLE) view out/tori_pass.glb   (or out/chain.glb, out/domino.glb)"
+	@echo "live:            $(TUMBLE) view examples/scenes/tori_pass.toml"
 
 test: lint rust-test viewer-test bench-quick python-test
 

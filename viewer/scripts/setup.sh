@@ -2,10 +2,11 @@
 # Installs everything the viewer needs, with nothing installed by hand:
 # the npm packages pinned in package-lock.json and Debian's chromium (used
 # headless by scripts/test.sh). Idempotent and quiet when all is there.
+# VIEWER_SETUP_NO_BROWSER=1 skips chromium (building the page needs only npm).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
-if [ ! -x /usr/bin/chromium ]; then
+if [ -z "${VIEWER_SETUP_NO_BROWSER:-}" ] && [ ! -x /usr/bin/chromium ]; then
     echo "viewer setup: installing chromium (apt-get)"
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq >/dev/null

@@ -5,6 +5,7 @@
 // image library is needed. The fixture is first checked with Khronos'
 // glTF-Validator. Prints `viewer: N passed, M failed`; exit code 1
 // on any failure.
+import { spawn } from 'node:child_process';
 import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -55,12 +56,14 @@ async function stats(page, png, other = null) {
       let reddish = 0;
       let bluish = 0;
       let greenish = 0;
+      let greenTint = 0; // pale, lit green (tumble's palette on a bright ground)
       for (let i = 0; i < p.length; i += 4) {
         const [r, g, bl] = [p[i], p[i + 1], p[i + 2]];
         colors.add(((r >> 3) << 10) | ((g >> 3) << 5) | (bl >> 3));
         if (r > g + 50 && r > bl + 50) reddish++;
         if (bl > r + 50 && bl > g + 20) bluish++;
         if (g > r + 40 && g > bl + 30) greenish++;
+        if (g > r + 15 && g > bl + 15) greenTint++;
       }
       let changed = -1;
       if (b) {
@@ -71,7 +74,7 @@ async function stats(page, png, other = null) {
           if (d > 24) changed++;
         }
       }
-      return { pixels: p.length / 4, colors: colors.size, reddish, bluish, greenish, changed };
+      return { pixels: p.length / 4, colors: colors.size, reddish, bluish, greenish, greenTint, changed };
     },
     [png.toString('base64'), other ? other.toString('base64') : null],
   );
@@ -100,6 +103,36 @@ function liveScene() {
     triangles: [0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3],
   };
   return { type: 'scene', bodies: [box, tet] };
+}
+
+/** Starts `tumble view ARGS` and resolves to { url, stop } once it prints its URL. */
+function startTumbleView(args) {
+  const bin = process.env.TUMBLE_BIN;
+  if (!bin) throw new Error('TUMBLE_BIN is not set (scripts/test.sh sets it)');
+  const child = spawn(bin, ['view', '--no-open', '--port', '0', '--viewer-dir', join(here, 'dist'), ...args], {
+    stdio: ['ignore', 'pipe', 'pipe'],
+  });
+  let stderr = '';
+  child.stderr.on('data', (d) => (stderr += d));
+  const stop = () => {
+    child.kill();
+  };
+  return new Promise((ok, fail) => {
+    let out = '';
+    const timer = setTimeout(() => fail(new Error(`tumble view printed no URL: ${stderr}`)), 30000);
+    child.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/http:\/\/127\.0\.0\.1:\d+\/\S*/);
+      if (m) {
+        clearTimeout(timer);
+        ok({ url: m[0], stop });
+      }
+    });
+    child.on('exit', (code) => {
+      clearTimeout(timer);
+      fail(new Error(`tumble view exited with ${code}: ${stderr}`));
+    });
+  });
 }
 
 const server = await startServer({
@@ -241,12 +274,74 @@ try {
     assert(liveProblems.length === 0, liveProblems.join('; '));
     await live.close();
   });
+  await check('tumble view plays a recording in the page', async () => {
+    const glb = process.env.TUMBLE_RECORDING;
+    assert(glb, 'TUMBLE_RECORDING is not set (scripts/test.sh sets it)');
+    const { url, stop } = await startTumbleView([glb]);
+    const page2 = await browser.newPage({ viewport: { width: 960, height: 640 } });
+    const errs = [];
+    page2.on('console', (m) => m.type() === 'error' && errs.push(`console: ${m.text()}`));
+    page2.on('pageerror', (e) => errs.push(`pageerror: ${e.message}`));
+    try {
+      await page2.goto(`${url}&paused=1`);
+      await page2.waitForFunction(() => ['ready', 'error'].includes(window.tumbleViewer?.status), null, { timeout: 20000 });
+      const v = await page2.evaluate(() => ({ status: window.tumbleViewer.status, bodies: window.tumbleViewer.bodies, duration: window.tumbleViewer.duration }));
+      assert(v.status === 'ready' && v.bodies === 3, `status ${v.status}, ${v.bodies} bodies`);
+      assert(v.duration > 5.9, `duration ${v.duration}`);
+      // t = 2.5 s: torus B (green) has hit torus A (blue) and drags it along.
+      await page2.evaluate(() => window.tumbleViewer.seek(2.5));
+      const a = await shot(page2);
+      writeFileSync(join(outDir, 'viewer-tori-pass.png'), await page2.screenshot());
+      const s = await stats(page2, a);
+      assert(s.colors > 50 && s.bluish > 200 && s.greenTint > 200, `tori not visible: ${JSON.stringify(s)}`);
+      await page2.evaluate(() => window.tumbleViewer.seek(0.2));
+      const s2 = await stats(page2, a, await shot(page2));
+      assert(s2.changed > 0.002 * s2.pixels, `only ${s2.changed} pixels changed between t=2.5 and t=0.2`);
+      assert(errs.length === 0, errs.join('; '));
+    } finally {
+      await page2.close();
+      stop();
+    }
+  });
+
+  await check('tumble view steps a scene live in the page', async () => {
+    const sceneFile = process.env.TUMBLE_LIVE_SCENE;
+    assert(sceneFile, 'TUMBLE_LIVE_SCENE is not set (scripts/test.sh sets it)');
+    const { url, stop } = await startTumbleView([sceneFile]);
+    assert(url.includes('?live=ws://'), `not a live URL: ${url}`);
+    const page3 = await browser.newPage({ viewport: { width: 960, height: 640 } });
+    const errs = [];
+    page3.on('console', (m) => m.type() === 'error' && errs.push(`console: ${m.text()}`));
+    page3.on('pageerror', (e) => errs.push(`pageerror: ${e.message}`));
+    try {
+      await page3.goto(url);
+      await page3.waitForFunction(() => window.tumbleViewer?.frames > 30, null, { timeout: 30000 });
+      const v = await page3.evaluate(() => ({ bodies: window.tumbleViewer.bodies, t: window.tumbleViewer.time }));
+      assert(v.bodies === 3, `expected 3 live bodies, got ${v.bodies}`);
+      const a = await shot(page3);
+      writeFileSync(join(outDir, 'viewer-tumble-live.png'), await page3.screenshot());
+      const s = await stats(page3, a);
+      assert(s.colors > 50 && s.bluish > 200 && s.greenTint > 200, `live tori not visible: ${JSON.stringify(s)}`);
+      // The simulation keeps streaming: more frames, later time, a changed picture.
+      const f0 = await page3.evaluate(() => window.tumbleViewer.frames);
+      await page3.waitForFunction((k) => window.tumbleViewer.frames > k + 30, f0, { timeout: 30000 });
+      const t1 = await page3.evaluate(() => window.tumbleViewer.time);
+      assert(t1 > v.t, `live time did not advance: ${v.t} -> ${t1}`);
+      const s2 = await stats(page3, a, await shot(page3));
+      assert(s2.changed > 0.001 * s2.pixels, `live picture did not change (${s2.changed} pixels)`);
+      writeFileSync(join(outDir, 'viewer-tumble-live.png'), await page3.screenshot());
+      assert(errs.length === 0, errs.join('; '));
+    } finally {
+      await page3.close();
+      stop();
+    }
+  });
 } finally {
   await browser.close();
   await server.close();
 }
 
 const failed = results.filter(([, e]) => e).length;
-console.log(`screenshots: ${outDir}/viewer.png, viewer-t1.5.png, viewer-live.png`);
+console.log(`screenshots: ${outDir}/viewer.png, viewer-t1.5.png, viewer-live.png, viewer-tori-pass.png, viewer-tumble-live.png`);
 console.log(`viewer: ${results.length - failed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);

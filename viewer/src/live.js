@@ -38,6 +38,7 @@ export function createLiveRecording(sceneMsg) {
     mat.color.setRGB(r, g, bl);
     const mesh = new Mesh(flatGeometry(b.vertices, b.triangles), mat);
     mesh.name = b.name ?? '';
+    mesh.userData.tumbleStatic = Boolean(b.is_static);
     world.add(mesh);
     return mesh;
   });

@@ -15,6 +15,8 @@ export async function loadGlb(bytes) {
   // Without tumble extras (any other glTF) the scene is shown as it is.
   const world = x.root_node !== undefined ? await gltf.parser.getDependency('node', x.root_node) : gltf.scene;
   const bodyNodes = await Promise.all((x.bodies ?? []).map((b) => gltf.parser.getDependency('node', b.node)));
+  // Static bodies (a ground slab tens of metres wide) are left out of the camera framing.
+  bodyNodes.forEach((n, i) => (n.userData.tumbleStatic = Boolean(x.bodies[i].is_static)));
 
   const clip = gltf.animations[0];
   const mixer = new AnimationMixer(gltf.scene);

@@ -99,8 +99,17 @@ function show(rec, { reframe = true } = {}) {
   scene.add(rec.root);
   rec.apply(0);
   rec.root.updateMatrixWorld(true);
-  const box = new Box3().setFromObject(rec.root);
-  const sphere = box.isEmpty() ? new Sphere(new Vector3(), 1) : box.getBoundingSphere(new Sphere());
+  // Frame everything, unless static bodies dwarf the moving ones (a
+  // half-space is drawn as a slab tens of metres wide): then frame the
+  // moving bodies with room around them.
+  const all = new Box3().setFromObject(rec.root);
+  let sphere = all.isEmpty() ? new Sphere(new Vector3(), 1) : all.getBoundingSphere(new Sphere());
+  const moving = new Box3();
+  for (const node of rec.bodyNodes) if (!node.userData.tumbleStatic) moving.expandByObject(node);
+  if (!moving.isEmpty()) {
+    const m = moving.getBoundingSphere(new Sphere());
+    if (sphere.radius > 3 * m.radius) sphere = new Sphere(m.center, 3 * m.radius);
+  }
   const R = Math.max(sphere.radius, 1e-3);
   state.contacts = new ContactOverlay(rec.world, R);
   state.obb = new ObbOverlay(rec.extras.obb_boxes, rec.bodyNodes);

@@ -7,6 +7,8 @@ mod cmd_bench;
 mod cmd_collide;
 mod cmd_demo;
 mod cmd_mass;
+mod cmd_run;
+mod cmd_view;
 mod mesh_spec;
 
 use clap::{Parser, Subcommand};
@@ -14,14 +16,66 @@ use std::process::ExitCode;
 
 /// tumble: rigid body dynamics with exact triangle-mesh contact.
 #[derive(Parser)]
-#[command(name = "tumble", version, about, long_about = None)]
+#[command(
+    name = "tumble",
+    version,
+    about,
+    long_about = LONG_ABOUT,
+    after_long_help = AFTER_HELP
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
+const LONG_ABOUT: &str = "\
+tumble simulates rigid bodies described by triangle meshes or primitives
+(spheres, boxes, capsules, convex hulls, half-spaces), with exact mesh-mesh
+contact, Coulomb friction and restitution. Scenes are TOML or JSON files
+(docs/scenes.md, examples in examples/scenes/); results are animated glTF
+files, trajectory tables (CSV, NumPy .npz) and a web viewer.
+
+Conventions: SI units (m, kg, s), z up, gravity (0, 0, -9.81) by default,
+quaternions (x, y, z, w), angular velocity in the world frame.";
+
+const AFTER_HELP: &str = "\
+Examples:
+  tumble run examples/scenes/tori_pass.toml --out out/tori_pass.glb --trajectory out/tori_pass.npz
+  tumble view out/tori_pass.glb
+  tumble view examples/scenes/domino.toml
+  tumble mass torus:R=1,r=0.3,n=50 --density 1000
+  tumble bench --scene pyramid --steps 60
+
+Exit status:
+  0  success
+  2  bad input: a scene file, mesh, argument or output path (one line on
+     stderr naming the file, line, column and field where there is one)
+  1  internal failure
+
+`tumble help VERB` (or `tumble VERB --help`) prints the manual of a verb.";
+
 #[derive(Subcommand)]
 enum Command {
+    /// Simulate a scene file; write an animated glTF (.glb) and a trajectory (.csv, .npz).
+    #[command(long_about = "\
+Simulate a scene file (.toml or .json) and report steps, wall time, steps per
+second, the deepest penetration and the energy drift. With --out the motion is
+written as an animated binary glTF (one node per body, a translation and a
+rotation channel per moving body, one key per recorded step; z up is turned to
+glTF's y up by the root node). With --trajectory the poses are written as a
+table: CSV rows (t, body, x, y, z, qx, qy, qz, qw) or a NumPy .npz archive
+(time[F], position[F, N, 3], orientation[F, N, 4] as x y z w, names[N]).
+Files are written when the simulation has finished, atomically: an error never
+leaves a partial file. A progress bar is drawn when stderr is a terminal.")]
+    Run(cmd_run::RunArgs),
+    /// Watch a recording (.glb) or a live simulation of a scene in the browser.
+    #[command(long_about = "\
+Serve the web viewer on 127.0.0.1 and print its URL. Given a .glb (from
+`tumble run --out`), the page plays the recording: timeline, speed, orbit
+camera, contact points and normals, energy and contact plots. Given a scene
+file, every page load starts the simulation and streams each step to the page
+over a WebSocket (/live), so the scene is watched while it is computed.")]
+    View(cmd_view::ViewArgs),
     /// Mass properties of a closed triangle mesh: volume, mass, centre of mass,
     /// inertia tensor about the centre of mass, principal moments and axes.
     Mass(cmd_mass::MassArgs),
@@ -75,6 +129,8 @@ fn main() -> ExitCode {
         Err(e) => return usage_error(e),
     };
     let result = match cli.command {
+        Command::Run(args) => cmd_run::run(&args),
+        Command::View(args) => cmd_view::run(&args),
         Command::Mass(args) => cmd_mass::run(&args),
         Command::Collide(args) => cmd_collide::run(&args),
         Command::Demo(args) => cmd_demo::run(&args),

@@ -18,6 +18,7 @@ pub use integrate::{
 pub use tumble_collide as collide;
 
 pub mod export;
+pub mod scene;
 pub mod scenes;
 pub mod solver;
 pub mod world;

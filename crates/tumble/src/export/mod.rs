@@ -5,7 +5,8 @@
 //! - [`glb`]: animated binary glTF 2.0 (`.glb`) export, Khronos glTF 2.0
 //!   specification sections 3.6-3.11 (buffers, accessors, meshes, animations)
 //!   and 4.4 (GLB container).
-//! - [`csv`]: a flat trajectory table.
+//! - [`csv`]: a flat trajectory table; [`npz`]: the same as NumPy arrays.
+//! - [`live`]: the viewer's live-mode messages (JSON over a WebSocket).
 //! - [`atomic`]: write-to-temp-then-rename so readers never see half a file.
 //!
 //! The viewer in `viewer/` (repository root) reads the `.glb` files written here;
@@ -38,12 +39,15 @@
 pub mod atomic;
 pub mod csv;
 pub mod glb;
+pub mod live;
 mod mesh_data;
+pub mod npz;
 pub mod recording;
 pub mod world_recorder;
 
 pub use csv::write_trajectory_csv;
 pub use glb::{glb_bytes, write_glb};
+pub use npz::{trajectory_npz, write_trajectory_npz};
 pub use recording::{ContactMark, ExportError, FrameExtras, ObbBox, RecordedBody, Recording};
 pub use world_recorder::{shape_mesh, WorldRecorder};
 

@@ -507,3 +507,80 @@ proptest! {
         }
     }
 }
+
+/// Reads one `.npy` member of an `.npz` archive: (shape, f64 data or None for
+/// non-float arrays, raw header dtype).
+fn npz_member(archive: &[u8], name: &str) -> (Vec<u64>, npyz::DType, Vec<u8>) {
+    use std::io::Read;
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(archive)).expect("a zip archive");
+    let mut file = zip.by_name(name).expect("member present");
+    assert_eq!(file.compression(), zip::CompressionMethod::Stored);
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes).unwrap();
+    let npy = npyz::NpyFile::new(&bytes[..]).expect("a valid .npy");
+    (npy.shape().to_vec(), npy.dtype(), bytes)
+}
+
+#[test]
+fn npz_holds_time_positions_orientations_and_names() {
+    let mut rec = scene(17);
+    rec.bodies[2].name = "spinner_é".into(); // non-ASCII survives as numpy unicode
+    let archive = trajectory_npz(&rec).unwrap();
+    let (shape, _, bytes) = npz_member(&archive, "time.npy");
+    assert_eq!(shape, vec![17]);
+    let time: Vec<f64> = npyz::NpyFile::new(&bytes[..]).unwrap().into_vec().unwrap();
+    assert_eq!(time, rec.frame_times);
+    let (shape, _, bytes) = npz_member(&archive, "position.npy");
+    assert_eq!(shape, vec![17, 3, 3]);
+    let pos: Vec<f64> = npyz::NpyFile::new(&bytes[..]).unwrap().into_vec().unwrap();
+    let (shape, _, bytes) = npz_member(&archive, "orientation.npy");
+    assert_eq!(shape, vec![17, 3, 4]);
+    let rot: Vec<f64> = npyz::NpyFile::new(&bytes[..]).unwrap().into_vec().unwrap();
+    for (f, poses) in rec.frames.iter().enumerate() {
+        for (b, p) in poses.iter().enumerate() {
+            let i = f * 3 + b;
+            assert_eq!(&pos[3 * i..3 * i + 3], &p.position.to_array()[..]);
+            assert_eq!(&rot[4 * i..4 * i + 4], &p.rotation.to_array()[..]);
+        }
+    }
+    // Frame f, body 1 falls freely: z = Z0 - g t^2 / 2 (the analytic input).
+    assert!((pos[3 * (16 * 3 + 1) + 2] - falling_z(16.0 / 30.0)).abs() < 1e-12);
+    let (shape, dtype, bytes) = npz_member(&archive, "names.npy");
+    assert_eq!(shape, vec![3]);
+    assert_eq!(dtype.descr(), "'<U9'");
+    let names: Vec<String> = npyz::NpyFile::new(&bytes[..]).unwrap().into_vec().unwrap();
+    assert_eq!(names, vec!["ground", "faller", "spinner_é"]);
+    // Invalid recordings are refused before anything is written.
+    let mut bad = scene(3);
+    bad.frames[1].pop();
+    assert!(trajectory_npz(&bad).is_err());
+}
+
+#[test]
+fn live_messages_follow_the_viewer_protocol() {
+    let rec = scene(4);
+    let scene_msg: Value = serde_json::from_str(&live::scene_message(&rec)).unwrap();
+    assert_eq!(scene_msg["type"], "scene");
+    let bodies = scene_msg["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 3);
+    for (b, body) in bodies.iter().zip(&rec.bodies) {
+        assert_eq!(b["name"], body.name.as_str());
+        assert_eq!(
+            b["vertices"].as_array().unwrap().len(),
+            3 * body.mesh.vertices().len()
+        );
+        assert_eq!(
+            b["triangles"].as_array().unwrap().len(),
+            3 * body.mesh.triangles().len()
+        );
+    }
+    for f in 0..4 {
+        let m: Value = serde_json::from_str(&live::frame_message(&rec, f).unwrap()).unwrap();
+        assert_eq!(m["type"], "frame");
+        assert_eq!(m["t"].as_f64().unwrap(), rec.frame_times[f]);
+        let p = &m["poses"][1];
+        assert_eq!(p[2].as_f64().unwrap(), falling_z(rec.frame_times[f]));
+        assert_eq!(p[6].as_f64().unwrap(), 1.0);
+    }
+    assert!(live::frame_message(&rec, 4).is_none());
+}

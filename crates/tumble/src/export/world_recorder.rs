@@ -149,6 +149,11 @@ impl WorldRecorder {
         self.recording.frames.len()
     }
 
+    /// The recording so far (for streaming the newest frame while recording).
+    pub fn recording(&self) -> &Recording {
+        &self.recording
+    }
+
     /// The finished recording.
     pub fn finish(self) -> Recording {
         self.recording

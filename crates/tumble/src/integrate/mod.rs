@@ -30,7 +30,8 @@ use serde::{Deserialize, Serialize};
 use tumble_collide::math::DVec3;
 
 /// Which integration method advances dynamic bodies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// Explicit (forward) Euler, thesis 3.4.2: one derivative evaluation, global order 1.
     /// Gains energy on oscillations; kept as a reference.

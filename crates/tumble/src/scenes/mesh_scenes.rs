@@ -68,3 +68,39 @@ pub fn torus_on_ground() -> Scene {
         steps: 240,
     }
 }
+
+/// tori_pass: the thesis' two tori (`torus_mesh(1, 0.3, 50, 50)`, 5,000
+/// triangles each) as dynamics. Torus A lies flat on the ground (centre
+/// (0, 0, 0.3)), dynamic with density 1000; torus B is kinematic with the
+/// orientation of the tori query scene, `Rz(0.1) * Rx(pi/2)` (ring nearly
+/// in the xz plane), and moves at 1 m/s along x from (-3, 0.05, 1.32) to
+/// (3, 0.05, 1.32) over 6 s (360 steps of 1/60 s). Its lower arc sweeps
+/// through the height of A's hole (0.02 m above A's mid-plane, as in the
+/// query scene), where it meets A's tube and drags A along; B's centre is
+/// raised by 1 m from the query path so that B's ring clears the ground.
+pub fn tori_pass() -> Scene {
+    let torus =
+        Shape::Mesh(MeshShape::new(torus_mesh(1.0, 0.3, 50, 50).expect("valid torus")).expect("tree builds"));
+    let b_rotation = DQuat::from_rotation_z(0.1) * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2);
+    Scene {
+        name: "tori_pass".into(),
+        settings: WorldSettings {
+            sleeping: false,
+            ..WorldSettings::default()
+        },
+        bodies: vec![
+            BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())).named("ground"),
+            BodyDesc::dynamic(torus.clone())
+                .at(DVec3::new(0.0, 0.0, 0.3))
+                .named("torus_a"),
+            BodyDesc::kinematic(torus)
+                .with_pose(Pose {
+                    position: DVec3::new(-3.0, 0.05, 1.32),
+                    rotation: b_rotation,
+                })
+                .with_velocity(DVec3::new(1.0, 0.0, 0.0), DVec3::ZERO)
+                .named("torus_b"),
+        ],
+        steps: 360,
+    }
+}

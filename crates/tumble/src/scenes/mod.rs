@@ -5,7 +5,7 @@
 mod mesh_scenes;
 mod primitives_scenes;
 
-pub use mesh_scenes::{chain, torus_on_ground};
+pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
 pub use primitives_scenes::{ball_drop, cradle, domino, incline, pile, pyramid, tower};
 
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};

@@ -53,7 +53,7 @@ impl Default for MassDesc {
 /// (geometric mean: equal values give that value, a frictionless surface
 /// makes the pair frictionless), restitution = max(e_a, e_b) (a bouncy ball
 /// bounces on any floor).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct MaterialDesc {
     /// Coulomb friction coefficient (dimensionless, >= 0). Default 0.5.

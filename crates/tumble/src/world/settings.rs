@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use tumble_collide::DVec3;
 
 /// Which contact solver the `solve` stage uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverKind {
     /// Sub-stepped, warm-started projected Gauss-Seidel / sequential impulses
@@ -22,10 +22,11 @@ pub enum SolverKind {
 }
 
 /// How the `solve` and `integrate` stages advance the world.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct WorldSettings {
     /// Gravitational acceleration (m/s^2). Default (0, 0, -9.81): z is up.
+    #[schemars(with = "[f64; 3]")]
     pub gravity: DVec3,
     /// Time step of one `World::step` (s). Default 1/60. Smaller is more
     /// accurate and costs proportionally more.

@@ -406,7 +406,9 @@ impl World {
                 }
             }
         }
-        let mut exact = s.solver == SolverKind::Lemke;
+        // With no contacts there is nothing to solve (and the dense solver
+        // has no 0 x 0 case).
+        let mut exact = s.solver == SolverKind::Lemke && !constraints.is_empty();
         if exact && constraints.len() > contact_solver::EXACT_MAX_CONTACTS {
             report.warnings.push(format!(
                 "solver = lemke: {} contacts exceed the exact solver's limit of {}; PGS ran instead",

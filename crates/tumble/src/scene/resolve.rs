@@ -1,0 +1,387 @@
+//! From the schema types to a [`Scene`]: named materials and shapes looked
+//! up, grids expanded, every value checked with the path of the field it came
+//! from, so that the world never sees a value the file did not mean.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::error::{FieldError, FieldPath};
+use super::schema::{BodySpec, KindSpec, SceneFile};
+use super::shapes::build_shape;
+use super::values::{non_negative, pose, positive, vec3_or_zero};
+use super::InitialLoad;
+use crate::body::BodyKind;
+use crate::scenes::Scene;
+use crate::world::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError};
+use tumble_collide::DVec3;
+
+/// Simulated time (s) when a file gives neither `steps` nor `duration`.
+pub const DEFAULT_DURATION: f64 = 10.0;
+
+/// Where a body of the scene came from, for locating errors the world reports.
+#[derive(Debug, Clone)]
+pub(crate) struct BodyOrigin {
+    /// `bodies[i]`.
+    pub path: FieldPath,
+    /// Copy number within the body's grid, if it has one.
+    pub copy: Option<usize>,
+    /// Path of each shape: `bodies[i].shapes[j]` or `shapes.NAME`.
+    pub shapes: Vec<FieldPath>,
+}
+
+/// A resolved scene file.
+pub(crate) struct Resolved {
+    pub scene: Scene,
+    pub loads: Vec<InitialLoad>,
+    pub origins: Vec<BodyOrigin>,
+}
+
+/// The path of the field a [`WorldError`] is about: settings fields are
+/// top-level, body fields are under the body that was being added.
+pub(crate) fn world_error_path(e: &WorldError, origin: Option<&BodyOrigin>) -> FieldPath {
+    let root = FieldPath::root();
+    let body = origin.map_or(root.clone(), |o| o.path.clone());
+    match e {
+        WorldError::BadValue { field, .. } => {
+            if let Some(setting) = field.strip_prefix("settings.") {
+                return root.key("settings").key(setting);
+            }
+            let key = match *field {
+                "body.linear_velocity" => "linear_velocity",
+                "body.angular_velocity" => "angular_velocity",
+                "body.pose" => "position",
+                "mass.density" => "density",
+                "mass.mass" => "mass",
+                "body.damping" => "linear_damping",
+                f if f.starts_with("body.material") => "material",
+                _ => return body,
+            };
+            body.key(key)
+        }
+        WorldError::BadShape { index, .. } => {
+            origin.and_then(|o| o.shapes.get(*index).cloned()).unwrap_or(body)
+        }
+        _ => body,
+    }
+}
+
+/// The message of a [`WorldError`] without the field name (the path says it).
+pub(crate) fn world_error_message(e: &WorldError, origin: Option<&BodyOrigin>) -> String {
+    let message = match e {
+        WorldError::BadValue { message, .. } | WorldError::BadShape { message, .. } => message.clone(),
+        other => other.to_string(),
+    };
+    match origin.and_then(|o| o.copy) {
+        Some(n) => format!("{message} (grid copy {n})"),
+        None => message,
+    }
+}
+
+fn check_material(path: &FieldPath, m: &MaterialDesc) -> Result<(), FieldError> {
+    non_negative(&path.key("friction"), m.friction, "")?;
+    let e = m.restitution;
+    if !(e.is_finite() && (0.0..=1.0).contains(&e)) {
+        return Err(FieldError::new(
+            &path.key("restitution"),
+            format!("must be in [0, 1], got {e}"),
+        ));
+    }
+    Ok(())
+}
+
+fn kind(k: KindSpec) -> BodyKind {
+    match k {
+        KindSpec::Dynamic => BodyKind::Dynamic,
+        KindSpec::Static => BodyKind::Static,
+        KindSpec::Kinematic => BodyKind::Kinematic,
+    }
+}
+
+/// Replaces `{i}`, `{j}`, `{k}` and `{n}` in a grid body's name.
+fn copy_name(template: &str, ijk: [u32; 3], n: usize) -> String {
+    template
+        .replace("{i}", &ijk[0].to_string())
+        .replace("{j}", &ijk[1].to_string())
+        .replace("{k}", &ijk[2].to_string())
+        .replace("{n}", &n.to_string())
+}
+
+/// Checks the settings (as `World::new` does) with their paths.
+fn check_settings(file: &SceneFile) -> Result<(), FieldError> {
+    World::new(file.settings.clone())
+        .map(|_| ())
+        .map_err(|e| FieldError::new(&world_error_path(&e, None), world_error_message(&e, None)))
+}
+
+fn steps(file: &SceneFile) -> Result<usize, FieldError> {
+    let root = FieldPath::root();
+    let dt = file.settings.dt;
+    match (file.steps, file.duration) {
+        (Some(_), Some(_)) => Err(FieldError::new(
+            &root.key("duration"),
+            "give either steps or duration, not both",
+        )),
+        (Some(0), None) => Err(FieldError::new(&root.key("steps"), "must be >= 1, got 0")),
+        (Some(n), None) => {
+            usize::try_from(n).map_err(|_| FieldError::new(&root.key("steps"), format!("too large: {n}")))
+        }
+        (None, Some(d)) => {
+            let d = positive(&root.key("duration"), d, "s")?;
+            Ok(((d / dt).round() as usize).max(1))
+        }
+        (None, None) => Ok(((DEFAULT_DURATION / dt).round() as usize).max(1)),
+    }
+}
+
+/// Resolves `file`; mesh files are found relative to `base_dir`.
+pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> Result<Resolved, FieldError> {
+    let root = FieldPath::root();
+    check_settings(file)?;
+    let steps = steps(file)?;
+    for (name, m) in &file.materials {
+        check_material(&root.key("materials").key(name), m)?;
+    }
+    let default_material = file.materials.get("default").copied().unwrap_or_default();
+    let mut named: BTreeMap<&str, ShapeDesc> = BTreeMap::new();
+    for (name, spec) in &file.shapes {
+        let path = root.key("shapes").key(name);
+        named.insert(name, build_shape(spec, &path, base_dir)?);
+    }
+    let ctx = Context {
+        base_dir,
+        materials: &file.materials,
+        default_material,
+        named,
+    };
+    let mut out = Resolved {
+        scene: Scene {
+            name: file.name.clone().unwrap_or_else(|| default_name.to_string()),
+            settings: file.settings.clone(),
+            bodies: Vec::new(),
+            steps,
+        },
+        loads: Vec::new(),
+        origins: Vec::new(),
+    };
+    for (i, spec) in file.bodies.iter().enumerate() {
+        let path = root.key("bodies").index(i);
+        resolve_body(spec, &path, &ctx, &mut out)?;
+    }
+    Ok(out)
+}
+
+/// What the bodies of a file refer to.
+struct Context<'a> {
+    base_dir: &'a Path,
+    materials: &'a BTreeMap<String, MaterialDesc>,
+    default_material: MaterialDesc,
+    named: BTreeMap<&'a str, ShapeDesc>,
+}
+
+impl Context<'_> {
+    /// The named shape `name` and the path of its definition.
+    fn lookup(&self, path: &FieldPath, name: &str) -> Result<(ShapeDesc, FieldPath), FieldError> {
+        self.named
+            .get(name)
+            .map(|s| (s.clone(), FieldPath::root().key("shapes").key(name)))
+            .ok_or_else(|| {
+                let known: Vec<&str> = self.named.keys().copied().collect();
+                FieldError::new(
+                    path,
+                    format!(
+                        "unknown shape `{name}` (the top-level shapes table defines: {})",
+                        if known.is_empty() {
+                            "none".to_string()
+                        } else {
+                            known.join(", ")
+                        }
+                    ),
+                )
+            })
+    }
+}
+
+fn resolve_body(
+    spec: &BodySpec,
+    path: &FieldPath,
+    ctx: &Context,
+    out: &mut Resolved,
+) -> Result<(), FieldError> {
+    let kind = kind(spec.kind);
+    let alternate = spec.grid.as_ref().and_then(|g| g.alternate_shapes.as_ref());
+    let sources = [spec.shape.is_some(), spec.shapes.is_some(), alternate.is_some()]
+        .iter()
+        .filter(|&&b| b)
+        .count();
+    if sources != 1 {
+        return Err(FieldError::new(
+            path,
+            "give exactly one of shape (a name), shapes (a list) or grid.alternate_shapes",
+        ));
+    }
+    // The shape sets this body's copies cycle through (one set without a grid).
+    let mut shape_sets: Vec<(Vec<ShapeDesc>, Vec<FieldPath>)> = Vec::new();
+    if let Some(name) = &spec.shape {
+        let (s, p) = ctx.lookup(&path.key("shape"), name)?;
+        shape_sets.push((vec![s], vec![p]));
+    } else if let Some(list) = &spec.shapes {
+        if list.is_empty() {
+            return Err(FieldError::new(&path.key("shapes"), "needs at least one shape"));
+        }
+        let mut set = (Vec::new(), Vec::new());
+        for (j, s) in list.iter().enumerate() {
+            let p = path.key("shapes").index(j);
+            set.0.push(build_shape(s, &p, ctx.base_dir)?);
+            set.1.push(p);
+        }
+        shape_sets.push(set);
+    } else if let Some(names) = alternate {
+        let apath = path.key("grid").key("alternate_shapes");
+        if names.is_empty() {
+            return Err(FieldError::new(&apath, "needs at least one shape name"));
+        }
+        for (j, name) in names.iter().enumerate() {
+            let (s, p) = ctx.lookup(&apath.index(j), name)?;
+            shape_sets.push((vec![s], vec![p]));
+        }
+    }
+
+    let mass = match (spec.mass, spec.density) {
+        (Some(_), Some(_)) => {
+            return Err(FieldError::new(
+                &path.key("density"),
+                "give either mass or density, not both",
+            ))
+        }
+        (Some(m), None) => Some(MassDesc::Mass(positive(&path.key("mass"), m, "kg")?)),
+        (None, Some(d)) => Some(MassDesc::Density(positive(&path.key("density"), d, "kg/m^3")?)),
+        (None, None) => None,
+    };
+    if mass.is_some() && kind != BodyKind::Dynamic {
+        let key = if spec.mass.is_some() { "mass" } else { "density" };
+        return Err(FieldError::new(
+            &path.key(key),
+            "only dynamic bodies have a mass (static and kinematic bodies are not pushed)",
+        ));
+    }
+    let material = match &spec.material {
+        None => ctx.default_material,
+        Some(name) => *ctx.materials.get(name).ok_or_else(|| {
+            let known: Vec<&str> = ctx.materials.keys().map(String::as_str).collect();
+            FieldError::new(
+                &path.key("material"),
+                format!(
+                    "unknown material `{name}` (the top-level materials table defines: {})",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )
+        })?,
+    };
+    let base_pose = pose(path, spec.position, spec.orientation, spec.rotation.as_deref())?;
+    let linear_velocity = vec3_or_zero(&path.key("linear_velocity"), spec.linear_velocity)?;
+    let angular_velocity = vec3_or_zero(&path.key("angular_velocity"), spec.angular_velocity)?;
+    let linear_damping = non_negative(
+        &path.key("linear_damping"),
+        spec.linear_damping.unwrap_or(0.0),
+        "1/s",
+    )?;
+    let angular_damping = non_negative(
+        &path.key("angular_damping"),
+        spec.angular_damping.unwrap_or(0.0),
+        "1/s",
+    )?;
+    let force = vec3_or_zero(&path.key("initial_force"), spec.initial_force)?;
+    let torque = vec3_or_zero(&path.key("initial_torque"), spec.initial_torque)?;
+    if (spec.initial_force.is_some() || spec.initial_torque.is_some()) && kind != BodyKind::Dynamic {
+        let key = if spec.initial_force.is_some() {
+            "initial_force"
+        } else {
+            "initial_torque"
+        };
+        return Err(FieldError::new(
+            &path.key(key),
+            "forces act on dynamic bodies only",
+        ));
+    }
+
+    let template = BodyDesc {
+        kind,
+        shapes: Vec::new(),
+        mass: mass.unwrap_or_default(),
+        pose: base_pose,
+        linear_velocity,
+        angular_velocity,
+        material,
+        linear_damping,
+        angular_damping,
+        name: spec.name.clone(),
+    };
+    let mut push = |desc: BodyDesc, set: usize, copy: Option<usize>| {
+        if force != DVec3::ZERO || torque != DVec3::ZERO {
+            out.loads.push(InitialLoad {
+                body: out.scene.bodies.len(),
+                force,
+                torque,
+            });
+        }
+        out.origins.push(BodyOrigin {
+            path: path.clone(),
+            copy,
+            shapes: shape_sets[set].1.clone(),
+        });
+        out.scene.bodies.push(desc);
+    };
+    let Some(grid) = &spec.grid else {
+        push(
+            BodyDesc {
+                shapes: shape_sets[0].0.clone(),
+                ..template
+            },
+            0,
+            None,
+        );
+        return Ok(());
+    };
+    let gpath = path.key("grid");
+    if grid.count.contains(&0) {
+        return Err(FieldError::new(
+            &gpath.key("count"),
+            format!(
+                "each count must be >= 1, got [{}, {}, {}]",
+                grid.count[0], grid.count[1], grid.count[2]
+            ),
+        ));
+    }
+    let copies = grid.count.iter().map(|&c| c as u64).product::<u64>();
+    if copies > 1_000_000 {
+        return Err(FieldError::new(
+            &gpath.key("count"),
+            format!("at most 1,000,000 copies, got {copies}"),
+        ));
+    }
+    let spacing = super::values::vec3(&gpath.key("spacing"), grid.spacing)?;
+    let stagger = vec3_or_zero(&gpath.key("odd_layer_offset"), grid.odd_layer_offset)?;
+    let mut n = 0usize;
+    for k in 0..grid.count[2] {
+        for j in 0..grid.count[1] {
+            for i in 0..grid.count[0] {
+                let mut offset = spacing * DVec3::new(i as f64, j as f64, k as f64);
+                if k % 2 == 1 {
+                    offset += stagger;
+                }
+                let set = (i + j + k) as usize % shape_sets.len();
+                let mut desc = template.clone();
+                desc.shapes = shape_sets[set].0.clone();
+                desc.pose.position = base_pose.position + offset;
+                desc.name = copy_name(&spec.name, [i, j, k], n);
+                push(desc, set, Some(n));
+                n += 1;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,407 @@
+//! Scene file tests: values reach the world as written, and every kind of bad
+//! input gives one line naming the file, line, column and field.
+
+use super::*;
+use std::path::Path;
+use tumble_collide::shape::Shape;
+use tumble_collide::DQuat;
+
+fn toml(text: &str) -> Result<LoadedScene, SceneError> {
+    parse_scene(text, Format::Toml, Path::new("dir/test.toml"))
+}
+
+fn json(text: &str) -> Result<LoadedScene, SceneError> {
+    parse_scene(text, Format::Json, Path::new("dir/test.json"))
+}
+
+/// The error's (line, column, path, message), asserting it is one line.
+fn at(e: SceneError) -> (usize, usize, String, String) {
+    let line = e.to_string();
+    assert!(!line.contains('\n'), "error is not one line: {line:?}");
+    match e {
+        SceneError::At {
+            line,
+            column,
+            path,
+            message,
+            ..
+        } => (line, column, path, message),
+        other => panic!("expected a located error, got {other}"),
+    }
+}
+
+/// Line and column (1-based) of the first occurrence of `needle` in `text`.
+fn position_of(text: &str, needle: &str) -> (usize, usize) {
+    let offset = text.find(needle).expect("needle in text");
+    locate::line_column(text, offset)
+}
+
+const GROUND_AND_BALL: &str = r#"
+[[bodies]]
+name = "ground"
+kind = "static"
+shapes = [{ type = "half_space" }]
+
+[[bodies]]
+name = "ball"
+shapes = [{ type = "sphere", radius = 0.5 }]
+mass = 2.0
+position = [0, 0, 3]
+"#;
+
+#[test]
+fn values_reach_the_world_as_written() {
+    let text = r#"
+name = "check"
+steps = 7
+[settings]
+dt = 0.01
+gravity = [0, 0, -1.62]
+solver = "lemke"
+integrator = "rk4"
+[materials.rubber]
+friction = 0.9
+restitution = 0.8
+[[bodies]]
+name = "b"
+material = "rubber"
+shapes = [{ type = "box", half_extents = [1, 2, 3], local_pose = { position = [0, 0, 1] } }]
+density = 2.0
+position = [1, 2, 3]
+rotation = [{ z = 90 }, { x = 90 }]
+linear_velocity = [1, 0, 0]
+angular_velocity = [0, 0, 0.5]
+initial_force = [0, 0, 10]
+"#;
+    let s = toml(text).unwrap();
+    assert_eq!(s.scene.name, "check");
+    assert_eq!(s.scene.steps, 7);
+    assert_eq!(s.scene.settings.dt, 0.01);
+    assert_eq!(s.scene.settings.gravity, DVec3::new(0.0, 0.0, -1.62));
+    assert_eq!(s.scene.settings.solver, crate::world::SolverKind::Lemke);
+    assert_eq!(s.scene.settings.integrator, crate::integrate::Integrator::Rk4);
+    let b = &s.scene.bodies[0];
+    assert_eq!(b.material.friction, 0.9);
+    assert_eq!(b.material.restitution, 0.8);
+    assert_eq!(b.mass, crate::world::MassDesc::Density(2.0));
+    assert_eq!(b.pose.position, DVec3::new(1.0, 2.0, 3.0));
+    // Rz(90) * Rx(90): x -> y... applied to x: Rx keeps x, Rz turns it to y.
+    let q = b.pose.rotation;
+    let expected = DQuat::from_rotation_z(FRAC_PI_2) * DQuat::from_rotation_x(FRAC_PI_2);
+    assert!(q.dot(expected).abs() > 1.0 - 1e-15);
+    assert!((q * DVec3::X - DVec3::Y).length() < 1e-15);
+    assert!((q * DVec3::Y - DVec3::Z).length() < 1e-15);
+    assert_eq!(b.shapes[0].local_pose.position, DVec3::new(0.0, 0.0, 1.0));
+    assert_eq!(
+        s.initial_loads,
+        vec![InitialLoad {
+            body: 0,
+            force: DVec3::new(0.0, 0.0, 10.0),
+            torque: DVec3::ZERO
+        }]
+    );
+    // Density 2 of a 2 x 4 x 6 box: 96 kg. The initial force acts in step 1
+    // only (constant accelerations: exact for every integrator).
+    let (mut world, ids) = s.build().unwrap();
+    assert!((world.body(ids[0]).unwrap().mass() - 96.0).abs() < 1e-12);
+    world.step();
+    let v1 = world.linear_velocity(ids[0]).unwrap().z;
+    assert!((v1 - (10.0 / 96.0 - 1.62) * 0.01).abs() < 1e-12, "v1 = {v1}");
+    world.step();
+    let v2 = world.linear_velocity(ids[0]).unwrap().z;
+    assert!((v2 - v1 + 1.62 * 0.01).abs() < 1e-12, "v2 - v1 = {}", v2 - v1);
+    let damped = toml(&GROUND_AND_BALL.replace(
+        "mass = 2.0",
+        "mass = 2.0\nlinear_damping = 0.1\nangular_damping = 0.2",
+    ))
+    .unwrap();
+    let b = &damped.scene.bodies[1];
+    assert_eq!((b.linear_damping, b.angular_damping), (0.1, 0.2));
+}
+
+use std::f64::consts::FRAC_PI_2;
+
+#[test]
+fn defaults_without_steps_give_ten_seconds() {
+    let s = toml(GROUND_AND_BALL).unwrap();
+    assert_eq!(s.scene.steps, 600);
+    assert_eq!(s.scene.name, "test", "name from the file stem");
+    assert_eq!(s.scene.settings, crate::world::WorldSettings::default());
+    let d = toml(&format!("duration = 0.5\n{GROUND_AND_BALL}")).unwrap();
+    assert_eq!(d.scene.steps, 30);
+}
+
+#[test]
+fn grid_copies_in_order_with_names_offsets_and_alternating_shapes() {
+    let text = r#"
+[shapes.a]
+type = "sphere"
+radius = 0.1
+[shapes.b]
+type = "box"
+half_extents = [0.1, 0.1, 0.1]
+[[bodies]]
+name = "c{i}_{j}_{k}_{n}"
+mass = 1.0
+position = [1, 2, 3]
+grid = { count = [3, 2, 2], spacing = [0.5, 0.25, 1.0], odd_layer_offset = [0.01, 0.02, 0], alternate_shapes = ["a", "b"] }
+"#;
+    let s = toml(text).unwrap();
+    assert_eq!(s.scene.bodies.len(), 12);
+    let mut n = 0;
+    for k in 0..2 {
+        for j in 0..2 {
+            for i in 0..3 {
+                let b = &s.scene.bodies[n];
+                assert_eq!(b.name, format!("c{i}_{j}_{k}_{n}"));
+                let odd = if k == 1 {
+                    DVec3::new(0.01, 0.02, 0.0)
+                } else {
+                    DVec3::ZERO
+                };
+                let want = DVec3::new(1.0 + 0.5 * i as f64, 2.0 + 0.25 * j as f64, 3.0 + k as f64) + odd;
+                assert!((b.pose.position - want).length() < 1e-14);
+                let is_sphere = matches!(b.shapes[0].shape, Shape::Sphere(_));
+                assert_eq!(is_sphere, (i + j + k) % 2 == 0);
+                n += 1;
+            }
+        }
+    }
+}
+
+#[test]
+fn json_and_toml_read_the_same() {
+    let t = toml(GROUND_AND_BALL).unwrap();
+    let j = json(
+        r#"{"bodies": [
+        {"name": "ground", "kind": "static", "shapes": [{"type": "half_space"}]},
+        {"name": "ball", "shapes": [{"type": "sphere", "radius": 0.5}], "mass": 2.0, "position": [0, 0, 3]}
+    ]}"#,
+    )
+    .unwrap();
+    assert_eq!(t.scene.bodies, j.scene.bodies);
+    assert_eq!(t.scene.settings, j.scene.settings);
+}
+
+#[test]
+fn negative_mass_is_located_at_its_value() {
+    let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = -1");
+    let (line, column, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!((line, column), position_of(&text, "-1"));
+    assert_eq!(path, "bodies[1].mass");
+    assert_eq!(message, "must be finite and > 0 kg, got -1");
+}
+
+#[test]
+fn unknown_key_is_an_error_not_ignored() {
+    let text = GROUND_AND_BALL.replace("mass = 2.0", "masss = 2.0");
+    let (line, column, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!((line, column), position_of(&text, "masss"));
+    assert!(message.contains("unknown field `masss`"), "{message}");
+    assert!(path.starts_with("bodies[1]"), "{path}");
+    // In a settings table and in a shape too.
+    let e = toml(&format!("[settings]\ndtt = 0.1\n{GROUND_AND_BALL}")).unwrap_err();
+    assert!(e.to_string().starts_with("dir/test.toml:2:1: settings"), "{e}");
+    let text = GROUND_AND_BALL.replace("radius = 0.5", "radius = 0.5, radus = 1");
+    let (line, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(line, position_of(&text, "radus").0);
+    assert!(message.contains("unknown field `radus`"), "{message}");
+    assert!(path.starts_with("bodies[1].shapes[0]"), "{path}");
+}
+
+#[test]
+fn unknown_shape_type_names_the_choices() {
+    let text = GROUND_AND_BALL.replace("type = \"sphere\"", "type = \"sphre\"");
+    let (line, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(line, position_of(&text, "sphre").0);
+    assert_eq!(path, "bodies[1].shapes[0].type");
+    assert!(message.contains("unknown variant `sphre`"), "{message}");
+    assert!(
+        message.contains("`sphere`") && message.contains("`mesh`"),
+        "{message}"
+    );
+}
+
+#[test]
+fn nan_in_a_pose_is_rejected() {
+    let text = GROUND_AND_BALL.replace("position = [0, 0, 3]", "position = [0, nan, 3]");
+    let (line, column, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!((line, column), position_of(&text, "[0, nan"));
+    assert_eq!(path, "bodies[1].position");
+    assert!(message.contains("must be finite"), "{message}");
+    let text = GROUND_AND_BALL.replace("position = [0, 0, 3]", "orientation = [0, 0, inf, 1]");
+    let (_, _, path, _) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].orientation");
+    // JSON has no NaN literal: a syntax error at the token.
+    let e = json(r#"{"bodies": [{"shapes": [{"type": "sphere", "radius": 1}], "position": [0, NaN, 0]}]}"#)
+        .unwrap_err();
+    let (line, column, _, _) = at(e);
+    assert_eq!(line, 1);
+    assert!(column > 60, "column {column}");
+}
+
+#[test]
+fn non_unit_quaternion_and_ambiguous_orientation() {
+    let text = GROUND_AND_BALL.replace("position = [0, 0, 3]", "orientation = [0, 0, 0, 2]");
+    let (_, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].orientation");
+    assert!(message.contains("unit quaternion"), "{message}");
+    // Rounded unit quaternions are accepted and normalised.
+    let text = GROUND_AND_BALL.replace("position = [0, 0, 3]", "orientation = [0, 0, 0.7071, 0.7071]");
+    let q = toml(&text).unwrap().scene.bodies[1].pose.rotation;
+    assert!((q.length() - 1.0).abs() < 1e-15);
+    let text = GROUND_AND_BALL.replace(
+        "position = [0, 0, 3]",
+        "orientation = [0, 0, 0, 1]\nrotation = [{ x = 10 }]",
+    );
+    let (_, _, path, _) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].rotation");
+    let text = GROUND_AND_BALL.replace("position = [0, 0, 3]", "rotation = [{ x = 10, y = 5 }]");
+    let (_, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].rotation[0]");
+    assert!(message.contains("exactly one"), "{message}");
+}
+
+#[test]
+fn negative_timestep_is_a_settings_error() {
+    let text = format!("[settings]\ndt = -0.01\n{GROUND_AND_BALL}");
+    let (line, column, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!((line, column), (2, 6));
+    assert_eq!(path, "settings.dt");
+    assert!(message.contains("> 0") && message.contains("-0.01"), "{message}");
+    let e = json(r#"{"settings": {"dt": -1}, "bodies": []}"#).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "dir/test.json:1:21: settings.dt: must be finite and > 0, got -1"
+    );
+}
+
+#[test]
+fn missing_mesh_file_names_the_path() {
+    let text = r#"
+[[bodies]]
+shapes = [{ type = "mesh", mesh = { file = "no/such/mesh.obj" } }]
+"#;
+    let (line, _, path, message) = at(toml(text).unwrap_err());
+    assert_eq!(line, 3);
+    assert_eq!(path, "bodies[0].shapes[0].mesh.file");
+    assert!(message.contains("no/such/mesh.obj"), "{message}");
+}
+
+#[test]
+fn open_mesh_with_mass_from_density_is_located_at_the_shape() {
+    let dir = std::env::temp_dir().join(format!("tumble_scene_test_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A tetrahedron with one face missing: not closed, so it has no volume.
+    std::fs::write(
+        dir.join("open.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n",
+    )
+    .unwrap();
+    let text =
+        "[[bodies]]\ndensity = 1000.0\nshapes = [{ type = \"mesh\", mesh = { file = \"open.obj\" } }]\n";
+    let scene_path = dir.join("open.toml");
+    std::fs::write(&scene_path, text).unwrap();
+    let loaded = load_scene(&scene_path).expect("the mesh itself loads");
+    let (line, column, path, message) = at(loaded.build().unwrap_err());
+    assert_eq!((line, column), (3, 11));
+    assert_eq!(path, "bodies[0].shapes[0]");
+    assert!(!message.is_empty());
+    // As a static body the open mesh needs no mass and is accepted.
+    let text =
+        "[[bodies]]\nkind = \"static\"\nshapes = [{ type = \"mesh\", mesh = { file = \"open.obj\" } }]\n";
+    std::fs::write(&scene_path, text).unwrap();
+    assert!(load_scene(&scene_path).unwrap().build().is_ok());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn world_rejections_point_at_the_body() {
+    // A static body with a velocity is refused by World::add_body.
+    let text = GROUND_AND_BALL.replace(
+        "kind = \"static\"",
+        "kind = \"static\"\nlinear_velocity = [1, 0, 0]",
+    );
+    let loaded = toml(&text).unwrap();
+    let (line, _, path, _) = at(loaded.build().unwrap_err());
+    assert_eq!(path, "bodies[0].linear_velocity");
+    assert_eq!(line, position_of(&text, "linear_velocity").0);
+    // A half-space on a dynamic body.
+    let text = GROUND_AND_BALL.replace("kind = \"static\"\n", "");
+    let (_, _, path, message) = at(toml(&text).unwrap().build().unwrap_err());
+    assert_eq!(path, "bodies[0].shapes[0]");
+    assert!(message.contains("half-space"), "{message}");
+}
+
+#[test]
+fn references_and_exclusive_keys() {
+    let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nmaterial = \"ice\"");
+    let (_, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].material");
+    assert!(message.contains("unknown material `ice`"), "{message}");
+    let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\ndensity = 3.0");
+    let (_, _, path, _) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].density");
+    let text = "[[bodies]]\nshape = \"nothing\"\n";
+    let (_, _, path, message) = at(toml(text).unwrap_err());
+    assert_eq!(path, "bodies[0].shape");
+    assert!(message.contains("unknown shape `nothing`"), "{message}");
+    let text = GROUND_AND_BALL.replace("kind = \"static\"", "kind = \"static\"\nmass = 1.0");
+    let (_, _, path, _) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[0].mass");
+    let text = format!("steps = 5\nduration = 1.0\n{GROUND_AND_BALL}");
+    let (_, _, path, _) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "duration");
+}
+
+#[test]
+fn syntax_errors_are_located() {
+    let (line, _, path, _) = at(toml("[[bodies]]\nmass = = 1\n").unwrap_err());
+    assert_eq!((line, path.as_str()), (2, ""));
+    let (line, column, _, _) = at(json("{\n  \"bodies\": [\n    {\"mass\": 1,}\n  ]\n}").unwrap_err());
+    assert_eq!(line, 3);
+    assert!(column > 10);
+    assert!(matches!(
+        load_scene("scene.yaml").unwrap_err(),
+        SceneError::Format { .. }
+    ));
+    assert!(matches!(
+        load_scene("/no/such/scene.toml").unwrap_err(),
+        SceneError::Read { .. }
+    ));
+}
+
+#[test]
+fn field_paths_print_like_the_file() {
+    let p = FieldPath::root()
+        .key("bodies")
+        .index(3)
+        .key("shapes")
+        .index(0)
+        .key("radius");
+    assert_eq!(p.to_string(), "bodies[3].shapes[0].radius");
+}
+
+/// `docs/scene.schema.json` is generated from the schema types; this fails
+/// when they drift apart. Regenerate with
+/// `TUMBLE_UPDATE_SCHEMA=1 cargo test -p tumble --release scene::tests::json_schema`.
+#[test]
+fn json_schema_file_is_in_sync() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scene.schema.json");
+    let generated = json_schema();
+    if std::env::var_os("TUMBLE_UPDATE_SCHEMA").is_some() {
+        std::fs::write(&path, &generated).unwrap();
+    }
+    let shipped = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        shipped == generated,
+        "docs/scene.schema.json is out of date: regenerate it with \
+         TUMBLE_UPDATE_SCHEMA=1 cargo test -p tumble --release scene::tests::json_schema"
+    );
+    // It describes what the parser accepts: closed objects and the shape kinds.
+    let v: serde_json::Value = serde_json::from_str(&generated).unwrap();
+    assert_eq!(v["additionalProperties"], serde_json::json!(false));
+    for kind in ["sphere", "box", "capsule", "convex_hull", "half_space", "mesh"] {
+        assert!(generated.contains(&format!("\"{kind}\"")), "schema lacks {kind}");
+    }
+}

@@ -14,6 +14,10 @@
 //! [`MATCH_DISTANCE`] in A's body frame; otherwise the point takes the
 //! impulses of the nearest cached point of the same collider pair within that
 //! distance (as Bullet's persistent manifolds match by position).
+//!
+//! Friction lives on contact patches (see `solver::contact_solver`): each
+//! patch's friction impulses are remembered under the collider pair and the
+//! patch normal.
 
 use tumble_collide::{DVec3, Feature};
 
@@ -34,9 +38,38 @@ pub(crate) struct CachedContact {
     pub local_a: DVec3,
     /// Accumulated normal impulse of the sub-step (N s).
     pub normal_impulse: f64,
-    /// Accumulated friction impulse of the sub-step as a world vector (N s),
-    /// re-projected on the next step's tangents (they follow the normal).
+}
+
+/// Friction remembered for one contact patch: patches of a collider pair
+/// are told apart by their normals (a mesh pair can touch in several places).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CachedPatch {
+    pub key: PairKey,
+    /// Unit patch normal, world frame.
+    pub normal: DVec3,
+    /// Tangential friction impulse as a world vector (N s), re-projected on
+    /// the next step's tangents.
     pub tangent_impulse: DVec3,
+    /// Twist friction impulse about the normal (N m s).
+    pub twist_impulse: f64,
+}
+
+/// Contacts of one collider pair whose normals are within this cosine of a
+/// patch's seed normal belong to that patch (about 18 degrees: the facets
+/// of a curved mesh surface around one contact, not the two walls of a
+/// corner). A patch that finds a cached patch of the same pair within it
+/// inherits its friction.
+pub(crate) const PATCH_COS: f64 = 0.95;
+
+/// The remembered friction of the patch of `key` whose normal is closest to
+/// `normal` (within [`PATCH_COS`]). The cache must be sorted by key.
+pub(crate) fn lookup_patch(cache: &[CachedPatch], key: PairKey, normal: DVec3) -> Option<&CachedPatch> {
+    let start = cache.partition_point(|c| c.key < key);
+    let end = start + cache[start..].partition_point(|c| c.key == key);
+    cache[start..end]
+        .iter()
+        .filter(|c| c.normal.dot(normal) >= PATCH_COS)
+        .max_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
 }
 
 /// Finds the remembered impulses of a contact: by features, else by position.
@@ -70,9 +103,12 @@ pub(crate) fn lookup(
 /// Orders a freshly built cache by key so that [`lookup`] works. The world
 /// builds it in pair order already, so this is a check plus a stable sort
 /// that does nothing in that case.
-pub(crate) fn finish(cache: &mut [CachedContact]) {
-    if !cache.windows(2).all(|w| w[0].key <= w[1].key) {
-        cache.sort_by_key(|c| c.key);
+pub(crate) fn finish(points: &mut [CachedContact], patches: &mut [CachedPatch]) {
+    if !points.windows(2).all(|w| w[0].key <= w[1].key) {
+        points.sort_by_key(|c| c.key);
+    }
+    if !patches.windows(2).all(|w| w[0].key <= w[1].key) {
+        patches.sort_by_key(|c| c.key);
     }
 }
 
@@ -88,14 +124,13 @@ mod tests {
             feature_b: Feature::face(1),
             local_a: DVec3::new(t as f64, 0.0, 0.0),
             normal_impulse: j,
-            tangent_impulse: DVec3::ZERO,
         };
         let mut cache = vec![
             c((3, 4, 0, 0), 7, 1.0),
             c((1, 2, 0, 0), 5, 2.0),
             c((1, 2, 0, 1), 5, 3.0),
         ];
-        finish(&mut cache);
+        finish(&mut cache, &mut []);
         let far = DVec3::splat(100.0);
         let found = |key, fa, p| lookup(&cache, key, fa, Feature::face(1), p).map(|c| c.normal_impulse);
         assert_eq!(

@@ -14,6 +14,7 @@ mod error;
 mod handles;
 mod islands;
 mod manifold;
+mod patches;
 mod report;
 mod settings;
 mod step;
@@ -26,7 +27,7 @@ pub use report::{ContactEvent, Quarantined, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
 
 use crate::body::{BodyKind, Material, RigidBody};
-use manifold::CachedContact;
+use manifold::{CachedContact, CachedPatch};
 use tumble_collide::broad::{ProxyId, SweepAndPrune};
 use tumble_collide::shape::Shape;
 use tumble_collide::{DQuat, DVec3, Pose};
@@ -82,6 +83,7 @@ pub struct World {
     /// Slots of bodies with unbounded shapes (kept out of the broad phase).
     unbounded: Vec<u32>,
     cache: Vec<CachedContact>,
+    patch_cache: Vec<CachedPatch>,
     contacts: Vec<WorldContact>,
     touching: Vec<(BodyId, BodyId)>,
     time: f64,
@@ -172,6 +174,7 @@ impl World {
             broad: SweepAndPrune::new(),
             unbounded: Vec::new(),
             cache: Vec::new(),
+            patch_cache: Vec::new(),
             contacts: Vec::new(),
             touching: Vec::new(),
             time: 0.0,
@@ -346,6 +349,8 @@ impl World {
         self.bodies.remove(id);
         self.unbounded.retain(|&s| s != id.index);
         self.cache.retain(|c| c.key.0 != id.index && c.key.1 != id.index);
+        self.patch_cache
+            .retain(|c| c.key.0 != id.index && c.key.1 != id.index);
         self.contacts.retain(|c| c.body_a != id && c.body_b != id);
         Ok(())
     }

@@ -58,6 +58,10 @@ pub struct WorldSettings {
     /// Penetration left uncorrected (m): resting contacts within it are held
     /// rigidly where they are (no push-out, so no jitter); deeper overlap is
     /// pushed back to it. Stacks sink by at most this per contact layer.
+    /// Contacts with a triangle mesh are offset by twice this, so that meshes
+    /// rest this far *apart* rather than inside each other: resting mesh
+    /// contact then stays exact vertex/face and edge/edge contact instead of
+    /// intersecting triangles, whose push-out contacts are coarser.
     /// Default 0.0005.
     pub allowed_penetration: f64,
     /// Fraction of the overlap beyond `allowed_penetration` removed per

@@ -5,16 +5,17 @@
 //! order, contacts in the order the narrow phase produces them; nothing
 //! iterates a hash map. The same world stepped twice gives the same bits.
 
-use super::manifold::{self, CachedContact};
+use super::manifold::{self, CachedContact, CachedPatch};
+use super::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
 use super::report::{ContactEvent, Quarantined, Stage, StepReport};
 use super::{BodyEntry, BodyId, MaterialDesc, SolverKind, World, WorldContact};
 use crate::body::{BodyKind, BodyState};
 use crate::integrate::{integrate, Integrator};
-use crate::solver::contact_solver::{self, ContactConstraint, SolverBody, SolverParams};
+use crate::solver::contact_solver::{self, ManifoldConstraint, PointConstraint, SolverBody, SolverParams};
 use std::time::Instant;
 use tumble_collide::broad::Aabb;
 use tumble_collide::narrow::contact_shapes;
-use tumble_collide::{Contact, DMat3, DQuat, DVec3, Pose};
+use tumble_collide::{Contact, DQuat, DVec3, Pose};
 
 /// Fattened world AABB of a body: the union of its colliders' boxes, grown
 /// by `fatten` (m) on every side.
@@ -92,14 +93,6 @@ fn velocities(e: &BodyEntry) -> (DVec3, DVec3) {
         BodyKind::Kinematic => e.body.kinematic_velocity(),
         _ => (DVec3::ZERO, DVec3::ZERO),
     }
-}
-
-/// A constraint plus what is needed to report and cache it.
-struct Prepared {
-    constraint: ContactConstraint,
-    ids: (BodyId, BodyId),
-    key: manifold::PairKey,
-    contact: Contact,
 }
 
 impl World {
@@ -185,7 +178,9 @@ impl World {
         lap(&mut report, Stage::Broad);
 
         // -- Stage::Narrow
-        let mut prepared: Vec<Prepared> = Vec::new();
+        let mut prepared: Vec<PreparedPoint> = Vec::new();
+        let mut patches: Vec<PreparedPatch> = Vec::new();
+        let mut scratch = PatchScratch::default();
         let mut buffer: Vec<Contact> = Vec::new();
         let mut warned_unsupported = false;
         for &(a, b) in &pairs {
@@ -220,53 +215,33 @@ impl World {
                         }
                         continue;
                     }
-                    let key = (a, b, ia as u16, ib as u16);
+                    // Meshes rest a hair apart (see WorldSettings::allowed_penetration).
+                    let is_mesh = |c: &super::Collider| matches!(c.shape, tumble_collide::Shape::Mesh(_));
+                    let skin = if is_mesh(ca) || is_mesh(cb) {
+                        2.0 * s.allowed_penetration
+                    } else {
+                        0.0
+                    };
+                    let pair = PairInfo {
+                        ids,
+                        key: (a, b, ia as u16, ib as u16),
+                        pose_a: &pa,
+                        pose_b: &pb,
+                        friction,
+                        restitution,
+                        skin,
+                    };
+                    report.warm_started += add_pair(
+                        &buffer,
+                        &pair,
+                        &self.cache,
+                        &self.patch_cache,
+                        &mut scratch,
+                        &mut prepared,
+                        &mut patches,
+                    );
                     for contact in &buffer {
-                        let mut c = ContactConstraint {
-                            a: 0,
-                            b: 0,
-                            normal: contact.normal,
-                            tangents: [DVec3::ZERO; 2],
-                            local_a: pa.rotation.inverse() * (contact.point - pa.position),
-                            local_b: pb.rotation.inverse() * (contact.point - pb.position),
-                            r_a: DVec3::ZERO,
-                            r_b: DVec3::ZERO,
-                            separation: contact.distance,
-                            normal_mass: 0.0,
-                            tangent_mass: [0.0; 2],
-                            friction,
-                            restitution,
-                            approach_speed: 0.0,
-                            normal_impulse: 0.0,
-                            tangent_impulse: [0.0; 2],
-                            max_normal_impulse: 0.0,
-                            push_impulse: 0.0,
-                            ra_now: DVec3::ZERO,
-                            rb_now: DVec3::ZERO,
-                            separation_now: 0.0,
-                            rows: Default::default(),
-                            inv_mass: [0.0; 2],
-                        };
-                        if let Some(old) = manifold::lookup(
-                            &self.cache,
-                            key,
-                            contact.feature_a,
-                            contact.feature_b,
-                            c.local_a,
-                        ) {
-                            c.normal_impulse = old.normal_impulse;
-                            let t = contact_solver::tangent_basis(contact.normal);
-                            c.tangent_impulse =
-                                [old.tangent_impulse.dot(t[0]), old.tangent_impulse.dot(t[1])];
-                            report.warm_started += 1;
-                        }
                         report.max_penetration = report.max_penetration.max(-contact.distance);
-                        prepared.push(Prepared {
-                            constraint: c,
-                            ids,
-                            key,
-                            contact: *contact,
-                        });
                     }
                 }
             }
@@ -294,22 +269,10 @@ impl World {
         // -- Stage::Solve
         // Solver body 0 is the shared immovable body (static or asleep).
         let mut slot_to_solver = vec![0u32; n_slots];
-        let mut solver_bodies = vec![SolverBody {
-            v: DVec3::ZERO,
-            w: DVec3::ZERO,
-            inv_mass: 0.0,
-            inv_inertia_body: DVec3::ZERO,
-            inv_inertia: DMat3::ZERO,
-            q: DQuat::IDENTITY,
-            dp: DVec3::ZERO,
-            push_v: DVec3::ZERO,
-            push_w: DVec3::ZERO,
-            dynamic: false,
-            kinematic: false,
-        }];
+        let mut solver_bodies = vec![SolverBody::fixed()];
         let mut solver_slots = vec![u32::MAX];
         let mut has_contact = vec![false; n_slots];
-        for p in &prepared {
+        for p in &patches {
             has_contact[p.key.0 as usize] = true;
             has_contact[p.key.1 as usize] = true;
         }
@@ -325,41 +288,42 @@ impl World {
                 continue;
             }
             let (v, w) = velocities(e);
-            let q = e.body.orientation();
             let dynamic = e.body.kind() == BodyKind::Dynamic;
             slot_to_solver[i as usize] = solver_bodies.len() as u32;
             solver_slots.push(i);
-            solver_bodies.push(SolverBody {
-                v,
-                w,
-                inv_mass: if dynamic { e.body.inv_mass() } else { 0.0 },
-                inv_inertia_body: if dynamic {
-                    e.body.inv_principal_inertia()
-                } else {
-                    DVec3::ZERO
-                },
-                inv_inertia: if dynamic {
-                    e.body.inv_inertia_world()
-                } else {
-                    DMat3::ZERO
-                },
-                q,
-                dp: DVec3::ZERO,
-                push_v: DVec3::ZERO,
-                push_w: DVec3::ZERO,
-                dynamic,
-                kinematic: !dynamic,
-            });
+            let mut body = if dynamic {
+                SolverBody::new(
+                    v,
+                    w,
+                    e.body.inv_mass(),
+                    e.body.inv_principal_inertia(),
+                    e.body.orientation(),
+                )
+            } else {
+                SolverBody::new(v, w, 0.0, DVec3::ZERO, e.body.orientation())
+            };
+            body.kinematic = !dynamic;
+            solver_bodies.push(body);
         }
         report.awake_bodies = solver_bodies.len() - 1;
-        let mut constraints: Vec<ContactConstraint> = prepared
+        let q0: Vec<DQuat> = solver_bodies.iter().map(|b| b.q).collect();
+        let mut points: Vec<PointConstraint> = prepared.iter().map(|p| p.point).collect();
+        let mut manifolds: Vec<ManifoldConstraint> = patches
             .iter()
             .map(|p| {
-                let mut c = p.constraint;
-                c.a = slot_to_solver[p.key.0 as usize];
-                c.b = slot_to_solver[p.key.1 as usize];
-                contact_solver::prepare(&mut c, &solver_bodies);
-                c
+                let mut m = ManifoldConstraint::new(
+                    slot_to_solver[p.key.0 as usize],
+                    slot_to_solver[p.key.1 as usize],
+                    p.first,
+                    p.count,
+                    p.normal,
+                    p.friction,
+                    p.restitution,
+                    p.warm_tangent,
+                    p.warm_twist,
+                );
+                contact_solver::prepare(&mut m, &mut points, &solver_bodies);
+                m
             })
             .collect();
         let substeps = if semi_implicit { s.substeps } else { 1 };
@@ -395,31 +359,30 @@ impl World {
             let next_w = b.w + b.inv_inertia * tau * dt;
             if !finite || !next_v.is_finite() || !next_w.is_finite() {
                 frozen[k] = true;
-                let sb = &mut solver_bodies[k];
-                (sb.v, sb.w, sb.inv_mass, sb.inv_inertia, sb.dynamic, sb.kinematic) =
-                    (DVec3::ZERO, DVec3::ZERO, 0.0, DMat3::ZERO, false, false);
-                for c in constraints
+                solver_bodies[k].freeze();
+                for m in manifolds
                     .iter_mut()
-                    .filter(|c| c.a as usize == k || c.b as usize == k)
+                    .filter(|m| m.a as usize == k || m.b as usize == k)
                 {
-                    contact_solver::prepare(c, &solver_bodies);
+                    contact_solver::prepare(m, &mut points, &solver_bodies);
                 }
             }
         }
         // With no contacts there is nothing to solve (and the dense solver
         // has no 0 x 0 case).
-        let mut exact = s.solver == SolverKind::Lemke && !constraints.is_empty();
-        if exact && constraints.len() > contact_solver::EXACT_MAX_CONTACTS {
+        let mut exact = s.solver == SolverKind::Lemke && !points.is_empty();
+        if exact && points.len() > contact_solver::EXACT_MAX_CONTACTS {
             report.warnings.push(format!(
                 "solver = lemke: {} contacts exceed the exact solver's limit of {}; PGS ran instead",
-                constraints.len(),
+                points.len(),
                 contact_solver::EXACT_MAX_CONTACTS
             ));
             exact = false;
         }
         let linear_accel: Vec<DVec3> = accel.iter().map(|a| a.0).collect();
         contact_solver::resolve_collisions(
-            &mut constraints,
+            &manifolds,
+            &mut points,
             &mut solver_bodies,
             &linear_accel,
             &params,
@@ -434,34 +397,41 @@ impl World {
                 b.v = (b.v + a * h) / (1.0 + ld * h);
                 b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
             }
-            contact_solver::begin_substep(&mut constraints, &solver_bodies);
             if exact {
-                for c in constraints.iter_mut() {
-                    c.normal_impulse = 0.0;
-                    c.tangent_impulse = [0.0; 2];
+                contact_solver::begin_substep(&manifolds, &mut points, &mut solver_bodies, false);
+                for p in points.iter_mut() {
+                    p.normal_impulse = 0.0;
                 }
-                if let Err(e) = contact_solver::solve_normals_exactly(&mut constraints, &mut solver_bodies, h)
-                {
-                    report
-                        .warnings
-                        .push(format!("solver = lemke failed ({e}); PGS ran instead"));
-                    exact = false;
-                } else {
-                    for _ in 0..s.iterations {
-                        contact_solver::solve_friction(&mut constraints, &mut solver_bodies);
+                for m in manifolds.iter_mut() {
+                    m.impulses = [0.0; 3];
+                }
+                match contact_solver::solve_normals_exactly(&manifolds, &mut points, &mut solver_bodies, h) {
+                    Ok(()) => {
+                        for _ in 0..s.iterations {
+                            contact_solver::solve_friction(&mut manifolds, &points, &mut solver_bodies);
+                        }
+                    }
+                    Err(e) => {
+                        report
+                            .warnings
+                            .push(format!("solver = lemke failed ({e}); PGS ran instead"));
+                        exact = false;
                     }
                 }
+            } else {
+                contact_solver::begin_substep(&manifolds, &mut points, &mut solver_bodies, true);
             }
             if !exact {
-                contact_solver::warm_start(&constraints, &mut solver_bodies);
                 for _ in 0..s.iterations {
-                    contact_solver::solve(&mut constraints, &mut solver_bodies, h);
+                    contact_solver::solve(&mut manifolds, &mut points, &mut solver_bodies, h);
                 }
             }
             for _ in 0..s.push_out_iterations {
-                contact_solver::push_out(&mut constraints, &mut solver_bodies, &params, h);
+                if !contact_solver::push_out(&manifolds, &mut points, &mut solver_bodies, &params, h) {
+                    break;
+                }
             }
-            contact_solver::integrate_positions(&mut solver_bodies, h);
+            contact_solver::integrate_positions(&mut solver_bodies, &q0, h);
         }
         report.substeps = substeps;
         report.iterations = s.iterations;
@@ -516,30 +486,46 @@ impl World {
 
         // -- Stage::Events: contacts, cache, quarantine, sleep.
         self.cache.clear();
+        self.patch_cache.clear();
         self.contacts.clear();
         let mut touching: Vec<(BodyId, BodyId)> = Vec::new();
-        for (p, c) in prepared.iter().zip(&constraints) {
-            let t = c.tangents[0] * c.tangent_impulse[0] + c.tangents[1] * c.tangent_impulse[1];
-            self.cache.push(CachedContact {
-                key: p.key,
-                feature_a: p.contact.feature_a,
-                feature_b: p.contact.feature_b,
-                local_a: c.local_a,
-                normal_impulse: c.normal_impulse,
-                tangent_impulse: t,
+        for (patch, m) in patches.iter().zip(&manifolds) {
+            let tangent = m.tangent_impulse();
+            self.patch_cache.push(CachedPatch {
+                key: patch.key,
+                normal: patch.normal,
+                tangent_impulse: tangent,
+                twist_impulse: m.impulses[2],
             });
-            self.contacts.push(WorldContact {
-                body_a: p.ids.0,
-                body_b: p.ids.1,
-                contact: p.contact,
-                normal_impulse: c.normal_impulse * substeps as f64,
-                tangent_impulse: t * substeps as f64,
-            });
-            if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
-                touching.push(p.ids);
+            // The patch's friction is reported on its points in proportion
+            // to their normal impulses.
+            let total: f64 = points[m.range()].iter().map(|c| c.normal_impulse).sum();
+            for (p, c) in prepared[m.range()].iter().zip(&points[m.range()]) {
+                let share = if total > 0.0 {
+                    c.normal_impulse / total
+                } else {
+                    0.0
+                };
+                self.cache.push(CachedContact {
+                    key: p.key,
+                    feature_a: p.contact.feature_a,
+                    feature_b: p.contact.feature_b,
+                    local_a: p.local_a,
+                    normal_impulse: c.normal_impulse,
+                });
+                self.contacts.push(WorldContact {
+                    body_a: p.ids.0,
+                    body_b: p.ids.1,
+                    contact: p.contact,
+                    normal_impulse: c.normal_impulse * substeps as f64,
+                    tangent_impulse: tangent * (share * substeps as f64),
+                });
+                if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
+                    touching.push(p.ids);
+                }
             }
         }
-        manifold::finish(&mut self.cache);
+        manifold::finish(&mut self.cache, &mut self.patch_cache);
         touching.sort_unstable();
         touching.dedup();
         let (mut i, mut j) = (0, 0);

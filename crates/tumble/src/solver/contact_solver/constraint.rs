@@ -1,0 +1,287 @@
+//! The solver's contact data: one [`ManifoldConstraint`] per contact patch
+//! (a body pair's points that share a normal direction) holding the patch
+//! friction, and one [`PointConstraint`] per point holding its normal row.
+//!
+//! Patch friction (as PhysX's patch friction model and Bullet's friction
+//! anchors): instead of two tangent rows at every point, the patch gets two
+//! tangent rows at its centroid and one twist row about its normal, bounded
+//! by `mu` times the patch's total normal impulse (and, for twist, times the
+//! patch's mean radius). Per-point friction solved point after point makes
+//! a sliding box yaw (each Gauss-Seidel update sees the others' residual
+//! and the order is never symmetric); the patch rows see the whole patch at
+//! once, cost three rows instead of eight for a four-point face, and give the
+//! same Coulomb limit for sliding and sticking.
+//!
+//! Lever arms, normals and effective masses are fixed for the step (as in
+//! Box2D v3's soft step); only the separations follow the bodies' motion
+//! from sub-step to sub-step (see `passes::begin_substep`).
+
+use super::body::SolverBody;
+use tumble_collide::DVec3;
+
+/// The angular part of one constraint row on both bodies, with the inverse
+/// inertia applied (so that a row costs dot products only).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RowJacobian {
+    /// `r_A x d`.
+    pub ra_x_d: DVec3,
+    /// `r_B x d`.
+    pub rb_x_d: DVec3,
+    /// `I_A^-1 (r_A x d)`.
+    pub ia_ra_x_d: DVec3,
+    /// `I_B^-1 (r_B x d)`.
+    pub ib_rb_x_d: DVec3,
+}
+
+impl RowJacobian {
+    /// The row of an impulse along `d` at lever arms `ra`, `rb`.
+    pub fn new(a: &SolverBody, b: &SolverBody, ra: DVec3, rb: DVec3, d: DVec3) -> RowJacobian {
+        let ra_x_d = ra.cross(d);
+        let rb_x_d = rb.cross(d);
+        RowJacobian {
+            ra_x_d,
+            rb_x_d,
+            ia_ra_x_d: a.inv_inertia * ra_x_d,
+            ib_rb_x_d: b.inv_inertia * rb_x_d,
+        }
+    }
+
+    /// A pure torque row about the unit `axis` (A turns about `+axis`, B
+    /// about `-axis`): the twist row of patch friction.
+    pub fn twist(a: &SolverBody, b: &SolverBody, axis: DVec3) -> RowJacobian {
+        RowJacobian {
+            ra_x_d: axis,
+            rb_x_d: axis,
+            ia_ra_x_d: a.inv_inertia * axis,
+            ib_rb_x_d: b.inv_inertia * axis,
+        }
+    }
+
+    /// Inverse effective mass of the row for linear direction `d` (zero for
+    /// a twist row) and inverse masses `ima`, `imb`.
+    #[inline]
+    pub fn inverse_mass(&self, d: DVec3, ima: f64, imb: f64) -> f64 {
+        d.length_squared() * (ima + imb) + self.ra_x_d.dot(self.ia_ra_x_d) + self.rb_x_d.dot(self.ib_rb_x_d)
+    }
+}
+
+/// One contact point: the normal row of the contact LCP (thesis 7.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointConstraint {
+    /// Unit normal from B to A.
+    pub normal: DVec3,
+    /// Anchor relative to A's centre of mass at the step start, world frame.
+    pub r_a: DVec3,
+    /// Anchor relative to B's centre of mass at the step start, world frame.
+    pub r_b: DVec3,
+    /// Angular Jacobian of the normal row.
+    pub row: RowJacobian,
+    /// Signed separation at the start of the step (m), < 0 when overlapping.
+    pub separation: f64,
+    /// Separation for the current sub-step's poses (m).
+    pub separation_now: f64,
+    /// Effective mass along the normal (kg): 1 / (thesis 7.1 denominator).
+    pub normal_mass: f64,
+    /// Accumulated normal impulse (N s), warm-started across steps.
+    pub normal_impulse: f64,
+    /// Largest normal impulse seen during the step (N s), bounces included.
+    pub max_normal_impulse: f64,
+    /// Accumulated push-out pseudo-impulse of the current sub-step.
+    pub push_impulse: f64,
+}
+
+impl PointConstraint {
+    /// A point at lever arms `r_a`, `r_b` (world, from the centres of mass)
+    /// with unit `normal` (B to A) and signed `separation` (m), carrying a
+    /// warm-start `normal_impulse`. Derived fields are filled by [`prepare`].
+    pub fn new(
+        normal: DVec3,
+        r_a: DVec3,
+        r_b: DVec3,
+        separation: f64,
+        normal_impulse: f64,
+    ) -> PointConstraint {
+        PointConstraint {
+            normal,
+            r_a,
+            r_b,
+            row: RowJacobian::default(),
+            separation,
+            separation_now: separation,
+            normal_mass: 0.0,
+            normal_impulse,
+            max_normal_impulse: 0.0,
+            push_impulse: 0.0,
+        }
+    }
+}
+
+/// One contact patch of a body pair: its points and its friction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ManifoldConstraint {
+    /// Index of body A in the solver body array.
+    pub a: u32,
+    /// Index of body B.
+    pub b: u32,
+    /// First point of the patch in the point array.
+    pub first_point: u32,
+    /// Number of points (at least 1).
+    pub point_count: u32,
+    /// Coulomb friction coefficient of the pair.
+    pub friction: f64,
+    /// Restitution coefficient of the pair.
+    pub restitution: f64,
+    /// Unit patch normal (B to A): the friction plane is normal to it.
+    pub normal: DVec3,
+    /// Tangents of the friction plane and a zero vector for the twist row:
+    /// the linear directions of the three friction rows.
+    pub directions: [DVec3; 3],
+    /// Friction anchor (the patch centroid) relative to A's centre of mass.
+    pub r_a: DVec3,
+    /// Friction anchor relative to B's centre of mass.
+    pub r_b: DVec3,
+    /// Mean distance of the points from the anchor in the friction plane
+    /// (m): the lever of the twist friction.
+    pub twist_radius: f64,
+    /// Angular Jacobians of the two tangent rows and the twist row.
+    pub rows: [RowJacobian; 3],
+    /// Effective masses of the three friction rows (kg, kg m^2).
+    pub masses: [f64; 3],
+    /// Accumulated friction impulses: two tangential (N s) and the twist
+    /// (N m s), warm-started across steps.
+    pub impulses: [f64; 3],
+    /// Inverse masses of A and B (1/kg).
+    pub inv_mass: [f64; 2],
+}
+
+impl ManifoldConstraint {
+    /// A patch of `point_count` points from `first_point` between solver
+    /// bodies `a` and `b`, with the pair's material, its friction plane
+    /// normal to `normal`, and warm-start friction impulses given as a world
+    /// vector (N s) and a twist (N m s). Derived fields are filled by
+    /// [`prepare`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        a: u32,
+        b: u32,
+        first_point: u32,
+        point_count: u32,
+        normal: DVec3,
+        friction: f64,
+        restitution: f64,
+        warm_tangent: DVec3,
+        warm_twist: f64,
+    ) -> ManifoldConstraint {
+        let [t1, t2] = tangent_basis(normal);
+        ManifoldConstraint {
+            a,
+            b,
+            first_point,
+            point_count,
+            friction,
+            restitution,
+            normal,
+            directions: [t1, t2, DVec3::ZERO],
+            r_a: DVec3::ZERO,
+            r_b: DVec3::ZERO,
+            twist_radius: 0.0,
+            rows: [RowJacobian::default(); 3],
+            masses: [0.0; 3],
+            impulses: [warm_tangent.dot(t1), warm_tangent.dot(t2), warm_twist],
+            inv_mass: [0.0; 2],
+        }
+    }
+
+    /// The points of this patch.
+    #[inline]
+    pub fn range(&self) -> std::ops::Range<usize> {
+        self.first_point as usize..(self.first_point + self.point_count) as usize
+    }
+
+    /// The tangential friction impulse as a world vector (N s).
+    pub fn tangent_impulse(&self) -> DVec3 {
+        self.directions[0] * self.impulses[0] + self.directions[1] * self.impulses[1]
+    }
+}
+
+/// Settings the solver reads (a subset of the world settings).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverParams {
+    /// Fraction of the overlap beyond the allowance removed per sub-step.
+    pub push_out_fraction: f64,
+    /// Overlap left uncorrected (m).
+    pub allowed_penetration: f64,
+    /// Largest push-out speed (m/s).
+    pub max_push_out_speed: f64,
+    /// Approach speed below which restitution is ignored (m/s).
+    pub restitution_threshold: f64,
+}
+
+/// Two unit tangents orthogonal to the unit `n`, right-handed (t1 x t2 = n).
+pub fn tangent_basis(n: DVec3) -> [DVec3; 2] {
+    // Pick the axis least aligned with n: deterministic and well conditioned.
+    let t1 = if n.x.abs() < 0.57735 {
+        DVec3::new(0.0, n.z, -n.y)
+    } else {
+        DVec3::new(n.y, -n.x, 0.0)
+    }
+    .normalize();
+    [t1, n.cross(t1)]
+}
+
+/// Inverse effective mass of an impulse along `dir` at anchors `ra`, `rb`:
+/// `1/Ma + 1/Mb + dir . (Ia^-1 (ra x dir)) x ra + dir . (Ib^-1 (rb x dir)) x rb`
+/// (thesis 7.1).
+pub fn inverse_effective_mass(a: &SolverBody, b: &SolverBody, ra: DVec3, rb: DVec3, dir: DVec3) -> f64 {
+    let rna = ra.cross(dir);
+    let rnb = rb.cross(dir);
+    a.inv_mass + b.inv_mass + rna.dot(a.inv_inertia * rna) + rnb.dot(b.inv_inertia * rnb)
+}
+
+#[inline]
+fn recip_or_zero(k: f64) -> f64 {
+    if k > 0.0 {
+        1.0 / k
+    } else {
+        0.0
+    }
+}
+
+/// Fills the derived fields of a patch and its points from the bodies at the
+/// step start: normal rows and masses, the friction anchor (centroid of the
+/// points), the twist radius, and the friction rows and masses.
+pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodies: &[SolverBody]) {
+    let a = &bodies[m.a as usize];
+    let b = &bodies[m.b as usize];
+    m.inv_mass = [a.inv_mass, b.inv_mass];
+    let pts = &mut points[m.range()];
+    let count = pts.len().max(1) as f64;
+    let (mut ca, mut cb) = (DVec3::ZERO, DVec3::ZERO);
+    for p in pts.iter_mut() {
+        p.row = RowJacobian::new(a, b, p.r_a, p.r_b, p.normal);
+        p.normal_mass = recip_or_zero(p.row.inverse_mass(p.normal, a.inv_mass, b.inv_mass));
+        p.separation_now = p.separation;
+        p.max_normal_impulse = 0.0;
+        p.push_impulse = 0.0;
+        ca += p.r_a;
+        cb += p.r_b;
+    }
+    m.r_a = ca / count;
+    m.r_b = cb / count;
+    let n = m.normal;
+    m.twist_radius = pts
+        .iter()
+        .map(|p| {
+            let d = p.r_a - m.r_a;
+            (d - n * n.dot(d)).length()
+        })
+        .sum::<f64>()
+        / count;
+    for i in 0..2 {
+        m.rows[i] = RowJacobian::new(a, b, m.r_a, m.r_b, m.directions[i]);
+    }
+    m.rows[2] = RowJacobian::twist(a, b, n);
+    for i in 0..3 {
+        m.masses[i] = recip_or_zero(m.rows[i].inverse_mass(m.directions[i], a.inv_mass, b.inv_mass));
+    }
+}

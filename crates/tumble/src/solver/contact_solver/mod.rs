@@ -1,0 +1,51 @@
+//! Sub-stepped contact solver: non-penetration, Coulomb friction and
+//! restitution by sequential impulses (projected Gauss-Seidel on the contact
+//! LCP of thesis 7.2), sub-stepped as in E. Catto's "soft step" (Solver2D
+//! 2024, Box2D v3), with position correction by split impulses (Catto 2006;
+//! Bullet's split-impulse mode) and friction per contact patch.
+//!
+//! One step of `dt` is split into `n` sub-steps of `h = dt / n`. The contact
+//! points, normals and effective masses are computed once per step; within
+//! each sub-step the separation of every point is updated from the bodies'
+//! motion since the start of the step (`s = s0 + n . (dA - dB)` with `d` the
+//! displacement of each anchor), so the narrow phase runs once per step while
+//! the solver sees the contact close and open. Per sub-step:
+//!
+//! 1. integrate velocities (gravity, forces),
+//! 2. separations, and warm start: apply the impulses accumulated so far
+//!    ([`begin_substep`]),
+//! 3. velocity passes ([`solve`]): each patch's friction in its Coulomb
+//!    disc, then `v_n >= 0` on touching points and `v_n >= -s/h` on points
+//!    with a gap `s` (speculative: the gap may close, never go negative),
+//! 4. push-out ([`push_out`]): overlap beyond the allowance is removed by
+//!    pseudo-velocities that move the bodies but are then discarded,
+//! 5. integrate positions with the velocities plus the pseudo-velocities
+//!    ([`integrate_positions`]).
+//!
+//! Before the sub-steps, colliding contacts get Newton's restitution law
+//! `v_n+ = -e v_n-` (thesis 7.1) by [`resolve_collisions`]; the sub-steps then
+//! treat every contact as resting (the LCP of thesis 7.2, `e = 0`). Normals
+//! point from B to A; an impulse `lambda n` acts on A and `-lambda n` on B.
+//!
+//! Data layout: patches ([`ManifoldConstraint`]: body pair, friction rows)
+//! index runs of points ([`PointConstraint`]: normal rows) in one flat array;
+//! every pass walks the patches in order and keeps the pair's velocities in
+//! registers across the patch's rows.
+
+mod body;
+mod collisions;
+mod constraint;
+mod exact;
+mod passes;
+
+#[cfg(test)]
+mod tests;
+
+pub use body::{integrate_positions, SolverBody};
+pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
+pub use constraint::{
+    inverse_effective_mass, prepare, tangent_basis, ManifoldConstraint, PointConstraint, RowJacobian,
+    SolverParams,
+};
+pub use exact::{solve_normals_exactly, ExactSolveError, EXACT_MAX_CONTACTS};
+pub use passes::{begin_substep, push_out, solve, solve_friction};

@@ -1,0 +1,253 @@
+//! The passes of one sub-step over the contact patches: separation update
+//! and warm start, the velocity solve (patch friction, then normal rows), and
+//! the split-impulse push-out. Each pass walks the patches in order and keeps
+//! the two bodies' velocities in registers across a patch's rows.
+
+use super::body::SolverBody;
+use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use tumble_collide::DVec3;
+
+/// Velocities of a patch's two bodies while its rows are solved.
+struct PairVelocity {
+    va: DVec3,
+    wa: DVec3,
+    vb: DVec3,
+    wb: DVec3,
+}
+
+impl PairVelocity {
+    #[inline(always)]
+    fn load(bodies: &[SolverBody], m: &ManifoldConstraint) -> PairVelocity {
+        let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
+        PairVelocity {
+            va: a.v,
+            wa: a.w,
+            vb: b.v,
+            wb: b.w,
+        }
+    }
+
+    /// Writes back; static, sleeping and kinematic bodies have zero inverse
+    /// mass and inertia, so their velocities came back unchanged.
+    #[inline(always)]
+    fn store(&self, bodies: &mut [SolverBody], m: &ManifoldConstraint) {
+        let a = &mut bodies[m.a as usize];
+        a.v = self.va;
+        a.w = self.wa;
+        let b = &mut bodies[m.b as usize];
+        b.v = self.vb;
+        b.w = self.wb;
+    }
+
+    /// Relative velocity along a row: `d . (vA - vB) + (rA x d) . wA - (rB x d) . wB`.
+    #[inline(always)]
+    fn along(&self, d: DVec3, ra_x_d: DVec3, rb_x_d: DVec3) -> f64 {
+        d.dot(self.va - self.vb) + ra_x_d.dot(self.wa) - rb_x_d.dot(self.wb)
+    }
+
+    /// Applies `lambda` along a row: `+lambda d` on A, `-lambda d` on B.
+    #[inline(always)]
+    fn apply(&mut self, d: DVec3, ia: DVec3, ib: DVec3, inv_mass: [f64; 2], lambda: f64) {
+        self.va += d * (lambda * inv_mass[0]);
+        self.wa += ia * lambda;
+        self.vb -= d * (lambda * inv_mass[1]);
+        self.wb -= ib * lambda;
+    }
+}
+
+/// Starts a sub-step: refreshes each point's separation for the bodies'
+/// current poses, `s = s0 + n . ((dpA + R_A rA - rA) - (dpB + R_B rB - rB))`
+/// with `R` each body's rotation since the step start (the lever arms and
+/// normals of the rows stay those of the step start, as in Box2D v3; the
+/// separation, which decides whether a point is active, follows the bodies
+/// exactly), clears the push-out impulses, and, with `warm`, applies the
+/// accumulated impulses (warm start, Catto 2005).
+pub fn begin_substep(
+    manifolds: &[ManifoldConstraint],
+    points: &mut [PointConstraint],
+    bodies: &mut [SolverBody],
+    warm: bool,
+) {
+    for m in manifolds {
+        let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
+        let (dpa, ta, dpb, tb) = (a.dp, a.turn, b.dp, b.turn);
+        let mut vel = PairVelocity::load(bodies, m);
+        for p in &mut points[m.range()] {
+            let d = (dpa + ta * p.r_a - p.r_a) - (dpb + tb * p.r_b - p.r_b);
+            p.separation_now = p.separation + p.normal.dot(d);
+            p.push_impulse = 0.0;
+            if warm {
+                vel.apply(
+                    p.normal,
+                    p.row.ia_ra_x_d,
+                    p.row.ib_rb_x_d,
+                    m.inv_mass,
+                    p.normal_impulse,
+                );
+            }
+        }
+        if warm {
+            for (i, row) in m.rows.iter().enumerate() {
+                vel.apply(
+                    m.directions[i],
+                    row.ia_ra_x_d,
+                    row.ib_rb_x_d,
+                    m.inv_mass,
+                    m.impulses[i],
+                );
+            }
+            vel.store(bodies, m);
+        }
+    }
+}
+
+/// One Gauss-Seidel pass over all patches on the real velocities: first
+/// the patch's friction within the Coulomb limit of its current total normal
+/// impulse, then for every point the LCP row of thesis 7.2,
+/// `v_n + bias >= 0, lambda >= 0`, complementary (touching points may not
+/// approach; points with a gap `s` may close it within the sub-step `h` but
+/// not more: `bias = s / h`).
+///
+/// Why friction first: the normal rows then have the last word in every
+/// pass, so non-penetration is what a pass leaves most exactly satisfied,
+/// and friction works with the normal impulses of the previous pass (warm
+/// started, they are nearly final). Solving friction last lets its
+/// correction disturb the normal rows of stacks: in the 20-row pyramid,
+/// boxes then creep sideways by centimetres over 10 s at 8 x 2 iterations.
+pub fn solve(
+    manifolds: &mut [ManifoldConstraint],
+    points: &mut [PointConstraint],
+    bodies: &mut [SolverBody],
+    h: f64,
+) {
+    let inv_h = 1.0 / h;
+    for m in manifolds.iter_mut() {
+        let mut vel = PairVelocity::load(bodies, m);
+        let total: f64 = points[m.range()].iter().map(|p| p.normal_impulse).sum();
+        solve_patch_friction(m, total, &mut vel);
+        for p in &mut points[m.range()] {
+            let s = p.separation_now;
+            let bias = if s > 0.0 { s * inv_h } else { 0.0 };
+            let vn = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d);
+            let new_impulse = (p.normal_impulse - p.normal_mass * (vn + bias)).max(0.0);
+            let applied = new_impulse - p.normal_impulse;
+            p.normal_impulse = new_impulse;
+            p.max_normal_impulse = p.max_normal_impulse.max(new_impulse);
+            vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, m.inv_mass, applied);
+        }
+        vel.store(bodies, m);
+    }
+}
+
+/// One pass over the friction rows only, the normal impulses held fixed
+/// (used after an exact normal solve).
+pub fn solve_friction(
+    manifolds: &mut [ManifoldConstraint],
+    points: &[PointConstraint],
+    bodies: &mut [SolverBody],
+) {
+    for m in manifolds.iter_mut() {
+        let total: f64 = points[m.range()].iter().map(|p| p.normal_impulse).sum();
+        let mut vel = PairVelocity::load(bodies, m);
+        solve_patch_friction(m, total, &mut vel);
+        vel.store(bodies, m);
+    }
+}
+
+/// Patch friction: the two tangent rows at the patch anchor, solved one after
+/// the other and then projected onto the Coulomb disc of radius
+/// `mu * total` (static and kinetic friction alike: inside the disc the
+/// patch sticks, on its rim it slides), then the twist row, bounded by
+/// `mu * total * twist_radius`.
+#[inline(always)]
+fn solve_patch_friction(m: &mut ManifoldConstraint, total: f64, vel: &mut PairVelocity) {
+    let limit = m.friction * total;
+    let mut t = [m.impulses[0], m.impulses[1]];
+    for (i, ti) in t.iter_mut().enumerate() {
+        let (d, row) = (m.directions[i], &m.rows[i]);
+        let before = *ti;
+        *ti = before - m.masses[i] * vel.along(d, row.ra_x_d, row.rb_x_d);
+        vel.apply(d, row.ia_ra_x_d, row.ib_rb_x_d, m.inv_mass, *ti - before);
+    }
+    let len2 = t[0] * t[0] + t[1] * t[1];
+    if len2 > limit * limit {
+        let scale = if len2 > 0.0 { limit / len2.sqrt() } else { 0.0 };
+        for (i, ti) in t.iter_mut().enumerate() {
+            let clamped = *ti * scale;
+            let row = &m.rows[i];
+            vel.apply(
+                m.directions[i],
+                row.ia_ra_x_d,
+                row.ib_rb_x_d,
+                m.inv_mass,
+                clamped - *ti,
+            );
+            *ti = clamped;
+        }
+    }
+    m.impulses[0] = t[0];
+    m.impulses[1] = t[1];
+    let row = &m.rows[2];
+    let twist_limit = limit * m.twist_radius;
+    let before = m.impulses[2];
+    let spin = row.ra_x_d.dot(vel.wa) - row.rb_x_d.dot(vel.wb);
+    let after = (before - m.masses[2] * spin).clamp(-twist_limit, twist_limit);
+    vel.apply(
+        DVec3::ZERO,
+        row.ia_ra_x_d,
+        row.ib_rb_x_d,
+        m.inv_mass,
+        after - before,
+    );
+    m.impulses[2] = after;
+}
+
+/// One Gauss-Seidel pass of position correction by pseudo-velocities: each
+/// point overlapping by more than the allowance gets a pseudo-impulse that
+/// removes `push_out_fraction` of the excess in this sub-step (at most
+/// `max_push_out_speed`). Pseudo-velocities move the bodies in
+/// `integrate_positions` and are then discarded, so correcting position
+/// never adds kinetic energy and never depends on the load (a stack does
+/// not sag under its own weight, as it does with Baumgarte or spring bias).
+/// Returns `false` when no point needed it (nothing was pushed).
+pub fn push_out(
+    manifolds: &[ManifoldConstraint],
+    points: &mut [PointConstraint],
+    bodies: &mut [SolverBody],
+    params: &SolverParams,
+    h: f64,
+) -> bool {
+    let inv_h = 1.0 / h;
+    let mut any = false;
+    for m in manifolds {
+        for p in &mut points[m.range()] {
+            let excess = p.separation_now + params.allowed_penetration;
+            if excess >= 0.0 && p.push_impulse == 0.0 {
+                continue;
+            }
+            any = true;
+            let target = if excess < 0.0 {
+                (-params.push_out_fraction * excess * inv_h).min(params.max_push_out_speed)
+            } else {
+                0.0
+            };
+            let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
+            let vn =
+                p.normal.dot(a.push_v - b.push_v) + p.row.ra_x_d.dot(a.push_w) - p.row.rb_x_d.dot(b.push_w);
+            let new_impulse = (p.push_impulse + p.normal_mass * (target - vn)).max(0.0);
+            let applied = new_impulse - p.push_impulse;
+            p.push_impulse = new_impulse;
+            let a = &mut bodies[m.a as usize];
+            if a.dynamic {
+                a.push_v += p.normal * (applied * m.inv_mass[0]);
+                a.push_w += p.row.ia_ra_x_d * applied;
+            }
+            let b = &mut bodies[m.b as usize];
+            if b.dynamic {
+                b.push_v -= p.normal * (applied * m.inv_mass[1]);
+                b.push_w -= p.row.ib_rb_x_d * applied;
+            }
+        }
+    }
+    any
+}

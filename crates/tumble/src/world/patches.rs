@@ -1,0 +1,124 @@
+//! From one collider pair's narrow-phase contacts to the solver's patches:
+//! the contacts are grouped by normal (a box on the ground is one patch; a
+//! mesh pair touching in two places gives two), each point inherits its
+//! normal impulse from the previous step by features (`manifold::lookup`)
+//! and each patch its friction by normal (`manifold::lookup_patch`).
+
+use super::handles::BodyId;
+use super::manifold::{self, CachedContact, CachedPatch, PairKey, PATCH_COS};
+use crate::solver::contact_solver::PointConstraint;
+use tumble_collide::{Contact, DVec3, Pose};
+
+/// A contact point on its way to the solver, with what is needed to report
+/// and cache it.
+pub(crate) struct PreparedPoint {
+    pub ids: (BodyId, BodyId),
+    pub key: PairKey,
+    pub contact: Contact,
+    /// The contact point in A's body frame at the step start (m).
+    pub local_a: DVec3,
+    pub point: PointConstraint,
+}
+
+/// A contact patch on its way to the solver: a run of prepared points.
+pub(crate) struct PreparedPatch {
+    pub key: PairKey,
+    pub first: u32,
+    pub count: u32,
+    /// Unit patch normal (mean of the points' normals), B to A.
+    pub normal: DVec3,
+    pub friction: f64,
+    pub restitution: f64,
+    /// Warm-start friction: tangential (world vector, N s) and twist (N m s).
+    pub warm_tangent: DVec3,
+    pub warm_twist: f64,
+}
+
+/// The per-pair inputs of [`add_pair`].
+pub(crate) struct PairInfo<'a> {
+    pub ids: (BodyId, BodyId),
+    pub key: PairKey,
+    /// Poses of the bodies' centres of mass at the step start.
+    pub pose_a: &'a Pose,
+    pub pose_b: &'a Pose,
+    pub friction: f64,
+    pub restitution: f64,
+    /// Subtracted from every contact distance (m): the gap the solver keeps.
+    pub skin: f64,
+}
+
+/// Scratch of [`add_pair`], reused across pairs.
+#[derive(Default)]
+pub(crate) struct PatchScratch {
+    seeds: Vec<DVec3>,
+    patch_of: Vec<usize>,
+}
+
+/// Appends the points and patches of one collider pair's `contacts`; points
+/// of a patch are contiguous. Returns how many points were warm started.
+pub(crate) fn add_pair(
+    contacts: &[Contact],
+    pair: &PairInfo,
+    point_cache: &[CachedContact],
+    patch_cache: &[CachedPatch],
+    scratch: &mut PatchScratch,
+    points: &mut Vec<PreparedPoint>,
+    patches: &mut Vec<PreparedPatch>,
+) -> usize {
+    // Greedy grouping in narrow-phase order (deterministic): a contact joins
+    // the first patch whose seed normal is within PATCH_COS of its own.
+    scratch.seeds.clear();
+    scratch.patch_of.clear();
+    for c in contacts {
+        let found = scratch.seeds.iter().position(|s| s.dot(c.normal) >= PATCH_COS);
+        let patch = found.unwrap_or_else(|| {
+            scratch.seeds.push(c.normal);
+            scratch.seeds.len() - 1
+        });
+        scratch.patch_of.push(patch);
+    }
+    let mut warm = 0;
+    for (patch, &seed) in scratch.seeds.iter().enumerate() {
+        let first = points.len() as u32;
+        let mut sum = DVec3::ZERO;
+        for (c, _) in contacts
+            .iter()
+            .zip(&scratch.patch_of)
+            .filter(|(_, &p)| p == patch)
+        {
+            let r_a = c.point - pair.pose_a.position;
+            let r_b = c.point - pair.pose_b.position;
+            let local_a = pair.pose_a.rotation.inverse() * r_a;
+            let normal_impulse =
+                match manifold::lookup(point_cache, pair.key, c.feature_a, c.feature_b, local_a) {
+                    Some(old) => {
+                        warm += 1;
+                        old.normal_impulse
+                    }
+                    None => 0.0,
+                };
+            sum += c.normal;
+            points.push(PreparedPoint {
+                ids: pair.ids,
+                key: pair.key,
+                contact: *c,
+                local_a,
+                point: PointConstraint::new(c.normal, r_a, r_b, c.distance - pair.skin, normal_impulse),
+            });
+        }
+        let normal = sum.try_normalize().unwrap_or(seed);
+        let (warm_tangent, warm_twist) = manifold::lookup_patch(patch_cache, pair.key, normal)
+            .map_or((DVec3::ZERO, 0.0), |p| (p.tangent_impulse, p.twist_impulse));
+        patches.push(PreparedPatch {
+            key: pair.key,
+            first,
+            count: points.len() as u32 - first,
+            normal,
+            friction: pair.friction,
+            restitution: pair.restitution,
+            warm_tangent,
+            warm_twist,
+        });
+    }
+    warm
+}

@@ -72,20 +72,23 @@ pub(crate) fn lookup_patch(cache: &[CachedPatch], key: PairKey, normal: DVec3) -
         .max_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
 }
 
-/// Finds the remembered impulses of a contact: by features, else by position.
-/// The cache must be sorted by key (see [`finish`]); a key holds a handful of
-/// points, scanned linearly.
+/// The cached points of one collider pair (the cache must be sorted by key).
+pub(crate) fn points_of(cache: &[CachedContact], key: PairKey) -> &[CachedContact] {
+    let start = cache.partition_point(|c| c.key < key);
+    let end = start + cache[start..].partition_point(|c| c.key == key);
+    &cache[start..end]
+}
+
+/// Finds the remembered impulses of a contact among its collider pair's
+/// cached points (`points_of`): by features, else by position. A pair holds
+/// a handful of points, scanned linearly.
 pub(crate) fn lookup(
-    cache: &[CachedContact],
-    key: PairKey,
+    same: &[CachedContact],
     fa: Feature,
     fb: Feature,
     local_a: DVec3,
 ) -> Option<&CachedContact> {
-    let start = cache.partition_point(|c| c.key < key);
-    let end = start + cache[start..].partition_point(|c| c.key == key);
     let near = |c: &&CachedContact| (c.local_a - local_a).length_squared() <= MATCH_DISTANCE * MATCH_DISTANCE;
-    let same = &cache[start..end];
     // Same features but elsewhere means the ids were reused for another point
     // (a clipped polygon renumbered): then they are not trusted.
     same.iter()
@@ -132,7 +135,8 @@ mod tests {
         ];
         finish(&mut cache, &mut []);
         let far = DVec3::splat(100.0);
-        let found = |key, fa, p| lookup(&cache, key, fa, Feature::face(1), p).map(|c| c.normal_impulse);
+        let found =
+            |key, fa, p| lookup(points_of(&cache, key), fa, Feature::face(1), p).map(|c| c.normal_impulse);
         assert_eq!(
             found((1, 2, 0, 1), Feature::vertex(5, 0), DVec3::new(5.0, 0.0, 0.0)),
             Some(3.0),

@@ -78,6 +78,8 @@ pub(crate) fn add_pair(
         scratch.patch_of.push(patch);
     }
     let mut warm = 0;
+    let cached = manifold::points_of(point_cache, pair.key);
+    let to_a = pair.pose_a.rotation.inverse();
     for (patch, &seed) in scratch.seeds.iter().enumerate() {
         let first = points.len() as u32;
         let mut sum = DVec3::ZERO;
@@ -88,15 +90,14 @@ pub(crate) fn add_pair(
         {
             let r_a = c.point - pair.pose_a.position;
             let r_b = c.point - pair.pose_b.position;
-            let local_a = pair.pose_a.rotation.inverse() * r_a;
-            let normal_impulse =
-                match manifold::lookup(point_cache, pair.key, c.feature_a, c.feature_b, local_a) {
-                    Some(old) => {
-                        warm += 1;
-                        old.normal_impulse
-                    }
-                    None => 0.0,
-                };
+            let local_a = to_a * r_a;
+            let normal_impulse = match manifold::lookup(cached, c.feature_a, c.feature_b, local_a) {
+                Some(old) => {
+                    warm += 1;
+                    old.normal_impulse
+                }
+                None => 0.0,
+            };
             sum += c.normal;
             points.push(PreparedPoint {
                 ids: pair.ids,

@@ -58,8 +58,10 @@ PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python 
 python-env:
 	bash scripts/python-env.sh
 
+# The scene tests compare load_scene with `tumble run`, so the CLI is built first.
 python-test: python-env
 	.venv/bin/ruff check $(PYTHON_SOURCES)
+	$(CARGO) build --release -p tumble-cli
 	.venv/bin/python -m pytest -q crates/tumble-py/tests
 	bash scripts/python-examples.sh
 	$(CARGO) build --release -p tumble --example step_readback

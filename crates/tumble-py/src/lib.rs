@@ -16,9 +16,7 @@
 //! - [`query`], [`pose_arg`], [`query_out`]: `collide`, `distance`,
 //!   `within_tolerance` over `tumble_collide::query`, their pose arguments
 //!   and their results.
-//!
-//! Still to come: `tumble.load_scene` in a `scene.rs` that builds the Rust
-//! world and wraps it with `World::from_parts`.
+//! - [`scene`]: `load_scene` and `SceneError`.
 
 #![warn(missing_docs)]
 
@@ -32,6 +30,7 @@ pub mod query_out;
 pub mod record;
 pub mod records;
 pub mod report;
+pub mod scene;
 pub mod settings;
 pub mod shapes;
 pub mod trimesh;
@@ -64,6 +63,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(query::collide, m)?)?;
     m.add_function(wrap_pyfunction!(query::distance, m)?)?;
     m.add_function(wrap_pyfunction!(query::within_tolerance, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add("CONTACT_DTYPE_SPEC", report::CONTACT_FIELDS)?;
     m.add("QUERY_CONTACT_DTYPE_SPEC", query_out::QUERY_CONTACT_FIELDS)?;

@@ -13,10 +13,12 @@ quaternions are (x, y, z, w), angular velocity is in the world frame.
 
 Collision queries without a world: :func:`collide`, :func:`distance` and
 :func:`within_tolerance` on meshes (and primitives against meshes).
+Scene files (docs/scenes.md): :func:`load_scene`.
 
 Errors: everything tumble raises is a :class:`TumbleError`; bad arguments are
 :class:`InvalidArgument` (also a ``ValueError``), handles of removed bodies
-:class:`StaleBodyError`, file problems :class:`FileError` (also an ``OSError``).
+:class:`StaleBodyError`, bad scene files :class:`SceneError` (also a
+``ValueError``), file problems :class:`FileError` (also an ``OSError``).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from ._tumble import (
     InternalError,
     InvalidArgument,
     Placed,
+    SceneError,
     Sphere,
     StaleBodyError,
     StepReport,
@@ -48,6 +51,7 @@ from ._tumble import (
     __version__,
     collide,
     distance,
+    load_scene,
     mass_properties,
     within_tolerance,
 )
@@ -83,6 +87,7 @@ __all__ = [
     "MassProperties",
     "Placed",
     "QueryStats",
+    "SceneError",
     "Sphere",
     "StaleBodyError",
     "StepReport",
@@ -92,6 +97,7 @@ __all__ = [
     "__version__",
     "collide",
     "distance",
+    "load_scene",
     "mass_properties",
     "within_tolerance",
 ]

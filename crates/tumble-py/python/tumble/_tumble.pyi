@@ -39,6 +39,13 @@ class StaleBodyError(InvalidArgument, LookupError): ...
 class FileError(TumbleError, OSError): ...
 class InternalError(TumbleError): ...
 
+class SceneError(TumbleError, ValueError):
+    file: str
+    line: int | None
+    column: int | None
+    field: str | None
+    reason: str
+
 class Box:
     def __init__(self, half_extents: Vec3) -> None: ...
     @property
@@ -292,7 +299,7 @@ def mass_properties(
     shell_thickness: float | None = None,
 ) -> MassProperties: ...
 
-# Collision queries (query.rs).
+# Collision queries (query.rs) and scene files (scene.rs).
 
 #: (position, orientation (x, y, z, w)), 7 numbers (x, y, z, qx, qy, qz, qw), a 4x4
 #: homogeneous matrix, or None for the identity.
@@ -322,3 +329,4 @@ def distance(
 def within_tolerance(
     a: QueryShape, pose_a: PoseLike, b: QueryShape, pose_b: PoseLike, tol: float
 ) -> bool: ...
+def load_scene(path: StrPath) -> World: ...

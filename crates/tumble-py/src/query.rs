@@ -18,6 +18,7 @@ use crate::query_out::{collision_result, distance_result};
 use crate::shapes::{Placed, PyBox, PyCapsule, PyConvexHull, PyHalfSpace, PySphere};
 use crate::trimesh::{mesh_from_object, TriMesh};
 use pyo3::prelude::*;
+use std::borrow::Cow;
 use tumble_collide::query::{
     self, CollideOptions, DistanceOptions, DistanceResult, MeshShape, Primitive, QueryError, Report,
     ReportMode,
@@ -34,17 +35,18 @@ impl ToPyErr for QueryError {
 }
 
 /// What one argument of a query is.
-enum Object {
-    /// A mesh with its tree.
-    Mesh(MeshShape),
+enum Object<'a> {
+    /// A mesh with its tree: borrowed from a `TriMesh`, or built for this
+    /// call from a trimesh-like object.
+    Mesh(Cow<'a, MeshShape>),
     /// A solid primitive.
     Prim(Primitive),
 }
 
 /// The query object of argument `name`.
-fn object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Object> {
+fn object<'a>(obj: &'a Bound<'_, PyAny>, name: &str) -> PyResult<Object<'a>> {
     if let Ok(m) = obj.cast::<TriMesh>() {
-        return Ok(Object::Mesh(m.get().mesh_shape()?));
+        return Ok(Object::Mesh(Cow::Borrowed(m.get().mesh_shape_ref()?)));
     }
     if let Ok(s) = obj.cast::<PySphere>() {
         return Ok(Object::Prim(Primitive::Sphere(s.get().inner)));
@@ -67,7 +69,7 @@ fn object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Object> {
     }
     if obj.hasattr("vertices")? && obj.hasattr("faces")? {
         let mesh = mesh_from_object(obj, name)?;
-        return MeshShape::new(mesh).map(Object::Mesh).or_raise();
+        return Ok(Object::Mesh(Cow::Owned(MeshShape::new(mesh).or_raise()?)));
     }
     Err(invalid(format!(
         "{name}: expected a TriMesh, a trimesh.Trimesh-like object (.vertices, .faces), or a \
@@ -77,20 +79,20 @@ fn object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Object> {
 }
 
 /// The two objects and poses of a query, in the order Rust takes them.
-enum Pairing {
+enum Pairing<'a> {
     /// Mesh A, mesh B.
-    Meshes(MeshShape, Pose, MeshShape, Pose),
+    Meshes(Cow<'a, MeshShape>, Pose, Cow<'a, MeshShape>, Pose),
     /// Primitive, its pose, mesh, its pose; `swapped` when the primitive
     /// was Python's B.
-    Primitive(Primitive, Pose, MeshShape, Pose, bool),
+    Primitive(Primitive, Pose, Cow<'a, MeshShape>, Pose, bool),
 }
 
-fn pairing(
-    a: &Bound<'_, PyAny>,
+fn pairing<'a>(
+    a: &'a Bound<'_, PyAny>,
     pose_a: &Bound<'_, PyAny>,
-    b: &Bound<'_, PyAny>,
+    b: &'a Bound<'_, PyAny>,
     pose_b: &Bound<'_, PyAny>,
-) -> PyResult<Pairing> {
+) -> PyResult<Pairing<'a>> {
     let (oa, ob) = (object(a, "a")?, object(b, "b")?);
     let (pa, pb) = (pose_arg(pose_a, "pose_a")?, pose_arg(pose_b, "pose_b")?);
     match (oa, ob) {

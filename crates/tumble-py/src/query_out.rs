@@ -15,9 +15,10 @@ use crate::convert::{matrix_out, vec_out};
 use crate::report::contact_kind_name;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::{IntoPyDict, PyList, PyType};
+use pyo3::types::{IntoPyDict, PyBool, PyList, PyString, PyType};
 use tumble_collide::query::{DistanceResult, QueryStats, Report};
 use tumble_collide::{Contact, Feature, SubFeature};
 
@@ -35,6 +36,7 @@ static DISTANCE_RESULT: PyOnceLock<Py<PyType>> = PyOnceLock::new();
 static QUERY_STATS: PyOnceLock<Py<PyType>> = PyOnceLock::new();
 static CONTACT_DTYPE: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 static EMPTY_PAIRS: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+static OBJECT_NEW: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 
 const MODULE: &str = "tumble._query";
 
@@ -42,14 +44,15 @@ const MODULE: &str = "tumble._query";
 /// `values`, as its `__init__` would leave it (see the module header).
 fn record<'py, const N: usize>(
     cls: &Bound<'py, PyType>,
-    names: [&str; N],
+    names: [&Bound<'py, PyString>; N],
     values: [Bound<'py, PyAny>; N],
 ) -> PyResult<Bound<'py, PyAny>> {
     let py = cls.py();
-    let obj = py
-        .get_type::<pyo3::types::PyAny>()
-        .call_method1(pyo3::intern!(py, "__new__"), (cls,))?;
-    let dict = obj.getattr(pyo3::intern!(py, "__dict__"))?;
+    let new = OBJECT_NEW.get_or_try_init(py, || {
+        Ok::<_, PyErr>(py.get_type::<PyAny>().getattr("__new__")?.unbind())
+    })?;
+    let obj = new.bind(py).call1((cls,))?;
+    let dict = obj.getattr(intern!(py, "__dict__"))?;
     for (name, value) in names.into_iter().zip(values) {
         dict.set_item(name, value)?;
     }
@@ -59,13 +62,15 @@ fn record<'py, const N: usize>(
 fn stats<'py>(py: Python<'py>, s: &QueryStats) -> PyResult<Bound<'py, PyAny>> {
     record(
         QUERY_STATS.import(py, MODULE, "QueryStats")?,
-        ["bv_tests", "triangle_tests", "stopped_early"],
+        [
+            intern!(py, "bv_tests"),
+            intern!(py, "triangle_tests"),
+            intern!(py, "stopped_early"),
+        ],
         [
             s.bv_tests.into_pyobject(py)?.into_any(),
             s.triangle_tests.into_pyobject(py)?.into_any(),
-            pyo3::types::PyBool::new(py, s.stopped_early)
-                .to_owned()
-                .into_any(),
+            PyBool::new(py, s.stopped_early).to_owned().into_any(),
         ],
     )
 }
@@ -105,9 +110,14 @@ pub fn collision_result<'py>(
     };
     record(
         COLLISION_RESULT.import(py, MODULE, "CollisionResult")?,
-        ["intersect", "pairs", "contacts", "stats"],
         [
-            pyo3::types::PyBool::new(py, r.intersect).to_owned().into_any(),
+            intern!(py, "intersect"),
+            intern!(py, "pairs"),
+            intern!(py, "contacts"),
+            intern!(py, "stats"),
+        ],
+        [
+            PyBool::new(py, r.intersect).to_owned().into_any(),
             pairs_out(py, &r.pairs)?,
             contacts,
             stats(py, &r.stats)?,
@@ -119,7 +129,14 @@ pub fn collision_result<'py>(
 pub fn distance_result<'py>(py: Python<'py>, d: &DistanceResult) -> PyResult<Bound<'py, PyAny>> {
     record(
         DISTANCE_RESULT.import(py, MODULE, "DistanceResult")?,
-        ["distance", "point_a", "point_b", "tri_a", "tri_b", "stats"],
+        [
+            intern!(py, "distance"),
+            intern!(py, "point_a"),
+            intern!(py, "point_b"),
+            intern!(py, "tri_a"),
+            intern!(py, "tri_b"),
+            intern!(py, "stats"),
+        ],
         [
             d.distance.into_pyobject(py)?.into_any(),
             vec_out(py, d.point_a).into_any(),

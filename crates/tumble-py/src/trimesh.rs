@@ -59,11 +59,16 @@ impl TriMesh {
 
     /// The collision shape (OBBTree built once, then shared).
     pub(crate) fn mesh_shape(&self) -> PyResult<MeshShape> {
+        self.mesh_shape_ref().cloned()
+    }
+
+    /// The collision shape, borrowed (OBBTree built on first use).
+    pub(crate) fn mesh_shape_ref(&self) -> PyResult<&MeshShape> {
         if let Some(s) = self.shape.get() {
-            return Ok(s.clone());
+            return Ok(s);
         }
         let built = MeshShape::new((*self.mesh).clone()).or_raise()?;
-        Ok(self.shape.get_or_init(|| built).clone())
+        Ok(self.shape.get_or_init(|| built))
     }
 }
 

@@ -38,7 +38,9 @@ pub fn mesh_from_object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<RMesh> {
 
 /// A triangle mesh (m), triangles wound counter-clockwise seen from outside.
 /// Used as a body shape it collides exactly, triangle against triangle
-/// (concave meshes allowed); mass from a density needs a closed mesh.
+/// (concave meshes allowed); mass from a density needs a closed mesh. Its
+/// OBBTree is built on first use (as a body shape or by `tumble.collide`,
+/// `distance`, `within_tolerance`) and kept: reuse the object.
 ///
 /// Args:
 ///     vertices: (N, 3) array of numbers (m).

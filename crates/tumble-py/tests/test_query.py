@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 import importlib.util
 import math
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -340,6 +341,10 @@ def test_results_are_frozen_dataclasses() -> None:
         assert vars(again).keys() == vars(result).keys()
         assert repr(again) == repr(result)
     assert r.stats == tumble.QueryStats(r.stats.bv_tests, r.stats.triangle_tests, False)
+    back = pickle.loads(pickle.dumps(r))
+    assert back.intersect and back.stats == r.stats
+    np.testing.assert_array_equal(back.pairs, r.pairs)
+    assert pickle.loads(pickle.dumps(d)).distance == d.distance
     assert repr(r).startswith("CollisionResult(intersect=True, pairs=<")
     assert repr(d).startswith("DistanceResult(distance=0.5")
     for fn in (tumble.collide, tumble.distance, tumble.within_tolerance, tumble.CollisionResult,

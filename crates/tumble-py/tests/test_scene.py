@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+import pickle
 import shutil
 import subprocess
 from pathlib import Path
@@ -125,6 +126,9 @@ def test_scene_errors_carry_file_line_column_and_field(tmp_path: Path) -> None:
     assert (e.file, e.line, e.column, e.field) == (str(path), 7, 8, "bodies[1].mass")
     assert e.reason == "must be finite and > 0 kg, got -1"
     assert str(e) == f"{path}:7:8: bodies[1].mass: must be finite and > 0 kg, got -1"
+    again = pickle.loads(pickle.dumps(e))
+    assert type(again) is tumble.SceneError and str(again) == str(e)
+    assert (again.line, again.column, again.field) == (7, 8, "bodies[1].mass")
     # The line and column point at the value in the text.
     assert BAD_MASS.splitlines()[e.line - 1][e.column - 1:].startswith("-1")
     if CLI.exists():

@@ -53,21 +53,29 @@ bench:
 
 # The Python package: .venv with the pinned tools, `pip install .` of
 # crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
-PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py
+PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py \
+	bench/python_query_overhead.py
 
 python-env:
 	bash scripts/python-env.sh
 
+# The scene tests compare load_scene with `tumble run`, so the CLI is built first.
 python-test: python-env
 	.venv/bin/ruff check $(PYTHON_SOURCES)
+	$(CARGO) build --release -p tumble-cli
 	.venv/bin/python -m pytest -q crates/tumble-py/tests
 	bash scripts/python-examples.sh
 	$(CARGO) build --release -p tumble --example step_readback
 	.venv/bin/python bench/python_overhead.py --quick
+	.venv/bin/python bench/python_query_overhead.py --quick
 
 # Python-vs-Rust overhead of step() + pose readback for 1,000 bodies
-# (bench/python_overhead.py; results in out/python_overhead.json).
+# (bench/python_overhead.py; results in out/python_overhead.json), and of
+# tumble.collide on the tori against `tumble bench --scene tori`
+# (bench/python_query_overhead.py; out/python_query_overhead.json).
 python-bench: python-env
 	$(CARGO) build --release -p tumble --example step_readback
+	$(CARGO) build --release -p tumble-cli
 	.venv/bin/python bench/python_overhead.py
+	.venv/bin/python bench/python_query_overhead.py
 

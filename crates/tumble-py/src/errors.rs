@@ -4,6 +4,7 @@
 //! TumbleError(Exception)                    base of everything tumble raises
 //! ├── InvalidArgument(TumbleError, ValueError)   a bad value, shape, dtype or mesh
 //! │   └── StaleBodyError(InvalidArgument, LookupError)  handle of a removed body
+//! ├── SceneError(TumbleError, ValueError)    a bad scene file (file, line, column, field)
 //! ├── FileError(TumbleError, OSError)        a file could not be read or written
 //! └── InternalError(TumbleError)             a bug inside tumble (a caught panic)
 //! ```
@@ -35,6 +36,8 @@ pub enum Kind {
     Stale,
     /// `FileError`.
     File,
+    /// `SceneError` (raised with its attributes by [`crate::scene`]).
+    Scene,
     /// `InternalError`.
     Internal,
 }
@@ -44,6 +47,7 @@ struct Classes {
     invalid: Py<PyType>,
     stale: Py<PyType>,
     file: Py<PyType>,
+    scene: Py<PyType>,
     internal: Py<PyType>,
 }
 
@@ -90,6 +94,22 @@ fn classes(py: Python<'_>) -> PyResult<&Classes> {
             vec![tumble.clone(), py.get_type::<PyOSError>()],
             "A file could not be read or written. Also an OSError.",
         )?;
+        let scene = make_class(
+            py,
+            "SceneError",
+            vec![tumble.clone(), py.get_type::<PyValueError>()],
+            "A scene file that cannot be loaded: a syntax or schema error, a bad value,\n\
+             or a body the world refuses. The message is the command line's\n\
+             (`file:line:column: field: reason`). Also a ValueError.\n\
+             \n\
+             Attributes:\n\
+             \x20   file: the scene file, as given (str).\n\
+             \x20   line: 1-based line of the offending value, or None.\n\
+             \x20   column: 1-based column (in characters), or None.\n\
+             \x20   field: the field path, e.g. \"bodies[3].mass\" (\"\" for syntax\n\
+             \x20       errors, None when the error has no place in the file).\n\
+             \x20   reason: what is wrong and what was expected, without the location.",
+        )?;
         let internal = make_class(
             py,
             "InternalError",
@@ -102,6 +122,7 @@ fn classes(py: Python<'_>) -> PyResult<&Classes> {
             invalid: invalid.unbind(),
             stale: stale.unbind(),
             file: file.unbind(),
+            scene: scene.unbind(),
             internal: internal.unbind(),
         })
     })
@@ -115,24 +136,30 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InvalidArgument", c.invalid.bind(py))?;
     m.add("StaleBodyError", c.stale.bind(py))?;
     m.add("FileError", c.file.bind(py))?;
+    m.add("SceneError", c.scene.bind(py))?;
     m.add("InternalError", c.internal.bind(py))?;
     Ok(())
+}
+
+/// The exception class of `kind`.
+pub fn class(py: Python<'_>, kind: Kind) -> PyResult<Bound<'_, PyType>> {
+    let c = classes(py)?;
+    let class = match kind {
+        Kind::Tumble => &c.tumble,
+        Kind::Invalid => &c.invalid,
+        Kind::Stale => &c.stale,
+        Kind::File => &c.file,
+        Kind::Scene => &c.scene,
+        Kind::Internal => &c.internal,
+    };
+    Ok(class.bind(py).clone())
 }
 
 /// A Python exception of `kind` with `message`.
 pub fn error(kind: Kind, message: impl Into<String>) -> PyErr {
     let message = message.into();
-    Python::attach(|py| match classes(py) {
-        Ok(c) => {
-            let class = match kind {
-                Kind::Tumble => &c.tumble,
-                Kind::Invalid => &c.invalid,
-                Kind::Stale => &c.stale,
-                Kind::File => &c.file,
-                Kind::Internal => &c.internal,
-            };
-            PyErr::from_type(class.bind(py).clone(), message)
-        }
+    Python::attach(|py| match class(py, kind) {
+        Ok(class) => PyErr::from_type(class, message),
         Err(e) => e,
     })
 }

@@ -13,11 +13,10 @@
 //! - [`report`]: step reports, contact events and the contacts array.
 //! - [`record`]: recording and glTF / CSV export.
 //! - [`mass`]: the `mass_properties` function.
-//!
-//! Second round: `tumble.collide` / `tumble.distance` go in a `query.rs`
-//! registered below; `tumble.load_scene` in a `scene.rs` that builds the Rust
-//! world and wraps it with `World::from_parts`; `World.save` / `World.load`
-//! as methods of `World` over the snapshot API (plus `__reduce__`).
+//! - [`query`], [`pose_arg`], [`query_out`]: `collide`, `distance`,
+//!   `within_tolerance` over `tumble_collide::query`, their pose arguments
+//!   and their results.
+//! - [`scene`]: `load_scene` and `SceneError`.
 
 #![warn(missing_docs)]
 
@@ -25,9 +24,13 @@ pub mod body;
 pub mod convert;
 pub mod errors;
 pub mod mass;
+pub mod pose_arg;
+pub mod query;
+pub mod query_out;
 pub mod record;
 pub mod records;
 pub mod report;
+pub mod scene;
 pub mod settings;
 pub mod shapes;
 pub mod trimesh;
@@ -57,8 +60,13 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::Placed>()?;
     m.add_class::<trimesh::TriMesh>()?;
     m.add_function(wrap_pyfunction!(mass::mass_properties, m)?)?;
+    m.add_function(wrap_pyfunction!(query::collide, m)?)?;
+    m.add_function(wrap_pyfunction!(query::distance, m)?)?;
+    m.add_function(wrap_pyfunction!(query::within_tolerance, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add("CONTACT_DTYPE_SPEC", report::CONTACT_FIELDS)?;
+    m.add("QUERY_CONTACT_DTYPE_SPEC", query_out::QUERY_CONTACT_FIELDS)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

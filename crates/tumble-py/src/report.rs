@@ -194,7 +194,8 @@ impl PyStepReport {
     }
 }
 
-fn contact_kind_name(k: ContactKind) -> &'static str {
+/// The Python name of a contact kind (`World.contacts()`, `tumble.collide`).
+pub(crate) fn contact_kind_name(k: ContactKind) -> &'static str {
     match k {
         ContactKind::VertexFace => "vertex_face",
         ContactKind::FaceVertex => "face_vertex",

@@ -38,7 +38,9 @@ pub fn mesh_from_object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<RMesh> {
 
 /// A triangle mesh (m), triangles wound counter-clockwise seen from outside.
 /// Used as a body shape it collides exactly, triangle against triangle
-/// (concave meshes allowed); mass from a density needs a closed mesh.
+/// (concave meshes allowed); mass from a density needs a closed mesh. Its
+/// OBBTree is built on first use (as a body shape or by `tumble.collide`,
+/// `distance`, `within_tolerance`) and kept: reuse the object.
 ///
 /// Args:
 ///     vertices: (N, 3) array of numbers (m).
@@ -59,11 +61,16 @@ impl TriMesh {
 
     /// The collision shape (OBBTree built once, then shared).
     pub(crate) fn mesh_shape(&self) -> PyResult<MeshShape> {
+        self.mesh_shape_ref().cloned()
+    }
+
+    /// The collision shape, borrowed (OBBTree built on first use).
+    pub(crate) fn mesh_shape_ref(&self) -> PyResult<&MeshShape> {
         if let Some(s) = self.shape.get() {
-            return Ok(s.clone());
+            return Ok(s);
         }
         let built = MeshShape::new((*self.mesh).clone()).or_raise()?;
-        Ok(self.shape.get_or_init(|| built).clone())
+        Ok(self.shape.get_or_init(|| built))
     }
 }
 

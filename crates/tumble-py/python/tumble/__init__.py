@@ -11,9 +11,14 @@ quaternions are (x, y, z, w), angular velocity is in the world frame.
     >>> world.positions.shape
     (2, 3)
 
+Collision queries without a world: :func:`collide`, :func:`distance` and
+:func:`within_tolerance` on meshes (and primitives against meshes).
+Scene files (docs/scenes.md): :func:`load_scene`.
+
 Errors: everything tumble raises is a :class:`TumbleError`; bad arguments are
 :class:`InvalidArgument` (also a ``ValueError``), handles of removed bodies
-:class:`StaleBodyError`, file problems :class:`FileError` (also an ``OSError``).
+:class:`StaleBodyError`, bad scene files :class:`SceneError` (also a
+``ValueError``), file problems :class:`FileError` (also an ``OSError``).
 """
 
 from __future__ import annotations
@@ -22,8 +27,10 @@ import ast as _ast
 
 import numpy as _np
 
+from ._query import CollisionResult, DistanceResult, QueryStats
 from ._records import ContactEvent, MassProperties
 from ._tumble import CONTACT_DTYPE_SPEC as _CONTACT_DTYPE_SPEC
+from ._tumble import QUERY_CONTACT_DTYPE_SPEC as _QUERY_CONTACT_DTYPE_SPEC
 from ._tumble import (
     Body,
     Box,
@@ -34,6 +41,7 @@ from ._tumble import (
     InternalError,
     InvalidArgument,
     Placed,
+    SceneError,
     Sphere,
     StaleBodyError,
     StepReport,
@@ -41,11 +49,22 @@ from ._tumble import (
     TumbleError,
     World,
     __version__,
+    collide,
+    distance,
+    load_scene,
     mass_properties,
+    within_tolerance,
 )
 
 #: dtype of the structured array returned by :meth:`World.contacts`.
 CONTACT_DTYPE: _np.dtype = _np.dtype(_ast.literal_eval(_CONTACT_DTYPE_SPEC))
+
+#: dtype of the contacts of :func:`collide` with ``report="contacts"``: ``point`` (3),
+#: ``normal`` (3, from B to A), ``distance``, ``depth = -distance``, ``kind``, and
+#: ``feature_a``, ``feature_b`` as ``(index, part, k)``: the triangle (or primitive
+#: feature) index, "vertex", "edge", "face" or "whole", and the corner or edge number
+#: within the triangle (edge k joins corners k and k + 1; -1 for a face or whole).
+QUERY_CONTACT_DTYPE: _np.dtype = _np.dtype(_ast.literal_eval(_QUERY_CONTACT_DTYPE_SPEC))
 
 #: Integrator names accepted by ``World(integrator=...)``.
 INTEGRATORS = ("euler", "midpoint", "rk4", "semi_implicit", "semi_implicit_splitting")
@@ -53,17 +72,22 @@ INTEGRATORS = ("euler", "midpoint", "rk4", "semi_implicit", "semi_implicit_split
 __all__ = [
     "CONTACT_DTYPE",
     "INTEGRATORS",
+    "QUERY_CONTACT_DTYPE",
     "Body",
     "Box",
     "Capsule",
+    "CollisionResult",
     "ContactEvent",
     "ConvexHull",
+    "DistanceResult",
     "FileError",
     "HalfSpace",
     "InternalError",
     "InvalidArgument",
     "MassProperties",
     "Placed",
+    "QueryStats",
+    "SceneError",
     "Sphere",
     "StaleBodyError",
     "StepReport",
@@ -71,5 +95,9 @@ __all__ = [
     "TumbleError",
     "World",
     "__version__",
+    "collide",
+    "distance",
+    "load_scene",
     "mass_properties",
+    "within_tolerance",
 ]

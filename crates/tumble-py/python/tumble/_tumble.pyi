@@ -9,10 +9,12 @@ from typing import Any, Literal, Protocol
 import numpy as np
 import numpy.typing as npt
 
+from ._query import CollisionResult, DistanceResult
 from ._records import ContactEvent, MassProperties
 
 __version__: str
 CONTACT_DTYPE_SPEC: str
+QUERY_CONTACT_DTYPE_SPEC: str
 
 Vec3 = Sequence[float] | npt.NDArray[Any]
 Quat = Sequence[float] | npt.NDArray[Any]
@@ -36,6 +38,13 @@ class InvalidArgument(TumbleError, ValueError): ...
 class StaleBodyError(InvalidArgument, LookupError): ...
 class FileError(TumbleError, OSError): ...
 class InternalError(TumbleError): ...
+
+class SceneError(TumbleError, ValueError):
+    file: str
+    line: int | None
+    column: int | None
+    field: str | None
+    reason: str
 
 class Box:
     def __init__(self, half_extents: Vec3) -> None: ...
@@ -289,3 +298,35 @@ def mass_properties(
     fallback: Literal["convex_hull", "shell"] | None = None,
     shell_thickness: float | None = None,
 ) -> MassProperties: ...
+
+# Collision queries (query.rs) and scene files (scene.rs).
+
+#: (position, orientation (x, y, z, w)), 7 numbers (x, y, z, qx, qy, qz, qw), a 4x4
+#: homogeneous matrix, or None for the identity.
+PoseLike = tuple[Vec3, Quat] | Sequence[float] | npt.NDArray[Any] | None
+QueryShape = TriMesh | Sphere | Box | Capsule | HalfSpace | MeshLike
+ReportMode = Literal["bool", "pairs", "contacts"]
+
+def collide(
+    a: QueryShape,
+    pose_a: PoseLike,
+    b: QueryShape,
+    pose_b: PoseLike,
+    *,
+    report: ReportMode = "pairs",
+    stop_at_first: bool = False,
+    contact_margin: float = 0.0,
+) -> CollisionResult: ...
+def distance(
+    a: QueryShape,
+    pose_a: PoseLike,
+    b: QueryShape,
+    pose_b: PoseLike,
+    *,
+    rel_err: float = 0.0,
+    abs_err: float = 0.0,
+) -> DistanceResult: ...
+def within_tolerance(
+    a: QueryShape, pose_a: PoseLike, b: QueryShape, pose_b: PoseLike, tol: float
+) -> bool: ...
+def load_scene(path: StrPath) -> World: ...

@@ -20,6 +20,9 @@
 //! as methods of `World` over the snapshot API (plus `__reduce__`).
 
 #![warn(missing_docs)]
+// Doc comments here are the Python docstrings (pyo3 passes them to __doc__):
+// their indented examples are Python, not Rust code blocks.
+#![allow(rustdoc::invalid_rust_codeblocks)]
 
 pub mod body;
 pub mod convert;

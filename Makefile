@@ -5,7 +5,7 @@
 CARGO ?= cargo
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test lint fmt-check clippy rust-test viewer-test bench-quick bench python-env python-test python-bench
+.PHONY: demo test lint fmt-check clippy rust-test doc viewer-test bench-quick bench python-env python-test python-bench manual manual-test
 
 # The torus demo first (two tori through exact mesh-mesh contact, then the
 # 21-link torus chain), then domino and Dzhanibekov; finally the web viewer
@@ -22,7 +22,7 @@ demo:
 	@echo "watch the demo:  $(TUMBLE) view out/tori_pass.glb   (or out/chain.glb, out/domino.glb)"
 	@echo "live:            $(TUMBLE) view examples/scenes/tori_pass.toml"
 
-test: lint rust-test viewer-test bench-quick python-test
+test: lint rust-test doc viewer-test bench-quick python-test manual-test
 
 lint: fmt-check clippy
 
@@ -34,6 +34,12 @@ clippy:
 
 rust-test:
 	$(CARGO) test --workspace --release
+
+# API docs with every rustdoc warning an error (missing docs, broken or
+# ambiguous intra-doc links); target/doc/tumble/index.html. Reuses clippy's
+# dependency builds, so it takes seconds after `make clippy`.
+doc:
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --workspace --no-deps
 
 # Builds the web viewer and checks it in headless Chromium (installs chromium
 # and the npm packages on first use, see viewer/scripts/setup.sh).
@@ -54,7 +60,7 @@ bench:
 # The Python package: .venv with the pinned tools, `pip install .` of
 # crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
 PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py \
-	bench/python_query_overhead.py
+	bench/python_query_overhead.py scripts/manual_blocks.py
 
 python-env:
 	bash scripts/python-env.sh
@@ -79,3 +85,15 @@ python-bench: python-env
 	.venv/bin/python bench/python_overhead.py
 	.venv/bin/python bench/python_query_overhead.py
 
+
+# The user manual (docs/manual): its Rust blocks are doc-tests of
+# crates/tumble-manual (run by rust-test); this runs the Python, TOML, JSON and
+# `tumble` shell blocks (scripts/manual_blocks.py).
+manual-test: python-env
+	$(CARGO) build --release -p tumble-cli
+	python3 scripts/manual_blocks.py
+
+# The manual as HTML in target/manual/ (installs the pinned mdbook into
+# target/tools on first use; see scripts/manual.sh).
+manual:
+	bash scripts/manual.sh

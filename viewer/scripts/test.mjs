@@ -336,12 +336,54 @@ try {
       stop();
     }
   });
+
+  await check('tower game: a click throws a ball that knocks the tower down', async () => {
+    const sceneFile = process.env.TUMBLE_GAME_SCENE;
+    assert(sceneFile, 'TUMBLE_GAME_SCENE is not set (scripts/test.sh sets it)');
+    const { url, stop } = await startTumbleView([sceneFile]);
+    const page4 = await browser.newPage({ viewport: { width: 960, height: 640 } });
+    const errs = [];
+    page4.on('console', (m) => m.type() === 'error' && errs.push(`console: ${m.text()}`));
+    page4.on('pageerror', (e) => errs.push(`pageerror: ${e.message}`));
+    try {
+      await page4.goto(url);
+      await page4.waitForFunction(() => window.tumbleViewer?.frames > 20, null, { timeout: 30000 });
+      const before = await page4.evaluate(() => ({ bodies: window.tumbleViewer.bodies, poses: window.tumbleViewer.lastPoses }));
+      assert(before.bodies === 17, `expected the ground and 16 blocks, got ${before.bodies}`);
+      const a = await shot(page4);
+      // The camera frames the tower: a click in the middle of the view aims at it.
+      await page4.mouse.click(480, 300);
+      await page4.waitForFunction(() => window.tumbleViewer.thrown === 1 && window.tumbleViewer.bodies === 18, null, {
+        timeout: 10000,
+      });
+      const t0 = await page4.evaluate(() => window.tumbleViewer.time);
+      await page4.waitForFunction((t) => window.tumbleViewer.time > t + 2.5, t0, { timeout: 30000 });
+      const after = await page4.evaluate(() => window.tumbleViewer.lastPoses);
+      assert(after.length === 18, `the newest frame has ${after.length} poses, expected 18 with the ball`);
+      // Blocks are bodies 1..16; the ball is the last one.
+      let moved = 0;
+      let fallen = 0;
+      for (let b = 1; b <= 16; b++) {
+        const d = Math.hypot(...[0, 1, 2].map((i) => after[b][i] - before.poses[b][i]));
+        if (d > 0.1) moved++;
+        if (after[b][2] < before.poses[b][2] - 0.25) fallen++;
+      }
+      assert(moved >= 4 && fallen >= 2, `only ${moved} blocks moved more than 0.1 m and ${fallen} fell`);
+      const s = await stats(page4, a, await shot(page4));
+      assert(s.changed > 0.01 * s.pixels, `the picture hardly changed (${s.changed} pixels)`);
+      writeFileSync(join(outDir, 'viewer-tower-game.png'), await page4.screenshot());
+      assert(errs.length === 0, errs.join('; '));
+    } finally {
+      await page4.close();
+      stop();
+    }
+  });
 } finally {
   await browser.close();
   await server.close();
 }
 
 const failed = results.filter(([, e]) => e).length;
-console.log(`screenshots: ${outDir}/viewer.png, viewer-t1.5.png, viewer-live.png, viewer-tori-pass.png, viewer-tumble-live.png`);
+console.log(`screenshots: ${outDir}/viewer.png, viewer-t1.5.png, viewer-live.png, viewer-tori-pass.png, viewer-tumble-live.png, viewer-tower-game.png`);
 console.log(`viewer: ${results.length - failed} passed, ${failed} failed`);
 process.exit(failed ? 1 : 0);

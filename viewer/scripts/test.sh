@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the viewer, writes the fixture .glb with tumble's exporter, and runs
 # the headless-browser test (scripts/test.mjs), including `tumble view`
-# serving the built page (a tori_pass recording and the same scene live). Run from anywhere; needs
+# serving the built page (a tori_pass recording, the same scene live, and
+# the tower game: a click throws a ball into the live simulation). Run from anywhere; needs
 # scripts/setup.sh to have run (it is called here, and is quiet when nothing
 # is missing). Exit code non-zero on failure; the last line reads
 # `viewer: N passed, M failed`. Screenshots land in out/viewer-test/.
@@ -20,4 +21,5 @@ tumble="$repo/target/release/tumble"
 node "$viewer/scripts/build.mjs"
 cd "$viewer" && VIEWER_TEST_OUT="$out" VIEWER_FIXTURE="$out/fixture.glb" TUMBLE_BIN="$tumble" \
     TUMBLE_RECORDING="$out/tori_pass.glb" TUMBLE_LIVE_SCENE="$repo/examples/scenes/tori_pass.toml" \
+    TUMBLE_GAME_SCENE="$repo/examples/scenes/tower_game.toml" \
     node scripts/test.mjs

@@ -5,8 +5,13 @@
 //   {"type":"frame","t":s,"poses":[[x,y,z,qx,qy,qz,qw],...],
 //    "kinetic_energy":J,"potential_energy":J,"contact_count":n,
 //    "contacts":[[px,py,pz,nx,ny,nz,d],...]}
+//   {"type":"bodies_added","bodies":[...as in scene...]}   bodies joined the session
+//   {"type":"error","message":"..."}                      a request was refused
+// and the page may send {"type":"spawn","shape":"sphere","radius":m,
+// "position":[x,y,z],"velocity":[vx,vy,vz]} to add a body (sendSpawn).
 // All vectors are in tumble's z-up world frame. Frames are kept so that the
 // timeline and plot cover the whole session; a new "scene" message starts over.
+// A body added during the session is hidden in frames older than its arrival.
 import { BufferAttribute, BufferGeometry, Group, Mesh, MeshStandardMaterial, Quaternion, Vector3 } from 'three';
 import { frameIndexAt } from './timeline.js';
 
@@ -32,7 +37,7 @@ export function createLiveRecording(sceneMsg) {
   world.name = 'tumble_world';
   world.quaternion.setFromAxisAngle(new Vector3(1, 0, 0), -Math.PI / 2); // z-up -> y-up
   root.add(world);
-  const bodyNodes = sceneMsg.bodies.map((b) => {
+  const makeNode = (b) => {
     const [r, g, bl, a] = b.color ?? [0.7, 0.7, 0.7, 1];
     const mat = new MeshStandardMaterial({ roughness: 0.8, metalness: 0, transparent: a < 1, opacity: a });
     mat.color.setRGB(r, g, bl);
@@ -41,7 +46,8 @@ export function createLiveRecording(sceneMsg) {
     mesh.userData.tumbleStatic = Boolean(b.is_static);
     world.add(mesh);
     return mesh;
-  });
+  };
+  const bodyNodes = sceneMsg.bodies.map(makeNode);
   const rec = {
     kind: 'live',
     root,
@@ -54,12 +60,16 @@ export function createLiveRecording(sceneMsg) {
     apply(t) {
       if (!rec.times.length) return;
       const frame = rec.poses[frameIndexAt(rec.times, t)];
-      frame.forEach((p, i) => {
-        const node = bodyNodes[i];
-        if (!node) return;
+      bodyNodes.forEach((node, i) => {
+        const p = frame[i];
+        node.visible = Boolean(p); // not yet added at this time
+        if (!p) return;
         node.position.set(p[0], p[1], p[2]);
         node.quaternion.copy(new Quaternion(p[3], p[4], p[5], p[6]).normalize());
       });
+    },
+    addBodies(bodies) {
+      for (const b of bodies) bodyNodes.push(makeNode(b));
     },
     push(msg) {
       if (rec.times.length && !(msg.t > rec.times[rec.times.length - 1])) return false; // out of order
@@ -77,10 +87,12 @@ export function createLiveRecording(sceneMsg) {
 }
 
 /**
- * Connects to `url`; calls onScene(recording) for each scene message and
- * onFrame(recording) after each accepted frame; onStatus(text, isError).
+ * Connects to `url`; calls onScene(recording) for each scene message,
+ * onFrame(recording) after each accepted frame, onBodiesAdded(recording,
+ * count) when bodies join, onStatus(text, isError). Returns the WebSocket with
+ * `sendSpawn(request)`, which sends a spawn message (false when not open).
  */
-export function connectLive(url, { onScene, onFrame, onStatus }) {
+export function connectLive(url, { onScene, onFrame, onBodiesAdded, onStatus }) {
   let rec = null;
   const ws = new WebSocket(url);
   ws.addEventListener('open', () => onStatus(`live: connected to ${url}`, false));
@@ -103,7 +115,17 @@ export function connectLive(url, { onScene, onFrame, onStatus }) {
       onScene(rec);
     } else if (msg.type === 'frame' && rec && Array.isArray(msg.poses) && Number.isFinite(msg.t)) {
       if (rec.push(msg)) onFrame(rec);
+    } else if (msg.type === 'bodies_added' && rec && Array.isArray(msg.bodies)) {
+      rec.addBodies(msg.bodies);
+      onBodiesAdded?.(rec, msg.bodies.length);
+    } else if (msg.type === 'error') {
+      onStatus(`live: the simulation refused a request: ${msg.message}`, true);
     }
   });
+  ws.sendSpawn = (request) => {
+    if (ws.readyState !== WebSocket.OPEN) return false;
+    ws.send(JSON.stringify({ type: 'spawn', ...request }));
+    return true;
+  };
   return ws;
 }

@@ -2,6 +2,8 @@
 // drag-and-drop) or connects to a live stream (?live=ws://...), plays it with
 // an orbit camera, and draws contact / OBB overlays and an energy plot.
 // Other query parameters: ?t=SECONDS (start time), ?paused=1, ?speed=X.
+// In live mode a click (without dragging) in the 3D view throws a ball at the
+// point clicked (throw.js; a `spawn` message to the simulation).
 // window.tumbleViewer exposes the state for scripts/test.mjs.
 import {
   ACESFilmicToneMapping,
@@ -23,6 +25,7 @@ import { connectLive } from './live.js';
 import { ContactOverlay, ObbOverlay } from './overlays.js';
 import { EnergyPlot } from './plot.js';
 import { formatTime, frameIndexAt } from './timeline.js';
+import { clickRequest } from './throw.js';
 import './style.css';
 
 const $ = (id) => document.getElementById(id);
@@ -56,6 +59,7 @@ const state = {
   obb: null,
   grid: null,
   framesRendered: 0,
+  thrown: 0, // live mode: balls the simulation added for this page
 };
 $('speed').value = String(state.speed);
 
@@ -217,20 +221,35 @@ requestAnimationFrame(frame);
 // --- sources -------------------------------------------------------------------
 const live = params.get('live');
 const file = params.get('file');
+let liveSocket = null;
 if (live) {
   state.status = 'loading';
   setStatus(`live: connecting to ${live} ...`);
-  connectLive(live, {
+  liveSocket = connectLive(live, {
     onScene: (rec) => {
       show(rec);
-      setStatus(`live: ${rec.bodyNodes.length} bodies`);
+      setStatus(`live: ${rec.bodyNodes.length} bodies (click to throw a ball)`);
     },
     onFrame: (rec) => {
       if (rec.times.length === 1) show(rec); // frame the camera on the first poses
       else if (rec.times.length % 10 === 0) updatePlot();
       if (!state.playing || !state.follow) applyTime();
     },
+    onBodiesAdded: (rec, n) => {
+      state.thrown += n;
+      setStatus(`live: ${rec.bodyNodes.length} bodies, ${state.thrown} thrown`);
+    },
     onStatus: setStatus,
+  });
+  // A click is a press and release without dragging (a drag orbits the camera).
+  let press = null;
+  renderer.domElement.addEventListener('pointerdown', (e) => (press = e.button === 0 ? [e.clientX, e.clientY] : null));
+  renderer.domElement.addEventListener('pointerup', (e) => {
+    if (!press || !state.rec || Math.hypot(e.clientX - press[0], e.clientY - press[1]) > 5) return;
+    press = null;
+    state.rec.root.updateMatrixWorld(true);
+    const request = clickRequest(camera, state.rec.root, renderer.domElement, e.clientX, e.clientY);
+    if (liveSocket.sendSpawn(request)) state.follow = true;
   });
 } else if (file) {
   open(file, file.split('/').pop());
@@ -254,6 +273,14 @@ window.tumbleViewer = {
   },
   get framesRendered() {
     return state.framesRendered;
+  },
+  get thrown() {
+    return state.thrown;
+  },
+  /** The newest frame's poses [[x, y, z, qx, qy, qz, qw], ...] (z up). */
+  get lastPoses() {
+    const p = state.rec?.poses;
+    return p && p.length ? p[p.length - 1] : [];
   },
   get statusText() {
     return $('status').textContent;

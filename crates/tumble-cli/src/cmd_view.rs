@@ -1,17 +1,16 @@
 //! `tumble view`: serves the web viewer (`viewer/dist`) on 127.0.0.1 and
 //! either plays a recorded `.glb` or steps a scene file live, streaming the
 //! viewer's JSON messages (viewer/README.md, "Live mode") over a WebSocket
-//! at `/live`. HTTP by `tiny_http`, WebSockets by `tungstenite` on the
-//! upgraded connection; each WebSocket session runs its own simulation.
+//! at `/live` on a second port (printed in the page's URL). HTTP by
+//! `tiny_http`, WebSockets by `tungstenite` ([`crate::live_session`]); each
+//! WebSocket session runs its own simulation, and the page may add bodies
+//! to it (`spawn`).
 
 use crate::CliError;
 use clap::Args;
 use std::io::Write;
 use std::path::{Component, Path, PathBuf};
-use std::time::{Duration, Instant};
-use tiny_http::{Header, Request, Response, Server, StatusCode};
-use tumble::export::live::{frame_message, scene_message};
-use tumble::export::WorldRecorder;
+use tiny_http::{Header, Request, Response, Server};
 use tumble::scene::{load_scene, LoadedScene};
 
 /// Arguments of `tumble view`.
@@ -42,11 +41,14 @@ const VIEW_EXAMPLES: &str = "\
 Examples:
   tumble view out/tori_pass.glb            play a recording
   tumble view examples/scenes/domino.toml  simulate live in the browser
+  tumble view examples/scenes/tower_game.toml   click to throw balls at a tower
   tumble view --no-open --port 9000 examples/scenes/chain.toml
 
 The page is served until you stop the command (Ctrl-C). Live mode starts a
 fresh simulation for each page load and runs the scene's steps, paced to
-real time (--speed). The viewer is built by
+real time (--speed); a click in the 3D view throws a ball from the camera
+at the point clicked (the page sends a `spawn` message over the WebSocket,
+which listens on a second port named in the URL). The viewer is built by
 `bash viewer/scripts/setup.sh && (cd viewer && npm run build)` (or `make demo`).";
 
 /// What the page shows.
@@ -110,67 +112,6 @@ fn not_found(request: Request) {
     let _ = request.respond(Response::from_string("not found").with_status_code(404));
 }
 
-/// Steps the scene and sends the viewer's messages until the steps are done
-/// or the client goes away.
-fn stream_live(scene: &LoadedScene, stream: Box<dyn tiny_http::ReadWrite + Send>, speed: f64) {
-    use tungstenite::protocol::{Role, WebSocket};
-    use tungstenite::Message;
-    let mut ws = WebSocket::from_raw_socket(stream, Role::Server, None);
-    let Ok((mut world, _)) = scene.build() else {
-        return;
-    };
-    let Ok(mut recorder) = WorldRecorder::new(&world) else {
-        return;
-    };
-    if ws
-        .send(Message::text(scene_message(recorder.recording())))
-        .is_err()
-    {
-        return;
-    }
-    let started = Instant::now();
-    for f in 0..=scene.scene.steps {
-        if f > 0 {
-            world.step();
-            recorder.record(&world);
-        }
-        let Some(msg) = frame_message(recorder.recording(), f) else {
-            return;
-        };
-        if ws.send(Message::text(msg)).is_err() {
-            return;
-        }
-        if speed > 0.0 {
-            let due = Duration::from_secs_f64(world.time() / speed);
-            if let Some(wait) = due.checked_sub(started.elapsed()) {
-                std::thread::sleep(wait);
-            }
-        }
-    }
-    // Keep the connection open (the page keeps its frames) until the client
-    // closes it.
-    while ws.read().is_ok() {}
-}
-
-fn upgrade_live(request: Request, scene: LoadedScene, speed: f64) {
-    let key = request
-        .headers()
-        .iter()
-        .find(|h| h.field.equiv("Sec-WebSocket-Key"))
-        .map(|h| h.value.as_str().to_string());
-    let Some(key) = key else {
-        let _ = request.respond(Response::from_string("expected a WebSocket upgrade").with_status_code(400));
-        return;
-    };
-    let accept = tungstenite::handshake::derive_accept_key(key.as_bytes());
-    let response = Response::empty(StatusCode(101))
-        .with_header(header("Upgrade: websocket"))
-        .with_header(header("Connection: Upgrade"))
-        .with_header(header(&format!("Sec-WebSocket-Accept: {accept}")));
-    let stream = request.upgrade("websocket", response);
-    std::thread::spawn(move || stream_live(&scene, stream, speed));
-}
-
 /// Runs the verb (serves until the process is stopped).
 pub fn run(args: &ViewArgs) -> Result<(), CliError> {
     let input = |m: String| CliError::Input(m);
@@ -215,7 +156,17 @@ pub fn run(args: &ViewArgs) -> Result<(), CliError> {
     let base = format!("http://127.0.0.1:{port}");
     let url = match &source {
         Source::Recording(_) => format!("{base}/?file=/recording.glb"),
-        Source::Live(_) => format!("{base}/?live=ws://127.0.0.1:{port}/live"),
+        Source::Live(scene) => {
+            let listener = std::net::TcpListener::bind(("127.0.0.1", 0))
+                .map_err(|e| CliError::Internal(format!("cannot listen for WebSockets on 127.0.0.1: {e}")))?;
+            let ws_port = listener
+                .local_addr()
+                .map_err(|e| CliError::Internal(e.to_string()))?
+                .port();
+            let (scene, speed) = ((**scene).clone(), args.speed);
+            std::thread::spawn(move || crate::live_session::serve(listener, scene, speed));
+            format!("{base}/?live=ws://127.0.0.1:{ws_port}/live")
+        }
     };
     // Errors writing to stdout (a closed pipe) must not stop the server.
     let mut stdout = std::io::stdout();
@@ -234,7 +185,6 @@ pub fn run(args: &ViewArgs) -> Result<(), CliError> {
         let path = request.url().split(['?', '#']).next().unwrap_or("/").to_string();
         match (&source, path.as_str()) {
             (Source::Recording(file), "/recording.glb") => respond_file(request, file),
-            (Source::Live(scene), "/live") => upgrade_live(request, (**scene).clone(), args.speed),
             _ => match static_file(&dist, &path) {
                 Some(file) => respond_file(request, &file),
                 None => not_found(request),

@@ -9,6 +9,7 @@ mod cmd_demo;
 mod cmd_mass;
 mod cmd_run;
 mod cmd_view;
+mod live_session;
 mod mesh_spec;
 
 use clap::{Parser, Subcommand};
@@ -74,7 +75,8 @@ Serve the web viewer on 127.0.0.1 and print its URL. Given a .glb (from
 `tumble run --out`), the page plays the recording: timeline, speed, orbit
 camera, contact points and normals, energy and contact plots. Given a scene
 file, every page load starts the simulation and streams each step to the page
-over a WebSocket (/live), so the scene is watched while it is computed.")]
+over a WebSocket (/live), so the scene is watched while it is computed; a
+click in the 3D view throws a ball into the running simulation.")]
     View(cmd_view::ViewArgs),
     /// Mass properties of a closed triangle mesh: volume, mass, centre of mass,
     /// inertia tensor about the centre of mass, principal moments and axes.

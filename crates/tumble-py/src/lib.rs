@@ -19,6 +19,9 @@
 //! - [`scene`]: `load_scene` and `SceneError`.
 
 #![warn(missing_docs)]
+// Doc comments here are the Python docstrings (pyo3 passes them to __doc__):
+// their indented examples are Python, not Rust code blocks.
+#![allow(rustdoc::invalid_rust_codeblocks)]
 
 pub mod body;
 pub mod convert;

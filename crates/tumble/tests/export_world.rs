@@ -104,3 +104,43 @@ fn every_shape_kind_exports_with_its_animation() {
         }
     }
 }
+
+/// The live stream's frames built straight from the world are the frames the
+/// recorder keeps (two ways to the same message), and a body added during a
+/// session gets a `bodies_added` message and a pose after the others'.
+#[test]
+fn live_frames_from_the_world_equal_recorded_frames() {
+    use tumble::collide::Sphere;
+    use tumble::export::live::{bodies_added_message, frame_message, world_frame_message};
+    use tumble::export::recorded_body;
+    use tumble::world::BodyDesc;
+
+    let (mut world, _) = scenes::tower(3).build().unwrap();
+    let ids = world.body_ids();
+    let mut recorder = WorldRecorder::new(&world).unwrap();
+    for f in 1..=20 {
+        world.step();
+        recorder.record(&world);
+        assert_eq!(
+            world_frame_message(&world, &ids),
+            frame_message(recorder.recording(), f).unwrap()
+        );
+    }
+    let ball = world
+        .add_body(&BodyDesc::dynamic(Sphere::new(0.2).unwrap()).at(DVec3::new(-3.0, 0.0, 1.0)))
+        .unwrap();
+    let added = recorded_body(&world, ball, ids.len()).unwrap();
+    let msg: serde_json::Value = serde_json::from_str(&bodies_added_message(&[added])).unwrap();
+    assert_eq!(msg["type"], "bodies_added");
+    assert_eq!(msg["bodies"].as_array().unwrap().len(), 1);
+    assert!(!msg["bodies"][0]["is_static"].as_bool().unwrap());
+    let mut all = ids.clone();
+    all.push(ball);
+    world.step();
+    let frame: serde_json::Value = serde_json::from_str(&world_frame_message(&world, &all)).unwrap();
+    let poses = frame["poses"].as_array().unwrap();
+    assert_eq!(poses.len(), ids.len() + 1);
+    let x = world.center_of_mass(ball).unwrap();
+    assert_eq!(poses[ids.len()][0].as_f64().unwrap(), x.x);
+    assert_eq!(poses[ids.len()][2].as_f64().unwrap(), x.z);
+}

@@ -10,7 +10,7 @@
 //! - [`build`]: top-down construction, [`ObbTree`] and its statistics.
 //! - [`traverse`]: simultaneous traversal of two trees (overlap and distance).
 //! - [`query`]: one tree against a query box, sphere or half-space.
-//! - [`volume_distance`]: one tree's distance to a convex query volume.
+//! - [`volume_distance`](mod@volume_distance): one tree's distance to a convex query volume.
 
 pub mod build;
 pub mod fit;

@@ -172,7 +172,7 @@ pub const MESH_PLANE_MAX_POINTS: usize = 16;
 pub const MESH_PLANE_BAND: f64 = 0.002;
 
 /// Mesh A against half-space B: every mesh vertex within `margin` of the
-/// plane; past [`MESH_PLANE_MAX_POINTS`], the deepest band of them, reduced
+/// plane; past `MESH_PLANE_MAX_POINTS`, the deepest band of them, reduced
 /// to four well-spread points.
 pub fn contact_mesh_halfspace(
     a: &MeshShape,

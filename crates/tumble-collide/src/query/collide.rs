@@ -22,7 +22,7 @@ use crate::triangle::{merge_contacts, tri_tri_overlap, triangle_contacts, MergeP
 ///
 /// - `intersect`: some closed triangle of A shares a point with some closed
 ///   triangle of B (touching counts), decided by the exact predicates of
-///   [`tri_tri_overlap`].
+///   [`tri_tri_overlap`](fn@tri_tri_overlap).
 /// - [`ReportMode::TrianglePairs`] and [`ReportMode::Contacts`]: all such
 ///   pairs, sorted; with `stop_at_first` only the first one found (the walk
 ///   really ends there: a first-contact query costs one root-to-leaf descent

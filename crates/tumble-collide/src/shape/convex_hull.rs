@@ -28,7 +28,7 @@ pub struct HullFace {
     pub normal: DVec3,
     /// Plane offset: `normal . x = offset` on the face (m).
     pub offset: f64,
-    /// First corner in [`ConvexHull::corners`].
+    /// First corner in `ConvexHull::corners`.
     pub start: u32,
     /// Number of corners.
     pub len: u32,

@@ -63,6 +63,55 @@ const PALETTE: [[f32; 4]; 6] = [
     [0.35, 0.80, 0.80, 1.0],
 ];
 
+/// Contacts drawn per frame at most (the count is always complete).
+pub const MAX_CONTACTS_DRAWN: usize = 512;
+
+/// How a body of `world` is drawn: one mesh of all its shapes in the body
+/// frame (centre of mass, principal axes), its name (`body{k}` when it has
+/// none) and a colour (grey for static bodies, else the palette entry of
+/// `k`, its index in the recording).
+pub fn recorded_body(world: &World, id: BodyId, k: usize) -> Result<RecordedBody, ExportError> {
+    let missing = || ExportError::Empty { bodies: k, frames: 0 };
+    let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
+    for c in world.colliders(id).map_err(|_| missing())? {
+        if let Some(m) = shape_mesh(&c.shape) {
+            append(&mut vertices, &mut triangles, &m, &c.local);
+        }
+    }
+    let mesh = TriMesh::new(vertices, triangles)
+        .or_else(|_| mesh::box_mesh(DVec3::splat(0.01)).map_err(|e| e.to_string()))
+        .map_err(|_| missing())?;
+    let is_static = world.body(id).map_err(|_| missing())?.kind() == BodyKind::Static;
+    let name = world.name(id).unwrap_or("").to_string();
+    Ok(RecordedBody {
+        name: if name.is_empty() { format!("body{k}") } else { name },
+        mesh,
+        color: if is_static {
+            [0.75, 0.76, 0.80, 1.0]
+        } else {
+            PALETTE[k % PALETTE.len()]
+        },
+        is_static,
+    })
+}
+
+/// The viewer data of the world's current state: energies, the contact
+/// count, and up to `max_contacts` contacts that touch or pushed.
+pub fn frame_extras(world: &World, max_contacts: usize) -> FrameExtras {
+    let contacts = world.contacts();
+    FrameExtras {
+        kinetic_energy: world.kinetic_energy(),
+        potential_energy: world.potential_energy(),
+        contact_count: contacts.len(),
+        contacts: contacts
+            .iter()
+            .filter(|c| c.contact.distance <= 0.0 || c.normal_impulse > 0.0)
+            .take(max_contacts)
+            .map(|c| ContactMark::from(&c.contact))
+            .collect(),
+    }
+}
+
 /// Samples a world into a [`Recording`]: create it before stepping, call
 /// [`WorldRecorder::record`] after each step to keep, then [`finish`](Self::finish).
 #[derive(Debug, Clone)]
@@ -78,43 +127,18 @@ impl WorldRecorder {
     /// (centre of mass, principal axes).
     pub fn new(world: &World) -> Result<WorldRecorder, ExportError> {
         let ids = world.body_ids();
-        let mut bodies = Vec::with_capacity(ids.len());
-        for (k, &id) in ids.iter().enumerate() {
-            let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
-            let colliders = world
-                .colliders(id)
-                .map_err(|_| ExportError::Empty { bodies: 0, frames: 0 })?;
-            for c in colliders {
-                if let Some(m) = shape_mesh(&c.shape) {
-                    append(&mut vertices, &mut triangles, &m, &c.local);
-                }
-            }
-            let mesh = TriMesh::new(vertices, triangles)
-                .or_else(|_| mesh::box_mesh(DVec3::splat(0.01)).map_err(|e| e.to_string()))
-                .map_err(|_| ExportError::Empty { bodies: k, frames: 0 })?;
-            let body = world
-                .body(id)
-                .map_err(|_| ExportError::Empty { bodies: k, frames: 0 })?;
-            let is_static = body.kind() == BodyKind::Static;
-            let name = world.name(id).unwrap_or("").to_string();
-            bodies.push(RecordedBody {
-                name: if name.is_empty() { format!("body{k}") } else { name },
-                mesh,
-                color: if is_static {
-                    [0.75, 0.76, 0.80, 1.0]
-                } else {
-                    PALETTE[k % PALETTE.len()]
-                },
-                is_static,
-            });
-        }
+        let bodies = ids
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| recorded_body(world, id, k))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut recorder = WorldRecorder {
             ids,
             recording: Recording {
                 bodies,
                 ..Recording::default()
             },
-            max_contacts_drawn: 512,
+            max_contacts_drawn: MAX_CONTACTS_DRAWN,
         };
         recorder.record(world);
         Ok(recorder)
@@ -128,20 +152,11 @@ impl WorldRecorder {
             .iter()
             .map(|&id| world.body(id).map(|b| b.pose()).unwrap_or(Pose::IDENTITY))
             .collect();
-        let contacts = world.contacts();
         self.recording.frame_times.push(world.time());
         self.recording.frames.push(poses);
-        self.recording.extras.push(FrameExtras {
-            kinetic_energy: world.kinetic_energy(),
-            potential_energy: world.potential_energy(),
-            contact_count: contacts.len(),
-            contacts: contacts
-                .iter()
-                .filter(|c| c.contact.distance <= 0.0 || c.normal_impulse > 0.0)
-                .take(self.max_contacts_drawn)
-                .map(|c| ContactMark::from(&c.contact))
-                .collect(),
-        });
+        self.recording
+            .extras
+            .push(frame_extras(world, self.max_contacts_drawn));
     }
 
     /// Number of frames recorded.

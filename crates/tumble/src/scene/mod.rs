@@ -123,6 +123,23 @@ pub struct LoadedScene {
 
 /// Reads, parses and checks the scene file at `path` (format by extension;
 /// mesh files relative to its directory).
+///
+/// ```
+/// use tumble::scene::load_scene;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/scenes/domino.toml");
+/// let loaded = load_scene(path)?;
+/// assert_eq!(loaded.scene.name, "domino");
+/// assert_eq!(loaded.scene.steps, 600);
+/// let (mut world, ids) = loaded.build()?; // bodies in file order
+/// assert_eq!(world.name(ids[1])?, "domino0");
+/// world.step();
+///
+/// // Errors name the file, line, column and field.
+/// let err = load_scene("no/such/scene.toml").unwrap_err();
+/// assert!(err.to_string().contains("no/such/scene.toml"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn load_scene(path: impl AsRef<Path>) -> Result<LoadedScene, SceneError> {
     let path = path.as_ref();
     let format = Format::from_path(path).ok_or_else(|| SceneError::Format {

@@ -83,7 +83,35 @@ impl MaterialDesc {
     }
 }
 
-/// Everything needed to add a body.
+/// Everything needed to add a body: plain data with a `Default`, usually
+/// built with the constructors ([`BodyDesc::dynamic`], [`BodyDesc::fixed`],
+/// [`BodyDesc::kinematic`]) and builders.
+///
+/// ```
+/// use tumble::collide::{Capsule, DQuat, DVec3, Pose, Sphere};
+/// use tumble::world::{BodyDesc, MassDesc, ShapeDesc, World, WorldSettings};
+///
+/// let ball = BodyDesc::dynamic(Sphere::new(0.1)?)
+///     .at(DVec3::new(0.0, 0.0, 2.0))
+///     .with_mass(0.5) // kg; or .with_density(kg/m^3), default 1000
+///     .with_material(0.8, 0.6) // friction, restitution
+///     .with_velocity(DVec3::new(1.0, 0.0, 0.0), DVec3::ZERO)
+///     .named("ball");
+/// assert_eq!(ball.mass, MassDesc::Mass(0.5));
+///
+/// // A compound body: a capsule handle with a ball on its end, lying along x.
+/// let lying = Pose::new(DVec3::ZERO, DQuat::from_rotation_y(std::f64::consts::FRAC_PI_2))?;
+/// let mut mace = BodyDesc::dynamic(Capsule::new(0.03, 0.3)?).with_pose(lying).named("mace");
+/// mace.shapes.push(ShapeDesc::new(Sphere::new(0.1)?).at(Pose::from_translation(DVec3::new(0.0, 0.0, 0.35))));
+///
+/// let mut world = World::new(WorldSettings::default())?;
+/// let ball = world.add_body(&ball)?;
+/// let mace = world.add_body(&mace)?;
+/// assert_eq!(world.name(ball)?, "ball");
+/// // The ball end (model-frame +z) points along world +x: the centre of mass is on that side.
+/// assert!(world.center_of_mass(mace)?.x > 0.1);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyDesc {
     /// Dynamic (pushed by forces and contacts), static (never moves, infinite

@@ -7,6 +7,40 @@
 //! in; its *body frame* is the centre of mass with principal axes, where the
 //! momentum state (x, q, P, L) lives. Poses read and written through the API
 //! are model-frame poses; velocities are those of the centre of mass.
+//!
+//! ```
+//! use tumble::collide::{Cuboid, DVec3, HalfSpace};
+//! use tumble::world::{BodyDesc, World, WorldError, WorldSettings};
+//!
+//! // Settings are validated: a world with a negative time step is refused.
+//! let bad = WorldSettings { dt: -0.01, ..WorldSettings::default() };
+//! assert!(matches!(World::new(bad), Err(WorldError::BadValue { field: "settings.dt", .. })));
+//!
+//! let mut world = World::new(WorldSettings { sleeping: false, ..WorldSettings::default() })?;
+//! world.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0)?))?;
+//! // A 2 kg crate resting on the ground, its model frame at its centre.
+//! let crate_id = world.add_body(
+//!     &BodyDesc::dynamic(Cuboid::new(DVec3::new(0.4, 0.3, 0.2))?)
+//!         .at(DVec3::new(0.0, 0.0, 0.2))
+//!         .with_mass(2.0),
+//! )?;
+//! // A bad description leaves the world unchanged.
+//! assert!(world.add_body(&BodyDesc::dynamic(Cuboid::new(DVec3::ONE)?).with_mass(-1.0)).is_err());
+//! assert_eq!(world.body_count(), 2);
+//!
+//! let mut report = world.step();
+//! for _ in 0..59 {
+//!     report = world.step();
+//! }
+//! assert!(report.contacts >= 4 && report.quarantined.is_empty());
+//! // At rest, the ground carries the weight: the normal impulses of one step
+//! // add up to m g dt.
+//! let impulse: f64 = world.contacts().iter().map(|c| c.normal_impulse).sum();
+//! let weight = 2.0 * 9.81 * world.settings().dt;
+//! assert!((impulse - weight).abs() < 1e-3 * weight);
+//! assert!((world.pose(crate_id)?.position.z - 0.2).abs() < 1e-3);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod body_mass;
 mod desc;

@@ -86,7 +86,7 @@ fn every_shape_kind_exports_with_its_animation() {
         let times: Vec<f32> = reader.read_inputs().unwrap().collect();
         assert_eq!(times.len(), steps + 1);
         assert!((times[steps] as f64 - world.time()).abs() < 1e-6);
-        let final_pose = world.body(ids[b]).unwrap().pose();
+        let final_pose = world.pose(ids[b]).unwrap();
         match reader.read_outputs().unwrap() {
             gltf::animation::util::ReadOutputs::Translations(t) => {
                 let last = t.last().unwrap();
@@ -143,4 +143,51 @@ fn live_frames_from_the_world_equal_recorded_frames() {
     let x = world.center_of_mass(ball).unwrap();
     assert_eq!(poses[ids.len()][0].as_f64().unwrap(), x.x);
     assert_eq!(poses[ids.len()][2].as_f64().unwrap(), x.z);
+}
+
+/// Recordings are in the model frame the user placed the body in, as
+/// `World::pose` reports it, not in the solver's body frame (centre of mass,
+/// principal axes): a body whose box sits 1 m off its model origin keeps
+/// that offset in the exported mesh, and the exported poses are the model
+/// poses, so mesh and pose together put the box where the world has it.
+#[test]
+fn recordings_use_the_model_frame() {
+    use tumble::collide::shape::{Cuboid, Shape};
+    use tumble::collide::{DQuat, Pose};
+    use tumble::world::{BodyDesc, ShapeDesc, World, WorldSettings};
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let offset = DVec3::new(1.0, 0.0, 0.0);
+    let shape = ShapeDesc::new(Shape::Cuboid(Cuboid::new(DVec3::new(0.1, 0.2, 0.3)).unwrap()))
+        .at(Pose::from_translation(offset));
+    let id = world
+        .add_body(&BodyDesc {
+            shapes: vec![shape],
+            pose: Pose::new(DVec3::new(0.0, 0.0, 2.0), DQuat::from_rotation_z(0.7)).unwrap(),
+            angular_velocity: DVec3::new(0.3, -0.2, 1.0),
+            ..BodyDesc::default()
+        })
+        .unwrap();
+    let mut recorder = WorldRecorder::new(&world).unwrap();
+    for _ in 0..30 {
+        world.step();
+        recorder.record(&world);
+    }
+    let rec = recorder.finish();
+    let (lo, hi) = rec.bodies[0].mesh.bounds();
+    assert!(
+        ((lo + hi) * 0.5 - offset).length() < 1e-12,
+        "mesh centre {:?}",
+        (lo + hi) * 0.5
+    );
+    let last = rec.frames.last().unwrap()[0];
+    let model = world.pose(id).unwrap();
+    assert!((last.position - model.position).length() < 1e-12);
+    assert!(last.rotation.dot(model.rotation).abs() > 1.0 - 1e-12);
+    // Mesh centre placed by the exported pose = the world's centre of mass.
+    let centre = last.transform_point((lo + hi) * 0.5);
+    assert!((centre - world.center_of_mass(id).unwrap()).length() < 1e-9);
 }

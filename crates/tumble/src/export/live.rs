@@ -1,5 +1,5 @@
 //! The viewer's live-mode messages (`viewer/README.md`, "Live mode"): one
-//! `scene` message with every body's mesh (body frame, z up), then one
+//! `scene` message with every body's mesh (its model frame, z up), then one
 //! `frame` message per step with the poses and the plot data, and a
 //! `bodies_added` message whenever bodies join a running session (their
 //! poses then follow the others' in every later frame). `tumble view` sends
@@ -73,14 +73,14 @@ pub fn frame_message(rec: &Recording, f: usize) -> Option<String> {
     Some(frame_json(t, rec.frames.get(f)?, rec.extras.get(f)))
 }
 
-/// The `frame` message of the world's current state: the body-frame poses
+/// The `frame` message of the world's current state: the model-frame poses
 /// of `ids` (in that order; a removed body keeps the identity pose), the
 /// energies and the contacts, as [`WorldRecorder`](super::WorldRecorder)
 /// would record them, without keeping any history.
 pub fn world_frame_message(world: &World, ids: &[BodyId]) -> String {
     let poses: Vec<Pose> = ids
         .iter()
-        .map(|&id| world.body(id).map(|b| b.pose()).unwrap_or(Pose::IDENTITY))
+        .map(|&id| world.pose(id).unwrap_or(Pose::IDENTITY))
         .collect();
     frame_json(
         world.time(),

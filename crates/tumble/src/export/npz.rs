@@ -4,8 +4,8 @@
 //! | array | dtype | shape | meaning |
 //! | --- | --- | --- | --- |
 //! | `time` | `<f8` | (F,) | frame times (s) |
-//! | `position` | `<f8` | (F, N, 3) | body-frame origin (centre of mass) in the world (m, z up) |
-//! | `orientation` | `<f8` | (F, N, 4) | body-frame orientation, unit quaternion (x, y, z, w) |
+//! | `position` | `<f8` | (F, N, 3) | origin of each body's model frame in the world (m, z up), as `World::pose` reports it |
+//! | `orientation` | `<f8` | (F, N, 4) | model-frame orientation, unit quaternion (x, y, z, w) |
 //! | `names` | `<U*` | (N,) | body names |
 //!
 //! F frames, N bodies, in the order of the [`Recording`].

@@ -66,16 +66,27 @@ const PALETTE: [[f32; 4]; 6] = [
 /// Contacts drawn per frame at most (the count is always complete).
 pub const MAX_CONTACTS_DRAWN: usize = 512;
 
-/// How a body of `world` is drawn: one mesh of all its shapes in the body
-/// frame (centre of mass, principal axes), its name (`body{k}` when it has
-/// none) and a colour (grey for static bodies, else the palette entry of
-/// `k`, its index in the recording).
+/// How a body of `world` is drawn: one mesh of all its shapes in the body's
+/// model frame (the frame its description placed the shapes in, whose pose
+/// [`World::pose`] reports), its name (`body{k}` when it has none) and a
+/// colour (grey for static bodies, else the palette entry of `k`, its index
+/// in the recording).
 pub fn recorded_body(world: &World, id: BodyId, k: usize) -> Result<RecordedBody, ExportError> {
     let missing = || ExportError::Empty { bodies: k, frames: 0 };
+    // Colliders are posed in the body frame (centre of mass, principal
+    // axes); the model frame is where the user placed them.
+    let model = world.pose(id).map_err(|_| missing())?;
+    let body = world.body(id).map_err(|_| missing())?.pose();
+    let body_in_model = model.inverse().mul_pose(&body);
     let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
     for c in world.colliders(id).map_err(|_| missing())? {
         if let Some(m) = shape_mesh(&c.shape) {
-            append(&mut vertices, &mut triangles, &m, &c.local);
+            append(
+                &mut vertices,
+                &mut triangles,
+                &m,
+                &body_in_model.mul_pose(&c.local),
+            );
         }
     }
     let mesh = TriMesh::new(vertices, triangles)
@@ -150,7 +161,7 @@ impl WorldRecorder {
         let poses = self
             .ids
             .iter()
-            .map(|&id| world.body(id).map(|b| b.pose()).unwrap_or(Pose::IDENTITY))
+            .map(|&id| world.pose(id).unwrap_or(Pose::IDENTITY))
             .collect();
         self.recording.frame_times.push(world.time());
         self.recording.frames.push(poses);

@@ -95,8 +95,7 @@ def test_csv_trajectory_round_trip(tmp_path) -> None:
     assert len(table) == 2 * 6 and len(ball_rows) == 6
     for row, expected in zip(ball_rows, rows):
         got = [float(row[k]) for k in ["x", "y", "z", "qx", "qy", "qz", "qw"]]
-        # The export holds the body frame (centre of mass, principal axes), which
-        # for a ball is the model frame up to rounding.
+        # The export holds the model frame (position, orientation), as read here.
         np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12)
 
 

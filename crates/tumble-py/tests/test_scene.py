@@ -89,8 +89,8 @@ def last_frame(csv_path: Path) -> dict[str, list[float]]:
 def test_the_world_is_the_one_tumble_run_simulates(name: str, tmp_path: Path) -> None:
     # mixed_shapes has initial forces and torques, a kinematic body, compound
     # bodies and an OBJ file. The trajectory file of `tumble run` holds the
-    # body frames (centre of mass, principal axes); after 30 steps its centres
-    # of mass and Python's must agree bit for bit.
+    # model frames (World.positions, where the scene placed each body); after
+    # 30 steps its positions and Python's must agree bit for bit.
     path = ROOT / "examples" / "scenes" / name
     out = tmp_path / "run.csv"
     subprocess.run([str(CLI), "run", str(path), "--steps", "30", "--trajectory", str(out),
@@ -99,8 +99,8 @@ def test_the_world_is_the_one_tumble_run_simulates(name: str, tmp_path: Path) ->
     world.step(30)
     frame = last_frame(out)
     assert len(frame) == len(world)
-    for body, com in zip(world.bodies, world.centers_of_mass):
-        assert frame[body.name] == com.tolist(), body.name
+    for body, position in zip(world.bodies, world.positions):
+        assert frame[body.name] == position.tolist(), body.name
     start = tumble.load_scene(path)
     assert np.abs(world.centers_of_mass - start.centers_of_mass).max() > 0.01  # things moved
 

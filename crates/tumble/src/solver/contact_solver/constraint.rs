@@ -152,7 +152,17 @@ pub struct ManifoldConstraint {
     pub impulses: [f64; 3],
     /// Inverse masses of A and B (1/kg).
     pub inv_mass: [f64; 2],
+    /// The patch's block of the Delassus matrix `K = J M^-1 J^T` over its
+    /// normal rows (`K[i][j]`: relative normal velocity change at point `i`
+    /// per unit impulse at point `j`), filled for patches of at most
+    /// [`BLOCK_POINTS`] points; the solver then solves the patch's normal
+    /// rows together (see `passes::solve_block`).
+    pub block: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
 }
+
+/// Patches with at most this many points solve their normal rows as one
+/// block (a box face has four).
+pub const BLOCK_POINTS: usize = 4;
 
 impl ManifoldConstraint {
     /// A patch of `point_count` points from `first_point` between solver
@@ -189,6 +199,7 @@ impl ManifoldConstraint {
             masses: [0.0; 3],
             impulses: [warm_tangent.dot(t1), warm_tangent.dot(t2), warm_twist],
             inv_mass: [0.0; 2],
+            block: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
         }
     }
 
@@ -283,5 +294,16 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
     m.rows[2] = RowJacobian::twist(a, b, n);
     for i in 0..3 {
         m.masses[i] = recip_or_zero(m.rows[i].inverse_mass(m.directions[i], a.inv_mass, b.inv_mass));
+    }
+    if pts.len() <= BLOCK_POINTS {
+        // K_ij = (n_i . n_j)(1/mA + 1/mB) + (rA_i x n_i) . IA^-1 (rA_j x n_j)
+        //      + (rB_i x n_i) . IB^-1 (rB_j x n_j)
+        for (i, pi) in pts.iter().enumerate() {
+            for (j, pj) in pts.iter().enumerate() {
+                m.block[i][j] = pi.normal.dot(pj.normal) * (a.inv_mass + b.inv_mass)
+                    + pi.row.ra_x_d.dot(pj.row.ia_ra_x_d)
+                    + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
+            }
+        }
     }
 }

@@ -232,7 +232,8 @@ fn no_tunnelling_of_a_fast_small_sphere() {
         .unwrap();
     let ball = world
         .add_body(
-            &BodyDesc::dynamic(Shape::Sphere(Sphere::new(0.01).unwrap()))
+            // 1 cm across at 100 m/s: 1.7 m per step against a 1 cm plate.
+            &BodyDesc::dynamic(Shape::Sphere(Sphere::new(0.005).unwrap()))
                 .at(DVec3::new(0.0, 0.0, 0.5))
                 .with_velocity(DVec3::new(0.0, 0.0, -100.0), DVec3::ZERO),
         )
@@ -246,8 +247,9 @@ fn no_tunnelling_of_a_fast_small_sphere() {
     }
 }
 
-#[test]
-fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
+/// Two boxes colliding off-centre with restitution `e`: returns the
+/// kinetic energy before and after (momentum and energy checked per step).
+fn off_centre_collision(e: f64) -> (f64, f64) {
     let mut world = World::new(WorldSettings {
         gravity: DVec3::ZERO,
         sleeping: false,
@@ -260,7 +262,7 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
             &BodyDesc::dynamic(cube())
                 .at(DVec3::new(-1.0, 0.15, 0.05))
                 .with_mass(2.0)
-                .with_material(0.3, 0.5)
+                .with_material(0.3, e)
                 .with_velocity(DVec3::new(3.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 1.0)),
         )
         .unwrap();
@@ -269,7 +271,7 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
             &BodyDesc::dynamic(cube())
                 .at(DVec3::new(1.0, 0.0, 0.0))
                 .with_mass(1.0)
-                .with_material(0.3, 0.5),
+                .with_material(0.3, e),
         )
         .unwrap();
     let momentum = |w: &World| {
@@ -289,16 +291,30 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
     let (p0, l0) = momentum(&world);
     let e0 = world.kinetic_energy();
     let mut e_prev = e0;
+    let mut l_prev = l0;
     let mut touched = false;
+    let allowed = world.settings().allowed_penetration;
     for _ in 0..120 {
         let r = world.step();
         touched |= r.contacts > 0;
         let (p, l) = momentum(&world);
         assert!((p - p0).length() < 1e-9 * p0.length().max(1.0), "linear momentum");
+        // Every impulse acts on both bodies along one line, so impulses keep
+        // angular momentum to round-off. Only the position correction (when
+        // an overlap beyond the allowance is pushed out, moving the bodies
+        // without changing their momenta) shifts it, by the correction times
+        // the relative velocity: steps that needed none must conserve it.
+        if r.max_penetration <= allowed {
+            assert!(
+                (l - l_prev).length() < 1e-12 * l0.length().max(1.0),
+                "angular momentum {l:?} vs {l_prev:?}"
+            );
+        }
         assert!(
-            (l - l0).length() < 1e-9 * l0.length().max(1.0),
-            "angular momentum {l:?} vs {l0:?}"
+            (l - l0).length() < 1e-3 * l0.length(),
+            "angular momentum drifted: {l:?} vs {l0:?}"
         );
+        l_prev = l;
         // Impulses never add energy; the free tumbling between them is
         // integrated by a symplectic splitting whose energy error is bounded
         // (O(h^2), no drift): allow that, far below what a bad impulse adds.
@@ -308,7 +324,19 @@ fn off_centre_collision_conserves_momentum_and_never_gains_energy() {
         e_prev = e;
     }
     assert!(touched, "the boxes collided");
-    assert!(e_prev < 0.95 * e0, "e = 0.5 dissipated energy: {e0} -> {e_prev}");
+    (e0, e_prev)
+}
+
+#[test]
+fn off_centre_collisions_conserve_momentum_and_never_gain_energy() {
+    // e = 0 and e = 0.5 dissipate; e = 1 keeps the energy (the boxes separate
+    // after one impact, up to the bounded integration error).
+    let (e0, e1) = off_centre_collision(0.0);
+    assert!(e1 < 0.9 * e0, "e = 0 dissipated: {e0} -> {e1}");
+    let (e0, e1) = off_centre_collision(0.5);
+    assert!(e1 < 0.95 * e0, "e = 0.5 dissipated: {e0} -> {e1}");
+    let (e0, e1) = off_centre_collision(1.0);
+    assert!(e1 > 0.99 * e0, "e = 1 kept its energy: {e0} -> {e1}");
 }
 
 #[test]

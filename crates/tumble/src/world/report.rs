@@ -75,8 +75,13 @@ pub struct StepReport {
     pub islands: usize,
     /// Sub-steps run.
     pub substeps: u32,
-    /// Solver iterations per sub-step (with bias + relax).
+    /// Velocity iterations per sub-step.
     pub iterations: u32,
+    /// What the solver left unsolved (m/s): the largest violation of a
+    /// non-penetration row, `max(0, -(v_n + s/h))`, after the last sub-step's
+    /// velocity iterations (before the push-out and the position update).
+    /// Zero for an exact solve; PGS approaches it as iterations rise.
+    pub solver_residual: f64,
     /// Deepest penetration among the contacts at the start of the step (m, >= 0).
     pub max_penetration: f64,
     /// Human-readable warnings (e.g. a shape pair without a handler).

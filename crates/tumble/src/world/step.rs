@@ -389,7 +389,7 @@ impl World {
             dt,
             h,
         );
-        for _ in 0..substeps {
+        for sub in 0..substeps {
             for (b, &(a, tau, ld, ad)) in solver_bodies.iter_mut().zip(&accel) {
                 if !b.dynamic {
                     continue;
@@ -398,7 +398,7 @@ impl World {
                 b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
             }
             if exact {
-                contact_solver::begin_substep(&manifolds, &mut points, &mut solver_bodies, false);
+                contact_solver::begin_substep(&mut manifolds, &mut points, &mut solver_bodies, false);
                 for p in points.iter_mut() {
                     p.normal_impulse = 0.0;
                 }
@@ -419,12 +419,15 @@ impl World {
                     }
                 }
             } else {
-                contact_solver::begin_substep(&manifolds, &mut points, &mut solver_bodies, true);
+                contact_solver::begin_substep(&mut manifolds, &mut points, &mut solver_bodies, true);
             }
             if !exact {
                 for _ in 0..s.iterations {
                     contact_solver::solve(&mut manifolds, &mut points, &mut solver_bodies, h);
                 }
+            }
+            if sub + 1 == substeps {
+                report.solver_residual = contact_solver::residual(&manifolds, &points, &solver_bodies, h);
             }
             for _ in 0..s.push_out_iterations {
                 if !contact_solver::push_out(&manifolds, &mut points, &mut solver_bodies, &params, h) {

@@ -11,7 +11,10 @@ pub const MAX_COLLISION_SWEEPS: usize = 32;
 /// Colliding contact (thesis 7.1): before the resting-contact solve, every
 /// point of a pair with restitution `e > 0` that approaches faster than the
 /// threshold and will touch within `dt` gets the impulse that reverses its
-/// normal velocity by Newton's law. Sweeps repeat until nothing approaches,
+/// normal velocity by Newton's law. (For `e = 0` the sub-steps' resting
+/// solve stops the approach by itself, with friction acting together with
+/// it; pushing many mesh points' impacts through here one by one, without
+/// friction, shakes concave contacts.) Sweeps repeat until nothing approaches,
 /// so an impact travels down a row of touching bodies in one step (Newton's
 /// cradle; Guendelman, Bridson & Fedkiw 2003 process collisions the same way).
 ///

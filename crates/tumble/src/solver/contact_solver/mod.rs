@@ -48,4 +48,4 @@ pub use constraint::{
     SolverParams,
 };
 pub use exact::{solve_normals_exactly, ExactSolveError, EXACT_MAX_CONTACTS};
-pub use passes::{begin_substep, push_out, solve, solve_friction};
+pub use passes::{begin_substep, push_out, residual, solve, solve_friction};

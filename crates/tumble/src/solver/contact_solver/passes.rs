@@ -4,8 +4,8 @@
 //! the two bodies' velocities in registers across a patch's rows.
 
 use super::body::SolverBody;
-use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_POINTS};
-use tumble_collide::DVec3;
+use super::constraint::{ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS};
+use tumble_collide::{DMat3, DVec3};
 
 /// Velocities of a patch's two bodies while its rows are solved.
 struct PairVelocity {
@@ -57,26 +57,50 @@ impl PairVelocity {
 
 /// Starts a sub-step: refreshes each point's separation for the bodies'
 /// current poses, `s = s0 + n . ((dpA + R_A rA - rA) - (dpB + R_B rB - rB))`
-/// with `R` each body's rotation since the step start (the lever arms and
-/// normals of the rows stay those of the step start, as in Box2D v3; the
-/// separation, which decides whether a point is active, follows the bodies
-/// exactly), clears the push-out impulses, and, with `warm`, applies the
-/// accumulated impulses (warm start, Catto 2005).
+/// with `R` each body's rotation since the step start, re-aims the rows'
+/// lever arms at the contact as it is now (below), clears the push-out
+/// impulses, and, with `warm`, applies the accumulated impulses (warm
+/// start, Catto 2005).
+///
+/// Lever arms: a point's two anchors move apart as the bodies slide and turn
+/// within the step. Each row is applied at one world point shared by both
+/// bodies, the midpoint of the anchors in their current places, with the
+/// current inverse inertia: an impulse and its reaction then act along one
+/// line, so every impulse conserves linear and angular momentum exactly.
+/// (Rows kept at the step start's lever arms would not: their error in
+/// angular momentum is the bodies' relative displacement times the impulse.)
+/// Normals and effective masses stay those of the step start.
 pub fn begin_substep(
-    manifolds: &[ManifoldConstraint],
+    manifolds: &mut [ManifoldConstraint],
     points: &mut [PointConstraint],
     bodies: &mut [SolverBody],
     warm: bool,
 ) {
-    for m in manifolds {
+    for m in manifolds.iter_mut() {
         let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
         let (dpa, ta, dpb, tb) = (a.dp, a.turn, b.dp, b.turn);
-        let mut vel = PairVelocity::load(bodies, m);
+        let moved =
+            dpa != DVec3::ZERO || dpb != DVec3::ZERO || ta != DMat3::IDENTITY || tb != DMat3::IDENTITY;
         for p in &mut points[m.range()] {
-            let d = (dpa + ta * p.r_a - p.r_a) - (dpb + tb * p.r_b - p.r_b);
+            let (ra_now, rb_now) = (ta * p.r_a, tb * p.r_b);
+            let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
             p.separation_now = p.separation + p.normal.dot(d);
             p.push_impulse = 0.0;
-            if warm {
+            if moved {
+                let (ra, rb) = shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb);
+                p.row = RowJacobian::new(a, b, ra, rb, p.normal);
+            }
+        }
+        if moved {
+            let (ra, rb) = shared_lever_arms(m.r_a, m.r_b, ta * m.r_a, tb * m.r_b, dpa, dpb);
+            for i in 0..2 {
+                m.rows[i] = RowJacobian::new(a, b, ra, rb, m.directions[i]);
+            }
+            m.rows[2] = RowJacobian::twist(a, b, m.normal);
+        }
+        if warm {
+            let mut vel = PairVelocity::load(bodies, m);
+            for p in &points[m.range()] {
                 vel.apply(
                     p.normal,
                     p.row.ia_ra_x_d,
@@ -85,8 +109,6 @@ pub fn begin_substep(
                     p.normal_impulse,
                 );
             }
-        }
-        if warm {
             for (i, row) in m.rows.iter().enumerate() {
                 vel.apply(
                     m.directions[i],
@@ -99,6 +121,18 @@ pub fn begin_substep(
             vel.store(bodies, m);
         }
     }
+}
+
+/// Lever arms from A's and B's current centres of mass to the midpoint of a
+/// contact's two anchors, given the step-start lever arms `ra0`, `rb0` (one
+/// world point then), their turned versions `ra`, `rb`, and the centres'
+/// displacements `dpa`, `dpb` since the step start. Since `xB0 - xA0 =
+/// ra0 - rb0`, the centres are now `ab = ra0 - rb0 + dpb - dpa` apart.
+#[inline(always)]
+fn shared_lever_arms(ra0: DVec3, rb0: DVec3, ra: DVec3, rb: DVec3, dpa: DVec3, dpb: DVec3) -> (DVec3, DVec3) {
+    let ab = ra0 - rb0 + dpb - dpa;
+    let ra_mid = (ra + rb + ab) * 0.5;
+    (ra_mid, ra_mid - ab)
 }
 
 /// One Gauss-Seidel pass over all patches on the real velocities: first
@@ -145,7 +179,7 @@ pub fn solve(
 }
 
 /// Sweeps of projected Gauss-Seidel on a patch's own block per solver pass.
-const BLOCK_SWEEPS: usize = 6;
+const BLOCK_SWEEPS: usize = 3;
 
 /// The normal rows of a small patch solved together: with `b_i` the
 /// current relative normal velocity plus bias of point `i` and `K` the
@@ -160,25 +194,24 @@ const BLOCK_SWEEPS: usize = 6;
 /// to an answer whose velocities do not depend on the order of the points.
 #[inline(always)]
 fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut PairVelocity, inv_h: f64) {
-    let n = pts.len();
+    // Fixed-size arrays padded with inactive points (zero row, zero mass):
+    // the sweeps unroll completely.
     let mut b = [0.0; BLOCK_POINTS];
     let mut lambda = [0.0; BLOCK_POINTS];
+    let mut mass = [0.0; BLOCK_POINTS];
     for (i, p) in pts.iter().enumerate() {
         let s = p.separation_now;
         let bias = if s > 0.0 { s * inv_h } else { 0.0 };
         b[i] = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) + bias;
         lambda[i] = p.normal_impulse;
+        mass[i] = p.normal_mass;
     }
     let mut d = [0.0; BLOCK_POINTS];
     for _ in 0..BLOCK_SWEEPS {
-        for i in 0..n {
+        for i in 0..BLOCK_POINTS {
             let k = &m.block[i];
-            let mut w = b[i];
-            for j in 0..n {
-                w += k[j] * d[j];
-            }
-            let new = (lambda[i] + d[i] - pts[i].normal_mass * w).max(0.0);
-            d[i] = new - lambda[i];
+            let w = b[i] + k[0] * d[0] + k[1] * d[1] + k[2] * d[2] + k[3] * d[3];
+            d[i] = (lambda[i] + d[i] - mass[i] * w).max(0.0) - lambda[i];
         }
     }
     for (i, p) in pts.iter_mut().enumerate() {
@@ -187,6 +220,30 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
         p.max_normal_impulse = p.max_normal_impulse.max(new_impulse);
         vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, m.inv_mass, d[i]);
     }
+}
+
+/// The largest violation of the non-penetration rows by the current
+/// velocities (m/s): `max(0, -(v_n + bias))` over every point, with the
+/// speculative `bias = s / h` for points with a gap. Zero when every row of
+/// the contact LCP holds; what the iterations left unsolved otherwise.
+pub fn residual(
+    manifolds: &[ManifoldConstraint],
+    points: &[PointConstraint],
+    bodies: &[SolverBody],
+    h: f64,
+) -> f64 {
+    let inv_h = 1.0 / h;
+    let mut worst: f64 = 0.0;
+    for m in manifolds {
+        let vel = PairVelocity::load(bodies, m);
+        for p in &points[m.range()] {
+            let s = p.separation_now;
+            let bias = if s > 0.0 { s * inv_h } else { 0.0 };
+            let w = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) + bias;
+            worst = worst.max(-w);
+        }
+    }
+    worst
 }
 
 /// One pass over the friction rows only, the normal impulses held fixed

@@ -25,7 +25,7 @@ pub(crate) type PairKey = (u32, u32, u16, u16);
 pub(crate) const MATCH_DISTANCE: f64 = 0.01;
 
 /// Impulses remembered for one contact point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct CachedContact {
     pub key: PairKey,
     pub feature_a: Feature,

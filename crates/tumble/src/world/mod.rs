@@ -16,6 +16,7 @@ mod islands;
 mod manifold;
 mod report;
 mod settings;
+mod snapshot;
 mod step;
 
 pub use desc::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc};
@@ -24,6 +25,7 @@ pub use handles::{Arena, BodyId};
 pub use islands::{label_islands, UnionFind};
 pub use report::{ContactEvent, Quarantined, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
+pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC};
 
 use crate::body::{BodyKind, Material, RigidBody};
 use manifold::CachedContact;
@@ -508,6 +510,12 @@ impl World {
         e.sleeping = false;
         e.rest_time = 0.0;
         Ok(())
+    }
+
+    /// Forgets the warm-start impulses of the last step: the next step's
+    /// solver starts from zero (as after teleporting bodies far).
+    pub fn clear_contact_cache(&mut self) {
+        self.cache.clear();
     }
 
     /// Contact points of the last step with their impulses.

@@ -26,6 +26,7 @@ pub use islands::{label_islands, UnionFind};
 pub use report::{ContactEvent, Quarantined, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
 pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC};
+pub use step::RUNAWAY_SPEED;
 
 use crate::body::{BodyKind, Material, RigidBody};
 use manifold::CachedContact;

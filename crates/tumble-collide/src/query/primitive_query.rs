@@ -163,6 +163,11 @@ pub fn distance_primitive(
         value: options.rel_err,
     })?;
     let (tri_b, d) = best.ok_or(QueryError::NotFinite("distance_primitive"))?;
+    // Coordinates near the f64 limit can overflow in the closest-point
+    // arithmetic: an error, never NaN points.
+    if !(d.distance.is_finite() && d.on_primitive.is_finite() && d.on_triangle.is_finite()) {
+        return Err(QueryError::NotFinite("distance_primitive"));
+    }
     Ok(DistanceResult {
         distance: d.distance,
         point_a: d.on_primitive,

@@ -4,7 +4,6 @@ Rust message, leaves the world unchanged, and never kills the process."""
 from __future__ import annotations
 
 import math
-import pickle
 
 import numpy as np
 import pytest
@@ -249,11 +248,6 @@ def test_files(tmp_path) -> None:
     world, _ = world_with_ball()
     with pytest.raises(tumble.FileError):
         world.export_gltf(tmp_path / "no" / "such" / "dir" / "out.glb")
-
-
-def test_world_cannot_be_pickled_yet() -> None:
-    with pytest.raises(TypeError):
-        pickle.dumps(tumble.World())
 
 
 def test_a_panic_arrives_as_internal_error() -> None:

@@ -301,6 +301,11 @@ fn check_report(r: &tumble::collide::Report, na: usize, nb: usize) {
     }
 }
 
+/// `true` when some value is non-zero but below 1e-100 in magnitude.
+fn has_tiny(values: &[f64]) -> bool {
+    values.iter().any(|&x| x != 0.0 && x.abs() < 1e-100)
+}
+
 /// A small triangle soup (1 to 4 triangles) from the input.
 fn soup(input: &mut Input, range: f64) -> Option<TriMesh> {
     let n = 1 + input.below(4);
@@ -353,11 +358,19 @@ pub fn collide_target(data: &[u8]) {
             // round-off, else normalised; compare only the former). Far from
             // the origin (beyond 100 mesh sizes) world coordinates round
             // coarser than the tree's relative frame: not compared there.
+            // Nor where a coordinate is tiny but not zero (1e-300): products of
+            // two such underflow, and the "exact" orientation predicates
+            // report touching where the tree, in its relative frame, sees a
+            // gap (found by libFuzzer; a limit of the predicates, documented
+            // in docs/reliability.md).
             let usable = |p: &Pose| {
                 (p.rotation.length_squared() - 1.0).abs() <= 8.0 * f64::EPSILON
                     && p.position.abs().max_element() <= 100.0 * range
+                    && !has_tiny(&p.position.to_array())
+                    && !has_tiny(&p.rotation.to_array())
             };
-            if usable(&pose_a) && usable(&pose_b) {
+            let tiny_vertex = |m: &TriMesh| m.vertices().iter().any(|v| has_tiny(&v.to_array()));
+            if usable(&pose_a) && usable(&pose_b) && !tiny_vertex(&ma) && !tiny_vertex(&mb) {
                 let mut expected = Vec::new();
                 for ta in 0..na {
                     for tb in 0..nb {

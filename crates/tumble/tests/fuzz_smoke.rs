@@ -4,7 +4,7 @@
 //! mutations of the corpus (bit flips, byte and chunk edits, splices, and
 //! number literals swapped for nasty ones). Deterministic: the same inputs
 //! every run. `TUMBLE_FUZZ_ITERS=N` sets the mutations per target (default
-//! 600); `scripts/fuzz.sh` runs the same targets under libFuzzer (nightly).
+//! 2000); `scripts/fuzz.sh` runs the same targets under libFuzzer (nightly).
 //! A failing input is written to `target/fuzz-smoke-failures/` and named in
 //! the panic message: copy it into `fuzz/regressions/<target>/`.
 
@@ -159,7 +159,7 @@ fn smoke(name: &str) {
     let iters: usize = std::env::var("TUMBLE_FUZZ_ITERS")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(600);
+        .unwrap_or(2000);
     let seeds: Vec<Vec<u8>> = corpus.into_iter().map(|(_, d)| d).collect();
     let mut rng = Rng(0x7475_6d62_6c65 ^ name.len() as u64 ^ (name.as_bytes()[0] as u64) << 32);
     for k in 0..iters {

@@ -93,6 +93,13 @@ pub fn collide_primitive(
             options.contact_margin,
             &mut report.contacts,
         );
+        // Dimensions or coordinates near the f64 limit (a sphere of radius
+        // 1e308) can overflow in the contact arithmetic (found by fuzzing):
+        // an error, never a NaN contact.
+        let finite = |c: &Contact| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite();
+        if !report.contacts.iter().all(finite) {
+            return Err(QueryError::NotFinite("collide_primitive"));
+        }
     }
     report.stats = QueryStats::from_traversal(&traversal, tests);
     Ok(report)

@@ -99,12 +99,15 @@ CASES = [
     ("world.add_body(tumble.TriMesh(cube.vertices, cube.faces[:, ::-1]), density=1000.0)", INVALID),
     ("world.add_body(tumble.TriMesh([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]], "
      "[[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]]), density=1000.0)", INVALID),
-    ("tumble.mass_properties(tumble.TriMesh(cube.vertices, cube.faces[:10]), density=1.0)", INVALID),
+    ("tumble.mass_properties(tumble.TriMesh(cube.vertices, cube.faces[:10]), density=1.0)",
+     INVALID),
     # Mesh files.
     ("tumble.TriMesh.from_file(tmp + '/missing.obj')", FILE),
     ("open(tmp + '/e.obj', 'w').close(); tumble.TriMesh.from_file(tmp + '/e.obj')", INVALID),
-    ("open(tmp + '/g.stl', 'wb').write(b'\\x00' * 10); tumble.TriMesh.from_file(tmp + '/g.stl')", INVALID),
-    ("open(tmp + '/g.obj', 'w').write('v 0 0 0\\nf 1 2 3\\n'); tumble.TriMesh.from_file(tmp + '/g.obj')", INVALID),
+    ("open(tmp + '/g.stl', 'wb').write(b'\\x00' * 10); "
+     "tumble.TriMesh.from_file(tmp + '/g.stl')", INVALID),
+    ("open(tmp + '/g.obj', 'w').write('v 0 0 0\\nf 1 2 3\\n'); "
+     "tumble.TriMesh.from_file(tmp + '/g.obj')", INVALID),
     ("tumble.TriMesh.from_file(tmp + '/x.ply')", INVALID),
     # Handles: removed twice, stale, of another world.
     ("world.remove_body(gone)", STALE),

@@ -17,7 +17,9 @@ def make_world() -> tumble.World:
     world = tumble.World(dt=1 / 120)
     world.add_body(tumble.HalfSpace(), kind="static", name="ground")
     balls = [
-        world.add_body(tumble.Sphere(0.2), mass=1.0, position=(0.5 * i, 0, 0.4 + 0.45 * i), name=f"ball{i}")
+        world.add_body(
+            tumble.Sphere(0.2), mass=1.0, position=(0.5 * i, 0, 0.4 + 0.45 * i), name=f"ball{i}"
+        )
         for i in range(4)
     ]
     world.add_body(
@@ -28,7 +30,9 @@ def make_world() -> tumble.World:
         angular_velocity=(0, 0, 3),
         name="box",
     )
-    world.add_body(tumble.TriMesh.torus(1.0, 0.2, 16, 8), mass=1.0, position=(-3, 0, 0.5), name="torus")
+    world.add_body(
+        tumble.TriMesh.torus(1.0, 0.2, 16, 8), mass=1.0, position=(-3, 0, 0.5), name="torus"
+    )
     world.add_body(tumble.ConvexHull(tumble.TriMesh.box((0.2, 0.2, 0.2)).vertices), mass=1.0,
                    position=(0, 2, 0.5), name="hull")
     world.add_body(tumble.Box((1, 1, 0.05)), kind="kinematic", position=(0, -3, 0.2),
@@ -118,7 +122,8 @@ def test_bad_snapshot_files(tmp_path) -> None:
     assert "version 0 is not supported" in str(info.value)
     # A negative friction (material is [restitution, friction]).
     assert '"material":[0.0,0.5]' in text
-    (tmp_path / "bad.json").write_text(text.replace('"material":[0.0,0.5]', '"material":[0.0,-0.5]', 1))
+    bad = text.replace('"material":[0.0,0.5]', '"material":[0.0,-0.5]', 1)
+    (tmp_path / "bad.json").write_text(bad)
     with pytest.raises(tumble.InvalidArgument) as info:
         tumble.World.load(tmp_path / "bad.json")
     assert "invalid snapshot" in str(info.value)

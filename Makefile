@@ -5,7 +5,7 @@
 CARGO ?= cargo
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test lint fmt-check clippy rust-test doc viewer-test bench-quick bench python-env python-test python-bench manual manual-test
+.PHONY: demo test lint fmt-check clippy rust-test doc viewer-test bench-quick bench python-env python-test python-bench manual manual-test soak fuzz
 
 # The torus demo first (two tori through exact mesh-mesh contact, then the
 # 21-link torus chain), then domino and Dzhanibekov; finally the web viewer
@@ -97,3 +97,17 @@ manual-test: python-env
 # target/tools on first use; see scripts/manual.sh).
 manual:
 	bash scripts/manual.sh
+
+# Long runs, off the CI path: the pile(100) and the chain for 100,000 steps
+# each (dt 1/240) with NaN, containment, energy and memory checks and a
+# printed summary (crates/tumble/tests/soak.rs; shorter versions run in
+# `make test`).
+soak:
+	$(CARGO) test --release -p tumble --test soak -- --ignored --nocapture --test-threads=1
+
+# libFuzzer on every target for FUZZ_SECONDS each (nightly + cargo-fuzz,
+# installed by the script); `make test` runs the same targets on stable in
+# seconds (crates/tumble/tests/fuzz_smoke.rs).
+FUZZ_SECONDS ?= 60
+fuzz:
+	bash scripts/fuzz.sh $(FUZZ_SECONDS)

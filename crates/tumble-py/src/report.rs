@@ -66,7 +66,7 @@ pub fn warn_summary(py: Python<'_>, s: &StepSummary) -> PyResult<()> {
     }
     for id in &s.quarantined {
         let msg = std::ffi::CString::new(format!(
-            "tumble step: body {id:?} got a non-finite state; it was restored and stopped"
+            "tumble step: body {id:?} got a non-finite or runaway state; it was restored and stopped"
         ))
         .unwrap_or_default();
         PyErr::warn(py, &category, &msg, 1)?;

@@ -3,9 +3,11 @@
 //! releases the GIL and catches panics, and the world is poisoned (refuses
 //! further calls) if one ever happens mid-step.
 //!
-//! Second-round hooks: `World.load` / `save` (snapshots) and a
-//! `tumble.load_scene` build a world through [`World::from_parts`]; queries
-//! need nothing from here.
+//! Snapshots: `World.save` / `World.load` (files), `to_bytes` /
+//! `from_bytes` and pickling (`__reduce__`), over the Rust snapshot API; the
+//! snapshot keeps the body insertion order, so the array rows of a loaded
+//! world are those of the saved one. A `tumble.load_scene` builds a world
+//! through [`World::from_parts`] too.
 
 use crate::body::{kind_from, Body};
 use crate::convert::{self, matrix_out};
@@ -23,7 +25,10 @@ use std::time::{Duration, Instant};
 
 /// How long `step(n)` runs without looking at Python's signal handlers.
 const SIGNAL_CHECK_PERIOD: Duration = Duration::from_millis(50);
-use tumble::world::{BodyDesc, BodyId, MassDesc, MaterialDesc, World as RWorld, WorldSettings};
+use pyo3::types::PyBytes;
+use tumble::world::{
+    BodyDesc, BodyId, MassDesc, MaterialDesc, Snapshot, SnapshotError, World as RWorld, WorldSettings,
+};
 use tumble::BodyKind;
 use tumble_collide::{DVec3, Pose};
 
@@ -132,6 +137,32 @@ impl World {
             world: slf.clone().unbind(),
             id,
         }
+    }
+}
+
+/// A snapshot error as a Python exception: files that cannot be read or
+/// written are `FileError`, anything wrong with the content (another format
+/// version, corrupt or inconsistent data) `InvalidArgument`.
+fn snapshot_error(e: SnapshotError) -> PyErr {
+    match e {
+        SnapshotError::Io { .. } => error(Kind::File, e.to_string()),
+        _ => invalid(e.to_string()),
+    }
+}
+
+impl World {
+    /// The snapshot of the world with the Python row order in it.
+    fn snapshot(&self) -> PyResult<Snapshot> {
+        self.check_usable()?;
+        let mut snap = self.inner.snapshot();
+        snap.set_body_order(self.order.clone()).map_err(snapshot_error)?;
+        Ok(snap)
+    }
+
+    /// A world continuing from `snap`, rows in its saved order.
+    fn from_snapshot(snap: &Snapshot) -> PyResult<World> {
+        let inner = RWorld::from_snapshot(snap).map_err(snapshot_error)?;
+        Ok(World::from_parts(inner, snap.body_order().to_vec()))
     }
 }
 
@@ -570,6 +601,52 @@ impl World {
     fn export_csv(&self, path: PathBuf) -> PyResult<()> {
         self.check_usable()?;
         guard(|| Recorder::export_csv(self.recorder.as_ref(), &self.inner, &path))
+    }
+
+    /// Saves the complete state (settings, bodies in row order, contacts'
+    /// warm-start cache, time, step count) to `path`: compact binary, or
+    /// JSON when the name ends in ``.json``. `World.load(path)` continues
+    /// exactly: the same steps give bit-identical arrays. Recordings and the
+    /// last step's report and contacts are not saved.
+    ///
+    /// Raises:
+    ///     FileError: the file cannot be written.
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        guard(|| self.snapshot()?.save(&path).map_err(snapshot_error))
+    }
+
+    /// A world from a file written by `save`.
+    ///
+    /// Raises:
+    ///     FileError: the file cannot be read (missing, empty).
+    ///     InvalidArgument: not a snapshot, corrupt, or written by a tumble
+    ///         with another snapshot format version.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<World> {
+        guard(|| World::from_snapshot(&Snapshot::load(&path).map_err(snapshot_error)?))
+    }
+
+    /// The state as bytes (the binary snapshot of `save`).
+    fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let bytes = guard(|| Ok(self.snapshot()?.to_bytes()))?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
+    /// A world from `to_bytes()` output.
+    ///
+    /// Raises:
+    ///     InvalidArgument: not a snapshot, corrupt, or of another format version.
+    #[staticmethod]
+    fn from_bytes(data: &[u8]) -> PyResult<World> {
+        guard(|| World::from_snapshot(&Snapshot::from_bytes(data).map_err(snapshot_error)?))
+    }
+
+    /// Pickling (and copy.deepcopy) through the binary snapshot.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
+        let py = slf.py();
+        let bytes = slf.borrow().to_bytes(py)?;
+        let from_bytes = slf.get_type().getattr("from_bytes")?;
+        Ok((from_bytes, (bytes,)))
     }
 
     fn __len__(&self) -> usize {

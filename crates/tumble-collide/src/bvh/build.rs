@@ -34,7 +34,7 @@ impl Default for BuildOptions {
 }
 
 /// Why a tree could not be built.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BvhError {
     /// `leaf_size` outside 1..=7.
     #[error("OBBTree leaf_size must be in 1..={max}, got {value}")]
@@ -43,6 +43,18 @@ pub enum BvhError {
         value: usize,
         /// Largest accepted value.
         max: usize,
+    },
+    /// A vertex lies farther from the mesh's origin than [`MAX_COORDINATE`]
+    /// along some axis: the tree's f32 boxes (and the squares taken when
+    /// fitting them) would overflow, and a query could miss a contact.
+    #[error("OBBTree supports vertex coordinates up to {max:e} m, vertex {vertex} has {value:e}")]
+    CoordinateTooLarge {
+        /// Index of the vertex.
+        vertex: usize,
+        /// Its largest coordinate (absolute value, m).
+        value: f64,
+        /// [`MAX_COORDINATE`].
+        max: f64,
     },
     /// The mesh has more triangles than a node link can address.
     #[error("OBBTree supports at most {max} triangles, mesh has {count}")]
@@ -87,6 +99,13 @@ pub struct ObbTree {
     identity_fallbacks: usize,
 }
 
+/// Largest vertex coordinate (absolute, m, in the mesh's own frame) an
+/// OBBTree accepts. Boxes are stored in f32 (largest finite value 3.4e38) and
+/// the separating-axis tests add a few extents together; below 1e36 none of
+/// that overflows. Beyond f32's range a box became infinite and the walk
+/// skipped real contacts (found by fuzzing with 1.8e308 m vertices).
+pub const MAX_COORDINATE: f64 = 1e36;
+
 impl ObbTree {
     /// Builds with [`BuildOptions::default`].
     pub fn build(mesh: &TriMesh) -> Result<ObbTree, BvhError> {
@@ -100,6 +119,19 @@ impl ObbTree {
             return Err(BvhError::BadLeafSize {
                 value: leaf_size,
                 max: MAX_LEAF_SIZE,
+            });
+        }
+        if let Some((vertex, value)) = mesh
+            .vertices()
+            .iter()
+            .map(|v| v.abs().max_element())
+            .enumerate()
+            .find(|&(_, c)| c > MAX_COORDINATE)
+        {
+            return Err(BvhError::CoordinateTooLarge {
+                vertex,
+                value,
+                max: MAX_COORDINATE,
             });
         }
         let n = mesh.triangles().len();

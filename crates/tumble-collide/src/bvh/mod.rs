@@ -22,7 +22,7 @@ mod stack;
 pub mod traverse;
 pub mod volume_distance;
 
-pub use build::{BuildOptions, BvhError, ObbTree, TreeStats};
+pub use build::{BuildOptions, BvhError, ObbTree, TreeStats, MAX_COORDINATE};
 pub use node::Node;
 pub use obb::Obb;
 pub use query::{query_aabb, query_halfspace, query_obb, query_sphere};

@@ -36,6 +36,17 @@ pub enum GeneratorError {
         /// The value given.
         value: usize,
     },
+    /// The resolutions ask for more triangles than [`MAX_GENERATED_TRIANGLES`]
+    /// (each resolution may be fine alone; their product is what is stored).
+    #[error("{shape}: {triangles} triangles requested, at most {max} are generated")]
+    TooLarge {
+        /// Which generator.
+        shape: &'static str,
+        /// Triangles the resolutions would give.
+        triangles: u128,
+        /// [`MAX_GENERATED_TRIANGLES`].
+        max: usize,
+    },
     /// Geometric constraint between dimensions violated (e.g. torus r >= R).
     #[error("{shape}: {0}", shape = .1)]
     Constraint(String, &'static str),
@@ -49,6 +60,25 @@ fn dim(shape: &'static str, name: &'static str, value: f64) -> Result<(), Genera
         Ok(())
     } else {
         Err(GeneratorError::BadDimension { shape, name, value })
+    }
+}
+
+/// Largest mesh a generator makes (16.7 million triangles, about 600 MB with
+/// its vertices). Without it two resolutions of 2^20 each ask for 2^41
+/// triangles: an allocation that aborts the process (found by fuzzing the
+/// scene format).
+pub const MAX_GENERATED_TRIANGLES: usize = 1 << 24;
+
+/// Refuses resolutions whose mesh would exceed [`MAX_GENERATED_TRIANGLES`].
+fn budget(shape: &'static str, triangles: u128) -> Result<(), GeneratorError> {
+    if triangles <= MAX_GENERATED_TRIANGLES as u128 {
+        Ok(())
+    } else {
+        Err(GeneratorError::TooLarge {
+            shape,
+            triangles,
+            max: MAX_GENERATED_TRIANGLES,
+        })
     }
 }
 
@@ -105,6 +135,7 @@ pub fn grid_mesh(half_x: f64, half_y: f64, nx: usize, ny: usize) -> Result<TriMe
     dim("grid", "half_y", half_y)?;
     res("grid", "nx", nx, 1)?;
     res("grid", "ny", ny, 1)?;
+    budget("grid", 2 * nx as u128 * ny as u128)?;
     let mut vertices = Vec::with_capacity((nx + 1) * (ny + 1));
     for j in 0..=ny {
         for i in 0..=nx {
@@ -178,6 +209,7 @@ pub fn uv_sphere_mesh(radius: f64, segments: usize, rings: usize) -> Result<TriM
     dim("uv_sphere", "radius", radius)?;
     res("uv_sphere", "segments", segments, 3)?;
     res("uv_sphere", "rings", rings, 2)?;
+    budget("uv_sphere", 2 * segments as u128 * rings as u128)?;
     let profile: Vec<(f64, f64)> = (1..rings)
         .map(|k| {
             let phi = -PI / 2.0 + PI * k as f64 / rings as f64;
@@ -294,6 +326,7 @@ pub fn capsule_mesh(
     }
     res("capsule", "segments", segments, 3)?;
     res("capsule", "rings", rings, 1)?;
+    budget("capsule", 2 * segments as u128 * (2 * rings as u128 + 1))?;
     let mut profile = Vec::new();
     for k in 1..=rings {
         let phi = -PI / 2.0 + PI / 2.0 * k as f64 / rings as f64;
@@ -334,6 +367,7 @@ pub fn torus_mesh(major: f64, minor: f64, n_major: usize, n_minor: usize) -> Res
     dim("torus", "minor radius r", minor)?;
     res("torus", "n_major", n_major, 3)?;
     res("torus", "n_minor", n_minor, 3)?;
+    budget("torus", 2 * n_major as u128 * n_minor as u128)?;
     if minor >= major {
         return Err(GeneratorError::Constraint(
             format!(

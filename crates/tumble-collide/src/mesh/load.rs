@@ -95,6 +95,27 @@ pub fn load_stl(path: impl AsRef<Path>) -> Result<TriMesh, LoadError> {
     parse_stl(&bytes).map_err(|e| e.at(path))
 }
 
+/// Where in-memory input is said to come from in errors.
+const MEMORY: &str = "<memory>";
+
+/// Parses Wavefront OBJ text held in memory (as [`load_obj`] does a file);
+/// errors name the source `<memory>`.
+pub fn obj_from_bytes(bytes: &[u8]) -> Result<TriMesh, LoadError> {
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(LoadError::EmptyFile { path: MEMORY.into() });
+    }
+    parse_obj(bytes).map_err(|e| e.at(Path::new(MEMORY)))
+}
+
+/// Parses an STL file (ASCII or binary) held in memory (as [`load_stl`]
+/// does a file); errors name the source `<memory>`.
+pub fn stl_from_bytes(bytes: &[u8]) -> Result<TriMesh, LoadError> {
+    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+        return Err(LoadError::EmptyFile { path: MEMORY.into() });
+    }
+    parse_stl(bytes).map_err(|e| e.at(Path::new(MEMORY)))
+}
+
 /// A loader error before the file name is attached.
 #[derive(Debug)]
 pub(crate) enum ParseFailure {

@@ -9,8 +9,8 @@ mod trimesh;
 
 pub use generators::{
     box_mesh, capsule_mesh, cone_mesh, cylinder_mesh, grid_mesh, icosphere_mesh, torus_mesh, uv_sphere_mesh,
-    GeneratorError,
+    GeneratorError, MAX_GENERATED_TRIANGLES,
 };
-pub use load::{load_mesh, load_obj, load_stl, LoadError};
+pub use load::{load_mesh, load_obj, load_stl, obj_from_bytes, stl_from_bytes, LoadError};
 pub use topology::{EdgeReport, Topology};
 pub use trimesh::{MeshError, TriMesh};

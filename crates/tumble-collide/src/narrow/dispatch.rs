@@ -22,7 +22,9 @@ use crate::shape::Shape;
 
 /// Contacts between shape A at `pose_a` and shape B at `pose_b` whose signed
 /// distance is at most `margin` (m, >= 0), appended to `out` (normals from B
-/// to A). A pair without a routine is an error, never an empty answer.
+/// to A). A pair without a routine is an error, never an empty answer; so is
+/// a pair whose contact arithmetic overflows ([`NarrowError::NotFinite`]:
+/// nothing is appended then, so no NaN reaches a solver).
 pub fn contact_shapes(
     a: &Shape,
     pose_a: &Pose,
@@ -34,6 +36,30 @@ pub fn contact_shapes(
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(NarrowError::BadMargin(margin));
     }
+    let start = out.len();
+    dispatch(a, pose_a, b, pose_b, margin, out)?;
+    let finite = out[start..]
+        .iter()
+        .all(|c| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite());
+    if !finite {
+        out.truncate(start);
+        return Err(NarrowError::NotFinite {
+            a: a.kind_name(),
+            b: b.kind_name(),
+        });
+    }
+    Ok(())
+}
+
+/// The table itself.
+fn dispatch(
+    a: &Shape,
+    pose_a: &Pose,
+    b: &Shape,
+    pose_b: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> Result<(), NarrowError> {
     use Shape::*;
     let (pa, pb, m) = (pose_a, pose_b, margin);
     match (a, b) {

@@ -66,6 +66,16 @@ pub enum NarrowError {
     /// The margin is negative, NaN or infinite.
     #[error("contact margin must be finite and >= 0 m, got {0}")]
     BadMargin(f64),
+    /// The contact arithmetic overflowed (dimensions or coordinates near the
+    /// limit of f64, e.g. a capsule 1e300 m long): no contact is returned
+    /// for the pair rather than a non-finite one.
+    #[error("contacts of the shape pair ({a}, {b}) are not finite (dimensions or coordinates beyond the range of f64 arithmetic)")]
+    NotFinite {
+        /// Kind of shape A.
+        a: &'static str,
+        /// Kind of shape B.
+        b: &'static str,
+    },
 }
 
 /// Contact between two balls: centres `ca`, `cb` with radii `ra`, `rb` (any

@@ -127,6 +127,12 @@ pub fn collide(
     report.pairs.sort_unstable();
     if mode == ReportMode::Contacts {
         finish_contacts(&mut report.contacts, a, b);
+        // Coordinates near the f64 limit can overflow in the contact
+        // arithmetic: an error, never a NaN contact.
+        let finite = |c: &Contact| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite();
+        if !report.contacts.iter().all(finite) {
+            return Err(QueryError::NotFinite("collide"));
+        }
     }
     report.stats = QueryStats::from_traversal(&traversal, tests);
     Ok(report)

@@ -70,6 +70,12 @@ pub fn distance(
         value: options.rel_err,
     })?;
     let (tri_a, tri_b, td) = best.ok_or(QueryError::NotFinite("distance"))?;
+    // Finite coordinates near the f64 limit (1e300) can still overflow in
+    // the closest-point arithmetic (found by fuzzing): say so rather than
+    // return NaN points.
+    if !(td.distance.is_finite() && td.point_a.is_finite() && td.point_b.is_finite()) {
+        return Err(QueryError::NotFinite("distance"));
+    }
     Ok(DistanceResult {
         distance: td.distance,
         point_a: td.point_a,

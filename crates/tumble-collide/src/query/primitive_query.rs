@@ -93,6 +93,13 @@ pub fn collide_primitive(
             options.contact_margin,
             &mut report.contacts,
         );
+        // Dimensions or coordinates near the f64 limit (a sphere of radius
+        // 1e308) can overflow in the contact arithmetic (found by fuzzing):
+        // an error, never a NaN contact.
+        let finite = |c: &Contact| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite();
+        if !report.contacts.iter().all(finite) {
+            return Err(QueryError::NotFinite("collide_primitive"));
+        }
     }
     report.stats = QueryStats::from_traversal(&traversal, tests);
     Ok(report)
@@ -163,6 +170,11 @@ pub fn distance_primitive(
         value: options.rel_err,
     })?;
     let (tri_b, d) = best.ok_or(QueryError::NotFinite("distance_primitive"))?;
+    // Coordinates near the f64 limit can overflow in the closest-point
+    // arithmetic: an error, never NaN points.
+    if !(d.distance.is_finite() && d.on_primitive.is_finite() && d.on_triangle.is_finite()) {
+        return Err(QueryError::NotFinite("distance_primitive"));
+    }
     Ok(DistanceResult {
         distance: d.distance,
         point_a: d.on_primitive,

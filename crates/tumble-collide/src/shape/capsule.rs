@@ -6,7 +6,11 @@ use crate::pose::Pose;
 
 /// A capsule: all points within `radius` (m) of the segment from
 /// `(0, 0, -half_height)` to `(0, 0, +half_height)` (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(
+    try_from = "super::serde_parts::CapsuleParts",
+    into = "super::serde_parts::CapsuleParts"
+)]
 pub struct Capsule {
     radius: f64,
     half_height: f64,

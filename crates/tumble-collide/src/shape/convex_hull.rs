@@ -43,8 +43,13 @@ pub struct HullEdge {
     pub faces: [u32; 2],
 }
 
-/// A convex polyhedron (body frame).
-#[derive(Debug, Clone, PartialEq)]
+/// A convex polyhedron (body frame). Serialised as its vertices, faces,
+/// corners and edges, checked on the way back in.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(
+    try_from = "super::serde_parts::HullParts",
+    into = "super::serde_parts::HullParts"
+)]
 pub struct ConvexHull {
     vertices: Vec<DVec3>,
     faces: Vec<HullFace>,
@@ -249,6 +254,17 @@ impl ConvexHull {
             });
         }
 
+        Ok(Self::from_validated_parts(vertices, faces, corners, edges))
+    }
+
+    /// The hull from its parts (indices already checked), with the derived
+    /// vertex features and centroid computed.
+    pub(crate) fn from_validated_parts(
+        vertices: Vec<DVec3>,
+        faces: Vec<HullFace>,
+        corners: Vec<u32>,
+        edges: Vec<HullEdge>,
+    ) -> ConvexHull {
         let mut vertex_features = vec![Feature::vertex_edge_fallback(0); vertices.len()];
         let mut seen = vec![false; vertices.len()];
         for (f, face) in faces.iter().enumerate() {
@@ -261,14 +277,20 @@ impl ConvexHull {
             }
         }
         let centroid = vertices.iter().copied().sum::<DVec3>() / vertices.len() as f64;
-        Ok(ConvexHull {
+        ConvexHull {
             vertices,
             faces,
             corners,
             edges,
             vertex_features,
             centroid,
-        })
+        }
+    }
+
+    /// Corner vertex indices of all faces, face after face (see
+    /// [`HullFace::start`]).
+    pub fn corners(&self) -> &[u32] {
+        &self.corners
     }
 
     /// Vertices (m, body frame).

@@ -39,7 +39,11 @@ const BOX_EDGES: [([u32; 2], [u32; 2]); 12] = [
 ];
 
 /// A box with `half_extents` (m) along the body x, y, z axes.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(
+    try_from = "super::serde_parts::CuboidParts",
+    into = "super::serde_parts::CuboidParts"
+)]
 pub struct Cuboid {
     half_extents: DVec3,
 }

@@ -6,7 +6,11 @@ use crate::pose::Pose;
 
 /// The solid `normal . x <= offset` in the body frame; `normal` is the unit
 /// outward normal (pointing out of the solid), `offset` in m.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(
+    try_from = "super::serde_parts::HalfSpaceParts",
+    into = "super::serde_parts::HalfSpaceParts"
+)]
 pub struct HalfSpace {
     normal: DVec3,
     offset: f64,
@@ -40,6 +44,12 @@ impl HalfSpace {
             normal: normal / length,
             offset,
         })
+    }
+
+    /// A half-space from a normal and offset already checked by [`Self::new`]
+    /// (kept bit for bit).
+    pub(crate) fn from_raw(normal: DVec3, offset: f64) -> HalfSpace {
+        HalfSpace { normal, offset }
     }
 
     /// The ground `z <= 0`.

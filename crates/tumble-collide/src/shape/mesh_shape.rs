@@ -99,6 +99,13 @@ impl MeshShape {
             .is_some_and(|&bits| bits & (1 << (3 + k)) != 0)
     }
 
+    /// `true` when both shapes were built from the same [`MeshShape::new`]
+    /// call (clones share their mesh and tree): world snapshots store such a
+    /// mesh once.
+    pub fn shares_mesh_with(&self, other: &MeshShape) -> bool {
+        Arc::ptr_eq(&self.mesh, &other.mesh)
+    }
+
     /// The mesh (shape frame).
     pub fn mesh(&self) -> &TriMesh {
         &self.mesh

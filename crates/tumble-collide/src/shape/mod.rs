@@ -15,6 +15,7 @@ mod cuboid;
 mod halfspace;
 mod mesh_shape;
 mod polytope;
+mod serde_parts;
 mod sphere;
 
 pub use aabb::Aabb;

@@ -5,7 +5,11 @@ use crate::math::DVec3;
 use crate::pose::Pose;
 
 /// A ball of `radius` (m) around the body origin.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(
+    try_from = "super::serde_parts::SphereParts",
+    into = "super::serde_parts::SphereParts"
+)]
 pub struct Sphere {
     radius: f64,
 }

@@ -30,6 +30,14 @@ pub fn tri_tri_overlap(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     if !all_finite(a) || !all_finite(b) {
         return false;
     }
+    // Closed triangles that share a point have overlapping bounding boxes, and
+    // min / max are exact: this rejection is exact where the determinants
+    // below are not (zero-area triangles far from the origin whose corners
+    // miss each other by less than an ulp of their coordinates were reported
+    // as touching; found by libFuzzer against the query's own exact box test).
+    if !boxes_overlap(a, b) {
+        return false;
+    }
     let nb = (b[1] - b[0]).cross(b[2] - b[0]);
     let na = (a[1] - a[0]).cross(a[2] - a[0]);
     if na == DVec3::ZERO || nb == DVec3::ZERO {
@@ -88,6 +96,14 @@ pub fn segment_triangle_overlap(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
         return (0..3).any(|k| segment_segment_overlap(p, q, t[k], t[(k + 1) % 3]));
     }
     segment_proper_triangle(p, q, t, n)
+}
+
+/// The axis-aligned bounding boxes of two triangles overlap (closed).
+#[inline]
+fn boxes_overlap(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    let (lo_a, hi_a) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
+    let (lo_b, hi_b) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
+    lo_a.cmple(hi_b).all() && lo_b.cmple(hi_a).all()
 }
 
 #[inline]

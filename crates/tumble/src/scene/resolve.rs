@@ -15,6 +15,9 @@ use crate::scenes::Scene;
 use crate::world::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError};
 use tumble_collide::DVec3;
 
+/// Most bodies a scene file may describe (grids included).
+const MAX_SCENE_BODIES: u64 = 1_000_000;
+
 /// Simulated time (s) when a file gives neither `steps` nor `duration`.
 pub const DEFAULT_DURATION: f64 = 10.0;
 
@@ -166,6 +169,14 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
     for (i, spec) in file.bodies.iter().enumerate() {
         let path = root.key("bodies").index(i);
         resolve_body(spec, &path, &ctx, &mut out)?;
+    }
+    // An empty file (or one with settings only) is almost surely the wrong
+    // file: nothing would be simulated.
+    if out.scene.bodies.is_empty() {
+        return Err(FieldError::new(
+            &root.key("bodies"),
+            "a scene needs at least one body; this file describes none",
+        ));
     }
     Ok(out)
 }
@@ -320,6 +331,7 @@ fn resolve_body(
         angular_damping,
         name: spec.name.clone(),
     };
+    let existing = out.scene.bodies.len() as u64;
     let mut push = |desc: BodyDesc, set: usize, copy: Option<usize>| {
         if force != DVec3::ZERO || torque != DVec3::ZERO {
             out.loads.push(InitialLoad {
@@ -361,6 +373,15 @@ fn resolve_body(
         return Err(FieldError::new(
             &gpath.key("count"),
             format!("at most 1,000,000 copies, got {copies}"),
+        ));
+    }
+    // The same bound for the scene as a whole: many grids of a million each
+    // would otherwise exhaust memory before any check runs.
+    let total = existing + copies;
+    if total > MAX_SCENE_BODIES {
+        return Err(FieldError::new(
+            &gpath.key("count"),
+            format!("a scene holds at most 1,000,000 bodies; this grid brings it to {total}"),
         ));
     }
     let spacing = super::values::vec3(&gpath.key("spacing"), grid.spacing)?;

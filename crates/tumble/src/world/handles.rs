@@ -124,6 +124,45 @@ impl<T> Arena<T> {
         self.slots.get_mut(index as usize)?.value.as_mut()
     }
 
+    /// Generation of slot `index` (live or free), if the slot exists.
+    pub fn generation_at(&self, index: u32) -> Option<u32> {
+        self.slots.get(index as usize).map(|s| s.generation)
+    }
+
+    /// Free slots in the order they will be reused (last first).
+    pub fn free_slots(&self) -> &[u32] {
+        &self.free
+    }
+
+    /// Rebuilds an arena from its slots (generation, value) and free list,
+    /// as read back from a snapshot: the free list must name every empty
+    /// slot exactly once and no live one.
+    pub fn from_raw_parts(slots: Vec<(u32, Option<T>)>, free: Vec<u32>) -> Result<Arena<T>, String> {
+        let mut listed = vec![false; slots.len()];
+        for &f in &free {
+            match slots.get(f as usize) {
+                Some((_, None)) if !listed[f as usize] => listed[f as usize] = true,
+                _ => return Err(format!("free slot {f} is out of range, live or listed twice")),
+            }
+        }
+        let len = slots.iter().filter(|(_, v)| v.is_some()).count();
+        if len + free.len() != slots.len() {
+            return Err(format!(
+                "{} empty slots but {} on the free list",
+                slots.len() - len,
+                free.len()
+            ));
+        }
+        Ok(Arena {
+            slots: slots
+                .into_iter()
+                .map(|(generation, value)| Slot { generation, value })
+                .collect(),
+            free,
+            len,
+        })
+    }
+
     /// Live values with their handles, in slot order.
     pub fn iter(&self) -> impl Iterator<Item = (BodyId, &T)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| {

@@ -29,7 +29,7 @@ pub(crate) type PairKey = (u32, u32, u16, u16);
 pub(crate) const MATCH_DISTANCE: f64 = 0.01;
 
 /// Impulses remembered for one contact point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct CachedContact {
     pub key: PairKey,
     pub feature_a: Feature,
@@ -42,7 +42,7 @@ pub(crate) struct CachedContact {
 
 /// Friction remembered for one contact patch: patches of a collider pair
 /// are told apart by their normals (a mesh pair can touch in several places).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct CachedPatch {
     pub key: PairKey,
     /// Unit patch normal, world frame.

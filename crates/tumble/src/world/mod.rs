@@ -51,6 +51,7 @@ mod manifold;
 mod patches;
 mod report;
 mod settings;
+mod snapshot;
 mod step;
 
 pub use desc::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc};
@@ -59,6 +60,8 @@ pub use handles::{Arena, BodyId};
 pub use islands::{label_islands, UnionFind};
 pub use report::{ContactEvent, Quarantined, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
+pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC};
+pub use step::RUNAWAY_SPEED;
 
 use crate::body::{BodyKind, Material, RigidBody};
 use manifold::{CachedContact, CachedPatch};
@@ -547,6 +550,13 @@ impl World {
         e.sleeping = false;
         e.rest_time = 0.0;
         Ok(())
+    }
+
+    /// Forgets the warm-start impulses of the last step: the next step's
+    /// solver starts from zero (as after teleporting bodies far).
+    pub fn clear_contact_cache(&mut self) {
+        self.cache.clear();
+        self.patch_cache.clear();
     }
 
     /// Contact points of the last step with their impulses.

@@ -18,7 +18,8 @@ pub enum Stage {
     Narrow,
     /// Islands of bodies linked by contacts; sleeping and waking.
     Islands,
-    /// Contact constraints: sub-stepped soft PGS (or the direct LCP).
+    /// Contact constraints: sub-stepped PGS with patch friction and
+    /// split-impulse push-out (or the direct LCP).
     Solve,
     /// Poses and momenta written back; free bodies advanced by the chosen integrator.
     Integrate,

@@ -17,6 +17,24 @@ use tumble_collide::broad::Aabb;
 use tumble_collide::narrow::contact_shapes;
 use tumble_collide::{Contact, DQuat, DVec3, Pose};
 
+/// Speed (m/s) beyond which a body counts as a runaway: a third of the speed
+/// of light, which no rigid-body simulation means. A body whose centre or
+/// surface would move faster (after a force of 1e308 N, say) is treated like
+/// one whose state is not finite: frozen for the step, restored to its state
+/// before it, stopped and reported in [`StepReport::quarantined`]. Finite but
+/// absurd speeds would otherwise grow the broad-phase boxes and contact
+/// margins over the whole world and overflow a few steps later.
+pub const RUNAWAY_SPEED: f64 = 1e8;
+
+/// `true` when a body with velocity `v`, angular velocity `w` and bounding
+/// radius `radius` moves some point faster than [`RUNAWAY_SPEED`] (or its
+/// velocities are not finite).
+fn runaway(v: DVec3, w: DVec3, radius: f64) -> bool {
+    let speed = v.length() + w.length() * radius;
+    // NaN compares false: a NaN speed is a runaway too.
+    speed.is_nan() || speed > RUNAWAY_SPEED
+}
+
 /// Fattened world AABB of a body: the union of its colliders' boxes, grown
 /// by `fatten` (m) on every side.
 pub(crate) fn body_aabb(e: &BodyEntry, fatten: f64) -> Aabb {
@@ -350,6 +368,7 @@ impl World {
         // Quarantine before solving: a body whose forces or velocities are not
         // finite is frozen for this step (immovable in the solver) and restored
         // afterwards, so NaN cannot travel through contacts to its neighbours.
+        // Runaways (see RUNAWAY_SPEED) are frozen the same way.
         let mut frozen = vec![false; solver_bodies.len()];
         for k in 1..solver_bodies.len() {
             let b = &solver_bodies[k];
@@ -357,7 +376,8 @@ impl World {
             let finite = b.v.is_finite() && b.w.is_finite() && a.is_finite() && tau.is_finite();
             let next_v = b.v + a * dt;
             let next_w = b.w + b.inv_inertia * tau * dt;
-            if !finite || !next_v.is_finite() || !next_w.is_finite() {
+            let radius = self.bodies.at(solver_slots[k]).map_or(0.0, bounding_radius);
+            if !finite || runaway(next_v, next_w, radius) {
                 frozen[k] = true;
                 solver_bodies[k].freeze();
                 for m in manifolds
@@ -557,14 +577,21 @@ impl World {
         self.touching = touching;
 
         // Bodies advanced by an explicit integrator are checked here (the
-        // integrator already refuses non-finite states; this is the backstop).
+        // integrator already refuses non-finite states; this is the backstop,
+        // also for runaways that solver impulses made).
         for (i, old) in before.iter().enumerate() {
+            let Some(e) = self.bodies.at(i as u32) else {
+                continue;
+            };
+            let dynamic = e.body.kind() == BodyKind::Dynamic;
+            if e.body.state().is_finite()
+                && !(dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), bounding_radius(e)))
+            {
+                continue;
+            }
             let Some(e) = self.bodies.at_mut(i as u32) else {
                 continue;
             };
-            if e.body.state().is_finite() {
-                continue;
-            }
             if let Some(old) = old {
                 let mut restored = *old;
                 restored.linear_momentum = DVec3::ZERO;

@@ -94,6 +94,8 @@ pub(crate) struct BodyEntry {
     pub rest_time: f64,
     /// Island label when it fell asleep: the island wakes together.
     pub sleep_group: u32,
+    /// Largest distance of a collider point from the centre of mass (m).
+    pub radius: f64,
 }
 
 /// One contact point of the last step, with the impulses the solver applied.
@@ -347,6 +349,7 @@ impl World {
         }
         let entry = BodyEntry {
             body,
+            radius: step::bounding_radius(&colliders),
             colliders,
             body_in_model,
             proxy: None,

@@ -653,6 +653,7 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
     }
     let entry = BodyEntry {
         body,
+        radius: super::step::bounding_radius(&colliders),
         colliders,
         body_in_model,
         proxy: None,

@@ -51,13 +51,13 @@ pub(crate) fn body_aabb(e: &BodyEntry, fatten: f64) -> Aabb {
 }
 
 /// Largest distance of a collider point from the centre of mass (m): bounds
-/// how far rotation can move a surface point.
-fn bounding_radius(e: &BodyEntry) -> f64 {
-    let pose = Pose::IDENTITY;
-    e.colliders
+/// how far rotation can move a surface point. Computed once when the body is
+/// added (the colliders are fixed in the body frame).
+pub(crate) fn bounding_radius(colliders: &[super::Collider]) -> f64 {
+    colliders
         .iter()
         .map(|c| {
-            let b = c.shape.aabb(&pose.mul_pose(&c.local));
+            let b = c.shape.aabb(&c.local);
             b.min.abs().max(b.max.abs()).length()
         })
         .filter(|r| r.is_finite())
@@ -77,7 +77,7 @@ fn bounding_radius(e: &BodyEntry) -> f64 {
 fn relative_motion_bound(ea: &BodyEntry, eb: &BodyEntry, box_a: Option<Aabb>, box_b: Option<Aabb>) -> f64 {
     let (va, wa) = velocities(ea);
     let (vb, wb) = velocities(eb);
-    let coarse = (va - vb).length() + wa.length() * bounding_radius(ea) + wb.length() * bounding_radius(eb);
+    let coarse = (va - vb).length() + wa.length() * ea.radius + wb.length() * eb.radius;
     let region = match (box_a, box_b) {
         (Some(x), Some(y)) => {
             let (lo, hi) = (x.min().max(y.min()), x.max().min(y.max()));
@@ -142,7 +142,7 @@ impl World {
             let Some(e) = self.bodies.at(i) else { continue };
             let Some(proxy) = e.proxy else { continue };
             let (v, w) = velocities(e);
-            let fatten = s.contact_margin + (v.length() + w.length() * bounding_radius(e)) * dt;
+            let fatten = s.contact_margin + (v.length() + w.length() * e.radius) * dt;
             let aabb = body_aabb(e, fatten);
             swept[i as usize] = Some(aabb);
             if !is_active(e) {
@@ -196,8 +196,11 @@ impl World {
         lap(&mut report, Stage::Broad);
 
         // -- Stage::Narrow
-        let mut prepared: Vec<PreparedPoint> = Vec::new();
-        let mut patches: Vec<PreparedPatch> = Vec::new();
+        // Sized from the last step's contacts: no growth in a steady scene.
+        let mut prepared: Vec<PreparedPoint> =
+            Vec::with_capacity(self.cache.len() + self.cache.len() / 4 + 16);
+        let mut patches: Vec<PreparedPatch> =
+            Vec::with_capacity(self.patch_cache.len() + self.patch_cache.len() / 4 + 16);
         let mut scratch = PatchScratch::default();
         let mut buffer: Vec<Contact> = Vec::new();
         let mut warned_unsupported = false;
@@ -287,8 +290,10 @@ impl World {
         // -- Stage::Solve
         // Solver body 0 is the shared immovable body (static or asleep).
         let mut slot_to_solver = vec![0u32; n_slots];
-        let mut solver_bodies = vec![SolverBody::fixed()];
-        let mut solver_slots = vec![u32::MAX];
+        let mut solver_bodies = Vec::with_capacity(n_slots + 1);
+        solver_bodies.push(SolverBody::fixed());
+        let mut solver_slots = Vec::with_capacity(n_slots + 1);
+        solver_slots.push(u32::MAX);
         let mut has_contact = vec![false; n_slots];
         for p in &patches {
             has_contact[p.key.0 as usize] = true;
@@ -376,7 +381,7 @@ impl World {
             let finite = b.v.is_finite() && b.w.is_finite() && a.is_finite() && tau.is_finite();
             let next_v = b.v + a * dt;
             let next_w = b.w + b.inv_inertia * tau * dt;
-            let radius = self.bodies.at(solver_slots[k]).map_or(0.0, bounding_radius);
+            let radius = self.bodies.at(solver_slots[k]).map_or(0.0, |e| e.radius);
             if !finite || runaway(next_v, next_w, radius) {
                 frozen[k] = true;
                 solver_bodies[k].freeze();
@@ -511,7 +516,7 @@ impl World {
         self.cache.clear();
         self.patch_cache.clear();
         self.contacts.clear();
-        let mut touching: Vec<(BodyId, BodyId)> = Vec::new();
+        let mut touching: Vec<(BodyId, BodyId)> = Vec::with_capacity(self.touching.len() + 16);
         for (patch, m) in patches.iter().zip(&manifolds) {
             let tangent = m.tangent_impulse();
             self.patch_cache.push(CachedPatch {
@@ -585,7 +590,7 @@ impl World {
             };
             let dynamic = e.body.kind() == BodyKind::Dynamic;
             if e.body.state().is_finite()
-                && !(dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), bounding_radius(e)))
+                && !(dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
             {
                 continue;
             }

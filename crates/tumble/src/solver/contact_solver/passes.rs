@@ -179,7 +179,7 @@ pub fn solve(
 }
 
 /// Sweeps of projected Gauss-Seidel on a patch's own block per solver pass.
-const BLOCK_SWEEPS: usize = 3;
+const BLOCK_SWEEPS: usize = 4;
 
 /// The normal rows of a small patch solved together: with `b_i` the
 /// current relative normal velocity plus bias of point `i` and `K` the
@@ -207,8 +207,15 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
         mass[i] = p.normal_mass;
     }
     let mut d = [0.0; BLOCK_POINTS];
-    for _ in 0..BLOCK_SWEEPS {
-        for i in 0..BLOCK_POINTS {
+    // Symmetric sweeps (forward, then backward): no corner of a face is
+    // favoured by its place in the list.
+    for sweep in 0..BLOCK_SWEEPS {
+        for step in 0..BLOCK_POINTS {
+            let i = if sweep % 2 == 0 {
+                step
+            } else {
+                BLOCK_POINTS - 1 - step
+            };
             let k = &m.block[i];
             let w = b[i] + k[0] * d[0] + k[1] * d[1] + k[2] * d[2] + k[3] * d[3];
             d[i] = (lambda[i] + d[i] - mass[i] * w).max(0.0) - lambda[i];

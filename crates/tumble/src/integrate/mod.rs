@@ -21,7 +21,7 @@ mod explicit;
 mod kinematic;
 mod ode;
 mod splitting;
-pub use splitting::free_rotation;
+pub use splitting::{free_rotation, turn_by};
 mod symplectic;
 
 use crate::body::{BodyKind, BodyState, RigidBody};

@@ -109,20 +109,15 @@ pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
         if !b.dynamic {
             continue;
         }
-        let r_old = DMat3::from_quat(b.q);
-        let inertia_body = DVec3::new(
-            recip_or_zero(b.inv_inertia_body.x),
-            recip_or_zero(b.inv_inertia_body.y),
-            recip_or_zero(b.inv_inertia_body.z),
-        );
-        let l = r_old * (inertia_body * (r_old.transpose() * b.w));
         b.dp += (b.v + b.push_v) * h;
-        // Free rotation under the constant L by the symplectic principal-axis
-        // splitting: no energy drift for tumbling bodies (a plain exponential
-        // map with the step's w gains energy steadily on asymmetric bodies).
-        b.q = crate::integrate::free_rotation(b.q, l, b.inv_inertia_body, h).normalize();
-        b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
-        b.w = b.inv_inertia * l;
+        let inv_i = b.inv_inertia_body;
+        if inv_i.x == inv_i.y && inv_i.y == inv_i.z {
+            // Equal principal moments: w stays constant during the free
+            // turn and the world inverse inertia is the same diagonal.
+            b.q = (crate::integrate::turn_by(b.w * h) * b.q).normalize();
+        } else {
+            turn_freely(b, h);
+        }
         if b.push_w != DVec3::ZERO {
             // The push-out turns the body as a whole, its motion with it: the
             // body-frame angular velocity is kept, so the push-out changes
@@ -137,6 +132,24 @@ pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
         b.push_v = DVec3::ZERO;
         b.push_w = DVec3::ZERO;
     }
+}
+
+/// Free rotation under the constant L by the symplectic principal-axis
+/// splitting, with w and the world inverse inertia updated to the new pose.
+fn turn_freely(b: &mut SolverBody, h: f64) {
+    let r_old = DMat3::from_quat(b.q);
+    let inertia_body = DVec3::new(
+        recip_or_zero(b.inv_inertia_body.x),
+        recip_or_zero(b.inv_inertia_body.y),
+        recip_or_zero(b.inv_inertia_body.z),
+    );
+    let l = r_old * (inertia_body * (r_old.transpose() * b.w));
+    // Free rotation under the constant L by the symplectic principal-axis
+    // splitting: no energy drift for tumbling bodies (a plain exponential
+    // map with the step's w gains energy steadily on asymmetric bodies).
+    b.q = crate::integrate::free_rotation(b.q, l, b.inv_inertia_body, h).normalize();
+    b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
+    b.w = b.inv_inertia * l;
 }
 
 fn recip_or_zero(x: f64) -> f64 {

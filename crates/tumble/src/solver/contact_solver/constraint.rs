@@ -158,6 +158,10 @@ pub struct ManifoldConstraint {
     /// [`BLOCK_POINTS`](super::BLOCK_POINTS) points; the solver then solves the patch's normal
     /// rows together (see `passes::solve_block`).
     pub block: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
+    /// Cholesky factor `L` of `block + eps I` (lower triangle; the diagonal
+    /// holds `1 / L_ii`), for the direct all-points-pressing solve that
+    /// `passes::solve_block` tries before its sweeps.
+    pub block_factor: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
 }
 
 /// Patches with at most this many points solve their normal rows as one
@@ -200,6 +204,7 @@ impl ManifoldConstraint {
             impulses: [warm_tangent.dot(t1), warm_tangent.dot(t2), warm_twist],
             inv_mass: [0.0; 2],
             block: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
+            block_factor: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
         }
     }
 
@@ -305,5 +310,66 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
                     + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
             }
         }
+        m.block_factor = regularised_cholesky(&m.block);
     }
+}
+
+/// Cholesky factor of `k + eps I`, `eps` a billionth of the largest
+/// diagonal entry, with reciprocal pivots on the diagonal.
+///
+/// Why regularise: the four corners of a face see only three independent
+/// motions (along the normal and two tilts), so a face's block is singular
+/// and a plain factorisation breaks down. With `eps` the solve returns the
+/// least-norm split of the load over the corners, which is the symmetric
+/// one; velocities differ from the exact answer by `eps` relative.
+/// Padding rows (all zero) get the pivot `eps` and a zero solution.
+#[allow(clippy::needless_range_loop)] // index form mirrors the textbook algorithm
+pub fn regularised_cholesky(k: &[[f64; BLOCK_POINTS]; BLOCK_POINTS]) -> [[f64; BLOCK_POINTS]; BLOCK_POINTS] {
+    let largest = (0..BLOCK_POINTS).fold(0.0f64, |x, i| x.max(k[i][i]));
+    let eps = 1e-9 * largest + f64::MIN_POSITIVE;
+    let mut l = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
+    for j in 0..BLOCK_POINTS {
+        let mut diag = k[j][j] + eps;
+        for p in 0..j {
+            diag -= l[j][p] * l[j][p];
+        }
+        // Rounding can only shrink a pivot of a positive definite matrix to
+        // around eps; never let it reach zero or below.
+        let pivot = diag.max(eps).sqrt();
+        l[j][j] = 1.0 / pivot;
+        for i in j + 1..BLOCK_POINTS {
+            let mut v = k[i][j];
+            for p in 0..j {
+                v -= l[i][p] * l[j][p];
+            }
+            l[i][j] = v / pivot;
+        }
+    }
+    l
+}
+
+/// Solves `(k + eps I) x = rhs` with the factor from [`regularised_cholesky`].
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+pub fn cholesky_solve(
+    l: &[[f64; BLOCK_POINTS]; BLOCK_POINTS],
+    rhs: [f64; BLOCK_POINTS],
+) -> [f64; BLOCK_POINTS] {
+    let mut y = [0.0; BLOCK_POINTS];
+    for i in 0..BLOCK_POINTS {
+        let mut v = rhs[i];
+        for p in 0..i {
+            v -= l[i][p] * y[p];
+        }
+        y[i] = v * l[i][i];
+    }
+    let mut x = [0.0; BLOCK_POINTS];
+    for i in (0..BLOCK_POINTS).rev() {
+        let mut v = y[i];
+        for p in i + 1..BLOCK_POINTS {
+            v -= l[p][i] * x[p];
+        }
+        x[i] = v * l[i][i];
+    }
+    x
 }

@@ -14,40 +14,9 @@ use std::time::Instant;
 
 use rapier3d::prelude::*;
 use serde_json::json;
-use tumble_bench::scenes::{self, PileShape};
+use tumble_bench::rapier_scenes::{self as rs, v, world, FRICTION};
+use tumble_bench::scenes;
 use tumble_bench::{Args, Record, Stats};
-
-const FRICTION: f32 = 0.5;
-
-fn v(p: [f64; 3]) -> Vector {
-    Vector::new(p[0] as f32, p[1] as f32, p[2] as f32)
-}
-
-fn world() -> PhysicsWorld {
-    let mut w = PhysicsWorld::new();
-    w.gravity = Vector::new(0.0, 0.0, -9.81);
-    w.integration_parameters.dt = scenes::DT as f32;
-    w
-}
-
-fn add_static_box(w: &mut PhysicsWorld, half: [f64; 3], centre: [f64; 3]) {
-    w.insert(
-        RigidBodyBuilder::fixed().translation(v(centre)),
-        ColliderBuilder::cuboid(half[0] as f32, half[1] as f32, half[2] as f32)
-            .friction(FRICTION)
-            .restitution(0.0),
-    );
-}
-
-fn add_dynamic(w: &mut PhysicsWorld, collider: ColliderBuilder, centre: [f64; 3]) -> RigidBodyHandle {
-    w.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(v(centre))
-            .can_sleep(false),
-        collider.friction(FRICTION).restitution(0.0).density(1.0),
-    )
-    .0
-}
 
 /// Steps `steps` times, timing the step call only; samples the deepest penetration every 10 steps.
 fn run(w: &mut PhysicsWorld, steps: usize) -> (Vec<f64>, f64) {
@@ -109,14 +78,7 @@ fn settings(w: &PhysicsWorld, steps: usize) -> serde_json::Value {
 }
 
 fn pyramid(steps: usize) {
-    let mut w = world();
-    add_static_box(&mut w, scenes::PYRAMID_GROUND.0, scenes::PYRAMID_GROUND.1);
-    let starts = scenes::pyramid_boxes();
-    let h = scenes::PYRAMID_HALF as f32;
-    let ids: Vec<_> = starts
-        .iter()
-        .map(|&c| add_dynamic(&mut w, ColliderBuilder::cuboid(h, h, h), c))
-        .collect();
+    let (mut w, ids, starts) = rs::pyramid();
     let (times, deepest) = run(&mut w, steps);
     let disp: Vec<f64> = ids
         .iter()
@@ -141,23 +103,8 @@ fn pyramid(steps: usize) {
 }
 
 fn pile(steps: usize, n: usize) -> Result<(), String> {
-    let bodies = scenes::pile_bodies(n)
-        .ok_or_else(|| format!("pile: --n must be a positive multiple of 100, got {n}"))?;
-    let mut w = world();
-    for (half, centre) in scenes::pile_container(n) {
-        add_static_box(&mut w, half, centre);
-    }
-    let s = scenes::PILE_SIZE as f32;
-    let ids: Vec<_> = bodies
-        .iter()
-        .map(|&(shape, c)| {
-            let col = match shape {
-                PileShape::Sphere => ColliderBuilder::ball(s),
-                PileShape::Cube => ColliderBuilder::cuboid(s, s, s),
-            };
-            add_dynamic(&mut w, col, c)
-        })
-        .collect();
+    let (mut w, ids) =
+        rs::pile(n).ok_or_else(|| format!("pile: --n must be a positive multiple of 100, got {n}"))?;
     let (times, _) = run(&mut w, steps);
     let ends: Vec<[f64; 3]> = ids.iter().map(|&id| position(&w, id)).collect();
     let (points, deepest) = contacts(&w);

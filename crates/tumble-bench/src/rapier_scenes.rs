@@ -1,0 +1,84 @@
+//! The pyramid and pile of `shared/scenes.md` built in Rapier (rapier3d, f32,
+//! one thread), shared by the `peer-rapier` binary and the in-process
+//! criterion bench `dynamics_vs_rapier`.
+//!
+//! Settings mirror the other peers: dt 1/60 s, gravity -9.81 z, friction 0.5 on
+//! every collider (Rapier's default combine rule, Average, yields 0.5),
+//! restitution 0, sleeping off (`can_sleep(false)`), Rapier's default solver
+//! iterations and substeps.
+
+use crate::scenes::{self, PileShape};
+use rapier3d::prelude::*;
+
+/// Friction coefficient of every collider.
+pub const FRICTION: f32 = 0.5;
+
+/// A point or vector of the scene data as Rapier's f32 vector.
+pub fn v(p: [f64; 3]) -> Vector {
+    Vector::new(p[0] as f32, p[1] as f32, p[2] as f32)
+}
+
+/// An empty world with the scenes' gravity and time step.
+pub fn world() -> PhysicsWorld {
+    let mut w = PhysicsWorld::new();
+    w.gravity = Vector::new(0.0, 0.0, -9.81);
+    w.integration_parameters.dt = scenes::DT as f32;
+    w
+}
+
+/// Adds a fixed box with half extents `half` centred at `centre`.
+pub fn add_static_box(w: &mut PhysicsWorld, half: [f64; 3], centre: [f64; 3]) {
+    w.insert(
+        RigidBodyBuilder::fixed().translation(v(centre)),
+        ColliderBuilder::cuboid(half[0] as f32, half[1] as f32, half[2] as f32)
+            .friction(FRICTION)
+            .restitution(0.0),
+    );
+}
+
+/// Adds a dynamic body of density 1 with `collider`, at rest at `centre`.
+pub fn add_dynamic(w: &mut PhysicsWorld, collider: ColliderBuilder, centre: [f64; 3]) -> RigidBodyHandle {
+    w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(v(centre))
+            .can_sleep(false),
+        collider.friction(FRICTION).restitution(0.0).density(1.0),
+    )
+    .0
+}
+
+/// The 20-row pyramid: the world, its boxes' handles and start centres (top
+/// box last).
+pub fn pyramid() -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
+    let mut w = world();
+    add_static_box(&mut w, scenes::PYRAMID_GROUND.0, scenes::PYRAMID_GROUND.1);
+    let starts = scenes::pyramid_boxes();
+    let h = scenes::PYRAMID_HALF as f32;
+    let ids = starts
+        .iter()
+        .map(|&c| add_dynamic(&mut w, ColliderBuilder::cuboid(h, h, h), c))
+        .collect();
+    (w, ids, starts)
+}
+
+/// The pile of `n` bodies (a positive multiple of 100) in its container, or
+/// `None` for another `n`.
+pub fn pile(n: usize) -> Option<(PhysicsWorld, Vec<RigidBodyHandle>)> {
+    let bodies = scenes::pile_bodies(n)?;
+    let mut w = world();
+    for (half, centre) in scenes::pile_container(n) {
+        add_static_box(&mut w, half, centre);
+    }
+    let s = scenes::PILE_SIZE as f32;
+    let ids = bodies
+        .iter()
+        .map(|&(shape, c)| {
+            let col = match shape {
+                PileShape::Sphere => ColliderBuilder::ball(s),
+                PileShape::Cube => ColliderBuilder::cuboid(s, s, s),
+            };
+            add_dynamic(&mut w, col, c)
+        })
+        .collect();
+    Some((w, ids))
+}

@@ -165,14 +165,9 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None):
                     print(f"[bench] {eng} chain-decomposed", file=sys.stderr, flush=True)
                     results += python_peer(eng, f"{eng}_peer.py", ["--scene", "chain", "--decomposed"] + step_args(),
                                            timeout, "chain-decomposed")
-            if not on("rapier3d"):
-                pass
-            elif scene in ("pyramid", "pile", "chain"):
+            if on("rapier3d"):
                 print(f"[bench] rapier {hint}", file=sys.stderr, flush=True)
                 results += rust_peer("rapier3d", "peer-rapier", ["--scene", scene] + step_args(n), timeout, hint)
-            else:
-                results.append({"engine": "rapier3d", "scene": hint, "status": "not implemented",
-                                "detail": "peer-rapier covers pyramid, pile and chain"})
     if want("tori"):
         poses = QUICK_POSES if quick else 200
         if on("tumble"):

@@ -1,4 +1,4 @@
-//! The pyramid and pile of `shared/scenes.md` built in Rapier (rapier3d, f32,
+//! The pyramid, pile and cradle of `shared/scenes.md` built in Rapier (rapier3d, f32,
 //! one thread), shared by the `peer-rapier` binary and the in-process
 //! criterion bench `dynamics_vs_rapier`.
 //!
@@ -81,4 +81,30 @@ pub fn pile(n: usize) -> Option<(PhysicsWorld, Vec<RigidBodyHandle>)> {
         })
         .collect();
     Some((w, ids))
+}
+
+/// Newton's cradle: zero gravity, dt 1/240 s, six spheres of 1 kg with
+/// restitution 1 and friction 0 (Rapier's default combine rules, Average,
+/// keep both), the striker last.
+pub fn cradle() -> (PhysicsWorld, Vec<RigidBodyHandle>) {
+    let mut w = world();
+    w.gravity = Vector::ZERO;
+    w.integration_parameters.dt = scenes::CRADLE_DT as f32;
+    let ids = scenes::cradle_spheres()
+        .into_iter()
+        .map(|(c, vel)| {
+            w.insert(
+                RigidBodyBuilder::dynamic()
+                    .translation(v(c))
+                    .linvel(v(vel))
+                    .can_sleep(false),
+                ColliderBuilder::ball(scenes::CRADLE_R as f32)
+                    .mass(1.0)
+                    .friction(0.0)
+                    .restitution(1.0),
+            )
+            .0
+        })
+        .collect();
+    (w, ids)
 }

@@ -15,6 +15,20 @@ pub const FULL_STEPS: usize = 600;
 pub const PILE_SIZE: f64 = 0.25;
 /// Number of tori poses.
 pub const TORI_POSES: usize = 200;
+/// Cradle sphere radius (m); every sphere has mass 1 kg.
+pub const CRADLE_R: f64 = 0.1;
+/// Cradle time step (s) and full length (steps): 1 s.
+pub const CRADLE_DT: f64 = 1.0 / 240.0;
+/// Full length of the cradle (steps).
+pub const CRADLE_STEPS: usize = 240;
+
+/// The cradle's six spheres as (centre, velocity): five at rest in a row,
+/// touching, and the striker last, at 1 m/s towards them.
+pub fn cradle_spheres() -> Vec<([f64; 3], [f64; 3])> {
+    let mut out: Vec<_> = (0..5).map(|i| ([0.2 * i as f64, 0.0, 0.0], [0.0; 3])).collect();
+    out.push(([-0.5, 0.0, 0.0], [1.0, 0.0, 0.0]));
+    out
+}
 
 /// The 210 pyramid box centres, layer by layer, k ascending (top box last).
 pub fn pyramid_boxes() -> Vec<[f64; 3]> {

@@ -1,4 +1,4 @@
-//! `peer-rapier`: the pyramid, pile and chain scenes of scenes.md in Rapier (rapier3d, f32, one
+//! `peer-rapier`: the pyramid, pile, chain and cradle scenes of scenes.md in Rapier (rapier3d, f32, one
 //! thread: the `parallel` feature is off). Prints one JSON record (see `record.rs`).
 //!
 //! Settings mirror the other peers: dt 1/60 s, gravity -9.81 z, friction 0.5 on every
@@ -8,7 +8,7 @@
 //! The chain uses the plain 768-triangle link mesh (`TriMesh`, default flags) with the
 //! solid torus mass properties: no convex decomposition.
 //!
-//! Usage: `peer-rapier --scene pyramid|pile|chain [--steps K] [--n N]`
+//! Usage: `peer-rapier --scene pyramid|pile|chain|cradle [--steps K] [--n N]`
 
 use std::time::Instant;
 
@@ -197,6 +197,53 @@ fn chain(steps: usize) -> Result<(), String> {
     Ok(())
 }
 
+fn cradle(steps: usize) {
+    let (mut w, ids) = rs::cradle();
+    let mut times = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        let t0 = Instant::now();
+        w.step();
+        times.push(t0.elapsed().as_secs_f64());
+    }
+    let vel: Vec<[f64; 3]> = ids
+        .iter()
+        .map(|&id| {
+            let v = w
+                .bodies
+                .get(id)
+                .map(|b| b.linvel())
+                .unwrap_or(Vector::splat(f32::NAN));
+            [v.x as f64, v.y as f64, v.z as f64]
+        })
+        .collect();
+    // Initial state: the 1 kg striker at 1 m/s (p0 = 1 kg m/s, E0 = 0.5 J).
+    let p: [f64; 3] = std::array::from_fn(|a| vel.iter().map(|v| v[a]).sum());
+    let energy: f64 = vel
+        .iter()
+        .map(|v| 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
+        .sum();
+    let mut set = settings(&w, steps);
+    set["friction_per_collider"] = json!(0.0);
+    set["restitution_per_collider"] = json!(1.0);
+    set["gravity"] = json!([0.0, 0.0, 0.0]);
+    Record {
+        engine: "rapier3d",
+        version: env!("PEER_RAPIER3D_VERSION"),
+        scene: "cradle".into(),
+        status: "ok",
+        settings: set,
+        figures: json!({
+            "step_time": Stats::ms(&times),
+            "final_velocities_x": vel.iter().map(|v| v[0]).collect::<Vec<_>>(),
+            "last_sphere_vx": vel[4][0],
+            "momentum_error": ((p[0] - 1.0).powi(2) + p[1] * p[1] + p[2] * p[2]).sqrt(),
+            "energy_error": (energy - 0.5) / 0.5,
+        }),
+        peak_rss_bytes: None,
+    }
+    .emit();
+}
+
 fn main() {
     let args = match Args::parse(std::env::args().skip(1)) {
         Ok(a) => a,
@@ -205,7 +252,12 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let steps = args.steps.unwrap_or(scenes::FULL_STEPS);
+    let full = if args.scene.as_deref() == Some("cradle") {
+        scenes::CRADLE_STEPS
+    } else {
+        scenes::FULL_STEPS
+    };
+    let steps = args.steps.unwrap_or(full);
     let result = match args.scene.as_deref() {
         Some("pyramid") => {
             pyramid(steps);
@@ -213,7 +265,13 @@ fn main() {
         }
         Some("pile") => pile(steps, args.n.unwrap_or(1000)),
         Some("chain") => chain(steps),
-        other => Err(format!("--scene must be pyramid, pile or chain, got {other:?}")),
+        Some("cradle") => {
+            cradle(steps);
+            Ok(())
+        }
+        other => Err(format!(
+            "--scene must be pyramid, pile, chain or cradle, got {other:?}"
+        )),
     };
     if let Err(e) = result {
         eprintln!("peer-rapier: {e}");

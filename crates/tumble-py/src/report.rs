@@ -7,7 +7,7 @@ use crate::world::World;
 use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use tumble::world::{BodyId, ContactEvent, Stage, StepReport};
+use tumble::world::{BodyId, ContactEvent, SolveStage, Stage, StepReport};
 use tumble_collide::ContactKind;
 
 /// At most this many distinct warnings are kept per `step(n)` call.
@@ -74,18 +74,6 @@ pub fn warn_summary(py: Python<'_>, s: &StepSummary) -> PyResult<()> {
     Ok(())
 }
 
-fn stage_name(s: Stage) -> &'static str {
-    match s {
-        Stage::Forces => "forces",
-        Stage::Broad => "broad",
-        Stage::Narrow => "narrow",
-        Stage::Islands => "islands",
-        Stage::Solve => "solve",
-        Stage::Integrate => "integrate",
-        Stage::Events => "events",
-    }
-}
-
 /// What the last `step(n)` did: counters of its last step, and the warnings
 /// and quarantined bodies of all its steps.
 #[pyclass(module = "tumble", name = "StepReport", frozen)]
@@ -126,7 +114,14 @@ pub struct PyStepReport {
     /// Bodies stopped because their state became non-finite.
     #[pyo3(get)]
     quarantined: Py<PyList>,
+    /// Threads the last step ran on.
+    #[pyo3(get)]
+    threads: usize,
+    /// Colours of the last step's constraint graph (batches solved in parallel).
+    #[pyo3(get)]
+    colors: usize,
     stage_times: Vec<(&'static str, f64)>,
+    solve_times: Vec<(&'static str, f64)>,
 }
 
 impl PyStepReport {
@@ -153,8 +148,14 @@ impl PyStepReport {
             quarantined,
             stage_times: Stage::ALL
                 .iter()
-                .map(|&st| (stage_name(st), r.time(st).as_secs_f64()))
+                .map(|&st| (st.name(), r.time(st).as_secs_f64()))
                 .collect(),
+            solve_times: SolveStage::ALL
+                .iter()
+                .map(|&part| (part.name(), r.solve_time(part).as_secs_f64()))
+                .collect(),
+            threads: r.threads,
+            colors: r.colors,
         }
     }
 }
@@ -167,6 +168,20 @@ impl PyStepReport {
     fn stage_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         for (k, v) in &self.stage_times {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// Wall time of each part of the last step's solve stage (s), in order:
+    /// prepare, restitution, integrate_velocities, warm_start, iterate,
+    /// relax, integrate_positions, store_impulses (the sub-step parts summed
+    /// over the sub-steps). They add up to `stage_times["solve"]`, less the
+    /// clock's own cost.
+    #[getter]
+    fn solve_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, v) in &self.solve_times {
             d.set_item(k, v)?;
         }
         Ok(d)

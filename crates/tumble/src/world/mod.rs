@@ -58,7 +58,7 @@ pub use desc::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc};
 pub use error::WorldError;
 pub use handles::{Arena, BodyId};
 pub use islands::{label_islands, UnionFind};
-pub use report::{ContactEvent, Quarantined, Stage, StepReport};
+pub use report::{ContactEvent, Quarantined, SolveStage, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
 pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC};
 pub use step::RUNAWAY_SPEED;

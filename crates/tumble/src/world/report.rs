@@ -5,25 +5,27 @@ use super::handles::BodyId;
 use serde::{Deserialize, Serialize};
 use std::time::Duration;
 
-/// The stages of one step, in order (see docs/pipeline.md). The same names
-/// are used by the step's functions and by the profile in [`StepReport`].
+/// The stages of one step, in order (see docs/pipeline.md). Each is one
+/// function over the step's `StepFrame` (`World::step`
+/// runs [`Stage::ALL`] and times each); the same names are used by those
+/// functions, the profile in [`StepReport`] and the docs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Stage {
-    /// Gravity, user forces and torques, damping.
+    /// The state before the step is kept (for quarantine); forces are read in solve.
     Forces,
     /// World bounding boxes (fattened by margin and motion) and sweep-and-prune pairs.
     Broad,
-    /// Shape-pair contact generation within the margin; manifolds matched to
-    /// the previous step's for warm starting.
+    /// Shape-pair contact generation within the margin, over pairs on the
+    /// thread pool; contacts matched to the previous step's for warm starting.
     Narrow,
     /// Islands of bodies linked by contacts; sleeping and waking.
     Islands,
     /// Contact constraints: sub-stepped PGS with patch friction and
-    /// split-impulse push-out (or the direct LCP).
+    /// split-impulse push-out (or the direct LCP); timed by [`SolveStage`].
     Solve,
     /// Poses and momenta written back; free bodies advanced by the chosen integrator.
     Integrate,
-    /// Contact begin/end events; non-finite states quarantined.
+    /// Contact begin/end events; non-finite states quarantined; sleep.
     Events,
 }
 
@@ -38,6 +40,70 @@ impl Stage {
         Stage::Integrate,
         Stage::Events,
     ];
+
+    /// The stage's name in profiles, Python and the docs (snake case).
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Forces => "forces",
+            Stage::Broad => "broad",
+            Stage::Narrow => "narrow",
+            Stage::Islands => "islands",
+            Stage::Solve => "solve",
+            Stage::Integrate => "integrate",
+            Stage::Events => "events",
+        }
+    }
+}
+
+/// The timed parts of [`Stage::Solve`], in the order they first run (the
+/// sub-step parts repeat every sub-step; their times add up). Box2D v3's
+/// solver stages are the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum SolveStage {
+    /// Solver bodies, constraint rows, effective masses, colouring, quarantine.
+    Prepare,
+    /// Newton's restitution law on colliding contacts (before the sub-steps).
+    Restitution,
+    /// Gravity, forces and damping into the velocities (every sub-step).
+    IntegrateVelocities,
+    /// Separations refreshed, accumulated impulses applied (every sub-step).
+    WarmStart,
+    /// Velocity iterations over the coloured rows (every sub-step).
+    Iterate,
+    /// Position correction by split-impulse push-out (every sub-step).
+    Relax,
+    /// Orientations and displacements advanced (every sub-step).
+    IntegratePositions,
+    /// Impulses stored for warm starting and reported with the contacts.
+    StoreImpulses,
+}
+
+impl SolveStage {
+    /// All solve sub-stages in order.
+    pub const ALL: [SolveStage; 8] = [
+        SolveStage::Prepare,
+        SolveStage::Restitution,
+        SolveStage::IntegrateVelocities,
+        SolveStage::WarmStart,
+        SolveStage::Iterate,
+        SolveStage::Relax,
+        SolveStage::IntegratePositions,
+        SolveStage::StoreImpulses,
+    ];
+
+    /// The sub-stage's name in profiles, Python and the docs (snake case).
+    pub fn name(self) -> &'static str {
+        match self {
+            SolveStage::Prepare => "prepare",
+            SolveStage::Restitution => "restitution",
+            SolveStage::IntegrateVelocities => "integrate_velocities",
+            SolveStage::WarmStart => "warm_start",
+            SolveStage::Iterate => "iterate",
+            SolveStage::Relax => "relax",
+            SolveStage::IntegratePositions => "integrate_positions",
+            SolveStage::StoreImpulses => "store_impulses",
+        }
+    }
 }
 
 /// A contact starting or ending between two bodies.
@@ -62,6 +128,14 @@ pub struct Quarantined {
 pub struct StepReport {
     /// Wall time per stage, in [`Stage::ALL`] order.
     pub stage_time: [Duration; 7],
+    /// Wall time per part of the solve stage, in [`SolveStage::ALL`] order
+    /// (included in the solve stage's time).
+    pub solve_time: [Duration; 8],
+    /// Threads the step ran on (the world's pool).
+    pub threads: usize,
+    /// Colours of the constraint graph: batches of rows that share no
+    /// dynamic body and are solved in parallel.
+    pub colors: usize,
     /// Bodies that were simulated (awake, dynamic or kinematic).
     pub awake_bodies: usize,
     /// Bodies asleep after the step.
@@ -97,6 +171,11 @@ impl StepReport {
     /// Time spent in one stage.
     pub fn time(&self, stage: Stage) -> Duration {
         self.stage_time[stage as usize]
+    }
+
+    /// Time spent in one part of the solve stage.
+    pub fn solve_time(&self, part: SolveStage) -> Duration {
+        self.solve_time[part as usize]
     }
 
     /// Total wall time of the step.

@@ -1,0 +1,91 @@
+//! [`Stage::Broad`](crate::world::Stage::Broad): every active body's box,
+//! swept over the step, goes to sweep-and-prune; the overlapping pairs (and
+//! every body against each unbounded one) become the step's candidate
+//! pairs, sorted; sleeping islands that an active body comes close to wake.
+
+use super::margins::{body_aabb, is_active, velocities};
+use super::StepFrame;
+use crate::body::BodyKind;
+use crate::world::World;
+use tumble_collide::broad::Aabb;
+
+impl World {
+    pub(super) fn broad_stage(&mut self, f: &mut StepFrame) {
+        let (n_slots, dt) = (f.n_slots, f.settings.dt);
+        let mut events = Vec::new();
+        // Swept boxes: where each bounded body can be during the step
+        // (`None` for unbounded shapes, which are everywhere).
+        f.swept = vec![None; n_slots];
+        for i in 0..n_slots as u32 {
+            let Some(e) = self.bodies.at(i) else { continue };
+            let Some(proxy) = e.proxy else { continue };
+            let (v, w) = velocities(e);
+            let fatten = f.settings.contact_margin + (v.length() + w.length() * e.radius) * dt;
+            let aabb: Aabb = body_aabb(e, fatten);
+            f.swept[i as usize] = Some(aabb);
+            if !is_active(e) {
+                continue;
+            }
+            if let Err(err) = self.broad.set_aabb(proxy, aabb) {
+                f.report
+                    .warnings
+                    .push(format!("body slot {i}: broad phase: {err}"));
+            }
+        }
+        self.broad.update(&mut events);
+        let broad = &self.broad;
+        let mut pairs: Vec<(u32, u32)> = broad
+            .pairs()
+            .filter_map(|(a, b)| Some((broad.user_id(a).ok()?, broad.user_id(b).ok()?)))
+            .map(|(a, b)| if a < b { (a, b) } else { (b, a) })
+            .collect();
+        for &u in &self.unbounded {
+            for i in 0..n_slots as u32 {
+                if i != u
+                    && self
+                        .bodies
+                        .at(i)
+                        .is_some_and(|e| e.body.kind() != BodyKind::Static)
+                {
+                    pairs.push((u.min(i), u.max(i)));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        f.report.broad_pairs = pairs.len();
+        // Wake sleeping islands that an active body has come close to.
+        loop {
+            let mut woke = false;
+            for &(a, b) in &pairs {
+                let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
+                let group = match (is_active(ea), is_active(eb)) {
+                    (true, false) if eb.sleeping => Some(b),
+                    (false, true) if ea.sleeping => Some(a),
+                    _ => None,
+                };
+                if let Some(slot) = group {
+                    self.wake_island_of(slot);
+                    woke = true;
+                }
+            }
+            if !woke {
+                break;
+            }
+        }
+        f.pairs = pairs;
+    }
+
+    /// Wakes every body of the sleeping island that contains `slot`.
+    pub(super) fn wake_island_of(&mut self, slot: u32) {
+        let group = self.bodies.at(slot).map(|e| e.sleep_group).unwrap_or(u32::MAX);
+        for i in 0..self.bodies.slot_count() as u32 {
+            if let Some(e) = self.bodies.at_mut(i) {
+                if e.sleeping && (i == slot || (group != u32::MAX && e.sleep_group == group)) {
+                    e.sleeping = false;
+                    e.rest_time = 0.0;
+                }
+            }
+        }
+    }
+}

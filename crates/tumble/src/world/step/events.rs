@@ -1,0 +1,114 @@
+//! [`Stage::Events`](crate::world::Stage::Events): contact begin and end
+//! events (pairs touching now against the last step), the backstop of
+//! quarantine (any state that is not finite or runs away after the step is
+//! restored and stopped), sleep, and the clock.
+
+use super::margins::runaway;
+use super::StepFrame;
+use crate::body::BodyKind;
+use crate::world::report::{ContactEvent, Quarantined};
+use crate::world::{BodyId, World};
+
+impl World {
+    pub(super) fn events_stage(&mut self, f: &mut StepFrame) {
+        let mut touching: Vec<(BodyId, BodyId)> = Vec::with_capacity(self.touching.len() + 16);
+        for (p, c) in f.points.iter().zip(&f.solver.points) {
+            if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
+                touching.push(p.ids);
+            }
+        }
+        touching.sort_unstable();
+        touching.dedup();
+        let report = &mut f.report;
+        let (mut i, mut j) = (0, 0);
+        while i < touching.len() || j < self.touching.len() {
+            match (touching.get(i), self.touching.get(j)) {
+                (Some(a), Some(b)) if a == b => {
+                    i += 1;
+                    j += 1;
+                }
+                (Some(a), Some(b)) if a < b => {
+                    report.events.push(ContactEvent::Begin(a.0, a.1));
+                    i += 1;
+                }
+                (Some(a), None) => {
+                    report.events.push(ContactEvent::Begin(a.0, a.1));
+                    i += 1;
+                }
+                (_, Some(b)) => {
+                    report.events.push(ContactEvent::End(b.0, b.1));
+                    j += 1;
+                }
+                (None, None) => break,
+            }
+        }
+        report.events.sort_unstable();
+        self.touching = touching;
+
+        // Bodies advanced by an explicit integrator are checked here (the
+        // integrator already refuses non-finite states; this is the backstop,
+        // also for runaways that solver impulses made).
+        for i in 0..f.n_slots {
+            let Some(e) = self.bodies.at(i as u32) else {
+                continue;
+            };
+            let dynamic = e.body.kind() == BodyKind::Dynamic;
+            if e.body.state().is_finite()
+                && !(dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
+            {
+                continue;
+            }
+            let restored = f.stopped_state_before(i);
+            let Some(e) = self.bodies.at_mut(i as u32) else {
+                continue;
+            };
+            if let Some(restored) = restored {
+                let _ = e.body.set_state(restored);
+            }
+            e.body.clear_forces();
+            f.report.quarantined.push(Quarantined {
+                body: self.bodies.id_at(i as u32).expect("live"),
+            });
+        }
+        if f.settings.sleeping {
+            self.update_sleep(&f.labels, f.settings.dt);
+        }
+        f.report.sleeping_bodies = self.bodies.iter().filter(|(_, e)| e.sleeping).count();
+        self.time += f.settings.dt;
+        self.step_count += 1;
+    }
+
+    /// Accumulates rest time per body and puts islands to sleep whose every
+    /// body has rested long enough.
+    fn update_sleep(&mut self, labels: &[u32], dt: f64) {
+        let s = &self.settings;
+        let n = self.bodies.slot_count();
+        let mut island_min_rest = vec![f64::INFINITY; n];
+        for i in 0..n as u32 {
+            let Some(e) = self.bodies.at_mut(i) else { continue };
+            if e.body.kind() != BodyKind::Dynamic || e.sleeping {
+                continue;
+            }
+            let slow = e.body.velocity().length() < s.sleep_linear_speed
+                && e.body.angular_velocity().length() < s.sleep_angular_speed;
+            e.rest_time = if slow { e.rest_time + dt } else { 0.0 };
+            let l = labels[i as usize];
+            if l != u32::MAX {
+                island_min_rest[l as usize] = island_min_rest[l as usize].min(e.rest_time);
+            }
+        }
+        for i in 0..n as u32 {
+            let l = labels.get(i as usize).copied().unwrap_or(u32::MAX);
+            if l == u32::MAX || island_min_rest[l as usize] < s.time_to_sleep {
+                continue;
+            }
+            let Some(e) = self.bodies.at_mut(i) else { continue };
+            e.sleeping = true;
+            e.sleep_group = l;
+            let mut state = *e.body.state();
+            state.linear_momentum = glam::DVec3::ZERO;
+            state.angular_momentum = glam::DVec3::ZERO;
+            let _ = e.body.set_state(state);
+        }
+    }
+}

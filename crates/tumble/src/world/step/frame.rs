@@ -1,0 +1,82 @@
+//! The step's scratch: what one stage hands to the next. Built fresh by
+//! `World::step` (sized from the last step's contacts, so a steady scene
+//! does not grow it) and dropped at the end of the step.
+
+use crate::body::BodyState;
+use crate::solver::contact_solver::{ManifoldConstraint, PointConstraint, SolverBody};
+use crate::world::patches::{PreparedPatch, PreparedPoint};
+use crate::world::report::StepReport;
+use crate::world::WorldSettings;
+use tumble_collide::broad::Aabb;
+
+/// What the stages of one step share (see `World::step`).
+pub(crate) struct StepFrame {
+    /// The world's settings, as they were when the step began.
+    pub settings: WorldSettings,
+    /// What the step reports; each stage fills its part.
+    pub report: StepReport,
+    /// Body slots of the world (live or free).
+    pub n_slots: usize,
+    /// Forces: every live body's state before the step (quarantine restores it).
+    pub before: Vec<Option<crate::body::BodyState>>,
+    /// Broad: where each bounded body can be during the step (`None` for
+    /// unbounded shapes and free slots).
+    pub swept: Vec<Option<Aabb>>,
+    /// Broad: body slot pairs whose boxes overlap, sorted, `a < b`.
+    pub pairs: Vec<(u32, u32)>,
+    /// Narrow: every contact point, one record from the narrow phase to the
+    /// events (geometry, warm-start impulse, cache key), grouped by patch.
+    pub points: Vec<PreparedPoint>,
+    /// Narrow: the contact patches, each a run of `points`.
+    pub patches: Vec<PreparedPatch>,
+    /// Islands: island label per body slot (`u32::MAX`: not in an island).
+    pub labels: Vec<u32>,
+    /// Solve: the solver's arrays.
+    pub solver: SolverFrame,
+}
+
+/// The solve stage's arrays, kept in the frame for the write-back.
+#[derive(Default)]
+pub(crate) struct SolverFrame {
+    /// Solver body index per body slot (0: the shared immovable body).
+    pub slot_to_solver: Vec<u32>,
+    /// Body slot per solver body (`u32::MAX` for entry 0).
+    pub slots: Vec<u32>,
+    /// Solver bodies; entry 0 is static.
+    pub bodies: Vec<SolverBody>,
+    /// Per body slot: the body has a contact patch this step.
+    pub has_contact: Vec<bool>,
+    /// Per solver body: quarantined before the solve (restored afterwards).
+    pub frozen: Vec<bool>,
+    /// Normal rows, one per contact point, in the order of `StepFrame::points`.
+    pub points: Vec<PointConstraint>,
+    /// Patch rows, one per contact patch, in the order of `StepFrame::patches`.
+    pub manifolds: Vec<ManifoldConstraint>,
+}
+
+impl StepFrame {
+    /// An empty frame for a world with `n_slots` body slots.
+    pub fn new(settings: WorldSettings, n_slots: usize) -> StepFrame {
+        StepFrame {
+            settings,
+            report: StepReport::default(),
+            n_slots,
+            before: Vec::new(),
+            swept: Vec::new(),
+            pairs: Vec::new(),
+            points: Vec::new(),
+            patches: Vec::new(),
+            labels: Vec::new(),
+            solver: SolverFrame::default(),
+        }
+    }
+
+    /// The state of body slot `i` before the step, stopped: what quarantine restores.
+    pub fn stopped_state_before(&self, i: usize) -> Option<BodyState> {
+        self.before[i].map(|mut s| {
+            s.linear_momentum = tumble_collide::DVec3::ZERO;
+            s.angular_momentum = tumble_collide::DVec3::ZERO;
+            s
+        })
+    }
+}

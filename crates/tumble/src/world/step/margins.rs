@@ -1,0 +1,165 @@
+//! Margins and motion bounds of the step: how far bodies can move within it
+//! (swept boxes, pair margins, the neighbour-stop bound), which bodies are
+//! active, and the runaway test of quarantine.
+
+use crate::body::BodyKind;
+use crate::world::handles::Arena;
+use crate::world::{BodyEntry, Collider, MaterialDesc};
+use tumble_collide::broad::Aabb;
+use tumble_collide::DVec3;
+
+/// Speed (m/s) beyond which a body counts as a runaway: a third of the speed
+/// of light, which no rigid-body simulation means. A body whose centre or
+/// surface would move faster (after a force of 1e308 N, say) is treated like
+/// one whose state is not finite: frozen for the step, restored to its state
+/// before it, stopped and reported in [`StepReport::quarantined`]. Finite but
+/// absurd speeds would otherwise grow the broad-phase boxes and contact
+/// margins over the whole world and overflow a few steps later.
+pub const RUNAWAY_SPEED: f64 = 1e8;
+
+/// `true` when a body with velocity `v`, angular velocity `w` and bounding
+/// radius `radius` moves some point faster than [`RUNAWAY_SPEED`] (or its
+/// velocities are not finite).
+pub(crate) fn runaway(v: DVec3, w: DVec3, radius: f64) -> bool {
+    let speed = v.length() + w.length() * radius;
+    // NaN compares false: a NaN speed is a runaway too.
+    speed.is_nan() || speed > RUNAWAY_SPEED
+}
+
+/// Fattened world AABB of a body: the union of its colliders' boxes, grown
+/// by `fatten` (m) on every side.
+pub(crate) fn body_aabb(e: &BodyEntry, fatten: f64) -> Aabb {
+    let pose = e.body.pose();
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for c in &e.colliders {
+        let b = c.shape.aabb(&pose.mul_pose(&c.local));
+        lo = lo.min(b.min);
+        hi = hi.max(b.max);
+    }
+    Aabb::new(lo - DVec3::splat(fatten), hi + DVec3::splat(fatten))
+        .unwrap_or_else(|_| Aabb::new(DVec3::ZERO, DVec3::ZERO).expect("zero box is valid"))
+}
+
+/// Largest distance of a collider point from the centre of mass (m): bounds
+/// how far rotation can move a surface point. Computed once when the body is
+/// added (the colliders are fixed in the body frame).
+pub(crate) fn bounding_radius(colliders: &[Collider]) -> f64 {
+    colliders
+        .iter()
+        .map(|c| {
+            let b = c.shape.aabb(&c.local);
+            b.min.abs().max(b.max.abs()).length()
+        })
+        .filter(|r| r.is_finite())
+        .fold(0.0, f64::max)
+}
+
+/// Bound on the speed at which a point of A approaches a point of B, for the
+/// points where the two can touch during the step (m/s).
+///
+/// Where A and B can meet is inside both swept boxes; around the centre `p0`
+/// of their intersection the relative velocity of coincident material points
+/// is `v_rel(p) = v_rel(p0) + (wA - wB) x (p - p0)`, so within the
+/// intersection's half diagonal `rho` it is at most
+/// `|v_rel(p0)| + |wA - wB| rho`. For bodies that turn together (the links
+/// of a swinging chain) this is far tighter than each body's own speed
+/// bound `|vA - vB| + |wA| rA + |wB| rB`, which is kept as the cap.
+pub(crate) fn relative_motion_bound(
+    ea: &BodyEntry,
+    eb: &BodyEntry,
+    box_a: Option<Aabb>,
+    box_b: Option<Aabb>,
+) -> f64 {
+    let (va, wa) = velocities(ea);
+    let (vb, wb) = velocities(eb);
+    let coarse = (va - vb).length() + wa.length() * ea.radius + wb.length() * eb.radius;
+    let region = match (box_a, box_b) {
+        (Some(x), Some(y)) => {
+            let (lo, hi) = (x.min().max(y.min()), x.max().min(y.max()));
+            // Disjoint boxes (cannot happen for a broad-phase pair): no bound.
+            lo.cmple(hi).all().then_some((lo, hi))
+        }
+        (Some(x), None) | (None, Some(x)) => Some((x.min(), x.max())),
+        (None, None) => None,
+    };
+    let Some((lo, hi)) = region else { return coarse };
+    let p0 = (lo + hi) * 0.5;
+    let rho = ((hi - lo) * 0.5).length();
+    let v_rel = (va + wa.cross(p0 - ea.body.position())) - (vb + wb.cross(p0 - eb.body.position()));
+    (v_rel.length() + (wa - wb).length() * rho).min(coarse)
+}
+
+/// Per body slot, an estimate of how much the body's velocity can change in
+/// this step through its contacts (m/s): its largest closing speed towards
+/// a broad-phase neighbour along the line of their centres, times `1 + e`
+/// (stopped by that neighbour, or bounced back). Zero for static and
+/// kinematic bodies, whose velocity is imposed.
+///
+/// Why: the margin of a pair must cover the pair's relative motion over
+/// the whole step, and that motion changes when a third body stops one of
+/// the two. In a falling column every pair moves together until the bottom
+/// body lands; the body above then closes its 0.1 m gap at the full fall
+/// speed within the same step, which the pair's own relative velocity
+/// (zero) never announced. The centre line, not the full relative speed,
+/// because bodies that slide or swing against each other (a chain's links)
+/// do not stop each other, and a margin grown by their sliding speed would
+/// only multiply the triangle pairs to test. Pairs with a concave mesh are
+/// left out: interlocked rings touch where their centres move apart, so
+/// the centre line says nothing about their contact normal (a column of
+/// mesh bodies dropped together can still overlap by one step's fall).
+pub(crate) fn velocity_change_bounds(
+    bodies: &Arena<BodyEntry>,
+    pairs: &[(u32, u32)],
+    n_slots: usize,
+) -> Vec<f64> {
+    let mut shock = vec![0.0f64; n_slots];
+    for &(a, b) in pairs {
+        let (ea, eb) = (bodies.at(a).expect("live"), bodies.at(b).expect("live"));
+        if !is_active(ea) && !is_active(eb) {
+            continue;
+        }
+        let e = MaterialDesc::combine_restitution(
+            ea.body.material().restitution(),
+            eb.body.material().restitution(),
+        );
+        if has_mesh(ea) || has_mesh(eb) {
+            continue;
+        }
+        let (va, _) = velocities(ea);
+        let (vb, _) = velocities(eb);
+        let line = (eb.body.position() - ea.body.position()).normalize_or_zero();
+        let change = (va - vb).dot(line).max(0.0) * (1.0 + e);
+        for (slot, entry) in [(a, ea), (b, eb)] {
+            if entry.body.kind() == BodyKind::Dynamic {
+                shock[slot as usize] = shock[slot as usize].max(change);
+            }
+        }
+    }
+    shock
+}
+
+pub(crate) fn has_mesh(e: &BodyEntry) -> bool {
+    e.colliders
+        .iter()
+        .any(|c| matches!(c.shape, tumble_collide::Shape::Mesh(_)))
+}
+
+pub(crate) fn is_active(e: &BodyEntry) -> bool {
+    match e.body.kind() {
+        BodyKind::Dynamic => !e.sleeping,
+        BodyKind::Kinematic => {
+            let (v, w) = e.body.kinematic_velocity();
+            v != DVec3::ZERO || w != DVec3::ZERO
+        }
+        BodyKind::Static => false,
+    }
+}
+
+pub(crate) fn velocities(e: &BodyEntry) -> (DVec3, DVec3) {
+    match e.body.kind() {
+        BodyKind::Dynamic if !e.sleeping => (e.body.velocity(), e.body.angular_velocity()),
+        BodyKind::Kinematic => e.body.kinematic_velocity(),
+        _ => (DVec3::ZERO, DVec3::ZERO),
+    }
+}

@@ -1,0 +1,289 @@
+//! [`Stage::Solve`](crate::world::Stage::Solve): the contact constraints of
+//! the step, in the timed parts of [`SolveStage`]: prepare (solver bodies,
+//! rows, quarantine), restitution, then per sub-step integrate velocities,
+//! warm start, iterate, relax (push-out) and integrate positions; finally
+//! the impulses are stored for the next step's warm start and reported with
+//! the contacts. The solver itself lives in `crate::solver::contact_solver`.
+
+use super::margins::{is_active, runaway, velocities};
+use super::StepFrame;
+use crate::body::BodyKind;
+use crate::integrate::Integrator;
+use crate::solver::contact_solver::{self, ManifoldConstraint, SolverBody, SolverParams};
+use crate::world::manifold::{self, CachedContact, CachedPatch};
+use crate::world::report::{SolveStage, StepReport};
+use crate::world::{SolverKind, World, WorldContact};
+use std::time::Instant;
+use tumble_collide::{DQuat, DVec3};
+
+/// Times the parts of the solve stage into the report.
+struct PartClock(Instant);
+
+impl PartClock {
+    fn lap(&mut self, report: &mut StepReport, part: SolveStage) {
+        let now = Instant::now();
+        report.solve_time[part as usize] += now - self.0;
+        self.0 = now;
+    }
+}
+
+/// Per solver body: linear acceleration (gravity and force / mass), torque,
+/// linear and angular damping, constant over the step.
+type Drive = (DVec3, DVec3, f64, f64);
+
+impl World {
+    pub(super) fn solve_stage(&mut self, f: &mut StepFrame) {
+        let mut clock = PartClock(Instant::now());
+        let s = f.settings.clone();
+        let dt = s.dt;
+        let semi_implicit = s.integrator == Integrator::SemiImplicitEuler;
+        let drive = self.prepare_solver(f, semi_implicit);
+        let sf = &mut f.solver;
+        let report = &mut f.report;
+        let q0: Vec<DQuat> = sf.bodies.iter().map(|b| b.q).collect();
+        let substeps = if semi_implicit { s.substeps } else { 1 };
+        let h = dt / substeps as f64;
+        let params = SolverParams {
+            push_out_fraction: s.push_out_fraction,
+            allowed_penetration: s.allowed_penetration,
+            max_push_out_speed: s.max_push_out_speed,
+            restitution_threshold: s.restitution_threshold,
+        };
+        // With no contacts there is nothing to solve (and the dense solver
+        // has no 0 x 0 case).
+        let mut exact = s.solver == SolverKind::Lemke && !sf.points.is_empty();
+        if exact && sf.points.len() > contact_solver::EXACT_MAX_CONTACTS {
+            report.warnings.push(format!(
+                "solver = lemke: {} contacts exceed the exact solver's limit of {}; PGS ran instead",
+                sf.points.len(),
+                contact_solver::EXACT_MAX_CONTACTS
+            ));
+            exact = false;
+        }
+        clock.lap(report, SolveStage::Prepare);
+
+        let linear_accel: Vec<DVec3> = drive.iter().map(|a| a.0).collect();
+        contact_solver::resolve_collisions(
+            &sf.manifolds,
+            &mut sf.points,
+            &mut sf.bodies,
+            &linear_accel,
+            &params,
+            dt,
+            h,
+        );
+        clock.lap(report, SolveStage::Restitution);
+
+        for sub in 0..substeps {
+            for (b, &(a, tau, ld, ad)) in sf.bodies.iter_mut().zip(&drive) {
+                if !b.dynamic {
+                    continue;
+                }
+                b.v = (b.v + a * h) / (1.0 + ld * h);
+                b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
+            }
+            clock.lap(report, SolveStage::IntegrateVelocities);
+            if exact {
+                contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, false);
+                for p in sf.points.iter_mut() {
+                    p.normal_impulse = 0.0;
+                }
+                for m in sf.manifolds.iter_mut() {
+                    m.impulses = [0.0; 3];
+                }
+                clock.lap(report, SolveStage::WarmStart);
+                match contact_solver::solve_normals_exactly(&sf.manifolds, &mut sf.points, &mut sf.bodies, h)
+                {
+                    Ok(()) => {
+                        for _ in 0..s.iterations {
+                            contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
+                        }
+                    }
+                    Err(e) => {
+                        report
+                            .warnings
+                            .push(format!("solver = lemke failed ({e}); PGS ran instead"));
+                        exact = false;
+                    }
+                }
+            } else {
+                contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, true);
+                clock.lap(report, SolveStage::WarmStart);
+            }
+            if !exact {
+                for _ in 0..s.iterations {
+                    contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
+                }
+            }
+            if sub + 1 == substeps {
+                report.solver_residual = contact_solver::residual(&sf.manifolds, &sf.points, &sf.bodies, h);
+            }
+            clock.lap(report, SolveStage::Iterate);
+            for _ in 0..s.push_out_iterations {
+                if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, &params, h) {
+                    break;
+                }
+            }
+            clock.lap(report, SolveStage::Relax);
+            contact_solver::integrate_positions(&mut sf.bodies, &q0, h);
+            clock.lap(report, SolveStage::IntegratePositions);
+        }
+        report.substeps = substeps;
+        report.iterations = s.iterations;
+        self.store_impulses(f, substeps);
+        clock.lap(&mut f.report, SolveStage::StoreImpulses);
+    }
+
+    /// [`SolveStage::Prepare`]: one solver body per active body (entry 0 is
+    /// the shared immovable body for static and sleeping ones), one row set
+    /// per patch and point, the forces of the step; bodies whose forces or
+    /// velocities are not finite, or would run away, are frozen (quarantine
+    /// before solving, so NaN cannot travel through contacts).
+    fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> Vec<Drive> {
+        let n_slots = f.n_slots;
+        let sf = &mut f.solver;
+        sf.slot_to_solver = vec![0u32; n_slots];
+        sf.bodies = Vec::with_capacity(n_slots + 1);
+        sf.bodies.push(SolverBody::fixed());
+        sf.slots = Vec::with_capacity(n_slots + 1);
+        sf.slots.push(u32::MAX);
+        sf.has_contact = vec![false; n_slots];
+        for p in &f.patches {
+            sf.has_contact[p.key.0 as usize] = true;
+            sf.has_contact[p.key.1 as usize] = true;
+        }
+        for i in 0..n_slots as u32 {
+            let Some(e) = self.bodies.at(i) else { continue };
+            if !is_active(e) {
+                continue;
+            }
+            // Free bodies of a world with an explicit integrator are advanced by
+            // that integrator in the integrate stage, not by the solver.
+            if e.body.kind() == BodyKind::Dynamic && !semi_implicit && !sf.has_contact[i as usize] {
+                continue;
+            }
+            let (v, w) = velocities(e);
+            let dynamic = e.body.kind() == BodyKind::Dynamic;
+            sf.slot_to_solver[i as usize] = sf.bodies.len() as u32;
+            sf.slots.push(i);
+            let mut body = if dynamic {
+                SolverBody::new(
+                    v,
+                    w,
+                    e.body.inv_mass(),
+                    e.body.inv_principal_inertia(),
+                    e.body.orientation(),
+                )
+            } else {
+                SolverBody::new(v, w, 0.0, DVec3::ZERO, e.body.orientation())
+            };
+            body.kinematic = !dynamic;
+            sf.bodies.push(body);
+        }
+        f.report.awake_bodies = sf.bodies.len() - 1;
+        sf.points = f.points.iter().map(|p| p.point).collect();
+        let slot_to_solver = &sf.slot_to_solver;
+        sf.manifolds = f
+            .patches
+            .iter()
+            .map(|p| {
+                let mut m = ManifoldConstraint::new(
+                    slot_to_solver[p.key.0 as usize],
+                    slot_to_solver[p.key.1 as usize],
+                    p.first,
+                    p.count,
+                    p.normal,
+                    p.friction,
+                    p.restitution,
+                    p.warm_tangent,
+                    p.warm_twist,
+                );
+                contact_solver::prepare(&mut m, &mut sf.points, &sf.bodies);
+                m
+            })
+            .collect();
+        let gravity = f.settings.gravity;
+        let drive: Vec<Drive> = sf
+            .slots
+            .iter()
+            .map(|&slot| match self.bodies.at(slot) {
+                Some(e) if e.body.kind() == BodyKind::Dynamic => (
+                    gravity + e.body.force() * e.body.inv_mass(),
+                    e.body.torque(),
+                    e.body.linear_damping(),
+                    e.body.angular_damping(),
+                ),
+                _ => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
+            })
+            .collect();
+        // Quarantine before solving: a body whose forces or velocities are not
+        // finite is frozen for this step (immovable in the solver) and restored
+        // afterwards, so NaN cannot travel through contacts to its neighbours.
+        // Runaways (see RUNAWAY_SPEED) are frozen the same way.
+        let dt = f.settings.dt;
+        sf.frozen = vec![false; sf.bodies.len()];
+        for (k, &(a, tau, _, _)) in drive.iter().enumerate().skip(1) {
+            let b = &sf.bodies[k];
+            let finite = b.v.is_finite() && b.w.is_finite() && a.is_finite() && tau.is_finite();
+            let next_v = b.v + a * dt;
+            let next_w = b.w + b.inv_inertia * tau * dt;
+            let radius = self.bodies.at(sf.slots[k]).map_or(0.0, |e| e.radius);
+            if !finite || runaway(next_v, next_w, radius) {
+                sf.frozen[k] = true;
+                sf.bodies[k].freeze();
+                for m in sf
+                    .manifolds
+                    .iter_mut()
+                    .filter(|m| m.a as usize == k || m.b as usize == k)
+                {
+                    contact_solver::prepare(m, &mut sf.points, &sf.bodies);
+                }
+            }
+        }
+        drive
+    }
+
+    /// [`SolveStage::StoreImpulses`]: every point's normal impulse and every
+    /// patch's friction go to the warm-start cache (sorted by pair), and the
+    /// step's contacts are reported with the impulses of the whole step.
+    fn store_impulses(&mut self, f: &StepFrame, substeps: u32) {
+        self.cache.clear();
+        self.patch_cache.clear();
+        self.contacts.clear();
+        let sf = &f.solver;
+        for (patch, m) in f.patches.iter().zip(&sf.manifolds) {
+            let tangent = m.tangent_impulse();
+            self.patch_cache.push(CachedPatch {
+                key: patch.key,
+                normal: patch.normal,
+                tangent_impulse: tangent,
+                twist_impulse: m.impulses[2],
+            });
+            // The patch's friction is reported on its points in proportion
+            // to their normal impulses.
+            let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
+            for (p, c) in f.points[m.range()].iter().zip(&sf.points[m.range()]) {
+                let share = if total > 0.0 {
+                    c.normal_impulse / total
+                } else {
+                    0.0
+                };
+                self.cache.push(CachedContact {
+                    key: p.key,
+                    feature_a: p.contact.feature_a,
+                    feature_b: p.contact.feature_b,
+                    local_a: p.local_a,
+                    normal_impulse: c.normal_impulse,
+                });
+                self.contacts.push(WorldContact {
+                    body_a: p.ids.0,
+                    body_b: p.ids.1,
+                    contact: p.contact,
+                    normal_impulse: c.normal_impulse * substeps as f64,
+                    tangent_impulse: tangent * (share * substeps as f64),
+                });
+            }
+        }
+        manifold::finish(&mut self.cache, &mut self.patch_cache);
+    }
+}

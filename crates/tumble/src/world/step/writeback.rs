@@ -1,0 +1,65 @@
+//! [`Stage::Integrate`](crate::world::Stage::Integrate): the solver's
+//! velocities and poses written back into the bodies' momentum state
+//! (quarantined bodies restored to their state before the step, stopped);
+//! with an explicit integrator, bodies without contacts are advanced by it
+//! over the whole step instead.
+
+use super::StepFrame;
+use crate::body::{BodyKind, BodyState};
+use crate::integrate::{integrate, Integrator};
+use crate::world::report::Quarantined;
+use crate::world::World;
+use tumble_collide::Pose;
+
+impl World {
+    pub(super) fn integrate_stage(&mut self, f: &mut StepFrame) {
+        let sf = &f.solver;
+        for (k, &slot) in sf.slots.iter().enumerate().skip(1) {
+            let sb = sf.bodies[k];
+            let e = self.bodies.at_mut(slot).expect("live");
+            let finite = sb.v.is_finite() && sb.w.is_finite() && sb.dp.is_finite() && sb.q.is_finite();
+            if sf.frozen[k] || !finite {
+                // Restored to the state before the step, stopped, reported.
+                if let Some(restored) = f.stopped_state_before(slot as usize) {
+                    // A state that was finite before the step is accepted again.
+                    let _ = e.body.set_state(restored);
+                }
+                e.body.clear_forces();
+                f.report.quarantined.push(Quarantined {
+                    body: self.bodies.id_at(slot).expect("live"),
+                });
+                continue;
+            }
+            if sb.dynamic {
+                let state = BodyState {
+                    position: e.body.position() + sb.dp,
+                    orientation: sb.q,
+                    linear_momentum: sb.v * e.body.mass(),
+                    angular_momentum: sb.inv_inertia.inverse() * sb.w,
+                };
+                let _ = e.body.set_state(state);
+            } else {
+                let pose = e.body.pose();
+                e.body.set_pose(Pose {
+                    position: pose.position + sb.dp,
+                    rotation: sb.q,
+                });
+            }
+            e.body.clear_forces();
+        }
+        if f.settings.integrator != Integrator::SemiImplicitEuler {
+            for i in 0..f.n_slots as u32 {
+                let Some(e) = self.bodies.at_mut(i) else { continue };
+                if e.body.kind() == BodyKind::Dynamic && !e.sleeping && !sf.has_contact[i as usize] {
+                    let _ = integrate(
+                        std::slice::from_mut(&mut e.body),
+                        f.settings.gravity,
+                        f.settings.dt,
+                        f.settings.integrator,
+                    );
+                    e.body.clear_forces();
+                }
+            }
+        }
+    }
+}

@@ -21,6 +21,10 @@ pub struct BenchArgs {
     /// Bodies in the pile: 100, 1000 or 10000 (a multiple of 100).
     #[arg(long, default_value_t = 1000)]
     n: usize,
+    /// Worker threads of the world (0: every core). Default 1, so that
+    /// figures compare with single-threaded peers unless asked otherwise.
+    #[arg(long, default_value_t = 1)]
+    threads: u32,
     /// Tori poses: P poses spread evenly over the 200 (default all).
     #[arg(long)]
     poses: Option<usize>,
@@ -73,8 +77,7 @@ fn centre(world: &World, id: BodyId) -> tumble_collide::DVec3 {
 
 /// Runs the verb.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
-    let internal = |e: &dyn std::fmt::Display| CliError::Internal(e.to_string());
-    let (name, scene): (String, Scene) = match args.scene.as_str() {
+    let (name, mut scene): (String, Scene) = match args.scene.as_str() {
         "pyramid" => ("pyramid".into(), scenes::pyramid()),
         "chain" => ("chain".into(), scenes::chain()),
         "cradle" => ("cradle".into(), scenes::cradle()),
@@ -112,7 +115,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
     };
     let steps = args.steps.unwrap_or(scene.steps);
-    let (mut world, ids) = scene.build().map_err(|e| internal(&e))?;
+    scene.settings.threads = args.threads;
+    let (mut world, ids) = scene.build().map_err(|e| CliError::Input(e.to_string()))?;
     let settings = world.settings().clone();
     let start: Vec<_> = ids.iter().map(|&id| centre(&world, id)).collect();
     let mut deepest: f64 = 0.0;
@@ -203,7 +207,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "scene": name,
         "status": "ok",
         "settings": {"dt": settings.dt, "steps": steps, "n": ids.len(), "substeps": settings.substeps,
-                     "iterations": settings.iterations, "threads": 1},
+                     "iterations": settings.iterations, "threads": world.threads()},
         "figures": figures,
         "peak_rss_bytes": peak_rss_bytes(),
     });

@@ -36,6 +36,11 @@ pub struct RunArgs {
     /// .npz (NumPy arrays time, position, orientation, names).
     #[arg(long, value_name = "FILE.csv|FILE.npz")]
     trajectory: Option<PathBuf>,
+    /// Worker threads of the simulation, replacing the scene's
+    /// `settings.threads` (0: every core, 1: serial). The trajectory is the
+    /// same bits for any count.
+    #[arg(long, value_name = "N")]
+    threads: Option<u32>,
     /// Record every K-th step in the outputs (the first and last are always kept).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: u64,
@@ -129,6 +134,9 @@ fn apply_overrides(args: &RunArgs, loaded: &mut LoadedScene) -> Result<(), CliEr
     }
     if args.every == 0 {
         return Err(CliError::Input("--every must be >= 1".into()));
+    }
+    if let Some(n) = args.threads {
+        scene.settings.threads = n;
     }
     Ok(())
 }

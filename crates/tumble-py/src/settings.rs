@@ -10,7 +10,7 @@ use tumble::world::{SolverKind, WorldSettings};
 use tumble::Integrator;
 
 /// Every keyword accepted, in the order of `WorldSettings`.
-pub const NAMES: [&str; 16] = [
+pub const NAMES: [&str; 17] = [
     "gravity",
     "dt",
     "substeps",
@@ -27,6 +27,7 @@ pub const NAMES: [&str; 16] = [
     "sleep_linear_speed",
     "sleep_angular_speed",
     "time_to_sleep",
+    "threads",
 ];
 
 /// Integrator names, as in shared/DESIGN.md.
@@ -122,6 +123,7 @@ pub fn apply(s: &mut WorldSettings, kwargs: Option<&Bound<'_, PyDict>>) -> PyRes
             "sleep_linear_speed" => s.sleep_linear_speed = float(&v, name)?,
             "sleep_angular_speed" => s.sleep_angular_speed = float(&v, name)?,
             "time_to_sleep" => s.time_to_sleep = float(&v, name)?,
+            "threads" => s.threads = count(&v, name)?,
             other => {
                 return Err(invalid(format!(
                     "unknown world setting {other:?}; the settings are: {}",
@@ -152,5 +154,6 @@ pub fn to_dict<'py>(py: Python<'py>, s: &WorldSettings) -> PyResult<Bound<'py, P
     d.set_item("sleep_linear_speed", s.sleep_linear_speed)?;
     d.set_item("sleep_angular_speed", s.sleep_angular_speed)?;
     d.set_item("time_to_sleep", s.time_to_sleep)?;
+    d.set_item("threads", s.threads)?;
     Ok(d)
 }

@@ -46,7 +46,7 @@ use tumble_collide::{DVec3, Pose};
 ///     solver="pgs"               or "lemke" (exact normal LCP, small systems)
 ///     iterations=2               velocity iterations per sub-step
 ///     push_out_iterations=1      position iterations per sub-step
-///     contact_margin=0.02        m, speculative contact distance
+///     contact_margin=0.005       m, speculative contact distance
 ///     allowed_penetration=0.0005 m, overlap left uncorrected
 ///     push_out_fraction=0.2      overlap removed per sub-step, in (0, 1]
 ///     max_push_out_speed=3       m/s
@@ -55,6 +55,9 @@ use tumble_collide::{DVec3, Pose};
 ///     sleep_linear_speed=0.05    m/s
 ///     sleep_angular_speed=0.05   rad/s
 ///     time_to_sleep=0.5          s
+///     threads=0                  worker threads of step(); 0 = every core,
+///                                1 = serial; results are bit-identical
+///                                for any count
 ///
 /// Arrays returned by the world (positions, contacts, ...) have one row per
 /// live body in the order the bodies were added.
@@ -177,10 +180,10 @@ impl World {
     #[pyo3(
         signature = (**settings),
         text_signature = "(*, gravity=(0, 0, -9.81), dt=0.016666666666666666, substeps=8, integrator='semi_implicit', \
-            solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.02, \
+            solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.005, \
             allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
             restitution_threshold=0.5, sleeping=True, sleep_linear_speed=0.05, \
-            sleep_angular_speed=0.05, time_to_sleep=0.5)"
+            sleep_angular_speed=0.05, time_to_sleep=0.5, threads=0)"
     )]
     fn new(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
         guard(|| {

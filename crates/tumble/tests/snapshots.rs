@@ -26,18 +26,6 @@ fn state_bits(world: &World) -> Vec<u64> {
     out
 }
 
-/// FNV-1a over the state bits: a stable, dependency-free hash.
-fn hash_bits(bits: &[u64]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &word in bits {
-        for byte in word.to_le_bytes() {
-            h ^= byte as u64;
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    h
-}
-
 fn run(world: &mut World, steps: usize) {
     for _ in 0..steps {
         let report = world.step();
@@ -52,7 +40,7 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
 }
 
 /// The state bits of the pile(100) after this many steps at the scene's dt
-/// (1/60 s), hashed with [`hash_bits`]. It changes whenever the physics does
+/// (1/60 s), hashed by `World::state_hash`. It changes whenever the physics does
 /// (solver, contacts, integration, scene): then check that the change is
 /// intended and update it. Determinism itself is checked by two runs below,
 /// independently of this constant.
@@ -66,7 +54,7 @@ fn same_scene_twice_gives_identical_bits_and_the_golden_hash() {
         .map(|_| {
             let (mut world, _) = scene.build().unwrap();
             run(&mut world, GOLDEN_PILE_STEPS);
-            hash_bits(&state_bits(&world))
+            world.state_hash()
         })
         .collect();
     assert_eq!(hashes[0], hashes[1], "two runs of the same scene differ");

@@ -234,6 +234,7 @@ class World:
         sleep_linear_speed: float | None = ...,
         sleep_angular_speed: float | None = ...,
         time_to_sleep: float | None = ...,
+        threads: int | None = ...,
     ) -> None: ...
     def add_body(
         self,

@@ -49,6 +49,7 @@ mod handles;
 mod islands;
 mod manifold;
 mod patches;
+mod pool;
 mod report;
 mod settings;
 mod snapshot;
@@ -127,6 +128,8 @@ pub struct World {
     touching: Vec<(BodyId, BodyId)>,
     time: f64,
     step_count: u64,
+    /// Worker threads for `settings.threads` (not state: results do not depend on it).
+    pool: pool::WorkerPool,
 }
 
 fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
@@ -200,6 +203,16 @@ fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
     non_negative("settings.sleep_linear_speed", s.sleep_linear_speed)?;
     non_negative("settings.sleep_angular_speed", s.sleep_angular_speed)?;
     non_negative("settings.time_to_sleep", s.time_to_sleep)?;
+    if s.threads > pool::MAX_THREADS {
+        return Err(WorldError::BadValue {
+            field: "settings.threads",
+            message: format!(
+                "must be at most {} (0 means every core), got {}",
+                pool::MAX_THREADS,
+                s.threads
+            ),
+        });
+    }
     Ok(())
 }
 
@@ -208,6 +221,7 @@ impl World {
     pub fn new(settings: WorldSettings) -> Result<World, WorldError> {
         check_settings(&settings)?;
         Ok(World {
+            pool: pool::WorkerPool::new(settings.threads),
             settings,
             bodies: Arena::new(),
             broad: SweepAndPrune::new(),
@@ -229,8 +243,17 @@ impl World {
     /// Replaces the settings (validated; unchanged on error).
     pub fn set_settings(&mut self, settings: WorldSettings) -> Result<(), WorldError> {
         check_settings(&settings)?;
+        if settings.threads != self.settings.threads {
+            self.pool = pool::WorkerPool::new(settings.threads);
+        }
         self.settings = settings;
         Ok(())
+    }
+
+    /// Threads a step runs on: `settings.threads`, with 0 resolved to the
+    /// machine's cores (or 1 where threads cannot be started).
+    pub fn threads(&self) -> usize {
+        self.pool.threads()
     }
 
     /// Simulated time (s).
@@ -565,6 +588,29 @@ impl World {
     /// Contact points of the last step with their impulses.
     pub fn contacts(&self) -> &[WorldContact] {
         &self.contacts
+    }
+
+    /// A fingerprint of the dynamic state: FNV-1a over the raw bits of every
+    /// live body's x, P, L and q, in slot order. Two worlds with the same
+    /// hash followed the same trajectory to the last bit (as far as a 64-bit
+    /// hash tells); used to check determinism across runs, thread counts,
+    /// snapshots and machines.
+    pub fn state_hash(&self) -> u64 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for (_, e) in self.bodies.iter() {
+            let s = e.body.state();
+            let words = [s.position, s.linear_momentum, s.angular_momentum]
+                .into_iter()
+                .flat_map(|v| v.to_array())
+                .chain(s.orientation.to_array());
+            for word in words {
+                for byte in word.to_bits().to_le_bytes() {
+                    h ^= byte as u64;
+                    h = h.wrapping_mul(0x0000_0100_0000_01b3);
+                }
+            }
+        }
+        h
     }
 
     /// Total kinetic energy of the dynamic bodies (J).

@@ -82,6 +82,11 @@ pub struct WorldSettings {
     pub sleep_angular_speed: f64,
     /// Time an island must rest before it sleeps (s). Default 0.5.
     pub time_to_sleep: f64,
+    /// Worker threads of the step: the narrow phase runs over pairs and the
+    /// solver over colour batches on this many threads. 0 means every core
+    /// of the machine, 1 runs serially. The result does not depend on it:
+    /// trajectories are bit-identical for any thread count. Default 0.
+    pub threads: u32,
 }
 
 impl Default for WorldSettings {
@@ -103,6 +108,7 @@ impl Default for WorldSettings {
             sleep_linear_speed: 0.05,
             sleep_angular_speed: 0.05,
             time_to_sleep: 0.5,
+            threads: 0,
         }
     }
 }

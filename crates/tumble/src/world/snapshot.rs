@@ -36,7 +36,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 1;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 2;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -547,6 +547,7 @@ impl World {
             touching: snapshot.touching.clone(),
             time: snapshot.time,
             step_count: snapshot.step_count,
+            pool: super::pool::WorkerPool::new(snapshot.settings.threads),
         })
     }
 

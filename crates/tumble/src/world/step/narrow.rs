@@ -1,135 +1,176 @@
 //! [`Stage::Narrow`](crate::world::Stage::Narrow): contact generation for
 //! every candidate pair within its margin (the speculative margin plus a
-//! bound on the pair's motion over the step), then the points grouped into
+//! bound on the pair's motion over the step), the points grouped into
 //! patches and matched to the previous step's for warm starting.
 //!
-//! Two phases, so that the expensive one can run on many threads without
-//! changing a bit: (1) every pair's contacts are generated on its own,
-//! reading the world only; (2) the results are assembled into points and
-//! patches serially, in pair order (warm starting reads the sorted cache).
+//! The pairs are cut into chunks that run on the world's threads; each
+//! chunk reads the world and the warm-start cache only and writes its own
+//! points and patches, and the chunks are joined in pair order. A pair's
+//! contacts do not depend on the chunk it falls in, so the result is the
+//! same bits for any thread count.
 
-use super::margins::{is_active, relative_motion_bound, velocity_change_bounds};
+use super::margins::{has_mesh, is_active, relative_motion_bound, velocity_change_bounds};
 use super::StepFrame;
 use crate::body::BodyKind;
-use crate::world::patches::{add_pair, PairInfo, PatchScratch};
+use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
 use crate::world::{Collider, MaterialDesc, World};
 use tumble_collide::narrow::contact_shapes;
 use tumble_collide::{Contact, Shape};
 
-/// One candidate pair's narrow-phase result: its collider pairs' contacts
-/// (a run of `contacts` each) and the first error met.
+/// What one chunk of candidate pairs produced.
 #[derive(Default)]
-pub(super) struct PairContacts {
-    /// (collider index in A, in B, end of its run in `contacts`).
-    runs: Vec<(u16, u16, usize)>,
-    contacts: Vec<Contact>,
-    error: Option<String>,
+struct ChunkContacts {
+    points: Vec<PreparedPoint>,
+    /// Patches; their `first` indexes this chunk's `points` until joined.
+    patches: Vec<PreparedPatch>,
+    warm_started: usize,
+    max_penetration: f64,
+    /// The first error of the chunk: (index in the step's pair list, message).
+    error: Option<(usize, String)>,
 }
+
+/// Pairs per task when the narrow phase runs on several threads: each task
+/// fills one set of buffers, and a few hundred microseconds of box pairs
+/// per task keep the hand-over cost small. A mesh pair costs far more, so
+/// chunks of mesh scenes are single pairs.
+const PAIRS_PER_TASK: usize = 128;
+const MESH_PAIRS_PER_TASK: usize = 1;
 
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
-        // Sized from the last step's contacts: no growth in a steady scene.
-        f.points.reserve(self.cache.len() + self.cache.len() / 4 + 16);
-        f.patches
-            .reserve(self.patch_cache.len() + self.patch_cache.len() / 4 + 16);
         let shock = velocity_change_bounds(&self.bodies, &f.pairs, f.n_slots);
-        let results: Vec<PairContacts> = f
-            .pairs
-            .iter()
-            .map(|&pair| self.pair_contacts(f, &shock, pair))
-            .collect();
-
-        let mut scratch = PatchScratch::default();
-        let mut warned_unsupported = false;
-        let skin_mesh = 2.0 * f.settings.allowed_penetration;
-        for (&(a, b), result) in f.pairs.iter().zip(&results) {
-            if let Some(err) = &result.error {
-                if !warned_unsupported {
-                    f.report.warnings.push(format!("bodies {a} and {b}: {err}"));
-                    warned_unsupported = true;
-                }
+        let chunk = if self.bodies.iter().any(|(_, e)| has_mesh(e)) {
+            MESH_PAIRS_PER_TASK
+        } else {
+            PAIRS_PER_TASK
+        };
+        let frame: &StepFrame = f;
+        // Buffers sized from the last step's contacts, in proportion to the
+        // chunk's share of the pairs: no growth in a steady scene.
+        let per_pair = (self.cache.len() + self.cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
+        let patches_per_pair =
+            (self.patch_cache.len() + self.patch_cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
+        let chunks = self.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
+            let mut out = ChunkContacts {
+                points: Vec::with_capacity((per_pair * pairs.len() as f64) as usize + 16),
+                patches: Vec::with_capacity((patches_per_pair * pairs.len() as f64) as usize + 16),
+                ..ChunkContacts::default()
+            };
+            let mut scratch = PatchScratch::default();
+            let mut buffer = Vec::new();
+            for (k, &pair) in pairs.iter().enumerate() {
+                self.pair_contacts(
+                    frame,
+                    &shock,
+                    first + k,
+                    pair,
+                    &mut buffer,
+                    &mut scratch,
+                    &mut out,
+                );
             }
-            if result.runs.is_empty() {
+            out
+        });
+
+        // Join in pair order (one chunk, on one thread, is taken as it is).
+        let mut warned = false;
+        for chunk in chunks {
+            if let (false, Some((k, err))) = (warned, &chunk.error) {
+                let (a, b) = f.pairs[*k];
+                f.report.warnings.push(format!("bodies {a} and {b}: {err}"));
+                warned = true;
+            }
+            if f.points.is_empty() && f.patches.is_empty() {
+                f.points = chunk.points;
+                f.patches = chunk.patches;
+                f.report.warm_started += chunk.warm_started;
+                f.report.max_penetration = f.report.max_penetration.max(chunk.max_penetration);
                 continue;
             }
-            let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
-            let (pa, pb) = (ea.body.pose(), eb.body.pose());
-            let ids = (
-                self.bodies.id_at(a).expect("live"),
-                self.bodies.id_at(b).expect("live"),
-            );
-            let friction =
-                MaterialDesc::combine_friction(ea.body.material().friction(), eb.body.material().friction());
-            let restitution = MaterialDesc::combine_restitution(
-                ea.body.material().restitution(),
-                eb.body.material().restitution(),
-            );
-            let mut start = 0;
-            for &(ia, ib, end) in &result.runs {
-                let contacts = &result.contacts[start..end];
-                start = end;
+            let offset = f.points.len() as u32;
+            f.patches.extend(chunk.patches.into_iter().map(|mut p| {
+                p.first += offset;
+                p
+            }));
+            f.points.extend(chunk.points);
+            f.report.warm_started += chunk.warm_started;
+            f.report.max_penetration = f.report.max_penetration.max(chunk.max_penetration);
+        }
+        f.report.contacts = f.points.len();
+    }
+
+    /// The contacts of candidate pair number `k`, body slots `(a, b)`,
+    /// within the pair's margin, as points and patches appended to `out`.
+    /// Reads the world and the cache only (safe to run for many pairs at once).
+    #[allow(clippy::too_many_arguments)]
+    fn pair_contacts(
+        &self,
+        f: &StepFrame,
+        shock: &[f64],
+        k: usize,
+        (a, b): (u32, u32),
+        buffer: &mut Vec<Contact>,
+        scratch: &mut PatchScratch,
+        out: &mut ChunkContacts,
+    ) {
+        let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
+        if !is_active(ea) && !is_active(eb) {
+            return;
+        }
+        if ea.body.kind() != BodyKind::Dynamic && eb.body.kind() != BodyKind::Dynamic {
+            return;
+        }
+        let now = relative_motion_bound(ea, eb, f.swept[a as usize], f.swept[b as usize]);
+        let motion = (now + shock[a as usize] + shock[b as usize]) * f.settings.dt;
+        let margin = f.settings.contact_margin + motion;
+        let (pa, pb) = (ea.body.pose(), eb.body.pose());
+        let ids = (
+            self.bodies.id_at(a).expect("live"),
+            self.bodies.id_at(b).expect("live"),
+        );
+        let friction =
+            MaterialDesc::combine_friction(ea.body.material().friction(), eb.body.material().friction());
+        let restitution = MaterialDesc::combine_restitution(
+            ea.body.material().restitution(),
+            eb.body.material().restitution(),
+        );
+        for (ia, ca) in ea.colliders.iter().enumerate() {
+            for (ib, cb) in eb.colliders.iter().enumerate() {
+                buffer.clear();
+                let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
+                if let Err(err) = contact_shapes(&ca.shape, &wpa, &cb.shape, &wpb, margin, buffer) {
+                    out.error.get_or_insert_with(|| (k, err.to_string()));
+                    continue;
+                }
                 // Meshes rest a hair apart (see WorldSettings::allowed_penetration).
-                let (ca, cb) = (&ea.colliders[ia as usize], &eb.colliders[ib as usize]);
                 let skin = if is_mesh(ca) || is_mesh(cb) {
-                    skin_mesh
+                    2.0 * f.settings.allowed_penetration
                 } else {
                     0.0
                 };
                 let pair = PairInfo {
                     ids,
-                    key: (a, b, ia, ib),
+                    key: (a, b, ia as u16, ib as u16),
                     pose_a: &pa,
                     pose_b: &pb,
                     friction,
                     restitution,
                     skin,
                 };
-                f.report.warm_started += add_pair(
-                    contacts,
+                out.warm_started += add_pair(
+                    buffer,
                     &pair,
                     &self.cache,
                     &self.patch_cache,
-                    &mut scratch,
-                    &mut f.points,
-                    &mut f.patches,
+                    scratch,
+                    &mut out.points,
+                    &mut out.patches,
                 );
-                for contact in contacts {
-                    f.report.max_penetration = f.report.max_penetration.max(-contact.distance);
+                for contact in buffer.iter() {
+                    out.max_penetration = out.max_penetration.max(-contact.distance);
                 }
             }
         }
-        f.report.contacts = f.points.len();
-    }
-
-    /// Contacts of one candidate pair of body slots within the pair's
-    /// margin; reads the world only (safe to run for many pairs at once).
-    fn pair_contacts(&self, f: &StepFrame, shock: &[f64], (a, b): (u32, u32)) -> PairContacts {
-        let mut out = PairContacts::default();
-        let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
-        if !is_active(ea) && !is_active(eb) {
-            return out;
-        }
-        if ea.body.kind() != BodyKind::Dynamic && eb.body.kind() != BodyKind::Dynamic {
-            return out;
-        }
-        let now = relative_motion_bound(ea, eb, f.swept[a as usize], f.swept[b as usize]);
-        let motion = (now + shock[a as usize] + shock[b as usize]) * f.settings.dt;
-        let margin = f.settings.contact_margin + motion;
-        let (pa, pb) = (ea.body.pose(), eb.body.pose());
-        for (ia, ca) in ea.colliders.iter().enumerate() {
-            for (ib, cb) in eb.colliders.iter().enumerate() {
-                let start = out.contacts.len();
-                let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
-                if let Err(err) = contact_shapes(&ca.shape, &wpa, &cb.shape, &wpb, margin, &mut out.contacts)
-                {
-                    out.contacts.truncate(start);
-                    out.error.get_or_insert_with(|| err.to_string());
-                    continue;
-                }
-                out.runs.push((ia as u16, ib as u16, out.contacts.len()));
-            }
-        }
-        out
     }
 }
 

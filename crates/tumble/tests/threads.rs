@@ -1,0 +1,75 @@
+//! Threads change the speed of a step, never its result: the pile and the
+//! torus chain stepped on 1, 2, 3 and 8 threads follow bit-identical
+//! trajectories (hashes compared every few steps, so a divergence is caught
+//! where it starts), and the report says how many threads ran.
+
+use tumble::scenes::{self, Scene};
+use tumble::world::{World, WorldSettings};
+
+/// The state hash every `every` steps over `steps` steps on `threads` threads.
+fn trajectory(scene: &Scene, threads: u32, steps: usize, every: usize) -> Vec<u64> {
+    let mut scene = scene.clone();
+    scene.settings.threads = threads;
+    let (mut world, _) = scene.build().unwrap();
+    let mut hashes = Vec::new();
+    for k in 0..steps {
+        let report = world.step();
+        assert_eq!(report.threads, threads as usize);
+        assert!(report.quarantined.is_empty());
+        if k % every == every - 1 {
+            hashes.push(world.state_hash());
+        }
+    }
+    hashes
+}
+
+fn same_for_every_thread_count(scene: Scene, steps: usize, every: usize) {
+    let serial = trajectory(&scene, 1, steps, every);
+    for threads in [2, 3, 8] {
+        let parallel = trajectory(&scene, threads, steps, every);
+        let first = serial.iter().zip(&parallel).position(|(a, b)| a != b);
+        assert!(
+            first.is_none(),
+            "{}: {threads} threads leave the serial trajectory at step {}",
+            scene.name,
+            first.map_or(0, |i| (i + 1) * every)
+        );
+    }
+}
+
+#[test]
+fn pile_is_bit_identical_on_1_2_3_and_8_threads() {
+    // 1,000 bodies falling into the bin, long enough to pile up and touch
+    // in large islands (many colours, many pairs per thread).
+    same_for_every_thread_count(scenes::pile(10), 90, 10);
+}
+
+#[test]
+fn chain_is_bit_identical_on_1_2_3_and_8_threads() {
+    same_for_every_thread_count(scenes::chain(), 120, 10);
+}
+
+#[test]
+fn bad_thread_counts_are_refused_and_zero_means_every_core() {
+    let too_many = WorldSettings {
+        threads: 100_000,
+        ..WorldSettings::default()
+    };
+    let err = World::new(too_many).unwrap_err().to_string();
+    assert!(err.contains("settings.threads"), "{err}");
+    let mut world = World::new(WorldSettings::default()).unwrap();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    assert_eq!(world.step().threads, cores);
+    let before = world.settings().clone();
+    assert!(world
+        .set_settings(WorldSettings {
+            threads: 5000,
+            ..before.clone()
+        })
+        .is_err());
+    assert_eq!(world.settings(), &before, "a refused setting changes nothing");
+    world
+        .set_settings(WorldSettings { threads: 3, ..before })
+        .unwrap();
+    assert_eq!(world.step().threads, 3);
+}

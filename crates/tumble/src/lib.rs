@@ -59,6 +59,7 @@ pub use integrate::{
 pub use tumble_collide as collide;
 
 pub mod export;
+pub(crate) mod pool;
 pub mod scene;
 pub mod scenes;
 // The module's own docs link `lemke` and `pgs`, each both a module and a

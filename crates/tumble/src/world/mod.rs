@@ -49,7 +49,6 @@ mod handles;
 mod islands;
 mod manifold;
 mod patches;
-mod pool;
 mod report;
 mod settings;
 mod snapshot;
@@ -129,7 +128,7 @@ pub struct World {
     time: f64,
     step_count: u64,
     /// Worker threads for `settings.threads` (not state: results do not depend on it).
-    pool: pool::WorkerPool,
+    pool: crate::pool::WorkerPool,
 }
 
 fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
@@ -203,12 +202,12 @@ fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
     non_negative("settings.sleep_linear_speed", s.sleep_linear_speed)?;
     non_negative("settings.sleep_angular_speed", s.sleep_angular_speed)?;
     non_negative("settings.time_to_sleep", s.time_to_sleep)?;
-    if s.threads > pool::MAX_THREADS {
+    if s.threads > crate::pool::MAX_THREADS {
         return Err(WorldError::BadValue {
             field: "settings.threads",
             message: format!(
                 "must be at most {} (0 means every core), got {}",
-                pool::MAX_THREADS,
+                crate::pool::MAX_THREADS,
                 s.threads
             ),
         });
@@ -221,7 +220,7 @@ impl World {
     pub fn new(settings: WorldSettings) -> Result<World, WorldError> {
         check_settings(&settings)?;
         Ok(World {
-            pool: pool::WorkerPool::new(settings.threads),
+            pool: crate::pool::WorkerPool::new(settings.threads),
             settings,
             bodies: Arena::new(),
             broad: SweepAndPrune::new(),
@@ -244,7 +243,7 @@ impl World {
     pub fn set_settings(&mut self, settings: WorldSettings) -> Result<(), WorldError> {
         check_settings(&settings)?;
         if settings.threads != self.settings.threads {
-            self.pool = pool::WorkerPool::new(settings.threads);
+            self.pool = crate::pool::WorkerPool::new(settings.threads);
         }
         self.settings = settings;
         Ok(())

@@ -34,6 +34,13 @@ pub(crate) struct PreparedPatch {
     pub warm_twist: f64,
 }
 
+impl PreparedPatch {
+    /// The patch's points in the step's point list.
+    pub fn range(&self) -> std::ops::Range<usize> {
+        self.first as usize..(self.first + self.count) as usize
+    }
+}
+
 /// The per-pair inputs of [`add_pair`].
 pub(crate) struct PairInfo<'a> {
     pub ids: (BodyId, BodyId),

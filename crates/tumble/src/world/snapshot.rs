@@ -547,7 +547,7 @@ impl World {
             touching: snapshot.touching.clone(),
             time: snapshot.time,
             step_count: snapshot.step_count,
-            pool: super::pool::WorkerPool::new(snapshot.settings.threads),
+            pool: crate::pool::WorkerPool::new(snapshot.settings.threads),
         })
     }
 

@@ -29,11 +29,16 @@
 //!
 //! Data layout: patches ([`ManifoldConstraint`]: body pair, friction rows)
 //! index runs of points ([`PointConstraint`]: normal rows) in one flat array;
-//! every pass walks the patches in order and keeps the pair's velocities in
-//! registers across the patch's rows.
+//! every pass keeps the pair's velocities in registers across the patch's
+//! rows. In the world, patches are coloured ([`color_patches`]: no two
+//! patches of a colour share a dynamic body) and sorted by colour, and each
+//! pass walks the colours in order, the patches of a colour split over the
+//! world's threads: the same bits for any thread count.
 
+mod batches;
 mod body;
 mod collisions;
+mod coloring;
 mod constraint;
 mod exact;
 mod passes;
@@ -41,8 +46,11 @@ mod passes;
 #[cfg(test)]
 mod tests;
 
+pub(crate) use batches::SolverArrays;
 pub use body::{integrate_positions, SolverBody};
 pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
+pub(crate) use coloring::Shared;
+pub use coloring::{color_patches, Coloring, MAX_COLORS};
 pub use constraint::{
     inverse_effective_mass, prepare, tangent_basis, ManifoldConstraint, PointConstraint, RowJacobian,
     SolverParams,

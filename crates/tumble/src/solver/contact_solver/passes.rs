@@ -1,9 +1,16 @@
 //! The passes of one sub-step over the contact patches: separation update
 //! and warm start, the velocity solve (patch friction, then normal rows), and
-//! the split-impulse push-out. Each pass walks the patches in order and keeps
-//! the two bodies' velocities in registers across a patch's rows.
+//! the split-impulse push-out. Each pass is a kernel over one patch (it keeps
+//! the two bodies' velocities in registers across the patch's rows), run
+//! over the patches in order by the whole-array functions here, or over the
+//! colour batches on the world's threads by `batches`.
+//!
+//! The kernels read and write bodies through a [`Shared`] view: within one
+//! colour no two patches share a dynamic body, and a kernel writes dynamic
+//! bodies only, so patches of one colour can run at once.
 
 use super::body::SolverBody;
+use super::coloring::Shared;
 use super::constraint::{
     cholesky_solve, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS,
 };
@@ -18,9 +25,17 @@ struct PairVelocity {
 }
 
 impl PairVelocity {
+    /// # Safety
+    /// No other thread writes the patch's bodies meanwhile.
     #[inline(always)]
-    fn load(bodies: &[SolverBody], m: &ManifoldConstraint) -> PairVelocity {
-        let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
+    unsafe fn load(bodies: &Shared<SolverBody>, m: &ManifoldConstraint) -> PairVelocity {
+        // SAFETY: the caller's promise.
+        let (a, b) = unsafe { (bodies.get(m.a as usize), bodies.get(m.b as usize)) };
+        PairVelocity::of(a, b)
+    }
+
+    #[inline(always)]
+    fn of(a: &SolverBody, b: &SolverBody) -> PairVelocity {
         PairVelocity {
             va: a.v,
             wa: a.w,
@@ -29,16 +44,27 @@ impl PairVelocity {
         }
     }
 
-    /// Writes back; static, sleeping and kinematic bodies have zero inverse
-    /// mass and inertia, so their velocities came back unchanged.
+    /// Writes back the velocities of the dynamic bodies (static, sleeping
+    /// and kinematic bodies have zero inverse mass and inertia: impulses do
+    /// not change them, and they are shared by patches of one colour).
+    ///
+    /// # Safety
+    /// The patch's dynamic bodies are this thread's alone meanwhile.
     #[inline(always)]
-    fn store(&self, bodies: &mut [SolverBody], m: &ManifoldConstraint) {
-        let a = &mut bodies[m.a as usize];
-        a.v = self.va;
-        a.w = self.wa;
-        let b = &mut bodies[m.b as usize];
-        b.v = self.vb;
-        b.w = self.wb;
+    unsafe fn store(&self, bodies: &Shared<SolverBody>, m: &ManifoldConstraint) {
+        // SAFETY: the caller's promise; only dynamic bodies are written.
+        unsafe {
+            if bodies.get(m.a as usize).dynamic {
+                let a = bodies.get_mut(m.a as usize);
+                a.v = self.va;
+                a.w = self.wa;
+            }
+            if bodies.get(m.b as usize).dynamic {
+                let b = bodies.get_mut(m.b as usize);
+                b.v = self.vb;
+                b.w = self.wb;
+            }
+        }
     }
 
     /// Relative velocity along a row: `d . (vA - vB) + (rA x d) . wA - (rB x d) . wB`.
@@ -78,50 +104,69 @@ pub fn begin_substep(
     bodies: &mut [SolverBody],
     warm: bool,
 ) {
+    let bodies = Shared::new(bodies);
     for m in manifolds.iter_mut() {
-        let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
-        let (dpa, ta, dpb, tb) = (a.dp, a.turn, b.dp, b.turn);
-        let moved =
-            dpa != DVec3::ZERO || dpb != DVec3::ZERO || ta != DMat3::IDENTITY || tb != DMat3::IDENTITY;
-        for p in &mut points[m.range()] {
-            let (ra_now, rb_now) = (ta * p.r_a, tb * p.r_b);
-            let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
-            p.separation_now = p.separation + p.normal.dot(d);
-            p.push_impulse = 0.0;
-            if moved {
-                let (ra, rb) = shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb);
-                p.row = RowJacobian::new(a, b, ra, rb, p.normal);
-            }
-        }
+        let pts = &mut points[m.range()];
+        // SAFETY: one thread.
+        unsafe { begin_patch(m, pts, &bodies, warm) };
+    }
+}
+
+/// [`begin_substep`] for one patch and its points.
+///
+/// # Safety
+/// The patch's dynamic bodies are this thread's alone meanwhile.
+#[inline(always)]
+pub(super) unsafe fn begin_patch(
+    m: &mut ManifoldConstraint,
+    pts: &mut [PointConstraint],
+    bodies: &Shared<SolverBody>,
+    warm: bool,
+) {
+    // SAFETY: the caller's promise.
+    let (a, b) = unsafe { (bodies.get(m.a as usize), bodies.get(m.b as usize)) };
+    let (dpa, ta, dpb, tb) = (a.dp, a.turn, b.dp, b.turn);
+    let moved = dpa != DVec3::ZERO || dpb != DVec3::ZERO || ta != DMat3::IDENTITY || tb != DMat3::IDENTITY;
+    for p in pts.iter_mut() {
+        let (ra_now, rb_now) = (ta * p.r_a, tb * p.r_b);
+        let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
+        p.separation_now = p.separation + p.normal.dot(d);
+        p.push_impulse = 0.0;
         if moved {
-            let (ra, rb) = shared_lever_arms(m.r_a, m.r_b, ta * m.r_a, tb * m.r_b, dpa, dpb);
-            for i in 0..2 {
-                m.rows[i] = RowJacobian::new(a, b, ra, rb, m.directions[i]);
-            }
-            m.rows[2] = RowJacobian::twist(a, b, m.normal);
+            let (ra, rb) = shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb);
+            p.row = RowJacobian::new(a, b, ra, rb, p.normal);
         }
-        if warm {
-            let mut vel = PairVelocity::load(bodies, m);
-            for p in &points[m.range()] {
-                vel.apply(
-                    p.normal,
-                    p.row.ia_ra_x_d,
-                    p.row.ib_rb_x_d,
-                    m.inv_mass,
-                    p.normal_impulse,
-                );
-            }
-            for (i, row) in m.rows.iter().enumerate() {
-                vel.apply(
-                    m.directions[i],
-                    row.ia_ra_x_d,
-                    row.ib_rb_x_d,
-                    m.inv_mass,
-                    m.impulses[i],
-                );
-            }
-            vel.store(bodies, m);
+    }
+    if moved {
+        let (ra, rb) = shared_lever_arms(m.r_a, m.r_b, ta * m.r_a, tb * m.r_b, dpa, dpb);
+        for i in 0..2 {
+            m.rows[i] = RowJacobian::new(a, b, ra, rb, m.directions[i]);
         }
+        m.rows[2] = RowJacobian::twist(a, b, m.normal);
+    }
+    if warm {
+        // SAFETY: the caller's promise.
+        let mut vel = unsafe { PairVelocity::load(bodies, m) };
+        for p in pts.iter() {
+            vel.apply(
+                p.normal,
+                p.row.ia_ra_x_d,
+                p.row.ib_rb_x_d,
+                m.inv_mass,
+                p.normal_impulse,
+            );
+        }
+        for (i, row) in m.rows.iter().enumerate() {
+            vel.apply(
+                m.directions[i],
+                row.ia_ra_x_d,
+                row.ib_rb_x_d,
+                m.inv_mass,
+                m.impulses[i],
+            );
+        }
+        // SAFETY: the caller's promise.
+        unsafe { vel.store(bodies, m) };
     }
 }
 
@@ -157,16 +202,33 @@ pub fn solve(
     h: f64,
 ) {
     let inv_h = 1.0 / h;
+    let bodies = Shared::new(bodies);
     for m in manifolds.iter_mut() {
-        let mut vel = PairVelocity::load(bodies, m);
-        let total: f64 = points[m.range()].iter().map(|p| p.normal_impulse).sum();
-        solve_patch_friction(m, total, &mut vel);
-        if m.point_count as usize <= BLOCK_POINTS {
-            solve_block(m, &mut points[m.range()], &mut vel, inv_h);
-            vel.store(bodies, m);
-            continue;
-        }
-        for p in &mut points[m.range()] {
+        let pts = &mut points[m.range()];
+        // SAFETY: one thread.
+        unsafe { solve_patch(m, pts, &bodies, inv_h) };
+    }
+}
+
+/// One [`solve`] pass over one patch and its points.
+///
+/// # Safety
+/// The patch's dynamic bodies are this thread's alone meanwhile.
+#[inline(always)]
+pub(super) unsafe fn solve_patch(
+    m: &mut ManifoldConstraint,
+    pts: &mut [PointConstraint],
+    bodies: &Shared<SolverBody>,
+    inv_h: f64,
+) {
+    // SAFETY: the caller's promise.
+    let mut vel = unsafe { PairVelocity::load(bodies, m) };
+    let total: f64 = pts.iter().map(|p| p.normal_impulse).sum();
+    solve_patch_friction(m, total, &mut vel);
+    if m.point_count as usize <= BLOCK_POINTS {
+        solve_block(m, pts, &mut vel, inv_h);
+    } else {
+        for p in pts.iter_mut() {
             let s = p.separation_now;
             let bias = if s > 0.0 { s * inv_h } else { 0.0 };
             let vn = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d);
@@ -176,8 +238,9 @@ pub fn solve(
             p.max_normal_impulse = p.max_normal_impulse.max(new_impulse);
             vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, m.inv_mass, applied);
         }
-        vel.store(bodies, m);
     }
+    // SAFETY: the caller's promise.
+    unsafe { vel.store(bodies, m) };
 }
 
 /// Most sweeps of projected Gauss-Seidel on a patch's own block per solver pass.
@@ -295,7 +358,7 @@ pub fn residual(
     let inv_h = 1.0 / h;
     let mut worst: f64 = 0.0;
     for m in manifolds {
-        let vel = PairVelocity::load(bodies, m);
+        let vel = PairVelocity::of(&bodies[m.a as usize], &bodies[m.b as usize]);
         for p in &points[m.range()] {
             let s = p.separation_now;
             let bias = if s > 0.0 { s * inv_h } else { 0.0 };
@@ -313,11 +376,15 @@ pub fn solve_friction(
     points: &[PointConstraint],
     bodies: &mut [SolverBody],
 ) {
+    let bodies = Shared::new(bodies);
     for m in manifolds.iter_mut() {
         let total: f64 = points[m.range()].iter().map(|p| p.normal_impulse).sum();
-        let mut vel = PairVelocity::load(bodies, m);
-        solve_patch_friction(m, total, &mut vel);
-        vel.store(bodies, m);
+        // SAFETY: one thread.
+        unsafe {
+            let mut vel = PairVelocity::load(&bodies, m);
+            solve_patch_friction(m, total, &mut vel);
+            vel.store(&bodies, m);
+        }
     }
 }
 
@@ -385,32 +452,54 @@ pub fn push_out(
     h: f64,
 ) -> bool {
     let inv_h = 1.0 / h;
+    let bodies = Shared::new(bodies);
     let mut any = false;
     for m in manifolds {
-        for p in &mut points[m.range()] {
-            let excess = p.separation_now + params.allowed_penetration;
-            if excess >= 0.0 && p.push_impulse == 0.0 {
-                continue;
-            }
-            any = true;
-            let target = if excess < 0.0 {
-                (-params.push_out_fraction * excess * inv_h).min(params.max_push_out_speed)
-            } else {
-                0.0
-            };
-            let (a, b) = (&bodies[m.a as usize], &bodies[m.b as usize]);
+        // SAFETY: one thread.
+        any |= unsafe { push_patch(m, &mut points[m.range()], &bodies, params, inv_h) };
+    }
+    any
+}
+
+/// One [`push_out`] pass over one patch and its points; `true` if it pushed.
+///
+/// # Safety
+/// The patch's dynamic bodies are this thread's alone meanwhile.
+#[inline(always)]
+pub(super) unsafe fn push_patch(
+    m: &ManifoldConstraint,
+    pts: &mut [PointConstraint],
+    bodies: &Shared<SolverBody>,
+    params: &SolverParams,
+    inv_h: f64,
+) -> bool {
+    let mut any = false;
+    for p in pts.iter_mut() {
+        let excess = p.separation_now + params.allowed_penetration;
+        if excess >= 0.0 && p.push_impulse == 0.0 {
+            continue;
+        }
+        any = true;
+        let target = if excess < 0.0 {
+            (-params.push_out_fraction * excess * inv_h).min(params.max_push_out_speed)
+        } else {
+            0.0
+        };
+        // SAFETY: the caller's promise; dynamic bodies only are written.
+        unsafe {
+            let (a, b) = (bodies.get(m.a as usize), bodies.get(m.b as usize));
             let vn =
                 p.normal.dot(a.push_v - b.push_v) + p.row.ra_x_d.dot(a.push_w) - p.row.rb_x_d.dot(b.push_w);
             let new_impulse = (p.push_impulse + p.normal_mass * (target - vn)).max(0.0);
             let applied = new_impulse - p.push_impulse;
             p.push_impulse = new_impulse;
-            let a = &mut bodies[m.a as usize];
             if a.dynamic {
+                let a = bodies.get_mut(m.a as usize);
                 a.push_v += p.normal * (applied * m.inv_mass[0]);
                 a.push_w += p.row.ia_ra_x_d * applied;
             }
-            let b = &mut bodies[m.b as usize];
-            if b.dynamic {
+            if bodies.get(m.b as usize).dynamic {
+                let b = bodies.get_mut(m.b as usize);
                 b.push_v -= p.normal * (applied * m.inv_mass[1]);
                 b.push_w -= p.row.ib_rb_x_d * applied;
             }

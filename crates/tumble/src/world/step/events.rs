@@ -12,9 +12,13 @@ use crate::world::{BodyId, World};
 impl World {
     pub(super) fn events_stage(&mut self, f: &mut StepFrame) {
         let mut touching: Vec<(BodyId, BodyId)> = Vec::with_capacity(self.touching.len() + 16);
-        for (p, c) in f.points.iter().zip(&f.solver.points) {
-            if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
-                touching.push(p.ids);
+        let sf = &f.solver;
+        for (patch, &k) in f.patches.iter().zip(&sf.position) {
+            let m = &sf.manifolds[k as usize];
+            for (p, c) in f.points[patch.range()].iter().zip(&sf.points[m.range()]) {
+                if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
+                    touching.push(p.ids);
+                }
             }
         }
         touching.sort_unstable();

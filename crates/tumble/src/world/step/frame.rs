@@ -50,8 +50,10 @@ pub(crate) struct SolverFrame {
     pub frozen: Vec<bool>,
     /// Normal rows, one per contact point, in the order of `StepFrame::points`.
     pub points: Vec<PointConstraint>,
-    /// Patch rows, one per contact patch, in the order of `StepFrame::patches`.
+    /// Patch rows, one per contact patch, sorted by colour.
     pub manifolds: Vec<ManifoldConstraint>,
+    /// Per contact patch (`StepFrame::patches` order): its index in `manifolds`.
+    pub position: Vec<u32>,
 }
 
 impl StepFrame {

@@ -9,10 +9,15 @@ use super::margins::{is_active, runaway, velocities};
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::integrate::Integrator;
-use crate::solver::contact_solver::{self, ManifoldConstraint, SolverBody, SolverParams};
+use crate::solver::contact_solver::{
+    self, Coloring, ManifoldConstraint, Shared, SolverArrays, SolverBody, SolverParams,
+};
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::report::{SolveStage, StepReport};
+use crate::world::step::frame::SolverFrame;
 use crate::world::{SolverKind, World, WorldContact};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 use std::time::Instant;
 use tumble_collide::{DQuat, DVec3};
 
@@ -27,6 +32,9 @@ impl PartClock {
     }
 }
 
+/// Bodies per block of the per-body parts (velocity and position updates).
+const BODIES_PER_BLOCK: usize = 256;
+
 /// Per solver body: linear acceleration (gravity and force / mass), torque,
 /// linear and angular damping, constant over the step.
 type Drive = (DVec3, DVec3, f64, f64);
@@ -37,11 +45,13 @@ impl World {
         let s = f.settings.clone();
         let dt = s.dt;
         let semi_implicit = s.integrator == Integrator::SemiImplicitEuler;
-        let drive = self.prepare_solver(f, semi_implicit);
+        let (drive, coloring) = self.prepare_solver(f, semi_implicit);
         let sf = &mut f.solver;
         let report = &mut f.report;
+        report.colors = coloring.colors.len() + usize::from(!coloring.overflow.is_empty());
         let q0: Vec<DQuat> = sf.bodies.iter().map(|b| b.q).collect();
         let substeps = if semi_implicit { s.substeps } else { 1 };
+        let (iterations, push_out_iterations) = (s.iterations, s.push_out_iterations);
         let h = dt / substeps as f64;
         let params = SolverParams {
             push_out_fraction: s.push_out_fraction,
@@ -74,59 +84,94 @@ impl World {
         );
         clock.lap(report, SolveStage::Restitution);
 
-        for sub in 0..substeps {
-            for (b, &(a, tau, ld, ad)) in sf.bodies.iter_mut().zip(&drive) {
-                if !b.dynamic {
-                    continue;
-                }
-                b.v = (b.v + a * h) / (1.0 + ld * h);
-                b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
-            }
-            clock.lap(report, SolveStage::IntegrateVelocities);
-            if exact {
-                contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, false);
-                for p in sf.points.iter_mut() {
-                    p.normal_impulse = 0.0;
-                }
-                for m in sf.manifolds.iter_mut() {
-                    m.impulses = [0.0; 3];
-                }
-                clock.lap(report, SolveStage::WarmStart);
-                match contact_solver::solve_normals_exactly(&sf.manifolds, &mut sf.points, &mut sf.bodies, h)
-                {
-                    Ok(()) => {
-                        for _ in 0..s.iterations {
-                            contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
+        if exact {
+            exact_substeps(
+                sf,
+                report,
+                &mut clock,
+                &drive,
+                &q0,
+                substeps,
+                h,
+                (iterations, push_out_iterations),
+                &params,
+            );
+        } else {
+            let arrays = SolverArrays {
+                manifolds: Shared::new(&mut sf.manifolds),
+                points: Shared::new(&mut sf.points),
+                bodies: Shared::new(&mut sf.bodies),
+            };
+            let lead_only = Mutex::new((&mut clock, &mut *report));
+            let pushed = AtomicUsize::new(0);
+            self.pool.team(|team| {
+                let lead = team.index() == 0;
+                let lap = |part: SolveStage| {
+                    if lead {
+                        let mut held = lead_only.lock().unwrap_or_else(|e| e.into_inner());
+                        let (clock, report) = &mut *held;
+                        clock.lap(report, part);
+                    }
+                };
+                let n_bodies = arrays.bodies.len();
+                for sub in 0..substeps {
+                    for r in team.blocks(n_bodies, BODIES_PER_BLOCK) {
+                        // SAFETY: the blocks of bodies are disjoint between threads.
+                        let bodies = unsafe { arrays.bodies.range_mut(r.clone()) };
+                        for (b, &(a, tau, ld, ad)) in bodies.iter_mut().zip(&drive[r]) {
+                            if !b.dynamic {
+                                continue;
+                            }
+                            b.v = (b.v + a * h) / (1.0 + ld * h);
+                            b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
                         }
                     }
-                    Err(e) => {
-                        report
-                            .warnings
-                            .push(format!("solver = lemke failed ({e}); PGS ran instead"));
-                        exact = false;
+                    team.barrier();
+                    lap(SolveStage::IntegrateVelocities);
+                    // SAFETY (every pass): the whole team calls it with the
+                    // same colouring; nothing else touches the arrays.
+                    unsafe { arrays.begin_substep(team, &coloring, true) };
+                    lap(SolveStage::WarmStart);
+                    for _ in 0..iterations {
+                        unsafe { arrays.solve(team, &coloring, h) };
                     }
+                    if sub + 1 == substeps {
+                        if lead {
+                            // SAFETY: the others wait at the barrier below.
+                            let residual = unsafe {
+                                contact_solver::residual(
+                                    arrays.manifolds.range_mut(0..arrays.manifolds.len()),
+                                    arrays.points.range_mut(0..arrays.points.len()),
+                                    arrays.bodies.range_mut(0..n_bodies),
+                                    h,
+                                )
+                            };
+                            lead_only
+                                .lock()
+                                .unwrap_or_else(|e| e.into_inner())
+                                .1
+                                .solver_residual = residual;
+                        }
+                        team.barrier();
+                    }
+                    lap(SolveStage::Iterate);
+                    for pass in 1..=push_out_iterations {
+                        let pass = (sub * push_out_iterations + pass) as usize;
+                        unsafe { arrays.push_out(team, &coloring, &params, h, pass, &pushed) };
+                        if pushed.load(Ordering::Relaxed) != pass {
+                            break;
+                        }
+                    }
+                    lap(SolveStage::Relax);
+                    for r in team.blocks(n_bodies, BODIES_PER_BLOCK) {
+                        // SAFETY: the blocks of bodies are disjoint between threads.
+                        let bodies = unsafe { arrays.bodies.range_mut(r.clone()) };
+                        contact_solver::integrate_positions(bodies, &q0[r], h);
+                    }
+                    team.barrier();
+                    lap(SolveStage::IntegratePositions);
                 }
-            } else {
-                contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, true);
-                clock.lap(report, SolveStage::WarmStart);
-            }
-            if !exact {
-                for _ in 0..s.iterations {
-                    contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
-                }
-            }
-            if sub + 1 == substeps {
-                report.solver_residual = contact_solver::residual(&sf.manifolds, &sf.points, &sf.bodies, h);
-            }
-            clock.lap(report, SolveStage::Iterate);
-            for _ in 0..s.push_out_iterations {
-                if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, &params, h) {
-                    break;
-                }
-            }
-            clock.lap(report, SolveStage::Relax);
-            contact_solver::integrate_positions(&mut sf.bodies, &q0, h);
-            clock.lap(report, SolveStage::IntegratePositions);
+            });
         }
         report.substeps = substeps;
         report.iterations = s.iterations;
@@ -135,11 +180,12 @@ impl World {
     }
 
     /// [`SolveStage::Prepare`]: one solver body per active body (entry 0 is
-    /// the shared immovable body for static and sleeping ones), one row set
-    /// per patch and point, the forces of the step; bodies whose forces or
-    /// velocities are not finite, or would run away, are frozen (quarantine
-    /// before solving, so NaN cannot travel through contacts).
-    fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> Vec<Drive> {
+    /// the shared immovable body for static and sleeping ones), the forces
+    /// of the step; bodies whose forces or velocities are not finite, or
+    /// would run away, are frozen (quarantine before solving, so NaN cannot
+    /// travel through contacts); the patches coloured, and one row set per
+    /// patch and point in colour order.
+    fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> (Vec<Drive>, Coloring) {
         let n_slots = f.n_slots;
         let sf = &mut f.solver;
         sf.slot_to_solver = vec![0u32; n_slots];
@@ -181,27 +227,6 @@ impl World {
             sf.bodies.push(body);
         }
         f.report.awake_bodies = sf.bodies.len() - 1;
-        sf.points = f.points.iter().map(|p| p.point).collect();
-        let slot_to_solver = &sf.slot_to_solver;
-        sf.manifolds = f
-            .patches
-            .iter()
-            .map(|p| {
-                let mut m = ManifoldConstraint::new(
-                    slot_to_solver[p.key.0 as usize],
-                    slot_to_solver[p.key.1 as usize],
-                    p.first,
-                    p.count,
-                    p.normal,
-                    p.friction,
-                    p.restitution,
-                    p.warm_tangent,
-                    p.warm_twist,
-                );
-                contact_solver::prepare(&mut m, &mut sf.points, &sf.bodies);
-                m
-            })
-            .collect();
         let gravity = f.settings.gravity;
         let drive: Vec<Drive> = sf
             .slots
@@ -231,16 +256,41 @@ impl World {
             if !finite || runaway(next_v, next_w, radius) {
                 sf.frozen[k] = true;
                 sf.bodies[k].freeze();
-                for m in sf
-                    .manifolds
-                    .iter_mut()
-                    .filter(|m| m.a as usize == k || m.b as usize == k)
-                {
-                    contact_solver::prepare(m, &mut sf.points, &sf.bodies);
-                }
             }
         }
-        drive
+        // The patches coloured (frozen bodies count as static), their rows
+        // built in colour order with each patch's points together.
+        let slot_to_solver = &sf.slot_to_solver;
+        let pairs: Vec<(u32, u32)> = f
+            .patches
+            .iter()
+            .map(|p| (slot_to_solver[p.key.0 as usize], slot_to_solver[p.key.1 as usize]))
+            .collect();
+        let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
+        sf.points = Vec::with_capacity(f.points.len());
+        sf.manifolds = Vec::with_capacity(f.patches.len());
+        sf.position = vec![0; f.patches.len()];
+        for (k, &i) in order.iter().enumerate() {
+            let p = &f.patches[i as usize];
+            sf.position[i as usize] = k as u32;
+            let first = sf.points.len() as u32;
+            sf.points.extend(f.points[p.range()].iter().map(|q| q.point));
+            let (a, b) = pairs[i as usize];
+            let mut m = ManifoldConstraint::new(
+                a,
+                b,
+                first,
+                p.count,
+                p.normal,
+                p.friction,
+                p.restitution,
+                p.warm_tangent,
+                p.warm_twist,
+            );
+            contact_solver::prepare(&mut m, &mut sf.points, &sf.bodies);
+            sf.manifolds.push(m);
+        }
+        (drive, coloring)
     }
 
     /// [`SolveStage::StoreImpulses`]: every point's normal impulse and every
@@ -251,7 +301,9 @@ impl World {
         self.patch_cache.clear();
         self.contacts.clear();
         let sf = &f.solver;
-        for (patch, m) in f.patches.iter().zip(&sf.manifolds) {
+        // In patch order (the cache is sorted by pair key that way).
+        for (patch, &k) in f.patches.iter().zip(&sf.position) {
+            let m = &sf.manifolds[k as usize];
             let tangent = m.tangent_impulse();
             self.patch_cache.push(CachedPatch {
                 key: patch.key,
@@ -262,7 +314,7 @@ impl World {
             // The patch's friction is reported on its points in proportion
             // to their normal impulses.
             let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
-            for (p, c) in f.points[m.range()].iter().zip(&sf.points[m.range()]) {
+            for (p, c) in f.points[patch.range()].iter().zip(&sf.points[m.range()]) {
                 let share = if total > 0.0 {
                     c.normal_impulse / total
                 } else {
@@ -285,5 +337,74 @@ impl World {
             }
         }
         manifold::finish(&mut self.cache, &mut self.patch_cache);
+    }
+}
+
+/// The sub-steps with the exact normal solve (`SolverKind::Lemke`): serial,
+/// small systems; falls back to the PGS passes if Lemke fails.
+#[allow(clippy::too_many_arguments)]
+fn exact_substeps(
+    sf: &mut SolverFrame,
+    report: &mut StepReport,
+    clock: &mut PartClock,
+    drive: &[Drive],
+    q0: &[DQuat],
+    substeps: u32,
+    h: f64,
+    (iterations, push_out_iterations): (u32, u32),
+    params: &SolverParams,
+) {
+    let mut exact = true;
+    for sub in 0..substeps {
+        for (b, &(a, tau, ld, ad)) in sf.bodies.iter_mut().zip(drive) {
+            if !b.dynamic {
+                continue;
+            }
+            b.v = (b.v + a * h) / (1.0 + ld * h);
+            b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
+        }
+        clock.lap(report, SolveStage::IntegrateVelocities);
+        contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, !exact);
+        if exact {
+            for p in sf.points.iter_mut() {
+                p.normal_impulse = 0.0;
+            }
+            for m in sf.manifolds.iter_mut() {
+                m.impulses = [0.0; 3];
+            }
+        }
+        clock.lap(report, SolveStage::WarmStart);
+        if exact {
+            match contact_solver::solve_normals_exactly(&sf.manifolds, &mut sf.points, &mut sf.bodies, h) {
+                Ok(()) => {
+                    for _ in 0..iterations {
+                        contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
+                    }
+                }
+                Err(e) => {
+                    report
+                        .warnings
+                        .push(format!("solver = lemke failed ({e}); PGS ran instead"));
+                    exact = false;
+                }
+            }
+        }
+        if !exact {
+            for _ in 0..iterations {
+                contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
+            }
+        }
+        if sub + 1 == substeps {
+            report.solver_residual = contact_solver::residual(&sf.manifolds, &sf.points, &sf.bodies, h);
+        }
+        clock.lap(report, SolveStage::Iterate);
+        for _ in 0..push_out_iterations {
+            if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h) {
+                break;
+            }
+        }
+        clock.lap(report, SolveStage::Relax);
+        contact_solver::integrate_positions(&mut sf.bodies, q0, h);
+        clock.lap(report, SolveStage::IntegratePositions);
     }
 }

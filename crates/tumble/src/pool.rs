@@ -1,0 +1,242 @@
+//! The world's worker threads: a rayon pool per thread count, made once per
+//! process and shared by every world that asks for that count (a test suite
+//! or a batch of worlds does not spawn threads per world).
+//!
+//! Two ways to use the threads: `map_chunks` (fork-join over chunks, for
+//! the narrow phase: one hand-over per step) and `team` (every worker runs
+//! the same loop, meeting at spin barriers: the solver's sub-steps, whose
+//! hundreds of small colour batches per step would each cost a wake-up of
+//! the sleeping workers under fork-join; Box2D v3's solver works the same
+//! way).
+//!
+//! Determinism is the callers' part and rests on two rules: work is split
+//! by index, and every result is merged in index order (`map_chunks`
+//! collects in order; the solver's colour batches touch disjoint bodies).
+//! One thread never enters rayon at all, so `threads = 1` is the plain
+//! serial code.
+
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Largest accepted `WorldSettings::threads`.
+pub(crate) const MAX_THREADS: u32 = 1024;
+
+/// Worker threads of one world.
+#[derive(Clone)]
+pub(crate) struct WorkerPool {
+    threads: usize,
+    pool: Option<Arc<SharedPool>>,
+}
+
+/// A rayon pool and the lock that lets one team at a time use it (worlds
+/// of the same thread count share a pool; two teams interleaved on it could
+/// each wait at a barrier for a thread the other holds).
+struct SharedPool {
+    pool: rayon::ThreadPool,
+    team: Mutex<()>,
+}
+
+impl std::fmt::Debug for WorkerPool {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "WorkerPool({} threads)", self.threads)
+    }
+}
+
+/// The pools made so far, by thread count.
+type Registry = Mutex<Vec<(usize, Arc<SharedPool>)>>;
+
+fn registry() -> &'static Registry {
+    static POOLS: OnceLock<Registry> = OnceLock::new();
+    POOLS.get_or_init(|| Mutex::new(Vec::new()))
+}
+
+impl WorkerPool {
+    /// The pool for `requested` threads (0: every core). If the threads
+    /// cannot be started, the world runs serially (with the same results).
+    pub fn new(requested: u32) -> WorkerPool {
+        let threads = match requested {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n as usize,
+        };
+        if threads <= 1 {
+            return WorkerPool {
+                threads: 1,
+                pool: None,
+            };
+        }
+        let mut pools = registry().lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, pool)) = pools.iter().find(|(n, _)| *n == threads) {
+            return WorkerPool {
+                threads,
+                pool: Some(pool.clone()),
+            };
+        }
+        match rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("tumble-worker-{i}"))
+            .build()
+        {
+            Ok(pool) => {
+                let pool = Arc::new(SharedPool {
+                    pool,
+                    team: Mutex::new(()),
+                });
+                pools.push((threads, pool.clone()));
+                WorkerPool {
+                    threads,
+                    pool: Some(pool),
+                }
+            }
+            Err(_) => WorkerPool {
+                threads: 1,
+                pool: None,
+            },
+        }
+    }
+
+    /// Threads the world runs on.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// `f` over consecutive chunks of `items` (its arguments: the index of
+    /// the chunk's first item, and the chunk), results in chunk order. On
+    /// one thread `f` sees all items at once; on more, chunks of `chunk`
+    /// items are spread over the threads. Callers write results that do
+    /// not depend on where the chunks are cut.
+    pub fn map_chunks<T: Sync, R: Send>(
+        &self,
+        items: &[T],
+        chunk: usize,
+        f: impl Fn(usize, &[T]) -> R + Sync + Send,
+    ) -> Vec<R> {
+        let chunk = chunk.max(1);
+        match &self.pool {
+            Some(shared) if items.len() > chunk => shared.pool.install(|| {
+                items
+                    .par_chunks(chunk)
+                    .enumerate()
+                    .map(|(k, c)| f(k * chunk, c))
+                    .collect()
+            }),
+            _ => vec![f(0, items)],
+        }
+    }
+
+    /// Runs `f` on a worker of the pool (or here, serially). A step runs
+    /// whole inside one `run`, so the hand-over to the pool is paid once
+    /// per step and the parallel sections inside start from a worker.
+    pub fn run<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        match &self.pool {
+            Some(shared) => shared.pool.install(f),
+            None => f(),
+        }
+    }
+
+    /// Runs `f` on every thread of the pool at once, each with a [`Team`]
+    /// handle (its index, the team size, barriers), and returns thread 0's
+    /// result. With one thread, or while another team holds the pool, `f`
+    /// runs here alone as a team of one: callers split work by
+    /// [`Team::blocks`], so the result is the same.
+    pub fn team<R: Send>(&self, f: impl Fn(&Team) -> R + Sync) -> R {
+        let Some(shared) = &self.pool else {
+            return f(&Team::alone());
+        };
+        let Ok(_held) = shared.team.try_lock() else {
+            return f(&Team::alone());
+        };
+        let team = Team {
+            size: self.threads,
+            index: 0,
+            sync: Arc::new(BarrierState::default()),
+        };
+        let mut results = shared.pool.broadcast(|ctx| {
+            let me = Team {
+                index: ctx.index(),
+                ..team.clone()
+            };
+            Some(f(&me))
+        });
+        results.swap_remove(0).expect("thread 0 ran")
+    }
+}
+
+/// Arrivals and generation of a spin barrier.
+#[derive(Default)]
+struct BarrierState {
+    arrived: AtomicUsize,
+    generation: AtomicUsize,
+}
+
+/// One thread's handle on a team (see [`WorkerPool::team`]).
+#[derive(Clone)]
+pub(crate) struct Team {
+    size: usize,
+    index: usize,
+    sync: Arc<BarrierState>,
+}
+
+/// Spins before a waiting thread starts yielding its core (more threads
+/// than cores, or a core taken by another process).
+const SPINS_BEFORE_YIELD: u32 = 2000;
+
+impl Team {
+    fn alone() -> Team {
+        Team {
+            size: 1,
+            index: 0,
+            sync: Arc::new(BarrierState::default()),
+        }
+    }
+
+    /// This thread's index in the team (0 leads: it does the serial parts).
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    /// Waits until every thread of the team has arrived. What each thread
+    /// wrote before is seen by every thread after.
+    pub fn barrier(&self) {
+        if self.size == 1 {
+            return;
+        }
+        let s = &self.sync;
+        let generation = s.generation.load(Ordering::Acquire);
+        if s.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.size {
+            s.arrived.store(0, Ordering::Relaxed);
+            s.generation.store(generation.wrapping_add(1), Ordering::Release);
+            return;
+        }
+        let mut spins = 0u32;
+        while s.generation.load(Ordering::Acquire) == generation {
+            if spins < SPINS_BEFORE_YIELD {
+                std::hint::spin_loop();
+                spins += 1;
+            } else {
+                std::thread::yield_now();
+            }
+        }
+    }
+
+    /// This thread's share of `n` items cut in blocks of `block`: blocks
+    /// dealt round-robin by thread index (a fixed assignment: no atomics,
+    /// and the work of a block never depends on who does it). Below two
+    /// blocks' worth, thread 0 takes all.
+    pub fn blocks(&self, n: usize, block: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+        let block = block.max(1);
+        let (block, size) = if self.size == 1 || n < 2 * block {
+            (n.max(1), 1)
+        } else {
+            (block, self.size)
+        };
+        let start = if size == 1 && self.index != 0 {
+            n
+        } else {
+            self.index * block
+        };
+        (start..n)
+            .step_by(size * block)
+            .map(move |s| s..(s + block).min(n))
+    }
+}

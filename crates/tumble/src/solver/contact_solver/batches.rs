@@ -1,0 +1,107 @@
+//! The solver's passes over coloured batches, run by a team of threads
+//! (`WorkerPool::team`): every thread walks the same passes and colours, takes
+//! its blocks of each colour (patches of one colour share no dynamic body,
+//! so they can be updated at once) and meets the others at a barrier before
+//! the next colour; the overflow batch is thread 0's alone. The work of a
+//! block never depends on which thread does it, so the result is the same
+//! bits for any thread count, one thread included.
+
+use super::body::SolverBody;
+use super::coloring::{Coloring, Shared};
+use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::passes::{begin_patch, push_patch, solve_patch};
+use crate::pool::Team;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Patches per block: a pass over a patch costs a fraction of a
+/// microsecond; a block is worth a barrier's wait.
+pub const PATCHES_PER_BLOCK: usize = 32;
+
+/// The solver's arrays, shared by a team.
+pub(crate) struct SolverArrays<'a> {
+    /// Patch rows, sorted by colour.
+    pub manifolds: Shared<'a, ManifoldConstraint>,
+    /// Normal rows; each patch owns its run.
+    pub points: Shared<'a, PointConstraint>,
+    /// Solver bodies.
+    pub bodies: Shared<'a, SolverBody>,
+}
+
+impl SolverArrays<'_> {
+    /// Runs `kernel` on every patch, colour by colour, this thread's
+    /// blocks of each, with a barrier after each colour.
+    ///
+    /// # Safety
+    /// Every thread of `team` calls this with the same `coloring`, and no
+    /// other code touches the arrays meanwhile.
+    unsafe fn each<F>(&self, team: &Team, coloring: &Coloring, kernel: F)
+    where
+        F: Fn(&mut ManifoldConstraint, &mut [PointConstraint]),
+    {
+        for (range, independent) in coloring.batches() {
+            let blocks: Box<dyn Iterator<Item = std::ops::Range<usize>>> = if independent {
+                Box::new(team.blocks(range.len(), PATCHES_PER_BLOCK))
+            } else if team.index() == 0 {
+                Box::new(std::iter::once(0..range.len()))
+            } else {
+                Box::new(std::iter::empty())
+            };
+            for block in blocks {
+                let r = range.start + block.start..range.start + block.end;
+                // SAFETY: blocks of one colour are disjoint between threads,
+                // and each patch owns its run of points.
+                for m in unsafe { self.manifolds.range_mut(r) } {
+                    let pts = unsafe { self.points.range_mut(m.range()) };
+                    kernel(m, pts);
+                }
+            }
+            team.barrier();
+        }
+    }
+
+    /// [`super::begin_substep`] by the team.
+    ///
+    /// # Safety
+    /// As [`SolverArrays::each`].
+    pub unsafe fn begin_substep(&self, team: &Team, coloring: &Coloring, warm: bool) {
+        // SAFETY: patches that run at once share no dynamic body (colouring).
+        unsafe { self.each(team, coloring, |m, pts| begin_patch(m, pts, &self.bodies, warm)) };
+    }
+
+    /// [`super::solve`] by the team.
+    ///
+    /// # Safety
+    /// As [`SolverArrays::each`].
+    pub unsafe fn solve(&self, team: &Team, coloring: &Coloring, h: f64) {
+        let inv_h = 1.0 / h;
+        // SAFETY: patches that run at once share no dynamic body (colouring).
+        unsafe { self.each(team, coloring, |m, pts| solve_patch(m, pts, &self.bodies, inv_h)) };
+    }
+
+    /// [`super::push_out`] by the team, as its pass number `pass` (from 1)
+    /// of the sub-step: a thread whose patches pushed raises `pushed` to
+    /// `pass`. After the call every thread sees whether any patch pushed
+    /// (`pushed == pass`).
+    ///
+    /// # Safety
+    /// As [`SolverArrays::each`].
+    pub unsafe fn push_out(
+        &self,
+        team: &Team,
+        coloring: &Coloring,
+        params: &SolverParams,
+        h: f64,
+        pass: usize,
+        pushed: &AtomicUsize,
+    ) {
+        let inv_h = 1.0 / h;
+        // SAFETY: patches that run at once share no dynamic body (colouring).
+        unsafe {
+            self.each(team, coloring, |m, pts| {
+                if push_patch(m, pts, &self.bodies, params, inv_h) {
+                    pushed.fetch_max(pass, Ordering::Relaxed);
+                }
+            })
+        };
+    }
+}

@@ -97,3 +97,44 @@ class Harness(unittest.TestCase):
         ]
         got = [(r["engine"], (r.get("settings") or {}).get("bv")) for r in run.merge(old, new)]
         self.assertEqual(got, [("coal", "OBBRSS"), ("parry3d", "AABB"), ("coal", "OBB")])
+
+
+class AnswerCheck(unittest.TestCase):
+    """bench/run.py's check of tumble's answers: wrong answers are caught, right ones and peers pass."""
+
+    def setUp(self):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import run
+
+        self.wrong = run.tumble_answers_wrong
+
+    def record(self, scene, **figures):
+        return {"engine": "tumble", "scene": scene, "status": "ok", "figures": figures}
+
+    def test_right_answers_pass(self):
+        check = {"truth_total_pairs": 10, "total_pairs": 11, "max_abs_pose_difference": 1, "within_two_pairs": True}
+        ok = [
+            self.record("tori", all_pairs_check=check, all_pairs_with_contacts_check=check),
+            self.record("pyramid", top_box_displacement_m=0.004),
+            self.record("large_pyramid", top_box_displacement_m=0.04),
+            self.record("pile1000", bodies_outside=0),
+            {"engine": "rapier3d", "scene": "pile1000", "status": "ok", "figures": {"bodies_outside": 12}},
+            {"engine": "mujoco", "scene": "pyramid", "status": "not installed"},
+        ]
+        self.assertEqual(self.wrong(ok), [])
+
+    def test_wrong_answers_are_caught(self):
+        bad_pairs = {"truth_total_pairs": 10, "total_pairs": 30, "max_abs_pose_difference": 20,
+                     "within_two_pairs": False}
+        no_truth = {"truth_total_pairs": None, "total_pairs": 30}
+        cases = [
+            self.record("tori", all_pairs_check=bad_pairs, all_pairs_with_contacts_check=bad_pairs),
+            self.record("tori", all_pairs_check=no_truth, all_pairs_with_contacts_check=no_truth),
+            self.record("pyramid", top_box_displacement_m=0.5),
+            self.record("pyramid"),
+            self.record("large_pyramid", top_box_displacement_m=3.0),
+            self.record("pile100", bodies_outside=2),
+            {"engine": "tumble", "scene": "chain", "status": "failed", "detail": "panic"},
+        ]
+        for r in cases:
+            self.assertTrue(self.wrong([r]), r)

@@ -50,9 +50,21 @@ pub fn add_dynamic(w: &mut PhysicsWorld, collider: ColliderBuilder, centre: [f64
 /// The 20-row pyramid: the world, its boxes' handles and start centres (top
 /// box last).
 pub fn pyramid() -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
+    pyramid_with_base(20, scenes::PYRAMID_GROUND)
+}
+
+/// The 100-row large pyramid (5,050 boxes), as [`pyramid`].
+pub fn large_pyramid() -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
+    pyramid_with_base(100, scenes::LARGE_PYRAMID_GROUND)
+}
+
+fn pyramid_with_base(
+    base: usize,
+    ground: ([f64; 3], [f64; 3]),
+) -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
     let mut w = world();
-    add_static_box(&mut w, scenes::PYRAMID_GROUND.0, scenes::PYRAMID_GROUND.1);
-    let starts = scenes::pyramid_boxes();
+    add_static_box(&mut w, ground.0, ground.1);
+    let starts = scenes::pyramid_boxes_with_base(base);
     let h = scenes::PYRAMID_HALF as f32;
     let ids = starts
         .iter()

@@ -32,9 +32,18 @@ pub fn cradle_spheres() -> Vec<([f64; 3], [f64; 3])> {
 
 /// The 210 pyramid box centres, layer by layer, k ascending (top box last).
 pub fn pyramid_boxes() -> Vec<[f64; 3]> {
-    let mut out = Vec::with_capacity(210);
-    for i in 0..20 {
-        let n = 20 - i;
+    pyramid_boxes_with_base(20)
+}
+
+/// Ground of the large pyramid: half extents and centre (m).
+pub const LARGE_PYRAMID_GROUND: ([f64; 3], [f64; 3]) = ([100.0, 100.0, 0.5], [0.0, 0.0, -0.5]);
+
+/// Centres of the pyramid's boxes for a base of `base` boxes, layer by
+/// layer (base 20: the pyramid; base 100: the large pyramid, 5,050 boxes).
+pub fn pyramid_boxes_with_base(base: usize) -> Vec<[f64; 3]> {
+    let mut out = Vec::with_capacity(base * (base + 1) / 2);
+    for i in 0..base {
+        let n = base - i;
         for k in 0..n {
             out.push([(k as f64 - (n - 1) as f64 / 2.0) * 1.05, 0.0, 0.5 + i as f64]);
         }

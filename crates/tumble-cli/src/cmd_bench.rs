@@ -12,7 +12,7 @@ use tumble::world::{BodyId, World};
 /// Arguments of `tumble bench`.
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Scene: pyramid, pile (with --n), chain, cradle or tori.
+    /// Scene: pyramid, large_pyramid, pile (with --n), chain, cradle or tori.
     #[arg(long)]
     scene: String,
     /// Steps to run (default: the scene's own, 600 or 240).
@@ -79,6 +79,7 @@ fn centre(world: &World, id: BodyId) -> tumble_collide::DVec3 {
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let (name, mut scene): (String, Scene) = match args.scene.as_str() {
         "pyramid" => ("pyramid".into(), scenes::pyramid()),
+        "large_pyramid" => ("large_pyramid".into(), scenes::large_pyramid()),
         "chain" => ("chain".into(), scenes::chain()),
         "cradle" => ("cradle".into(), scenes::cradle()),
         s if s.starts_with("pile") => {
@@ -110,7 +111,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
         other => {
             return Err(CliError::Input(format!(
-                "unknown scene '{other}' (expected pyramid, pile, chain, cradle, tori)"
+                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, cradle, tori)"
             )))
         }
     };
@@ -122,7 +123,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let mut deepest: f64 = 0.0;
     let mut figures = serde_json::Map::new();
     let mut times = match name.as_str() {
-        "pyramid" => {
+        "pyramid" | "large_pyramid" => {
             let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
             let moved: Vec<f64> = ids
                 .iter()

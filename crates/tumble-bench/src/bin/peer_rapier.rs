@@ -8,7 +8,7 @@
 //! The chain uses the plain 768-triangle link mesh (`TriMesh`, default flags) with the
 //! solid torus mass properties: no convex decomposition.
 //!
-//! Usage: `peer-rapier --scene pyramid|pile|chain|cradle [--steps K] [--n N]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle [--steps K] [--n N]`
 
 use std::time::Instant;
 
@@ -77,8 +77,8 @@ fn settings(w: &PhysicsWorld, steps: usize) -> serde_json::Value {
     })
 }
 
-fn pyramid(steps: usize) {
-    let (mut w, ids, starts) = rs::pyramid();
+fn pyramid(steps: usize, large: bool) {
+    let (mut w, ids, starts) = if large { rs::large_pyramid() } else { rs::pyramid() };
     let (times, deepest) = run(&mut w, steps);
     let disp: Vec<f64> = ids
         .iter()
@@ -88,7 +88,7 @@ fn pyramid(steps: usize) {
     Record {
         engine: "rapier3d",
         version: env!("PEER_RAPIER3D_VERSION"),
-        scene: "pyramid".into(),
+        scene: if large { "large_pyramid" } else { "pyramid" }.into(),
         status: "ok",
         settings: settings(&w, steps),
         figures: json!({
@@ -260,7 +260,11 @@ fn main() {
     let steps = args.steps.unwrap_or(full);
     let result = match args.scene.as_deref() {
         Some("pyramid") => {
-            pyramid(steps);
+            pyramid(steps, false);
+            Ok(())
+        }
+        Some("large_pyramid") => {
+            pyramid(steps, true);
             Ok(())
         }
         Some("pile") => pile(steps, args.n.unwrap_or(1000)),
@@ -270,7 +274,7 @@ fn main() {
             Ok(())
         }
         other => Err(format!(
-            "--scene must be pyramid, pile, chain or cradle, got {other:?}"
+            "--scene must be pyramid, large_pyramid, pile, chain or cradle, got {other:?}"
         )),
     };
     if let Err(e) = result {

@@ -31,9 +31,22 @@ fn no_sleep() -> WorldSettings {
 /// pyramid: 20 layers of unit cubes (210 boxes, mass 1) on a static ground box;
 /// dt 1/60, 600 steps. The top box is the last body.
 pub fn pyramid() -> Scene {
-    let mut bodies = vec![ground_box(50.0, 50.0)];
-    for i in 0..20 {
-        let n = 20 - i;
+    pyramid_with_base("pyramid", 20, 50.0)
+}
+
+/// large_pyramid: the pyramid with a base of 100 boxes (100 layers, 5,050
+/// boxes) on a ground of half extents (100, 100, 0.5); dt 1/60, 600 steps,
+/// sleeping off (Box2D v3's and Box3D's benchmark pyramid).
+pub fn large_pyramid() -> Scene {
+    pyramid_with_base("large_pyramid", 100, 100.0)
+}
+
+/// Layers `i = 0..base`, layer `i` holding `base - i` unit cubes 0.05 m
+/// apart, each layer resting on the one below, added layer by layer.
+fn pyramid_with_base(name: &str, base: usize, ground: f64) -> Scene {
+    let mut bodies = vec![ground_box(ground, ground)];
+    for i in 0..base {
+        let n = base - i;
         for k in 0..n {
             let x = (k as f64 - (n as f64 - 1.0) / 2.0) * 1.05;
             bodies.push(
@@ -45,7 +58,7 @@ pub fn pyramid() -> Scene {
         }
     }
     Scene {
-        name: "pyramid".into(),
+        name: name.into(),
         settings: no_sleep(),
         bodies,
         steps: 600,

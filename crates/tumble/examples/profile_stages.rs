@@ -1,6 +1,7 @@
 //! Prints the mean time per step and per stage of a standard scene:
-//! `cargo run --release -p tumble --example profile_stages -- pyramid 300 [threads]`
-//! (scenes: pyramid, pile100, pile1000, chain).
+//! `cargo run --release -p tumble --example profile_stages -- pyramid 300 [threads [substeps iterations [push_out_iterations]]]`
+//! (scenes: pyramid, large_pyramid, pile100, pile1000, pile10000, chain); also
+//! prints how far the last body moved and the deepest penetration seen.
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 
@@ -12,17 +13,32 @@ fn main() {
         "pyramid" => scenes::pyramid(),
         "pile100" => scenes::pile(1),
         "pile1000" => scenes::pile(10),
+        "pile10000" => scenes::pile(100),
+        "large_pyramid" => scenes::large_pyramid(),
         "chain" => scenes::chain(),
         other => panic!("unknown scene {other}"),
     };
     scene.settings.sleeping = false;
     scene.settings.threads = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let (mut world, _) = scene.build().unwrap();
+    if let Some(n) = args.get(4).and_then(|s| s.parse().ok()) {
+        scene.settings.substeps = n;
+    }
+    if let Some(n) = args.get(5).and_then(|s| s.parse().ok()) {
+        scene.settings.iterations = n;
+    }
+    if let Some(n) = args.get(6).and_then(|s| s.parse().ok()) {
+        scene.settings.push_out_iterations = n;
+    }
+    let (mut world, ids) = scene.build().unwrap();
+    let last = *ids.last().unwrap();
+    let start = world.center_of_mass(last).unwrap();
+    let mut deepest = 0.0f64;
     let mut sum = [0.0f64; 7];
     let mut parts = [0.0f64; 8];
     let mut total = 0.0;
     for _ in 0..steps {
         let r = world.step();
+        deepest = deepest.max(r.max_penetration);
         for s in Stage::ALL {
             sum[s as usize] += r.time(s).as_secs_f64();
         }
@@ -32,10 +48,13 @@ fn main() {
         total += r.total_time().as_secs_f64();
     }
     let ms = |t: f64| t / steps as f64 * 1e3;
+    let moved = (world.center_of_mass(last).unwrap() - start).length();
     println!(
-        "{name}: {:.3} ms/step on {} threads",
+        "{name}: {:.3} ms/step on {} threads, {} substeps x {} iterations; last body moved {moved:.4} m, deepest {deepest:.4} m",
         ms(total),
-        world.settings().threads
+        world.threads(),
+        world.settings().substeps,
+        world.settings().iterations
     );
     for s in Stage::ALL {
         println!("  {:<10} {:.3} ms", s.name(), ms(sum[s as usize]));

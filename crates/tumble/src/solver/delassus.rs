@@ -289,7 +289,7 @@ pub fn tangent_basis(n: DVec3, v_rel: DVec3) -> (DVec3, DVec3) {
     (t1, n.cross(t1))
 }
 
-fn jacobian_row(c: &ContactRow, d: DVec3) -> JacobianRow {
+pub(crate) fn jacobian_row(c: &ContactRow, d: DVec3) -> JacobianRow {
     JacobianRow {
         body_a: c.body_a,
         body_b: c.body_b,
@@ -300,7 +300,7 @@ fn jacobian_row(c: &ContactRow, d: DVec3) -> JacobianRow {
 }
 
 /// `J_i u`: relative velocity of the two contact points along the row.
-fn row_velocity(row: &JacobianRow, bodies: &[BodyState]) -> f64 {
+pub(crate) fn row_velocity(row: &JacobianRow, bodies: &[BodyState]) -> f64 {
     let (a, b) = (&bodies[row.body_a], &bodies[row.body_b]);
     row.direction.dot(a.linear_velocity) + row.angular_a.dot(a.angular_velocity)
         - row.direction.dot(b.linear_velocity)
@@ -309,7 +309,7 @@ fn row_velocity(row: &JacobianRow, bodies: &[BodyState]) -> f64 {
 
 /// `A = J M^-1 J^T`, filled in the upper triangle and mirrored so that it is
 /// exactly symmetric.
-fn delassus(rows: &[JacobianRow], bodies: &[BodyState]) -> DenseMatrix {
+pub(crate) fn delassus(rows: &[JacobianRow], bodies: &[BodyState]) -> DenseMatrix {
     let k = rows.len();
     // Each row as two (body, sign, linear, angular) sides.
     let sides = |r: &JacobianRow| {
@@ -339,7 +339,7 @@ fn delassus(rows: &[JacobianRow], bodies: &[BodyState]) -> DenseMatrix {
     a
 }
 
-fn validate(bodies: &[BodyState], contacts: &[ContactRow]) -> Result<(), ContactLcpError> {
+pub(crate) fn validate(bodies: &[BodyState], contacts: &[ContactRow]) -> Result<(), ContactLcpError> {
     for (index, s) in bodies.iter().enumerate() {
         let nf = |field| ContactLcpError::NonFinite {
             what: "body",

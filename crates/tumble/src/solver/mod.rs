@@ -10,7 +10,10 @@
 //! - [`pgs`]: projected Gauss-Seidel, plain and boxed with friction pyramids
 //!   (the default, warm-startable);
 //! - [`delassus`]: assembly of `A = J M^-1 J^T` and `b = J u` from bodies and
-//!   contact points.
+//!   contact points;
+//! - [`friction_cone`]: the exact reference with friction, the contact LCP
+//!   with a polyhedral friction cone (Stewart-Trinkle, Anitescu-Potra) by
+//!   Lemke's method.
 //!
 //! A ball of 2 kg falling at 1 m/s onto static ground, one contact, no
 //! restitution: the impulse stops it (`j = m v`, thesis 7.1).
@@ -48,6 +51,7 @@
 pub mod contact_solver;
 pub mod delassus;
 pub mod dense;
+pub mod friction_cone;
 pub mod lcp;
 pub mod lemke;
 pub mod pgs;
@@ -57,6 +61,7 @@ pub use delassus::{
     JacobianRow,
 };
 pub use dense::DenseMatrix;
+pub use friction_cone::{cone_directions, solve_friction_cone, FrictionConeError, FrictionConeSolution};
 pub use lcp::{check, LcpError, LcpSolution, Residuals};
 pub use lemke::{lemke, lemke_with, LemkeOptions};
 pub use pgs::{pgs, pgs_boxed, RowLimit};

@@ -12,7 +12,7 @@ use tumble_collide::DVec3;
 /// of light, which no rigid-body simulation means. A body whose centre or
 /// surface would move faster (after a force of 1e308 N, say) is treated like
 /// one whose state is not finite: frozen for the step, restored to its state
-/// before it, stopped and reported in [`StepReport::quarantined`]. Finite but
+/// before it, stopped and reported in [`StepReport::quarantined`](crate::world::StepReport::quarantined). Finite but
 /// absurd speeds would otherwise grow the broad-phase boxes and contact
 /// margins over the whole world and overflow a few steps later.
 pub const RUNAWAY_SPEED: f64 = 1e8;

@@ -16,6 +16,9 @@ fn main() {
         "pile10000" => scenes::pile(100),
         "large_pyramid" => scenes::large_pyramid(),
         "chain" => scenes::chain(),
+        other if other.starts_with("pyramid") => {
+            scenes::pyramid_of_base(other[7..].parse().expect("pyramidN"))
+        }
         other => panic!("unknown scene {other}"),
     };
     scene.settings.sleeping = false;

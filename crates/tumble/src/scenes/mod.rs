@@ -6,7 +6,9 @@ mod mesh_scenes;
 mod primitives_scenes;
 
 pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
-pub use primitives_scenes::{ball_drop, cradle, domino, incline, large_pyramid, pile, pyramid, tower};
+pub use primitives_scenes::{
+    ball_drop, cradle, domino, incline, large_pyramid, pile, pyramid, pyramid_of_base, tower,
+};
 
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
 

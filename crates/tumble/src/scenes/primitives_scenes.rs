@@ -34,6 +34,12 @@ pub fn pyramid() -> Scene {
     pyramid_with_base("pyramid", 20, 50.0)
 }
 
+/// A pyramid with a base of `base` unit cubes (`base` layers), laid out
+/// as [`pyramid`] on a ground of half extents (max(50, base), ...).
+pub fn pyramid_of_base(base: usize) -> Scene {
+    pyramid_with_base(&format!("pyramid{base}"), base, (base as f64).max(50.0))
+}
+
 /// large_pyramid: the pyramid with a base of 100 boxes (100 layers, 5,050
 /// boxes) on a ground of half extents (100, 100, 0.5); dt 1/60, 600 steps,
 /// sleeping off (Box2D v3's and Box3D's benchmark pyramid).

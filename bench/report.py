@@ -8,6 +8,7 @@ import os
 
 DYN_FIGURES = {
     "pyramid": ["top_box_displacement_m", "largest_displacement_m", "deepest_penetration_m"],
+    "large_pyramid": ["top_box_displacement_m", "largest_displacement_m", "deepest_penetration_m"],
     "pile": ["bodies_outside", "mean_final_height_m", "contact_points", "deepest_penetration_m"],
     "chain": ["interlock_held", "broken_links", "max_adjacent_centre_distance_m", "deepest_penetration_m"],
     "cradle": ["last_sphere_vx", "momentum_error", "energy_error"],
@@ -50,9 +51,18 @@ def _step_median(r):
         return None
 
 
-def _tumble(results, scene):
+def _threads(r):
+    return (r.get("settings") or {}).get("threads") or 1
+
+
+def _is_tumble(r):
+    return str(r.get("engine", "")).startswith("tumble")
+
+
+def _tumble(results, scene, threads=1):
+    """tumble's record of `scene` run on `threads` threads (peers compare with the same count)."""
     for r in results:
-        if r["engine"] == "tumble" and _scene_key(r) == scene and _ok(r):
+        if _is_tumble(r) and _scene_key(r) == scene and _ok(r) and _threads(r) == threads:
             return r
     return None
 
@@ -74,7 +84,7 @@ def markdown(doc):
         "",
         "Versions: " + ", ".join(f"{k} {v}" for k, v in sorted(doc["versions"].items())),
         "",
-        "## Dynamics (ms per step: median, p10-p90; ratio = tumble / peer median)",
+        "## Dynamics (ms per step: median, p10-p90; ratio = tumble / peer median, on the same thread count)",
         "",
         "| scene | engine | status | median ms | p10-p90 ms | ratio | quality | peak RSS MB |",
         "|---|---|---|---|---|---|---|---|",
@@ -85,17 +95,17 @@ def markdown(doc):
         if s != "tori" and s not in scenes:
             scenes.append(s)
     for s in scenes:
-        # Variants (pyramid-it200, chain-decomposed) are compared with tumble's base scene.
-        t = _tumble(res, s.split("-")[0])
-        tmed = _step_median(t) if t else None
         for r in [r for r in res if _scene_key(r) == s]:
+            # Variants (pyramid-it200, chain-decomposed) are compared with tumble's base scene.
+            t = _tumble(res, s.split("-")[0], _threads(r))
+            tmed = _step_median(t) if t else None
             if not _ok(r):
                 lines.append(f"| {s} | {_label(r)} | {r.get('status')} | - | - | - | {r.get('detail', '')[:80]} | - |")
                 continue
             st = r["figures"].get("step_time", {})
             base = "pile" if s.startswith("pile") else s.split("-")[0]
             q = "; ".join(f"{k.replace('_m', '')}={_fmt(r['figures'].get(k))}" for k in DYN_FIGURES.get(base, []))
-            ratio = "-" if r["engine"] == "tumble" else _ratio(tmed, st.get("median"))
+            ratio = "-" if _is_tumble(r) else _ratio(tmed, st.get("median"))
             lines.append(
                 f"| {s} | {_label(r)} | ok ({st.get('count')} steps) | {_fmt(st.get('median'))} | "
                 f"{_fmt(st.get('p10'))}-{_fmt(st.get('p90'))} | {ratio} | {q} | "
@@ -111,7 +121,7 @@ def markdown(doc):
             + " | distance (separated) | pairs / truth | colliding poses / truth | tree bytes |",
             "|---|---|" + "---|" * (len(TORI_QUERIES) + 4),
         ]
-        t = next((r for r in tori if r["engine"] == "tumble" and _ok(r)), None)
+        t = next((r for r in tori if _is_tumble(r) and _ok(r)), None)
         for r in tori:
             if not _ok(r):
                 lines.append(f"| {_label(r)} | {r.get('status')} | " + " | ".join("-" for _ in TORI_QUERIES)

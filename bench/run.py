@@ -102,10 +102,22 @@ def rust_peer(label, binary, args, timeout, scene_hint):
 
 
 # ---------------------------------------------------------------- tumble plugs in here
-def run_tumble(scene, steps=None, n=None, poses=None, timeout=600):
+def threaded(label, threads):
+    """The engine label of a run on `threads` threads: the bare name for one thread."""
+    return label if threads == 1 else f"{label} ({threads} threads)"
+
+
+def relabel(records, label):
+    for r in records:
+        r["engine"] = label
+    return records
+
+
+def run_tumble(scene, steps=None, n=None, poses=None, timeout=600, threads=1):
     """Runs one scene in tumble: `target/release/tumble bench --scene S [--steps K] [--n N]
-    [--poses P]` must print the same JSON shape as the peers (one object per line, engine
-    "tumble"). Until that verb exists the result is recorded as "not built"."""
+    [--poses P] [--threads T]` must print the same JSON shape as the peers (one object per line,
+    engine "tumble", relabelled "tumble (T threads)" for T > 1). Until that verb exists the result
+    is recorded as "not built"."""
     exe = os.path.join(RELEASE, "tumble")
     hint = f"pile{n}" if scene == "pile" else scene
     if not os.path.exists(exe):
@@ -123,11 +135,13 @@ def run_tumble(scene, steps=None, n=None, poses=None, timeout=600):
         args += ["--n", str(n)]
     if poses is not None:
         args += ["--poses", str(poses)]
-    return run_json("tumble", args, timeout, hint)
+    if scene != "tori":
+        args += ["--threads", str(threads)]
+    return relabel(run_json("tumble", args, timeout, hint), threaded("tumble", threads))
 
 
 # ---------------------------------------------------------------- the run
-def collect(quick, only, max_steps=None, pile_n=None, engines=None):
+def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)):
     steps = QUICK_STEPS if quick else max_steps
     timeout = 300 if quick else 7200
     piles = pile_n or (PILE_N_QUICK if quick else PILE_N_FULL)
@@ -150,7 +164,9 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None):
         for n in ns:
             hint = f"pile{n}" if n else scene
             if on("tumble"):
-                results += run_tumble(scene, steps, n)
+                for t in threads:
+                    print(f"[bench] {threaded('tumble', t)} {hint}", file=sys.stderr, flush=True)
+                    results += run_tumble(scene, steps, n, threads=t)
             # The Python peers have no large pyramid yet (tumble and Rapier run it).
             for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene != "large_pyramid"]:
                 print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
@@ -167,8 +183,11 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None):
                     results += python_peer(eng, f"{eng}_peer.py", ["--scene", "chain", "--decomposed"] + step_args(),
                                            timeout, "chain-decomposed")
             if on("rapier3d"):
-                print(f"[bench] rapier {hint}", file=sys.stderr, flush=True)
-                results += rust_peer("rapier3d", "peer-rapier", ["--scene", scene] + step_args(n), timeout, hint)
+                for t in threads:
+                    label = threaded("rapier3d", t)
+                    print(f"[bench] {label} {hint}", file=sys.stderr, flush=True)
+                    results += relabel(rust_peer(label, "peer-rapier", ["--scene", scene, "--threads", str(t)]
+                                                 + step_args(n), timeout, hint), label)
     if want("tori"):
         poses = QUICK_POSES if quick else 200
         if on("tumble"):
@@ -218,7 +237,7 @@ def main():
     mode.add_argument("--quick", action="store_true", help="a few steps per scene (CI)")
     mode.add_argument("--full", action="store_true", help="full-length scenes")
     ap.add_argument("--setup", action="store_true", help="install peers (bench/setup.sh, cargo build) first")
-    ap.add_argument("--only", nargs="*", help="subset of: pyramid pile chain cradle tori")
+    ap.add_argument("--only", nargs="*", help="subset of: pyramid large_pyramid pile chain cradle tori")
     ap.add_argument("--out", default=None, help="output directory")
     ap.add_argument("--max-steps", type=int, default=None,
                     help="--full: run each dynamics scene for this many steps instead of its full length "
@@ -226,6 +245,8 @@ def main():
     ap.add_argument("--pile-n", type=int, nargs="*", help="pile sizes to run (default 100 1000 10000; quick 100)")
     ap.add_argument("--engines", nargs="*",
                     help="subset of: tumble pybullet mujoco rapier3d fcl coal-obbrss coal-obb parry3d")
+    ap.add_argument("--threads", type=int, nargs="*",
+                    help="thread counts for tumble and Rapier on the dynamics scenes (default 1 2; quick 1)")
     ap.add_argument("--append", action="store_true",
                     help="merge into an existing results-<date>.json of <out>, replacing records of the same "
                          "engine, scene and BV type")
@@ -240,8 +261,11 @@ def main():
         ap.error("--max-steps must be positive")
     if a.pile_n and any(n <= 0 or n % 100 for n in a.pile_n):
         ap.error("--pile-n values must be positive multiples of 100")
+    if a.threads and any(t <= 0 for t in a.threads):
+        ap.error("--threads values must be positive")
+    threads = tuple(a.threads or ((1,) if a.quick else (1, 2)))
     results = collect(a.quick, set(a.only) if a.only else None, a.max_steps, a.pile_n,
-                      set(a.engines) if a.engines else None)
+                      set(a.engines) if a.engines else None, threads)
     path = os.path.join(out, f"results-{date}.json")
     if a.append and os.path.exists(path):
         results = merge(json.load(open(path))["results"], results)
@@ -280,7 +304,7 @@ def tumble_answers_wrong(results):
     box moved 1 cm or more, a large pyramid collapsing, a pile with a body outside its container. Peers are never judged here."""
     wrong = []
     for r in results:
-        if r.get("engine") != "tumble":
+        if not str(r.get("engine", "")).startswith("tumble"):
             continue
         scene, f = r.get("scene"), r.get("figures") or {}
         if r.get("status") != "ok":

@@ -20,7 +20,11 @@ use tumble_bench::rapier_scenes as rs;
 
 const SETTLE_STEPS: usize = 60;
 
-fn tumble_world(scene: tscenes::Scene) -> (World, Vec<tumble::world::BodyId>) {
+fn tumble_world(mut scene: tscenes::Scene) -> (World, Vec<tumble::world::BodyId>) {
+    // One thread each: tumble serial, Rapier (built with `parallel`) on a
+    // global rayon pool of one thread.
+    let _ = rayon::ThreadPoolBuilder::new().num_threads(1).build_global();
+    scene.settings.threads = 1;
     let (mut world, ids) = scene.build().expect("standard scene builds");
     for _ in 0..SETTLE_STEPS {
         world.step();

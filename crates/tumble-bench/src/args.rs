@@ -33,6 +33,8 @@ pub struct Args {
     pub n: Option<usize>,
     /// Tori: number of poses, spread evenly over the 200.
     pub poses: Option<usize>,
+    /// Worker threads (Rapier's `parallel` feature runs on this many).
+    pub threads: Option<usize>,
 }
 
 impl Args {
@@ -42,7 +44,7 @@ impl Args {
         let mut it = argv.into_iter();
         while let Some(flag) = it.next() {
             let value = match flag.as_str() {
-                "--scene" | "--steps" | "--n" | "--poses" => {
+                "--scene" | "--steps" | "--n" | "--poses" | "--threads" => {
                     it.next().ok_or_else(|| ArgError::MissingValue(flag.clone()))?
                 }
                 _ => return Err(ArgError::Unknown(flag)),
@@ -62,6 +64,7 @@ impl Args {
             match flag.as_str() {
                 "--steps" => out.steps = Some(n),
                 "--n" => out.n = Some(n),
+                "--threads" => out.threads = Some(n),
                 _ => out.poses = Some(n),
             }
         }

@@ -95,6 +95,14 @@ impl WorkerPool {
         }
     }
 
+    /// One thread: everything runs on the caller's thread.
+    pub fn serial() -> WorkerPool {
+        WorkerPool {
+            threads: 1,
+            pool: None,
+        }
+    }
+
     /// Threads the world runs on.
     pub fn threads(&self) -> usize {
         self.threads

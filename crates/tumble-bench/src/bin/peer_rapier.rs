@@ -1,5 +1,6 @@
-//! `peer-rapier`: the pyramid, pile, chain and cradle scenes of scenes.md in Rapier (rapier3d, f32, one
-//! thread: the `parallel` feature is off). Prints one JSON record (see `record.rs`).
+//! `peer-rapier`: the pyramid, large pyramid, pile, chain and cradle scenes of scenes.md in Rapier
+//! (rapier3d, f32, built with its `parallel` feature; each scene runs inside a rayon pool of
+//! `--threads` threads, 1 by default). Prints one JSON record (see `record.rs`).
 //!
 //! Settings mirror the other peers: dt 1/60 s, gravity -9.81 z, friction 0.5 on every
 //! collider (Rapier's default combine rule, Average, yields 0.5), restitution 0, sleeping
@@ -8,7 +9,7 @@
 //! The chain uses the plain 768-triangle link mesh (`TriMesh`, default flags) with the
 //! solid torus mass properties: no convex decomposition.
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle [--steps K] [--n N]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -67,7 +68,7 @@ fn settings(w: &PhysicsWorld, steps: usize) -> serde_json::Value {
     json!({
         "dt": p.dt,
         "steps": steps,
-        "threads": 1,
+        "threads": rayon::current_num_threads(),
         "precision": "f32",
         "solver_iterations": p.num_solver_iterations,
         "internal_pgs_iterations": p.num_internal_pgs_iterations,
@@ -258,7 +259,17 @@ fn main() {
         scenes::FULL_STEPS
     };
     let steps = args.steps.unwrap_or(full);
-    let result = match args.scene.as_deref() {
+    let pool = match rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(1))
+        .build()
+    {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("peer-rapier: cannot start threads: {e}");
+            std::process::exit(1);
+        }
+    };
+    let result = pool.install(|| match args.scene.as_deref() {
         Some("pyramid") => {
             pyramid(steps, false);
             Ok(())
@@ -276,7 +287,7 @@ fn main() {
         other => Err(format!(
             "--scene must be pyramid, large_pyramid, pile, chain or cradle, got {other:?}"
         )),
-    };
+    });
     if let Err(e) = result {
         eprintln!("peer-rapier: {e}");
         std::process::exit(2);

@@ -3,6 +3,7 @@
 //! does not grow it) and dropped at the end of the step.
 
 use crate::body::BodyState;
+use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{ManifoldConstraint, PointConstraint, SolverBody};
 use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
@@ -13,6 +14,9 @@ use tumble_collide::broad::Aabb;
 pub(crate) struct StepFrame {
     /// The world's settings, as they were when the step began.
     pub settings: WorldSettings,
+    /// The threads this step runs on (the world's pool, or one thread for
+    /// a small step).
+    pub pool: WorkerPool,
     /// What the step reports; each stage fills its part.
     pub report: StepReport,
     /// Body slots of the world (live or free).
@@ -58,9 +62,10 @@ pub(crate) struct SolverFrame {
 
 impl StepFrame {
     /// An empty frame for a world with `n_slots` body slots.
-    pub fn new(settings: WorldSettings, n_slots: usize) -> StepFrame {
+    pub fn new(settings: WorldSettings, n_slots: usize, pool: WorkerPool) -> StepFrame {
         StepFrame {
             settings,
+            pool,
             report: StepReport::default(),
             n_slots,
             before: Vec::new(),

@@ -23,6 +23,7 @@ pub(crate) use margins::{body_aabb, bounding_radius};
 
 use super::report::{Stage, StepReport};
 use super::World;
+use crate::pool::WorkerPool;
 use std::time::Instant;
 
 impl World {
@@ -32,13 +33,32 @@ impl World {
         // inside then wake the other workers within microseconds. (Entered
         // from outside the pool for each parallel section instead, the
         // other workers of a 2-core VM took about a millisecond to join.)
-        let pool = self.pool.clone();
-        pool.run(|| self.run_stages())
+        // A small step stays on this thread: the hand-over to the pool
+        // costs more than its parallel parts would save. Where the work is
+        // done never changes the result.
+        let pool = if self.worth_threads() {
+            self.pool.clone()
+        } else {
+            WorkerPool::serial()
+        };
+        pool.clone().run(|| self.run_stages(pool))
     }
 
-    fn run_stages(&mut self) -> StepReport {
-        let mut frame = StepFrame::new(self.settings.clone(), self.bodies.slot_count());
-        frame.report.threads = self.pool.threads();
+    /// Whether this step has work enough for the threads, judged from the
+    /// last step: many bodies, many contact patches, or mesh bodies (each
+    /// mesh pair costs as much as hundreds of box pairs).
+    fn worth_threads(&self) -> bool {
+        const BODIES: usize = 256;
+        const PATCHES: usize = 256;
+        self.pool.threads() > 1
+            && (self.bodies.len() >= BODIES
+                || self.patch_cache.len() >= PATCHES
+                || self.bodies.iter().any(|(_, e)| margins::has_mesh(e)))
+    }
+
+    fn run_stages(&mut self, pool: WorkerPool) -> StepReport {
+        let mut frame = StepFrame::new(self.settings.clone(), self.bodies.slot_count(), pool);
+        frame.report.threads = frame.pool.threads();
         for stage in Stage::ALL {
             let start = Instant::now();
             match stage {

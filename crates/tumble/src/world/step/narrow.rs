@@ -50,7 +50,7 @@ impl World {
         let per_pair = (self.cache.len() + self.cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
         let patches_per_pair =
             (self.patch_cache.len() + self.patch_cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
-        let chunks = self.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
+        let chunks = frame.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
             let mut out = ChunkContacts {
                 points: Vec::with_capacity((per_pair * pairs.len() as f64) as usize + 16),
                 patches: Vec::with_capacity((patches_per_pair * pairs.len() as f64) as usize + 16),

@@ -9,6 +9,7 @@ use super::margins::{is_active, runaway, velocities};
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::integrate::Integrator;
+use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
     self, Coloring, ManifoldConstraint, Shared, SolverArrays, SolverBody, SolverParams,
 };
@@ -104,7 +105,13 @@ impl World {
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
-            self.pool.team(|team| {
+            // Nothing to split (no colour batch, few bodies): one thread.
+            let pool = if coloring.colors.is_empty() && arrays.bodies.len() < 2 * BODIES_PER_BLOCK {
+                WorkerPool::serial()
+            } else {
+                f.pool.clone()
+            };
+            pool.team(|team| {
                 let lead = team.index() == 0;
                 let lap = |part: SolveStage| {
                     if lead {

@@ -3,10 +3,10 @@
 //! quarantine (any state that is not finite or runs away after the step is
 //! restored and stopped), sleep, and the clock.
 
-use super::margins::runaway;
+use super::quarantine::runaway;
 use super::StepFrame;
 use crate::body::BodyKind;
-use crate::world::report::{ContactEvent, Quarantined};
+use crate::world::report::ContactEvent;
 use crate::world::{BodyId, World};
 
 impl World {
@@ -49,9 +49,9 @@ impl World {
         report.events.sort_unstable();
         self.touching = touching;
 
-        // Bodies advanced by an explicit integrator are checked here (the
-        // integrator already refuses non-finite states; this is the backstop,
-        // also for runaways that solver impulses made).
+        // Quarantine's last check: bodies advanced by an explicit integrator
+        // (which refuses non-finite states already), and the backstop for
+        // runaways that solver impulses made.
         for i in 0..f.n_slots {
             let Some(e) = self.bodies.at(i as u32) else {
                 continue;
@@ -62,17 +62,7 @@ impl World {
             {
                 continue;
             }
-            let restored = f.stopped_state_before(i);
-            let Some(e) = self.bodies.at_mut(i as u32) else {
-                continue;
-            };
-            if let Some(restored) = restored {
-                let _ = e.body.set_state(restored);
-            }
-            e.body.clear_forces();
-            f.report.quarantined.push(Quarantined {
-                body: self.bodies.id_at(i as u32).expect("live"),
-            });
+            self.quarantine(f, i as u32);
         }
         if f.settings.sleeping {
             self.update_sleep(&f.labels, f.settings.dt);

@@ -8,24 +8,6 @@ use crate::world::{BodyEntry, Collider, MaterialDesc};
 use tumble_collide::broad::Aabb;
 use tumble_collide::DVec3;
 
-/// Speed (m/s) beyond which a body counts as a runaway: a third of the speed
-/// of light, which no rigid-body simulation means. A body whose centre or
-/// surface would move faster (after a force of 1e308 N, say) is treated like
-/// one whose state is not finite: frozen for the step, restored to its state
-/// before it, stopped and reported in [`StepReport::quarantined`](crate::world::StepReport::quarantined). Finite but
-/// absurd speeds would otherwise grow the broad-phase boxes and contact
-/// margins over the whole world and overflow a few steps later.
-pub const RUNAWAY_SPEED: f64 = 1e8;
-
-/// `true` when a body with velocity `v`, angular velocity `w` and bounding
-/// radius `radius` moves some point faster than [`RUNAWAY_SPEED`] (or its
-/// velocities are not finite).
-pub(crate) fn runaway(v: DVec3, w: DVec3, radius: f64) -> bool {
-    let speed = v.length() + w.length() * radius;
-    // NaN compares false: a NaN speed is a runaway too.
-    speed.is_nan() || speed > RUNAWAY_SPEED
-}
-
 /// Fattened world AABB of a body: the union of its colliders' boxes, grown
 /// by `fatten` (m) on every side.
 pub(crate) fn body_aabb(e: &BodyEntry, fatten: f64) -> Aabb {

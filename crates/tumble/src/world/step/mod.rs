@@ -14,12 +14,13 @@ mod events;
 mod frame;
 mod margins;
 mod narrow;
+mod quarantine;
 mod solve;
 mod writeback;
 
 pub(crate) use frame::StepFrame;
-pub use margins::RUNAWAY_SPEED;
 pub(crate) use margins::{body_aabb, bounding_radius};
+pub use quarantine::RUNAWAY_SPEED;
 
 use super::report::{Stage, StepReport};
 use super::World;

@@ -5,7 +5,8 @@
 //! the impulses are stored for the next step's warm start and reported with
 //! the contacts. The solver itself lives in `crate::solver::contact_solver`.
 
-use super::margins::{is_active, runaway, velocities};
+use super::margins::{is_active, velocities};
+use super::quarantine;
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::integrate::Integrator;
@@ -248,19 +249,13 @@ impl World {
                 _ => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
             })
             .collect();
-        // Quarantine before solving: a body whose forces or velocities are not
-        // finite is frozen for this step (immovable in the solver) and restored
-        // afterwards, so NaN cannot travel through contacts to its neighbours.
-        // Runaways (see RUNAWAY_SPEED) are frozen the same way.
+        // Quarantine's first check (see `quarantine`): frozen before solving.
         let dt = f.settings.dt;
         sf.frozen = vec![false; sf.bodies.len()];
         for (k, &(a, tau, _, _)) in drive.iter().enumerate().skip(1) {
             let b = &sf.bodies[k];
-            let finite = b.v.is_finite() && b.w.is_finite() && a.is_finite() && tau.is_finite();
-            let next_v = b.v + a * dt;
-            let next_w = b.w + b.inv_inertia * tau * dt;
             let radius = self.bodies.at(sf.slots[k]).map_or(0.0, |e| e.radius);
-            if !finite || runaway(next_v, next_w, radius) {
+            if quarantine::must_freeze(b.v, b.w, a, b.inv_inertia * tau, radius, dt) {
                 sf.frozen[k] = true;
                 sf.bodies[k].freeze();
             }

@@ -7,29 +7,19 @@
 use super::StepFrame;
 use crate::body::{BodyKind, BodyState};
 use crate::integrate::{integrate, Integrator};
-use crate::world::report::Quarantined;
 use crate::world::World;
 use tumble_collide::Pose;
 
 impl World {
     pub(super) fn integrate_stage(&mut self, f: &mut StepFrame) {
-        let sf = &f.solver;
-        for (k, &slot) in sf.slots.iter().enumerate().skip(1) {
-            let sb = sf.bodies[k];
-            let e = self.bodies.at_mut(slot).expect("live");
+        for k in 1..f.solver.slots.len() {
+            let (slot, sb) = (f.solver.slots[k], f.solver.bodies[k]);
             let finite = sb.v.is_finite() && sb.w.is_finite() && sb.dp.is_finite() && sb.q.is_finite();
-            if sf.frozen[k] || !finite {
-                // Restored to the state before the step, stopped, reported.
-                if let Some(restored) = f.stopped_state_before(slot as usize) {
-                    // A state that was finite before the step is accepted again.
-                    let _ = e.body.set_state(restored);
-                }
-                e.body.clear_forces();
-                f.report.quarantined.push(Quarantined {
-                    body: self.bodies.id_at(slot).expect("live"),
-                });
+            if f.solver.frozen[k] || !finite {
+                self.quarantine(f, slot);
                 continue;
             }
+            let e = self.bodies.at_mut(slot).expect("live");
             if sb.dynamic {
                 let state = BodyState {
                     position: e.body.position() + sb.dp,
@@ -50,7 +40,7 @@ impl World {
         if f.settings.integrator != Integrator::SemiImplicitEuler {
             for i in 0..f.n_slots as u32 {
                 let Some(e) = self.bodies.at_mut(i) else { continue };
-                if e.body.kind() == BodyKind::Dynamic && !e.sleeping && !sf.has_contact[i as usize] {
+                if e.body.kind() == BodyKind::Dynamic && !e.sleeping && !f.solver.has_contact[i as usize] {
                     let _ = integrate(
                         std::slice::from_mut(&mut e.body),
                         f.settings.gravity,

@@ -35,6 +35,7 @@ pub struct RowJacobian {
 
 impl RowJacobian {
     /// The row of an impulse along `d` at lever arms `ra`, `rb`.
+    #[inline]
     pub fn new(a: &SolverBody, b: &SolverBody, ra: DVec3, rb: DVec3, d: DVec3) -> RowJacobian {
         let ra_x_d = ra.cross(d);
         let rb_x_d = rb.cross(d);
@@ -48,6 +49,7 @@ impl RowJacobian {
 
     /// A pure torque row about the unit `axis` (A turns about `+axis`, B
     /// about `-axis`): the twist row of patch friction.
+    #[inline]
     pub fn twist(a: &SolverBody, b: &SolverBody, axis: DVec3) -> RowJacobian {
         RowJacobian {
             ra_x_d: axis,

@@ -425,7 +425,9 @@ fn solve_patch_friction(m: &mut ManifoldConstraint, total: f64, vel: &mut PairVe
     let twist_limit = limit * m.twist_radius;
     let before = m.impulses[2];
     let spin = row.ra_x_d.dot(vel.wa) - row.rb_x_d.dot(vel.wb);
-    let after = (before - m.masses[2] * spin).clamp(-twist_limit, twist_limit);
+    // max/min, not clamp: a limit that is NaN (non-finite input, which the
+    // quarantine catches after the solve) must not panic the step.
+    let after = (before - m.masses[2] * spin).max(-twist_limit).min(twist_limit);
     vel.apply(
         DVec3::ZERO,
         row.ia_ra_x_d,

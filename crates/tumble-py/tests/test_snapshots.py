@@ -118,7 +118,8 @@ def test_bad_snapshot_files(tmp_path) -> None:
     world.save(tmp_path / "w.json")
     text = (tmp_path / "w.json").read_text()
     assert f'"format_version":{version}' in text
-    (tmp_path / "old.json").write_text(text.replace(f'"format_version":{version}', '"format_version":0', 1))
+    old = text.replace(f'"format_version":{version}', '"format_version":0', 1)
+    (tmp_path / "old.json").write_text(old)
     with pytest.raises(tumble.InvalidArgument) as info:
         tumble.World.load(tmp_path / "old.json")
     assert "version 0 is not supported" in str(info.value)

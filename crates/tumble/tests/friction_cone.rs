@@ -11,26 +11,12 @@
 //! - every sliding contact: both put the friction on the rim of the cone
 //!   (`|f| = mu n`) and both dissipate energy.
 
+mod common;
+
+use common::Rng;
 use tumble::collide::{DMat3, DQuat, DVec3};
 use tumble::solver::contact_solver::{prepare, solve, ManifoldConstraint, PointConstraint, SolverBody};
 use tumble::solver::{solve_friction_cone, BodyState, ContactRow, FrictionConeError};
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-    fn vec(&mut self, r: f64) -> DVec3 {
-        DVec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
-    }
-}
 
 fn point_mass(m: f64, v: DVec3) -> BodyState {
     BodyState {
@@ -174,16 +160,7 @@ fn fast(p: &Problem) -> (Vec<SolverBody>, f64, DVec3) {
 }
 
 fn reference(p: &Problem, k: usize) -> tumble::solver::FrictionConeSolution {
-    let states: Vec<BodyState> = p
-        .bodies
-        .iter()
-        .map(|b| BodyState {
-            inv_mass: b.inv_mass,
-            inv_inertia: b.inv_inertia,
-            linear_velocity: b.v,
-            angular_velocity: b.w,
-        })
-        .collect();
+    let states: Vec<BodyState> = p.bodies.iter().map(SolverBody::lcp_state).collect();
     solve_friction_cone(&states, &[p.contact], k).unwrap()
 }
 

@@ -4,28 +4,13 @@
 //! projection of the free velocities onto the non-penetration cone, which is
 //! unique even where the impulses are not (four coplanar corners).
 
+mod common;
+
+use common::Rng;
 use tumble::collide::{DQuat, DVec3};
 use tumble::solver::contact_solver::{
     prepare, residual, solve, solve_normals_exactly, ManifoldConstraint, PointConstraint, SolverBody,
 };
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        // xorshift64*: deterministic, no dependency.
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-    fn vec(&mut self, r: f64) -> DVec3 {
-        DVec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
-    }
-}
 
 /// Body 0 is fixed; bodies 1..=3 are dynamic with random mass, inertia,
 /// orientation and velocity. Patches of 1-4 points with one normal join

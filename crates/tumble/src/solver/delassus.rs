@@ -250,22 +250,28 @@ impl ContactLcp {
                 found: z.len(),
             });
         }
-        let mut out: Vec<BodyVelocity> = bodies
-            .iter()
-            .map(|s| BodyVelocity {
-                linear: s.linear_velocity,
-                angular: s.angular_velocity,
-            })
-            .collect();
-        for (row, &zi) in self.rows.iter().zip(z) {
-            let (a, b) = (&bodies[row.body_a], &bodies[row.body_b]);
-            out[row.body_a].linear += a.inv_mass * zi * row.direction;
-            out[row.body_a].angular += a.inv_inertia * (zi * row.angular_a);
-            out[row.body_b].linear -= b.inv_mass * zi * row.direction;
-            out[row.body_b].angular -= b.inv_inertia * (zi * row.angular_b);
-        }
-        Ok(out)
+        Ok(apply_impulses(&self.rows, bodies, z))
     }
+}
+
+/// Body velocities after impulses `z` along `rows` (one per row, as many
+/// as rows): `u + M^-1 J^T z`.
+pub(crate) fn apply_impulses(rows: &[JacobianRow], bodies: &[BodyState], z: &[f64]) -> Vec<BodyVelocity> {
+    let mut out: Vec<BodyVelocity> = bodies
+        .iter()
+        .map(|s| BodyVelocity {
+            linear: s.linear_velocity,
+            angular: s.angular_velocity,
+        })
+        .collect();
+    for (row, &zi) in rows.iter().zip(z) {
+        let (a, b) = (&bodies[row.body_a], &bodies[row.body_b]);
+        out[row.body_a].linear += a.inv_mass * zi * row.direction;
+        out[row.body_a].angular += a.inv_inertia * (zi * row.angular_a);
+        out[row.body_b].linear -= b.inv_mass * zi * row.direction;
+        out[row.body_b].angular -= b.inv_inertia * (zi * row.angular_b);
+    }
+    out
 }
 
 /// Right-handed tangents `(t1, t2)` with `t1 x t2 = n`. `t1` points along the

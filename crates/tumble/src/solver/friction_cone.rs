@@ -27,8 +27,8 @@
 //! is `cos(pi / k)` of the disc's).
 
 use super::delassus::{
-    delassus, jacobian_row, row_velocity, validate, BodyState, BodyVelocity, ContactLcpError, ContactRow,
-    JacobianRow,
+    apply_impulses, delassus, jacobian_row, row_velocity, validate, BodyState, BodyVelocity, ContactLcpError,
+    ContactRow, JacobianRow,
 };
 use super::dense::DenseMatrix;
 use super::lcp::LcpError;
@@ -123,20 +123,7 @@ pub fn solve_friction_cone(
         }
     }
     let z = lemke(&a, &q)?.z;
-    let mut velocities: Vec<BodyVelocity> = bodies
-        .iter()
-        .map(|s| BodyVelocity {
-            linear: s.linear_velocity,
-            angular: s.angular_velocity,
-        })
-        .collect();
-    for (row, &zi) in rows.iter().zip(&z) {
-        let (a_side, b_side) = (&bodies[row.body_a], &bodies[row.body_b]);
-        velocities[row.body_a].linear += row.direction * (zi * a_side.inv_mass);
-        velocities[row.body_a].angular += a_side.inv_inertia * row.angular_a * zi;
-        velocities[row.body_b].linear -= row.direction * (zi * b_side.inv_mass);
-        velocities[row.body_b].angular -= b_side.inv_inertia * row.angular_b * zi;
-    }
+    let velocities = apply_impulses(&rows, bodies, &z);
     let friction = (0..m)
         .map(|c| {
             (0..k)

@@ -67,6 +67,16 @@ impl SolverBody {
         r * DMat3::from_diagonal(inv_inertia_body) * r.transpose()
     }
 
+    /// The body as the dense LCP assembly sees it (`solver::delassus`).
+    pub fn lcp_state(&self) -> crate::solver::BodyState {
+        crate::solver::BodyState {
+            inv_mass: self.inv_mass,
+            inv_inertia: self.inv_inertia,
+            linear_velocity: self.v,
+            angular_velocity: self.w,
+        }
+    }
+
     /// Velocity of the point at offset `r` from the centre of mass.
     #[inline]
     pub fn velocity_at(&self, r: DVec3) -> DVec3 {

@@ -33,15 +33,7 @@ pub fn solve_normals_exactly(
     bodies: &mut [SolverBody],
     h: f64,
 ) -> Result<(), ExactSolveError> {
-    let states: Vec<BodyState> = bodies
-        .iter()
-        .map(|b| BodyState {
-            inv_mass: b.inv_mass,
-            inv_inertia: b.inv_inertia,
-            linear_velocity: b.v,
-            angular_velocity: b.w,
-        })
-        .collect();
+    let states: Vec<BodyState> = bodies.iter().map(SolverBody::lcp_state).collect();
     let mut rows: Vec<ContactRow> = Vec::with_capacity(points.len());
     for m in manifolds {
         for p in &points[m.range()] {

@@ -21,6 +21,8 @@ pub(crate) struct StepFrame {
     pub report: StepReport,
     /// Body slots of the world (live or free).
     pub n_slots: usize,
+    /// Some body has a triangle-mesh collider (mesh pairs cost far more).
+    pub meshes: bool,
     /// Forces: every live body's state before the step (quarantine restores it).
     pub before: Vec<Option<crate::body::BodyState>>,
     /// Broad: where each bounded body can be during the step (`None` for
@@ -68,6 +70,7 @@ impl StepFrame {
             pool,
             report: StepReport::default(),
             n_slots,
+            meshes: false,
             before: Vec::new(),
             swept: Vec::new(),
             pairs: Vec::new(),

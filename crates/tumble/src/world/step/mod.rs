@@ -37,28 +37,28 @@ impl World {
         // A small step stays on this thread: the hand-over to the pool
         // costs more than its parallel parts would save. Where the work is
         // done never changes the result.
-        let pool = if self.worth_threads() {
+        let meshes = self.bodies.iter().any(|(_, e)| margins::has_mesh(e));
+        let pool = if self.worth_threads(meshes) {
             self.pool.clone()
         } else {
             WorkerPool::serial()
         };
-        pool.clone().run(|| self.run_stages(pool))
+        pool.clone().run(|| self.run_stages(pool, meshes))
     }
 
     /// Whether this step has work enough for the threads, judged from the
     /// last step: many bodies, many contact patches, or mesh bodies (each
     /// mesh pair costs as much as hundreds of box pairs).
-    fn worth_threads(&self) -> bool {
+    fn worth_threads(&self, meshes: bool) -> bool {
         const BODIES: usize = 256;
         const PATCHES: usize = 256;
         self.pool.threads() > 1
-            && (self.bodies.len() >= BODIES
-                || self.patch_cache.len() >= PATCHES
-                || self.bodies.iter().any(|(_, e)| margins::has_mesh(e)))
+            && (self.bodies.len() >= BODIES || self.patch_cache.len() >= PATCHES || meshes)
     }
 
-    fn run_stages(&mut self, pool: WorkerPool) -> StepReport {
+    fn run_stages(&mut self, pool: WorkerPool, meshes: bool) -> StepReport {
         let mut frame = StepFrame::new(self.settings.clone(), self.bodies.slot_count(), pool);
+        frame.meshes = meshes;
         frame.report.threads = frame.pool.threads();
         for stage in Stage::ALL {
             let start = Instant::now();

@@ -9,7 +9,7 @@
 //! contacts do not depend on the chunk it falls in, so the result is the
 //! same bits for any thread count.
 
-use super::margins::{has_mesh, is_active, relative_motion_bound, velocity_change_bounds};
+use super::margins::{is_active, relative_motion_bound, velocity_change_bounds};
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
@@ -39,7 +39,7 @@ const MESH_PAIRS_PER_TASK: usize = 1;
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
         let shock = velocity_change_bounds(&self.bodies, &f.pairs, f.n_slots);
-        let chunk = if self.bodies.iter().any(|(_, e)| has_mesh(e)) {
+        let chunk = if f.meshes {
             MESH_PAIRS_PER_TASK
         } else {
             PAIRS_PER_TASK

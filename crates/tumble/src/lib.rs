@@ -66,6 +66,7 @@ pub mod scenes;
 // function (rustdoc: ambiguous link). The solver is being reworked; until its
 // docs say `mod@lemke` / `mod@pgs`, the ambiguity is allowed here so that
 // `RUSTDOCFLAGS=-D warnings cargo doc` (make doc) passes.
+pub mod joint;
 #[allow(rustdoc::broken_intra_doc_links)]
 pub mod solver;
 pub mod world;

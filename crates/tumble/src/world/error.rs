@@ -1,6 +1,6 @@
 //! Errors of the world API. Every one leaves the world unchanged.
 
-use super::handles::BodyId;
+use super::handles::{BodyId, JointId};
 
 /// Why a world call was rejected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -8,6 +8,9 @@ pub enum WorldError {
     /// The handle does not refer to a live body (removed, or from another world).
     #[error("body {0:?} does not exist (removed, or never added)")]
     StaleBody(BodyId),
+    /// The handle does not refer to a live joint (removed, or its body was).
+    #[error("joint {0:?} does not exist (removed, or one of its bodies was)")]
+    StaleJoint(JointId),
     /// A numeric field is out of range or not finite.
     #[error("{field}: {message}")]
     BadValue {

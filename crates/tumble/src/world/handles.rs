@@ -13,13 +13,64 @@ pub struct BodyId {
     pub generation: u32,
 }
 
-/// A slot arena with generational handles; iteration is in slot order, so it
-/// is deterministic.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct Arena<T> {
+/// Handle of a joint in a [`World`](crate::world::World).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct JointId {
+    /// Slot index.
+    pub index: u32,
+    /// Generation of the slot when the handle was issued.
+    pub generation: u32,
+}
+
+/// A generational handle type an [`Arena`] issues.
+pub trait Handle: Copy {
+    /// The handle of slot `index` at `generation`.
+    fn from_parts(index: u32, generation: u32) -> Self;
+    /// Slot index.
+    fn index(self) -> u32;
+    /// Generation.
+    fn generation(self) -> u32;
+}
+
+macro_rules! handle {
+    ($t:ty) => {
+        impl Handle for $t {
+            fn from_parts(index: u32, generation: u32) -> Self {
+                Self { index, generation }
+            }
+            fn index(self) -> u32 {
+                self.index
+            }
+            fn generation(self) -> u32 {
+                self.generation
+            }
+        }
+    };
+}
+handle!(BodyId);
+handle!(JointId);
+
+/// A slot arena with generational handles of type `I`; iteration is in
+/// slot order, so it is deterministic.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: Serialize", deserialize = "T: Deserialize<'de>"))]
+pub struct Arena<T, I = BodyId> {
     slots: Vec<Slot<T>>,
     free: Vec<u32>,
     len: usize,
+    #[serde(skip)]
+    _handle: std::marker::PhantomData<I>,
+}
+
+impl<T, I> Default for Arena<T, I> {
+    fn default() -> Self {
+        Arena {
+            slots: Vec::new(),
+            free: Vec::new(),
+            len: 0,
+            _handle: std::marker::PhantomData,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -28,14 +79,10 @@ struct Slot<T> {
     value: Option<T>,
 }
 
-impl<T> Arena<T> {
+impl<T, I: Handle> Arena<T, I> {
     /// An empty arena.
     pub fn new() -> Self {
-        Arena {
-            slots: Vec::new(),
-            free: Vec::new(),
-            len: 0,
-        }
+        Self::default()
     }
 
     /// Number of live values.
@@ -49,52 +96,46 @@ impl<T> Arena<T> {
     }
 
     /// Stores `value`, reusing the most recently freed slot.
-    pub fn insert(&mut self, value: T) -> BodyId {
+    pub fn insert(&mut self, value: T) -> I {
         self.len += 1;
         if let Some(index) = self.free.pop() {
             let slot = &mut self.slots[index as usize];
             slot.value = Some(value);
-            BodyId {
-                index,
-                generation: slot.generation,
-            }
+            I::from_parts(index, slot.generation)
         } else {
             self.slots.push(Slot {
                 generation: 0,
                 value: Some(value),
             });
-            BodyId {
-                index: self.slots.len() as u32 - 1,
-                generation: 0,
-            }
+            I::from_parts(self.slots.len() as u32 - 1, 0)
         }
     }
 
     /// Removes and returns the value, or `None` if the handle is stale.
-    pub fn remove(&mut self, id: BodyId) -> Option<T> {
-        let slot = self.slots.get_mut(id.index as usize)?;
-        if slot.generation != id.generation || slot.value.is_none() {
+    pub fn remove(&mut self, id: I) -> Option<T> {
+        let slot = self.slots.get_mut(id.index() as usize)?;
+        if slot.generation != id.generation() || slot.value.is_none() {
             return None;
         }
         slot.generation = slot.generation.wrapping_add(1);
-        self.free.push(id.index);
+        self.free.push(id.index());
         self.len -= 1;
         slot.value.take()
     }
 
     /// The value, or `None` if the handle is stale.
-    pub fn get(&self, id: BodyId) -> Option<&T> {
-        let slot = self.slots.get(id.index as usize)?;
-        if slot.generation != id.generation {
+    pub fn get(&self, id: I) -> Option<&T> {
+        let slot = self.slots.get(id.index() as usize)?;
+        if slot.generation != id.generation() {
             return None;
         }
         slot.value.as_ref()
     }
 
     /// Mutable access, or `None` if the handle is stale.
-    pub fn get_mut(&mut self, id: BodyId) -> Option<&mut T> {
-        let slot = self.slots.get_mut(id.index as usize)?;
-        if slot.generation != id.generation {
+    pub fn get_mut(&mut self, id: I) -> Option<&mut T> {
+        let slot = self.slots.get_mut(id.index() as usize)?;
+        if slot.generation != id.generation() {
             return None;
         }
         slot.value.as_mut()
@@ -106,12 +147,9 @@ impl<T> Arena<T> {
     }
 
     /// Handle of the live value in slot `index`, if any.
-    pub fn id_at(&self, index: u32) -> Option<BodyId> {
+    pub fn id_at(&self, index: u32) -> Option<I> {
         let slot = self.slots.get(index as usize)?;
-        slot.value.as_ref().map(|_| BodyId {
-            index,
-            generation: slot.generation,
-        })
+        slot.value.as_ref().map(|_| I::from_parts(index, slot.generation))
     }
 
     /// The live value in slot `index`, if any.
@@ -137,7 +175,7 @@ impl<T> Arena<T> {
     /// Rebuilds an arena from its slots (generation, value) and free list,
     /// as read back from a snapshot: the free list must name every empty
     /// slot exactly once and no live one.
-    pub fn from_raw_parts(slots: Vec<(u32, Option<T>)>, free: Vec<u32>) -> Result<Arena<T>, String> {
+    pub fn from_raw_parts(slots: Vec<(u32, Option<T>)>, free: Vec<u32>) -> Result<Arena<T, I>, String> {
         let mut listed = vec![false; slots.len()];
         for &f in &free {
             match slots.get(f as usize) {
@@ -160,21 +198,16 @@ impl<T> Arena<T> {
                 .collect(),
             free,
             len,
+            _handle: std::marker::PhantomData,
         })
     }
 
     /// Live values with their handles, in slot order.
-    pub fn iter(&self) -> impl Iterator<Item = (BodyId, &T)> {
+    pub fn iter(&self) -> impl Iterator<Item = (I, &T)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| {
-            s.value.as_ref().map(|v| {
-                (
-                    BodyId {
-                        index: i as u32,
-                        generation: s.generation,
-                    },
-                    v,
-                )
-            })
+            s.value
+                .as_ref()
+                .map(|v| (I::from_parts(i as u32, s.generation), v))
         })
     }
 }
@@ -185,7 +218,7 @@ mod tests {
 
     #[test]
     fn stale_handles_are_detected() {
-        let mut a = Arena::new();
+        let mut a: Arena<i32> = Arena::new();
         let x = a.insert(1);
         let y = a.insert(2);
         assert_eq!(a.remove(x), Some(1));

@@ -47,6 +47,7 @@ mod desc;
 mod error;
 mod handles;
 mod islands;
+mod joints;
 mod manifold;
 mod patches;
 mod report;
@@ -56,7 +57,7 @@ mod step;
 
 pub use desc::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc};
 pub use error::WorldError;
-pub use handles::{Arena, BodyId};
+pub use handles::{Arena, BodyId, Handle, JointId};
 pub use islands::{label_islands, UnionFind};
 pub use report::{ContactEvent, Quarantined, SolveStage, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
@@ -118,6 +119,7 @@ pub struct WorldContact {
 pub struct World {
     settings: WorldSettings,
     bodies: Arena<BodyEntry>,
+    joints: Arena<joints::JointEntry, JointId>,
     broad: SweepAndPrune,
     /// Slots of bodies with unbounded shapes (kept out of the broad phase).
     unbounded: Vec<u32>,
@@ -223,6 +225,7 @@ impl World {
             pool: crate::pool::WorkerPool::new(settings.threads),
             settings,
             bodies: Arena::new(),
+            joints: Arena::new(),
             broad: SweepAndPrune::new(),
             unbounded: Vec::new(),
             cache: Vec::new(),
@@ -399,7 +402,7 @@ impl World {
         Ok(id)
     }
 
-    /// Removes a body (its contacts end with the next step).
+    /// Removes a body and its joints (its contacts end with the next step).
     pub fn remove_body(&mut self, id: BodyId) -> Result<(), WorldError> {
         let entry = self.bodies.get(id).ok_or(WorldError::StaleBody(id))?;
         if let Some(proxy) = entry.proxy {
@@ -409,6 +412,7 @@ impl World {
             })?;
         }
         self.bodies.remove(id);
+        self.remove_joints_of(id.index);
         self.unbounded.retain(|&s| s != id.index);
         self.cache.retain(|c| c.key.0 != id.index && c.key.1 != id.index);
         self.patch_cache

@@ -136,6 +136,8 @@ pub struct StepReport {
     /// Colours of the constraint graph: batches of rows that share no
     /// dynamic body and are solved in parallel.
     pub colors: usize,
+    /// Joints in the solver this step (those with a body it moves).
+    pub joints: usize,
     /// Bodies that were simulated (awake, dynamic or kinematic).
     pub awake_bodies: usize,
     /// Bodies asleep after the step.

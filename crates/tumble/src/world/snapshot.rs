@@ -11,7 +11,8 @@
 //! broad-phase box of each body (the fattened box of its last active step:
 //! it decides which pairs are tested), the warm-start contact cache and the
 //! touching pairs of the last step (they decide the next step's begin/end
-//! events). Not in it: the contact list of the last step ([`World::contacts`]
+//! events), and every joint slot with its joint (description, frames on
+//! the bodies, warm-start impulses, last reaction). Not in it: the contact list of the last step ([`World::contacts`]
 //! is empty after a restore until the next step) and the broad phase's
 //! internal sort order (rebuilt; its pair set, the only thing the step reads,
 //! is a function of the boxes).
@@ -24,9 +25,12 @@
 //! panics or holds NaN).
 
 use super::handles::{Arena, BodyId};
+use super::joints::JointEntry;
 use super::manifold::{self, CachedContact, CachedPatch};
 use super::{check_settings, BodyEntry, Collider, World, WorldSettings};
 use crate::body::{BodyKind, BodyState, Material, RigidBody};
+use crate::joint::{JointDesc, JointKind, Motor, Spring};
+use crate::solver::contact_solver::{JointLaw, JOINT_ROWS};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use tumble_collide::broad::{Aabb, SweepAndPrune};
@@ -36,7 +40,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 2;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 3;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -108,6 +112,120 @@ pub struct Snapshot {
     /// of the Python arrays); slot order unless set with
     /// [`Snapshot::set_body_order`].
     body_order: Vec<BodyId>,
+    /// Joint arena slots in order: generation and joint (None when free).
+    joint_slots: Vec<JointSlotRecord>,
+    /// Free joint slots, in reuse order.
+    joint_free: Vec<u32>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointSlotRecord {
+    generation: u32,
+    joint: Option<JointRecord>,
+}
+
+/// A joint: its description, its frames on the bodies (bit for bit) and
+/// its warm-start impulses and last reaction.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointRecord {
+    kind: JointKind,
+    body_a: BodyId,
+    body_b: Option<BodyId>,
+    anchor: DVec3,
+    anchor_b: Option<DVec3>,
+    axis: DVec3,
+    limits: Option<[f64; 2]>,
+    swing_limit: Option<f64>,
+    motor: Option<Motor>,
+    spring: Option<Spring>,
+    length: Option<f64>,
+    collide_connected: bool,
+    name: String,
+    local: [Pose; 2],
+    rest_length: f64,
+    impulses: Vec<f64>,
+    reaction: [DVec3; 2],
+}
+
+impl JointRecord {
+    fn of(j: &JointEntry) -> JointRecord {
+        let d = &j.desc;
+        JointRecord {
+            kind: d.kind,
+            body_a: d.body_a,
+            body_b: d.body_b,
+            anchor: d.anchor,
+            anchor_b: d.anchor_b,
+            axis: d.axis,
+            limits: d.limits,
+            swing_limit: d.swing_limit,
+            motor: d.motor,
+            spring: d.spring,
+            length: d.length,
+            collide_connected: d.collide_connected,
+            name: d.name.clone(),
+            local: j.local,
+            rest_length: j.law.length,
+            impulses: j.impulses.to_vec(),
+            reaction: [j.force, j.torque],
+        }
+    }
+
+    fn entry(&self, bodies: &Arena<BodyEntry>) -> Result<JointEntry, String> {
+        let desc = JointDesc {
+            kind: self.kind,
+            body_a: self.body_a,
+            body_b: self.body_b,
+            anchor: self.anchor,
+            anchor_b: self.anchor_b,
+            axis: self.axis,
+            limits: self.limits,
+            swing_limit: self.swing_limit,
+            motor: self.motor,
+            spring: self.spring,
+            length: self.length,
+            collide_connected: self.collide_connected,
+            name: self.name.clone(),
+        };
+        desc.validate().map_err(|e| e.to_string())?;
+        for id in [Some(self.body_a), self.body_b].into_iter().flatten() {
+            if bodies.get(id).is_none() {
+                return Err(format!("body {id:?} is not live"));
+            }
+        }
+        for p in &self.local {
+            Pose::new(p.position, p.rotation).map_err(|e| format!("joint frame: {e}"))?;
+        }
+        let impulses: [f64; JOINT_ROWS] = self
+            .impulses
+            .clone()
+            .try_into()
+            .map_err(|_| format!("{} impulses, expected {JOINT_ROWS}", self.impulses.len()))?;
+        let finite = impulses.iter().all(|x| x.is_finite())
+            && self.reaction.iter().all(|v| v.is_finite())
+            && self.rest_length.is_finite()
+            && self.rest_length >= 0.0;
+        if !finite {
+            return Err("impulses, reaction and rest length must be finite".into());
+        }
+        Ok(JointEntry {
+            law: JointLaw {
+                kind: desc.kind,
+                limits: desc.limits,
+                swing_limit: desc.swing_limit,
+                motor: desc.motor,
+                spring: desc.spring,
+                length: self.rest_length,
+            },
+            desc,
+            local: self.local,
+            impulses,
+            force: self.reaction[0],
+            torque: self.reaction[1],
+        })
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -432,6 +550,13 @@ impl World {
             patch_cache: self.patch_cache.clone(),
             touching: self.touching.clone(),
             body_order: self.body_ids(),
+            joint_slots: (0..self.joints.slot_count() as u32)
+                .map(|i| JointSlotRecord {
+                    generation: self.joints.generation_at(i).unwrap_or(0),
+                    joint: self.joints.at(i).map(JointRecord::of),
+                })
+                .collect(),
+            joint_free: self.joints.free_slots().to_vec(),
         }
     }
 
@@ -536,9 +661,24 @@ impl World {
         if !snapshot.touching.windows(2).all(|w| w[0] < w[1]) {
             return Err(invalid("touching pairs must be sorted and unique"));
         }
+        let joint_slots = snapshot
+            .joint_slots
+            .iter()
+            .enumerate()
+            .map(|(i, r)| match &r.joint {
+                None => Ok((r.generation, None)),
+                Some(j) => j
+                    .entry(&bodies)
+                    .map(|e| (r.generation, Some(e)))
+                    .map_err(|m| invalid(format!("joint_slots[{i}]: {m}"))),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let joints = Arena::from_raw_parts(joint_slots, snapshot.joint_free.clone())
+            .map_err(|m| invalid(format!("joints: {m}")))?;
         Ok(World {
             settings: snapshot.settings.clone(),
             bodies,
+            joints,
             broad,
             unbounded: snapshot.unbounded.clone(),
             cache,

@@ -9,15 +9,17 @@
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
 use super::passes::{begin_patch, push_patch, solve_patch};
 use crate::pool::Team;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Patches per block: a pass over a patch costs a fraction of a
-/// microsecond; a block is worth a barrier's wait.
+/// Patches (or joints) per block: a pass over a patch costs a fraction of
+/// a microsecond; a block is worth a barrier's wait.
 pub const PATCHES_PER_BLOCK: usize = 32;
 
-/// The solver's arrays, shared by a team.
+/// The solver's arrays, shared by a team. Each pass runs over the joints'
+/// colours, then the patches' colours.
 pub(crate) struct SolverArrays<'a> {
     /// Patch rows, sorted by colour.
     pub manifolds: Shared<'a, ManifoldConstraint>,
@@ -25,83 +27,119 @@ pub(crate) struct SolverArrays<'a> {
     pub points: Shared<'a, PointConstraint>,
     /// Solver bodies.
     pub bodies: Shared<'a, SolverBody>,
+    /// Joint rows, sorted by colour.
+    pub joints: Shared<'a, JointConstraint>,
+    /// The patches' colours.
+    pub coloring: &'a Coloring,
+    /// The joints' colours.
+    pub joint_coloring: &'a Coloring,
+}
+
+/// Runs `kernel` on every item of `items`, colour by colour, this
+/// thread's blocks of each, with a barrier after each colour.
+///
+/// # Safety
+/// Every thread of `team` calls this with the same `coloring`, and no
+/// other code touches the arrays meanwhile.
+unsafe fn each<T, F>(team: &Team, coloring: &Coloring, items: &Shared<T>, kernel: F)
+where
+    F: Fn(&mut T),
+{
+    for (range, independent) in coloring.batches() {
+        let blocks: Box<dyn Iterator<Item = std::ops::Range<usize>>> = if independent {
+            Box::new(team.blocks(range.len(), PATCHES_PER_BLOCK))
+        } else if team.index() == 0 {
+            Box::new(std::iter::once(0..range.len()))
+        } else {
+            Box::new(std::iter::empty())
+        };
+        for block in blocks {
+            let r = range.start + block.start..range.start + block.end;
+            // SAFETY: blocks of one colour are disjoint between threads.
+            for item in unsafe { items.range_mut(r) } {
+                kernel(item);
+            }
+        }
+        team.barrier();
+    }
 }
 
 impl SolverArrays<'_> {
-    /// Runs `kernel` on every patch, colour by colour, this thread's
-    /// blocks of each, with a barrier after each colour.
+    /// Runs `kernel` on every patch with its points.
     ///
     /// # Safety
-    /// Every thread of `team` calls this with the same `coloring`, and no
-    /// other code touches the arrays meanwhile.
-    unsafe fn each<F>(&self, team: &Team, coloring: &Coloring, kernel: F)
+    /// As [`each`].
+    unsafe fn each_patch<F>(&self, team: &Team, kernel: F)
     where
         F: Fn(&mut ManifoldConstraint, &mut [PointConstraint]),
     {
-        for (range, independent) in coloring.batches() {
-            let blocks: Box<dyn Iterator<Item = std::ops::Range<usize>>> = if independent {
-                Box::new(team.blocks(range.len(), PATCHES_PER_BLOCK))
-            } else if team.index() == 0 {
-                Box::new(std::iter::once(0..range.len()))
-            } else {
-                Box::new(std::iter::empty())
-            };
-            for block in blocks {
-                let r = range.start + block.start..range.start + block.end;
-                // SAFETY: blocks of one colour are disjoint between threads,
-                // and each patch owns its run of points.
-                for m in unsafe { self.manifolds.range_mut(r) } {
-                    let pts = unsafe { self.points.range_mut(m.range()) };
-                    kernel(m, pts);
-                }
-            }
-            team.barrier();
+        // SAFETY: the caller's promise; each patch owns its run of points.
+        unsafe {
+            each(team, self.coloring, &self.manifolds, |m| {
+                let pts = self.points.range_mut(m.range());
+                kernel(m, pts)
+            })
+        };
+    }
+
+    /// [`super::begin_substep`] and the joints' sub-step start, by the team.
+    ///
+    /// # Safety
+    /// As [`each`]; patches and joints that run at once share no dynamic
+    /// body (colouring).
+    pub unsafe fn begin_substep(&self, team: &Team, h: f64, warm: bool) {
+        // SAFETY: the caller's promise.
+        unsafe {
+            each(team, self.joint_coloring, &self.joints, |j| {
+                begin_joint(j, &self.bodies, h, warm)
+            });
+            self.each_patch(team, |m, pts| begin_patch(m, pts, &self.bodies, warm));
         }
     }
 
-    /// [`super::begin_substep`] by the team.
+    /// [`super::solve`] (and the joints) by the team.
     ///
     /// # Safety
-    /// As [`SolverArrays::each`].
-    pub unsafe fn begin_substep(&self, team: &Team, coloring: &Coloring, warm: bool) {
-        // SAFETY: patches that run at once share no dynamic body (colouring).
-        unsafe { self.each(team, coloring, |m, pts| begin_patch(m, pts, &self.bodies, warm)) };
-    }
-
-    /// [`super::solve`] by the team.
-    ///
-    /// # Safety
-    /// As [`SolverArrays::each`].
-    pub unsafe fn solve(&self, team: &Team, coloring: &Coloring, h: f64) {
+    /// As [`SolverArrays::begin_substep`].
+    pub unsafe fn solve(&self, team: &Team, h: f64) {
         let inv_h = 1.0 / h;
-        // SAFETY: patches that run at once share no dynamic body (colouring).
-        unsafe { self.each(team, coloring, |m, pts| solve_patch(m, pts, &self.bodies, inv_h)) };
+        // SAFETY: the caller's promise.
+        unsafe {
+            each(team, self.joint_coloring, &self.joints, |j| {
+                solve_joint(j, &self.bodies)
+            });
+            self.each_patch(team, |m, pts| solve_patch(m, pts, &self.bodies, inv_h));
+        }
     }
 
-    /// [`super::push_out`] by the team, as its pass number `pass` (from 1)
-    /// of the sub-step: a thread whose patches pushed raises `pushed` to
-    /// `pass`. After the call every thread sees whether any patch pushed
-    /// (`pushed == pass`).
+    /// [`super::push_out`] (and the joints) by the team, as its pass number
+    /// `pass` (from 1) of the sub-step: a thread whose patches or joints
+    /// pushed raises `pushed` to `pass`. After the call every thread sees
+    /// whether any pushed (`pushed == pass`).
     ///
     /// # Safety
-    /// As [`SolverArrays::each`].
+    /// As [`SolverArrays::begin_substep`].
     pub unsafe fn push_out(
         &self,
         team: &Team,
-        coloring: &Coloring,
         params: &SolverParams,
         h: f64,
         pass: usize,
         pushed: &AtomicUsize,
     ) {
         let inv_h = 1.0 / h;
-        // SAFETY: patches that run at once share no dynamic body (colouring).
+        // SAFETY: the caller's promise.
         unsafe {
-            self.each(team, coloring, |m, pts| {
+            each(team, self.joint_coloring, &self.joints, |j| {
+                if push_joint(j, &self.bodies, inv_h) {
+                    pushed.fetch_max(pass, Ordering::Relaxed);
+                }
+            });
+            self.each_patch(team, |m, pts| {
                 if push_patch(m, pts, &self.bodies, params, inv_h) {
                     pushed.fetch_max(pass, Ordering::Relaxed);
                 }
-            })
-        };
+            });
+        }
     }
 }

@@ -41,6 +41,7 @@ mod collisions;
 mod coloring;
 mod constraint;
 mod exact;
+mod joint;
 mod passes;
 
 #[cfg(test)]
@@ -56,4 +57,8 @@ pub use constraint::{
     SolverParams,
 };
 pub use exact::{solve_normals_exactly, ExactSolveError, EXACT_MAX_CONTACTS};
+pub use joint::{
+    begin_joints, push_joints, solve_joints, JointConstraint, JointLaw, JointRow, JOINT_PUSH_FRACTION,
+    JOINT_ROWS,
+};
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};

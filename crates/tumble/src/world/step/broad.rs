@@ -53,11 +53,18 @@ impl World {
         }
         pairs.sort_unstable();
         pairs.dedup();
+        // Jointed bodies do not touch unless their joint says so.
+        let jointed = self.jointed_pairs_without_contact();
+        if !jointed.is_empty() {
+            pairs.retain(|p| jointed.binary_search(p).is_err());
+        }
         f.report.broad_pairs = pairs.len();
-        // Wake sleeping islands that an active body has come close to.
+        // Wake sleeping islands that an active body has come close to or
+        // is jointed to.
+        let links = self.joint_links();
         loop {
             let mut woke = false;
-            for &(a, b) in &pairs {
+            for &(a, b) in pairs.iter().chain(&links) {
                 let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
                 let group = match (is_active(ea), is_active(eb)) {
                     (true, false) if eb.sleeping => Some(b),

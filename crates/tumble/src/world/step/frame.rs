@@ -4,7 +4,9 @@
 
 use crate::body::BodyState;
 use crate::pool::WorkerPool;
-use crate::solver::contact_solver::{ManifoldConstraint, PointConstraint, SolverBody};
+use crate::solver::contact_solver::{
+    Coloring, JointConstraint, ManifoldConstraint, PointConstraint, SolverBody,
+};
 use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
 use crate::world::WorldSettings;
@@ -50,7 +52,8 @@ pub(crate) struct SolverFrame {
     pub slots: Vec<u32>,
     /// Solver bodies; entry 0 is static.
     pub bodies: Vec<SolverBody>,
-    /// Per body slot: the body has a contact patch this step.
+    /// Per body slot: the body has a contact patch or a joint this step
+    /// (it is moved by the solver, not by an explicit integrator).
     pub has_contact: Vec<bool>,
     /// Per solver body: quarantined before the solve (restored afterwards).
     pub frozen: Vec<bool>,
@@ -60,6 +63,12 @@ pub(crate) struct SolverFrame {
     pub manifolds: Vec<ManifoldConstraint>,
     /// Per contact patch (`StepFrame::patches` order): its index in `manifolds`.
     pub position: Vec<u32>,
+    /// Joint rows, one record per joint with a movable body, sorted by colour.
+    pub joints: Vec<JointConstraint>,
+    /// Joint arena slot of each record of `joints`.
+    pub joint_slots: Vec<u32>,
+    /// The joints' colours (the order of `joints`).
+    pub joint_coloring: Coloring,
 }
 
 impl StepFrame {

@@ -19,7 +19,7 @@ mod solve;
 mod writeback;
 
 pub(crate) use frame::StepFrame;
-pub(crate) use margins::{body_aabb, bounding_radius};
+pub(crate) use margins::{body_aabb, bounding_radius, velocities};
 pub use quarantine::RUNAWAY_SPEED;
 
 use super::report::{Stage, StepReport};
@@ -85,12 +85,13 @@ impl World {
             .collect();
     }
 
-    /// [`Stage::Islands`]: contacts link dynamic bodies into islands (the
-    /// unit of sleeping).
+    /// [`Stage::Islands`]: contacts and joints link dynamic bodies into
+    /// islands (the unit of sleeping).
     fn islands_stage(&mut self, f: &mut StepFrame) {
         use crate::body::BodyKind;
         let mut links: Vec<(u32, u32)> = f.points.iter().map(|p| (p.key.0, p.key.1)).collect();
         links.dedup();
+        links.extend(self.joint_links());
         let dynamic_awake: Vec<bool> = (0..f.n_slots as u32)
             .map(|i| {
                 self.bodies

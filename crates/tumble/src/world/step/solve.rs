@@ -12,7 +12,7 @@ use crate::body::BodyKind;
 use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    self, Coloring, ManifoldConstraint, Shared, SolverArrays, SolverBody, SolverParams,
+    self, Coloring, JointConstraint, ManifoldConstraint, Shared, SolverArrays, SolverBody, SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::report::{SolveStage, StepReport};
@@ -51,6 +51,7 @@ impl World {
         let sf = &mut f.solver;
         let report = &mut f.report;
         report.colors = coloring.colors.len() + usize::from(!coloring.overflow.is_empty());
+        report.joints = sf.joints.len();
         let q0: Vec<DQuat> = sf.bodies.iter().map(|b| b.q).collect();
         let substeps = if semi_implicit { s.substeps } else { 1 };
         let (iterations, push_out_iterations) = (s.iterations, s.push_out_iterations);
@@ -99,15 +100,22 @@ impl World {
                 &params,
             );
         } else {
+            let joint_coloring = std::mem::take(&mut sf.joint_coloring);
             let arrays = SolverArrays {
                 manifolds: Shared::new(&mut sf.manifolds),
                 points: Shared::new(&mut sf.points),
                 bodies: Shared::new(&mut sf.bodies),
+                joints: Shared::new(&mut sf.joints),
+                coloring: &coloring,
+                joint_coloring: &joint_coloring,
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
             // Nothing to split (no colour batch, few bodies): one thread.
-            let pool = if coloring.colors.is_empty() && arrays.bodies.len() < 2 * BODIES_PER_BLOCK {
+            let pool = if coloring.colors.is_empty()
+                && joint_coloring.colors.is_empty()
+                && arrays.bodies.len() < 2 * BODIES_PER_BLOCK
+            {
                 WorkerPool::serial()
             } else {
                 f.pool.clone()
@@ -138,10 +146,10 @@ impl World {
                     lap(SolveStage::IntegrateVelocities);
                     // SAFETY (every pass): the whole team calls it with the
                     // same colouring; nothing else touches the arrays.
-                    unsafe { arrays.begin_substep(team, &coloring, true) };
+                    unsafe { arrays.begin_substep(team, h, true) };
                     lap(SolveStage::WarmStart);
                     for _ in 0..iterations {
-                        unsafe { arrays.solve(team, &coloring, h) };
+                        unsafe { arrays.solve(team, h) };
                     }
                     if sub + 1 == substeps {
                         if lead {
@@ -165,7 +173,7 @@ impl World {
                     lap(SolveStage::Iterate);
                     for pass in 1..=push_out_iterations {
                         let pass = (sub * push_out_iterations + pass) as usize;
-                        unsafe { arrays.push_out(team, &coloring, &params, h, pass, &pushed) };
+                        unsafe { arrays.push_out(team, &params, h, pass, &pushed) };
                         if pushed.load(Ordering::Relaxed) != pass {
                             break;
                         }
@@ -180,10 +188,12 @@ impl World {
                     lap(SolveStage::IntegratePositions);
                 }
             });
+            sf.joint_coloring = joint_coloring;
         }
         report.substeps = substeps;
         report.iterations = s.iterations;
         self.store_impulses(f, substeps);
+        self.store_joint_impulses(f, h);
         clock.lap(&mut f.report, SolveStage::StoreImpulses);
     }
 
@@ -205,6 +215,12 @@ impl World {
         for p in &f.patches {
             sf.has_contact[p.key.0 as usize] = true;
             sf.has_contact[p.key.1 as usize] = true;
+        }
+        for (_, j) in self.joints.iter() {
+            let (a, b) = j.slots();
+            for slot in [Some(a), b].into_iter().flatten() {
+                sf.has_contact[slot as usize] = true;
+            }
         }
         for i in 0..n_slots as u32 {
             let Some(e) = self.bodies.at(i) else { continue };
@@ -292,7 +308,67 @@ impl World {
             contact_solver::prepare(&mut m, &mut sf.points, &sf.bodies);
             sf.manifolds.push(m);
         }
+        self.prepare_joints(sf);
         (drive, coloring)
+    }
+
+    /// The joint rows: one record per joint that has a body the solver
+    /// moves (a joint between two resting bodies waits), with the sides'
+    /// step-start poses, coloured like the patches.
+    fn prepare_joints(&self, sf: &mut SolverFrame) {
+        let mut records = Vec::new();
+        let mut pairs = Vec::new();
+        for (id, j) in self.joints.iter() {
+            let (a, b) = j.slots();
+            let side = |slot: Option<u32>| match slot.and_then(|s| self.bodies.at(s).map(|e| (s, e))) {
+                Some((s, e)) => (
+                    sf.slot_to_solver[s as usize],
+                    e.body.position(),
+                    e.body.orientation(),
+                ),
+                None => (0, DVec3::ZERO, DQuat::IDENTITY),
+            };
+            let (ia, xa, qa) = side(Some(a));
+            let (ib, xb, qb) = side(b);
+            if !(sf.bodies[ia as usize].dynamic || sf.bodies[ib as usize].dynamic) {
+                continue;
+            }
+            pairs.push((ia, ib));
+            records.push(JointConstraint::new(
+                (ia, ib),
+                [xa, xb],
+                [qa, qb],
+                j.local,
+                j.law,
+                &j.impulses,
+            ));
+            sf.joint_slots.push(id.index);
+        }
+        let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
+        let mut slots = Vec::with_capacity(order.len());
+        sf.joints = order
+            .iter()
+            .map(|&k| {
+                slots.push(sf.joint_slots[k as usize]);
+                records[k as usize].clone()
+            })
+            .collect();
+        sf.joint_slots = slots;
+        sf.joint_coloring = coloring;
+    }
+
+    /// The joints' row impulses kept for the next step's warm start, and
+    /// their reactions (from the last sub-step, of length `h`).
+    fn store_joint_impulses(&mut self, f: &StepFrame, h: f64) {
+        let sf = &f.solver;
+        for (j, &slot) in sf.joints.iter().zip(&sf.joint_slots) {
+            let Some(entry) = self.joints.at_mut(slot) else {
+                continue;
+            };
+            entry.impulses = j.impulses();
+            let ra = j.pose(&sf.bodies).ra;
+            (entry.force, entry.torque) = j.reaction(ra, h);
+        }
     }
 
     /// [`SolveStage::StoreImpulses`]: every point's normal impulse and every
@@ -366,6 +442,7 @@ fn exact_substeps(
             b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
         }
         clock.lap(report, SolveStage::IntegrateVelocities);
+        contact_solver::begin_joints(&mut sf.joints, &mut sf.bodies, h, true);
         contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, !exact);
         if exact {
             for p in sf.points.iter_mut() {
@@ -380,6 +457,7 @@ fn exact_substeps(
             match contact_solver::solve_normals_exactly(&sf.manifolds, &mut sf.points, &mut sf.bodies, h) {
                 Ok(()) => {
                     for _ in 0..iterations {
+                        contact_solver::solve_joints(&mut sf.joints, &mut sf.bodies);
                         contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
                     }
                 }
@@ -393,6 +471,7 @@ fn exact_substeps(
         }
         if !exact {
             for _ in 0..iterations {
+                contact_solver::solve_joints(&mut sf.joints, &mut sf.bodies);
                 contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
             }
         }
@@ -401,7 +480,9 @@ fn exact_substeps(
         }
         clock.lap(report, SolveStage::Iterate);
         for _ in 0..push_out_iterations {
-            if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h) {
+            let joints = contact_solver::push_joints(&mut sf.joints, &mut sf.bodies, h);
+            if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h) && !joints
+            {
                 break;
             }
         }

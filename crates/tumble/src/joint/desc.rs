@@ -1,0 +1,430 @@
+//! Joint descriptions: what the user hands to
+//! [`World::add_joint`](crate::world::World::add_joint). Plain data, in
+//! world coordinates at creation (the anchor point, the axis), validated
+//! when added and turned into a frame on each body; the pose the bodies
+//! have then is the joint's zero (angle 0, offset 0).
+
+use crate::world::{BodyId, WorldError};
+use serde::{Deserialize, Serialize};
+use tumble_collide::DVec3;
+
+/// What a joint lets the two bodies do relative to each other.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum JointKind {
+    /// Weld: no relative motion at all.
+    Fixed,
+    /// Spherical: the anchors coincide, any rotation; an optional swing
+    /// cone about the axis (`swing_limit`) and twist limits about it
+    /// (`limits`, rad).
+    Ball,
+    /// Revolute: rotation about the axis only; angle limits (rad) and a
+    /// motor (rad/s, N m).
+    Hinge,
+    /// Prismatic: translation along the axis only; offset limits (m) and a
+    /// motor (m/s, N).
+    Slider,
+    /// The anchors keep a distance: a rod at `length` by default, a rope
+    /// with `limits = [0, max]`, a spring with `spring`.
+    Distance,
+}
+
+impl JointKind {
+    /// Every kind, in the order of the docs.
+    pub const ALL: [JointKind; 5] = [
+        JointKind::Fixed,
+        JointKind::Ball,
+        JointKind::Hinge,
+        JointKind::Slider,
+        JointKind::Distance,
+    ];
+
+    /// The kind's name in scene files and Python ("fixed", "ball", ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            JointKind::Fixed => "fixed",
+            JointKind::Ball => "ball",
+            JointKind::Hinge => "hinge",
+            JointKind::Slider => "slider",
+            JointKind::Distance => "distance",
+        }
+    }
+
+    /// The kind with this name.
+    pub fn from_name(name: &str) -> Option<JointKind> {
+        JointKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// Units of the joint's coordinate (angle or offset or length).
+    pub fn unit(self) -> &'static str {
+        match self {
+            JointKind::Ball | JointKind::Hinge => "rad",
+            JointKind::Fixed => "-",
+            JointKind::Slider | JointKind::Distance => "m",
+        }
+    }
+}
+
+/// A joint motor: drives the joint coordinate (hinge angle, slider offset)
+/// with at most `max_force` (N m for a hinge, N for a slider).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "snake_case", tag = "mode", deny_unknown_fields)]
+pub enum Motor {
+    /// Holds the rate at `target` (rad/s or m/s) as hard as `max_force` allows.
+    Velocity {
+        /// Target rate (rad/s for a hinge, m/s for a slider).
+        target: f64,
+        /// Largest torque (N m) or force (N) the motor gives, >= 0.
+        max_force: f64,
+    },
+    /// A PD servo towards `target` (rad or m): force = stiffness (target -
+    /// x) - damping x', integrated implicitly (stable for any gains).
+    Position {
+        /// Target angle (rad) or offset (m).
+        target: f64,
+        /// Proportional gain, >= 0 (N m/rad or N/m).
+        stiffness: f64,
+        /// Derivative gain, >= 0 (N m s/rad or N s/m).
+        damping: f64,
+        /// Largest torque (N m) or force (N), >= 0.
+        max_force: f64,
+    },
+}
+
+impl Motor {
+    /// Largest torque (N m) or force (N).
+    pub fn max_force(&self) -> f64 {
+        match *self {
+            Motor::Velocity { max_force, .. } | Motor::Position { max_force, .. } => max_force,
+        }
+    }
+}
+
+/// A linear spring-damper on a distance joint, towards its `length`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Spring {
+    /// Stiffness (N/m), >= 0.
+    pub stiffness: f64,
+    /// Damping (N s/m), >= 0.
+    pub damping: f64,
+}
+
+/// A joint between two bodies, or a body and the world.
+///
+/// ```
+/// use tumble::collide::{Cuboid, DVec3};
+/// use tumble::joint::{JointDesc, Motor};
+/// use tumble::world::{BodyDesc, World, WorldSettings};
+///
+/// let mut world = World::new(WorldSettings { gravity: DVec3::ZERO, ..WorldSettings::default() })?;
+/// // A door 1 m wide hinged to the world along its left edge (the z axis),
+/// // driven at 1 rad/s by a motor of at most 50 N m, opening at most 90 degrees.
+/// let door = world.add_body(
+///     &BodyDesc::dynamic(Cuboid::new(DVec3::new(0.5, 0.02, 1.0))?)
+///         .at(DVec3::new(0.5, 0.0, 1.0))
+///         .with_mass(20.0),
+/// )?;
+/// let hinge = world.add_joint(
+///     &JointDesc::hinge(door, None, DVec3::new(0.0, 0.0, 1.0), DVec3::Z)
+///         .with_limits(0.0, std::f64::consts::FRAC_PI_2)
+///         .with_motor(Motor::Velocity { target: 1.0, max_force: 50.0 }),
+/// )?;
+/// for _ in 0..60 {
+///     world.step();
+/// }
+/// // Up to speed after 0.13 s (50 N m on the door's 6.7 kg m^2 about its edge).
+/// let state = world.joint_state(hinge)?;
+/// assert!((state.rate - 1.0).abs() < 1e-3);
+/// assert!((state.position - (1.0 - 0.5 * 1.0 * 6.67 / 50.0)).abs() < 0.01);
+/// for _ in 0..120 {
+///     world.step();
+/// }
+/// // Stopped at its limit; the hinge still holds the door's edge in place.
+/// let state = world.joint_state(hinge)?;
+/// assert!((state.position - std::f64::consts::FRAC_PI_2).abs() < 0.01);
+/// assert!(state.linear_error < 1e-4);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointDesc {
+    /// What the joint allows.
+    pub kind: JointKind,
+    /// The first body.
+    pub body_a: BodyId,
+    /// The second body, or `None` for the world.
+    pub body_b: Option<BodyId>,
+    /// The joint's anchor point in world coordinates at creation (m); on a
+    /// distance joint, the anchor on body A.
+    pub anchor: DVec3,
+    /// Distance joint: the anchor on body B (m, world, at creation).
+    /// Default: `anchor`.
+    pub anchor_b: Option<DVec3>,
+    /// The joint axis in world coordinates at creation (hinge: rotation
+    /// axis; slider: direction of travel; ball: the axis of the swing cone
+    /// and of twist). Any length but zero. Default +z.
+    pub axis: DVec3,
+    /// Limits of the joint coordinate `[lower, upper]`: hinge angle or ball
+    /// twist (rad, within [-pi, pi]), slider offset (m), distance (m, >= 0).
+    pub limits: Option<[f64; 2]>,
+    /// Ball joint: half-angle of the cone the axis may swing in (rad, in (0, pi]).
+    pub swing_limit: Option<f64>,
+    /// Hinge or slider motor.
+    pub motor: Option<Motor>,
+    /// Distance joint: a spring towards `length` instead of a rod.
+    pub spring: Option<Spring>,
+    /// Distance joint: rest length (m, >= 0). Default: the anchors'
+    /// distance at creation.
+    pub length: Option<f64>,
+    /// Contacts between the two bodies (default off: jointed bodies
+    /// usually overlap at the joint).
+    pub collide_connected: bool,
+    /// A name for reports and the viewer.
+    pub name: String,
+}
+
+impl JointDesc {
+    /// A joint of `kind` at `anchor` with `axis` (world, at creation).
+    pub fn new(
+        kind: JointKind,
+        body_a: BodyId,
+        body_b: Option<BodyId>,
+        anchor: DVec3,
+        axis: DVec3,
+    ) -> JointDesc {
+        JointDesc {
+            kind,
+            body_a,
+            body_b,
+            anchor,
+            anchor_b: None,
+            axis,
+            limits: None,
+            swing_limit: None,
+            motor: None,
+            spring: None,
+            length: None,
+            collide_connected: false,
+            name: String::new(),
+        }
+    }
+
+    /// A weld at `anchor`.
+    pub fn fixed(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3) -> JointDesc {
+        JointDesc::new(JointKind::Fixed, body_a, body_b, anchor, DVec3::Z)
+    }
+
+    /// A ball joint at `anchor`.
+    pub fn ball(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3) -> JointDesc {
+        JointDesc::new(JointKind::Ball, body_a, body_b, anchor, DVec3::Z)
+    }
+
+    /// A hinge at `anchor` turning about `axis`.
+    pub fn hinge(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3, axis: DVec3) -> JointDesc {
+        JointDesc::new(JointKind::Hinge, body_a, body_b, anchor, axis)
+    }
+
+    /// A slider at `anchor` along `axis`.
+    pub fn slider(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3, axis: DVec3) -> JointDesc {
+        JointDesc::new(JointKind::Slider, body_a, body_b, anchor, axis)
+    }
+
+    /// A distance joint between `anchor_a` on A and `anchor_b` on B (a rod
+    /// at their present distance unless limits or a spring say otherwise).
+    pub fn distance(body_a: BodyId, body_b: Option<BodyId>, anchor_a: DVec3, anchor_b: DVec3) -> JointDesc {
+        let mut d = JointDesc::new(JointKind::Distance, body_a, body_b, anchor_a, DVec3::Z);
+        d.anchor_b = Some(anchor_b);
+        d
+    }
+
+    /// With limits `[lower, upper]` (rad or m, by kind).
+    pub fn with_limits(mut self, lower: f64, upper: f64) -> JointDesc {
+        self.limits = Some([lower, upper]);
+        self
+    }
+
+    /// With a swing cone (ball joint), half-angle in rad.
+    pub fn with_swing_limit(mut self, angle: f64) -> JointDesc {
+        self.swing_limit = Some(angle);
+        self
+    }
+
+    /// With a motor (hinge, slider).
+    pub fn with_motor(mut self, motor: Motor) -> JointDesc {
+        self.motor = Some(motor);
+        self
+    }
+
+    /// With a spring (distance joint).
+    pub fn with_spring(mut self, stiffness: f64, damping: f64) -> JointDesc {
+        self.spring = Some(Spring { stiffness, damping });
+        self
+    }
+
+    /// With a rest length (distance joint, m).
+    pub fn with_length(mut self, length: f64) -> JointDesc {
+        self.length = Some(length);
+        self
+    }
+
+    /// With contacts between the two bodies on or off.
+    pub fn colliding(mut self, collide_connected: bool) -> JointDesc {
+        self.collide_connected = collide_connected;
+        self
+    }
+
+    /// With a name.
+    pub fn named(mut self, name: impl Into<String>) -> JointDesc {
+        self.name = name.into();
+        self
+    }
+
+    /// Checks every value that does not depend on the world (finite,
+    /// ranges, which options apply to the kind). The bodies are checked by
+    /// the world.
+    pub fn validate(&self) -> Result<(), WorldError> {
+        let bad = |field: &'static str, message: String| Err(WorldError::BadValue { field, message });
+        let kind = self.kind.name();
+        if !self.anchor.is_finite() {
+            return bad("joint.anchor", format!("must be finite, got {:?}", self.anchor));
+        }
+        if let Some(b) = self.anchor_b {
+            if !b.is_finite() {
+                return bad("joint.anchor_b", format!("must be finite, got {b:?}"));
+            }
+            if self.kind != JointKind::Distance {
+                return bad(
+                    "joint.anchor_b",
+                    format!("applies to distance joints only, not {kind}"),
+                );
+            }
+        }
+        let len = self.axis.length();
+        if !(len.is_finite() && len > 1e-12) {
+            return bad(
+                "joint.axis",
+                format!("must be a finite, non-zero vector, got {:?}", self.axis),
+            );
+        }
+        if let Some([lo, hi]) = self.limits {
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return bad(
+                    "joint.limits",
+                    format!("must be finite with lower <= upper, got [{lo}, {hi}]"),
+                );
+            }
+            match self.kind {
+                JointKind::Fixed => return bad("joint.limits", "a fixed joint has no limits".into()),
+                JointKind::Hinge | JointKind::Ball => {
+                    let pi = std::f64::consts::PI;
+                    if lo < -pi || hi > pi {
+                        return bad(
+                            "joint.limits",
+                            format!("{kind} angle limits must lie within [-pi, pi] rad, got [{lo}, {hi}]"),
+                        );
+                    }
+                }
+                JointKind::Distance if lo < 0.0 => {
+                    return bad(
+                        "joint.limits",
+                        format!("distances must be >= 0 m, got [{lo}, {hi}]"),
+                    )
+                }
+                _ => {}
+            }
+        }
+        if let Some(angle) = self.swing_limit {
+            if self.kind != JointKind::Ball {
+                return bad(
+                    "joint.swing_limit",
+                    format!("applies to ball joints only, not {kind}"),
+                );
+            }
+            if !(angle > 0.0 && angle <= std::f64::consts::PI) {
+                return bad(
+                    "joint.swing_limit",
+                    format!("must be in (0, pi] rad, got {angle}"),
+                );
+            }
+        }
+        if let Some(m) = self.motor {
+            if !matches!(self.kind, JointKind::Hinge | JointKind::Slider) {
+                return bad(
+                    "joint.motor",
+                    format!("applies to hinges and sliders only, not {kind}"),
+                );
+            }
+            let (target, gains) = match m {
+                Motor::Velocity { target, .. } => (target, [0.0, 0.0]),
+                Motor::Position {
+                    target,
+                    stiffness,
+                    damping,
+                    ..
+                } => (target, [stiffness, damping]),
+            };
+            if !target.is_finite() {
+                return bad("joint.motor.target", format!("must be finite, got {target}"));
+            }
+            if !(gains.iter().all(|g| g.is_finite() && *g >= 0.0)) {
+                return bad(
+                    "joint.motor",
+                    format!("stiffness and damping must be finite and >= 0, got {gains:?}"),
+                );
+            }
+            if let Motor::Position {
+                stiffness, damping, ..
+            } = m
+            {
+                if stiffness == 0.0 && damping == 0.0 {
+                    return bad(
+                        "joint.motor",
+                        "a position motor needs stiffness or damping > 0".into(),
+                    );
+                }
+            }
+            let f = m.max_force();
+            if !(f.is_finite() && f >= 0.0) {
+                return bad(
+                    "joint.motor.max_force",
+                    format!("must be finite and >= 0, got {f}"),
+                );
+            }
+        }
+        if let Some(s) = self.spring {
+            if self.kind != JointKind::Distance {
+                return bad(
+                    "joint.spring",
+                    format!("applies to distance joints only, not {kind}"),
+                );
+            }
+            if !(s.stiffness.is_finite() && s.stiffness >= 0.0 && s.damping.is_finite() && s.damping >= 0.0) {
+                return bad(
+                    "joint.spring",
+                    format!(
+                        "stiffness and damping must be finite and >= 0, got {} and {}",
+                        s.stiffness, s.damping
+                    ),
+                );
+            }
+            if s.stiffness == 0.0 && s.damping == 0.0 {
+                return bad("joint.spring", "needs stiffness or damping > 0".into());
+            }
+        }
+        if let Some(l) = self.length {
+            if self.kind != JointKind::Distance {
+                return bad(
+                    "joint.length",
+                    format!("applies to distance joints only, not {kind}"),
+                );
+            }
+            if !(l.is_finite() && l >= 0.0) {
+                return bad("joint.length", format!("must be finite and >= 0 m, got {l}"));
+            }
+        }
+        if self.body_b == Some(self.body_a) {
+            return bad("joint.body_b", "a joint links two different bodies".into());
+        }
+        Ok(())
+    }
+}

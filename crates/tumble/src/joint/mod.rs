@@ -1,0 +1,42 @@
+//! Joints: descriptions ([`JointDesc`]: fixed, ball, hinge, slider,
+//! distance, with limits, motors and springs), the joint frames and the
+//! coordinates measured through them ([`JointPose`]), and the state the
+//! world reports ([`JointState`]). The rows the solver relaxes live with
+//! the contact rows in `solver::contact_solver::joint`.
+
+mod desc;
+mod frame;
+
+pub use crate::world::JointId;
+pub use desc::{JointDesc, JointKind, Motor, Spring};
+pub use frame::{frame_rotation, wrap_angle, JointPose};
+
+use tumble_collide::DVec3;
+
+/// A joint as it is now (after the last step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointState {
+    /// The joint coordinate: hinge angle or ball twist (rad), slider offset
+    /// (m), distance between the anchors (m); 0 for a weld.
+    pub position: f64,
+    /// Its rate (rad/s or m/s).
+    pub rate: f64,
+    /// How far the anchors are from where the joint wants them (m): apart
+    /// (fixed, ball, hinge), off the axis (slider), off the rod's length or
+    /// outside the limits (distance).
+    pub linear_error: f64,
+    /// How far the frames are turned from what the joint allows (rad): the
+    /// whole relative rotation (fixed, slider), the axes' misalignment
+    /// (hinge), beyond the swing cone (ball).
+    pub angular_error: f64,
+    /// Force the joint applied to body A over the last step (N, world).
+    pub force: DVec3,
+    /// Torque the joint applied to body A about A's anchor (N m, world).
+    pub torque: DVec3,
+    /// A's anchor (m, world).
+    pub anchor_a: DVec3,
+    /// B's anchor (m, world).
+    pub anchor_b: DVec3,
+    /// The joint axis as body B carries it (world, unit).
+    pub axis: DVec3,
+}

@@ -1,0 +1,273 @@
+//! The world's joints: added from a [`JointDesc`], held as a frame on each
+//! body (so the pose at creation is the joint's zero), solved with the
+//! contacts in the solve stage, and read back as a [`JointState`].
+
+use super::step::velocities as body_velocities;
+use super::{BodyId, JointId, World, WorldError};
+use crate::body::BodyKind;
+use crate::joint::{frame_rotation, JointDesc, JointKind, JointPose, JointState};
+use crate::solver::contact_solver::{JointLaw, JOINT_ROWS};
+use tumble_collide::{DQuat, DVec3, Pose};
+
+/// A joint as the world keeps it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct JointEntry {
+    /// The description it was made from (anchors and axis at creation).
+    pub desc: JointDesc,
+    /// The joint frame in each body's body frame (B: in the world when
+    /// `desc.body_b` is `None`).
+    pub local: [Pose; 2],
+    /// What the solver constrains.
+    pub law: JointLaw,
+    /// Row impulses of the last sub-step (warm start of the next step).
+    pub impulses: [f64; JOINT_ROWS],
+    /// Force on A over the last step (N, world).
+    pub force: DVec3,
+    /// Torque on A about its anchor over the last step (N m, world).
+    pub torque: DVec3,
+}
+
+/// Where a joint's side is when the joint is made.
+struct BodyFrame {
+    position: DVec3,
+    orientation: DQuat,
+    dynamic: bool,
+}
+
+impl BodyFrame {
+    /// The world as a joint's side.
+    const WORLD: BodyFrame = BodyFrame {
+        position: DVec3::ZERO,
+        orientation: DQuat::IDENTITY,
+        dynamic: false,
+    };
+}
+
+impl JointEntry {
+    /// Slots of the two bodies (`None`: the world).
+    pub fn slots(&self) -> (u32, Option<u32>) {
+        (self.desc.body_a.index, self.desc.body_b.map(|b| b.index))
+    }
+}
+
+impl World {
+    /// Adds a joint. The description is validated completely (values, the
+    /// bodies exist, at least one is dynamic) before anything changes; on
+    /// error the world is unchanged. Both bodies wake.
+    pub fn add_joint(&mut self, desc: &JointDesc) -> Result<JointId, WorldError> {
+        desc.validate()?;
+        let frame_of = |id: BodyId| -> Result<BodyFrame, WorldError> {
+            let e = self.entry(id)?;
+            Ok(BodyFrame {
+                position: e.body.position(),
+                orientation: e.body.orientation(),
+                dynamic: e.body.kind() == BodyKind::Dynamic,
+            })
+        };
+        let a = frame_of(desc.body_a)?;
+        let b = match desc.body_b {
+            Some(id) => frame_of(id)?,
+            None => BodyFrame::WORLD,
+        };
+        if !a.dynamic && !b.dynamic {
+            return Err(WorldError::BadValue {
+                field: "joint.body_a",
+                message: "a joint needs at least one dynamic body (both are static, kinematic or the world)"
+                    .into(),
+            });
+        }
+        let rotation = frame_rotation(desc.axis.normalize());
+        let anchor_b = desc.anchor_b.unwrap_or(desc.anchor);
+        let in_body = |f: &BodyFrame, point: DVec3| {
+            let inv = f.orientation.conjugate();
+            Pose {
+                position: inv * (point - f.position),
+                rotation: (inv * rotation).normalize(),
+            }
+        };
+        let law = JointLaw {
+            kind: desc.kind,
+            limits: desc.limits,
+            swing_limit: desc.swing_limit,
+            motor: desc.motor,
+            spring: desc.spring,
+            length: desc.length.unwrap_or_else(|| (desc.anchor - anchor_b).length()),
+        };
+        let entry = JointEntry {
+            desc: desc.clone(),
+            local: [in_body(&a, desc.anchor), in_body(&b, anchor_b)],
+            law,
+            impulses: [0.0; JOINT_ROWS],
+            force: DVec3::ZERO,
+            torque: DVec3::ZERO,
+        };
+        let id = self.joints.insert(entry);
+        for body in [Some(desc.body_a), desc.body_b].into_iter().flatten() {
+            self.wake(body)?;
+        }
+        Ok(id)
+    }
+
+    /// Removes a joint; its bodies wake.
+    pub fn remove_joint(&mut self, id: JointId) -> Result<(), WorldError> {
+        let entry = self.joints.remove(id).ok_or(WorldError::StaleJoint(id))?;
+        for body in [Some(entry.desc.body_a), entry.desc.body_b].into_iter().flatten() {
+            // The body may have gone first (removing a body removes its joints).
+            let _ = self.wake(body);
+        }
+        Ok(())
+    }
+
+    /// Number of joints.
+    pub fn joint_count(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Handles of all joints, in slot order.
+    pub fn joint_ids(&self) -> Vec<JointId> {
+        self.joints.iter().map(|(id, _)| id).collect()
+    }
+
+    /// The description a joint was made from.
+    pub fn joint(&self, id: JointId) -> Result<&JointDesc, WorldError> {
+        Ok(&self.joints.get(id).ok_or(WorldError::StaleJoint(id))?.desc)
+    }
+
+    /// Where the joint's frames are now (both anchors, both axes).
+    pub fn joint_pose(&self, id: JointId) -> Result<JointPose, WorldError> {
+        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
+        Ok(self.place(entry))
+    }
+
+    fn place(&self, entry: &JointEntry) -> JointPose {
+        let side = |id: Option<BodyId>| match id.and_then(|id| self.bodies.get(id)) {
+            Some(e) => (e.body.position(), e.body.orientation()),
+            None => (DVec3::ZERO, DQuat::IDENTITY),
+        };
+        let (xa, qa) = side(Some(entry.desc.body_a));
+        let (xb, qb) = side(entry.desc.body_b);
+        JointPose::new(xa, qa, &entry.local[0], xb, qb, &entry.local[1])
+    }
+
+    /// The joint's coordinate, rate, errors and reaction (see [`JointState`]).
+    pub fn joint_state(&self, id: JointId) -> Result<JointState, WorldError> {
+        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
+        let p = self.place(entry);
+        let vel = |id: Option<BodyId>| {
+            id.and_then(|id| self.bodies.get(id))
+                .map_or((DVec3::ZERO, DVec3::ZERO), body_velocities)
+        };
+        let (va, wa) = vel(Some(entry.desc.body_a));
+        let (vb, wb) = vel(entry.desc.body_b);
+        let d = p.pa - p.pb;
+        let axis = p.axis_b(0);
+        // Velocity of A's anchor relative to B's.
+        let dv = va + wa.cross(p.ra) - vb - wb.cross(p.rb);
+        let law = &entry.law;
+        let outside = |x: f64| match law.limits {
+            Some([lo, hi]) => (lo - x).max(x - hi).max(0.0),
+            None => 0.0,
+        };
+        let (position, rate, linear_error, angular_error) = match law.kind {
+            JointKind::Fixed => (0.0, 0.0, d.length(), p.rotation_error().length()),
+            JointKind::Ball => {
+                let twist = p.twist();
+                let beyond = law.swing_limit.map_or(0.0, |c| (p.swing() - c).max(0.0));
+                (twist, (wa - wb).dot(axis), d.length(), beyond.max(outside(twist)))
+            }
+            JointKind::Hinge => {
+                let angle = p.twist();
+                (
+                    angle,
+                    (wa - wb).dot(axis),
+                    d.length(),
+                    p.swing().max(outside(angle)),
+                )
+            }
+            JointKind::Slider => {
+                let offset = p.offset();
+                let off_axis = (d - axis * offset).length();
+                // n fixed in B: d/dt (n . d) = n . dv + (wB x n) . d.
+                let rate = axis.dot(dv) + wb.cross(axis).dot(d);
+                (
+                    offset,
+                    rate,
+                    off_axis.max(outside(offset)),
+                    p.rotation_error().length(),
+                )
+            }
+            JointKind::Distance => {
+                let len = d.length();
+                let rate = if len > 0.0 { dv.dot(d) / len } else { 0.0 };
+                let error = match (law.spring, law.limits) {
+                    (None, None) => (len - law.length).abs(),
+                    _ => outside(len),
+                };
+                (len, rate, error, 0.0)
+            }
+        };
+        Ok(JointState {
+            position,
+            rate,
+            linear_error,
+            angular_error,
+            force: entry.force,
+            torque: entry.torque,
+            anchor_a: p.pa,
+            anchor_b: p.pb,
+            axis,
+        })
+    }
+
+    /// Largest linear (m) and angular (rad) error over all joints.
+    pub fn max_joint_error(&self) -> (f64, f64) {
+        self.joints.iter().fold((0.0, 0.0), |(l, a), (id, _)| {
+            let s = self.joint_state(id).expect("live joint");
+            (f64::max(l, s.linear_error), f64::max(a, s.angular_error))
+        })
+    }
+
+    /// Body slot pairs (sorted, `a < b`) whose contacts a joint switches off.
+    pub(crate) fn jointed_pairs_without_contact(&self) -> Vec<(u32, u32)> {
+        let mut pairs: Vec<(u32, u32)> = self
+            .joints
+            .iter()
+            .filter(|(_, j)| !j.desc.collide_connected)
+            .filter_map(|(_, j)| {
+                let (a, b) = j.slots();
+                b.map(|b| (a.min(b), a.max(b)))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
+    }
+
+    /// Body slot pairs linked by a joint (both bodies, not the world), in
+    /// joint order: they share an island.
+    pub(crate) fn joint_links(&self) -> Vec<(u32, u32)> {
+        self.joints
+            .iter()
+            .filter_map(|(_, j)| {
+                let (a, b) = j.slots();
+                b.map(|b| (a, b))
+            })
+            .collect()
+    }
+
+    /// Removes the joints attached to body slot `slot` (with the body).
+    pub(crate) fn remove_joints_of(&mut self, slot: u32) {
+        let attached: Vec<JointId> = self
+            .joints
+            .iter()
+            .filter(|(_, j)| {
+                let (a, b) = j.slots();
+                a == slot || b == Some(slot)
+            })
+            .map(|(id, _)| id)
+            .collect();
+        for id in attached {
+            self.joints.remove(id);
+        }
+    }
+}

@@ -1,0 +1,655 @@
+//! Joints against physics: pendulum periods (the exact large-amplitude
+//! period), energy and momentum conservation, limits that hold, motors that
+//! reach their targets or stall at their torque, springs with the analytic
+//! period, welds that move as one body, and the same bits on any thread
+//! count; bad joints refused with the world unchanged.
+
+mod common;
+
+use common::elliptic_k;
+use std::f64::consts::PI;
+use tumble::collide::{Cuboid, DVec3, HalfSpace, Sphere};
+use tumble::joint::{JointDesc, JointKind, Motor};
+use tumble::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
+
+const G: f64 = 9.81;
+
+fn world(gravity: bool) -> World {
+    World::new(WorldSettings {
+        gravity: if gravity {
+            DVec3::new(0.0, 0.0, -G)
+        } else {
+            DVec3::ZERO
+        },
+        sleeping: false,
+        threads: 1,
+        ..WorldSettings::default()
+    })
+    .unwrap()
+}
+
+/// A 1 kg uniform cube of side 0.1 m at `at`.
+fn cube(w: &mut World, at: DVec3) -> BodyId {
+    w.add_body(
+        &BodyDesc::dynamic(Cuboid::new(DVec3::splat(0.05)).unwrap())
+            .at(at)
+            .with_mass(1.0),
+    )
+    .unwrap()
+}
+
+/// A physical pendulum: the cube hangs `d` below a pivot at the origin,
+/// released at angle `theta0` about the y axis. Returns the measured
+/// period (from the zero crossings of the angle) and the largest relative
+/// energy change.
+fn pendulum_period(kind: JointKind, theta0: f64, d: f64) -> (f64, f64) {
+    let mut w = world(true);
+    let at = DVec3::new(d * theta0.sin(), 0.0, -d * theta0.cos());
+    let bob = cube(&mut w, at);
+    let desc = JointDesc::new(kind, bob, None, DVec3::ZERO, DVec3::Y);
+    w.add_joint(&desc).unwrap();
+    let e0 = w.kinetic_energy() + w.potential_energy();
+    let mut crossings = Vec::new();
+    let mut last_x = at.x;
+    let mut worst: f64 = 0.0;
+    let scale = 1.0 * G * d * (1.0 - theta0.cos());
+    for _ in 0..1200 {
+        w.step();
+        let x = w.center_of_mass(bob).unwrap().x;
+        if (last_x > 0.0) != (x > 0.0) {
+            // Linear interpolation of the crossing time.
+            let t = w.time() - w.settings().dt * x.abs() / (x - last_x).abs();
+            crossings.push(t);
+        }
+        last_x = x;
+        let e = w.kinetic_energy() + w.potential_energy();
+        worst = worst.max((e - e0).abs() / scale);
+    }
+    assert!(crossings.len() >= 6, "the pendulum swings: {crossings:?}");
+    let n = crossings.len() - 1;
+    let period = 2.0 * (crossings[n] - crossings[0]) / n as f64;
+    (period, worst)
+}
+
+/// The exact period of a physical pendulum of amplitude `theta0`:
+/// `4 sqrt(I / (m g d)) K(sin^2(theta0 / 2))`.
+fn exact_period(theta0: f64, d: f64) -> f64 {
+    let i_pivot = 1.0 * (0.1 * 0.1 * 2.0) / 12.0 + 1.0 * d * d;
+    4.0 * (i_pivot / (G * d)).sqrt() * elliptic_k((theta0 / 2.0).sin().powi(2))
+}
+
+#[test]
+fn hinge_and_ball_pendulums_keep_the_exact_period_and_their_energy() {
+    for kind in [JointKind::Hinge, JointKind::Ball] {
+        for theta0 in [0.2, 1.0, 2.5] {
+            let (period, drift) = pendulum_period(kind, theta0, 0.5);
+            let exact = exact_period(theta0, 0.5);
+            assert!(
+                (period - exact).abs() < 0.005 * exact,
+                "{kind:?} at {theta0} rad: period {period} s, exact {exact} s"
+            );
+            assert!(
+                drift < 0.005,
+                "{kind:?} at {theta0} rad: energy changed by {drift} of its swing"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_hinge_keeps_its_anchor_and_axis_under_a_spinning_load() {
+    // A cube on a hinge about x through an off-centre point, spinning fast
+    // about the hinge and pulled sideways by gravity along y.
+    let mut w = World::new(WorldSettings {
+        gravity: DVec3::new(0.0, -G, -G),
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let c = cube(&mut w, DVec3::new(0.0, 0.0, -0.3));
+    let h = w
+        .add_joint(&JointDesc::hinge(c, None, DVec3::ZERO, DVec3::X))
+        .unwrap();
+    w.set_velocity(c, DVec3::new(0.0, 0.3 * 20.0, 0.0), DVec3::new(20.0, 0.0, 0.0))
+        .unwrap();
+    let mut worst = (0.0f64, 0.0f64);
+    for _ in 0..300 {
+        w.step();
+        let s = w.joint_state(h).unwrap();
+        worst = (worst.0.max(s.linear_error), worst.1.max(s.angular_error));
+    }
+    assert!(worst.0 < 2e-3, "anchor drift {} m", worst.0);
+    assert!(worst.1 < 1e-3, "axis drift {} rad", worst.1);
+    // The cube only turns about x.
+    let wv = w.angular_velocity(c).unwrap();
+    assert!(wv.y.abs() < 1e-2 && wv.z.abs() < 1e-2, "{wv:?}");
+}
+
+#[test]
+fn hinge_limits_stop_the_swing() {
+    // Released horizontal; limits at +-0.5 rad about the hanging pose
+    // measured from where it starts: the hinge's zero is the pose at
+    // creation, so the pendulum starts at angle 0 with limits [-0.3, 1.2]
+    // (it would swing to pi: the limit at 1.2 rad stops it).
+    let mut w = world(true);
+    let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    let j = w
+        .add_joint(&JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Y).with_limits(-0.3, 1.2))
+        .unwrap();
+    let mut highest: f64 = 0.0;
+    for _ in 0..240 {
+        w.step();
+        let s = w.joint_state(j).unwrap();
+        highest = highest.max(s.position);
+        assert!(s.position > -0.3 - 0.01, "below the lower limit: {}", s.position);
+    }
+    assert!(highest > 1.1, "reaches its limit: {highest}");
+    assert!(highest < 1.2 + 0.02, "stopped at the limit: {highest}");
+    // Coming to rest against the limit, hanging as low as it may.
+    for _ in 0..600 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    assert!(
+        (s.position - 1.2).abs() < 0.01,
+        "rests on the limit: {}",
+        s.position
+    );
+}
+
+#[test]
+fn a_velocity_motor_turns_at_its_speed_and_stalls_at_its_torque() {
+    // A horizontal arm (cube 0.5 m from the hinge) lifted against gravity:
+    // the holding torque is m g d = 4.905 N m.
+    for (max_torque, lifts) in [(20.0, true), (3.0, false)] {
+        let mut w = world(true);
+        let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+        // Positive angle about -y lifts the arm (x towards z).
+        let j = w
+            .add_joint(
+                &JointDesc::hinge(bob, None, DVec3::ZERO, -DVec3::Y).with_motor(Motor::Velocity {
+                    target: 0.5,
+                    max_force: max_torque,
+                }),
+            )
+            .unwrap();
+        for _ in 0..60 {
+            w.step();
+        }
+        let s = w.joint_state(j).unwrap();
+        if lifts {
+            assert!((s.rate - 0.5).abs() < 1e-3, "turns at the target: {}", s.rate);
+            assert!(
+                (s.position - 0.5).abs() < 0.03,
+                "1 s at 0.5 rad/s: {}",
+                s.position
+            );
+            // Holding torque: m g d cos(angle), about the hinge axis.
+            let needed = G * 0.5 * s.position.cos();
+            let about_axis = s.torque.dot(-DVec3::Y);
+            assert!(about_axis.abs() < max_torque + 1e-6);
+            assert!(
+                (about_axis - needed).abs() < 0.1 * needed,
+                "{about_axis} vs {needed}"
+            );
+        } else {
+            assert!(s.position < -0.1, "too weak to lift, it sinks: {}", s.position);
+        }
+    }
+}
+
+#[test]
+fn a_position_motor_settles_on_its_target() {
+    let mut w = world(false);
+    let arm = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    let j = w
+        .add_joint(
+            &JointDesc::hinge(arm, None, DVec3::ZERO, DVec3::Z).with_motor(Motor::Position {
+                target: 1.0,
+                stiffness: 50.0,
+                damping: 10.0,
+                max_force: 100.0,
+            }),
+        )
+        .unwrap();
+    for _ in 0..600 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    assert!((s.position - 1.0).abs() < 1e-3, "{}", s.position);
+    assert!(s.rate.abs() < 1e-3);
+}
+
+#[test]
+fn a_slider_slides_along_its_axis_and_stops_at_its_limit() {
+    // Axis down a 30 degree incline: acceleration g sin 30 along it.
+    let axis = DVec3::new(30f64.to_radians().cos(), 0.0, -30f64.to_radians().sin());
+    let mut w = world(true);
+    let c = cube(&mut w, DVec3::ZERO);
+    let j = w
+        .add_joint(&JointDesc::slider(c, None, DVec3::ZERO, axis).with_limits(-1.0, 2.0))
+        .unwrap();
+    for _ in 0..30 {
+        w.step();
+    }
+    let t = w.time();
+    let s = w.joint_state(j).unwrap();
+    let expected = 0.5 * G * 0.5 * t * t;
+    assert!(
+        (s.position - expected).abs() < 0.01 * expected,
+        "{} vs {expected}",
+        s.position
+    );
+    assert!((s.rate - G * 0.5 * t).abs() < 0.01 * G * 0.5 * t);
+    assert!(s.linear_error < 1e-6 && s.angular_error < 1e-6);
+    assert!(w.angular_velocity(c).unwrap().length() < 1e-9);
+    for _ in 0..120 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    assert!(
+        (s.position - 2.0).abs() < 2e-3,
+        "held at the limit: {}",
+        s.position
+    );
+}
+
+#[test]
+fn a_slider_motor_drives_at_its_speed() {
+    let mut w = world(true);
+    let c = cube(&mut w, DVec3::ZERO);
+    // Straight up against gravity (needs 9.81 N), at most 30 N.
+    let j = w
+        .add_joint(
+            &JointDesc::slider(c, None, DVec3::ZERO, DVec3::Z).with_motor(Motor::Velocity {
+                target: 0.25,
+                max_force: 30.0,
+            }),
+        )
+        .unwrap();
+    for _ in 0..60 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    assert!((s.rate - 0.25).abs() < 1e-6, "{}", s.rate);
+    assert!(
+        (s.force.z - G).abs() < 0.05 * G,
+        "the motor carries the weight: {:?}",
+        s.force
+    );
+}
+
+#[test]
+fn a_weld_moves_two_bodies_as_one() {
+    // Two cubes welded side by side, thrown spinning in zero gravity:
+    // linear and angular momentum of the pair are conserved and they keep
+    // their relative pose.
+    let mut w = world(false);
+    let a = cube(&mut w, DVec3::new(-0.05, 0.0, 0.0));
+    let b = cube(&mut w, DVec3::new(0.05, 0.0, 0.0));
+    let j = w.add_joint(&JointDesc::fixed(a, Some(b), DVec3::ZERO)).unwrap();
+    // Rigid motion of the pair: v + w x r for each cube.
+    let (v, omega) = (DVec3::new(0.3, 0.1, 0.0), DVec3::new(1.0, 2.0, 5.0));
+    for (id, x) in [(a, -0.05), (b, 0.05)] {
+        w.set_velocity(id, v + omega.cross(DVec3::new(x, 0.0, 0.0)), omega)
+            .unwrap();
+    }
+    let momentum = |w: &World| {
+        let mut p = DVec3::ZERO;
+        let mut l = DVec3::ZERO;
+        for id in [a, b] {
+            let body = w.body(id).unwrap();
+            p += body.linear_momentum();
+            l += body.angular_momentum() + body.position().cross(body.linear_momentum());
+        }
+        (p, l)
+    };
+    let (p0, l0) = momentum(&w);
+    for _ in 0..240 {
+        w.step();
+        let s = w.joint_state(j).unwrap();
+        assert!(s.linear_error < 1e-4 && s.angular_error < 1e-3, "{s:?}");
+    }
+    let (p, l) = momentum(&w);
+    assert!((p - p0).length() < 1e-9 * p0.length().max(1.0), "{p:?} vs {p0:?}");
+    assert!((l - l0).length() < 1e-4 * l0.length(), "{l:?} vs {l0:?}");
+    let gap = (w.center_of_mass(a).unwrap() - w.center_of_mass(b).unwrap()).length();
+    assert!((gap - 0.1).abs() < 1e-4);
+}
+
+#[test]
+fn a_rope_is_slack_until_taut_and_a_rod_keeps_its_length() {
+    // Rope of 1 m from a point 0.5 m above the cube: free fall for 0.5 m,
+    // then the cube hangs 1 m below the anchor.
+    let mut w = world(true);
+    let c = cube(&mut w, DVec3::ZERO);
+    let anchor = DVec3::new(0.0, 0.0, 0.5);
+    let j = w
+        .add_joint(&JointDesc::distance(c, None, DVec3::ZERO, anchor).with_limits(0.0, 1.0))
+        .unwrap();
+    for _ in 0..12 {
+        w.step();
+    }
+    // Free fall as the sub-stepped semi-implicit Euler scheme integrates
+    // it: after n sub-steps of h, z = -g h^2 n (n + 1) / 2.
+    let n = 12.0 * w.settings().substeps as f64;
+    let h = w.settings().dt / w.settings().substeps as f64;
+    let z = w.center_of_mass(c).unwrap().z;
+    let free = -G * h * h * n * (n + 1.0) / 2.0;
+    assert!(
+        (z - free).abs() < 1e-12,
+        "falls freely while slack: {z} vs {free}"
+    );
+    for _ in 0..600 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    assert!(
+        (s.position - 1.0).abs() < 2e-3,
+        "hangs on the taut rope: {}",
+        s.position
+    );
+    // The rope carries the weight (reaction on the cube points up).
+    assert!((s.force.z - G).abs() < 0.05 * G, "{:?}", s.force);
+
+    // A rod between two cubes spinning in zero gravity keeps its length.
+    let mut w = world(false);
+    let a = cube(&mut w, DVec3::new(-0.5, 0.0, 0.0));
+    let b = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    let rod = w
+        .add_joint(&JointDesc::distance(
+            a,
+            Some(b),
+            DVec3::new(-0.5, 0.0, 0.0),
+            DVec3::new(0.5, 0.0, 0.0),
+        ))
+        .unwrap();
+    w.set_velocity(a, DVec3::new(0.0, -3.0, 0.0), DVec3::ZERO)
+        .unwrap();
+    w.set_velocity(b, DVec3::new(0.0, 3.0, 0.0), DVec3::ZERO).unwrap();
+    for _ in 0..240 {
+        w.step();
+        let s = w.joint_state(rod).unwrap();
+        assert!(s.linear_error < 1e-3, "rod length off by {}", s.linear_error);
+    }
+}
+
+#[test]
+fn a_spring_joint_oscillates_with_the_analytic_period() {
+    // m = 1 kg, k = 100 N/m: T = 2 pi sqrt(m / k) = 0.628 s.
+    let mut w = world(false);
+    let c = cube(&mut w, DVec3::new(1.1, 0.0, 0.0));
+    let j = w
+        .add_joint(
+            &JointDesc::distance(c, None, DVec3::new(1.1, 0.0, 0.0), DVec3::ZERO)
+                .with_length(1.0)
+                .with_spring(100.0, 0.0),
+        )
+        .unwrap();
+    let mut crossings = Vec::new();
+    let mut last = w.joint_state(j).unwrap().position - 1.0;
+    for _ in 0..240 {
+        w.step();
+        let x = w.joint_state(j).unwrap().position - 1.0;
+        if (last > 0.0) != (x > 0.0) {
+            crossings.push(w.time() - w.settings().dt * x.abs() / (x - last).abs());
+        }
+        last = x;
+    }
+    let n = crossings.len() - 1;
+    let period = 2.0 * (crossings[n] - crossings[0]) / n as f64;
+    let exact = 2.0 * PI * (1.0f64 / 100.0).sqrt();
+    assert!((period - exact).abs() < 0.01 * exact, "{period} vs {exact}");
+}
+
+#[test]
+fn a_swing_cone_holds_a_ball_joint() {
+    // Released horizontal (90 degrees from the axis pointing down) with a
+    // 30 degree cone: it swings towards the axis and never beyond the cone.
+    let mut w = world(true);
+    let bob = cube(&mut w, DVec3::new(0.0, 0.0, -0.5));
+    let j = w
+        .add_joint(&JointDesc::ball(bob, None, DVec3::ZERO).with_swing_limit(30f64.to_radians()))
+        .unwrap();
+    // Kick it sideways hard.
+    w.set_velocity(bob, DVec3::new(4.0, 1.0, 0.0), DVec3::ZERO)
+        .unwrap();
+    for _ in 0..300 {
+        w.step();
+        let s = w.joint_state(j).unwrap();
+        assert!(
+            s.angular_error < 0.02,
+            "beyond the cone by {} rad",
+            s.angular_error
+        );
+        assert!(s.linear_error < 2e-3, "{}", s.linear_error);
+    }
+}
+
+#[test]
+fn a_hanging_chain_holds_and_carries_its_weight() {
+    // 10 cubes on ball joints from a fixed point: every link's joint force
+    // carries the weight of the links below it (at rest).
+    let mut w = world(true);
+    let n = 10;
+    let mut links = Vec::new();
+    let mut joints = Vec::new();
+    for i in 0..n {
+        let z = -0.15 * i as f64 - 0.075;
+        let c = cube(&mut w, DVec3::new(0.0, 0.0, z));
+        let above = links.last().copied();
+        joints.push(
+            w.add_joint(&JointDesc::ball(c, above, DVec3::new(0.0, 0.0, z + 0.075)))
+                .unwrap(),
+        );
+        links.push(c);
+    }
+    for _ in 0..600 {
+        w.step();
+    }
+    for (i, &j) in joints.iter().enumerate() {
+        let s = w.joint_state(j).unwrap();
+        let below = (n - i) as f64 * G;
+        assert!(s.linear_error < 1e-4, "joint {i} apart by {}", s.linear_error);
+        assert!(
+            (s.force.z - below).abs() < 0.01 * below,
+            "joint {i}: {:?} vs {below}",
+            s.force
+        );
+    }
+}
+
+#[test]
+fn jointed_bodies_do_not_collide_unless_asked() {
+    for collide in [false, true] {
+        let mut w = world(false);
+        let a = cube(&mut w, DVec3::ZERO);
+        let b = cube(&mut w, DVec3::new(0.09, 0.0, 0.0)); // overlapping by 1 cm
+        w.add_joint(&JointDesc::hinge(a, Some(b), DVec3::new(0.045, 0.0, 0.0), DVec3::Z).colliding(collide))
+            .unwrap();
+        w.step();
+        assert_eq!(!w.contacts().is_empty(), collide);
+    }
+}
+
+#[test]
+fn joint_chains_give_the_same_bits_on_every_thread_count() {
+    // 300 links (enough joints to colour and split over threads) hanging
+    // from the world and swinging into a floor.
+    let run = |threads: u32| {
+        let mut w = World::new(WorldSettings {
+            threads,
+            ..WorldSettings::default()
+        })
+        .unwrap();
+        w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, -3.0).unwrap()))
+            .unwrap();
+        let mut prev = None;
+        for i in 0..300 {
+            let x = 0.1 * i as f64;
+            let c = w
+                .add_body(&BodyDesc::dynamic(Sphere::new(0.04).unwrap()).at(DVec3::new(x, 0.0, 0.0)))
+                .unwrap();
+            let anchor = DVec3::new(x - 0.05, 0.0, 0.0);
+            w.add_joint(&JointDesc::ball(c, prev, anchor)).unwrap();
+            prev = Some(c);
+        }
+        (0..60)
+            .map(|_| {
+                w.step();
+                w.state_hash()
+            })
+            .collect::<Vec<u64>>()
+    };
+    let one = run(1);
+    for threads in [2, 3, 8] {
+        assert_eq!(run(threads), one, "{threads} threads");
+    }
+}
+
+#[test]
+fn bad_joints_are_refused_and_leave_the_world_unchanged() {
+    let mut w = world(true);
+    let ground = w
+        .add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
+        .unwrap();
+    let wall = w
+        .add_body(&BodyDesc::fixed(Cuboid::new(DVec3::ONE).unwrap()).at(DVec3::new(5.0, 0.0, 0.0)))
+        .unwrap();
+    let c = cube(&mut w, DVec3::new(0.0, 0.0, 1.0));
+    let gone = cube(&mut w, DVec3::ZERO);
+    w.remove_body(gone).unwrap();
+    let field = |r: Result<_, WorldError>| match r {
+        Err(WorldError::BadValue { field, .. }) => field,
+        other => panic!("expected BadValue, got {other:?}"),
+    };
+    let a = DVec3::ZERO;
+    assert_eq!(
+        field(w.add_joint(&JointDesc::ball(c, None, DVec3::new(f64::NAN, 0.0, 0.0)))),
+        "joint.anchor"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::hinge(c, None, a, DVec3::ZERO))),
+        "joint.axis"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::hinge(c, None, a, DVec3::Z).with_limits(1.0, -1.0))),
+        "joint.limits"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::hinge(c, None, a, DVec3::Z).with_limits(-4.0, 0.0))),
+        "joint.limits"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::fixed(c, None, a).with_limits(0.0, 1.0))),
+        "joint.limits"
+    );
+    assert_eq!(
+        field(
+            w.add_joint(&JointDesc::ball(c, None, a).with_motor(Motor::Velocity {
+                target: 1.0,
+                max_force: 1.0
+            }))
+        ),
+        "joint.motor"
+    );
+    assert_eq!(
+        field(w.add_joint(
+            &JointDesc::hinge(c, None, a, DVec3::Z).with_motor(Motor::Velocity {
+                target: 1.0,
+                max_force: -1.0
+            })
+        )),
+        "joint.motor.max_force"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::hinge(c, None, a, DVec3::Z).with_spring(1.0, 1.0))),
+        "joint.spring"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::ball(c, None, a).with_swing_limit(0.0))),
+        "joint.swing_limit"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::ball(c, Some(c), a))),
+        "joint.body_b"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::ball(ground, Some(wall), a))),
+        "joint.body_a"
+    );
+    assert!(matches!(
+        w.add_joint(&JointDesc::ball(gone, None, a)),
+        Err(WorldError::StaleBody(_))
+    ));
+    assert!(matches!(
+        w.add_joint(&JointDesc::ball(c, Some(gone), a)),
+        Err(WorldError::StaleBody(_))
+    ));
+    assert_eq!(w.joint_count(), 0);
+
+    // A joint goes with its body; its handle is then stale.
+    let j = w.add_joint(&JointDesc::ball(c, Some(wall), a)).unwrap();
+    w.remove_body(c).unwrap();
+    assert_eq!(w.joint_count(), 0);
+    assert!(matches!(w.joint_state(j), Err(WorldError::StaleJoint(_))));
+    assert!(matches!(w.remove_joint(j), Err(WorldError::StaleJoint(_))));
+}
+
+#[test]
+fn a_snapshot_with_joints_continues_bit_for_bit() {
+    let mut w = world(true);
+    let a = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    let b = cube(&mut w, DVec3::new(1.0, 0.0, 0.0));
+    w.add_joint(&JointDesc::hinge(a, None, DVec3::ZERO, DVec3::Y).with_limits(-1.0, 1.0))
+        .unwrap();
+    w.add_joint(&JointDesc::ball(b, Some(a), DVec3::new(0.75, 0.0, 0.0)).with_swing_limit(0.5))
+        .unwrap();
+    for _ in 0..20 {
+        w.step();
+    }
+    let snap = w.snapshot();
+    let mut copy =
+        World::from_snapshot(&tumble::world::Snapshot::from_bytes(&snap.to_bytes()).unwrap()).unwrap();
+    assert_eq!(copy.joint_count(), 2);
+    for _ in 0..40 {
+        w.step();
+        copy.step();
+        assert_eq!(w.state_hash(), copy.state_hash());
+    }
+}
+
+#[test]
+fn a_resting_jointed_pair_sleeps_together_and_wakes_together() {
+    let mut w = World::new(WorldSettings::default()).unwrap();
+    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
+        .unwrap();
+    let a = cube(&mut w, DVec3::new(0.0, 0.0, 0.05));
+    // B hangs in the air off A's side on a weld.
+    let b = cube(&mut w, DVec3::new(0.0, 0.0, 0.5));
+    let hanger = cube(&mut w, DVec3::new(1.0, 0.0, 0.05));
+    w.add_joint(&JointDesc::fixed(b, None, DVec3::new(0.0, 0.0, 0.5)))
+        .unwrap();
+    let j = w
+        .add_joint(&JointDesc::distance(
+            hanger,
+            Some(a),
+            DVec3::new(1.0, 0.0, 0.05),
+            DVec3::new(0.0, 0.0, 0.05),
+        ))
+        .unwrap();
+    for _ in 0..120 {
+        w.step();
+    }
+    assert!(w.is_sleeping(a).unwrap() && w.is_sleeping(hanger).unwrap());
+    // Pushing one end of the rod wakes the other.
+    w.apply_impulse_at_point(
+        hanger,
+        DVec3::new(0.0, 1.0, 0.0),
+        w.center_of_mass(hanger).unwrap(),
+    )
+    .unwrap();
+    w.step();
+    assert!(!w.is_sleeping(a).unwrap(), "the rod woke its other end");
+    assert!(w.joint_state(j).unwrap().linear_error < 1e-3);
+}

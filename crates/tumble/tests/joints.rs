@@ -653,3 +653,63 @@ fn a_resting_jointed_pair_sleeps_together_and_wakes_together() {
     assert!(!w.is_sleeping(a).unwrap(), "the rod woke its other end");
     assert!(w.joint_state(j).unwrap().linear_error < 1e-3);
 }
+
+#[test]
+fn a_light_chain_holds_a_hundred_times_heavier_weight() {
+    // 20 links of 0.1 kg on ball joints, a 10 kg weight at the end,
+    // released horizontal: the chain's joints are solved as one system and
+    // the light links are stiffened against their tension, so it neither
+    // stretches nor blows up at the default 8 sub-steps.
+    let mut w = world(true);
+    let n = 20;
+    let mut prev = None;
+    let mut joints = Vec::new();
+    for i in 0..n {
+        let x = 0.1 * (i as f64 + 0.5);
+        let mass = if i == n - 1 { 10.0 } else { 0.1 };
+        let c = w
+            .add_body(
+                &BodyDesc::dynamic(Sphere::new(0.03).unwrap())
+                    .at(DVec3::new(x, 0.0, 0.0))
+                    .with_mass(mass),
+            )
+            .unwrap();
+        joints.push(
+            w.add_joint(&JointDesc::ball(c, prev, DVec3::new(x - 0.05, 0.0, 0.0)))
+                .unwrap(),
+        );
+        prev = Some(c);
+    }
+    let weight = prev.unwrap();
+    let mut worst: f64 = 0.0;
+    for _ in 0..600 {
+        let report = w.step();
+        assert!(report.quarantined.is_empty());
+        worst = worst.max(w.max_joint_error().0);
+        // The weight hangs from a 1.95 m chain plus its own lever of 0.05 m.
+        assert!(w.center_of_mass(weight).unwrap().length() < 1.95 + 0.05 + 0.01);
+    }
+    assert!(worst < 0.01, "the chain stretched by {worst} m at a joint");
+}
+
+#[test]
+fn a_double_pendulum_keeps_its_energy() {
+    // Two cubes on hinges, released horizontal: chaotic, but without
+    // friction or contact the total energy must stay.
+    let mut w = world(true);
+    let a = cube(&mut w, DVec3::new(0.3, 0.0, 0.0));
+    let b = cube(&mut w, DVec3::new(0.6, 0.0, 0.0));
+    w.add_joint(&JointDesc::hinge(a, None, DVec3::ZERO, DVec3::Y))
+        .unwrap();
+    w.add_joint(&JointDesc::hinge(b, Some(a), DVec3::new(0.3, 0.0, 0.0), DVec3::Y))
+        .unwrap();
+    let e0 = w.kinetic_energy() + w.potential_energy();
+    // The energy that is exchanged: the pair falls by at most ~0.9 m.
+    let scale = 2.0 * G * 0.9;
+    let mut worst: f64 = 0.0;
+    for _ in 0..600 {
+        w.step();
+        worst = worst.max((w.kinetic_energy() + w.potential_energy() - e0).abs() / scale);
+    }
+    assert!(worst < 0.02, "energy changed by {worst} of the swing");
+}

@@ -9,7 +9,8 @@
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
-use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
+use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint, JOINT_PUSH_FRACTION};
+use super::joint_island::JointIsland;
 use super::passes::{begin_patch, push_patch, solve_patch};
 use crate::pool::Team;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -29,6 +30,8 @@ pub(crate) struct SolverArrays<'a> {
     pub bodies: Shared<'a, SolverBody>,
     /// Joint rows, sorted by colour.
     pub joints: Shared<'a, JointConstraint>,
+    /// Joint islands whose equality rows are solved directly.
+    pub joint_islands: Shared<'a, JointIsland>,
     /// The patches' colours.
     pub coloring: &'a Coloring,
     /// The joints' colours.
@@ -65,6 +68,31 @@ where
 }
 
 impl SolverArrays<'_> {
+    /// Runs `kernel` on every joint island, the islands dealt over the
+    /// team (they share no dynamic body), then a barrier; whether the
+    /// kernel returned `true` for any of this thread's islands.
+    ///
+    /// # Safety
+    /// As [`each`].
+    unsafe fn each_island<F>(&self, team: &Team, kernel: F) -> bool
+    where
+        F: Fn(&mut JointIsland) -> bool,
+    {
+        let n = self.joint_islands.len();
+        if n == 0 {
+            return false;
+        }
+        let mut any = false;
+        for r in team.blocks(n, 1) {
+            // SAFETY: islands are dealt to one thread each.
+            for island in unsafe { self.joint_islands.range_mut(r) } {
+                any |= kernel(island);
+            }
+        }
+        team.barrier();
+        any
+    }
+
     /// Runs `kernel` on every patch with its points.
     ///
     /// # Safety
@@ -93,6 +121,10 @@ impl SolverArrays<'_> {
             each(team, self.joint_coloring, &self.joints, |j| {
                 begin_joint(j, &self.bodies, h, warm)
             });
+            self.each_island(team, |island| {
+                island.factor(&self.joints, &self.bodies);
+                false
+            });
             self.each_patch(team, |m, pts| begin_patch(m, pts, &self.bodies, warm));
         }
     }
@@ -105,6 +137,7 @@ impl SolverArrays<'_> {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
+            self.each_island(team, |island| island.relax(&self.joints, &self.bodies, None));
             each(team, self.joint_coloring, &self.joints, |j| {
                 solve_joint(j, &self.bodies)
             });
@@ -130,6 +163,10 @@ impl SolverArrays<'_> {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
+            let push = Some((JOINT_PUSH_FRACTION, inv_h));
+            if self.each_island(team, |island| island.relax(&self.joints, &self.bodies, push)) {
+                pushed.fetch_max(pass, Ordering::Relaxed);
+            }
             each(team, self.joint_coloring, &self.joints, |j| {
                 if push_joint(j, &self.bodies, inv_h) {
                     pushed.fetch_max(pass, Ordering::Relaxed);

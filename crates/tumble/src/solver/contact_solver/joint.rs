@@ -48,6 +48,11 @@ const SWING: usize = 10;
 /// costs no energy; below 1 because the correction is linearized.
 pub const JOINT_PUSH_FRACTION: f64 = 0.8;
 
+/// Angle (rad) a body may turn in a sub-step for the equality rows to be
+/// fully aimed at the end of the sub-step (see `aim_equality_rows`): 0.05
+/// rad is 24 rad/s at the default 480 sub-steps a second.
+pub const AIM_TURN: f64 = 0.05;
+
 /// One scalar row.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct JointRow {
@@ -62,9 +67,10 @@ pub struct JointRow {
     /// Effective mass of a scalar row, `1 / (K + gamma)`.
     mass: f64,
     /// Position error at the start of the sub-step (m or rad).
-    c: f64,
+    pub(super) c: f64,
     gamma: f64,
-    bias: f64,
+    /// Velocity target offset: `J v + bias` is driven to 0 (equality rows).
+    pub(super) bias: f64,
     lo: f64,
     hi: f64,
     /// Scalar rows: `K_ee^-1 K_e,row`, the equality impulses that keep the
@@ -125,6 +131,19 @@ pub struct JointLaw {
     pub length: f64,
 }
 
+impl JointLaw {
+    /// Equality rows of a joint with this law (fixed by the kind and
+    /// options, so an island's system keeps its shape).
+    pub fn equality_rows(&self) -> usize {
+        match self.kind {
+            JointKind::Fixed => 6,
+            JointKind::Ball => 3,
+            JointKind::Hinge | JointKind::Slider => 5,
+            JointKind::Distance => usize::from(self.spring.is_none() && self.limits.is_none()),
+        }
+    }
+}
+
 /// A joint in the solver: its two solver bodies, its frames, its law and
 /// its rows.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,11 +161,14 @@ pub struct JointConstraint {
     /// What is constrained.
     pub law: JointLaw,
     /// The rows, by slot.
-    pub rows: [JointRow; JOINT_ROWS],
+    pub(super) rows: [JointRow; JOINT_ROWS],
     /// Bit `i`: row slot `i` is in use this sub-step.
     pub active: u16,
     /// Equality rows in use (slots `0..n_eq`).
-    n_eq: usize,
+    pub(super) n_eq: usize,
+    /// The equality rows are solved with the joint's island
+    /// (`joint_island`), not joint by joint.
+    pub direct: bool,
     /// Cholesky factor of the equality block (lower triangle).
     chol: [[f64; 6]; 6],
     /// Centre of mass and orientation of each side at the sub-step's start.
@@ -183,6 +205,7 @@ impl JointConstraint {
             chol: [[0.0; 6]; 6],
             start: [(DVec3::ZERO, DQuat::IDENTITY); 2],
             h: 0.0,
+            direct: false,
         }
     }
 
@@ -350,11 +373,23 @@ impl JointConstraint {
     /// energy). Re-aimed on every pass, this is a Newton iteration on the
     /// end-of-sub-step position constraint, as SHAKE solves it; the same
     /// pendulum then keeps its energy to 1e-4.
-    fn aim_equality_rows(&mut self, p: &Pair) {
+    pub(super) fn aim_equality_rows(&mut self, p: &Pair) {
         if self.n_eq == 0 {
             return;
         }
         let h = self.h;
+        // Re-aiming is a fixed-point iteration whose gain grows with the
+        // angle a body turns in a sub-step: fast-spinning light links of a
+        // loaded chain made it diverge. Full aim up to AIM_TURN rad per
+        // sub-step, none beyond twice that (the push-out alone then).
+        let turn = p.wa.length().max(p.wb.length()) * h;
+        let weight = (2.0 - turn / AIM_TURN).clamp(0.0, 1.0);
+        if weight == 0.0 {
+            for e in 0..self.n_eq {
+                self.rows[e].bias = 0.0;
+            }
+            return;
+        }
         let advance = |(x, q): (DVec3, DQuat), v: DVec3, w: DVec3, i: u32| {
             if i == 0 {
                 (x, q)
@@ -372,7 +407,21 @@ impl JointConstraint {
             let r = &mut self.rows[e];
             let end = ahead.rows[e].map_or(r.c, |x| x.c);
             let drift = end - r.c - h * r.velocity(p.va, p.wa, p.vb, p.wb);
-            r.bias = if drift.is_finite() { drift / h } else { 0.0 };
+            r.bias = if drift.is_finite() {
+                weight * drift / h
+            } else {
+                0.0
+            };
+        }
+    }
+
+    /// Adds `dl` to equality row `e`'s impulse (or push-out impulse).
+    #[inline]
+    pub(super) fn accumulate(&mut self, e: usize, dl: f64, push: bool) {
+        if push {
+            self.rows[e].push += dl;
+        } else {
+            self.rows[e].impulse += dl;
         }
     }
 
@@ -578,18 +627,36 @@ fn cholesky(k: &[[f64; 6]; 6], n: usize) -> [[f64; 6]; 6] {
 }
 
 /// Velocities of a joint's two bodies, held while its rows are relaxed.
-struct Pair {
-    va: DVec3,
-    wa: DVec3,
-    vb: DVec3,
-    wb: DVec3,
+pub(super) struct Pair {
+    pub va: DVec3,
+    pub wa: DVec3,
+    pub vb: DVec3,
+    pub wb: DVec3,
     ma: f64,
     mb: f64,
 }
 
 impl Pair {
+    /// [`load`] as a method.
+    ///
+    /// # Safety
+    /// As [`load`].
+    pub unsafe fn load(j: &JointConstraint, bodies: &Shared<SolverBody>, push: bool) -> Pair {
+        // SAFETY: the caller's promise.
+        unsafe { load(j, bodies, push) }
+    }
+
+    /// [`store`] as a method.
+    ///
+    /// # Safety
+    /// As [`store`].
+    pub unsafe fn store(&self, j: &JointConstraint, bodies: &Shared<SolverBody>, push: bool) {
+        // SAFETY: the caller's promise.
+        unsafe { store(j, bodies, self, push) }
+    }
+
     #[inline]
-    fn apply(&mut self, r: &JointRow, l: f64) {
+    pub fn apply(&mut self, r: &JointRow, l: f64) {
         self.va += r.lin * (l * self.ma);
         self.wa += r.ia * l;
         self.vb -= r.lin * (l * self.mb);
@@ -687,8 +754,8 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
 pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<SolverBody>) {
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, false) };
-    j.aim_equality_rows(&p);
-    if j.n_eq > 0 {
+    if j.n_eq > 0 && !j.direct {
+        j.aim_equality_rows(&p);
         let mut rhs = [0.0; 6];
         for (i, x) in rhs.iter_mut().enumerate().take(j.n_eq) {
             let r = &j.rows[i];
@@ -727,7 +794,7 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, true) };
     let mut any = false;
-    if j.n_eq > 0 {
+    if j.n_eq > 0 && !j.direct {
         let mut rhs = [0.0; 6];
         for (i, x) in rhs.iter_mut().enumerate().take(j.n_eq) {
             let r = &j.rows[i];
@@ -765,31 +832,62 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
     any
 }
 
-/// [`begin_joint`] over every joint, in order (serial).
-pub fn begin_joints(joints: &mut [JointConstraint], bodies: &mut [SolverBody], h: f64, warm: bool) {
+/// [`begin_joint`] over every joint, in order, then the islands factored
+/// (serial).
+pub fn begin_joints(
+    joints: &mut [JointConstraint],
+    islands: &mut [super::JointIsland],
+    bodies: &mut [SolverBody],
+    h: f64,
+    warm: bool,
+) {
     let bodies = Shared::new(bodies);
-    for j in joints {
+    let joints = Shared::new(joints);
+    for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
-        unsafe { begin_joint(j, &bodies, h, warm) };
+        unsafe { begin_joint(joints.get_mut(k), &bodies, h, warm) };
+    }
+    for island in islands {
+        island.factor(&joints, &bodies);
     }
 }
 
-/// [`solve_joint`] over every joint, in order (serial).
-pub fn solve_joints(joints: &mut [JointConstraint], bodies: &mut [SolverBody]) {
+/// The islands, then [`solve_joint`] over every joint, in order (serial).
+pub fn solve_joints(
+    joints: &mut [JointConstraint],
+    islands: &[super::JointIsland],
+    bodies: &mut [SolverBody],
+) {
     let bodies = Shared::new(bodies);
-    for j in joints {
+    let joints = Shared::new(joints);
+    for island in islands {
+        // SAFETY: one thread.
+        unsafe { island.relax(&joints, &bodies, None) };
+    }
+    for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
-        unsafe { solve_joint(j, &bodies) };
+        unsafe { solve_joint(joints.get_mut(k), &bodies) };
     }
 }
 
-/// [`push_joint`] over every joint, in order (serial); whether any pushed.
-pub fn push_joints(joints: &mut [JointConstraint], bodies: &mut [SolverBody], h: f64) -> bool {
+/// The islands, then [`push_joint`] over every joint, in order (serial);
+/// whether any pushed.
+pub fn push_joints(
+    joints: &mut [JointConstraint],
+    islands: &[super::JointIsland],
+    bodies: &mut [SolverBody],
+    h: f64,
+) -> bool {
     let bodies = Shared::new(bodies);
+    let joints = Shared::new(joints);
     let mut any = false;
-    for j in joints {
+    for island in islands {
+        // SAFETY: one thread.
+        any |= unsafe { island.relax(&joints, &bodies, Some((JOINT_PUSH_FRACTION, 1.0 / h))) };
+    }
+    for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
-        any |= unsafe { push_joint(j, &bodies, 1.0 / h) };
+        any |= unsafe { push_joint(joints.get_mut(k), &bodies, 1.0 / h) };
     }
     any
 }

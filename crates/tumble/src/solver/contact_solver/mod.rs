@@ -42,6 +42,7 @@ mod coloring;
 mod constraint;
 mod exact;
 mod joint;
+mod joint_island;
 mod passes;
 
 #[cfg(test)]
@@ -61,4 +62,5 @@ pub use joint::{
     begin_joints, push_joints, solve_joints, JointConstraint, JointLaw, JointRow, JOINT_PUSH_FRACTION,
     JOINT_ROWS,
 };
+pub use joint_island::{joint_islands, JointIsland, MAX_PROFILE};
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};

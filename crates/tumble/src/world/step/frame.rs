@@ -5,7 +5,7 @@
 use crate::body::BodyState;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    Coloring, JointConstraint, ManifoldConstraint, PointConstraint, SolverBody,
+    Coloring, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint, SolverBody,
 };
 use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
@@ -69,6 +69,11 @@ pub(crate) struct SolverFrame {
     pub joint_slots: Vec<u32>,
     /// The joints' colours (the order of `joints`).
     pub joint_coloring: Coloring,
+    /// Islands of joints whose equality rows are solved directly.
+    pub joint_islands: Vec<JointIsland>,
+    /// Per solver body: rotational inertia added by joint geometric
+    /// stiffness (kg m^2; 0 for most bodies).
+    pub geometric: Vec<f64>,
 }
 
 impl StepFrame {

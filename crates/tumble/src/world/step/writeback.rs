@@ -7,6 +7,7 @@
 use super::StepFrame;
 use crate::body::{BodyKind, BodyState};
 use crate::integrate::{integrate, Integrator};
+use crate::solver::contact_solver::SolverBody;
 use crate::world::World;
 use tumble_collide::Pose;
 
@@ -21,11 +22,18 @@ impl World {
             }
             let e = self.bodies.at_mut(slot).expect("live");
             if sb.dynamic {
+                // The momentum of the body's own inertia (the solver's may
+                // carry geometric stiffness, see `add_geometric_stiffness`).
+                let inv_inertia = if f.solver.geometric.get(k).is_some_and(|&g| g > 0.0) {
+                    SolverBody::world_inverse_inertia(sb.q, e.body.inv_principal_inertia())
+                } else {
+                    sb.inv_inertia
+                };
                 let state = BodyState {
                     position: e.body.position() + sb.dp,
                     orientation: sb.q,
                     linear_momentum: sb.v * e.body.mass(),
-                    angular_momentum: sb.inv_inertia.inverse() * sb.w,
+                    angular_momentum: inv_inertia.inverse() * sb.w,
                 };
                 let _ = e.body.set_state(state);
             } else {

@@ -169,12 +169,18 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     let energy = |w: &tumble::world::World| w.kinetic_energy() + w.potential_energy();
     let e0 = energy(&world);
     let mut max_penetration: f64 = 0.0;
+    // Largest joint error over the run: linear (m) and angular (rad).
+    let mut joint_error = (0.0f64, 0.0f64);
     let mut warnings: Vec<String> = Vec::new();
     let mut quarantined = 0usize;
     let started = Instant::now();
     for step in 1..=steps {
         let report = world.step();
         max_penetration = max_penetration.max(report.max_penetration);
+        if world.joint_count() > 0 {
+            let (l, a) = world.max_joint_error();
+            joint_error = (joint_error.0.max(l), joint_error.1.max(a));
+        }
         quarantined += report.quarantined.len();
         for w in report.warnings {
             if !warnings.contains(&w) {
@@ -223,6 +229,14 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
             1000.0 * wall / steps as f64
         );
         println!("max penetration {:.3} mm", max_penetration * 1000.0);
+        if world.joint_count() > 0 {
+            println!(
+                "largest joint error {:.3} mm, {:.4} rad ({} joints)",
+                joint_error.0 * 1000.0,
+                joint_error.1,
+                world.joint_count()
+            );
+        }
         let rel = if e0.abs() > 1e-12 {
             format!(" ({:+.3}% of the start)", 100.0 * (e1 - e0) / e0.abs())
         } else {

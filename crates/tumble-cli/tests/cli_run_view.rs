@@ -410,3 +410,22 @@ fn view_without_a_built_viewer_says_how_to_build_it() {
     assert!(stderr.contains("npm run build"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn run_reports_the_largest_joint_error_of_a_jointed_scene() {
+    let out = tumble()
+        .args(["run", "--steps", "120"])
+        .arg(example("rope.toml"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary = String::from_utf8_lossy(&out.stdout);
+    let line = summary
+        .lines()
+        .find(|l| l.starts_with("largest joint error"))
+        .unwrap_or_else(|| panic!("no joint error line: {summary}"));
+    assert!(line.contains("(21 joints)"), "{line}");
+    // "largest joint error X mm, ...": the rope holds within a centimetre.
+    let mm: f64 = line.split_whitespace().nth(3).unwrap().parse().unwrap();
+    assert!(mm < 10.0, "{line}");
+}

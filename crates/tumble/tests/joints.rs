@@ -713,3 +713,46 @@ fn a_double_pendulum_keeps_its_energy() {
     }
     assert!(worst < 0.02, "energy changed by {worst} of the swing");
 }
+
+fn example(name: &str) -> tumble::scene::LoadedScene {
+    let path = format!("{}/../../examples/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    tumble::scene::load_scene(path).unwrap()
+}
+
+#[test]
+fn the_rope_example_swings_without_stretching() {
+    let loaded = example("rope.toml");
+    let (mut w, _) = loaded.build().unwrap();
+    assert_eq!(w.joint_count(), 21);
+    let mut worst: f64 = 0.0;
+    for _ in 0..loaded.scene.steps {
+        assert!(w.step().quarantined.is_empty());
+        worst = worst.max(w.max_joint_error().0);
+    }
+    assert!(worst < 0.01, "largest joint error {worst} m");
+}
+
+#[test]
+fn the_door_example_is_pushed_open_and_closes_again() {
+    let loaded = example("door.toml");
+    let (mut w, _) = loaded.build().unwrap();
+    let hinge = w.joint_ids()[0];
+    let mut widest: f64 = 0.0;
+    for _ in 0..loaded.scene.steps {
+        w.step();
+        let s = w.joint_state(hinge).unwrap();
+        widest = widest.max(s.position);
+        assert!(
+            s.position > -0.01 && s.position < 1.745 + 0.01,
+            "outside the limits: {}",
+            s.position
+        );
+        assert!(s.linear_error < 1e-3);
+    }
+    let last = w.joint_state(hinge).unwrap().position;
+    assert!(widest > 0.5, "the box pushed it open to {widest} rad");
+    assert!(
+        last < 0.05,
+        "the closer shut it again: {last} rad (widest {widest})"
+    );
+}

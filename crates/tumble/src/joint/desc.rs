@@ -68,7 +68,7 @@ impl JointKind {
 /// A joint motor: drives the joint coordinate (hinge angle, slider offset)
 /// with at most `max_force` (N m for a hinge, N for a slider).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
-#[serde(rename_all = "snake_case", tag = "mode", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", tag = "type", deny_unknown_fields)]
 pub enum Motor {
     /// Holds the rate at `target` (rad/s or m/s) as hard as `max_force` allows.
     Velocity {
@@ -146,14 +146,17 @@ pub struct Spring {
 /// assert!(state.linear_error < 1e-4);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+///
+/// The bodies are named by `B`: a [`BodyId`] for a world, an index into
+/// the body list for a [`Scene`](crate::scenes::Scene).
 #[derive(Debug, Clone, PartialEq)]
-pub struct JointDesc {
+pub struct JointDesc<B = BodyId> {
     /// What the joint allows.
     pub kind: JointKind,
     /// The first body.
-    pub body_a: BodyId,
+    pub body_a: B,
     /// The second body, or `None` for the world.
-    pub body_b: Option<BodyId>,
+    pub body_b: Option<B>,
     /// The joint's anchor point in world coordinates at creation (m); on a
     /// distance joint, the anchor on body A.
     pub anchor: DVec3,
@@ -183,15 +186,9 @@ pub struct JointDesc {
     pub name: String,
 }
 
-impl JointDesc {
+impl<B: Copy + PartialEq> JointDesc<B> {
     /// A joint of `kind` at `anchor` with `axis` (world, at creation).
-    pub fn new(
-        kind: JointKind,
-        body_a: BodyId,
-        body_b: Option<BodyId>,
-        anchor: DVec3,
-        axis: DVec3,
-    ) -> JointDesc {
+    pub fn new(kind: JointKind, body_a: B, body_b: Option<B>, anchor: DVec3, axis: DVec3) -> JointDesc<B> {
         JointDesc {
             kind,
             body_a,
@@ -210,73 +207,93 @@ impl JointDesc {
     }
 
     /// A weld at `anchor`.
-    pub fn fixed(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3) -> JointDesc {
+    pub fn fixed(body_a: B, body_b: Option<B>, anchor: DVec3) -> JointDesc<B> {
         JointDesc::new(JointKind::Fixed, body_a, body_b, anchor, DVec3::Z)
     }
 
     /// A ball joint at `anchor`.
-    pub fn ball(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3) -> JointDesc {
+    pub fn ball(body_a: B, body_b: Option<B>, anchor: DVec3) -> JointDesc<B> {
         JointDesc::new(JointKind::Ball, body_a, body_b, anchor, DVec3::Z)
     }
 
     /// A hinge at `anchor` turning about `axis`.
-    pub fn hinge(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3, axis: DVec3) -> JointDesc {
+    pub fn hinge(body_a: B, body_b: Option<B>, anchor: DVec3, axis: DVec3) -> JointDesc<B> {
         JointDesc::new(JointKind::Hinge, body_a, body_b, anchor, axis)
     }
 
     /// A slider at `anchor` along `axis`.
-    pub fn slider(body_a: BodyId, body_b: Option<BodyId>, anchor: DVec3, axis: DVec3) -> JointDesc {
+    pub fn slider(body_a: B, body_b: Option<B>, anchor: DVec3, axis: DVec3) -> JointDesc<B> {
         JointDesc::new(JointKind::Slider, body_a, body_b, anchor, axis)
     }
 
     /// A distance joint between `anchor_a` on A and `anchor_b` on B (a rod
     /// at their present distance unless limits or a spring say otherwise).
-    pub fn distance(body_a: BodyId, body_b: Option<BodyId>, anchor_a: DVec3, anchor_b: DVec3) -> JointDesc {
+    pub fn distance(body_a: B, body_b: Option<B>, anchor_a: DVec3, anchor_b: DVec3) -> JointDesc<B> {
         let mut d = JointDesc::new(JointKind::Distance, body_a, body_b, anchor_a, DVec3::Z);
         d.anchor_b = Some(anchor_b);
         d
     }
 
     /// With limits `[lower, upper]` (rad or m, by kind).
-    pub fn with_limits(mut self, lower: f64, upper: f64) -> JointDesc {
+    pub fn with_limits(mut self, lower: f64, upper: f64) -> JointDesc<B> {
         self.limits = Some([lower, upper]);
         self
     }
 
     /// With a swing cone (ball joint), half-angle in rad.
-    pub fn with_swing_limit(mut self, angle: f64) -> JointDesc {
+    pub fn with_swing_limit(mut self, angle: f64) -> JointDesc<B> {
         self.swing_limit = Some(angle);
         self
     }
 
     /// With a motor (hinge, slider).
-    pub fn with_motor(mut self, motor: Motor) -> JointDesc {
+    pub fn with_motor(mut self, motor: Motor) -> JointDesc<B> {
         self.motor = Some(motor);
         self
     }
 
     /// With a spring (distance joint).
-    pub fn with_spring(mut self, stiffness: f64, damping: f64) -> JointDesc {
+    pub fn with_spring(mut self, stiffness: f64, damping: f64) -> JointDesc<B> {
         self.spring = Some(Spring { stiffness, damping });
         self
     }
 
     /// With a rest length (distance joint, m).
-    pub fn with_length(mut self, length: f64) -> JointDesc {
+    pub fn with_length(mut self, length: f64) -> JointDesc<B> {
         self.length = Some(length);
         self
     }
 
     /// With contacts between the two bodies on or off.
-    pub fn colliding(mut self, collide_connected: bool) -> JointDesc {
+    pub fn colliding(mut self, collide_connected: bool) -> JointDesc<B> {
         self.collide_connected = collide_connected;
         self
     }
 
     /// With a name.
-    pub fn named(mut self, name: impl Into<String>) -> JointDesc {
+    pub fn named(mut self, name: impl Into<String>) -> JointDesc<B> {
         self.name = name.into();
         self
+    }
+
+    /// The same joint between other bodies (`map` turns each body
+    /// reference into the new kind, e.g. scene indices into handles).
+    pub fn with_bodies<C>(self, map: impl Fn(B) -> C) -> JointDesc<C> {
+        JointDesc {
+            kind: self.kind,
+            body_a: map(self.body_a),
+            body_b: self.body_b.map(&map),
+            anchor: self.anchor,
+            anchor_b: self.anchor_b,
+            axis: self.axis,
+            limits: self.limits,
+            swing_limit: self.swing_limit,
+            motor: self.motor,
+            spring: self.spring,
+            length: self.length,
+            collide_connected: self.collide_connected,
+            name: self.name,
+        }
     }
 
     /// Checks every value that does not depend on the world (finite,

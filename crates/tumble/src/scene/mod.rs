@@ -6,6 +6,7 @@
 //! - `parse`: text to schema types, syntax and schema errors located;
 //! - `resolve` and `shapes`: named materials and shapes, grids, meshes from
 //!   generators or files, every value checked with its field path;
+//! - `joints`: the `[[joints]]`, bodies found by name;
 //! - `locate`: field path to line and column in the source text;
 //! - [`error`]: [`SceneError`], one line: `file:line:column: path: message`.
 //!
@@ -57,6 +58,7 @@
 //! ```
 
 pub mod error;
+mod joints;
 mod locate;
 mod parse;
 mod resolve;
@@ -119,6 +121,7 @@ pub struct LoadedScene {
     text: String,
     format: Format,
     origins: Vec<BodyOrigin>,
+    joint_paths: Vec<FieldPath>,
 }
 
 /// Reads, parses and checks the scene file at `path` (format by extension;
@@ -170,6 +173,7 @@ pub fn parse_scene(text: &str, format: Format, file: &Path) -> Result<LoadedScen
         text: text.to_string(),
         format,
         origins: resolved.origins,
+        joint_paths: resolved.joint_paths,
     })
 }
 
@@ -202,6 +206,21 @@ impl LoadedScene {
             world
                 .apply_torque(id, load.torque)
                 .map_err(|e| locate(&e, origin))?;
+        }
+        for (joint, path) in self.scene.joints.iter().zip(&self.joint_paths) {
+            let at = |e: crate::world::WorldError| {
+                parse::locate_error(
+                    &self.file,
+                    &self.text,
+                    self.format,
+                    FieldError::new(
+                        &joints::joint_error_path(&e, path),
+                        joints::joint_error_message(&e),
+                    ),
+                )
+            };
+            let desc = self.scene.joint_desc(joint, &ids).map_err(at)?;
+            world.add_joint(&desc).map_err(at)?;
         }
         Ok((world, ids))
     }

@@ -37,6 +37,8 @@ pub(crate) struct Resolved {
     pub scene: Scene,
     pub loads: Vec<InitialLoad>,
     pub origins: Vec<BodyOrigin>,
+    /// Path of each joint (`joints[k]`), in `scene.joints` order.
+    pub joint_paths: Vec<FieldPath>,
 }
 
 /// The path of the field a [`WorldError`] is about: settings fields are
@@ -162,9 +164,11 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
             settings: file.settings.clone(),
             bodies: Vec::new(),
             steps,
+            joints: Vec::new(),
         },
         loads: Vec::new(),
         origins: Vec::new(),
+        joint_paths: Vec::new(),
     };
     for (i, spec) in file.bodies.iter().enumerate() {
         let path = root.key("bodies").index(i);
@@ -177,6 +181,10 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
             &root.key("bodies"),
             "a scene needs at least one body; this file describes none",
         ));
+    }
+    for (joint, path) in super::joints::resolve_joints(&file.joints, &out.scene.bodies)? {
+        out.scene.joints.push(joint);
+        out.joint_paths.push(path);
     }
     Ok(out)
 }

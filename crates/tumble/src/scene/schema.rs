@@ -12,6 +12,7 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::Deserialize;
 
+use crate::joint::{JointKind, Motor, Spring};
 use crate::world::{MaterialDesc, WorldSettings};
 
 /// A scene: world settings, named materials and shapes, and the bodies.
@@ -50,6 +51,57 @@ pub struct SceneFile {
     /// copies in place).
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
+    /// Joints between bodies (or a body and the world), added after the
+    /// bodies in this order.
+    #[serde(default)]
+    pub joints: Vec<JointSpec>,
+}
+
+/// A joint: its anchor and axis in world coordinates as the bodies are
+/// placed in the file; that pose is the joint's zero (angle 0, offset 0).
+/// Angles in radians here (as in the Rust and Python APIs).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Name (reports, viewer). Default empty.
+    #[serde(default)]
+    pub name: String,
+    /// `fixed`, `ball`, `hinge`, `slider` or `distance`.
+    pub kind: JointKind,
+    /// Name of the first body (after grid expansion, e.g. `link3`).
+    pub body_a: String,
+    /// Name of the second body; omit it to joint `body_a` to the world.
+    #[serde(default)]
+    pub body_b: Option<String>,
+    /// Anchor point (m, world). On a distance joint, the anchor on body A.
+    pub anchor: [f64; 3],
+    /// Distance joint: the anchor on body B (m, world). Default `anchor`.
+    #[serde(default)]
+    pub anchor_b: Option<[f64; 3]>,
+    /// Joint axis (world; any non-zero length): hinge rotation axis, slider
+    /// direction, ball cone axis. Default [0, 0, 1].
+    #[serde(default)]
+    pub axis: Option<[f64; 3]>,
+    /// Limits `[lower, upper]`: rad (hinge angle, ball twist, within
+    /// [-pi, pi]) or m (slider offset, distance).
+    #[serde(default)]
+    pub limits: Option<[f64; 2]>,
+    /// Ball joint: half-angle of the swing cone about the axis (rad).
+    #[serde(default)]
+    pub swing_limit: Option<f64>,
+    /// Hinge or slider motor: `{ type = "velocity", target, max_force }` or
+    /// `{ type = "position", target, stiffness, damping, max_force }`.
+    #[serde(default)]
+    pub motor: Option<Motor>,
+    /// Distance joint spring: `{ stiffness = N/m, damping = N s/m }`.
+    #[serde(default)]
+    pub spring: Option<Spring>,
+    /// Distance joint rest length (m). Default: the anchors' distance.
+    #[serde(default)]
+    pub length: Option<f64>,
+    /// Contacts between the two bodies (default false).
+    #[serde(default)]
+    pub collide_connected: bool,
 }
 
 /// How a body moves.

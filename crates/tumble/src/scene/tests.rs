@@ -405,3 +405,82 @@ fn json_schema_file_is_in_sync() {
         assert!(generated.contains(&format!("\"{kind}\"")), "schema lacks {kind}");
     }
 }
+
+const PENDULUM: &str = r#"
+[[bodies]]
+name = "post"
+kind = "static"
+shapes = [{ type = "box", half_extents = [0.05, 0.05, 0.05] }]
+position = [0, 0, 1]
+
+[[bodies]]
+name = "bob"
+shapes = [{ type = "sphere", radius = 0.05 }]
+mass = 1.0
+position = [0.5, 0, 1]
+
+[[joints]]
+kind = "hinge"
+body_a = "bob"
+body_b = "post"
+anchor = [0, 0, 1]
+axis = [0, 1, 0]
+limits = [-1.0, 2.0]
+motor = { type = "velocity", target = 0.5, max_force = 0.1 }
+"#;
+
+#[test]
+fn joints_reach_the_world_as_written() {
+    let loaded = toml(PENDULUM).unwrap();
+    let (mut world, ids) = loaded.build().unwrap();
+    assert_eq!(world.joint_count(), 1);
+    let j = world.joint_ids()[0];
+    let desc = world.joint(j).unwrap();
+    assert_eq!(desc.kind, crate::joint::JointKind::Hinge);
+    assert_eq!((desc.body_a, desc.body_b), (ids[1], Some(ids[0])));
+    assert_eq!(desc.limits, Some([-1.0, 2.0]));
+    assert_eq!(
+        desc.motor,
+        Some(crate::joint::Motor::Velocity {
+            target: 0.5,
+            max_force: 0.1
+        })
+    );
+    for _ in 0..30 {
+        world.step();
+    }
+    // The bob swings down on its hinge: its distance to the anchor stays.
+    let p = world.center_of_mass(ids[1]).unwrap();
+    assert!(((p - DVec3::new(0.0, 0.0, 1.0)).length() - 0.5).abs() < 1e-3);
+    assert!(p.z < 0.9);
+}
+
+#[test]
+fn bad_joints_are_located_at_their_field() {
+    let swapped = PENDULUM.replace("limits = [-1.0, 2.0]", "limits = [2.0, -1.0]");
+    let (line, column, path, message) = at(toml(&swapped).err().unwrap());
+    assert_eq!(path, "joints[0].limits");
+    assert_eq!((line, column), position_of(&swapped, "[2.0, -1.0]"));
+    assert!(message.contains("lower <= upper"), "{message}");
+
+    let unknown = PENDULUM.replace("body_b = \"post\"", "body_b = \"pots\"");
+    let (_, _, path, message) = at(toml(&unknown).err().unwrap());
+    assert_eq!(path, "joints[0].body_b");
+    assert!(message.contains("no body is named `pots`"), "{message}");
+
+    let bad_motor = PENDULUM.replace("max_force = 0.1", "max_force = -2");
+    let (_, _, path, _) = at(toml(&bad_motor).err().unwrap());
+    assert_eq!(path, "joints[0].motor.max_force");
+
+    let bad_kind = PENDULUM.replace("kind = \"hinge\"", "kind = \"hing\"");
+    let e = toml(&bad_kind).err().unwrap().to_string();
+    assert!(e.contains("joints[0].kind") || e.contains("hing"), "{e}");
+
+    // Two static bodies cannot be jointed: the world says so, located.
+    let both_static = PENDULUM.replace("name = \"bob\"", "name = \"bob\"\nkind = \"static\"");
+    let both_static = both_static.replace("mass = 1.0\n", "");
+    let e = toml(&both_static).unwrap().build().err().unwrap();
+    let (_, _, path, message) = at(e);
+    assert_eq!(path, "joints[0].body_a");
+    assert!(message.contains("dynamic"), "{message}");
+}

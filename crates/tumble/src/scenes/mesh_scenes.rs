@@ -48,6 +48,7 @@ pub fn chain() -> Scene {
         },
         bodies,
         steps: 600,
+        joints: Vec::new(),
     }
 }
 
@@ -66,6 +67,7 @@ pub fn torus_on_ground() -> Scene {
                 .named("torus"),
         ],
         steps: 240,
+        joints: Vec::new(),
     }
 }
 
@@ -102,5 +104,6 @@ pub fn tori_pass() -> Scene {
                 .named("torus_b"),
         ],
         steps: 360,
+        joints: Vec::new(),
     }
 }

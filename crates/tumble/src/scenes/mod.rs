@@ -10,6 +10,7 @@ pub use primitives_scenes::{
     ball_drop, cradle, domino, incline, large_pyramid, pile, pyramid, pyramid_of_base, tower,
 };
 
+use crate::joint::JointDesc;
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
 
 /// A scene: settings and bodies, in the order they are added.
@@ -23,10 +24,13 @@ pub struct Scene {
     pub bodies: Vec<BodyDesc>,
     /// Suggested number of steps.
     pub steps: usize,
+    /// Joints, their bodies named by index into `bodies`.
+    pub joints: Vec<JointDesc<usize>>,
 }
 
 impl Scene {
-    /// Builds the world; returns it with the body handles in insertion order.
+    /// Builds the world; returns it with the body handles in insertion
+    /// order (joints are added after the bodies, in order).
     pub fn build(&self) -> Result<(World, Vec<BodyId>), WorldError> {
         let mut world = World::new(self.settings.clone())?;
         let ids = self
@@ -34,6 +38,27 @@ impl Scene {
             .iter()
             .map(|b| world.add_body(b))
             .collect::<Result<Vec<_>, _>>()?;
+        for joint in &self.joints {
+            world.add_joint(&self.joint_desc(joint, &ids)?)?;
+        }
         Ok((world, ids))
+    }
+
+    /// A scene joint with its body indices turned into the handles `ids`
+    /// (an index past the bodies is refused).
+    pub fn joint_desc(&self, joint: &JointDesc<usize>, ids: &[BodyId]) -> Result<JointDesc, WorldError> {
+        let bad = |i: usize| WorldError::BadValue {
+            field: "joint.body_a",
+            message: format!(
+                "body index {i} is out of range (the scene has {} bodies)",
+                ids.len()
+            ),
+        };
+        for i in [Some(joint.body_a), joint.body_b].into_iter().flatten() {
+            if i >= ids.len() {
+                return Err(bad(i));
+            }
+        }
+        Ok(joint.clone().with_bodies(|i| ids[i]))
     }
 }

@@ -68,6 +68,7 @@ fn pyramid_with_base(name: &str, base: usize, ground: f64) -> Scene {
         settings: no_sleep(),
         bodies,
         steps: 600,
+        joints: Vec::new(),
     }
 }
 
@@ -86,6 +87,7 @@ pub fn tower(n: usize) -> Scene {
         settings: no_sleep(),
         bodies,
         steps: 600,
+        joints: Vec::new(),
     }
 }
 
@@ -136,6 +138,7 @@ pub fn pile(layers: usize) -> Scene {
         settings: no_sleep(),
         bodies,
         steps: 600,
+        joints: Vec::new(),
     }
 }
 
@@ -167,6 +170,7 @@ pub fn cradle() -> Scene {
         },
         bodies,
         steps: 240,
+        joints: Vec::new(),
     }
 }
 
@@ -200,6 +204,7 @@ pub fn incline(mu: f64) -> Scene {
         },
         bodies: vec![slab, cube],
         steps: 240,
+        joints: Vec::new(),
     }
 }
 
@@ -222,6 +227,7 @@ pub fn domino() -> Scene {
         settings: no_sleep(),
         bodies,
         steps: 600,
+        joints: Vec::new(),
     }
 }
 
@@ -246,5 +252,6 @@ pub fn ball_drop(height: f64, e: f64) -> Scene {
                 .named("ball"),
         ],
         steps: 1200,
+        joints: Vec::new(),
     }
 }

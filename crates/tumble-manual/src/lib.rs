@@ -39,6 +39,8 @@ mod chapters {
     mod concepts_step {}
     #[doc = include_str!("../../../docs/manual/src/concepts/solvers.md")]
     mod concepts_solvers {}
+    #[doc = include_str!("../../../docs/manual/src/concepts/joints.md")]
+    mod concepts_joints {}
     #[doc = include_str!("../../../docs/manual/src/concepts/integrators.md")]
     mod concepts_integrators {}
     #[doc = include_str!("../../../docs/manual/src/collision.md")]

@@ -178,7 +178,7 @@ pub trait ToPyErr {
 impl ToPyErr for WorldError {
     fn to_py(&self) -> PyErr {
         match self {
-            WorldError::StaleBody(_) => error(Kind::Stale, self.to_string()),
+            WorldError::StaleBody(_) | WorldError::StaleJoint(_) => error(Kind::Stale, self.to_string()),
             _ => invalid(self.to_string()),
         }
     }

@@ -26,6 +26,7 @@
 pub mod body;
 pub mod convert;
 pub mod errors;
+pub mod joint;
 pub mod mass;
 pub mod pose_arg;
 pub mod query;
@@ -54,6 +55,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<world::World>()?;
     m.add_class::<body::Body>()?;
+    m.add_class::<joint::Joint>()?;
     m.add_class::<report::PyStepReport>()?;
     m.add_class::<shapes::PyBox>()?;
     m.add_class::<shapes::PySphere>()?;

@@ -120,6 +120,9 @@ pub struct PyStepReport {
     /// Colours of the last step's constraint graph (batches solved in parallel).
     #[pyo3(get)]
     colors: usize,
+    /// Joints the solver handled in the last step (those with a moving body).
+    #[pyo3(get)]
+    joints: usize,
     stage_times: Vec<(&'static str, f64)>,
     solve_times: Vec<(&'static str, f64)>,
 }
@@ -156,6 +159,7 @@ impl PyStepReport {
                 .collect(),
             threads: r.threads,
             colors: r.colors,
+            joints: r.joints,
         }
     }
 }

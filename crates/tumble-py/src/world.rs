@@ -12,6 +12,7 @@
 use crate::body::{kind_from, Body};
 use crate::convert::{self, matrix_out};
 use crate::errors::{error, guard, invalid, panic_message, Kind, OrRaise};
+use crate::joint::{Joint, JointArgs};
 use crate::record::Recorder;
 use crate::report::{self, PyStepReport, StepSummary};
 use crate::settings;
@@ -276,6 +277,92 @@ impl World {
             };
             Ok(World::body_handle(slf, id))
         })
+    }
+
+    /// Adds a joint between `body_a` and `body_b` (None: the world), its
+    /// anchor and axis given in world coordinates now (the present pose is
+    /// the joint's zero).
+    ///
+    /// Args:
+    ///     kind: "fixed", "ball", "hinge", "slider" or "distance".
+    ///     anchor: the anchor point (m); on a distance joint the anchor on A.
+    ///     axis: hinge axis, slider direction, ball cone axis (default z).
+    ///     anchor_b: distance joint, the anchor on B (default `anchor`).
+    ///     limits: (lower, upper): rad (hinge, ball twist) or m (slider,
+    ///         distance; (0, L) makes a rope).
+    ///     swing_limit: ball joint cone half-angle (rad).
+    ///     motor: hinge or slider motor, {"target_velocity": v, "max_force": f}
+    ///         or {"target_position": x, "stiffness": k, "damping": c,
+    ///         "max_force": f} (N m or N).
+    ///     spring: distance joint (stiffness N/m, damping N s/m).
+    ///     length: distance joint rest length (m; default the anchors' distance).
+    ///     collide_connected: contacts between the two bodies (default off).
+    ///
+    /// Raises:
+    ///     InvalidArgument: a bad value; the world is unchanged.
+    #[pyo3(signature = (kind, body_a, body_b=None, *, anchor, axis=None, anchor_b=None, limits=None,
+        swing_limit=None, motor=None, spring=None, length=None, collide_connected=false, name=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_joint(
+        slf: &Bound<'_, Self>,
+        kind: &str,
+        body_a: PyRef<'_, Body>,
+        body_b: Option<PyRef<'_, Body>>,
+        anchor: &Bound<'_, PyAny>,
+        axis: Option<&Bound<'_, PyAny>>,
+        anchor_b: Option<&Bound<'_, PyAny>>,
+        limits: Option<(f64, f64)>,
+        swing_limit: Option<f64>,
+        motor: Option<&Bound<'_, PyAny>>,
+        spring: Option<&Bound<'_, PyAny>>,
+        length: Option<f64>,
+        collide_connected: bool,
+        name: Option<String>,
+    ) -> PyResult<Joint> {
+        let args = JointArgs {
+            kind,
+            anchor,
+            axis,
+            anchor_b,
+            limits,
+            swing_limit,
+            motor,
+            spring,
+            length,
+            collide_connected,
+            name,
+        };
+        crate::joint::add_joint(slf, body_a, body_b, args)
+    }
+
+    /// Removes a joint; its handle becomes stale. Same as `joint.remove()`.
+    fn remove_joint(slf: &Bound<'_, Self>, joint: PyRef<'_, Joint>) -> PyResult<()> {
+        if joint.world.as_ptr() != slf.as_ptr() {
+            return Err(invalid("the joint belongs to another world"));
+        }
+        let mut w = slf.borrow_mut();
+        w.check_usable()?;
+        w.inner.remove_joint(joint.id).or_raise()
+    }
+
+    /// Handles of every joint, in slot order (the rows of `joint_states()`).
+    fn joints(slf: &Bound<'_, Self>) -> PyResult<Vec<Joint>> {
+        let ids = slf.borrow().inner.joint_ids();
+        Ok(ids
+            .into_iter()
+            .map(|id| Joint {
+                world: slf.clone().unbind(),
+                id,
+            })
+            .collect())
+    }
+
+    /// The state of every joint as arrays, one row per joint in `joints()`
+    /// order: "position", "rate", "linear_error", "angular_error" (J,),
+    /// "force", "torque", "anchor_a", "anchor_b", "axis" (J, 3).
+    fn joint_states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.check_usable()?;
+        crate::joint::joint_arrays(py, &self.inner)
     }
 
     /// Removes a body; its handle becomes stale. Same as `body.remove()`.

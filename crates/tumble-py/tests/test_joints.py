@@ -1,0 +1,134 @@
+"""Joints through the Python API: the same physics as the Rust tests (a
+pendulum's exact period, a motor's speed, limits, a rope's length), the
+arrays and handles, pickling, and bad arguments refused with the world
+unchanged."""
+
+from __future__ import annotations
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+import tumble
+
+G = 9.81
+
+
+def pendulum(**joint) -> tuple[tumble.World, tumble.Body, tumble.Joint]:
+    world = tumble.World(sleeping=False, threads=1)
+    bob = world.add_body(tumble.Box((0.05, 0.05, 0.05)), mass=1.0, position=(0.5, 0, 0))
+    hinge = world.add_joint("hinge", bob, None, anchor=(0, 0, 0), axis=(0, 1, 0), **joint)
+    return world, bob, hinge
+
+
+def test_a_hinge_pendulum_has_the_exact_period() -> None:
+    # Released horizontal (90 degrees): T = 4 sqrt(I / (m g d)) K(sin^2(pi/4)).
+    world, bob, hinge = pendulum()
+    crossings = []
+    last = bob.position[0]
+    for _ in range(600):
+        world.step()
+        x = bob.position[0]
+        if last > 0 >= x or last < 0 <= x:
+            crossings.append(world.time)
+        last = x
+    period = 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    i_pivot = (0.1**2 * 2) / 12 + 0.25
+    m = math.sin(math.pi / 4) ** 2
+    # K(m) by the arithmetic-geometric mean.
+    a, b = 1.0, math.sqrt(1 - m)
+    for _ in range(30):
+        a, b = (a + b) / 2, math.sqrt(a * b)
+    exact = 4 * math.sqrt(i_pivot / (G * 0.5)) * math.pi / (2 * a)
+    assert period == pytest.approx(exact, rel=0.01)
+    assert hinge.linear_error < 1e-4
+
+
+def test_a_velocity_motor_turns_at_its_target_and_reports_its_torque() -> None:
+    world, bob, hinge = pendulum(motor={"target_velocity": -0.5, "max_force": 20.0})
+    world.step(60)
+    assert hinge.rate == pytest.approx(-0.5, abs=1e-3)
+    # Holding the arm against gravity: the torque about the axis is m g d cos(angle).
+    about_axis = float(np.dot(hinge.torque, (0, 1, 0)))
+    assert abs(about_axis) == pytest.approx(G * 0.5 * math.cos(hinge.position), rel=0.1)
+
+
+def test_limits_hold_and_the_state_arrays_match_the_handles() -> None:
+    world, bob, hinge = pendulum(limits=(-0.2, 0.8))
+    for _ in range(120):
+        world.step()
+        assert -0.21 < hinge.position < 0.82
+    states = world.joint_states()
+    assert set(states) >= {"position", "rate", "force", "torque", "linear_error"}
+    assert states["position"].shape == (1,) and states["force"].shape == (1, 3)
+    assert states["position"][0] == hinge.position
+    np.testing.assert_array_equal(states["force"][0], hinge.force)
+    assert world.joints() == [hinge]
+    assert world.step_report.joints == 1
+    assert hinge.kind == "hinge" and hinge.body_a == bob and hinge.body_b is None
+
+
+def test_a_rope_is_slack_below_its_length_and_holds_at_it() -> None:
+    world = tumble.World(sleeping=False)
+    weight = world.add_body(tumble.Sphere(0.05), mass=2.0, position=(0, 0, 0))
+    rope = world.add_joint(
+        "distance", weight, None, anchor=(0, 0, 0), anchor_b=(0, 0, 0.5), limits=(0.0, 1.0)
+    )
+    world.step(300)
+    assert rope.position == pytest.approx(1.0, abs=2e-3)
+    assert rope.force[2] == pytest.approx(2.0 * G, rel=0.05)
+
+
+def test_pickling_keeps_joints_and_continues_bit_for_bit() -> None:
+    world, bob, hinge = pendulum(limits=(-1.0, 1.0))
+    world.step(10)
+    copy = pickle.loads(pickle.dumps(world))
+    assert len(copy.joints()) == 1
+    world.step(20)
+    copy.step(20)
+    np.testing.assert_array_equal(world.positions, copy.positions)
+
+
+def test_removing_a_joint_or_its_body_makes_the_handle_stale() -> None:
+    world, bob, hinge = pendulum()
+    world.remove_joint(hinge)
+    with pytest.raises(tumble.StaleBodyError):
+        _ = hinge.position
+    again = world.add_joint("ball", bob, None, anchor=(0, 0, 0))
+    bob.remove()
+    assert world.joints() == []
+    with pytest.raises(tumble.StaleBodyError):
+        again.remove()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"kind": "hing"}, "kind"),
+        ({"anchor": (math.nan, 0, 0)}, "joint.anchor"),
+        ({"axis": (0, 0, 0)}, "joint.axis"),
+        ({"limits": (1.0, -1.0)}, "joint.limits"),
+        ({"motor": {"target_velocity": 1.0, "max_force": -1.0}}, "max_force"),
+        ({"motor": {"target_velocity": 1.0, "target_position": 0.0}}, "exactly one"),
+        ({"motor": {"speed": 1.0}}, "motor"),
+        ({"spring": (1.0, 1.0)}, "joint.spring"),
+    ],
+)
+def test_bad_joints_are_refused_and_leave_the_world_unchanged(kwargs, message) -> None:
+    world = tumble.World()
+    bob = world.add_body(tumble.Sphere(0.1), mass=1.0)
+    args = {"kind": "hinge", "anchor": (0, 0, 0), "axis": (0, 1, 0)} | kwargs
+    kind = args.pop("kind")
+    with pytest.raises(tumble.InvalidArgument, match=message):
+        world.add_joint(kind, bob, None, **args)
+    assert world.joints() == []
+
+
+def test_a_joint_to_a_body_of_another_world_is_refused() -> None:
+    one, two = tumble.World(), tumble.World()
+    a = one.add_body(tumble.Sphere(0.1), mass=1.0)
+    b = two.add_body(tumble.Sphere(0.1), mass=1.0)
+    with pytest.raises(tumble.InvalidArgument, match="another world"):
+        one.add_joint("ball", a, b, anchor=(0, 0, 0))

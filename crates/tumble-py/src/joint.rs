@@ -18,17 +18,21 @@ use tumble_collide::DVec3;
 fn number(d: &Bound<'_, PyDict>, key: &str, what: &str) -> PyResult<Option<f64>> {
     match d.get_item(key)? {
         None => Ok(None),
-        Some(v) => v
-            .extract::<f64>()
-            .map(Some)
-            .map_err(|_| invalid(format!("{what}[{key:?}]: expected a number, got {}", convert::describe(&v)))),
+        Some(v) => v.extract::<f64>().map(Some).map_err(|_| {
+            invalid(format!(
+                "{what}[{key:?}]: expected a number, got {}",
+                convert::describe(&v)
+            ))
+        }),
     }
 }
 
 /// Refuses keys of `d` outside `allowed`.
 fn only_keys(d: &Bound<'_, PyDict>, allowed: &[&str], what: &str) -> PyResult<()> {
     for k in d.keys() {
-        let k: String = k.extract().map_err(|_| invalid(format!("{what}: keys must be strings")))?;
+        let k: String = k
+            .extract()
+            .map_err(|_| invalid(format!("{what}: keys must be strings")))?;
         if !allowed.contains(&k.as_str()) {
             return Err(invalid(format!(
                 "{what}: unknown key {k:?} (expected {})",
@@ -136,7 +140,11 @@ pub fn add_joint(
     desc.limits = args.limits.map(|(lo, hi)| [lo, hi]);
     desc.swing_limit = args.swing_limit;
     desc.motor = args.motor.filter(|m| !m.is_none()).map(motor_from).transpose()?;
-    desc.spring = args.spring.filter(|s| !s.is_none()).map(spring_from).transpose()?;
+    desc.spring = args
+        .spring
+        .filter(|s| !s.is_none())
+        .map(spring_from)
+        .transpose()?;
     desc.length = args.length;
     desc.collide_connected = args.collide_connected;
     desc.name = args.name.unwrap_or_default();
@@ -212,7 +220,14 @@ impl Joint {
     /// The first body.
     #[getter]
     fn body_a(&self, py: Python<'_>) -> PyResult<Body> {
-        let id = self.world.bind(py).borrow().inner.joint(self.id).or_raise()?.body_a;
+        let id = self
+            .world
+            .bind(py)
+            .borrow()
+            .inner
+            .joint(self.id)
+            .or_raise()?
+            .body_a;
         Ok(Body {
             world: self.world.clone_ref(py),
             id,
@@ -222,7 +237,14 @@ impl Joint {
     /// The second body, or None for the world.
     #[getter]
     fn body_b(&self, py: Python<'_>) -> PyResult<Option<Body>> {
-        let id = self.world.bind(py).borrow().inner.joint(self.id).or_raise()?.body_b;
+        let id = self
+            .world
+            .bind(py)
+            .borrow()
+            .inner
+            .joint(self.id)
+            .or_raise()?
+            .body_b;
         Ok(id.map(|id| Body {
             world: self.world.clone_ref(py),
             id,

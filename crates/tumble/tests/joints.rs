@@ -724,12 +724,22 @@ fn the_rope_example_swings_without_stretching() {
     let loaded = example("rope.toml");
     let (mut w, _) = loaded.build().unwrap();
     assert_eq!(w.joint_count(), 21);
-    let mut worst: f64 = 0.0;
+    let mut errors = Vec::new();
     for _ in 0..loaded.scene.steps {
         assert!(w.step().quarantined.is_empty());
-        worst = worst.max(w.max_joint_error().0);
+        errors.push(w.max_joint_error().0);
     }
-    assert!(worst < 0.01, "largest joint error {worst} m");
+    errors.sort_by(f64::total_cmp);
+    // Held to a micrometre most of the time; the whip as the rope snaps
+    // taut opens a joint by millimetres for a few steps.
+    let (median, p90, worst) = (
+        errors[errors.len() / 2],
+        errors[errors.len() * 9 / 10],
+        errors[errors.len() - 1],
+    );
+    assert!(median < 1e-5, "median joint error {median} m");
+    assert!(p90 < 1e-3, "90th percentile {p90} m");
+    assert!(worst < 0.02, "largest joint error {worst} m");
 }
 
 #[test]

@@ -74,7 +74,8 @@ pub enum Motor {
     Velocity {
         /// Target rate (rad/s for a hinge, m/s for a slider).
         target: f64,
-        /// Largest torque (N m) or force (N) the motor gives, >= 0.
+        /// Largest torque (N m) or force (N) the motor gives, >= 0
+        /// (infinity: unbounded).
         max_force: f64,
     },
     /// A PD servo towards `target` (rad or m): force = stiffness (target -
@@ -401,10 +402,10 @@ impl<B: Copy + PartialEq> JointDesc<B> {
                 }
             }
             let f = m.max_force();
-            if !(f.is_finite() && f >= 0.0) {
+            if f.is_nan() || f < 0.0 {
                 return bad(
                     "joint.motor.max_force",
-                    format!("must be finite and >= 0, got {f}"),
+                    format!("must be >= 0 (N m or N; infinity for no bound), got {f}"),
                 );
             }
         }

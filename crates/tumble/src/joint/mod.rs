@@ -1,11 +1,13 @@
 //! Joints: descriptions ([`JointDesc`]: fixed, ball, hinge, slider,
 //! distance, with limits, motors and springs), the joint frames and the
 //! coordinates measured through them ([`JointPose`]), and the state the
-//! world reports ([`JointState`]). The rows the solver relaxes live with
-//! the contact rows in `solver::contact_solver::joint`.
+//! world reports ([`JointState`]), and robots from URDF files ([`urdf`]).
+//! The rows the solver relaxes live with the contact rows in
+//! `solver::contact_solver::joint`.
 
 mod desc;
 mod frame;
+pub mod urdf;
 
 pub use crate::world::JointId;
 pub use desc::{JointDesc, JointKind, Motor, Spring};

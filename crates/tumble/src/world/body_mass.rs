@@ -51,6 +51,15 @@ fn shape_properties(shape: &Shape, spec: MassSpec, index: usize) -> Result<MassP
 /// principal frame.
 pub(crate) fn body_mass(shapes: &[ShapeDesc], mass: MassDesc) -> Result<PrincipalFrame, WorldError> {
     let per_shape_spec = match mass {
+        MassDesc::Inertial(p) => {
+            // Checked as the geometry's own would be: finite, mass > 0,
+            // inertia symmetric and physical (triangle inequality).
+            let p = MassProperties::new(p.mass, p.com, p.inertia).map_err(|e| WorldError::BadValue {
+                field: "mass.inertial",
+                message: e.to_string(),
+            })?;
+            return Ok(p.principal());
+        }
         MassDesc::Density(d) => {
             if !(d.is_finite() && d > 0.0) {
                 return Err(WorldError::BadValue {

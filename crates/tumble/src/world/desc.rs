@@ -41,6 +41,10 @@ pub enum MassDesc {
     Density(f64),
     /// Total mass (kg), spread over the shapes in proportion to their volume.
     Mass(f64),
+    /// Given outright (as URDF `<inertial>` gives it): mass (kg), centre of
+    /// mass (m) and inertia about it (kg m^2), in the model frame; the
+    /// shapes then only collide.
+    Inertial(tumble_collide::mass::MassProperties),
 }
 
 impl Default for MassDesc {

@@ -118,6 +118,28 @@ impl World {
         Ok(())
     }
 
+    /// Replaces a hinge's or slider's motor (`None` switches it off), e.g.
+    /// to move a PD servo's target each step. Validated as in
+    /// [`World::add_joint`]; the joint's bodies wake.
+    pub fn set_joint_motor(
+        &mut self,
+        id: JointId,
+        motor: Option<crate::joint::Motor>,
+    ) -> Result<(), WorldError> {
+        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
+        let mut desc = entry.desc.clone();
+        desc.motor = motor;
+        desc.validate()?;
+        let entry = self.joints.get_mut(id).ok_or(WorldError::StaleJoint(id))?;
+        entry.desc.motor = motor;
+        entry.law.motor = motor;
+        let bodies = [Some(entry.desc.body_a), entry.desc.body_b];
+        for body in bodies.into_iter().flatten() {
+            self.wake(body)?;
+        }
+        Ok(())
+    }
+
     /// Number of joints.
     pub fn joint_count(&self) -> usize {
         self.joints.len()

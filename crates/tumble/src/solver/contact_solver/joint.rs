@@ -37,11 +37,11 @@ use tumble_collide::{DQuat, DVec3, Pose};
 /// and swing cone. A row keeps its slot for the joint's life, so its
 /// impulse is warm-started across sub-steps and steps by slot.
 pub const JOINT_ROWS: usize = 11;
-const LOWER: usize = 6;
-const UPPER: usize = 7;
-const MOTOR: usize = 8;
+pub(super) const LOWER: usize = 6;
+pub(super) const UPPER: usize = 7;
+pub(super) const MOTOR: usize = 8;
 const SPRING: usize = 9;
-const SWING: usize = 10;
+pub(super) const SWING: usize = 10;
 
 /// Fraction of a joint's position error removed per push-out pass. The
 /// push velocities are discarded after each sub-step, so a large fraction
@@ -68,17 +68,18 @@ pub struct JointRow {
     mass: f64,
     /// Position error at the start of the sub-step (m or rad).
     pub(super) c: f64,
-    gamma: f64,
+    /// Softness (soft rows: motors, springs).
+    pub(super) gamma: f64,
     /// Velocity target offset: `J v + bias` is driven to 0 (equality rows).
     pub(super) bias: f64,
-    lo: f64,
-    hi: f64,
+    pub(super) lo: f64,
+    pub(super) hi: f64,
     /// Scalar rows: `K_ee^-1 K_e,row`, the equality impulses that keep the
     /// equality rows' velocities unchanged when this row acts.
     coupling: [f64; 6],
     /// Accumulated impulse of the sub-step (N s or N m s).
     pub impulse: f64,
-    push: f64,
+    pub(super) push: f64,
 }
 
 impl JointRow {
@@ -169,12 +170,16 @@ pub struct JointConstraint {
     /// The equality rows are solved with the joint's island
     /// (`joint_island`), not joint by joint.
     pub direct: bool,
+    /// Scalar row slots (motor, limits) solved with the island too.
+    pub(super) island_rows: u16,
     /// Cholesky factor of the equality block (lower triangle).
     chol: [[f64; 6]; 6],
     /// Centre of mass and orientation of each side at the sub-step's start.
     start: [(DVec3, DQuat); 2],
     /// The sub-step's length (s).
     h: f64,
+    /// A's lever arm to its anchor as the rows were built (for the reaction).
+    lever_a: DVec3,
 }
 
 impl JointConstraint {
@@ -206,6 +211,8 @@ impl JointConstraint {
             start: [(DVec3::ZERO, DQuat::IDENTITY); 2],
             h: 0.0,
             direct: false,
+            island_rows: 0,
+            lever_a: DVec3::ZERO,
         }
     }
 
@@ -237,7 +244,8 @@ impl JointConstraint {
 
     /// The force (N) and torque about A's anchor (N m) the joint applied to
     /// A in the last sub-step of length `h` (world frame).
-    pub fn reaction(&self, ra: DVec3, h: f64) -> (DVec3, DVec3) {
+    pub fn reaction(&self, h: f64) -> (DVec3, DVec3) {
+        let ra = self.lever_a;
         let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
         for (i, r) in self.rows.iter().enumerate() {
             if self.active & (1 << i) != 0 {
@@ -250,6 +258,7 @@ impl JointConstraint {
 
     /// Builds the rows for the bodies' current poses.
     fn build(&mut self, pose: &JointPose) {
+        self.lever_a = pose.ra;
         let set = rows_for(&self.law, pose);
         self.n_eq = set.n_eq;
         self.active = 0;
@@ -415,7 +424,7 @@ impl JointConstraint {
         }
     }
 
-    /// Adds `dl` to equality row `e`'s impulse (or push-out impulse).
+    /// Adds `dl` to row `e`'s impulse (or push-out impulse).
     #[inline]
     pub(super) fn accumulate(&mut self, e: usize, dl: f64, push: bool) {
         if push {
@@ -768,7 +777,8 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
         }
     }
     for i in [SPRING, MOTOR, LOWER, UPPER, SWING] {
-        if j.active & (1 << i) == 0 {
+        // Rows solved with the joint's island are not solved again here.
+        if j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
             continue;
         }
         let r = &mut j.rows[i];
@@ -808,7 +818,7 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
         }
     }
     for i in [LOWER, UPPER, SWING] {
-        if j.active & (1 << i) == 0 {
+        if j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
             continue;
         }
         let r = &mut j.rows[i];

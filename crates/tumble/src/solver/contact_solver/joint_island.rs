@@ -9,6 +9,12 @@
 //! maximal-coordinate answer of Baraff's "Linear-time dynamics using
 //! Lagrange multipliers", 1996).
 //!
+//! A joint's motor joins its equality rows in the system (a soft row:
+//! `K + gamma` on its diagonal): the motors of a robot arm hold against each
+//! other through the chain, which a pass per joint only approaches (an arm
+//! under stiff PD motors oscillated about its targets with 2 iterations).
+//! A motor that would exceed its force is clamped after the solve.
+//!
 //! `K` is sparse: rows of two joints couple only when the joints share a
 //! dynamic body. With the joints ordered breadth-first through the island,
 //! a row couples only with rows a few joints back, so `K` has a narrow
@@ -18,7 +24,7 @@
 
 use super::body::SolverBody;
 use super::coloring::Shared;
-use super::joint::{JointConstraint, Pair};
+use super::joint::{JointConstraint, Pair, LOWER, MOTOR, SWING, UPPER};
 
 /// Largest factor (stored profile entries) an island may have; beyond it
 /// the island is relaxed joint by joint. 200,000 entries is about a
@@ -62,9 +68,7 @@ impl JointIsland {
         let n = self.rows();
         let mut owner = Vec::with_capacity(n);
         for k in 0..self.joints.len() {
-            for e in 0..joint(k).n_eq {
-                owner.push((k, e));
-            }
+            owner.extend(island_slots(joint(k)).map(|slot| (k, slot)));
         }
         for i in 0..n {
             let (ki, ei) = owner[i];
@@ -89,7 +93,7 @@ impl JointIsland {
                     }
                 }
                 if i == j {
-                    k += 1e-12 * k.abs() + 1e-300;
+                    k += ri.gamma + 1e-12 * k.abs() + 1e-300;
                 }
                 let at = self.at(i, j);
                 self.factor[at] = k;
@@ -162,11 +166,14 @@ impl JointIsland {
             if push.is_none() {
                 j.aim_equality_rows(&p);
             }
-            for e in 0..j.n_eq {
-                let r = &j.rows[e];
+            for (e, slot) in island_slots(j).enumerate() {
+                let r = &j.rows[slot];
                 let jv = r.lin.dot(p.va - p.vb) + r.ang_a.dot(p.wa) + r.ang_b.dot(p.wb);
                 rhs[self.offsets[k] + e] = match push {
-                    None => -jv - r.bias,
+                    None => -jv - r.bias - r.gamma * r.impulse,
+                    // A motor does not push: its row only keeps the push-out
+                    // off the joint's free axis.
+                    Some(_) if slot == MOTOR => -jv - r.gamma * r.push,
                     Some((fraction, inv_h)) => {
                         any |= r.c.abs() > 1e-9;
                         -fraction * r.c * inv_h - jv
@@ -175,20 +182,140 @@ impl JointIsland {
             }
         }
         self.solve_in_place(&mut rhs);
+        self.hold_at_bounds(joints, &mut rhs, push.is_some());
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
         for (k, &ji) in self.joints.iter().enumerate() {
             // SAFETY: the caller's promise.
             let j = unsafe { joints.get_mut(ji as usize) };
             let mut p = unsafe { Pair::load(j, bodies, push.is_some()) };
-            for e in 0..j.n_eq {
-                let dl = rhs[self.offsets[k] + e];
-                j.accumulate(e, dl, push.is_some());
-                p.apply(&j.rows[e], dl);
+            for (e, slot) in island_slots(j).enumerate() {
+                // Within the bounds (re-solved above; a last clamp for what
+                // the re-solve could not hold).
+                let (acc, lo, hi) = bounds(j, slot, push.is_some());
+                let dl = (acc + rhs[self.offsets[k] + e]).clamp(lo, hi) - acc;
+                j.accumulate(slot, dl, push.is_some());
+                p.apply(&j.rows[slot], dl);
             }
             unsafe { p.store(j, bodies, push.is_some()) };
         }
         any
+    }
+}
+
+impl JointIsland {
+    /// Rows (motors) whose solved impulse `x` would pass a bound are
+    /// held at the bound and the rest of the system re-solved around them: with
+    /// `u_c = K^-1 e_c` for each such row `c`, `x + sum_c u_c mu_c` with the
+    /// `mu` that puts each held row on its bound (a small dense system). A
+    /// plain clamp would leave the other rows' impulses computed for the
+    /// unclamped motor: an arm whose wrist motors saturated blew up.
+    fn hold_at_bounds(&self, joints: &Shared<JointConstraint>, x: &mut [f64], push: bool) {
+        const MAX_HELD: usize = 16;
+        const ROUNDS: usize = 4;
+        let x0 = x.to_vec();
+        let mut held: Vec<(usize, f64)> = Vec::new();
+        let mut columns: Vec<Vec<f64>> = Vec::new();
+        // Rounds of an active set: hold what passes a bound, re-solve, and
+        // again for what the re-solve pushed past its bound.
+        for _ in 0..ROUNDS {
+            let before = held.len();
+            for (k, &ji) in self.joints.iter().enumerate() {
+                // SAFETY: the island's joints are this thread's (caller of relax).
+                let j = unsafe { joints.get(ji as usize) };
+                for (e, slot) in island_slots(j).enumerate() {
+                    let i = self.offsets[k] + e;
+                    let (acc, lo, hi) = bounds(j, slot, push);
+                    let total = acc + x[i];
+                    if (total > hi || total < lo) && !held.iter().any(|&(h, _)| h == i) {
+                        held.push((i, total.clamp(lo, hi) - acc));
+                        let mut u = vec![0.0; self.rows()];
+                        u[i] = 1.0;
+                        self.solve_in_place(&mut u);
+                        columns.push(u);
+                    }
+                }
+            }
+            if held.len() == before || held.len() > MAX_HELD {
+                return;
+            }
+            let Some(mu) = solve_dense(&held, &columns, &x0) else {
+                return;
+            };
+            x.copy_from_slice(&x0);
+            for (u, &mu) in columns.iter().zip(&mu) {
+                for (xi, ui) in x.iter_mut().zip(u) {
+                    *xi += ui * mu;
+                }
+            }
+        }
+    }
+}
+
+/// The `mu` with `x0[c] + sum_b u_b[c] mu_b = target_c` at every held row
+/// `c` (Gaussian elimination with partial pivoting on the held block of
+/// `K^-1`, which is positive definite).
+#[allow(clippy::needless_range_loop)] // elimination reads best indexed
+fn solve_dense(held: &[(usize, f64)], columns: &[Vec<f64>], x0: &[f64]) -> Option<Vec<f64>> {
+    let m = held.len();
+    let mut g: Vec<Vec<f64>> = (0..m)
+        .map(|a| {
+            let mut row: Vec<f64> = (0..m).map(|b| columns[b][held[a].0]).collect();
+            row.push(held[a].1 - x0[held[a].0]);
+            row
+        })
+        .collect();
+    for col in 0..m {
+        let pivot = (col..m).max_by(|&a, &b| g[a][col].abs().total_cmp(&g[b][col].abs()))?;
+        g.swap(col, pivot);
+        if g[col][col].abs() < 1e-300 {
+            return None;
+        }
+        for r in col + 1..m {
+            let f = g[r][col] / g[col][col];
+            for c in col..=m {
+                g[r][c] -= f * g[col][c];
+            }
+        }
+    }
+    let mut mu = vec![0.0; m];
+    for a in (0..m).rev() {
+        let s: f64 = (a + 1..m).map(|b| g[a][b] * mu[b]).sum();
+        mu[a] = (g[a][m] - s) / g[a][a];
+    }
+    mu.iter().all(|v| v.is_finite()).then_some(mu)
+}
+
+/// Row `slot`'s accumulated impulse (or push-out impulse) and its bounds.
+fn bounds(j: &JointConstraint, slot: usize, push: bool) -> (f64, f64, f64) {
+    let r = &j.rows[slot];
+    match (push, slot) {
+        (false, _) => (r.impulse, r.lo, r.hi),
+        (true, LOWER | UPPER | SWING) => (r.push, 0.0, f64::INFINITY),
+        (true, _) => (r.push, f64::NEG_INFINITY, f64::INFINITY),
+    }
+}
+
+/// The row slots of joint `j` in its island's system: its equality rows,
+/// then its motor.
+fn island_slots(j: &JointConstraint) -> impl Iterator<Item = usize> + use<> {
+    let (n_eq, mask) = (j.n_eq, j.island_rows);
+    (0..n_eq).chain(
+        [MOTOR, LOWER, UPPER, SWING]
+            .into_iter()
+            .filter(move |&s| mask & (1 << s) != 0),
+    )
+}
+
+/// The scalar rows of `j` its island solves: the motor. (Limits stay with
+/// the joint-by-joint pass: solved with the island through the same
+/// held-at-bound step, a quadruped crouching off its knee limits collapsed;
+/// that needs a proper active-set loop, not yet written.)
+fn island_mask(j: &JointConstraint) -> u16 {
+    if j.law.motor.is_some() {
+        1 << MOTOR
+    } else {
+        0
     }
 }
 
@@ -230,7 +357,9 @@ pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> V
             }
             head += 1;
         }
-        let rows_of = |k: u32| joints[k as usize].law.equality_rows();
+        let masks: Vec<u16> = order.iter().map(|&k| island_mask(&joints[k as usize])).collect();
+        let mask_of = |k: u32| masks[order.iter().position(|&o| o == k).expect("in the island")];
+        let rows_of = |k: u32| joints[k as usize].law.equality_rows() + mask_of(k).count_ones() as usize;
         if order.len() < 2 || order.iter().all(|&k| rows_of(k) == 0) {
             continue;
         }
@@ -269,8 +398,9 @@ pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> V
         if size > MAX_PROFILE {
             continue;
         }
-        for &k in &order {
+        for (&k, &mask) in order.iter().zip(&masks) {
             joints[k as usize].direct = true;
+            joints[k as usize].island_rows = mask;
         }
         islands.push(JointIsland {
             joints: order,

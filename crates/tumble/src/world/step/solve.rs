@@ -405,8 +405,7 @@ impl World {
                 continue;
             };
             entry.impulses = j.impulses();
-            let ra = j.pose(&sf.bodies).ra;
-            (entry.force, entry.torque) = j.reaction(ra, h);
+            (entry.force, entry.torque) = j.reaction(h);
         }
     }
 

@@ -8,16 +8,27 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use tumble::collide::{DVec3, HalfSpace};
 use tumble::export::{write_glb, write_trajectory_csv, write_trajectory_npz, WorldRecorder};
-use tumble::scene::{load_scene, LoadedScene};
+use tumble::joint::urdf::{load_urdf, UrdfOptions};
+use tumble::scene::load_scene;
+use tumble::scenes::Scene;
+use tumble::world::{BodyDesc, World, WorldSettings};
 
 /// Arguments of `tumble run`.
 #[derive(Args)]
 #[command(after_long_help = RUN_EXAMPLES)]
 pub struct RunArgs {
-    /// Scene file (.toml or .json; see docs/scenes.md).
+    /// Scene file (.toml or .json; see docs/scenes.md), or a URDF robot
+    /// (.urdf), run standing on a ground plane at z = 0.
     #[arg(value_name = "SCENE")]
     scene: PathBuf,
+    /// URDF: weld the robot's root link to the world.
+    #[arg(long)]
+    fixed_base: bool,
+    /// URDF: where the root link's frame goes, "x,y,z" in metres (default 0,0,0).
+    #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
+    base_position: Option<String>,
     /// Number of steps (default: the scene's `steps` or `duration`, else 10 s).
     #[arg(long, value_name = "N", conflicts_with = "duration")]
     steps: Option<u64>,
@@ -54,6 +65,7 @@ Examples:
   tumble run examples/scenes/tori_pass.toml --out out/tori_pass.glb
   tumble run examples/scenes/chain.toml --steps 120 --trajectory out/chain.npz
   tumble run examples/scenes/cradle.toml --dt 0.001 --out cradle.glb --trajectory cradle.csv
+  tumble run examples/robots/quadruped.urdf --base-position 0,0,0.4 --out dog.glb
 
 The summary at the end gives steps, wall time, steps per second, the deepest
 penetration seen and the change of total energy (kinetic + potential) from the
@@ -105,8 +117,7 @@ fn check_outputs(args: &RunArgs) -> Result<Option<TrajectoryKind>, CliError> {
 }
 
 /// Applies --dt, --steps and --duration to the loaded scene.
-fn apply_overrides(args: &RunArgs, loaded: &mut LoadedScene) -> Result<(), CliError> {
-    let scene = &mut loaded.scene;
+fn apply_overrides(args: &RunArgs, scene: &mut Scene) -> Result<(), CliError> {
     let file_dt = scene.settings.dt;
     if let Some(dt) = args.dt {
         if !(dt.is_finite() && dt > 0.0 && dt <= 1.0) {
@@ -141,13 +152,69 @@ fn apply_overrides(args: &RunArgs, loaded: &mut LoadedScene) -> Result<(), CliEr
     Ok(())
 }
 
+/// A URDF robot on a ground plane (default settings, 10 s), with the
+/// overrides of the command line.
+fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
+    let position = match &args.base_position {
+        None => DVec3::ZERO,
+        Some(text) => {
+            let v: Vec<f64> = text
+                .split(',')
+                .map(|t| t.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| CliError::Input(format!("--base-position: expected x,y,z, got {text:?}")))?;
+            match v.as_slice() {
+                [x, y, z] if v.iter().all(|c| c.is_finite()) => DVec3::new(*x, *y, *z),
+                _ => {
+                    return Err(CliError::Input(format!(
+                        "--base-position: expected x,y,z, got {text:?}"
+                    )))
+                }
+            }
+        }
+    };
+    let settings = WorldSettings::default();
+    let mut scene = Scene {
+        name: args
+            .scene
+            .file_stem()
+            .map_or("robot".into(), |s| s.to_string_lossy().into_owned()),
+        steps: (tumble::scene::DEFAULT_DURATION / settings.dt).round() as usize,
+        settings,
+        bodies: Vec::new(),
+        joints: Vec::new(),
+    };
+    apply_overrides(args, &mut scene)?;
+    let mut world = World::new(scene.settings.clone()).map_err(|e| CliError::Input(e.to_string()))?;
+    let ground = HalfSpace::new(DVec3::Z, 0.0).map_err(|e| CliError::Internal(e.to_string()))?;
+    world
+        .add_body(&BodyDesc::fixed(ground).named("ground"))
+        .map_err(|e| CliError::Internal(e.to_string()))?;
+    let options = UrdfOptions {
+        position,
+        fixed_base: args.fixed_base,
+        ..UrdfOptions::default()
+    };
+    let robot = load_urdf(&mut world, &args.scene, options).map_err(|e| CliError::Input(e.to_string()))?;
+    if !args.quiet {
+        for w in &robot.warnings {
+            println!("warning: {w}");
+        }
+    }
+    Ok((world, robot.name, scene.steps))
+}
+
 /// Runs the verb.
 pub fn run(args: &RunArgs) -> Result<(), CliError> {
     let trajectory_kind = check_outputs(args)?;
-    let mut loaded = load_scene(&args.scene).map_err(|e| CliError::Input(e.to_string()))?;
-    apply_overrides(args, &mut loaded)?;
-    let (mut world, _ids) = loaded.build().map_err(|e| CliError::Input(e.to_string()))?;
-    let steps = loaded.scene.steps;
+    let (mut world, name, steps) = if extension(&args.scene) == "urdf" {
+        urdf_world(args)?
+    } else {
+        let mut loaded = load_scene(&args.scene).map_err(|e| CliError::Input(e.to_string()))?;
+        apply_overrides(args, &mut loaded.scene)?;
+        let (world, _ids) = loaded.build().map_err(|e| CliError::Input(e.to_string()))?;
+        (world, loaded.scene.name.clone(), loaded.scene.steps)
+    };
     let recording = args.out.is_some() || args.trajectory.is_some();
     let mut recorder = if recording {
         Some(WorldRecorder::new(&world).map_err(|e| CliError::Internal(e.to_string()))?)
@@ -163,7 +230,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
             ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} steps, {elapsed} (eta {eta})")
                 .expect("static template"),
         );
-        bar.set_message(loaded.scene.name.clone());
+        bar.set_message(name.clone());
         bar
     };
     let energy = |w: &tumble::world::World| w.kinetic_energy() + w.potential_energy();
@@ -219,7 +286,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
         let dt = world.settings().dt;
         println!(
             "{}: {steps} steps of {dt:.6} s ({:.3} s simulated), {} bodies",
-            loaded.scene.name,
+            name,
             steps as f64 * dt,
             world.body_count()
         );

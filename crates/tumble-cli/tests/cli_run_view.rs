@@ -429,3 +429,31 @@ fn run_reports_the_largest_joint_error_of_a_jointed_scene() {
     let mm: f64 = line.split_whitespace().nth(3).unwrap().parse().unwrap();
     assert!(mm < 10.0, "{line}");
 }
+
+#[test]
+fn run_simulates_a_urdf_robot_and_locates_a_bad_one() {
+    let out = tumble()
+        .args(["run", "--steps", "60", "--base-position", "0,0,0.4"])
+        .arg(repo().join("examples/robots/quadruped.urdf"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(summary.contains("quadruped: 60 steps"), "{summary}");
+    assert!(summary.contains("(12 joints)"), "{summary}");
+
+    let dir = temp_dir("urdf");
+    let bad = dir.join("bad.urdf");
+    std::fs::write(
+        &bad,
+        "<robot name=\"r\">\n  <link name=\"a\"/>\n  <joint name=\"j\" type=\"planar\"/>\n</robot>\n",
+    )
+    .unwrap();
+    let out = tumble().arg("run").arg(&bad).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad.urdf:3:3: <joint name=\"j\">: joint type `planar` is not supported"),
+        "{err}"
+    );
+}

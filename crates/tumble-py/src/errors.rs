@@ -184,6 +184,15 @@ impl ToPyErr for WorldError {
     }
 }
 
+impl ToPyErr for tumble::joint::urdf::UrdfError {
+    fn to_py(&self) -> PyErr {
+        match self {
+            tumble::joint::urdf::UrdfError::Read { .. } => error(Kind::File, self.to_string()),
+            tumble::joint::urdf::UrdfError::At { .. } => invalid(self.to_string()),
+        }
+    }
+}
+
 impl ToPyErr for ShapeError {
     fn to_py(&self) -> PyErr {
         invalid(self.to_string())

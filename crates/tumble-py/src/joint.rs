@@ -1,7 +1,7 @@
 //! `tumble.Joint` and `World.add_joint`: Python arguments translated into a
 //! Rust `JointDesc` (no physics here), and a handle that reads a joint's
 //! state. A handle of a removed joint (or of a joint whose body was
-//! removed) raises `StaleBodyError`.
+//! removed) raises `StaleBodyError`. `tumble.load_urdf` and its `Robot`.
 
 use crate::body::Body;
 use crate::convert::{self, vec3, vec_out};
@@ -89,6 +89,29 @@ fn spring_from(obj: &Bound<'_, PyAny>) -> PyResult<Spring> {
         ))
     })?;
     Ok(Spring { stiffness, damping })
+}
+
+/// A motor as the dict `motor_from` reads.
+fn motor_dict<'py>(py: Python<'py>, m: &Motor) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    match *m {
+        Motor::Velocity { target, max_force } => {
+            d.set_item("target_velocity", target)?;
+            d.set_item("max_force", max_force)?;
+        }
+        Motor::Position {
+            target,
+            stiffness,
+            damping,
+            max_force,
+        } => {
+            d.set_item("target_position", target)?;
+            d.set_item("stiffness", stiffness)?;
+            d.set_item("damping", damping)?;
+            d.set_item("max_force", max_force)?;
+        }
+    }
+    Ok(d)
 }
 
 /// The joint kind named `s`.
@@ -306,6 +329,29 @@ impl Joint {
         Ok(vec_out(py, self.state(py)?.axis))
     }
 
+    /// The motor as a dict (see `World.add_joint`), or None. Settable: a
+    /// new dict (e.g. a servo's next target) or None to switch it off.
+    #[getter]
+    fn motor<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let motor = self
+            .world
+            .bind(py)
+            .borrow()
+            .inner
+            .joint(self.id)
+            .or_raise()?
+            .motor;
+        motor.map(|m| motor_dict(py, &m)).transpose()
+    }
+
+    #[setter]
+    fn set_motor(&self, py: Python<'_>, value: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let motor = value.filter(|v| !v.is_none()).map(motor_from).transpose()?;
+        let mut w = self.world.bind(py).borrow_mut();
+        w.check_usable()?;
+        w.inner.set_joint_motor(self.id, motor).or_raise()
+    }
+
     /// Removes the joint; the handle becomes stale.
     fn remove(&self, py: Python<'_>) -> PyResult<()> {
         let mut w = self.world.bind(py).borrow_mut();
@@ -328,4 +374,125 @@ impl Joint {
             Err(_) => format!("Joint(<removed {}>)", self.id.index),
         }
     }
+}
+
+/// A robot loaded from a URDF file by `tumble.load_urdf`.
+#[pyclass(module = "tumble", name = "Robot", frozen)]
+pub struct Robot {
+    /// The world the robot is in.
+    #[pyo3(get)]
+    world: Py<World>,
+    /// The robot's name.
+    #[pyo3(get)]
+    name: String,
+    /// The root link's name.
+    #[pyo3(get)]
+    root: String,
+    /// Link name -> Body (links merged by fixed joints share one body).
+    #[pyo3(get)]
+    links: Py<PyDict>,
+    /// Joint name -> Joint, for every non-fixed joint.
+    #[pyo3(get)]
+    joints: Py<PyDict>,
+    /// Joint name -> largest motor torque or force of the URDF `<limit effort>`.
+    #[pyo3(get)]
+    efforts: Py<PyDict>,
+    /// What was read but not used.
+    #[pyo3(get)]
+    warnings: Vec<String>,
+}
+
+#[pymethods]
+impl Robot {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "Robot({:?}, {} links, {} joints)",
+            self.name,
+            self.links.bind(py).len(),
+            self.joints.bind(py).len()
+        )
+    }
+}
+
+/// Loads a URDF robot (links with inertial, collision geometry: box,
+/// cylinder, sphere, mesh STL/OBJ relative to the file; revolute,
+/// continuous, prismatic and fixed joints with limits) into `world` (a new
+/// World with default settings when None). Joint angles are 0 at the file's
+/// zero configuration; links joined by fixed joints become one body.
+///
+/// Args:
+///     path: the .urdf file.
+///     world: the World to add the robot to.
+///     position: where the root link's frame goes (m).
+///     orientation: its orientation (x, y, z, w).
+///     fixed_base: weld the root link to the world.
+///
+/// Returns:
+///     Robot with ``world``, ``links`` and ``joints`` (dicts by name),
+///     ``efforts``, ``root``, ``warnings``.
+///
+/// Raises:
+///     InvalidArgument: a bad file, with file:line:column and element; the
+///         world is unchanged.
+///     FileError: the file cannot be read.
+#[pyfunction]
+#[pyo3(signature = (path, *, world=None, position=None, orientation=None, fixed_base=false))]
+pub fn load_urdf(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    world: Option<Bound<'_, World>>,
+    position: Option<&Bound<'_, PyAny>>,
+    orientation: Option<&Bound<'_, PyAny>>,
+    fixed_base: bool,
+) -> PyResult<Robot> {
+    let options = tumble::joint::urdf::UrdfOptions {
+        position: convert::vec3_or(position, "position", DVec3::ZERO)?,
+        orientation: convert::quat_or_identity(orientation, "orientation")?,
+        fixed_base,
+    };
+    let world = match world {
+        Some(w) => w,
+        None => Bound::new(
+            py,
+            World::from_parts(RWorld::new(Default::default()).or_raise()?, Vec::new()),
+        )?,
+    };
+    let robot = guard(|| {
+        let mut w = world.borrow_mut();
+        w.check_usable()?;
+        let robot = tumble::joint::urdf::load_urdf(&mut w.inner, &path, options).or_raise()?;
+        w.push_bodies(&robot.bodies);
+        Ok(robot)
+    })?;
+    let links = PyDict::new(py);
+    for (name, &id) in &robot.links {
+        links.set_item(
+            name,
+            Body {
+                world: world.clone().unbind(),
+                id,
+            },
+        )?;
+    }
+    let joints = PyDict::new(py);
+    let efforts = PyDict::new(py);
+    for (name, j) in &robot.joints {
+        joints.set_item(
+            name,
+            Joint {
+                world: world.clone().unbind(),
+                id: j.id,
+            },
+        )?;
+        efforts.set_item(name, j.effort)?;
+    }
+    Ok(Robot {
+        world: world.unbind(),
+        name: robot.name,
+        root: robot.root,
+        links: links.unbind(),
+        joints: joints.unbind(),
+        efforts: efforts.unbind(),
+        warnings: robot.warnings,
+    })
 }

@@ -56,6 +56,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world::World>()?;
     m.add_class::<body::Body>()?;
     m.add_class::<joint::Joint>()?;
+    m.add_class::<joint::Robot>()?;
     m.add_class::<report::PyStepReport>()?;
     m.add_class::<shapes::PyBox>()?;
     m.add_class::<shapes::PySphere>()?;
@@ -69,6 +70,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(query::distance, m)?)?;
     m.add_function(wrap_pyfunction!(query::within_tolerance, m)?)?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(joint::load_urdf, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add("CONTACT_DTYPE_SPEC", report::CONTACT_FIELDS)?;
     m.add("QUERY_CONTACT_DTYPE_SPEC", query_out::QUERY_CONTACT_FIELDS)?;

@@ -120,6 +120,13 @@ impl World {
         }
     }
 
+    /// Bodies added to the Rust world behind this wrapper's back (a URDF
+    /// robot), appended to the rows in the order given.
+    pub(crate) fn push_bodies(&mut self, ids: &[BodyId]) {
+        self.order.extend_from_slice(ids);
+        self.reindex();
+    }
+
     pub(crate) fn remove(&mut self, id: BodyId) -> PyResult<()> {
         self.check_usable()?;
         self.inner.remove_body(id).or_raise()?;

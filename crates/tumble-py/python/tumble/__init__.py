@@ -13,7 +13,8 @@ quaternions are (x, y, z, w), angular velocity is in the world frame.
 
 Collision queries without a world: :func:`collide`, :func:`distance` and
 :func:`within_tolerance` on meshes (and primitives against meshes).
-Scene files (docs/scenes.md): :func:`load_scene`.
+Scene files (docs/scenes.md): :func:`load_scene`. Joints: :meth:`World.add_joint`;
+robots from URDF files: :func:`load_urdf`.
 
 Errors: everything tumble raises is a :class:`TumbleError`; bad arguments are
 :class:`InvalidArgument` (also a ``ValueError``), handles of removed bodies
@@ -42,6 +43,7 @@ from ._tumble import (
     InvalidArgument,
     Joint,
     Placed,
+    Robot,
     SceneError,
     Sphere,
     StaleBodyError,
@@ -53,6 +55,7 @@ from ._tumble import (
     collide,
     distance,
     load_scene,
+    load_urdf,
     mass_properties,
     within_tolerance,
 )
@@ -88,6 +91,7 @@ __all__ = [
     "InvalidArgument",
     "MassProperties",
     "Placed",
+    "Robot",
     "QueryStats",
     "SceneError",
     "Sphere",
@@ -100,6 +104,7 @@ __all__ = [
     "collide",
     "distance",
     "load_scene",
+    "load_urdf",
     "mass_properties",
     "within_tolerance",
 ]

@@ -418,19 +418,20 @@ impl<'a, 'input> Reader<'a, 'input> {
             .filter(|c| c.is_element() && c.tag_name().name() == "joint")
         {
             let name = self.attr(node, "name")?.to_string();
-            let kind =
-                match self.attr(node, "type")? {
-                    "revolute" => "revolute",
-                    "continuous" => "continuous",
-                    "prismatic" => "prismatic",
-                    "fixed" => "fixed",
-                    other => return Err(self.err(
+            let kind = match self.attr(node, "type")? {
+                "revolute" => "revolute",
+                "continuous" => "continuous",
+                "prismatic" => "prismatic",
+                "fixed" => "fixed",
+                other => {
+                    return Err(self.err(
                         node,
                         format!(
                             "joint type `{other}` is not supported (revolute, continuous, prismatic, fixed)"
                         ),
-                    )),
-                };
+                    ))
+                }
+            };
             let (parent, child) = (find(node, "parent")?, find(node, "child")?);
             if parent == child {
                 return Err(self.err(node, "parent and child are the same link"));

@@ -766,3 +766,40 @@ fn the_door_example_is_pushed_open_and_closes_again() {
         "the closer shut it again: {last} rad (widest {widest})"
     );
 }
+
+#[test]
+fn the_gltf_shows_each_joint_on_its_body() {
+    // The door: its hinge marker is a child of the door's node, at the hinge
+    // anchor in the door's frame, with its axis bar along the hinge axis;
+    // extras list the joint for the viewer.
+    let loaded = example("door.toml");
+    let (mut w, ids) = loaded.build().unwrap();
+    let mut recorder = tumble::export::WorldRecorder::new(&w).unwrap();
+    for _ in 0..30 {
+        w.step();
+        recorder.record(&w);
+    }
+    let bytes = tumble::export::glb_bytes(&recorder.finish()).unwrap();
+    let g = gltf::Gltf::from_slice(&bytes).unwrap();
+    let door_index = ids.iter().position(|&id| w.name(id).unwrap() == "door").unwrap();
+    let door = g.nodes().nth(1 + door_index).unwrap();
+    let children: Vec<_> = door.children().collect();
+    let names: Vec<&str> = children.iter().filter_map(|n| n.name()).collect();
+    assert_eq!(names, vec!["joint:hinge", "joint:hinge:axis"]);
+    // The door's model frame is at its centre (0.5, 0, 1.01); the hinge at
+    // (0, 0, 1.01): half a metre along -x in the door's frame.
+    let (t, _, _) = children[0].transform().decomposed();
+    assert!((DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64) - DVec3::new(-0.5, 0.0, 0.0)).length() < 1e-6);
+    // The bar (along x in its own frame) is turned onto the hinge axis z.
+    let (_, r, _) = children[1].transform().decomposed();
+    let q = tumble::collide::DQuat::from_xyzw(r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64);
+    assert!((q * DVec3::X - DVec3::Z).length() < 1e-6);
+    // The JSON chunk of the GLB: after the 12-byte header, its length, its
+    // type, then the text.
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+    let joints = doc["extras"]["tumble"]["joints"].as_array().unwrap();
+    assert_eq!(joints.len(), 1);
+    assert_eq!(joints[0]["kind"], "hinge");
+    assert_eq!(joints[0]["body_b"], serde_json::Value::Null);
+}

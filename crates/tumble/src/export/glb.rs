@@ -8,6 +8,10 @@
 //! - node `1 + b` for body `b`: child of the root, with mesh `b` (flat normals,
 //!   see `mesh_data`) and material `b` (PBR, base colour = body colour,
 //!   metallic 0, roughness 0.8). Its translation/rotation are the frame-0 pose.
+//! - after the bodies, two nodes per joint, children of body A's node (so
+//!   they move with it): `joint:NAME` (a small octahedron at the anchor) and
+//!   `joint:NAME:axis` (a thin bar along the axis, 0.15 m each way), with
+//!   the shared material `joint` (orange).
 //! - one animation, `recording`, with a LINEAR translation and rotation channel
 //!   per animated body (dynamic, or static but moving), sampled at every frame
 //!   time (s). Bodies that never move get no channels.
@@ -26,6 +30,9 @@
 //!                   world point (m), unit normal B->A, signed distance (m)
 //! obb_boxes:        [{body, depth, center:[3], rotation:[x,y,z,w],
 //!                     half_extents:[3]}]   body frame, m (may be empty)
+//! joints:           [{name, kind, body_a, body_b, anchor:[3], axis:[3],
+//!                     node}]   anchor and axis in body A's frame (m);
+//!                     body_b null for the world; node: the marker node
 //! ```
 //! World-frame data (contacts) is meant to be drawn under the root node;
 //! body-frame data (OBB boxes) under the body's node.
@@ -34,7 +41,7 @@ use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::Path;
 
 use serde_json::{json, Value};
-use tumble_collide::Pose;
+use tumble_collide::{DVec3, Pose};
 
 use super::atomic::write_atomic;
 use super::mesh_data::flat_mesh;
@@ -106,6 +113,8 @@ pub fn glb_bytes(rec: &Recording) -> Result<Vec<u8>, ExportError> {
         }));
     }
 
+    add_joint_markers(rec, &mut buf, &mut nodes, &mut meshes, &mut materials);
+
     let animated: Vec<usize> = (0..rec.bodies.len()).filter(|&b| rec.is_animated(b)).collect();
     let mut animations = Vec::new();
     if !animated.is_empty() {
@@ -163,6 +172,120 @@ pub fn glb_bytes(rec: &Recording) -> Result<Vec<u8>, ExportError> {
     assemble_glb(json_text, buf.bin)
 }
 
+/// Joint markers: an octahedron at each anchor and a bar along each axis,
+/// as children of body A's node (layout in the module docs).
+fn add_joint_markers(
+    rec: &Recording,
+    buf: &mut BinBuilder,
+    nodes: &mut Vec<Value>,
+    meshes: &mut Vec<Value>,
+    materials: &mut Vec<Value>,
+) {
+    if rec.joints.is_empty() {
+        return;
+    }
+    let material = materials.len();
+    materials.push(json!({
+        "name": "joint",
+        "pbrMetallicRoughness": { "baseColorFactor": [1.0, 0.45, 0.05, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5 },
+    }));
+    let mut mesh_of = |mesh: &tumble_collide::mesh::TriMesh, name: &str| {
+        let flat = flat_mesh(mesh);
+        let count = flat.positions.len();
+        let pos = buf.accessor(
+            flatten(&flat.positions),
+            count,
+            "VEC3",
+            Some(ARRAY_BUFFER),
+            Some((flat.min.to_vec(), flat.max.to_vec())),
+        );
+        let nrm = buf.accessor(flatten(&flat.normals), count, "VEC3", Some(ARRAY_BUFFER), None);
+        meshes.push(json!({
+            "name": name,
+            "primitives": [{ "attributes": { "POSITION": pos, "NORMAL": nrm }, "material": material, "mode": 4 }],
+        }));
+        meshes.len() - 1
+    };
+    let r = 0.02;
+    let octahedron = tumble_collide::mesh::TriMesh::new(
+        vec![
+            DVec3::X * r,
+            -DVec3::X * r,
+            DVec3::Y * r,
+            -DVec3::Y * r,
+            DVec3::Z * r,
+            -DVec3::Z * r,
+        ],
+        vec![
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ],
+    )
+    .expect("a closed octahedron");
+    let (half, thick) = (0.15, 0.004);
+    let corners: Vec<DVec3> = (0..8)
+        .map(|k| {
+            DVec3::new(
+                if k & 1 == 0 { -half } else { half },
+                if k & 2 == 0 { -thick } else { thick },
+                if k & 4 == 0 { -thick } else { thick },
+            )
+        })
+        .collect();
+    let bar = tumble_collide::mesh::TriMesh::new(
+        corners,
+        vec![
+            [0, 2, 3],
+            [0, 3, 1],
+            [4, 5, 7],
+            [4, 7, 6],
+            [0, 1, 5],
+            [0, 5, 4],
+            [2, 6, 7],
+            [2, 7, 3],
+            [0, 4, 6],
+            [0, 6, 2],
+            [1, 3, 7],
+            [1, 7, 5],
+        ],
+    )
+    .expect("a closed bar");
+    let marker = mesh_of(&octahedron, "joint_anchor");
+    let axis_bar = mesh_of(&bar, "joint_axis");
+    for (k, j) in rec.joints.iter().enumerate() {
+        let name = if j.name.is_empty() {
+            format!("joint{k}")
+        } else {
+            j.name.clone()
+        };
+        // The bar lies along x: turned onto the axis.
+        let turn = tumble_collide::DQuat::from_rotation_arc(DVec3::X, j.axis.normalize_or(DVec3::X));
+        for (node_name, mesh, rotation) in [
+            (format!("joint:{name}"), marker, tumble_collide::DQuat::IDENTITY),
+            (format!("joint:{name}:axis"), axis_bar, turn),
+        ] {
+            let index = nodes.len();
+            nodes.push(json!({
+                "name": node_name,
+                "mesh": mesh,
+                "translation": j.anchor.to_array(),
+                "rotation": rotation.to_array(),
+            }));
+            let parent = &mut nodes[1 + j.body_a];
+            match parent.get_mut("children").and_then(Value::as_array_mut) {
+                Some(children) => children.push(json!(index)),
+                None => parent["children"] = json!([index]),
+            }
+        }
+    }
+}
+
 /// The `extras.tumble` object (schema in the module docs).
 fn extras_json(rec: &Recording, animated: &[usize]) -> Value {
     let bodies: Vec<Value> = rec
@@ -199,6 +322,26 @@ fn extras_json(rec: &Recording, animated: &[usize]) -> Value {
         "bodies": bodies,
         "obb_boxes": boxes,
     });
+    if !rec.joints.is_empty() {
+        let first_marker = 1 + rec.bodies.len();
+        let joints: Vec<Value> = rec
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(k, j)| {
+                json!({
+                    "name": j.name,
+                    "kind": j.kind,
+                    "body_a": j.body_a,
+                    "body_b": j.body_b,
+                    "anchor": j.anchor.to_array(),
+                    "axis": j.axis.to_array(),
+                    "node": first_marker + 2 * k,
+                })
+            })
+            .collect();
+        extras["joints"] = json!(joints);
+    }
     if !rec.extras.is_empty() {
         let e = &rec.extras;
         extras["kinetic_energy"] = json!(e.iter().map(|x| x.kinetic_energy).collect::<Vec<_>>());

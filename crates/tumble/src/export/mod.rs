@@ -48,8 +48,10 @@ pub mod world_recorder;
 pub use csv::write_trajectory_csv;
 pub use glb::{glb_bytes, write_glb};
 pub use npz::{trajectory_npz, write_trajectory_npz};
-pub use recording::{ContactMark, ExportError, FrameExtras, ObbBox, RecordedBody, Recording};
-pub use world_recorder::{frame_extras, recorded_body, shape_mesh, WorldRecorder, MAX_CONTACTS_DRAWN};
+pub use recording::{ContactMark, ExportError, FrameExtras, ObbBox, RecordedBody, RecordedJoint, Recording};
+pub use world_recorder::{
+    frame_extras, recorded_body, recorded_joints, shape_mesh, WorldRecorder, MAX_CONTACTS_DRAWN,
+};
 
 #[cfg(test)]
 mod tests;

@@ -83,6 +83,14 @@ pub enum ExportError {
         /// What is wrong.
         reason: String,
     },
+    /// A joint refers to a missing body or has a non-finite anchor or axis.
+    #[error("joint {index}: {reason}")]
+    BadJoint {
+        /// Index into [`Recording::joints`].
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// The export is larger than a GLB file can address (4 GiB).
     #[error("export too large for GLB: {0} bytes")]
     TooLarge(usize),
@@ -161,6 +169,24 @@ pub struct ObbBox {
     pub half_extents: DVec3,
 }
 
+/// A joint to draw: its anchor and axis fixed in body A's recorded frame, so
+/// that they move with A.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedJoint {
+    /// The joint's name (may be empty).
+    pub name: String,
+    /// "fixed", "ball", "hinge", "slider" or "distance".
+    pub kind: String,
+    /// Index of body A in [`Recording::bodies`].
+    pub body_a: usize,
+    /// Index of body B, or `None` for the world (or a body not recorded).
+    pub body_b: Option<usize>,
+    /// The anchor in body A's recorded frame (m).
+    pub anchor: DVec3,
+    /// The joint axis in body A's recorded frame (unit).
+    pub axis: DVec3,
+}
+
 /// A recorded simulation: `frames[f][b]` is the pose of body `b` at time
 /// `frame_times[f]` (frame-major).
 #[derive(Debug, Clone, Default)]
@@ -175,12 +201,30 @@ pub struct Recording {
     pub extras: Vec<FrameExtras>,
     /// OBBTree boxes to draw (body frame); may be empty.
     pub obb_boxes: Vec<ObbBox>,
+    /// Joints to draw; may be empty.
+    pub joints: Vec<RecordedJoint>,
 }
 
 impl Recording {
     /// Checks every invariant the exporters rely on.
     pub fn validate(&self) -> Result<(), ExportError> {
         let n_frames = self.frame_times.len();
+        for (index, j) in self.joints.iter().enumerate() {
+            let bad = j.body_a >= self.bodies.len() || j.body_b.is_some_and(|b| b >= self.bodies.len());
+            if bad || !j.anchor.is_finite() || !j.axis.is_finite() {
+                return Err(ExportError::BadJoint {
+                    index,
+                    reason: format!(
+                        "bodies {} and {:?} of {}, anchor {:?}, axis {:?}",
+                        j.body_a,
+                        j.body_b,
+                        self.bodies.len(),
+                        j.anchor,
+                        j.axis
+                    ),
+                });
+            }
+        }
         if self.bodies.is_empty() || n_frames == 0 {
             return Err(ExportError::Empty {
                 bodies: self.bodies.len(),

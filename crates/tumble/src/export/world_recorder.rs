@@ -132,6 +132,30 @@ pub struct WorldRecorder {
     max_contacts_drawn: usize,
 }
 
+/// The joints of `world` between recorded bodies `ids`, their anchor and
+/// axis carried into body A's recorded frame at its present pose.
+pub fn recorded_joints(world: &World, ids: &[BodyId]) -> Vec<super::recording::RecordedJoint> {
+    let index = |id: BodyId| ids.iter().position(|&b| b == id);
+    world
+        .joint_ids()
+        .into_iter()
+        .filter_map(|j| {
+            let desc = world.joint(j).ok()?;
+            let state = world.joint_state(j).ok()?;
+            let a = index(desc.body_a)?;
+            let frame = world.pose(desc.body_a).ok()?;
+            Some(super::recording::RecordedJoint {
+                name: desc.name.clone(),
+                kind: desc.kind.name().to_string(),
+                body_a: a,
+                body_b: desc.body_b.and_then(index),
+                anchor: frame.inverse_transform_point(state.anchor_a),
+                axis: frame.rotation.conjugate() * state.axis,
+            })
+        })
+        .collect()
+}
+
 impl WorldRecorder {
     /// Takes the bodies of `world` (in slot order) and records its current
     /// state as the first frame. Bodies are recorded in their body frame
@@ -143,10 +167,12 @@ impl WorldRecorder {
             .enumerate()
             .map(|(k, &id)| recorded_body(world, id, k))
             .collect::<Result<Vec<_>, _>>()?;
+        let joints = recorded_joints(world, &ids);
         let mut recorder = WorldRecorder {
             ids,
             recording: Recording {
                 bodies,
+                joints,
                 ..Recording::default()
             },
             max_contacts_drawn: MAX_CONTACTS_DRAWN,

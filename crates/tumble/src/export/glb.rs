@@ -78,20 +78,7 @@ pub fn glb_bytes(rec: &Recording) -> Result<Vec<u8>, ExportError> {
         "children": (1..=rec.bodies.len()).collect::<Vec<_>>(),
     })];
     for (b, body) in rec.bodies.iter().enumerate() {
-        let flat = flat_mesh(&body.mesh);
-        let count = flat.positions.len();
-        let pos = buf.accessor(
-            flatten(&flat.positions),
-            count,
-            "VEC3",
-            Some(ARRAY_BUFFER),
-            Some((flat.min.to_vec(), flat.max.to_vec())),
-        );
-        let nrm = buf.accessor(flatten(&flat.normals), count, "VEC3", Some(ARRAY_BUFFER), None);
-        meshes.push(json!({
-            "name": body.name,
-            "primitives": [{ "attributes": { "POSITION": pos, "NORMAL": nrm }, "material": b, "mode": 4 }],
-        }));
+        meshes.push(mesh_json(&mut buf, &body.mesh, &body.name, b));
         let mut material = json!({
             "name": body.name,
             "pbrMetallicRoughness": {
@@ -190,20 +177,7 @@ fn add_joint_markers(
         "pbrMetallicRoughness": { "baseColorFactor": [1.0, 0.45, 0.05, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5 },
     }));
     let mut mesh_of = |mesh: &tumble_collide::mesh::TriMesh, name: &str| {
-        let flat = flat_mesh(mesh);
-        let count = flat.positions.len();
-        let pos = buf.accessor(
-            flatten(&flat.positions),
-            count,
-            "VEC3",
-            Some(ARRAY_BUFFER),
-            Some((flat.min.to_vec(), flat.max.to_vec())),
-        );
-        let nrm = buf.accessor(flatten(&flat.normals), count, "VEC3", Some(ARRAY_BUFFER), None);
-        meshes.push(json!({
-            "name": name,
-            "primitives": [{ "attributes": { "POSITION": pos, "NORMAL": nrm }, "material": material, "mode": 4 }],
-        }));
+        meshes.push(mesh_json(buf, mesh, name, material));
         meshes.len() - 1
     };
     let r = 0.02;
@@ -284,6 +258,29 @@ fn add_joint_markers(
             }
         }
     }
+}
+
+/// A glTF mesh of `mesh` (flat normals) with `material`, its data in `buf`.
+fn mesh_json(
+    buf: &mut BinBuilder,
+    mesh: &tumble_collide::mesh::TriMesh,
+    name: &str,
+    material: usize,
+) -> Value {
+    let flat = flat_mesh(mesh);
+    let count = flat.positions.len();
+    let pos = buf.accessor(
+        flatten(&flat.positions),
+        count,
+        "VEC3",
+        Some(ARRAY_BUFFER),
+        Some((flat.min.to_vec(), flat.max.to_vec())),
+    );
+    let nrm = buf.accessor(flatten(&flat.normals), count, "VEC3", Some(ARRAY_BUFFER), None);
+    json!({
+        "name": name,
+        "primitives": [{ "attributes": { "POSITION": pos, "NORMAL": nrm }, "material": material, "mode": 4 }],
+    })
 }
 
 /// The `extras.tumble` object (schema in the module docs).

@@ -150,7 +150,8 @@ pub struct Spring {
 ///
 /// The bodies are named by `B`: a [`BodyId`] for a world, an index into
 /// the body list for a [`Scene`](crate::scenes::Scene).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct JointDesc<B = BodyId> {
     /// What the joint allows.
     pub kind: JointKind,

@@ -29,7 +29,7 @@ use super::joints::JointEntry;
 use super::manifold::{self, CachedContact, CachedPatch};
 use super::{check_settings, BodyEntry, Collider, World, WorldSettings};
 use crate::body::{BodyKind, BodyState, Material, RigidBody};
-use crate::joint::{JointDesc, JointKind, Motor, Spring};
+use crate::joint::JointDesc;
 use crate::solver::contact_solver::{JointLaw, JOINT_ROWS};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -130,19 +130,7 @@ struct JointSlotRecord {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct JointRecord {
-    kind: JointKind,
-    body_a: BodyId,
-    body_b: Option<BodyId>,
-    anchor: DVec3,
-    anchor_b: Option<DVec3>,
-    axis: DVec3,
-    limits: Option<[f64; 2]>,
-    swing_limit: Option<f64>,
-    motor: Option<Motor>,
-    spring: Option<Spring>,
-    length: Option<f64>,
-    collide_connected: bool,
-    name: String,
+    desc: JointDesc,
     local: [Pose; 2],
     rest_length: f64,
     impulses: Vec<f64>,
@@ -151,21 +139,8 @@ struct JointRecord {
 
 impl JointRecord {
     fn of(j: &JointEntry) -> JointRecord {
-        let d = &j.desc;
         JointRecord {
-            kind: d.kind,
-            body_a: d.body_a,
-            body_b: d.body_b,
-            anchor: d.anchor,
-            anchor_b: d.anchor_b,
-            axis: d.axis,
-            limits: d.limits,
-            swing_limit: d.swing_limit,
-            motor: d.motor,
-            spring: d.spring,
-            length: d.length,
-            collide_connected: d.collide_connected,
-            name: d.name.clone(),
+            desc: j.desc.clone(),
             local: j.local,
             rest_length: j.law.length,
             impulses: j.impulses.to_vec(),
@@ -174,23 +149,9 @@ impl JointRecord {
     }
 
     fn entry(&self, bodies: &Arena<BodyEntry>) -> Result<JointEntry, String> {
-        let desc = JointDesc {
-            kind: self.kind,
-            body_a: self.body_a,
-            body_b: self.body_b,
-            anchor: self.anchor,
-            anchor_b: self.anchor_b,
-            axis: self.axis,
-            limits: self.limits,
-            swing_limit: self.swing_limit,
-            motor: self.motor,
-            spring: self.spring,
-            length: self.length,
-            collide_connected: self.collide_connected,
-            name: self.name.clone(),
-        };
+        let desc = self.desc.clone();
         desc.validate().map_err(|e| e.to_string())?;
-        for id in [Some(self.body_a), self.body_b].into_iter().flatten() {
+        for id in [Some(desc.body_a), desc.body_b].into_iter().flatten() {
             if bodies.get(id).is_none() {
                 return Err(format!("body {id:?} is not live"));
             }

@@ -81,7 +81,8 @@ fn exact_period(theta0: f64, d: f64) -> f64 {
 #[test]
 fn hinge_and_ball_pendulums_keep_the_exact_period_and_their_energy() {
     for kind in [JointKind::Hinge, JointKind::Ball] {
-        for theta0 in [0.2, 1.0, 2.5] {
+        // 5 and 90 degrees (as the issue asks), and 57 and 143 degrees.
+        for theta0 in [5f64.to_radians(), 1.0, std::f64::consts::FRAC_PI_2, 2.5] {
             let (period, drift) = pendulum_period(kind, theta0, 0.5);
             let exact = exact_period(theta0, 0.5);
             assert!(
@@ -655,6 +656,39 @@ fn a_resting_jointed_pair_sleeps_together_and_wakes_together() {
 }
 
 #[test]
+fn a_hanging_chain_with_a_hundred_times_heavier_end_stretches_less_than_a_millimetre() {
+    // 20 links of 0.1 kg hanging straight down, a 10 kg weight below: at
+    // rest the weight hangs where the links' lengths put it.
+    let mut w = world(true);
+    let n = 20;
+    let mut prev = None;
+    for i in 0..n {
+        let z = -0.1 * (i as f64 + 0.5);
+        let mass = if i == n - 1 { 10.0 } else { 0.1 };
+        let c = w
+            .add_body(
+                &BodyDesc::dynamic(Sphere::new(0.03).unwrap())
+                    .at(DVec3::new(0.0, 0.0, z))
+                    .with_mass(mass),
+            )
+            .unwrap();
+        w.add_joint(&JointDesc::ball(c, prev, DVec3::new(0.0, 0.0, z + 0.05)))
+            .unwrap();
+        prev = Some(c);
+    }
+    let weight = prev.unwrap();
+    for _ in 0..240 {
+        w.step();
+    }
+    let stretch = -w.center_of_mass(weight).unwrap().z - 1.95;
+    assert!(stretch.abs() < 1e-3, "stretched by {stretch} m");
+    // And the top joint carries the whole weight: 11.9 kg.
+    let top = w.joint_ids()[0];
+    let f = w.joint_state(top).unwrap().force.z;
+    assert!((f - 11.9 * G).abs() < 1e-3 * 11.9 * G, "{f}");
+}
+
+#[test]
 fn a_light_chain_holds_a_hundred_times_heavier_weight() {
     // 20 links of 0.1 kg on ball joints, a 10 kg weight at the end,
     // released horizontal: the chain's joints are solved as one system and
@@ -690,6 +724,70 @@ fn a_light_chain_holds_a_hundred_times_heavier_weight() {
         assert!(w.center_of_mass(weight).unwrap().length() < 1.95 + 0.05 + 0.01);
     }
     assert!(worst < 0.01, "the chain stretched by {worst} m at a joint");
+}
+
+/// Largest energy change of a double pendulum over 10 s at time step `dt`,
+/// as a fraction of the energy exchanged.
+fn double_pendulum_energy_error(dt: f64) -> f64 {
+    let mut w = World::new(WorldSettings {
+        dt,
+        sleeping: false,
+        threads: 1,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let a = cube(&mut w, DVec3::new(0.3, 0.0, 0.0));
+    let b = cube(&mut w, DVec3::new(0.6, 0.0, 0.0));
+    w.add_joint(&JointDesc::hinge(a, None, DVec3::ZERO, DVec3::Y))
+        .unwrap();
+    w.add_joint(&JointDesc::hinge(b, Some(a), DVec3::new(0.3, 0.0, 0.0), DVec3::Y))
+        .unwrap();
+    let e0 = w.kinetic_energy() + w.potential_energy();
+    let scale = 2.0 * G * 0.9;
+    let mut worst: f64 = 0.0;
+    for _ in 0..(10.0 / dt).round() as usize {
+        w.step();
+        worst = worst.max((w.kinetic_energy() + w.potential_energy() - e0).abs() / scale);
+    }
+    worst
+}
+
+#[test]
+fn a_double_pendulums_energy_error_shrinks_with_the_time_step() {
+    let coarse = double_pendulum_energy_error(1.0 / 30.0);
+    let fine = double_pendulum_energy_error(1.0 / 120.0);
+    assert!(fine < coarse, "dt 1/120: {fine}, dt 1/30: {coarse}");
+    assert!(fine < 0.01, "{fine}");
+}
+
+#[test]
+fn a_position_motor_holds_an_arm_under_load_with_the_analytic_sag() {
+    // A PD servo of stiffness k holds a horizontal arm (1 kg at 0.5 m):
+    // at rest k (target - angle) = m g d cos(angle), the damping idle.
+    let k = 500.0;
+    let mut w = world(true);
+    let arm = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    let j = w
+        .add_joint(
+            &JointDesc::hinge(arm, None, DVec3::ZERO, -DVec3::Y).with_motor(Motor::Position {
+                target: 0.0,
+                stiffness: k,
+                damping: 20.0,
+                max_force: 100.0,
+            }),
+        )
+        .unwrap();
+    for _ in 0..600 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    let sag = -s.position;
+    let expected = G * 0.5 * s.position.cos() / k;
+    assert!(
+        (sag - expected).abs() < 0.01 * expected,
+        "sag {sag} rad, expected {expected}"
+    );
+    assert!(s.rate.abs() < 1e-6);
 }
 
 #[test]

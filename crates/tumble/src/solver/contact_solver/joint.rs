@@ -842,7 +842,7 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
     any
 }
 
-/// [`begin_joint`] over every joint, in order, then the islands factored
+/// `begin_joint` over every joint, in order, then the islands factored
 /// (serial).
 pub fn begin_joints(
     joints: &mut [JointConstraint],
@@ -862,7 +862,7 @@ pub fn begin_joints(
     }
 }
 
-/// The islands, then [`solve_joint`] over every joint, in order (serial).
+/// The islands, then `solve_joint` over every joint, in order (serial).
 pub fn solve_joints(
     joints: &mut [JointConstraint],
     islands: &[super::JointIsland],
@@ -880,7 +880,7 @@ pub fn solve_joints(
     }
 }
 
-/// The islands, then [`push_joint`] over every joint, in order (serial);
+/// The islands, then `push_joint` over every joint, in order (serial);
 /// whether any pushed.
 pub fn push_joints(
     joints: &mut [JointConstraint],

@@ -12,6 +12,8 @@ DYN_FIGURES = {
     "pile": ["bodies_outside", "mean_final_height_m", "contact_points", "deepest_penetration_m"],
     "chain": ["interlock_held", "broken_links", "max_adjacent_centre_distance_m", "deepest_penetration_m"],
     "cradle": ["last_sphere_vx", "momentum_error", "energy_error"],
+    "heavy_chain": ["largest_joint_error_m", "final_joint_error_m", "weight_distance_m"],
+    "ragdoll_pile": ["largest_joint_error_m", "final_joint_error_m", "deepest_penetration_m"],
 }
 TORI_QUERIES = [("first_contact", "first contact"), ("all_pairs", "all pairs"),
                 ("all_pairs_with_contacts", "all pairs + contacts")]

@@ -26,7 +26,9 @@ BENCH = os.path.join(ROOT, "bench")
 VENV_PY = os.path.join(BENCH, ".venv", "bin", "python")
 RELEASE = os.path.join(ROOT, "target", "release")
 
-DYNAMICS = ["pyramid", "large_pyramid", "pile", "chain", "cradle"]
+DYNAMICS = ["pyramid", "large_pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile"]
+# Scenes with joints: tumble and Rapier only (the Python peers have no joint scenes yet).
+JOINTED = ["heavy_chain", "ragdoll_pile"]
 PILE_N_FULL = [100, 1000, 10000]
 PILE_N_QUICK = [100]
 QUICK_STEPS = 5
@@ -168,7 +170,7 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                     print(f"[bench] {threaded('tumble', t)} {hint}", file=sys.stderr, flush=True)
                     results += run_tumble(scene, steps, n, threads=t)
             # The Python peers have no large pyramid yet (tumble and Rapier run it).
-            for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene != "large_pyramid"]:
+            for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene not in ["large_pyramid"] + JOINTED]:
                 print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
                 results += python_peer(eng, f"{eng}_peer.py", ["--scene", scene] + step_args(n), timeout, hint)
             if scene == "pyramid" and on("pybullet"):
@@ -183,11 +185,14 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                     results += python_peer(eng, f"{eng}_peer.py", ["--scene", "chain", "--decomposed"] + step_args(),
                                            timeout, "chain-decomposed")
             if on("rapier3d"):
+                # The heavy chain also on Rapier's multibody (reduced-coordinate) joints.
+                variants = [scene] + (["heavy_chain-multibody"] if scene == "heavy_chain" else [])
                 for t in threads:
                     label = threaded("rapier3d", t)
-                    print(f"[bench] {label} {hint}", file=sys.stderr, flush=True)
-                    results += relabel(rust_peer(label, "peer-rapier", ["--scene", scene, "--threads", str(t)]
-                                                 + step_args(n), timeout, hint), label)
+                    for variant in variants:
+                        print(f"[bench] {label} {variant}", file=sys.stderr, flush=True)
+                        results += relabel(rust_peer(label, "peer-rapier", ["--scene", variant, "--threads", str(t)]
+                                                     + step_args(n), timeout, variant if n is None else hint), label)
     if want("tori"):
         poses = QUICK_POSES if quick else 200
         if on("tumble"):
@@ -237,7 +242,8 @@ def main():
     mode.add_argument("--quick", action="store_true", help="a few steps per scene (CI)")
     mode.add_argument("--full", action="store_true", help="full-length scenes")
     ap.add_argument("--setup", action="store_true", help="install peers (bench/setup.sh, cargo build) first")
-    ap.add_argument("--only", nargs="*", help="subset of: pyramid large_pyramid pile chain cradle tori")
+    ap.add_argument("--only", nargs="*",
+                    help="subset of: pyramid large_pyramid pile chain cradle heavy_chain ragdoll_pile tori")
     ap.add_argument("--out", default=None, help="output directory")
     ap.add_argument("--max-steps", type=int, default=None,
                     help="--full: run each dynamics scene for this many steps instead of its full length "
@@ -301,7 +307,8 @@ def main():
 def tumble_answers_wrong(results):
     """What tumble got wrong in this run: a scene that did not run, tori pair counts that differ from
     the truth file (shared/data/tori_pairs.json) by more than the two near-miss pairs, a pyramid whose top
-    box moved 1 cm or more, a large pyramid collapsing, a pile with a body outside its container. Peers are never judged here."""
+    box moved 1 cm or more, a large pyramid collapsing, a pile with a body outside its container, a joint of the
+    heavy chain opening by 1 cm or of the ragdoll pile by 5 cm. Peers are never judged here."""
     wrong = []
     for r in results:
         if not str(r.get("engine", "")).startswith("tumble"):
@@ -328,6 +335,14 @@ def tumble_answers_wrong(results):
         elif scene.startswith("pile"):
             if f.get("bodies_outside", 1) != 0:
                 wrong.append(f"{scene}: {f.get('bodies_outside')} bodies outside the container")
+        elif scene == "heavy_chain":
+            # The 1:100 chain holds: no joint opens by a centimetre.
+            if not f.get("largest_joint_error_m", 1.0) < 0.01:
+                wrong.append(f"heavy_chain: a joint opened by {f.get('largest_joint_error_m')} m (must stay < 0.01)")
+        elif scene == "ragdoll_pile":
+            if not f.get("largest_joint_error_m", 1.0) < 0.05 or f.get("bodies_below_ground", 1) != 0:
+                wrong.append(f"ragdoll_pile: joint error {f.get('largest_joint_error_m')} m, "
+                             f"{f.get('bodies_below_ground')} bodies below the ground")
     return wrong
 
 

@@ -120,3 +120,131 @@ pub fn cradle() -> (PhysicsWorld, Vec<RigidBodyHandle>) {
         .collect();
     (w, ids)
 }
+
+/// A jointed scene of `tumble::scenes` (heavy chain, ragdoll pile) built in
+/// Rapier from the same descriptions: spheres, boxes and capsules with the
+/// same masses and poses; ball joints as spherical joints, hinges as
+/// revolute joints with the same limits (body 1 = the joint's body B, so
+/// the angle is A's relative to B as in tumble); joints to the world hang
+/// from one fixed body at the origin; contacts between jointed bodies off
+/// (tumble's default). `multibody`: the joints as Rapier's
+/// reduced-coordinate multibody joints instead of impulse joints.
+pub struct JointedWorld {
+    /// The world.
+    pub world: PhysicsWorld,
+    /// Handle of each body of the scene, in order.
+    pub bodies: Vec<RigidBodyHandle>,
+    /// Per joint: (body 1, local anchor 1, body 2, local anchor 2).
+    pub anchors: Vec<(RigidBodyHandle, Vector, RigidBodyHandle, Vector)>,
+}
+
+/// Builds `scene` in Rapier (see [`JointedWorld`]).
+pub fn jointed(scene: &tumble::scenes::Scene, multibody: bool) -> Result<JointedWorld, String> {
+    use tumble::collide::shape::Shape;
+    use tumble::world::MassDesc;
+    let mut w = world();
+    let anchor_body = w
+        .insert(
+            RigidBodyBuilder::fixed(),
+            ColliderBuilder::ball(0.01).sensor(true),
+        )
+        .0;
+    let mut bodies = Vec::new();
+    let mut frames = Vec::new();
+    for b in &scene.bodies {
+        let [shape] = b.shapes.as_slice() else {
+            return Err(format!("{}: one shape per body expected", b.name));
+        };
+        let collider = match &shape.shape {
+            Shape::Sphere(s) => ColliderBuilder::ball(s.radius() as f32),
+            Shape::Cuboid(c) => {
+                let h = c.half_extents();
+                ColliderBuilder::cuboid(h.x as f32, h.y as f32, h.z as f32)
+            }
+            Shape::Capsule(c) => ColliderBuilder::capsule_z(c.half_height() as f32, c.radius() as f32),
+            other => {
+                return Err(format!(
+                    "{}: shape {} has no Rapier twin here",
+                    b.name,
+                    other.kind_name()
+                ))
+            }
+        };
+        let collider = collider.friction(FRICTION).restitution(0.0);
+        let p = b.pose.position.to_array();
+        let r = b.pose.rotation.to_scaled_axis().to_array();
+        let builder = match b.kind {
+            tumble::BodyKind::Dynamic => RigidBodyBuilder::dynamic().can_sleep(false),
+            _ => RigidBodyBuilder::fixed(),
+        };
+        let builder = builder.translation(v(p)).rotation(v(r));
+        let collider = match b.mass {
+            MassDesc::Mass(m) => collider.mass(m as f32),
+            _ => collider.density(1000.0),
+        };
+        bodies.push(w.insert(builder, collider).0);
+        frames.push(b.pose);
+    }
+    let mut anchors = Vec::new();
+    for j in &scene.joints {
+        // Rapier's body 1 is tumble's body B (the world: the fixed body at
+        // the origin), body 2 is A.
+        let (h1, f1) = match j.body_b {
+            Some(b) => (bodies[b], frames[b]),
+            None => (anchor_body, tumble::collide::Pose::IDENTITY),
+        };
+        let (h2, f2) = (bodies[j.body_a], frames[j.body_a]);
+        let a1 = f1.inverse_transform_point(j.anchor);
+        let a2 = f2.inverse_transform_point(j.anchor);
+        let axis1 = f1.rotation.conjugate() * j.axis.normalize();
+        let axis2 = f2.rotation.conjugate() * j.axis.normalize();
+        let data: GenericJoint = match j.kind {
+            tumble::joint::JointKind::Ball => SphericalJointBuilder::new()
+                .local_anchor1(v(a1.to_array()))
+                .local_anchor2(v(a2.to_array()))
+                .into(),
+            tumble::joint::JointKind::Hinge => {
+                let mut b = RevoluteJointBuilder::new(v(axis1.to_array()))
+                    .local_anchor1(v(a1.to_array()))
+                    .local_anchor2(v(a2.to_array()));
+                if let Some([lo, hi]) = j.limits {
+                    b = b.limits([lo as f32, hi as f32]);
+                }
+                let mut g: GenericJoint = b.into();
+                g.set_local_axis2(v(axis2.to_array()));
+                g
+            }
+            other => return Err(format!("joint kind {other:?} has no Rapier twin here")),
+        };
+        // As in tumble: no contacts between the two bodies of a joint.
+        let mut data = data;
+        data.set_contacts_enabled(j.collide_connected);
+        if multibody {
+            w.multibody_joints
+                .insert(h1, h2, data, true)
+                .ok_or("Rapier refused a multibody joint (not a tree?)")?;
+        } else {
+            w.impulse_joints.insert(h1, h2, data, true);
+        }
+        anchors.push((h1, v(a1.to_array()), h2, v(a2.to_array())));
+    }
+    Ok(JointedWorld {
+        world: w,
+        bodies,
+        anchors,
+    })
+}
+
+impl JointedWorld {
+    /// The largest distance between the two anchors of a joint (m).
+    pub fn largest_joint_error(&self) -> f64 {
+        let at = |h: RigidBodyHandle, local: Vector| {
+            let b = &self.world.bodies[h];
+            b.rotation() * local + b.translation()
+        };
+        self.anchors
+            .iter()
+            .map(|&(h1, a1, h2, a2)| (at(h1, a1) - at(h2, a2)).length() as f64)
+            .fold(0.0, f64::max)
+    }
+}

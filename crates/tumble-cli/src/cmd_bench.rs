@@ -12,7 +12,8 @@ use tumble::world::{BodyId, World};
 /// Arguments of `tumble bench`.
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Scene: pyramid, large_pyramid, pile (with --n), chain, cradle or tori.
+    /// Scene: pyramid, large_pyramid, pile (with --n), chain, cradle,
+    /// heavy_chain, ragdoll_pile or tori.
     #[arg(long)]
     scene: String,
     /// Steps to run (default: the scene's own, 600 or 240).
@@ -82,6 +83,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "large_pyramid" => ("large_pyramid".into(), scenes::large_pyramid()),
         "chain" => ("chain".into(), scenes::chain()),
         "cradle" => ("cradle".into(), scenes::cradle()),
+        "heavy_chain" => ("heavy_chain".into(), scenes::heavy_chain()),
+        "ragdoll_pile" => ("ragdoll_pile".into(), scenes::ragdoll_pile()),
         s if s.starts_with("pile") => {
             let n = s.trim_start_matches("pile").parse::<usize>().unwrap_or(args.n);
             if n == 0 || n % 100 != 0 || n > 100_000 {
@@ -111,7 +114,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
         other => {
             return Err(CliError::Input(format!(
-                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, cradle, tori)"
+                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, cradle, heavy_chain, ragdoll_pile, tori)"
             )))
         }
     };
@@ -157,6 +160,36 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             );
             figures.insert("max_adjacent_centre_distance_m".into(), json!(widest));
             figures.insert("broken_links".into(), json!(broken));
+            t
+        }
+        "heavy_chain" | "ragdoll_pile" => {
+            // The largest joint gap (m) and misalignment (rad), every 10 steps.
+            let mut worst = (0.0f64, 0.0f64);
+            let t = run_timed(&mut world, steps, |i, w, p| {
+                deepest = deepest.max(p);
+                if i % 10 == 9 || i + 1 == steps {
+                    let (l, a) = w.max_joint_error();
+                    worst = (worst.0.max(l), worst.1.max(a));
+                }
+            });
+            figures.insert("largest_joint_error_m".into(), json!(worst.0));
+            figures.insert("largest_joint_angle_error_rad".into(), json!(worst.1));
+            figures.insert("final_joint_error_m".into(), json!(world.max_joint_error().0));
+            if name == "heavy_chain" {
+                // The weight's distance from the pivot: 2.1 m when nothing stretches.
+                let weight = centre(&world, ids[ids.len() - 1]);
+                figures.insert(
+                    "weight_distance_m".into(),
+                    json!((weight - tumble_collide::DVec3::new(0.0, 0.0, 2.0)).length()),
+                );
+            } else {
+                let fallen = ids
+                    .iter()
+                    .skip(1)
+                    .filter(|&&id| centre(&world, id).z < 0.0 || !centre(&world, id).is_finite())
+                    .count();
+                figures.insert("bodies_below_ground".into(), json!(fallen));
+            }
             t
         }
         "cradle" => {

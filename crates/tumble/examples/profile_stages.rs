@@ -16,6 +16,8 @@ fn main() {
         "pile10000" => scenes::pile(100),
         "large_pyramid" => scenes::large_pyramid(),
         "chain" => scenes::chain(),
+        "heavy_chain" => scenes::heavy_chain(),
+        "ragdoll_pile" => scenes::ragdoll_pile(),
         other if other.starts_with("pyramid") => {
             scenes::pyramid_of_base(other[7..].parse().expect("pyramidN"))
         }

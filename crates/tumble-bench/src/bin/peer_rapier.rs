@@ -9,7 +9,10 @@
 //! The chain uses the plain 768-triangle link mesh (`TriMesh`, default flags) with the
 //! solid torus mass properties: no convex decomposition.
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle [--steps K] [--n N] [--threads T]`
+//! The jointed scenes (heavy_chain, ragdoll_pile) are built from `tumble::scenes` (see
+//! `rapier_scenes::jointed`); `heavy_chain-multibody` runs the chain on Rapier's multibody joints.
+//!
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|heavy_chain|heavy_chain-multibody|ragdoll_pile [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -245,6 +248,56 @@ fn cradle(steps: usize) {
     .emit();
 }
 
+/// heavy_chain or ragdoll_pile of `tumble::scenes`, with impulse joints or
+/// (`multibody`) Rapier's multibody joints: ms/step and the largest joint
+/// error (anchor gap), sampled every 10 steps as tumble does.
+fn jointed(steps: usize, name: &str, multibody: bool) -> Result<(), String> {
+    let scene = match name {
+        "heavy_chain" => tumble::scenes::heavy_chain(),
+        _ => tumble::scenes::ragdoll_pile(),
+    };
+    let mut jw = rs::jointed(&scene, multibody)?;
+    let mut times = Vec::with_capacity(steps);
+    let mut worst = 0.0f64;
+    let mut deepest = 0.0f64;
+    for s in 0..steps {
+        let t0 = Instant::now();
+        jw.world.step();
+        times.push(t0.elapsed().as_secs_f64());
+        if s % 10 == 9 || s + 1 == steps {
+            worst = worst.max(jw.largest_joint_error());
+            deepest = deepest.max(contacts(&jw.world).1);
+        }
+    }
+    let mut figures = json!({
+        "step_time": Stats::ms(&times),
+        "largest_joint_error_m": worst,
+        "final_joint_error_m": jw.largest_joint_error(),
+        "deepest_penetration_m": deepest,
+    });
+    if name == "heavy_chain" {
+        let weight = position(&jw.world, jw.bodies[jw.bodies.len() - 1]);
+        figures["weight_distance_m"] = json!(dist(weight, [0.0, 0.0, 2.0]));
+    }
+    let mut set = settings(&jw.world, steps);
+    set["joints"] = json!(if multibody { "multibody" } else { "impulse" });
+    Record {
+        engine: "rapier3d",
+        version: env!("PEER_RAPIER3D_VERSION"),
+        scene: if multibody {
+            format!("{name}-multibody")
+        } else {
+            name.to_string()
+        },
+        status: "ok",
+        settings: set,
+        figures,
+        peak_rss_bytes: None,
+    }
+    .emit();
+    Ok(())
+}
+
 fn main() {
     let args = match Args::parse(std::env::args().skip(1)) {
         Ok(a) => a,
@@ -284,8 +337,11 @@ fn main() {
             cradle(steps);
             Ok(())
         }
+        Some(s @ ("heavy_chain" | "ragdoll_pile")) => jointed(steps, s, false),
+        Some("heavy_chain-multibody") => jointed(steps, "heavy_chain", true),
         other => Err(format!(
-            "--scene must be pyramid, large_pyramid, pile, chain or cradle, got {other:?}"
+            "--scene must be pyramid, large_pyramid, pile, chain, cradle, heavy_chain, \
+             heavy_chain-multibody or ragdoll_pile, got {other:?}"
         )),
     });
     if let Err(e) = result {

@@ -2,9 +2,11 @@
 //! tests, benchmarks, the CLI and the examples. Each function returns a
 //! [`Scene`]: world settings plus body descriptions in insertion order.
 
+mod joint_scenes;
 mod mesh_scenes;
 mod primitives_scenes;
 
+pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
 pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
 pub use primitives_scenes::{
     ball_drop, cradle, domino, incline, large_pyramid, pile, pyramid, pyramid_of_base, tower,

@@ -62,8 +62,10 @@ pub struct JointRow {
     pub ang_a: DVec3,
     /// Angular Jacobian of B.
     pub ang_b: DVec3,
-    ia: DVec3,
-    ib: DVec3,
+    /// A's inverse inertia times `ang_a`.
+    pub(super) ia: DVec3,
+    /// B's inverse inertia times `ang_b`.
+    pub(super) ib: DVec3,
     /// Effective mass of a scalar row, `1 / (K + gamma)`.
     mass: f64,
     /// Position error at the start of the sub-step (m or rad).
@@ -865,7 +867,7 @@ pub fn begin_joints(
 /// The islands, then `solve_joint` over every joint, in order (serial).
 pub fn solve_joints(
     joints: &mut [JointConstraint],
-    islands: &[super::JointIsland],
+    islands: &mut [super::JointIsland],
     bodies: &mut [SolverBody],
 ) {
     let bodies = Shared::new(bodies);
@@ -884,7 +886,7 @@ pub fn solve_joints(
 /// whether any pushed.
 pub fn push_joints(
     joints: &mut [JointConstraint],
-    islands: &[super::JointIsland],
+    islands: &mut [super::JointIsland],
     bodies: &mut [SolverBody],
     h: f64,
 ) -> bool {

@@ -495,7 +495,7 @@ fn exact_substeps(
             match contact_solver::solve_normals_exactly(&sf.manifolds, &mut sf.points, &mut sf.bodies, h) {
                 Ok(()) => {
                     for _ in 0..iterations {
-                        contact_solver::solve_joints(&mut sf.joints, &sf.joint_islands, &mut sf.bodies);
+                        contact_solver::solve_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies);
                         contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
                     }
                 }
@@ -509,7 +509,7 @@ fn exact_substeps(
         }
         if !exact {
             for _ in 0..iterations {
-                contact_solver::solve_joints(&mut sf.joints, &sf.joint_islands, &mut sf.bodies);
+                contact_solver::solve_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies);
                 contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
             }
         }
@@ -518,7 +518,8 @@ fn exact_substeps(
         }
         clock.lap(report, SolveStage::Iterate);
         for _ in 0..push_out_iterations {
-            let joints = contact_solver::push_joints(&mut sf.joints, &sf.joint_islands, &mut sf.bodies, h);
+            let joints =
+                contact_solver::push_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies, h);
             if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h) && !joints
             {
                 break;

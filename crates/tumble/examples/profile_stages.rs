@@ -1,6 +1,7 @@
 //! Prints the mean time per step and per stage of a standard scene:
 //! `cargo run --release -p tumble --example profile_stages -- pyramid 300 [threads [substeps iterations [push_out_iterations]]]`
-//! (scenes: pyramid, large_pyramid, pile100, pile1000, pile10000, chain); also
+//! (scenes: pyramid, large_pyramid, pile100, pile1000, pile10000, chain, heavy_chain,
+//! ragdoll_pile); also
 //! prints how far the last body moved and the deepest penetration seen.
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};

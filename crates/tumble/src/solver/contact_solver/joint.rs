@@ -229,21 +229,6 @@ impl JointConstraint {
         out
     }
 
-    /// The joint frames where the bodies are now.
-    pub fn pose(&self, bodies: &[SolverBody]) -> JointPose {
-        let side = |k: usize, i: u32| {
-            if i == 0 {
-                (self.x0[k], self.q0[k])
-            } else {
-                let b = &bodies[i as usize];
-                (self.x0[k] + b.dp, b.q)
-            }
-        };
-        let (xa, qa) = side(0, self.a);
-        let (xb, qb) = side(1, self.b);
-        JointPose::new(xa, qa, &self.local[0], xb, qb, &self.local[1])
-    }
-
     /// The force (N) and torque about A's anchor (N m) the joint applied to
     /// A in the last sub-step of length `h` (world frame).
     pub fn reaction(&self, h: f64) -> (DVec3, DVec3) {

@@ -4,7 +4,7 @@
 //! files are refused with file, line and element, the world unchanged.
 
 use tumble::collide::{DQuat, DVec3, HalfSpace};
-use tumble::joint::urdf::{add_urdf, load_urdf, UrdfError, UrdfOptions};
+use tumble::joint::urdf::{add_urdf, load_urdf, UrdfError, UrdfOptions, UrdfRobot};
 use tumble::joint::Motor;
 use tumble::world::{BodyDesc, World, WorldSettings};
 
@@ -18,6 +18,15 @@ fn world() -> World {
         ..WorldSettings::default()
     })
     .unwrap()
+}
+
+/// A robot of `examples/robots` standing on a ground plane at z = 0.
+fn on_ground(name: &str, options: UrdfOptions) -> (World, UrdfRobot) {
+    let mut w = world();
+    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
+        .unwrap();
+    let robot = load_urdf(&mut w, robot_path(name), options).unwrap();
+    (w, robot)
 }
 
 #[test]
@@ -68,18 +77,13 @@ fn tool_tip(q: [f64; 6]) -> DVec3 {
 
 #[test]
 fn the_arm_reaches_a_target_under_its_pd_motors() {
-    let mut w = world();
-    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
-        .unwrap();
-    let arm = load_urdf(
-        &mut w,
-        robot_path("arm6.urdf"),
+    let (mut w, arm) = on_ground(
+        "arm6.urdf",
         UrdfOptions {
             fixed_base: true,
             ..UrdfOptions::default()
         },
-    )
-    .unwrap();
+    );
     let names = [
         "shoulder_pan",
         "shoulder_lift",
@@ -130,18 +134,13 @@ fn the_arm_reaches_a_target_under_its_pd_motors() {
 
 #[test]
 fn the_quadruped_stands_on_its_pd_held_legs() {
-    let mut w = world();
-    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
-        .unwrap();
-    let dog = load_urdf(
-        &mut w,
-        robot_path("quadruped.urdf"),
+    let (mut w, dog) = on_ground(
+        "quadruped.urdf",
         UrdfOptions {
             position: DVec3::new(0.0, 0.0, 0.34),
             ..UrdfOptions::default()
         },
-    )
-    .unwrap();
+    );
     assert_eq!(dog.joints.len(), 12);
     // A crouch: thighs forward, knees back.
     for (name, j) in &dog.joints {

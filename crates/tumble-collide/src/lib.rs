@@ -16,7 +16,7 @@
 //! - [`shape`]: primitive shapes (sphere, cuboid, capsule, convex hull, half-space).
 //! - [`narrow`]: contact manifolds between shape pairs, one dispatch table.
 //! - [`query`]: the public collision, distance and tolerance queries on meshes
-//!   and primitives (see `docs/collision.md`).
+//!   and primitives, and the time of impact of moving shapes (see `docs/collision.md`).
 
 #![warn(missing_docs)]
 
@@ -42,7 +42,8 @@ pub use mesh::TriMesh;
 pub use narrow::{contact_shapes, NarrowError};
 pub use pose::{Pose, PoseError};
 pub use query::{
-    collide, collide_primitive, distance, distance_primitive, within_tolerance, within_tolerance_primitive,
-    CollideOptions, DistanceOptions, DistanceResult, Primitive, QueryError, QueryStats, Report, ReportMode,
+    collide, collide_primitive, distance, distance_primitive, time_of_impact, within_tolerance,
+    within_tolerance_primitive, CollideOptions, DistanceOptions, DistanceResult, Impact, Motion, Primitive,
+    QueryError, QueryStats, Report, ReportMode, ToiOptions, ToiStats,
 };
 pub use shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, ShapeError, Sphere};

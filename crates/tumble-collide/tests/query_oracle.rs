@@ -9,6 +9,8 @@
 //! the distance. Then the thesis' tori scene against its published ground
 //! truth, and bad input.
 
+mod common;
+use common::rng;
 use tumble_collide::bvh::TraversalStats;
 use tumble_collide::mesh::{torus_mesh, MeshError, TriMesh};
 use tumble_collide::query::*;
@@ -20,19 +22,6 @@ use tumble_collide::{
     Capsule, Contact, ContactKind, Cuboid, DMat3, DQuat, DVec3, Feature, HalfSpace, Pose, PoseError, Sphere,
     SubFeature,
 };
-
-/// SplitMix64 in [0, 1): reproducible cases.
-fn rng(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// A point of the grid {-2, -1.5, ..., 2}^3.
 fn grid_point(r: &mut impl FnMut() -> f64) -> DVec3 {

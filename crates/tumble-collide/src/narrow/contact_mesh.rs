@@ -294,13 +294,18 @@ pub fn contact_sphere_mesh(
     let _ = bvh::query_sphere(b.tree(), pose_b, c, r + margin, |tb| {
         let wb = world_triangle(b, pose_b, tb);
         let (q, sub) = closest_point_on_triangle(c, &wb);
-        // A closest point on an internal edge (or at a vertex where both of
-        // this triangle's edges are internal) belongs to the flat region:
-        // the neighbouring face reports it with the face normal.
-        let internal = is_internal(Feature { index: tb, sub }, b);
         let delta = c - q;
         let dist = delta.length();
-        if dist - r <= margin && !internal {
+        // A closest point on an internal edge (or a vertex inside a flat
+        // region) counts only where the centre is straight above it, along
+        // the face normal: then it is a face contact that lies on the
+        // boundary of every triangle sharing the feature (the centre of a
+        // sphere over the diagonal of a square face), and `merge` keeps one
+        // of the copies. Elsewhere it is a ghost: a neighbouring face holds
+        // the real closest point.
+        let feature = Feature { index: tb, sub };
+        let outward = if dist > 1e-12 { delta / dist } else { DVec3::ZERO };
+        if dist - r <= margin && (dist <= 1e-12 || valid_on(feature, b, pose_b, outward)) {
             let face_n = (wb[1] - wb[0]).cross(wb[2] - wb[0]);
             // Centre on the surface or inside: push out along the face normal.
             let normal = if dist > 1e-12 {

@@ -24,7 +24,7 @@ mod contact_sphere_cuboid;
 mod contact_sphere_sphere;
 mod dispatch;
 mod geometry;
-mod gjk;
+pub(crate) mod gjk;
 
 #[cfg(test)]
 mod oracle;

@@ -166,6 +166,32 @@ fn sphere_on_mesh_face_has_the_analytic_distance() {
 }
 
 #[test]
+fn sphere_over_the_diagonal_of_a_mesh_face_touches_it_once() {
+    // The centre straight above the edge shared by the two triangles of a
+    // square face: the closest point is on that (flat) edge for both, and
+    // the face must still be reported (it once was by neither, and a ball
+    // fired at the middle of a mesh slab went straight through).
+    let m = Shape::Mesh(mesh_box(0.5));
+    let s = Shape::Sphere(Sphere::new(0.2).unwrap());
+    for (x, y) in [(0.0, 0.0), (0.2, 0.2), (-0.3, -0.3), (0.3, -0.3)] {
+        let mut out = Vec::new();
+        let centre = DVec3::new(x, y, 0.5 + 0.2 + 0.05);
+        contact_shapes(
+            &s,
+            &Pose::from_translation(centre),
+            &m,
+            &Pose::IDENTITY,
+            0.1,
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(out.len(), 1, "above ({x}, {y}): {out:?}");
+        assert!((out[0].distance - 0.05).abs() < 1e-12);
+        assert!((out[0].normal - DVec3::Z).length() < 1e-12);
+    }
+}
+
+#[test]
 fn capsule_against_mesh_is_routed_to_its_routine() {
     // Capsule core 0.02 above the top face of a half-unit box mesh.
     let m = Shape::Mesh(mesh_box(0.5));

@@ -3,6 +3,7 @@
 //! error never leaves partial results behind.
 
 use crate::mesh::MeshError;
+use crate::narrow::NarrowError;
 use crate::pose::PoseError;
 use crate::shape::ShapeError;
 
@@ -35,6 +36,10 @@ pub enum QueryError {
     /// A shape could not be built (bad dimension, OBBTree failure).
     #[error("shape: {0}")]
     Shape(#[from] ShapeError),
+    /// A shape pair without a contact routine, or one whose contact
+    /// arithmetic overflowed (the queries over any shape pair).
+    #[error("{0}")]
+    Narrow(#[from] NarrowError),
     /// The result overflowed (coordinates so large that distances are not
     /// finite in f64).
     #[error("{0}: the result is not finite (coordinates beyond the range of f64 arithmetic)")]

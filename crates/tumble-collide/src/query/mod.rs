@@ -10,6 +10,8 @@
 //! - [`distance`]: minimum distance and closest points, exact or with PQP's
 //!   relative / absolute error ([`DistanceOptions`]);
 //! - [`within_tolerance`]: whether two meshes come within a distance;
+//! - [`time_of_impact`]: when two moving shapes of any pair first touch
+//!   (continuous collision; [`Motion`], [`ToiOptions`], [`Impact`]);
 //! - [`collide_primitive`], [`distance_primitive`],
 //!   [`within_tolerance_primitive`]: the same for a sphere, box, capsule or
 //!   half-space ([`Primitive`]) against a mesh.
@@ -22,19 +24,24 @@
 mod collide;
 mod distance;
 mod error;
+mod hull_distance;
 mod input;
+mod motion;
 mod options;
 mod primitive;
 mod primitive_query;
 mod report;
+mod time_of_impact;
 mod tolerance;
 
 pub use crate::shape::MeshShape;
 pub use collide::collide;
 pub use distance::distance;
 pub use error::QueryError;
+pub use motion::Motion;
 pub use options::{CollideOptions, DistanceOptions, ReportMode};
 pub use primitive::Primitive;
 pub use primitive_query::{collide_primitive, distance_primitive, within_tolerance_primitive};
 pub use report::{DistanceResult, QueryStats, Report};
+pub use time_of_impact::{time_of_impact, Impact, ToiOptions, ToiStats};
 pub use tolerance::within_tolerance;

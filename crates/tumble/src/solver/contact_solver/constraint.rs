@@ -12,9 +12,10 @@
 //! once, cost three rows instead of eight for a four-point face, and give the
 //! same Coulomb limit for sliding and sticking.
 //!
-//! Lever arms, normals and effective masses are fixed for the step (as in
-//! Box2D v3's soft step); only the separations follow the bodies' motion
-//! from sub-step to sub-step (see `passes::begin_substep`).
+//! Normals are fixed for the step (as in Box2D v3's soft step); the
+//! separations, the lever arms and with them the effective masses follow
+//! the bodies' motion from sub-step to sub-step (see
+//! `passes::begin_substep` and [`refresh_masses`]).
 
 use super::body::SolverBody;
 use tumble_collide::DVec3;
@@ -277,7 +278,6 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
     let (mut ca, mut cb) = (DVec3::ZERO, DVec3::ZERO);
     for p in pts.iter_mut() {
         p.row = RowJacobian::new(a, b, p.r_a, p.r_b, p.normal);
-        p.normal_mass = recip_or_zero(p.row.inverse_mass(p.normal, a.inv_mass, b.inv_mass));
         p.separation_now = p.separation;
         p.max_normal_impulse = 0.0;
         p.push_impulse = 0.0;
@@ -299,15 +299,44 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
         m.rows[i] = RowJacobian::new(a, b, m.r_a, m.r_b, m.directions[i]);
     }
     m.rows[2] = RowJacobian::twist(a, b, n);
-    for i in 0..3 {
-        m.masses[i] = recip_or_zero(m.rows[i].inverse_mass(m.directions[i], a.inv_mass, b.inv_mass));
+    refresh_masses(m, pts, true);
+}
+
+/// Effective masses of a patch's rows and its normal block (with its
+/// factor) for the rows' present Jacobians. `prepare` calls it once; a
+/// sub-step that re-aims the lever arms calls it again, because an impulse
+/// sized with the masses of other lever arms overshoots: where a row's
+/// inverse mass has grown (a fast body whose anchor has travelled far from
+/// the contact turns far more easily about it) the update `-m (v + bias)`
+/// reverses the velocity by more than it removed, which feeds energy in
+/// (a 10 cm box at 120 m/s gained a factor 10^6 in one step).
+///
+/// The row masses cost a division each and are always refreshed; the block
+/// and its factor (most of the cost) only when some point's inverse mass
+/// has moved by more than [`BLOCK_REFRESH`] of the one the block was built
+/// with, or when `force`. A block that far
+/// behind its rows over-relaxes the solve by at most that fraction, which
+/// converges (Gauss-Seidel converges up to twice the exact step).
+pub fn refresh_masses(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], force: bool) {
+    let [ima, imb] = m.inv_mass;
+    let blocked = pts.len() <= BLOCK_POINTS;
+    let mut stale = force;
+    for (i, p) in pts.iter_mut().enumerate() {
+        let k = p.row.inverse_mass(p.normal, ima, imb);
+        p.normal_mass = recip_or_zero(k);
+        // The block's diagonal holds each point's inverse mass as it was
+        // when the block was built.
+        stale |= blocked && (k - m.block[i][i]).abs() > BLOCK_REFRESH * m.block[i][i];
     }
-    if pts.len() <= BLOCK_POINTS {
+    for i in 0..3 {
+        m.masses[i] = recip_or_zero(m.rows[i].inverse_mass(m.directions[i], ima, imb));
+    }
+    if stale && blocked {
         // K_ij = (n_i . n_j)(1/mA + 1/mB) + (rA_i x n_i) . IA^-1 (rA_j x n_j)
         //      + (rB_i x n_i) . IB^-1 (rB_j x n_j)
         for (i, pi) in pts.iter().enumerate() {
             for (j, pj) in pts.iter().enumerate() {
-                m.block[i][j] = pi.normal.dot(pj.normal) * (a.inv_mass + b.inv_mass)
+                m.block[i][j] = pi.normal.dot(pj.normal) * (ima + imb)
                     + pi.row.ra_x_d.dot(pj.row.ia_ra_x_d)
                     + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
             }
@@ -315,6 +344,10 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
         m.block_factor = regularised_cholesky(&m.block);
     }
 }
+
+/// Relative change of a point's effective mass beyond which a sub-step
+/// rebuilds its patch's normal block (see [`refresh_masses`]).
+pub const BLOCK_REFRESH: f64 = 0.1;
 
 /// Cholesky factor of `k + eps I`, `eps` a billionth of the largest
 /// diagonal entry, with reciprocal pivots on the diagonal.

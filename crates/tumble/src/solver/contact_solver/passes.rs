@@ -12,7 +12,8 @@
 use super::body::SolverBody;
 use super::coloring::Shared;
 use super::constraint::{
-    cholesky_solve, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS,
+    cholesky_solve, refresh_masses, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams,
+    BLOCK_POINTS,
 };
 use tumble_collide::{DMat3, DVec3};
 
@@ -97,7 +98,8 @@ impl PairVelocity {
 /// line, so every impulse conserves linear and angular momentum exactly.
 /// (Rows kept at the step start's lever arms would not: their error in
 /// angular momentum is the bodies' relative displacement times the impulse.)
-/// Normals and effective masses stay those of the step start.
+/// Normals stay those of the step start; the effective masses follow the
+/// re-aimed rows ([`refresh_masses`]).
 pub fn begin_substep(
     manifolds: &mut [ManifoldConstraint],
     points: &mut [PointConstraint],
@@ -143,6 +145,7 @@ pub(super) unsafe fn begin_patch(
             m.rows[i] = RowJacobian::new(a, b, ra, rb, m.directions[i]);
         }
         m.rows[2] = RowJacobian::twist(a, b, m.normal);
+        refresh_masses(m, pts, false);
     }
     if warm {
         // SAFETY: the caller's promise.

@@ -436,7 +436,7 @@ pub fn collide_target(data: &[u8]) {
 
 /// One shape from the input (about the size of `scale`), or why not.
 fn fuzz_shape(input: &mut Input, scale: f64) -> Option<Shape> {
-    let shape = match input.below(8) {
+    let shape = match input.below(10) {
         0 | 1 => Shape::Sphere(Sphere::new(input.number(0.05, scale)).ok()?),
         2 | 3 => Shape::Cuboid(Cuboid::new(input.vec3(0.05, scale)).ok()?),
         4 => Shape::Capsule(Capsule::new(input.number(0.05, scale), input.number(0.0, scale)).ok()?),
@@ -455,15 +455,35 @@ fn fuzz_shape(input: &mut Input, scale: f64) -> Option<Shape> {
             };
             Shape::Mesh(MeshShape::new(m).ok()?)
         }
-        _ => Shape::HalfSpace(HalfSpace::new(input.vec3(-1.0, 1.0), input.number(-1.0, 1.0)).ok()?),
+        7 => Shape::HalfSpace(HalfSpace::new(input.vec3(-1.0, 1.0), input.number(-1.0, 1.0)).ok()?),
+        8 => {
+            // A thin slab, 0.2 mm to 2 cm thick, primitive or mesh.
+            let half = DVec3::new(
+                input.number(0.1, 1.0),
+                input.number(0.1, 1.0),
+                input.number(1e-4, 0.01),
+            );
+            if input.below(2) == 0 {
+                Shape::Cuboid(Cuboid::new(half).ok()?)
+            } else {
+                Shape::Mesh(MeshShape::new(mesh::box_mesh(half).ok()?).ok()?)
+            }
+        }
+        _ => {
+            // A single-sided shell: an open sheet of triangles.
+            let n = 1 + input.below(4);
+            let sheet = mesh::grid_mesh(input.number(0.1, 1.0), input.number(0.1, 1.0), n, n).ok()?;
+            Shape::Mesh(MeshShape::new(sheet).ok()?)
+        }
     };
     Some(shape)
 }
 
-/// A small world from the input (settings, 1 to 6 bodies of random shapes,
-/// kinds, poses, velocities, materials; a removal; forces), stepped a few
-/// times: every rejected call leaves the body count alone, every state stays
-/// finite.
+/// A small world from the input (settings, 1 to 6 bodies of random shapes
+/// including thin slabs and open sheets, kinds, poses, velocities up to
+/// 1,000 m/s, materials, the continuous-collision flag; a removal; forces),
+/// stepped a few times: every rejected call leaves the body count alone,
+/// every state stays finite, nothing panics.
 pub fn world_step(data: &[u8]) {
     let mut input = Input::new(data);
     let mut settings = WorldSettings {
@@ -514,10 +534,11 @@ pub fn world_step(data: &[u8]) {
                 MassDesc::Mass(input.number(0.01, 100.0))
             },
             pose: input.pose(2.0),
-            linear_velocity: if input.below(2) == 0 {
-                input.vec3(-10.0, 10.0)
-            } else {
-                DVec3::ZERO
+            // Rest, everyday speeds, or a projectile up to 1,000 m/s.
+            linear_velocity: match input.below(3) {
+                0 => input.vec3(-10.0, 10.0),
+                1 => input.vec3(-1.0, 1.0).normalize_or_zero() * input.number(10.0, 1000.0),
+                _ => DVec3::ZERO,
             },
             angular_velocity: if input.below(2) == 0 {
                 input.vec3(-10.0, 10.0)
@@ -530,6 +551,7 @@ pub fn world_step(data: &[u8]) {
             },
             linear_damping: input.number(0.0, 1.0),
             angular_damping: input.number(0.0, 1.0),
+            ccd: input.below(4) == 0,
             name: String::new(),
         };
         let count = world.body_count();

@@ -20,8 +20,7 @@ use crate::trimesh::{mesh_from_object, TriMesh};
 use pyo3::prelude::*;
 use std::borrow::Cow;
 use tumble_collide::query::{
-    self, CollideOptions, DistanceOptions, DistanceResult, MeshShape, Primitive, QueryError, Report,
-    ReportMode,
+    self, CollideOptions, DistanceOptions, MeshShape, Primitive, QueryError, Report, ReportMode,
 };
 use tumble_collide::Pose;
 
@@ -117,17 +116,6 @@ fn swap_report(mut r: Report) -> Report {
         *c = c.flipped();
     }
     r
-}
-
-/// The distance with A and B exchanged.
-fn swap_distance(d: DistanceResult) -> DistanceResult {
-    DistanceResult {
-        point_a: d.point_b,
-        point_b: d.point_a,
-        tri_a: d.tri_b,
-        tri_b: d.tri_a,
-        ..d
-    }
 }
 
 fn report_mode(report: &str) -> PyResult<ReportMode> {
@@ -253,7 +241,7 @@ pub fn distance<'py>(
                 Pairing::Meshes(ma, pa, mb, pb) => query::distance(ma, pa, mb, pb, &options),
                 Pairing::Primitive(p, pp, m, pm, swapped) => {
                     let d = query::distance_primitive(p, pp, m, pm, &options)?;
-                    Ok(if *swapped { swap_distance(d) } else { d })
+                    Ok(if *swapped { d.swapped() } else { d })
                 }
             })
             .or_raise()?;

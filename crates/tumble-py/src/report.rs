@@ -108,6 +108,10 @@ pub struct PyStepReport {
     /// Deepest penetration at the start of the last step (m).
     #[pyo3(get)]
     max_penetration: f64,
+    /// Fast bodies put back at their first time of impact by continuous
+    /// collision in the last step.
+    #[pyo3(get)]
+    continuous: usize,
     /// Warnings of all steps of the call (also issued as RuntimeWarning).
     #[pyo3(get)]
     warnings: Vec<String>,
@@ -147,6 +151,7 @@ impl PyStepReport {
             substeps: r.substeps,
             iterations: r.iterations,
             max_penetration: r.max_penetration,
+            continuous: r.continuous,
             warnings: s.warnings.clone(),
             quarantined,
             stage_times: Stage::ALL
@@ -167,7 +172,7 @@ impl PyStepReport {
 #[pymethods]
 impl PyStepReport {
     /// Wall time of each stage of the last step (s), in pipeline order:
-    /// forces, broad, narrow, islands, solve, integrate, events.
+    /// forces, broad, narrow, islands, solve, integrate, continuous, events.
     #[getter]
     fn stage_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);

@@ -10,7 +10,7 @@ use tumble::world::{SolverKind, WorldSettings};
 use tumble::Integrator;
 
 /// Every keyword accepted, in the order of `WorldSettings`.
-pub const NAMES: [&str; 17] = [
+pub const NAMES: [&str; 18] = [
     "gravity",
     "dt",
     "substeps",
@@ -23,6 +23,7 @@ pub const NAMES: [&str; 17] = [
     "push_out_fraction",
     "max_push_out_speed",
     "restitution_threshold",
+    "continuous",
     "sleeping",
     "sleep_linear_speed",
     "sleep_angular_speed",
@@ -115,6 +116,14 @@ pub fn apply(s: &mut WorldSettings, kwargs: Option<&Bound<'_, PyDict>>) -> PyRes
             "push_out_fraction" => s.push_out_fraction = float(&v, name)?,
             "max_push_out_speed" => s.max_push_out_speed = float(&v, name)?,
             "restitution_threshold" => s.restitution_threshold = float(&v, name)?,
+            "continuous" => {
+                s.continuous = v.extract().map_err(|_| {
+                    invalid(format!(
+                        "continuous: expected True or False, got {}",
+                        describe(&v)
+                    ))
+                })?
+            }
             "sleeping" => {
                 s.sleeping = v
                     .extract()
@@ -150,6 +159,7 @@ pub fn to_dict<'py>(py: Python<'py>, s: &WorldSettings) -> PyResult<Bound<'py, P
     d.set_item("push_out_fraction", s.push_out_fraction)?;
     d.set_item("max_push_out_speed", s.max_push_out_speed)?;
     d.set_item("restitution_threshold", s.restitution_threshold)?;
+    d.set_item("continuous", s.continuous)?;
     d.set_item("sleeping", s.sleeping)?;
     d.set_item("sleep_linear_speed", s.sleep_linear_speed)?;
     d.set_item("sleep_angular_speed", s.sleep_angular_speed)?;

@@ -52,6 +52,8 @@ use tumble_collide::{DVec3, Pose};
 ///     push_out_fraction=0.2      overlap removed per sub-step, in (0, 1]
 ///     max_push_out_speed=3       m/s
 ///     restitution_threshold=0.5  m/s, slower impacts do not bounce
+///     continuous=True            fast bodies stop at the first surface in
+///                                their path (continuous collision)
 ///     sleeping=True              resting islands fall asleep
 ///     sleep_linear_speed=0.05    m/s
 ///     sleep_angular_speed=0.05   rad/s
@@ -190,7 +192,7 @@ impl World {
         text_signature = "(*, gravity=(0, 0, -9.81), dt=0.016666666666666666, substeps=8, integrator='semi_implicit', \
             solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.005, \
             allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
-            restitution_threshold=0.5, sleeping=True, sleep_linear_speed=0.05, \
+            restitution_threshold=0.5, continuous=True, sleeping=True, sleep_linear_speed=0.05, \
             sleep_angular_speed=0.05, time_to_sleep=0.5, threads=0)"
     )]
     fn new(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
@@ -219,13 +221,16 @@ impl World {
     ///     friction: Coulomb coefficient >= 0, default 0.5.
     ///     linear_damping: 1/s, default 0.
     ///     angular_damping: 1/s, default 0.
+    ///     ccd: always sweep the body for continuous collision (bodies that
+    ///         move more than half their thickness in a step are swept
+    ///         anyway), default False.
     ///     name: optional name (exports, find()).
     ///
     /// Raises:
     ///     InvalidArgument: a bad value or shape; the world is unchanged.
     #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None,
         velocity=None, angular_velocity=None, kind="dynamic", restitution=None, friction=None,
-        linear_damping=0.0, angular_damping=0.0, name=None))]
+        linear_damping=0.0, angular_damping=0.0, ccd=false, name=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         slf: &Bound<'_, Self>,
@@ -241,6 +246,7 @@ impl World {
         friction: Option<f64>,
         linear_damping: f64,
         angular_damping: f64,
+        ccd: bool,
         name: Option<String>,
     ) -> PyResult<Body> {
         guard(|| {
@@ -273,6 +279,7 @@ impl World {
                 },
                 linear_damping,
                 angular_damping,
+                ccd,
                 name: name.unwrap_or_default(),
             };
             let id = {

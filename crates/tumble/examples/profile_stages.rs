@@ -39,12 +39,14 @@ fn main() {
     let last = *ids.last().unwrap();
     let start = world.center_of_mass(last).unwrap();
     let mut deepest = 0.0f64;
-    let mut sum = [0.0f64; 7];
+    let mut sum = [0.0f64; Stage::ALL.len()];
     let mut parts = [0.0f64; 8];
     let mut total = 0.0;
+    let mut swept_back = 0;
     for _ in 0..steps {
         let r = world.step();
         deepest = deepest.max(r.max_penetration);
+        swept_back += r.continuous;
         for s in Stage::ALL {
             sum[s as usize] += r.time(s).as_secs_f64();
         }
@@ -62,6 +64,7 @@ fn main() {
         world.settings().substeps,
         world.settings().iterations
     );
+    println!("  bodies put back by continuous collision: {swept_back}");
     for s in Stage::ALL {
         println!("  {:<10} {:.3} ms", s.name(), ms(sum[s as usize]));
     }

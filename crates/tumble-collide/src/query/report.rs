@@ -65,3 +65,16 @@ pub struct DistanceResult {
     /// Work counters.
     pub stats: QueryStats,
 }
+
+impl DistanceResult {
+    /// The same result with A and B exchanged (points and triangles).
+    pub fn swapped(self) -> DistanceResult {
+        DistanceResult {
+            point_a: self.point_b,
+            point_b: self.point_a,
+            tri_a: self.tri_b,
+            tri_b: self.tri_a,
+            ..self
+        }
+    }
+}

@@ -107,12 +107,14 @@ pub struct Impact {
     /// tolerance]` when `converged`; below `target` (or negative, an
     /// overlap) only when `time` is 0.
     pub distance: f64,
-    /// Unit normal from B to A at the impact (world frame).
+    /// Unit normal from B to A at the impact (world frame); zero in the rare
+    /// case that the shapes overlap at the start with no contact to give a
+    /// direction.
     pub normal: DVec3,
     /// A point between the shapes where they meet (world frame).
     pub point: DVec3,
-    /// `false` when the iterations ran out first: `time` is then a safe
-    /// time before the impact, not the impact itself.
+    /// `false` when the iterations ran out first: `time` is then the last
+    /// safe time reached before the impact, not the impact itself.
     pub converged: bool,
     /// The work done.
     pub stats: ToiStats,
@@ -200,34 +202,29 @@ pub fn time_of_impact(
             &mut stats,
         )?;
         stats.iterations += 1;
-        if bound.distance <= goal {
+        let impact = |converged: bool| {
             let (normal, point) = bound.witness.unwrap_or((DVec3::ZERO, pa.position));
-            return Ok(Some(Impact {
+            Impact {
                 time: t,
                 distance: bound.distance,
                 normal,
                 point,
-                converged: true,
+                converged,
                 stats,
-            }));
+            }
+        };
+        if bound.distance <= goal {
+            return Ok(Some(impact(true)));
         }
         if bound.distance >= reachable || speed == 0.0 {
             return Ok(None);
         }
+        if stats.iterations >= options.max_iterations {
+            return Ok(Some(impact(false)));
+        }
         t += (bound.distance - options.target) / speed;
         if t >= 1.0 {
             return Ok(None);
-        }
-        if stats.iterations >= options.max_iterations {
-            let (normal, point) = bound.witness.unwrap_or((DVec3::ZERO, pa.position));
-            return Ok(Some(Impact {
-                time: t,
-                distance: bound.distance,
-                normal,
-                point,
-                converged: false,
-                stats,
-            }));
         }
     }
 }
@@ -266,14 +263,25 @@ fn separation_bound(
     let exact = match (a, b) {
         (Shape::Mesh(x), Shape::Mesh(y)) => Some(distance(x, pa, y, pb, &DistanceOptions::default())?),
         (_, Shape::Mesh(y)) => Some(convex_mesh_distance(a, pa, y, pb)?),
-        (Shape::Mesh(x), _) => Some(flip(convex_mesh_distance(b, pb, x, pa)?)),
+        (Shape::Mesh(x), _) => Some(convex_mesh_distance(b, pb, x, pa)?.swapped()),
         _ => None,
     };
     if let Some(d) = exact {
         let normal = (d.point_a - d.point_b).normalize_or_zero();
+        if normal != DVec3::ZERO {
+            return Ok(SeparationBound {
+                distance: d.distance,
+                witness: Some((normal, (d.point_a + d.point_b) * 0.5)),
+            });
+        }
+        // Touching or overlapping: the closest points coincide and give no
+        // direction; the deepest contact of the narrow phase does.
+        buffer.clear();
+        contact_shapes(a, pa, b, pb, probe, buffer)?;
+        let deepest = buffer.iter().min_by(|x, y| x.distance.total_cmp(&y.distance));
         return Ok(SeparationBound {
             distance: d.distance,
-            witness: Some((normal, (d.point_a + d.point_b) * 0.5)),
+            witness: deepest.map(|c| (c.normal, c.point)),
         });
     }
     buffer.clear();
@@ -306,17 +314,6 @@ fn convex_mesh_distance(
         Shape::HalfSpace(s) => distance_primitive(&Primitive::HalfSpace(*s), pa, m, pm, &options),
         Shape::ConvexHull(h) => polytope_mesh_distance(h, pa, m, pm),
         Shape::Mesh(x) => distance(x, pa, m, pm, &options),
-    }
-}
-
-/// A distance result with A and B swapped.
-fn flip(d: DistanceResult) -> DistanceResult {
-    DistanceResult {
-        point_a: d.point_b,
-        point_b: d.point_a,
-        tri_a: d.tri_b,
-        tri_b: d.tri_a,
-        ..d
     }
 }
 

@@ -1,4 +1,6 @@
-//! Helpers shared by the collision library's integration tests.
+//! Helpers shared by the collision library's integration tests. (The
+//! library's unit tests have their own generator in `bvh::traverse::tests`:
+//! integration tests cannot see `#[cfg(test)]` items, so the two stay.)
 
 /// SplitMix64 in [0, 1): reproducible cases.
 pub fn rng(seed: u64) -> impl FnMut() -> f64 {

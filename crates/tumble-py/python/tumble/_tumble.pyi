@@ -258,6 +258,8 @@ class StepReport:
     @property
     def max_penetration(self) -> float: ...
     @property
+    def continuous(self) -> int: ...
+    @property
     def warnings(self) -> list[str]: ...
     @property
     def quarantined(self) -> list[Body]: ...
@@ -290,6 +292,7 @@ class World:
         push_out_fraction: float | None = ...,
         max_push_out_speed: float | None = ...,
         restitution_threshold: float | None = ...,
+        continuous: bool | None = ...,
         sleeping: bool | None = ...,
         sleep_linear_speed: float | None = ...,
         sleep_angular_speed: float | None = ...,
@@ -311,6 +314,7 @@ class World:
         friction: float | None = None,
         linear_damping: float = 0.0,
         angular_damping: float = 0.0,
+        ccd: bool = False,
         name: str | None = None,
     ) -> Body: ...
     def remove_body(self, body: Body) -> None: ...

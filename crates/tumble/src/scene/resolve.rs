@@ -337,6 +337,7 @@ fn resolve_body(
         material,
         linear_damping,
         angular_damping,
+        ccd: spec.ccd.unwrap_or(false),
         name: spec.name.clone(),
     };
     let existing = out.scene.bodies.len() as u64;

@@ -117,6 +117,11 @@ initial_force = [0, 0, 10]
     .unwrap();
     let b = &damped.scene.bodies[1];
     assert_eq!((b.linear_damping, b.angular_damping), (0.1, 0.2));
+    assert!(!b.ccd);
+    let swept = toml(&GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nccd = true")).unwrap();
+    assert!(swept.scene.bodies[1].ccd);
+    let err = toml(&GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nccd = 1")).unwrap_err();
+    assert!(err.to_string().contains("ccd"), "{err}");
 }
 
 use std::f64::consts::FRAC_PI_2;

@@ -65,3 +65,12 @@ pub use friction_cone::{cone_directions, solve_friction_cone, FrictionConeError,
 pub use lcp::{check, LcpError, LcpSolution, Residuals};
 pub use lemke::{lemke, lemke_with, LemkeOptions};
 pub use pgs::{pgs, pgs_boxed, RowLimit};
+
+/// `x` limited to `[lo, hi]` without `f64::clamp`'s panic on a NaN or
+/// crossed bound (a bound computed from a non-finite impulse reaches here
+/// only as part of a body the step quarantines; it must not abort the step
+/// first): a NaN bound limits nothing, crossed bounds give `hi`.
+#[inline(always)]
+pub(crate) fn clamp_impulse(x: f64, lo: f64, hi: f64) -> f64 {
+    x.max(lo).min(hi)
+}

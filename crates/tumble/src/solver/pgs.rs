@@ -124,12 +124,12 @@ pub fn pgs_boxed(
     // Project the guess: normal rows first so friction bounds see valid normals.
     for i in 0..n {
         if let RowLimit::Box { lo, hi } = limits[i] {
-            z[i] = z[i].clamp(lo, hi);
+            z[i] = super::clamp_impulse(z[i], lo, hi);
         }
     }
     for i in 0..n {
         let (lo, hi) = limits[i].bounds(&z);
-        z[i] = z[i].clamp(lo, hi);
+        z[i] = super::clamp_impulse(z[i], lo, hi);
     }
 
     let mut w = vec![0.0; n];
@@ -143,8 +143,8 @@ pub fn pgs_boxed(
         for i in 0..n {
             let wi = dot(a.row(i), &z) + q[i];
             let (lo, hi) = limits[i].bounds(&z);
-            visit_residual = visit_residual.max((z[i] - (z[i] - wi).clamp(lo, hi)).abs());
-            z[i] = (z[i] - wi * inv_diag[i]).clamp(lo, hi);
+            visit_residual = visit_residual.max((z[i] - super::clamp_impulse(z[i] - wi, lo, hi)).abs());
+            z[i] = super::clamp_impulse(z[i] - wi * inv_diag[i], lo, hi);
         }
         iterations += 1;
         if visit_residual <= tolerance || iterations == max_iterations {
@@ -166,7 +166,7 @@ fn boxed_residual(a: &DenseMatrix, q: &[f64], limits: &[RowLimit], z: &[f64], w:
     for i in 0..a.n() {
         w[i] = dot(a.row(i), z) + q[i];
         let (lo, hi) = limits[i].bounds(z);
-        r = r.max((z[i] - (z[i] - w[i]).clamp(lo, hi)).abs());
+        r = r.max((z[i] - super::clamp_impulse(z[i] - w[i], lo, hi)).abs());
     }
     r
 }

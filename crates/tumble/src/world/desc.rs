@@ -138,6 +138,10 @@ pub struct BodyDesc {
     pub linear_damping: f64,
     /// Angular damping (1/s, >= 0). Default 0.
     pub angular_damping: f64,
+    /// Always sweep this body for continuous collision, however slowly it
+    /// moves (bodies that move more than half their thickness in a step are
+    /// swept anyway while `WorldSettings::continuous` is on). Default false.
+    pub ccd: bool,
     /// Optional name (scene files, exports). Default empty.
     pub name: String,
 }
@@ -154,6 +158,7 @@ impl Default for BodyDesc {
             material: MaterialDesc::default(),
             linear_damping: 0.0,
             angular_damping: 0.0,
+            ccd: false,
             name: String::new(),
         }
     }
@@ -221,6 +226,12 @@ impl BodyDesc {
     pub fn with_velocity(mut self, linear: DVec3, angular: DVec3) -> BodyDesc {
         self.linear_velocity = linear;
         self.angular_velocity = angular;
+        self
+    }
+
+    /// Builder: always sweep the body for continuous collision.
+    pub fn with_ccd(mut self, ccd: bool) -> BodyDesc {
+        self.ccd = ccd;
         self
     }
 

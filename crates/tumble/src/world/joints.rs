@@ -277,6 +277,11 @@ impl World {
             .collect()
     }
 
+    /// The body slots of every joint (`None`: the world).
+    pub(crate) fn joint_slots(&self) -> impl Iterator<Item = (u32, Option<u32>)> + '_ {
+        self.joints.iter().map(|(_, j)| j.slots())
+    }
+
     /// Removes the joints attached to body slot `slot` (with the body).
     pub(crate) fn remove_joints_of(&mut self, slot: u32) {
         let attached: Vec<JointId> = self

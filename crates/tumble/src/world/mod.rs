@@ -62,7 +62,7 @@ pub use islands::{label_islands, UnionFind};
 pub use report::{ContactEvent, Quarantined, SolveStage, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
 pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC};
-pub use step::RUNAWAY_SPEED;
+pub use step::{FAST_FRACTION, RUNAWAY_SPEED};
 
 use crate::body::{BodyKind, Material, RigidBody};
 use manifold::{CachedContact, CachedPatch};
@@ -97,6 +97,13 @@ pub(crate) struct BodyEntry {
     pub sleep_group: u32,
     /// Largest distance of a collider point from the centre of mass (m).
     pub radius: f64,
+    /// Smallest half extent of the colliders (m): the scale of a fast motion.
+    pub thickness: f64,
+    /// Radius of the ball about the centre of mass that continuous
+    /// collision keeps from crossing surfaces (m, may be 0).
+    pub core: f64,
+    /// Always swept by continuous collision.
+    pub ccd: bool,
 }
 
 /// One contact point of the last step, with the impulses the solver applied.
@@ -375,6 +382,9 @@ impl World {
         let entry = BodyEntry {
             body,
             radius: step::bounding_radius(&colliders),
+            thickness: step::thickness(&colliders),
+            core: step::core_radius(&colliders),
+            ccd: desc.ccd,
             colliders,
             body_in_model,
             proxy: None,

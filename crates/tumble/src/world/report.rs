@@ -25,19 +25,23 @@ pub enum Stage {
     Solve,
     /// Poses and momenta written back; free bodies advanced by the chosen integrator.
     Integrate,
+    /// Fast bodies swept from their pose before the step to the one after
+    /// it and put back at their first time of impact (continuous collision).
+    Continuous,
     /// Contact begin/end events; non-finite states quarantined; sleep.
     Events,
 }
 
 impl Stage {
     /// All stages in pipeline order.
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 8] = [
         Stage::Forces,
         Stage::Broad,
         Stage::Narrow,
         Stage::Islands,
         Stage::Solve,
         Stage::Integrate,
+        Stage::Continuous,
         Stage::Events,
     ];
 
@@ -50,6 +54,7 @@ impl Stage {
             Stage::Islands => "islands",
             Stage::Solve => "solve",
             Stage::Integrate => "integrate",
+            Stage::Continuous => "continuous",
             Stage::Events => "events",
         }
     }
@@ -127,7 +132,7 @@ pub struct Quarantined {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StepReport {
     /// Wall time per stage, in [`Stage::ALL`] order.
-    pub stage_time: [Duration; 7],
+    pub stage_time: [Duration; 8],
     /// Wall time per part of the solve stage, in [`SolveStage::ALL`] order
     /// (included in the solve stage's time).
     pub solve_time: [Duration; 8],
@@ -159,6 +164,9 @@ pub struct StepReport {
     /// velocity iterations (before the push-out and the position update).
     /// Zero for an exact solve; PGS approaches it as iterations rise.
     pub solver_residual: f64,
+    /// Fast bodies put back at their first time of impact by continuous
+    /// collision ([`Stage::Continuous`]).
+    pub continuous: usize,
     /// Deepest penetration among the contacts at the start of the step (m, >= 0).
     pub max_penetration: f64,
     /// Human-readable warnings (e.g. a shape pair without a handler).

@@ -74,6 +74,11 @@ pub struct WorldSettings {
     /// Approach speed below which restitution is ignored (m/s), so resting
     /// contacts do not bounce forever. Default 0.5.
     pub restitution_threshold: f64,
+    /// Continuous collision: a body moving more than half its thickness in
+    /// one step (or with `ccd` set) is swept over the step and put back at
+    /// the first surface in its path, so that nothing passes through a thin
+    /// wall (see docs/pipeline.md, stage `continuous`). Default true.
+    pub continuous: bool,
     /// Let resting islands fall asleep (skipped until woken). Default true.
     pub sleeping: bool,
     /// Linear speed below which a body counts as resting (m/s). Default 0.05.
@@ -104,6 +109,7 @@ impl Default for WorldSettings {
             push_out_fraction: 0.2,
             max_push_out_speed: 3.0,
             restitution_threshold: 0.5,
+            continuous: true,
             sleeping: true,
             sleep_linear_speed: 0.05,
             sleep_angular_speed: 0.05,

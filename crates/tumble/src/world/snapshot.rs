@@ -40,7 +40,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 3;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 4;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -221,6 +221,8 @@ struct BodyRecord {
     sleeping: bool,
     rest_time: f64,
     sleep_group: u32,
+    /// Always swept by continuous collision.
+    ccd: bool,
 }
 
 /// `None` when every component is +0.0 (not -0.0: the bits must come back).
@@ -493,6 +495,7 @@ impl World {
                         sleeping: e.sleeping,
                         rest_time: e.rest_time,
                         sleep_group: e.sleep_group,
+                        ccd: e.ccd,
                     }
                 });
                 SlotRecord { generation, body }
@@ -756,6 +759,9 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
     let entry = BodyEntry {
         body,
         radius: super::step::bounding_radius(&colliders),
+        thickness: super::step::thickness(&colliders),
+        core: super::step::core_radius(&colliders),
+        ccd: r.ccd,
         colliders,
         body_in_model,
         proxy: None,

@@ -317,17 +317,27 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
 /// with, or when `force`. A block that far
 /// behind its rows over-relaxes the solve by at most that fraction, which
 /// converges (Gauss-Seidel converges up to twice the exact step).
-pub fn refresh_masses(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], force: bool) {
+///
+/// Returns whether some point's mass moved that far (the rows have turned
+/// with the bodies since the block was built or, for a larger patch, since
+/// the last sub-step).
+pub fn refresh_masses(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], force: bool) -> bool {
     let [ima, imb] = m.inv_mass;
     let blocked = pts.len() <= BLOCK_POINTS;
-    let mut stale = force;
+    let mut turned = false;
     for (i, p) in pts.iter_mut().enumerate() {
         let k = p.row.inverse_mass(p.normal, ima, imb);
-        p.normal_mass = recip_or_zero(k);
         // The block's diagonal holds each point's inverse mass as it was
         // when the block was built.
-        stale |= blocked && (k - m.block[i][i]).abs() > BLOCK_REFRESH * m.block[i][i];
+        let reference = if blocked {
+            m.block[i][i]
+        } else {
+            recip_or_zero(p.normal_mass)
+        };
+        turned |= (k - reference).abs() > BLOCK_REFRESH * reference;
+        p.normal_mass = recip_or_zero(k);
     }
+    let stale = force || turned;
     for i in 0..3 {
         m.masses[i] = recip_or_zero(m.rows[i].inverse_mass(m.directions[i], ima, imb));
     }
@@ -343,6 +353,7 @@ pub fn refresh_masses(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], f
         }
         m.block_factor = regularised_cholesky(&m.block);
     }
+    turned
 }
 
 /// Relative change of a point's effective mass beyond which a sub-step

@@ -729,7 +729,7 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
         }
         let r = &mut j.rows[i];
         if warm {
-            r.impulse = r.impulse.clamp(r.lo, r.hi);
+            r.impulse = crate::solver::clamp_impulse(r.impulse, r.lo, r.hi);
             let l = r.impulse;
             p.apply(&j.rows[i], l);
         } else {
@@ -770,7 +770,11 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
         }
         let r = &mut j.rows[i];
         let jv = r.velocity(p.va, p.wa, p.vb, p.wb);
-        let new = (r.impulse - r.mass * (jv + r.bias + r.gamma * r.impulse)).clamp(r.lo, r.hi);
+        let new = crate::solver::clamp_impulse(
+            r.impulse - r.mass * (jv + r.bias + r.gamma * r.impulse),
+            r.lo,
+            r.hi,
+        );
         let dl = new - r.impulse;
         r.impulse = new;
         j.apply_scalar(&mut p, i, dl, false);

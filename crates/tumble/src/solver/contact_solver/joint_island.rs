@@ -224,7 +224,7 @@ impl JointIsland {
                 // Within the bounds (re-solved above; a last clamp for what
                 // the re-solve could not hold).
                 let (acc, lo, hi) = bounds(j, slot, push.is_some());
-                let dl = (acc + rhs[self.offsets[k] + e]).clamp(lo, hi) - acc;
+                let dl = crate::solver::clamp_impulse(acc + rhs[self.offsets[k] + e], lo, hi) - acc;
                 j.accumulate(slot, dl, push.is_some());
                 p.apply(&j.rows[slot], dl);
             }
@@ -259,7 +259,7 @@ impl JointIsland {
                     let (acc, lo, hi) = bounds(j, slot, push);
                     let total = acc + x[i];
                     if (total > hi || total < lo) && !held.iter().any(|&(h, _)| h == i) {
-                        held.push((i, total.clamp(lo, hi) - acc));
+                        held.push((i, crate::solver::clamp_impulse(total, lo, hi) - acc));
                         let mut u = vec![0.0; self.rows()];
                         u[i] = 1.0;
                         self.solve_in_place(&mut u);

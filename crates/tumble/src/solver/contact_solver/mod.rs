@@ -54,8 +54,8 @@ pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
 pub(crate) use coloring::Shared;
 pub use coloring::{color_patches, Coloring, MAX_COLORS};
 pub use constraint::{
-    inverse_effective_mass, prepare, tangent_basis, ManifoldConstraint, PointConstraint, RowJacobian,
-    SolverParams,
+    inverse_effective_mass, prepare, refresh_masses, tangent_basis, ManifoldConstraint, PointConstraint,
+    RowJacobian, SolverParams, BLOCK_REFRESH,
 };
 pub use exact::{solve_normals_exactly, ExactSolveError, EXACT_MAX_CONTACTS};
 pub use joint::{

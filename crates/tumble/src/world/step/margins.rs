@@ -37,6 +37,70 @@ pub(crate) fn bounding_radius(colliders: &[Collider]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Smallest half extent of the body's colliders, each in its own frame
+/// (m): how far the body's centre lies inside its surface at least, the
+/// scale against which continuous collision calls a motion fast. Infinite
+/// for a body of half-spaces only.
+pub(crate) fn thickness(colliders: &[Collider]) -> f64 {
+    colliders
+        .iter()
+        .map(|c| {
+            let b = c.shape.aabb(&tumble_collide::Pose::IDENTITY);
+            ((b.max - b.min) * 0.5).min_element()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Radius of the body's core (m): the largest ball about the centre of mass
+/// inside one of its colliders (for a closed mesh, the distance from the
+/// centre to its triangles when the centre is inside). Continuous collision
+/// keeps the core from crossing a surface where the body itself started in
+/// contact. Zero when the centre is outside the material (a ring's centre,
+/// in its hole) or on a surface.
+pub(crate) fn core_radius(colliders: &[Collider]) -> f64 {
+    use tumble_collide::query::{distance_primitive, DistanceOptions, Primitive};
+    use tumble_collide::shape::Polytope;
+    use tumble_collide::{Shape, Sphere};
+    let inside = |c: &Collider| -> f64 {
+        // The centre of mass in the collider's frame.
+        let p = c.local.inverse_transform_point(DVec3::ZERO);
+        let depth = match &c.shape {
+            Shape::Sphere(s) => s.radius() - p.length(),
+            Shape::Capsule(s) => {
+                let z = p.z.clamp(-s.half_height(), s.half_height());
+                s.radius() - (p - DVec3::new(0.0, 0.0, z)).length()
+            }
+            Shape::Cuboid(s) => (s.half_extents() - p.abs()).min_element(),
+            Shape::ConvexHull(h) => (0..h.face_count())
+                .map(|f| h.face_offset(f) - h.face_normal(f).dot(p))
+                .fold(f64::INFINITY, f64::min),
+            Shape::Mesh(m) => {
+                let Ok(point) = Sphere::new(1e-9) else { return 0.0 };
+                distance_primitive(
+                    &Primitive::Sphere(point),
+                    &tumble_collide::Pose::from_translation(p),
+                    m,
+                    &tumble_collide::Pose::IDENTITY,
+                    &DistanceOptions::default(),
+                )
+                // Inside when the centre is behind the closest triangle's
+                // face (a ring's centre, in its hole, is in front).
+                .map_or(0.0, |d| {
+                    let face = m.mesh().triangle_normal_scaled(d.tri_b as usize);
+                    if (p - d.point_b).dot(face) < 0.0 {
+                        d.distance
+                    } else {
+                        0.0
+                    }
+                })
+            }
+            _ => 0.0,
+        };
+        depth.max(0.0)
+    };
+    colliders.iter().map(inside).fold(0.0, f64::max)
+}
+
 /// Bound on the speed at which a point of A approaches a point of B, for the
 /// points where the two can touch during the step (m/s).
 ///

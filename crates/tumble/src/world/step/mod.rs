@@ -1,6 +1,6 @@
 //! One step of the world as named stages (see [`Stage`] and
 //! docs/pipeline.md): forces, broad, narrow, islands, solve, integrate,
-//! events. Each stage is a method over the step's [`StepFrame`]; `step()`
+//! continuous, events. Each stage is a method over the step's [`StepFrame`]; `step()`
 //! runs [`Stage::ALL`] in order and times each into the [`StepReport`].
 //!
 //! Determinism: bodies are visited in slot order, broad-phase pairs in sorted
@@ -10,6 +10,7 @@
 //! any number of threads, gives the same bits.
 
 mod broad;
+mod continuous;
 mod events;
 mod frame;
 mod margins;
@@ -18,8 +19,9 @@ mod quarantine;
 mod solve;
 mod writeback;
 
+pub use continuous::FAST_FRACTION;
 pub(crate) use frame::StepFrame;
-pub(crate) use margins::{body_aabb, bounding_radius, velocities};
+pub(crate) use margins::{body_aabb, bounding_radius, core_radius, thickness, velocities};
 pub use quarantine::RUNAWAY_SPEED;
 
 use super::report::{Stage, StepReport};
@@ -69,6 +71,7 @@ impl World {
                 Stage::Islands => self.islands_stage(&mut frame),
                 Stage::Solve => self.solve_stage(&mut frame),
                 Stage::Integrate => self.integrate_stage(&mut frame),
+                Stage::Continuous => self.continuous_stage(&mut frame),
                 Stage::Events => self.events_stage(&mut frame),
             }
             frame.report.stage_time[stage as usize] += start.elapsed();

@@ -1,0 +1,389 @@
+//! [`Stage::Continuous`](crate::world::Stage::Continuous): continuous
+//! collision for fast bodies (Box2D v3's continuous stage, Jolt's linear
+//! cast), so that a fast body meets the first surface in its path, never
+//! the deepest or the far one.
+//!
+//! The speculative contacts of the narrow phase stop most fast bodies: they
+//! see every feature within the step's motion. They fail where the closest
+//! features at the start of the step are not the ones hit (a box turned
+//! against a thin slab, a plate's far face, a mesh's back triangles) and
+//! where the solver sends a body through a thin shape in one sub-step.
+//! After the solve, a body whose motion over the step exceeds
+//! [`FAST_FRACTION`] of its own thickness (or whose `ccd` flag is set) is
+//! swept from its pose before the step to its pose after it against the
+//! bodies its swept box met in the broad phase ([`time_of_impact`], by
+//! conservative advancement, rotation included). Where it came within
+//! reach of one on the way and the solver did not leave the pair touching
+//! at the end (it passed through, or sank in deeper than the contact
+//! margin), the body is put back at that time of impact with its
+//! velocities unchanged; the next step's speculative contact then meets
+//! that surface. The rest of the step is lost for that body, never energy:
+//! a pose moves back along the path, no velocity changes.
+//!
+//! Each fast body is swept against the others' whole motions, on the
+//! world's threads, reading the world only; the poses are put back in slot
+//! order afterwards, so the result does not depend on the thread count.
+
+use super::StepFrame;
+use crate::body::BodyKind;
+use crate::world::{MaterialDesc, World};
+use tumble_collide::narrow::contact_shapes;
+use tumble_collide::query::{time_of_impact, Impact, Motion, ToiOptions};
+use tumble_collide::shape::Sphere;
+use tumble_collide::{DVec3, Pose, Shape};
+
+/// A body is fast, and swept, when its motion over one step (centre
+/// travel plus turn times radius) exceeds this fraction of its thickness
+/// (its smallest half extent): a slower body cannot cross a surface with
+/// its centre within one step.
+pub const FAST_FRACTION: f64 = 0.5;
+
+/// Most advancement steps of one sweep; a sweep that runs out stops the
+/// body early (still in front of the surface), never late.
+const MAX_ITERATIONS: u32 = 64;
+
+impl World {
+    pub(super) fn continuous_stage(&mut self, f: &mut StepFrame) {
+        if !f.settings.continuous {
+            return;
+        }
+        // Jointed bodies are swept only when asked: putting one back along
+        // its path would pull it away from the bodies it is jointed to.
+        let mut jointed = vec![false; f.n_slots];
+        for (a, b) in self.joint_slots() {
+            jointed[a as usize] = true;
+            if let Some(b) = b {
+                jointed[b as usize] = true;
+            }
+        }
+        let fast: Vec<u32> = (0..f.n_slots as u32)
+            .filter(|&slot| {
+                let (Some(e), Some(Some(before))) = (self.bodies.at(slot), f.before.get(slot as usize))
+                else {
+                    return false;
+                };
+                if e.body.kind() != BodyKind::Dynamic || e.sleeping {
+                    return false;
+                }
+                let motion = body_motion(&before.pose(), &e.body.pose());
+                let travel = motion.travel().length() + motion.turn() * e.radius;
+                e.ccd || (!jointed[slot as usize] && travel > FAST_FRACTION * e.thickness)
+            })
+            .collect();
+        if fast.is_empty() {
+            return;
+        }
+        // Each fast body's partners: the bodies its swept box met.
+        let mut partners: Vec<Vec<u32>> = vec![Vec::new(); fast.len()];
+        for &(a, b) in &f.pairs {
+            for (me, other) in [(a, b), (b, a)] {
+                if let Ok(k) = fast.binary_search(&me) {
+                    partners[k].push(other);
+                }
+            }
+        }
+        let work: Vec<(u32, Vec<u32>)> = fast.into_iter().zip(partners).collect();
+        let frame: &StepFrame = f;
+        let impacts = frame.pool.map_chunks(&work, 1, |_, chunk| {
+            chunk
+                .iter()
+                .map(|(slot, partners)| self.first_impact(frame, *slot, partners))
+                .collect::<Vec<_>>()
+        });
+        for ((slot, _), impact) in work.iter().zip(impacts.into_iter().flatten()) {
+            let Some(impact) = impact else { continue };
+            let before = f.before[*slot as usize]
+                .expect("fast bodies existed before the step")
+                .pose();
+            let e = self.bodies.at_mut(*slot).expect("live");
+            let pose = body_motion(&before, &e.body.pose()).pose_at(impact.time);
+            e.body.set_pose(pose);
+            self.collide_at_impact(*slot, &impact, f.settings.restitution_threshold);
+            f.report.continuous += 1;
+        }
+    }
+
+    /// The collision at a time of impact: Newton's restitution law at the
+    /// impact's contact points along their normals (thesis 7.1), impulses
+    /// between the fast body and its partner (the partner takes its share
+    /// only if it is dynamic), in a few Gauss-Seidel passes, so that the next
+    /// step does not start by driving the body into the surface again. Never
+    /// adds kinetic energy (restitution at most 1, applied only to
+    /// approaching points; no friction).
+    fn collide_at_impact(&mut self, slot: u32, impact: &SweptImpact, restitution_threshold: f64) {
+        const PASSES: usize = 4;
+        for pass in 0..PASSES {
+            for &(p, n) in &impact.contacts {
+                let (ea, eb) = (
+                    self.bodies.at(slot).expect("live"),
+                    self.bodies.at(impact.partner).expect("live"),
+                );
+                let approach = (ea.body.velocity_at_point(p) - eb.body.velocity_at_point(p)).dot(n);
+                if approach >= 0.0 || approach.is_nan() {
+                    continue;
+                }
+                let share = |body: &crate::body::RigidBody| {
+                    let rn = (p - body.position()).cross(n);
+                    body.inv_mass() + rn.dot(body.inv_inertia_world() * rn)
+                };
+                let k = share(&ea.body) + share(&eb.body);
+                // Bounce once, on the first pass at the first point.
+                let e = if pass == 0 && -approach > restitution_threshold {
+                    MaterialDesc::combine_restitution(
+                        ea.body.material().restitution(),
+                        eb.body.material().restitution(),
+                    )
+                } else {
+                    0.0
+                };
+                let j = -(1.0 + e) * approach / k;
+                let partner_moves = eb.body.kind() == BodyKind::Dynamic;
+                if !(j.is_finite() && k > 0.0) {
+                    continue;
+                }
+                // Failures leave the momenta as they were (a non-finite
+                // impulse cannot come from finite bodies; checked anyway).
+                let _ = self
+                    .bodies
+                    .at_mut(slot)
+                    .expect("live")
+                    .body
+                    .apply_impulse_at_point(n * j, p);
+                if partner_moves {
+                    let _ = self
+                        .bodies
+                        .at_mut(impact.partner)
+                        .expect("live")
+                        .body
+                        .apply_impulse_at_point(-n * j, p);
+                }
+            }
+        }
+    }
+
+    /// The earliest time (fraction of the step) at which body `slot` came
+    /// within reach of one of `partners` on its way, if the solver left
+    /// that pair apart or sunk in at the end of the step.
+    fn first_impact(&self, f: &StepFrame, slot: u32, partners: &[u32]) -> Option<SweptImpact> {
+        let e = self.bodies.at(slot).expect("live");
+        let options = ToiOptions {
+            target: 0.5 * f.settings.contact_margin,
+            tolerance: 0.25 * f.settings.contact_margin,
+            max_iterations: MAX_ITERATIONS,
+        };
+        let margin = f.settings.contact_margin;
+        let mut first: Option<SweptImpact> = None;
+        for &p in partners {
+            let other = self.bodies.at(p).expect("live");
+            let other_before = f.before[p as usize].map_or(other.body.pose(), |s| s.pose());
+            let mine = (
+                f.before[slot as usize].expect("swept bodies existed").pose(),
+                e.body.pose(),
+            );
+            let theirs = (other_before, other.body.pose());
+            for ca in &e.colliders {
+                for cb in &other.colliders {
+                    let ma = collider_motion(&mine, &ca.local);
+                    let mb = collider_motion(&theirs, &cb.local);
+                    let Ok(Some(hit)) = time_of_impact(&ca.shape, &ma, &cb.shape, &mb, &options) else {
+                        continue;
+                    };
+                    // Overlapping at the start with no direction to tell
+                    // the sides apart: the discrete contact's job.
+                    if hit.normal == DVec3::ZERO {
+                        continue;
+                    }
+                    // How far the pair may end inside each other and still
+                    // count as resting: the contact margin, or less against
+                    // a thinner partner (3 mm into a 1 mm slab is through
+                    // most of it), but never less than the solver's own
+                    // allowance.
+                    let depth = margin.min(other.thickness.max(f.settings.allowed_penetration));
+                    if first.as_ref().is_some_and(|i| i.time <= hit.time)
+                        || ends_clear(
+                            margin,
+                            depth,
+                            &hit,
+                            (e.core > 0.0).then_some(mine.1.position),
+                            &ca.shape,
+                            &ma.end,
+                            &cb.shape,
+                            &mb.end,
+                        )
+                    {
+                        continue;
+                    }
+                    if hit.time > 0.0 {
+                        first = Some(SweptImpact::new(p, &hit));
+                        continue;
+                    }
+                    // Within reach at the start, and still the pair did not
+                    // end clear. First the next contact on the way: the
+                    // time the pair came within half its starting gap (a
+                    // tumbling body's corner swinging in); the body goes
+                    // back there and that corner takes the impulse.
+                    if hit.distance > 0.0 {
+                        let closer = ToiOptions {
+                            target: 0.5 * hit.distance,
+                            tolerance: 0.25 * hit.distance,
+                            max_iterations: MAX_ITERATIONS,
+                        };
+                        if let Ok(Some(next)) = time_of_impact(&ca.shape, &ma, &cb.shape, &mb, &closer) {
+                            if next.time > 0.0 && next.normal != DVec3::ZERO {
+                                if first.as_ref().is_none_or(|i| next.time < i.time) {
+                                    first = Some(SweptImpact::new(p, &next));
+                                }
+                                continue;
+                            }
+                        }
+                    }
+                    // Within reach at the start, and still the pair did not
+                    // end touching: the contact did not hold (a tumbling
+                    // body swung its far end through, a fast one sank into
+                    // a thin slab). The body's core, a ball inside it about
+                    // its centre of mass, may not cross the surface
+                    // (Box2D's fallback): the body goes back to where its
+                    // core met the surface, or stays where it began if its
+                    // core was there already and would have gone in. Where
+                    // the core never reached the surface, a body that began
+                    // the step resting on its side stays there too; one
+                    // that began deep inside is left to the push-out.
+                    let core_motion = Motion::new(mine.0, mine.1, DVec3::ZERO);
+                    let core_tolerance = (0.1 * e.core).min(0.25 * margin);
+                    let core = (e.core > 0.0)
+                        .then(|| Sphere::new(e.core).ok())
+                        .flatten()
+                        .map(Shape::Sphere);
+                    let core_hit = core.as_ref().and_then(|core| {
+                        let core_options = ToiOptions {
+                            target: 0.0,
+                            tolerance: core_tolerance,
+                            max_iterations: MAX_ITERATIONS,
+                        };
+                        time_of_impact(core, &core_motion, &cb.shape, &mb, &core_options).ok()?
+                    });
+                    let impact = match core_hit {
+                        Some(h) if h.time > 0.0 => Some(SweptImpact::new(p, &h)),
+                        // At the surface already: held there if it went on inwards.
+                        Some(h) => {
+                            let inwards =
+                                -(core_motion.end.position - core_motion.start.position).dot(h.normal);
+                            (inwards > core_tolerance).then(|| SweptImpact::new(p, &h))
+                        }
+                        // It stays where it began; the points that would
+                        // have sunk in on its side of the surface take the
+                        // impulses, carried back to that pose (else the
+                        // same step would repeat from the same state).
+                        None => (hit.distance >= -depth).then(|| {
+                            let mut impact = SweptImpact::new(p, &hit);
+                            impact.contacts.extend(sunk_points(
+                                margin, hit.normal, &ca.shape, &ma, &cb.shape, &mb.end,
+                            ));
+                            impact
+                        }),
+                    };
+                    if let Some(impact) = impact {
+                        if first.as_ref().is_none_or(|i| impact.time < i.time) {
+                            first = Some(impact);
+                        }
+                    }
+                }
+            }
+        }
+        first
+    }
+}
+
+/// Where a fast body is put back: the time of impact (fraction of the
+/// step), the partner, and the contacts there (normals from the partner to
+/// the body).
+struct SweptImpact {
+    time: f64,
+    partner: u32,
+    /// Contact points and normals (world, at the pose the body is put
+    /// back to) that take the restitution law's impulses.
+    contacts: Vec<(DVec3, DVec3)>,
+}
+
+impl SweptImpact {
+    fn new(partner: u32, hit: &Impact) -> SweptImpact {
+        SweptImpact {
+            time: hit.time,
+            partner,
+            contacts: vec![(hit.point, hit.normal)],
+        }
+    }
+}
+
+/// The contacts of A at the end of its motion with B that face the side it
+/// came from (`normal`, B to A), carried back to A's start pose (a point
+/// moves with A; the normal is B's surface, left as it is).
+fn sunk_points(
+    margin: f64,
+    normal: DVec3,
+    a: &Shape,
+    motion_a: &Motion,
+    b: &Shape,
+    pose_b: &Pose,
+) -> Vec<(DVec3, DVec3)> {
+    let mut out = Vec::new();
+    if contact_shapes(a, &motion_a.end, b, pose_b, margin, &mut out).is_err() {
+        return Vec::new();
+    }
+    let back = motion_a.start.mul_pose(&motion_a.end.inverse());
+    out.iter()
+        .filter(|c| c.distance < 0.0 && c.normal.dot(normal) > 0.0)
+        .map(|c| (back.transform_point(c.point), c.normal))
+        .collect()
+}
+
+/// Whether a body that met a surface on its way ends the step clear of
+/// it: its centre `center` still on the side of the impact point where
+/// `hit.normal` (B to A) points, and touching the surface there (within
+/// `margin`, no deeper than `depth`) or apart from it (it stopped, bounced
+/// or turned away). A body that flew on ends with its centre beyond, one
+/// beside the far face of a thin slab touches it with the opposite normal:
+/// both passed through. A body whose centre is not in its material (a
+/// ring, `center` is `None`) touches others at points that say nothing of
+/// sides (a ring hung on another is touched from inside its hole): for it,
+/// only the depth counts.
+#[allow(clippy::too_many_arguments)]
+fn ends_clear(
+    margin: f64,
+    depth: f64,
+    hit: &Impact,
+    center: Option<DVec3>,
+    a: &Shape,
+    pose_a: &Pose,
+    b: &Shape,
+    pose_b: &Pose,
+) -> bool {
+    let mut out = Vec::new();
+    if contact_shapes(a, pose_a, b, pose_b, margin, &mut out).is_err() {
+        return false;
+    }
+    let Some(center) = center else {
+        return out.iter().all(|c| c.distance >= -depth);
+    };
+    (center - hit.point).dot(hit.normal) >= 0.0
+        && out
+            .iter()
+            .all(|c| c.distance >= -depth && c.normal.dot(hit.normal) > 0.0)
+}
+
+/// A body's motion over the step: its frame is the principal frame at the
+/// centre of mass, which is also the point it turns about.
+fn body_motion(before: &Pose, after: &Pose) -> Motion {
+    Motion::new(*before, *after, DVec3::ZERO)
+}
+
+/// A collider's motion, given its body's poses before and after the step
+/// and its pose in the body frame: the collider turns about the body's
+/// centre of mass (the body frame's origin).
+fn collider_motion((before, after): &(Pose, Pose), local: &Pose) -> Motion {
+    Motion::new(
+        before.mul_pose(local),
+        after.mul_pose(local),
+        local.inverse_transform_point(DVec3::ZERO),
+    )
+}

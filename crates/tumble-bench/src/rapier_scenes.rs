@@ -121,6 +121,33 @@ pub fn cradle() -> (PhysicsWorld, Vec<RigidBodyHandle>) {
     (w, ids)
 }
 
+/// The Rapier collider of a tumble shape (its own frame): balls, boxes,
+/// capsules, convex hulls (from the hull's vertices) and triangle meshes
+/// (`TriMesh`, default flags; give a dynamic mesh body its mass properties,
+/// a mesh has no volume of its own in Rapier). Half-spaces have no twin.
+pub fn collider(shape: &tumble::collide::shape::Shape) -> Result<ColliderBuilder, String> {
+    use tumble::collide::shape::Shape;
+    let f = |p: &tumble::collide::DVec3| v(p.to_array());
+    Ok(match shape {
+        Shape::Sphere(s) => ColliderBuilder::ball(s.radius() as f32),
+        Shape::Cuboid(c) => {
+            let h = c.half_extents();
+            ColliderBuilder::cuboid(h.x as f32, h.y as f32, h.z as f32)
+        }
+        Shape::Capsule(c) => ColliderBuilder::capsule_z(c.half_height() as f32, c.radius() as f32),
+        Shape::ConvexHull(h) => {
+            let points: Vec<Vector> = h.vertices().iter().map(f).collect();
+            ColliderBuilder::convex_hull(&points).ok_or("Rapier rejected a convex hull")?
+        }
+        Shape::Mesh(m) => {
+            let vertices: Vec<Vector> = m.mesh().vertices().iter().map(f).collect();
+            ColliderBuilder::trimesh(vertices, m.mesh().triangles().to_vec())
+                .map_err(|e| format!("Rapier rejected a mesh: {e:?}"))?
+        }
+        other => return Err(format!("shape {} has no Rapier twin here", other.kind_name())),
+    })
+}
+
 /// A jointed scene of `tumble::scenes` (heavy chain, ragdoll pile) built in
 /// Rapier from the same descriptions: spheres, boxes and capsules with the
 /// same masses and poses; ball joints as spherical joints, hinges as
@@ -140,7 +167,6 @@ pub struct JointedWorld {
 
 /// Builds `scene` in Rapier (see [`JointedWorld`]).
 pub fn jointed(scene: &tumble::scenes::Scene, multibody: bool) -> Result<JointedWorld, String> {
-    use tumble::collide::shape::Shape;
     use tumble::world::MassDesc;
     let mut w = world();
     let anchor_body = w
@@ -155,22 +181,10 @@ pub fn jointed(scene: &tumble::scenes::Scene, multibody: bool) -> Result<Jointed
         let [shape] = b.shapes.as_slice() else {
             return Err(format!("{}: one shape per body expected", b.name));
         };
-        let collider = match &shape.shape {
-            Shape::Sphere(s) => ColliderBuilder::ball(s.radius() as f32),
-            Shape::Cuboid(c) => {
-                let h = c.half_extents();
-                ColliderBuilder::cuboid(h.x as f32, h.y as f32, h.z as f32)
-            }
-            Shape::Capsule(c) => ColliderBuilder::capsule_z(c.half_height() as f32, c.radius() as f32),
-            other => {
-                return Err(format!(
-                    "{}: shape {} has no Rapier twin here",
-                    b.name,
-                    other.kind_name()
-                ))
-            }
-        };
-        let collider = collider.friction(FRICTION).restitution(0.0);
+        let collider = collider(&shape.shape)
+            .map_err(|e| format!("{}: {e}", b.name))?
+            .friction(FRICTION)
+            .restitution(0.0);
         let p = b.pose.position.to_array();
         let r = b.pose.rotation.to_scaled_axis().to_array();
         let builder = match b.kind {

@@ -6,24 +6,11 @@
 //! collision puts bodies back along their path, which must never become a
 //! trap). Release mode: `cargo test --release -p tumble --test continuous`.
 
+use tumble::scenes::{self, Fault, Projectile};
 use tumble::world::{BodyDesc, World, WorldSettings};
-use tumble_collide::mesh::{box_mesh, icosphere_mesh};
-use tumble_collide::shape::{Capsule, ConvexHull, Cuboid, MeshShape, Shape, Sphere};
+use tumble_collide::mesh::box_mesh;
+use tumble_collide::shape::{Capsule, Cuboid, MeshShape, Shape};
 use tumble_collide::{DQuat, DVec3, Pose};
-
-const PROJECTILES: [&str; 5] = ["box", "sphere", "capsule", "hull", "mesh"];
-
-/// A projectile about 10 cm across.
-fn projectile(kind: &str) -> Shape {
-    match kind {
-        "box" => Shape::Cuboid(Cuboid::new(DVec3::splat(0.05)).unwrap()),
-        "sphere" => Shape::Sphere(Sphere::new(0.05).unwrap()),
-        "capsule" => Shape::Capsule(Capsule::new(0.03, 0.02).unwrap()),
-        "hull" => Shape::ConvexHull(ConvexHull::from_mesh(&icosphere_mesh(0.05, 1).unwrap()).unwrap()),
-        "mesh" => Shape::Mesh(MeshShape::new(icosphere_mesh(0.05, 2).unwrap()).unwrap()),
-        other => panic!("no projectile {other}"),
-    }
-}
 
 /// A 2 m x 2 m slab `thick` m thick, a box primitive or a closed mesh.
 fn slab(thick: f64, mesh: bool) -> Shape {
@@ -45,104 +32,26 @@ fn weightless(continuous: bool) -> World {
     .unwrap()
 }
 
-/// Fires `kind` at `speed` (m/s, along -z) at a static slab through the
-/// origin, turned by `degrees` about y, and watches 40 steps of 1/60 s:
-/// `Err` says how it went wrong.
-fn fire(
-    kind: &str,
-    mesh: bool,
-    thick: f64,
-    degrees: f64,
-    speed: f64,
-    continuous: bool,
-) -> Result<(), String> {
-    let mut world = weightless(continuous);
-    let turn = DQuat::from_rotation_y(degrees.to_radians());
-    world
-        .add_body(&BodyDesc::fixed(slab(thick, mesh)).with_pose(Pose::new(DVec3::ZERO, turn).unwrap()))
-        .unwrap();
-    // Far enough that the first step never starts at the slab.
-    let start = DVec3::new(0.0, 0.0, 0.5 + speed / 60.0 * 0.37);
-    let body = world
-        .add_body(
-            &BodyDesc::dynamic(projectile(kind))
-                .at(start)
-                .with_velocity(DVec3::new(0.0, 0.0, -speed), DVec3::ZERO),
-        )
-        .unwrap();
-    let (normal, along, across) = (turn * DVec3::Z, turn * DVec3::X, DVec3::Y);
-    let e0 = world.kinetic_energy();
-    let (mut last, mut last_energy, mut held) = (start, e0, 0);
-    for step in 0..40 {
-        world.step();
-        let p = world.center_of_mass(body).unwrap();
-        let e = world.kinetic_energy();
-        if !(p.is_finite() && e.is_finite()) {
-            return Err(format!("step {step}: not finite"));
-        }
-        // A tunnel: the centre crossed the slab's plane inside its square.
-        let (h0, h1) = (last.dot(normal), p.dot(normal));
-        if h0 >= 0.0 && h1 < 0.0 {
-            let x = last + (p - last) * (h0 / (h0 - h1));
-            if x.dot(along).abs() < 1.0 && x.dot(across).abs() < 1.0 {
-                return Err(format!("step {step}: passed through to {p:.3}"));
-            }
-        }
-        // Energy may only fall. A capsule's own free rotation changes its
-        // energy by a few percent at the spins these impacts give it (the
-        // integrator's error, not the contacts'): for it, never above the
-        // start plus that.
-        let gained = if kind == "capsule" {
-            e > e0 * 1.05
-        } else {
-            e > last_energy * (1.0 + 1e-4) + 1e-9
-        };
-        if gained {
-            return Err(format!(
-                "step {step}: energy x{:.4} (x{:.4} of the start)",
-                e / last_energy,
-                e / e0
-            ));
-        }
-        held = if p == last && world.linear_velocity(body).unwrap().length() > 0.1 {
-            held + 1
-        } else {
-            0
-        };
-        if held >= 3 {
-            return Err(format!("step {step}: held at {p:.3} while moving"));
-        }
-        (last, last_energy) = (p, e);
-    }
-    Ok(())
-}
-
 #[test]
 fn no_projectile_passes_a_slab_gains_energy_or_gets_stuck() {
-    let mut failures = Vec::new();
-    let mut cases = 0;
-    for kind in PROJECTILES {
-        for mesh in [false, true] {
-            for thick in [0.001, 0.01, 0.02, 0.1] {
-                for degrees in [0.0, 30.0, 60.0] {
-                    for speed in [10.0, 30.0, 120.0, 250.0, 600.0, 1000.0] {
-                        cases += 1;
-                        if let Err(why) = fire(kind, mesh, thick, degrees, speed, true) {
-                            let slab = if mesh { "mesh" } else { "box" };
-                            failures.push(format!(
-                                "{kind} at {speed} m/s, {thick} m {slab} slab at {degrees} deg: {why}"
-                            ));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    assert_eq!(cases, 720);
+    // The matrix of tumble::scenes::projectile_cases (720 cases: box,
+    // sphere, capsule, hull and mesh projectiles; box and mesh slabs 1 mm
+    // to 10 cm thick, 0 to 60 degrees; 10 to 1,000 m/s), judged by Flight.
+    let cases = scenes::projectile_cases();
+    assert_eq!(cases.len(), 720);
+    let failures: Vec<String> = cases
+        .iter()
+        .filter_map(|case| {
+            scenes::fire_projectile(case, true)
+                .err()
+                .map(|(_, why)| format!("{}: {why}", case.label()))
+        })
+        .collect();
     assert!(
         failures.is_empty(),
-        "{} of {cases} cases fail:\n{}",
+        "{} of {} cases fail:\n{}",
         failures.len(),
+        cases.len(),
         failures.join("\n")
     );
 }
@@ -151,18 +60,26 @@ fn no_projectile_passes_a_slab_gains_energy_or_gets_stuck() {
 fn without_continuous_collision_fast_bodies_do_pass_through() {
     // The matrix above is not vacuous: without the continuous stage 463 of
     // its 720 cases fail (448 pass through), among them these.
-    let cases = [
-        ("sphere", false, 30.0, 120.0),
-        ("box", false, 30.0, 600.0),
-        ("box", true, 30.0, 250.0),
-        ("mesh", true, 0.0, 600.0),
+    let picks = [
+        (Projectile::Sphere, false, 30.0, 120.0),
+        (Projectile::Box, false, 30.0, 600.0),
+        (Projectile::Box, true, 30.0, 250.0),
+        (Projectile::Mesh, true, 0.0, 600.0),
     ];
-    for (kind, mesh, degrees, speed) in cases {
-        assert!(fire(kind, mesh, 0.01, degrees, speed, true).is_ok());
-        let without = fire(kind, mesh, 0.01, degrees, speed, false);
+    for (projectile, mesh_slab, degrees, speed) in picks {
+        let case = scenes::ProjectileCase {
+            projectile,
+            mesh_slab,
+            thickness: 0.01,
+            degrees,
+            speed,
+        };
+        assert!(scenes::fire_projectile(&case, true).is_ok(), "{}", case.label());
+        let without = scenes::fire_projectile(&case, false);
         assert!(
-            without.is_err(),
-            "{kind} at {speed} m/s held without continuous collision"
+            matches!(without, Err((Fault::PassedThrough, _))),
+            "{} held without continuous collision: {without:?}",
+            case.label()
         );
     }
 }
@@ -220,7 +137,7 @@ fn a_mesh_dropped_from_100_m_onto_a_thin_mesh_floor_comes_to_rest_on_it() {
         )))
         .unwrap();
     let ball = world
-        .add_body(&BodyDesc::dynamic(projectile("mesh")).at(DVec3::new(0.0, 0.0, 100.0)))
+        .add_body(&BodyDesc::dynamic(Projectile::Mesh.shape()).at(DVec3::new(0.0, 0.0, 100.0)))
         .unwrap();
     let mut peak_after_landing = 0.0f64;
     let mut landed = false;
@@ -256,7 +173,11 @@ fn overlaps_are_pushed_out_without_launching_anything() {
         world.add_body(&BodyDesc::fixed(slab(thick, false))).unwrap();
         let top = thick / 2.0;
         let body = world
-            .add_body(&BodyDesc::dynamic(projectile("box")).at(DVec3::new(0.0, 0.0, top + 0.05 - depth)))
+            .add_body(&BodyDesc::dynamic(Projectile::Box.shape()).at(DVec3::new(
+                0.0,
+                0.0,
+                top + 0.05 - depth,
+            )))
             .unwrap();
         for step in 0..120 {
             world.step();
@@ -280,7 +201,7 @@ fn swept_bodies_survive_a_snapshot_bit_for_bit() {
     world.add_body(&BodyDesc::fixed(slab(0.01, true))).unwrap();
     world
         .add_body(
-            &BodyDesc::dynamic(projectile("box"))
+            &BodyDesc::dynamic(Projectile::Box.shape())
                 .at(DVec3::new(0.0, 0.0, 3.0))
                 .with_velocity(DVec3::new(0.0, 0.0, -250.0), DVec3::new(3.0, 0.0, 0.0))
                 .with_ccd(true),

@@ -5,11 +5,15 @@
 mod joint_scenes;
 mod mesh_scenes;
 mod primitives_scenes;
+mod projectile_scenes;
 
 pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
 pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
 pub use primitives_scenes::{
     ball_drop, cradle, domino, incline, large_pyramid, pile, pyramid, pyramid_of_base, tower,
+};
+pub use projectile_scenes::{
+    fire_projectile, projectile_cases, Fault, Flight, Projectile, ProjectileCase, PROJECTILE_STEPS,
 };
 
 use crate::joint::JointDesc;

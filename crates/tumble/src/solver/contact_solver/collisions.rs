@@ -68,6 +68,12 @@ pub fn resolve_collisions(
                 let vi2 = v_start * v_start - 2.0 * a_n * gap;
                 let e = m.restitution;
                 let v_out = (e * e * vi2 + 2.0 * a_n * gap).max(0.0).sqrt() - 0.5 * a_n * h;
+                // Restitution never creates energy: for e <= 1 the pair
+                // leaves (at the step start) no faster than it came.
+                debug_assert!(
+                    e > 1.0 || (v_out + 0.5 * a_n * h).powi(2) <= v_start * v_start * (1.0 + 1e-9) + 1e-12,
+                    "restitution {e}: out at {v_out} m/s after {vn} m/s in"
+                );
                 let magnitude = p.normal_mass * (v_out - vn);
                 // A bounce is a touch: contact events see it like a resting impulse.
                 p.max_normal_impulse = p.max_normal_impulse.max(magnitude);

@@ -141,6 +141,7 @@ impl World {
                 if !(j.is_finite() && k > 0.0) {
                     continue;
                 }
+                let energy_before = ea.body.kinetic_energy() + eb.body.kinetic_energy();
                 // Failures leave the momenta as they were (a non-finite
                 // impulse cannot come from finite bodies; checked anyway).
                 let _ = self
@@ -156,6 +157,17 @@ impl World {
                         .expect("live")
                         .body
                         .apply_impulse_at_point(-n * j, p);
+                }
+                if cfg!(debug_assertions) {
+                    let (ea, eb) = (
+                        self.bodies.at(slot).expect("live"),
+                        self.bodies.at(impact.partner).expect("live"),
+                    );
+                    let after = ea.body.kinetic_energy() + eb.body.kinetic_energy();
+                    debug_assert!(
+                        after <= energy_before * (1.0 + 1e-9) + 1e-12,
+                        "an impact impulse added energy: {energy_before} J -> {after} J"
+                    );
                 }
             }
         }

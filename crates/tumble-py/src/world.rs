@@ -221,9 +221,10 @@ impl World {
     ///     friction: Coulomb coefficient >= 0, default 0.5.
     ///     linear_damping: 1/s, default 0.
     ///     angular_damping: 1/s, default 0.
-    ///     ccd: always sweep the body for continuous collision (bodies that
-    ///         move more than half their thickness in a step are swept
-    ///         anyway), default False.
+    ///     ccd: a bullet: always swept by continuous collision, against
+    ///         dynamic bodies too (bodies that move more than half their
+    ///         thickness in a step are swept against static and kinematic
+    ///         ones anyway), default False.
     ///     name: optional name (exports, find()).
     ///
     /// Raises:

@@ -171,8 +171,9 @@ pub struct BodySpec {
     /// Angular damping (1/s, >= 0). Default 0.
     #[serde(default)]
     pub angular_damping: Option<f64>,
-    /// Always sweep this body for continuous collision (fast bodies are
-    /// swept anyway). Default false.
+    /// A bullet: always swept by continuous collision, against dynamic
+    /// bodies too (fast bodies are swept against static and kinematic ones
+    /// anyway). Default false.
     #[serde(default)]
     pub ccd: Option<bool>,
     /// Force (N, world frame) at the centre of mass during the first step

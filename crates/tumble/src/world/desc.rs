@@ -138,9 +138,11 @@ pub struct BodyDesc {
     pub linear_damping: f64,
     /// Angular damping (1/s, >= 0). Default 0.
     pub angular_damping: f64,
-    /// Always sweep this body for continuous collision, however slowly it
-    /// moves (bodies that move more than half their thickness in a step are
-    /// swept anyway while `WorldSettings::continuous` is on). Default false.
+    /// A bullet: always swept by continuous collision, however slowly it
+    /// moves, and against dynamic bodies as well as static and kinematic
+    /// ones (other bodies that move more than half their thickness in a
+    /// step are swept against static and kinematic bodies while
+    /// `WorldSettings::continuous` is on). Default false.
     pub ccd: bool,
     /// Optional name (scene files, exports). Default empty.
     pub name: String,

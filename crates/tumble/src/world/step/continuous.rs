@@ -11,26 +11,27 @@
 //! After the solve, a body whose motion over the step exceeds
 //! [`FAST_FRACTION`] of its own thickness (or whose `ccd` flag is set) is
 //! swept from its pose before the step to its pose after it against the
-//! bodies its swept box met in the broad phase ([`time_of_impact`], by
-//! conservative advancement, rotation included). Where it came within
+//! static and kinematic bodies its swept box met in the broad phase, and
+//! against dynamic ones too when its `ccd` flag is set ([`time_of_impact`],
+//! by conservative advancement, rotation included). Where it came within
 //! reach of one on the way and the solver did not leave the pair touching
 //! at the end (it passed through, or sank in deeper than the contact
-//! margin), the body is put back at that time of impact with its
-//! velocities unchanged; the next step's speculative contact then meets
-//! that surface. The rest of the step is lost for that body, never energy:
-//! a pose moves back along the path, no velocity changes.
+//! margin), the body is put back at that time of impact, its velocities
+//! interpolated to the same time, and Newton's restitution law acts at the
+//! contact there; the next step's speculative contact then meets that
+//! surface. The rest of the step is lost for that body, never energy.
 //!
 //! Each fast body is swept against the others' whole motions, on the
 //! world's threads, reading the world only; the poses are put back in slot
 //! order afterwards, so the result does not depend on the thread count.
 
 use super::StepFrame;
-use crate::body::BodyKind;
+use crate::body::{BodyKind, BodyState};
 use crate::world::{MaterialDesc, World};
 use tumble_collide::narrow::contact_shapes;
 use tumble_collide::query::{time_of_impact, Impact, Motion, ToiOptions};
 use tumble_collide::shape::Sphere;
-use tumble_collide::{DVec3, Pose, Shape};
+use tumble_collide::{DMat3, DVec3, Pose, Shape};
 
 /// A body is fast, and swept, when its motion over one step (centre
 /// travel plus turn times radius) exceeds this fraction of its thickness
@@ -75,10 +76,23 @@ impl World {
         }
         // Each fast body's partners: the bodies its swept box met.
         let mut partners: Vec<Vec<u32>> = vec![Vec::new(); fast.len()];
+        // Static and kinematic partners only, unless the body has `ccd` set
+        // (a bullet, in Box2D's word): a dynamic partner has already taken
+        // the solver's impulses from this body, and putting one of the two
+        // back alone would leave them unanswered (a falling pile gained
+        // energy that way).
+        let sweeps_dynamic = |slot: u32| self.bodies.at(slot).is_some_and(|e| e.ccd);
+        let immovable = |slot: u32| {
+            self.bodies
+                .at(slot)
+                .is_some_and(|e| e.body.kind() != BodyKind::Dynamic)
+        };
         for &(a, b) in &f.pairs {
             for (me, other) in [(a, b), (b, a)] {
                 if let Ok(k) = fast.binary_search(&me) {
-                    partners[k].push(other);
+                    if immovable(other) || sweeps_dynamic(me) {
+                        partners[k].push(other);
+                    }
                 }
             }
         }
@@ -92,12 +106,24 @@ impl World {
         });
         for ((slot, _), impact) in work.iter().zip(impacts.into_iter().flatten()) {
             let Some(impact) = impact else { continue };
-            let before = f.before[*slot as usize]
-                .expect("fast bodies existed before the step")
-                .pose();
+            let state = f.before[*slot as usize].expect("fast bodies existed before the step");
             let e = self.bodies.at_mut(*slot).expect("live");
-            let pose = body_motion(&before, &e.body.pose()).pose_at(impact.time);
-            e.body.set_pose(pose);
+            let t = impact.time;
+            // The velocities go back with the pose, to the same fraction of
+            // the way between the step's start and end: a body put back up
+            // its fall keeping its final speed would gain the potential
+            // energy of the height it regained. Interpolated, its energy
+            // at the impact lies between the step's start and end values
+            // (kinetic energy is convex in the velocity, potential linear
+            // along the path).
+            let (v0, w0) = state_velocities(&state, &e.body);
+            let (v1, w1) = (e.body.velocity(), e.body.angular_velocity());
+            e.body
+                .set_pose(body_motion(&state.pose(), &e.body.pose()).pose_at(t));
+            // Finite by construction (finite start and end); a failure
+            // leaves the end's velocities.
+            let _ = e.body.set_linear_velocity(v0.lerp(v1, t));
+            let _ = e.body.set_angular_velocity(w0.lerp(w1, t));
             self.collide_at_impact(*slot, &impact, f.settings.restitution_threshold);
             f.report.continuous += 1;
         }
@@ -229,6 +255,23 @@ impl World {
                         first = Some(SweptImpact::new(p, &hit));
                         continue;
                     }
+                    // Within reach at the start: an overlap at the end is
+                    // the push-out's to lift, unless the body came out on
+                    // the far side or sank deeper than the partner is thick
+                    // (through most of a thin slab).
+                    let through = other.thickness.max(f.settings.allowed_penetration);
+                    if ends_clear(
+                        margin,
+                        through,
+                        &hit,
+                        (e.core > 0.0).then_some(mine.1.position),
+                        &ca.shape,
+                        &ma.end,
+                        &cb.shape,
+                        &mb.end,
+                    ) {
+                        continue;
+                    }
                     // Within reach at the start, and still the pair did not
                     // end clear. First the next contact on the way: the
                     // time the pair came within half its starting gap (a
@@ -350,12 +393,12 @@ fn sunk_points(
 }
 
 /// Whether a body that met a surface on its way ends the step clear of
-/// it: its centre `center` still on the side of the impact point where
-/// `hit.normal` (B to A) points, and touching the surface there (within
-/// `margin`, no deeper than `depth`) or apart from it (it stopped, bounced
-/// or turned away). A body that flew on ends with its centre beyond, one
-/// beside the far face of a thin slab touches it with the opposite normal:
-/// both passed through. A body whose centre is not in its material (a
+/// it: no deeper in than `depth` (contacts searched within `margin`), its
+/// centre `center` still on the side of the impact point where
+/// `hit.normal` (B to A) points, and not touching the partner from the far
+/// side only. A body that flew on ends with its centre beyond, one beside
+/// the far face of a thin slab touches it with the opposite normal: both
+/// passed through. A body whose centre is not in its material (a
 /// ring, `center` is `None`) touches others at points that say nothing of
 /// sides (a ring hung on another is touched from inside its hole): for it,
 /// only the depth counts.
@@ -374,13 +417,25 @@ fn ends_clear(
     if contact_shapes(a, pose_a, b, pose_b, margin, &mut out).is_err() {
         return false;
     }
+    if out.iter().any(|c| c.distance < -depth) {
+        return false;
+    }
     let Some(center) = center else {
-        return out.iter().all(|c| c.distance >= -depth);
+        return true;
     };
-    (center - hit.point).dot(hit.normal) >= 0.0
-        && out
-            .iter()
-            .all(|c| c.distance >= -depth && c.normal.dot(hit.normal) > 0.0)
+    // Touching only from the far side: beside the back face of a thin slab.
+    // (A body in a crevice touches faces of every slant, some facing it.)
+    let far_side = out.iter().any(|c| c.normal.dot(hit.normal) < -0.5)
+        && out.iter().all(|c| c.normal.dot(hit.normal) <= 0.0);
+    (center - hit.point).dot(hit.normal) >= 0.0 && !far_side
+}
+
+/// Linear and angular velocity (world frame) of `body` in the state
+/// `state` it had before the step.
+fn state_velocities(state: &BodyState, body: &crate::body::RigidBody) -> (DVec3, DVec3) {
+    let r = DMat3::from_quat(state.orientation);
+    let omega = r * (body.inv_principal_inertia() * (r.transpose() * state.angular_momentum));
+    (state.linear_momentum * body.inv_mass(), omega)
 }
 
 /// A body's motion over the step: its frame is the principal frame at the

@@ -1,5 +1,6 @@
-//! Threads change the speed of a step, never its result: the pile and the
-//! torus chain stepped on 1, 2, 3 and 8 threads follow bit-identical
+//! Threads change the speed of a step, never its result: the pile, the
+//! torus chain and a volley of swept projectiles stepped on 1, 2, 3 and 8
+//! threads follow bit-identical
 //! trajectories (hashes compared every few steps, so a divergence is caught
 //! where it starts), and the report says how many threads ran.
 
@@ -49,6 +50,38 @@ fn pile_is_bit_identical_on_1_2_3_and_8_threads() {
 #[test]
 fn chain_is_bit_identical_on_1_2_3_and_8_threads() {
     same_for_every_thread_count(scenes::chain(), 120, 10);
+}
+
+#[test]
+fn volley_of_swept_projectiles_is_bit_identical_on_1_2_3_and_8_threads() {
+    // Continuous collision sweeps fast bodies on the pool and puts them back
+    // in slot order: 12 projectiles of every kind (mesh balls among them,
+    // so the step runs on the threads), half of them bullets, fired at a
+    // turned mesh slab and through each other's paths.
+    let base = scenes::ProjectileCase {
+        projectile: scenes::Projectile::Mesh,
+        mesh_slab: true,
+        thickness: 0.01,
+        degrees: 30.0,
+        speed: 300.0,
+    };
+    let mut scene = base.scene(true);
+    for k in 0..12 {
+        let projectile = scenes::Projectile::ALL[k % 5];
+        let x = -0.6 + 0.1 * k as f64;
+        let body = tumble::world::BodyDesc::dynamic(projectile.shape())
+            .at(base.start() + tumble::collide::DVec3::new(x, 0.1 * (k % 3) as f64, 0.2 * k as f64))
+            .with_velocity(
+                tumble::collide::DVec3::new(-x * 20.0, 0.0, -100.0 - 40.0 * k as f64),
+                tumble::collide::DVec3::new(0.0, 5.0 * k as f64, 0.0),
+            )
+            .with_ccd(k % 2 == 0);
+        scene.bodies.push(body);
+    }
+    let (mut world, _) = scene.build().unwrap();
+    let swept: usize = (0..40).map(|_| world.step().continuous).sum();
+    assert!(swept > 0, "the volley never needed continuous collision");
+    same_for_every_thread_count(scene, 40, 4);
 }
 
 #[test]

@@ -27,7 +27,7 @@
 
 use super::StepFrame;
 use crate::body::{BodyKind, BodyState};
-use crate::world::{MaterialDesc, World};
+use crate::world::{BodyEntry, MaterialDesc, World};
 use tumble_collide::narrow::contact_shapes;
 use tumble_collide::query::{time_of_impact, Impact, Motion, ToiOptions};
 use tumble_collide::shape::Sphere;
@@ -199,143 +199,74 @@ impl World {
         }
     }
 
-    /// The earliest time (fraction of the step) at which body `slot` came
-    /// within reach of one of `partners` on its way, if the solver left
-    /// that pair apart or sunk in at the end of the step.
+    /// Where body `slot` goes back to, if anywhere: the earliest impact with
+    /// one of `partners` on its way that the step did not resolve.
     fn first_impact(&self, f: &StepFrame, slot: u32, partners: &[u32]) -> Option<SweptImpact> {
         let e = self.bodies.at(slot).expect("live");
-        let options = ToiOptions {
-            target: 0.5 * f.settings.contact_margin,
-            tolerance: 0.25 * f.settings.contact_margin,
+        let margin = f.settings.contact_margin;
+        let reach = ToiOptions {
+            target: 0.5 * margin,
+            tolerance: 0.25 * margin,
             max_iterations: MAX_ITERATIONS,
         };
-        let margin = f.settings.contact_margin;
+        let mine = (
+            f.before[slot as usize].expect("swept bodies existed").pose(),
+            e.body.pose(),
+        );
+        // Sides are told by the centre; a ring's centre is in its hole.
+        let center = (e.core > 0.0).then_some(mine.1.position);
         let mut first: Option<SweptImpact> = None;
         for &p in partners {
             let other = self.bodies.at(p).expect("live");
-            let other_before = f.before[p as usize].map_or(other.body.pose(), |s| s.pose());
-            let mine = (
-                f.before[slot as usize].expect("swept bodies existed").pose(),
-                e.body.pose(),
+            let theirs = (
+                f.before[p as usize].map_or(other.body.pose(), |s| s.pose()),
+                other.body.pose(),
             );
-            let theirs = (other_before, other.body.pose());
+            // How deep the pair may end inside each other and still count as
+            // resting: no deeper than the partner is (half) thick, never less
+            // than the solver's own allowance (3 mm into a 1 mm slab is
+            // through most of it).
+            let through = other.thickness.max(f.settings.allowed_penetration);
             for ca in &e.colliders {
                 for cb in &other.colliders {
-                    let ma = collider_motion(&mine, &ca.local);
-                    let mb = collider_motion(&theirs, &cb.local);
-                    let Ok(Some(hit)) = time_of_impact(&ca.shape, &ma, &cb.shape, &mb, &options) else {
+                    let (ma, mb) = (
+                        collider_motion(&mine, &ca.local),
+                        collider_motion(&theirs, &cb.local),
+                    );
+                    let Ok(Some(hit)) = time_of_impact(&ca.shape, &ma, &cb.shape, &mb, &reach) else {
                         continue;
                     };
-                    // Overlapping at the start with no direction to tell
-                    // the sides apart: the discrete contact's job.
-                    if hit.normal == DVec3::ZERO {
+                    // Overlapping at the start with no direction to tell the
+                    // sides apart: the discrete contact's job.
+                    if hit.normal == DVec3::ZERO || first.as_ref().is_some_and(|i| i.time <= hit.time) {
                         continue;
                     }
-                    // How far the pair may end inside each other and still
-                    // count as resting: the contact margin, or less against
-                    // a thinner partner (3 mm into a 1 mm slab is through
-                    // most of it), but never less than the solver's own
-                    // allowance.
-                    let depth = margin.min(other.thickness.max(f.settings.allowed_penetration));
-                    if first.as_ref().is_some_and(|i| i.time <= hit.time)
-                        || ends_clear(
-                            margin,
-                            depth,
-                            &hit,
-                            (e.core > 0.0).then_some(mine.1.position),
-                            &ca.shape,
-                            &ma.end,
-                            &cb.shape,
-                            &mb.end,
+                    let clear = |depth| {
+                        ends_clear(
+                            margin, depth, &hit, center, &ca.shape, &ma.end, &cb.shape, &mb.end,
                         )
-                    {
-                        continue;
-                    }
-                    if hit.time > 0.0 {
-                        first = Some(SweptImpact::new(p, &hit));
-                        continue;
-                    }
-                    // Within reach at the start: an overlap at the end is
-                    // the push-out's to lift, unless the body came out on
-                    // the far side or sank deeper than the partner is thick
-                    // (through most of a thin slab).
-                    let through = other.thickness.max(f.settings.allowed_penetration);
-                    if ends_clear(
-                        margin,
-                        through,
-                        &hit,
-                        (e.core > 0.0).then_some(mine.1.position),
-                        &ca.shape,
-                        &ma.end,
-                        &cb.shape,
-                        &mb.end,
-                    ) {
-                        continue;
-                    }
-                    // Within reach at the start, and still the pair did not
-                    // end clear. First the next contact on the way: the
-                    // time the pair came within half its starting gap (a
-                    // tumbling body's corner swinging in); the body goes
-                    // back there and that corner takes the impulse.
-                    if hit.distance > 0.0 {
-                        let closer = ToiOptions {
-                            target: 0.5 * hit.distance,
-                            tolerance: 0.25 * hit.distance,
-                            max_iterations: MAX_ITERATIONS,
-                        };
-                        if let Ok(Some(next)) = time_of_impact(&ca.shape, &ma, &cb.shape, &mb, &closer) {
-                            if next.time > 0.0 && next.normal != DVec3::ZERO {
-                                if first.as_ref().is_none_or(|i| next.time < i.time) {
-                                    first = Some(SweptImpact::new(p, &next));
-                                }
-                                continue;
-                            }
-                        }
-                    }
-                    // Within reach at the start, and still the pair did not
-                    // end touching: the contact did not hold (a tumbling
-                    // body swung its far end through, a fast one sank into
-                    // a thin slab). The body's core, a ball inside it about
-                    // its centre of mass, may not cross the surface
-                    // (Box2D's fallback): the body goes back to where its
-                    // core met the surface, or stays where it began if its
-                    // core was there already and would have gone in. Where
-                    // the core never reached the surface, a body that began
-                    // the step resting on its side stays there too; one
-                    // that began deep inside is left to the push-out.
-                    let core_motion = Motion::new(mine.0, mine.1, DVec3::ZERO);
-                    let core_tolerance = (0.1 * e.core).min(0.25 * margin);
-                    let core = (e.core > 0.0)
-                        .then(|| Sphere::new(e.core).ok())
-                        .flatten()
-                        .map(Shape::Sphere);
-                    let core_hit = core.as_ref().and_then(|core| {
-                        let core_options = ToiOptions {
-                            target: 0.0,
-                            tolerance: core_tolerance,
-                            max_iterations: MAX_ITERATIONS,
-                        };
-                        time_of_impact(core, &core_motion, &cb.shape, &mb, &core_options).ok()?
-                    });
-                    let impact = match core_hit {
-                        Some(h) if h.time > 0.0 => Some(SweptImpact::new(p, &h)),
-                        // At the surface already: held there if it went on inwards.
-                        Some(h) => {
-                            let inwards =
-                                -(core_motion.end.position - core_motion.start.position).dot(h.normal);
-                            (inwards > core_tolerance).then(|| SweptImpact::new(p, &h))
-                        }
-                        // It stays where it began; the points that would
-                        // have sunk in on its side of the surface take the
-                        // impulses, carried back to that pose (else the
-                        // same step would repeat from the same state).
-                        None => (hit.distance >= -depth).then(|| {
-                            let mut impact = SweptImpact::new(p, &hit);
-                            impact.contacts.extend(sunk_points(
-                                margin, hit.normal, &ca.shape, &ma, &cb.shape, &mb.end,
-                            ));
-                            impact
-                        }),
+                    };
+                    let impact = if hit.time > 0.0 {
+                        // It came within reach on the way: back to there
+                        // unless it ended clear, within the contact margin.
+                        (!clear(margin.min(through))).then(|| SweptImpact::new(p, &hit))
+                    } else if clear(through) {
+                        // Within reach at the start: an overlap at the end
+                        // is the push-out's to lift, unless the body came
+                        // out on the far side or sank through most of a
+                        // thin partner.
+                        None
+                    } else {
+                        back_from_contact(
+                            e,
+                            p,
+                            &hit,
+                            &mine,
+                            (&ca.shape, &ma),
+                            (&cb.shape, &mb),
+                            margin,
+                            through,
+                        )
                     };
                     if let Some(impact) = impact {
                         if first.as_ref().is_none_or(|i| impact.time < i.time) {
@@ -346,6 +277,71 @@ impl World {
             }
         }
         first
+    }
+}
+
+/// Where a body that began the step within reach of partner `p` (`hit`
+/// at time 0) and did not end it clear goes back to. First the next
+/// contact on the way: the time the pair came within half its starting
+/// gap (a tumbling body's corner swinging in), where that corner takes
+/// the impulse. Else the body's core, a ball inside it about its centre
+/// of mass, may not cross the surface (Box2D's fallback): the body goes
+/// back to where its core met the surface, or stays where it began if
+/// its core was there already and went on inwards. Where the core never
+/// reached the surface, a body that began the step resting on its side
+/// stays there too, the points that would have sunk in taking the
+/// impulses, carried back to that pose (else the same step would repeat
+/// from the same state); one that began deep inside is left to the
+/// push-out.
+#[allow(clippy::too_many_arguments)]
+fn back_from_contact(
+    e: &BodyEntry,
+    p: u32,
+    hit: &Impact,
+    mine: &(Pose, Pose),
+    (shape_a, ma): (&Shape, &Motion),
+    (shape_b, mb): (&Shape, &Motion),
+    margin: f64,
+    through: f64,
+) -> Option<SweptImpact> {
+    if hit.distance > 0.0 {
+        let closer = ToiOptions {
+            target: 0.5 * hit.distance,
+            tolerance: 0.25 * hit.distance,
+            max_iterations: MAX_ITERATIONS,
+        };
+        if let Ok(Some(next)) = time_of_impact(shape_a, ma, shape_b, mb, &closer) {
+            if next.time > 0.0 && next.normal != DVec3::ZERO {
+                return Some(SweptImpact::new(p, &next));
+            }
+        }
+    }
+    let core_motion = Motion::new(mine.0, mine.1, DVec3::ZERO);
+    let core_tolerance = (0.1 * e.core).min(0.25 * margin);
+    let core_hit = (e.core > 0.0)
+        .then(|| Sphere::new(e.core).ok())
+        .flatten()
+        .and_then(|core| {
+            let core_options = ToiOptions {
+                target: 0.0,
+                tolerance: core_tolerance,
+                max_iterations: MAX_ITERATIONS,
+            };
+            time_of_impact(&Shape::Sphere(core), &core_motion, shape_b, mb, &core_options).ok()?
+        });
+    match core_hit {
+        Some(h) if h.time > 0.0 => Some(SweptImpact::new(p, &h)),
+        Some(h) => {
+            let inwards = -(core_motion.end.position - core_motion.start.position).dot(h.normal);
+            (inwards > core_tolerance).then(|| SweptImpact::new(p, &h))
+        }
+        None => (hit.distance >= -through.min(margin)).then(|| {
+            let mut impact = SweptImpact::new(p, hit);
+            impact
+                .contacts
+                .extend(sunk_points(margin, hit.normal, shape_a, ma, shape_b, &mb.end));
+            impact
+        }),
     }
 }
 

@@ -1,19 +1,24 @@
 //! `tumble run`: simulates a scene file and writes an animated glTF and a
 //! trajectory table. Outputs are written atomically after the simulation, so
-//! a failed or interrupted run never leaves half a file behind.
+//! a failed run never leaves half a file behind; Ctrl-C or SIGTERM stops the
+//! run between two steps and the outputs are written for the steps done
+//! (exit status 130). While the run goes the trajectory is streamed to
+//! `FILE.part` (CSV, flushed in chunks), so a killed process leaves every
+//! finished chunk; `--checkpoint-every` writes world snapshots that
+//! `--resume` continues from, bit for bit.
 
-use crate::CliError;
+use crate::{interrupt, CliError};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tumble::collide::{DVec3, HalfSpace};
-use tumble::export::{write_glb, write_trajectory_csv, write_trajectory_npz, WorldRecorder};
+use tumble::export::{write_glb, write_trajectory_csv, write_trajectory_npz, CsvStream, WorldRecorder};
 use tumble::joint::urdf::{load_urdf, UrdfOptions};
 use tumble::scene::load_scene;
 use tumble::scenes::Scene;
-use tumble::world::{BodyDesc, World, WorldSettings};
+use tumble::world::{BodyDesc, Snapshot, World, WorldSettings};
 
 /// Arguments of `tumble run`.
 #[derive(Args)]
@@ -55,6 +60,20 @@ pub struct RunArgs {
     /// Record every K-th step in the outputs (the first and last are always kept).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: u64,
+    /// Write a snapshot of the world every N steps (and when the run is
+    /// interrupted), to --checkpoint; `--resume` continues from it.
+    #[arg(long, value_name = "N")]
+    checkpoint_every: Option<u64>,
+    /// Where --checkpoint-every writes (default: SCENE's stem + .snapshot in
+    /// the current directory; .json for a readable snapshot).
+    #[arg(long, value_name = "FILE", requires = "checkpoint_every")]
+    checkpoint: Option<PathBuf>,
+    /// Continue from a snapshot of this scene (from --checkpoint-every or
+    /// World.save) up to the run's last step; the steps after it are those
+    /// of an uninterrupted run, bit for bit. The outputs hold the resumed
+    /// part, from the snapshot's time on.
+    #[arg(long, value_name = "SNAPSHOT", conflicts_with = "dt")]
+    resume: Option<PathBuf>,
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
@@ -67,10 +86,27 @@ Examples:
   tumble run examples/scenes/cradle.toml --dt 0.001 --out cradle.glb --trajectory cradle.csv
   tumble run examples/robots/quadruped.urdf --base-position 0,0,0.4 --out dog.glb
 
+  tumble run examples/scenes/chain.toml --duration 300 --trajectory x.csv --checkpoint-every 6000
+  tumble run examples/scenes/chain.toml --duration 300 --trajectory y.csv --resume chain.snapshot
+
 The summary at the end gives steps, wall time, steps per second, the deepest
 penetration seen and the change of total energy (kinetic + potential) from the
-first to the last step. Exit status: 0 success, 2 bad input (scene file,
-argument, output path), 1 internal failure.";
+first to the last step.
+
+Ctrl-C (or SIGTERM) stops the run between two steps: the outputs are written
+for the steps done, with a line saying so, and the exit status is 130 (a
+second Ctrl-C ends the process at once). The trajectory is streamed to
+FILE.part (CSV rows, flushed at least once a second) while the run goes and
+removed when FILE is written, so even a killed run leaves its finished rows.
+
+Exit status: 0 success, 2 bad input (scene file, argument, output path),
+1 internal failure, 130 interrupted.";
+
+/// Recorded frames between two flushes of the streamed trajectory (it is
+/// flushed at least every STREAM_PERIOD too).
+const STREAM_FRAMES: usize = 256;
+/// Longest wall time between two flushes of the streamed trajectory.
+const STREAM_PERIOD: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// What the trajectory file is.
 enum TrajectoryKind {
@@ -204,9 +240,66 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
     Ok((world, robot.name, scene.steps))
 }
 
+/// The partial trajectory streamed while the run goes: `FILE.part`.
+fn part_path(path: &Path) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(".part");
+    PathBuf::from(name)
+}
+
+/// Where `--checkpoint-every` writes.
+fn checkpoint_path(args: &RunArgs) -> PathBuf {
+    args.checkpoint.clone().unwrap_or_else(|| {
+        let stem = args
+            .scene
+            .file_stem()
+            .map_or("tumble".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.snapshot"))
+    })
+}
+
+/// The world of `--resume`: the snapshot, checked against the scene's world
+/// (same bodies, by name, in the same order) and before the run's end.
+fn resumed_world(args: &RunArgs, scene_world: &World, steps: usize, path: &Path) -> Result<World, CliError> {
+    let bad = |m: String| CliError::Input(format!("--resume {}: {m}", path.display()));
+    let snapshot = Snapshot::load(path).map_err(|e| bad(e.to_string()))?;
+    let mut world = World::from_snapshot(&snapshot).map_err(|e| bad(e.to_string()))?;
+    let names = |w: &World| -> Vec<String> {
+        w.body_ids()
+            .into_iter()
+            .map(|id| w.name(id).unwrap_or_default().to_string())
+            .collect()
+    };
+    if names(&world) != names(scene_world) {
+        return Err(bad(format!(
+            "not a snapshot of {}: it has {} bodies, the scene {} (or their names differ)",
+            args.scene.display(),
+            world.body_count(),
+            scene_world.body_count()
+        )));
+    }
+    if world.step_count() >= steps as u64 {
+        return Err(bad(format!(
+            "the snapshot is at step {}, the run ends at step {steps}: nothing to resume (give --steps or --duration)",
+            world.step_count()
+        )));
+    }
+    if let Some(n) = args.threads {
+        let mut settings = world.settings().clone();
+        settings.threads = n;
+        world
+            .set_settings(settings)
+            .map_err(|e| CliError::Input(e.to_string()))?;
+    }
+    Ok(world)
+}
+
 /// Runs the verb.
 pub fn run(args: &RunArgs) -> Result<(), CliError> {
     let trajectory_kind = check_outputs(args)?;
+    if args.checkpoint_every == Some(0) {
+        return Err(CliError::Input("--checkpoint-every must be >= 1".into()));
+    }
     let (mut world, name, steps) = if extension(&args.scene) == "urdf" {
         urdf_world(args)?
     } else {
@@ -215,12 +308,23 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
         let (world, _ids) = loaded.build().map_err(|e| CliError::Input(e.to_string()))?;
         (world, loaded.scene.name.clone(), loaded.scene.steps)
     };
+    if let Some(path) = &args.resume {
+        world = resumed_world(args, &world, steps, path)?;
+    }
+    let first_step = world.step_count() as usize + 1;
+    let checkpoint = args.checkpoint_every.map(|n| (n, checkpoint_path(args)));
     let recording = args.out.is_some() || args.trajectory.is_some();
     let mut recorder = if recording {
         Some(WorldRecorder::new(&world).map_err(|e| CliError::Internal(e.to_string()))?)
     } else {
         None
     };
+    let write_err = |e: tumble::export::ExportError| CliError::Input(e.to_string());
+    let mut stream = match (&args.trajectory, &recorder) {
+        (Some(p), Some(r)) => Some(CsvStream::create(part_path(p), r.recording()).map_err(write_err)?),
+        _ => None,
+    };
+    interrupt::install();
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
@@ -231,6 +335,7 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
                 .expect("static template"),
         );
         bar.set_message(name.clone());
+        bar.set_position(first_step as u64 - 1);
         bar
     };
     let energy = |w: &tumble::world::World| w.kinetic_energy() + w.potential_energy();
@@ -241,8 +346,14 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
     let mut warnings: Vec<String> = Vec::new();
     let mut quarantined = 0usize;
     let started = Instant::now();
-    for step in 1..=steps {
+    let mut flushed = Instant::now();
+    let mut last_step = first_step - 1;
+    for step in first_step..=steps {
+        if interrupt::requested() {
+            break;
+        }
         let report = world.step();
+        last_step = step;
         max_penetration = max_penetration.max(report.max_penetration);
         if world.joint_count() > 0 {
             let (l, a) = world.max_joint_error();
@@ -258,17 +369,41 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
             if (step as u64).is_multiple_of(args.every) || step == steps {
                 r.record(&world);
             }
+            if let Some(s) = stream.as_mut() {
+                let pending = r.frames() - s.frames_written();
+                if pending >= STREAM_FRAMES || (pending > 0 && flushed.elapsed() >= STREAM_PERIOD) {
+                    s.append(r.recording()).map_err(write_err)?;
+                    flushed = Instant::now();
+                }
+            }
+        }
+        if let Some((every, path)) = &checkpoint {
+            if (step as u64).is_multiple_of(*every) {
+                save_checkpoint(&world, path)?;
+            }
         }
         bar.inc(1);
     }
+    let interrupted = last_step < steps;
+    let done = last_step + 1 - first_step;
     let wall = started.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let e1 = energy(&world);
+    if interrupted {
+        // The last state simulated is a frame of the outputs and a checkpoint.
+        if let Some(r) = recorder.as_mut() {
+            if r.recording().frame_times.last() != Some(&world.time()) {
+                r.record(&world);
+            }
+        }
+        if let Some((_, path)) = &checkpoint {
+            save_checkpoint(&world, path)?;
+        }
+    }
 
     let mut written = Vec::new();
     if let Some(r) = recorder {
         let rec = r.finish();
-        let write_err = |e: tumble::export::ExportError| CliError::Input(e.to_string());
         if let Some(out) = &args.out {
             write_glb(&rec, out).map_err(write_err)?;
             written.push(out.display().to_string());
@@ -282,18 +417,34 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
             written.push(p.display().to_string());
         }
     }
+    if let Some(s) = stream {
+        // The whole file is in place: the partial one has served.
+        let _ = std::fs::remove_file(s.path());
+    }
+    if let Some((_, path)) = &checkpoint {
+        written.push(format!(
+            "{} (snapshot at step {})",
+            path.display(),
+            world.step_count()
+        ));
+    }
     if !args.quiet {
         let dt = world.settings().dt;
+        let resumed = if first_step > 1 {
+            format!(", resumed at step {}", first_step - 1)
+        } else {
+            String::new()
+        };
         println!(
-            "{}: {steps} steps of {dt:.6} s ({:.3} s simulated), {} bodies",
+            "{}: {done} steps of {dt:.6} s ({:.3} s simulated{resumed}), {} bodies",
             name,
-            steps as f64 * dt,
+            done as f64 * dt,
             world.body_count()
         );
         println!(
             "wall time {wall:.3} s, {:.1} steps/s ({:.3} ms/step)",
-            steps as f64 / wall.max(1e-12),
-            1000.0 * wall / steps as f64
+            done as f64 / wall.max(1e-12),
+            1000.0 * wall / done.max(1) as f64
         );
         println!("max penetration {:.3} mm", max_penetration * 1000.0);
         if world.joint_count() > 0 {
@@ -323,5 +474,18 @@ pub fn run(args: &RunArgs) -> Result<(), CliError> {
             println!("wrote {}", written.join(", "));
         }
     }
+    if interrupted {
+        return Err(CliError::Interrupted(format!(
+            "interrupted at step {last_step} of {steps} (t = {:.6} s); the outputs hold the steps done",
+            world.time()
+        )));
+    }
     Ok(())
+}
+
+fn save_checkpoint(world: &World, path: &Path) -> Result<(), CliError> {
+    world
+        .snapshot()
+        .save(path)
+        .map_err(|e| CliError::Input(format!("--checkpoint {}: {e}", path.display())))
 }

@@ -9,6 +9,7 @@ mod cmd_demo;
 mod cmd_mass;
 mod cmd_run;
 mod cmd_view;
+mod interrupt;
 mod live_session;
 mod mesh_spec;
 
@@ -52,6 +53,7 @@ Exit status:
   2  bad input: a scene file, mesh, argument or output path (one line on
      stderr naming the file, line, column and field where there is one)
   1  internal failure
+  130 interrupted (Ctrl-C or SIGTERM; `tumble run` writes its outputs first)
 
 `tumble help VERB` (or `tumble VERB --help`) prints the manual of a verb.";
 
@@ -67,7 +69,10 @@ glTF's y up by the root node). With --trajectory the poses are written as a
 table: CSV rows (t, body, x, y, z, qx, qy, qz, qw) or a NumPy .npz archive
 (time[F], position[F, N, 3], orientation[F, N, 4] as x y z w, names[N]).
 Files are written when the simulation has finished, atomically: an error never
-leaves a partial file. A progress bar is drawn when stderr is a terminal.")]
+leaves a partial file. Ctrl-C stops between two steps and writes the outputs for
+the steps done (exit status 130); the trajectory is streamed to FILE.part while
+the run goes; --checkpoint-every and --resume continue a run bit for bit.
+A progress bar is drawn when stderr is a terminal.")]
     Run(cmd_run::RunArgs),
     /// Watch a recording (.glb) or a live simulation of a scene in the browser.
     #[command(long_about = "\
@@ -91,12 +96,15 @@ click in the 3D view throws a ball into the running simulation.")]
     Bench(cmd_bench::BenchArgs),
 }
 
-/// An error the user can fix (exit status 2) or an internal failure (1).
+/// An error the user can fix (exit status 2), an internal failure (1), or
+/// an interrupted run (130).
 pub enum CliError {
     /// Bad input: one line, exit status 2.
     Input(String),
     /// Something failed that is not the user's input (exit status 1).
     Internal(String),
+    /// Stopped by Ctrl-C or SIGTERM after writing what it had (exit status 130).
+    Interrupted(String),
 }
 
 /// Help and version go out as clap prints them; a usage error becomes the
@@ -147,6 +155,10 @@ fn main() -> ExitCode {
         Err(CliError::Internal(msg)) => {
             eprintln!("tumble: internal error: {msg}");
             ExitCode::from(1)
+        }
+        Err(CliError::Interrupted(msg)) => {
+            eprintln!("tumble: {msg}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
         }
     }
 }

@@ -45,7 +45,7 @@ pub mod npz;
 pub mod recording;
 pub mod world_recorder;
 
-pub use csv::write_trajectory_csv;
+pub use csv::{write_trajectory_csv, CsvStream};
 pub use glb::{glb_bytes, write_glb};
 pub use npz::{trajectory_npz, write_trajectory_npz};
 pub use recording::{ContactMark, ExportError, FrameExtras, ObbBox, RecordedBody, RecordedJoint, Recording};

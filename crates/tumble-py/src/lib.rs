@@ -34,6 +34,7 @@ pub mod query_out;
 pub mod record;
 pub mod records;
 pub mod report;
+pub mod rollout;
 pub mod scene;
 pub mod settings;
 pub mod shapes;
@@ -71,6 +72,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(query::within_tolerance, m)?)?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(joint::load_urdf, m)?)?;
+    m.add_function(wrap_pyfunction!(rollout::_rollout, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     m.add("CONTACT_DTYPE_SPEC", report::CONTACT_FIELDS)?;
     m.add("QUERY_CONTACT_DTYPE_SPEC", query_out::QUERY_CONTACT_FIELDS)?;

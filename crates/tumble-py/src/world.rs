@@ -68,13 +68,13 @@ use tumble_collide::{DVec3, Pose};
 pub struct World {
     pub(crate) inner: RWorld,
     /// Live bodies in insertion order: the rows of every array.
-    order: Vec<BodyId>,
+    pub(crate) order: Vec<BodyId>,
     /// Slot index -> row in `order` (`u32::MAX` for an empty slot).
     rows: Vec<u32>,
-    summary: StepSummary,
-    recorder: Option<Recorder>,
+    pub(crate) summary: StepSummary,
+    pub(crate) recorder: Option<Recorder>,
     /// Set when a panic escaped `step`; the world's state may be torn.
-    poisoned: Option<String>,
+    pub(crate) poisoned: Option<String>,
 }
 
 impl World {
@@ -137,6 +137,15 @@ impl World {
         Ok(())
     }
 
+    /// The state rows of [`STATE_COLUMNS`] for every body.
+    pub(crate) fn state_rows(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.order.len() * STATE_COLUMNS);
+        for &id in &self.order {
+            out.extend_from_slice(&state_row(&self.inner, id));
+        }
+        out
+    }
+
     fn rows_of(&self, f: impl Fn(&RWorld, BodyId) -> [f64; 3]) -> Vec<f64> {
         let mut out = Vec::with_capacity(self.order.len() * 3);
         for &id in &self.order {
@@ -180,7 +189,24 @@ impl World {
 }
 
 /// A 3-vector of a live body (ids come from `order`, so they are live).
-fn live3(r: Result<DVec3, tumble::world::WorldError>) -> [f64; 3] {
+/// Columns of a body's state row: position of the model frame (3),
+/// orientation (x, y, z, w) (4), velocity of the centre of mass (3),
+/// angular velocity (3), all in the world frame.
+pub const STATE_COLUMNS: usize = 13;
+
+/// One body's state row (NaN for a removed body).
+pub(crate) fn state_row(w: &RWorld, id: BodyId) -> [f64; STATE_COLUMNS] {
+    let mut row = [f64::NAN; STATE_COLUMNS];
+    if let Ok(p) = w.pose(id) {
+        row[..3].copy_from_slice(&p.position.to_array());
+        row[3..7].copy_from_slice(&p.rotation.to_array());
+    }
+    row[7..10].copy_from_slice(&live3(w.linear_velocity(id)));
+    row[10..].copy_from_slice(&live3(w.angular_velocity(id)));
+    row
+}
+
+pub(crate) fn live3(r: Result<DVec3, tumble::world::WorldError>) -> [f64; 3] {
     r.map(|v| v.to_array()).unwrap_or([f64::NAN; 3])
 }
 
@@ -463,6 +489,44 @@ impl World {
             data.extend_from_slice(&q);
         }
         Ok(matrix_out(py, data, 4))
+    }
+
+    /// A copy of this world (bodies, joints, contacts and warm starts, time,
+    /// settings): stepping the copy gives the trajectory this world would
+    /// have, bit for bit. Meshes and their trees are shared, not copied, so
+    /// a copy is cheap; recording is not copied.
+    fn copy(&self) -> PyResult<World> {
+        self.check_usable()?;
+        Ok(World::from_parts(self.inner.clone(), self.order.clone()))
+    }
+
+    fn __copy__(&self) -> PyResult<World> {
+        self.copy()
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> PyResult<World> {
+        self.copy()
+    }
+
+    /// The state of every body: float64 (N, 13), columns x, y, z (model
+    /// frame origin, m), qx, qy, qz, qw, vx, vy, vz (centre of mass, m/s),
+    /// wx, wy, wz (rad/s), world frame. `set_states` takes the same array.
+    #[getter]
+    fn states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
+        Ok(matrix_out(py, self.state_rows(), STATE_COLUMNS))
+    }
+
+    /// Sets the state of every body from an (N, 13) array laid out as
+    /// `states` (rows in body order). Static bodies take the pose only and
+    /// must be given zero velocities. Checked whole before anything is set:
+    /// on error the world is unchanged.
+    fn set_states(&mut self, states: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.check_usable()?;
+        guard(|| {
+            let rows = crate::rollout::state_matrix(states, self.order.len(), "states")?;
+            crate::rollout::set_states(&mut self.inner, &self.order, &rows).map_err(invalid)
+        })
     }
 
     /// Positions and orientations in one pass: float64 (N, 7), columns

@@ -6,6 +6,7 @@
 //! - [`world`]: the [`World`](world::World): bodies described by
 //!   [`BodyDesc`](world::BodyDesc), stepped by [`World::step`](world::World::step).
 //! - [`scene`]: scene files (TOML/JSON) to worlds; [`scenes`]: the standard scenes.
+//! - [`batch`]: many independent worlds stepped at once on every core.
 //! - [`export`]: recordings, animated glTF, CSV and NumPy trajectories.
 //! - [`body`]: rigid body state, mass properties, material, force accumulators.
 //! - [`mod@integrate`]: explicit Euler, midpoint, RK4 and semi-implicit Euler steps.
@@ -49,6 +50,7 @@
 
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod body;
 pub mod integrate;
 

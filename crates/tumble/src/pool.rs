@@ -132,6 +132,21 @@ impl WorkerPool {
         }
     }
 
+    /// `f` on every item, each item on one thread (items are independent,
+    /// so where each runs never changes a result); on one thread in order.
+    pub fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+        match &self.pool {
+            Some(shared) if items.len() > 1 => shared.pool.install(|| {
+                items
+                    .par_iter_mut()
+                    .with_max_len(1)
+                    .enumerate()
+                    .for_each(|(k, item)| f(k, item))
+            }),
+            _ => items.iter_mut().enumerate().for_each(|(k, item)| f(k, item)),
+        }
+    }
+
     /// Runs `f` on a worker of the pool (or here, serially). A step runs
     /// whole inside one `run`, so the hand-over to the pool is paid once
     /// per step and the parallel sections inside start from a worker.

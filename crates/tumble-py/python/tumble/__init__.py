@@ -13,7 +13,8 @@ quaternions are (x, y, z, w), angular velocity is in the world frame.
 
 Collision queries without a world: :func:`collide`, :func:`distance` and
 :func:`within_tolerance` on meshes (and primitives against meshes).
-Scene files (docs/scenes.md): :func:`load_scene`. Joints: :meth:`World.add_joint`;
+Scene files (docs/scenes.md): :func:`load_scene`. Many worlds at once:
+:meth:`World.copy` and :func:`rollout`. Joints: :meth:`World.add_joint`;
 robots from URDF files: :func:`load_urdf`.
 
 Errors: everything tumble raises is a :class:`TumbleError`; bad arguments are
@@ -28,6 +29,7 @@ import ast as _ast
 
 import numpy as _np
 
+from ._batch import RECORDABLE, rollout
 from ._query import CollisionResult, DistanceResult, QueryStats
 from ._records import ContactEvent, MassProperties
 from ._tumble import CONTACT_DTYPE_SPEC as _CONTACT_DTYPE_SPEC
@@ -77,6 +79,7 @@ __all__ = [
     "CONTACT_DTYPE",
     "INTEGRATORS",
     "QUERY_CONTACT_DTYPE",
+    "RECORDABLE",
     "Body",
     "Joint",
     "Box",
@@ -106,5 +109,6 @@ __all__ = [
     "load_scene",
     "load_urdf",
     "mass_properties",
+    "rollout",
     "within_tolerance",
 ]

@@ -259,6 +259,12 @@ impl World {
         Ok(())
     }
 
+    /// Puts in `pool` for the world's steps and gives back the one it had
+    /// (a batch steps each of its worlds serially on one of its threads).
+    pub(crate) fn swap_pool(&mut self, pool: crate::pool::WorkerPool) -> crate::pool::WorkerPool {
+        std::mem::replace(&mut self.pool, pool)
+    }
+
     /// Threads a step runs on: `settings.threads`, with 0 resolved to the
     /// machine's cores (or 1 where threads cannot be started).
     pub fn threads(&self) -> usize {

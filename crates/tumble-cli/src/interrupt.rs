@@ -26,3 +26,8 @@ pub fn install() {
 pub fn requested() -> bool {
     REQUESTED.load(Ordering::Relaxed)
 }
+
+/// The flag itself, for work that looks at it between steps (a sweep's runs).
+pub fn flag() -> &'static AtomicBool {
+    &REQUESTED
+}

@@ -8,6 +8,7 @@ mod cmd_collide;
 mod cmd_demo;
 mod cmd_mass;
 mod cmd_run;
+mod cmd_sweep;
 mod cmd_view;
 mod interrupt;
 mod live_session;
@@ -47,6 +48,7 @@ Examples:
   tumble view examples/scenes/domino.toml
   tumble mass torus:R=1,r=0.3,n=50 --density 1000
   tumble bench --scene pyramid --steps 60
+  tumble sweep examples/scenes/first.toml --param materials.rubber.restitution=0.2,0.5,0.8 --metric ball.rebound_z --out bounce.csv
 
 Exit status:
   0  success
@@ -94,6 +96,9 @@ click in the 3D view throws a ball into the running simulation.")]
     /// Run one standard scene and print its timing and quality figures as one
     /// JSON line (the format of the benchmark harness, docs/benchmarks.md).
     Bench(cmd_bench::BenchArgs),
+    /// Run a scene once per combination of parameter values (on every core,
+    /// or on a Ray cluster) into a results table (.parquet, .csv, .json).
+    Sweep(cmd_sweep::SweepArgs),
 }
 
 /// An error the user can fix (exit status 2), an internal failure (1), or
@@ -145,6 +150,7 @@ fn main() -> ExitCode {
         Command::Collide(args) => cmd_collide::run(&args),
         Command::Demo(args) => cmd_demo::run(&args),
         Command::Bench(args) => cmd_bench::run(&args),
+        Command::Sweep(args) => cmd_sweep::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

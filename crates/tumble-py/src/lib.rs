@@ -38,6 +38,7 @@ pub mod rollout;
 pub mod scene;
 pub mod settings;
 pub mod shapes;
+pub mod sweep;
 pub mod trimesh;
 pub mod world;
 
@@ -66,6 +67,7 @@ fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::PyHalfSpace>()?;
     m.add_class::<shapes::Placed>()?;
     m.add_class::<trimesh::TriMesh>()?;
+    m.add_class::<sweep::SweepPlan>()?;
     m.add_function(wrap_pyfunction!(mass::mass_properties, m)?)?;
     m.add_function(wrap_pyfunction!(query::collide, m)?)?;
     m.add_function(wrap_pyfunction!(query::distance, m)?)?;

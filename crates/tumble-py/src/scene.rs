@@ -48,6 +48,7 @@ impl ToPyErr for SceneError {
                     path,
                     message,
                 } => scene_error(py, self, file, Some((*line, *column, path, message))),
+                SceneError::Param { file, .. } => scene_error(py, self, file, None),
             };
             made.unwrap_or_else(|e| e)
         })

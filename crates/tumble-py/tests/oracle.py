@@ -14,11 +14,13 @@ AMBIGUOUS = 1e-9
 def rotation(q: np.ndarray) -> np.ndarray:
     """Rotation matrix of a unit quaternion (x, y, z, w)."""
     x, y, z, w = np.asarray(q, dtype=float) / np.linalg.norm(q)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def matrix(position, q) -> np.ndarray:
@@ -85,11 +87,13 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     inside = np.ones(height.shape, dtype=bool)
     for u, v in ((a, b), (b, c), (c, a)):
         inside &= np.einsum("ptd,ptd->pt", np.cross(v - u, foot - u), n) >= 0
-    edges = np.minimum.reduce([
-        point_segment_distance(p, a, b),
-        point_segment_distance(p, b, c),
-        point_segment_distance(p, c, a),
-    ])
+    edges = np.minimum.reduce(
+        [
+            point_segment_distance(p, a, b),
+            point_segment_distance(p, b, c),
+            point_segment_distance(p, c, a),
+        ]
+    )
     return np.where(inside, np.abs(height), edges)
 
 

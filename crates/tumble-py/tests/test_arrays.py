@@ -13,16 +13,28 @@ def small_world() -> tuple[tumble.World, list[tumble.Body]]:
     world = tumble.World(sleeping=False)
     bodies = [world.add_body(tumble.HalfSpace(), kind="static", name="ground")]
     for i in range(4):
-        bodies.append(world.add_body(tumble.Sphere(0.1), mass=1.0, position=(i, 0, 0.1 + 0.5 * i),
-                                     velocity=(0, i, 0), angular_velocity=(i, 0, 0),
-                                     name=f"ball{i}"))
+        bodies.append(
+            world.add_body(
+                tumble.Sphere(0.1),
+                mass=1.0,
+                position=(i, 0, 0.1 + 0.5 * i),
+                velocity=(0, i, 0),
+                angular_velocity=(i, 0, 0),
+                name=f"ball{i}",
+            )
+        )
     return world, bodies
 
 
 def test_state_arrays_have_one_row_per_body_in_insertion_order() -> None:
     world, bodies = small_world()
-    for name, cols in [("positions", 3), ("orientations", 4), ("velocities", 3),
-                       ("angular_velocities", 3), ("centers_of_mass", 3)]:
+    for name, cols in [
+        ("positions", 3),
+        ("orientations", 4),
+        ("velocities", 3),
+        ("angular_velocities", 3),
+        ("centers_of_mass", 3),
+    ]:
         a = getattr(world, name)
         assert a.shape == (5, cols) and a.dtype == np.float64, name
         assert a.flags.c_contiguous and a.flags.writeable
@@ -61,8 +73,14 @@ def test_arrays_are_copies() -> None:
 
 @pytest.mark.parametrize(
     "value",
-    [(1, 2, 3), [1, 2, 3], np.array([1, 2, 3]), np.array([1, 2, 3], dtype=np.float32),
-     np.array([1, 2, 3], dtype=np.int32), (np.float64(1), 2.0, np.int64(3))],
+    [
+        (1, 2, 3),
+        [1, 2, 3],
+        np.array([1, 2, 3]),
+        np.array([1, 2, 3], dtype=np.float32),
+        np.array([1, 2, 3], dtype=np.int32),
+        (np.float64(1), 2.0, np.int64(3)),
+    ],
 )
 def test_vectors_accept_any_real_sequence(value) -> None:
     world = tumble.World()
@@ -71,8 +89,15 @@ def test_vectors_accept_any_real_sequence(value) -> None:
 
 
 @pytest.mark.parametrize(
-    "value", [np.array([[1, 2, 3]]), np.array([1 + 0j, 2, 3]), np.array([True, False, True]),
-              (1, 2, 3, 4), 5.0, {"x": 1}]
+    "value",
+    [
+        np.array([[1, 2, 3]]),
+        np.array([1 + 0j, 2, 3]),
+        np.array([True, False, True]),
+        (1, 2, 3, 4),
+        5.0,
+        {"x": 1},
+    ],
 )
 def test_vectors_reject_other_shapes_and_dtypes(value) -> None:
     world = tumble.World()
@@ -108,8 +133,17 @@ def test_contacts_structured_array() -> None:
     world.step(30)
     c = world.contacts()
     assert c.dtype == tumble.CONTACT_DTYPE
-    assert c.dtype.names == ("body_a", "body_b", "point", "normal", "distance", "depth",
-                             "normal_impulse", "tangent_impulse", "kind")
+    assert c.dtype.names == (
+        "body_a",
+        "body_b",
+        "point",
+        "normal",
+        "distance",
+        "depth",
+        "normal_impulse",
+        "tangent_impulse",
+        "kind",
+    )
     assert len(c) == 4  # the four bottom corners of the box on the plane
     assert set(c["body_a"]) | set(c["body_b"]) == {0, box.index}
     # The normal points from B towards A; the box is above the ground.
@@ -204,8 +238,21 @@ def test_repr_and_docs() -> None:
     assert repr(tumble.HalfSpace()) == "tumble.HalfSpace(normal=(0, 0, 1), offset=0)"
     assert repr(tumble.TriMesh.box((1, 1, 1))) == "tumble.TriMesh(<8 vertices, 12 faces>)"
     assert "StepReport(" in repr(world.step_report)
-    for obj in [tumble.World, tumble.World.add_body, tumble.World.step, tumble.World.positions,
-                tumble.World.contacts, tumble.Body, tumble.Body.position, tumble.Box,
-                tumble.TriMesh, tumble.TriMesh.torus, tumble.mass_properties, tumble.Placed,
-                tumble.MassProperties, tumble.ContactEvent, tumble.StepReport]:
+    for obj in [
+        tumble.World,
+        tumble.World.add_body,
+        tumble.World.step,
+        tumble.World.positions,
+        tumble.World.contacts,
+        tumble.Body,
+        tumble.Body.position,
+        tumble.Box,
+        tumble.TriMesh,
+        tumble.TriMesh.torus,
+        tumble.mass_properties,
+        tumble.Placed,
+        tumble.MassProperties,
+        tumble.ContactEvent,
+        tumble.StepReport,
+    ]:
         assert obj.__doc__ and len(obj.__doc__) > 20, obj

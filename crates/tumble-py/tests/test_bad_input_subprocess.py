@@ -97,17 +97,27 @@ CASES = [
     ("tumble.TriMesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=int))", INVALID),
     ("world.add_body(tumble.TriMesh(cube.vertices, cube.faces[:10]), density=1000.0)", INVALID),
     ("world.add_body(tumble.TriMesh(cube.vertices, cube.faces[:, ::-1]), density=1000.0)", INVALID),
-    ("world.add_body(tumble.TriMesh([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]], "
-     "[[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]]), density=1000.0)", INVALID),
-    ("tumble.mass_properties(tumble.TriMesh(cube.vertices, cube.faces[:10]), density=1.0)",
-     INVALID),
+    (
+        "world.add_body(tumble.TriMesh([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]], "
+        "[[0, 1, 2], [0, 2, 3], [0, 3, 1], [1, 3, 2]]), density=1000.0)",
+        INVALID,
+    ),
+    (
+        "tumble.mass_properties(tumble.TriMesh(cube.vertices, cube.faces[:10]), density=1.0)",
+        INVALID,
+    ),
     # Mesh files.
     ("tumble.TriMesh.from_file(tmp + '/missing.obj')", FILE),
     ("open(tmp + '/e.obj', 'w').close(); tumble.TriMesh.from_file(tmp + '/e.obj')", INVALID),
-    ("open(tmp + '/g.stl', 'wb').write(b'\\x00' * 10); "
-     "tumble.TriMesh.from_file(tmp + '/g.stl')", INVALID),
-    ("open(tmp + '/g.obj', 'w').write('v 0 0 0\\nf 1 2 3\\n'); "
-     "tumble.TriMesh.from_file(tmp + '/g.obj')", INVALID),
+    (
+        "open(tmp + '/g.stl', 'wb').write(b'\\x00' * 10); tumble.TriMesh.from_file(tmp + '/g.stl')",
+        INVALID,
+    ),
+    (
+        "open(tmp + '/g.obj', 'w').write('v 0 0 0\\nf 1 2 3\\n'); "
+        "tumble.TriMesh.from_file(tmp + '/g.obj')",
+        INVALID,
+    ),
     ("tumble.TriMesh.from_file(tmp + '/x.ply')", INVALID),
     # Handles: removed twice, stale, of another world.
     ("world.remove_body(gone)", STALE),
@@ -148,4 +158,3 @@ def test_bad_input_raises_and_the_process_survives(code: str, expected: str, tmp
     )
     assert run.returncode == 0, f"exit {run.returncode}\n{run.stdout}\n{run.stderr}"
     assert run.stdout.strip() == expected, run.stdout + run.stderr
-

@@ -54,8 +54,11 @@ def test_every_public_method_and_property_has_a_docstring():
             continue
         for member, value in members(obj):
             documented_kinds = (property, classmethod, staticmethod)
-            if not (callable(value) or inspect.isdatadescriptor(value)
-                    or isinstance(value, documented_kinds)):
+            if not (
+                callable(value)
+                or inspect.isdatadescriptor(value)
+                or isinstance(value, documented_kinds)
+            ):
                 continue
             checked += 1
             if not doc_of(value).strip():
@@ -65,6 +68,11 @@ def test_every_public_method_and_property_has_a_docstring():
 
 
 def test_exceptions_say_when_they_are_raised():
-    for cls in (tumble.TumbleError, tumble.InvalidArgument, tumble.StaleBodyError,
-                tumble.FileError, tumble.InternalError):
+    for cls in (
+        tumble.TumbleError,
+        tumble.InvalidArgument,
+        tumble.StaleBodyError,
+        tumble.FileError,
+        tumble.InternalError,
+    ):
         assert (inspect.getdoc(cls) or "").strip(), cls.__name__

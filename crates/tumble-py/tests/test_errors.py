@@ -125,13 +125,20 @@ def test_bad_shapes(make, message: str) -> None:
 @pytest.mark.parametrize(
     "vertices, faces, message",
     [
-        (np.zeros((4, 2)), [[0, 1, 2]], "vertices: expected an (N, 3) array of float numbers, "
-                                        "got shape [4, 2] and dtype float64"),
+        (
+            np.zeros((4, 2)),
+            [[0, 1, 2]],
+            "vertices: expected an (N, 3) array of float numbers, "
+            "got shape [4, 2] and dtype float64",
+        ),
         (np.zeros(12), [[0, 1, 2]], "vertices: expected an (N, 3) array"),
         (np.array([["a", "b", "c"]] * 3), [[0, 1, 2]], "dtype <U1"),
-        (np.eye(3), np.array([[0.0, 1.0, 2.0]]),
-         "faces: expected an (M, 3) array of integer vertex indices, got shape [1, 3] and dtype "
-         "float64"),
+        (
+            np.eye(3),
+            np.array([[0.0, 1.0, 2.0]]),
+            "faces: expected an (M, 3) array of integer vertex indices, got shape [1, 3] and dtype "
+            "float64",
+        ),
         (np.eye(3), np.array([[0, 1]]), "faces: expected an (M, 3) array"),
         (np.eye(3), [[0, 1, 3]], "mesh triangle 0 refers to vertex 3, but there are only 3"),
         (np.eye(3), [[0, -1, 2]], "faces: triangle 0 has a negative vertex index -1"),

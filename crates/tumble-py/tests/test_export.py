@@ -20,11 +20,11 @@ def read_glb(path) -> tuple[dict, bytes]:
     assert (magic, version, length) == (b"glTF", 2, len(data))
     json_len, json_type = struct.unpack_from("<II", data, 12)
     assert json_type == 0x4E4F534A
-    doc = json.loads(data[20:20 + json_len])
+    doc = json.loads(data[20 : 20 + json_len])
     bin_len, bin_type = struct.unpack_from("<II", data, 20 + json_len)
     assert bin_type == 0x004E4942
     start = 28 + json_len
-    return doc, data[start:start + bin_len]
+    return doc, data[start : start + bin_len]
 
 
 def accessor(doc: dict, blob: bytes, index: int) -> np.ndarray:
@@ -40,8 +40,14 @@ def accessor(doc: dict, blob: bytes, index: int) -> np.ndarray:
 def falling_world() -> tuple[tumble.World, tumble.Body]:
     world = tumble.World(dt=1 / 60)
     world.add_body(tumble.HalfSpace(), kind="static", name="ground")
-    ball = world.add_body(tumble.Sphere(0.2), mass=1.0, position=(0.5, -0.25, 2.0),
-                          velocity=(1.0, 0.5, 0.0), angular_velocity=(0, 0, 3.0), name="ball")
+    ball = world.add_body(
+        tumble.Sphere(0.2),
+        mass=1.0,
+        position=(0.5, -0.25, 2.0),
+        velocity=(1.0, 0.5, 0.0),
+        angular_velocity=(0, 0, 3.0),
+        name="ball",
+    )
     return world, ball
 
 
@@ -62,8 +68,7 @@ def test_gltf_animation_replays_the_recorded_steps(tmp_path) -> None:
     assert "ball" in names and "ground" in names
     ball_node = names.index("ball")
     anim = doc["animations"][0]
-    channels = {(c["target"]["node"], c["target"]["path"]): c["sampler"]
-                for c in anim["channels"]}
+    channels = {(c["target"]["node"], c["target"]["path"]): c["sampler"] for c in anim["channels"]}
     sampler = anim["samplers"][channels[(ball_node, "translation")]]
     np.testing.assert_allclose(accessor(doc, blob, sampler["input"]), times, rtol=1e-6)
     replay = accessor(doc, blob, sampler["output"])

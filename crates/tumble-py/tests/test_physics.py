@@ -47,8 +47,9 @@ def test_free_fall_follows_the_parabola() -> None:
     # crates/tumble/tests/stepping.rs).
     dt, n = 1 / 100, 100
     world = tumble.World(dt=dt, substeps=4)
-    body = world.add_body(tumble.Box((0.1, 0.2, 0.3)), mass=2.0, position=(1, 2, 3),
-                          velocity=(2, -1, 6))
+    body = world.add_body(
+        tumble.Box((0.1, 0.2, 0.3)), mass=2.0, position=(1, 2, 3), velocity=(2, -1, 6)
+    )
     world.step(n)
     t, h = dt * n, dt / 4
     exact = np.array([1 + 2 * t, 2 - t, 3 + 6 * t - 0.5 * G * t * t])
@@ -66,8 +67,9 @@ def incline(mu: float) -> tuple[tumble.World, tumble.Body, np.ndarray]:
     down = np.array([math.cos(theta), 0.0, -math.sin(theta)])
     world = tumble.World(dt=1 / 240, sleeping=False)
     world.add_body(tumble.Box((10, 10, 0.5)), kind="static", orientation=q, friction=mu)
-    cube = world.add_body(tumble.Box((0.25, 0.25, 0.25)), mass=1.0, position=normal * 0.75,
-                          orientation=q, friction=mu)
+    cube = world.add_body(
+        tumble.Box((0.25, 0.25, 0.25)), mass=1.0, position=normal * 0.75, orientation=q, friction=mu
+    )
     return world, cube, down
 
 
@@ -95,10 +97,22 @@ def test_free_collision_conserves_momentum() -> None:
     # Two spheres of different mass meet off-centre in zero gravity: total
     # linear momentum and (with restitution 1) kinetic energy are conserved.
     world = tumble.World(gravity=(0, 0, 0), dt=1 / 240, sleeping=False)
-    a = world.add_body(tumble.Sphere(0.2), mass=1.0, position=(-1, 0.1, 0), velocity=(3, 0, 0),
-                       restitution=1.0, friction=0.0)
-    b = world.add_body(tumble.Sphere(0.3), mass=3.0, position=(1, -0.1, 0), velocity=(-1, 0, 0),
-                       restitution=1.0, friction=0.0)
+    a = world.add_body(
+        tumble.Sphere(0.2),
+        mass=1.0,
+        position=(-1, 0.1, 0),
+        velocity=(3, 0, 0),
+        restitution=1.0,
+        friction=0.0,
+    )
+    b = world.add_body(
+        tumble.Sphere(0.3),
+        mass=3.0,
+        position=(1, -0.1, 0),
+        velocity=(-1, 0, 0),
+        restitution=1.0,
+        friction=0.0,
+    )
     masses = np.array([1.0, 3.0])
     p0 = masses @ world.velocities
     e0 = world.kinetic_energy
@@ -141,10 +155,12 @@ def test_identical_worlds_give_identical_arrays() -> None:
         world.add_body(tumble.HalfSpace(), kind="static")
         rng = np.random.default_rng(7)
         for i in range(30):
-            shape = [tumble.Box((0.1, 0.15, 0.2)), tumble.Sphere(0.12),
-                     tumble.Capsule(0.08, 0.1)][i % 3]
-            world.add_body(shape, density=500.0, position=rng.uniform([-0.5, -0.5, 0.3],
-                                                                      [0.5, 0.5, 3.0]))
+            shape = [tumble.Box((0.1, 0.15, 0.2)), tumble.Sphere(0.12), tumble.Capsule(0.08, 0.1)][
+                i % 3
+            ]
+            world.add_body(
+                shape, density=500.0, position=rng.uniform([-0.5, -0.5, 0.3], [0.5, 0.5, 3.0])
+            )
         return world
 
     w1, w2 = pile(), pile()
@@ -177,8 +193,9 @@ def test_forces_accelerate_as_newton_says() -> None:
 def test_vectorised_forces_match_single_ones() -> None:
     def make() -> tuple[tumble.World, list[tumble.Body]]:
         w = tumble.World(gravity=(0, 0, 0))
-        bodies = [w.add_body(tumble.Sphere(0.1), mass=1.0 + i, position=(i, 0, 0))
-                  for i in range(4)]
+        bodies = [
+            w.add_body(tumble.Sphere(0.1), mass=1.0 + i, position=(i, 0, 0)) for i in range(4)
+        ]
         return w, bodies
 
     forces = np.arange(12, dtype=float).reshape(4, 3)

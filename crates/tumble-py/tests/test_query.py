@@ -79,8 +79,7 @@ def test_separated_soups_do_not_collide() -> None:
     far = ((3.0, 0.0, 0.0), (0, 0, 0, 1))
     result = tumble.collide(a, None, b, far, report="contacts")
     assert not result and result.pairs.shape == (0, 2) and len(result.contacts) == 0
-    assert oracle.triangle_separation(placed(a, (0, 0, 0), (0, 0, 0, 1)),
-                                      placed(b, *far)).min() > 0
+    assert oracle.triangle_separation(placed(a, (0, 0, 0), (0, 0, 0, 1)), placed(b, *far)).min() > 0
 
 
 def test_sphere_primitive_against_the_point_triangle_oracle() -> None:
@@ -235,8 +234,9 @@ def test_every_pose_form_gives_the_same_answer() -> None:
     ]
     for form in forms[:4] + forms[5:]:
         np.testing.assert_array_equal(tumble.collide(a, np.eye(4), b, form).pairs, reference)
-        np.testing.assert_array_equal(tumble.collide(a, (0, 0, 0, 0, 0, 0, 1), b, form).pairs,
-                                      reference)
+        np.testing.assert_array_equal(
+            tumble.collide(a, (0, 0, 0, 0, 0, 0, 1), b, form).pairs, reference
+        )
     # A float32 rotation matrix and an integer identity matrix are accepted.
     tumble.collide(a, np.eye(4, dtype=np.int32), b, oracle.matrix(p, q).astype(np.float32))
     # q and -q are the same rotation.
@@ -246,8 +246,10 @@ def test_every_pose_form_gives_the_same_answer() -> None:
 @pytest.mark.parametrize(
     "pose, message",
     [
-        (((0, 0, 0), (0, 0, 0, 2)), "pose_b: pose orientation must be a unit quaternion "
-                                    "(x, y, z, w), got length 2"),
+        (
+            ((0, 0, 0), (0, 0, 0, 2)),
+            "pose_b: pose orientation must be a unit quaternion (x, y, z, w), got length 2",
+        ),
         (((0, 0, math.nan), (0, 0, 0, 1)), "pose_b: pose position must be finite"),
         (((0, 0), (0, 0, 0, 1)), "pose_b position: expected 3 numbers"),
         (((0, 0, 0), (0, 0, 1)), "pose_b orientation: expected a quaternion of 4 numbers"),
@@ -256,8 +258,10 @@ def test_every_pose_form_gives_the_same_answer() -> None:
         ("identity", "pose_b: expected a pose"),
         (np.diag([2.0, 2.0, 2.0, 1.0]), "R^T R differs from the identity by 3.000e0"),
         (np.diag([1.0, 1.0, -1.0, 1.0]), "is a reflection (determinant -1"),
-        (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0.5, 1]]),
-         "the last row of a 4x4 pose matrix must be (0, 0, 0, 1)"),
+        (
+            np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0.5, 1]]),
+            "the last row of a 4x4 pose matrix must be (0, 0, 0, 1)",
+        ),
         (np.full((4, 4), np.inf), "the 4x4 pose matrix must be finite"),
     ],
 )
@@ -288,23 +292,39 @@ def test_slightly_scaled_matrices_within_tolerance_pass() -> None:
 def test_bad_options_and_shapes() -> None:
     mesh = tumble.TriMesh.box((0.5, 0.5, 0.5))
     cases = [
-        (lambda: tumble.collide(mesh, None, mesh, None, report="all"),
-         'report: expected "bool", "pairs" or "contacts", got "all"'),
-        (lambda: tumble.collide(mesh, None, mesh, None, report="contacts", contact_margin=-1),
-         "CollideOptions::contact_margin must be finite and >= 0, got -1"),
-        (lambda: tumble.distance(mesh, None, mesh, None, rel_err=-0.1),
-         "DistanceOptions::rel_err must be finite and >= 0, got -0.1"),
-        (lambda: tumble.distance(mesh, None, mesh, None, abs_err=math.inf),
-         "DistanceOptions::abs_err must be finite and >= 0, got inf"),
-        (lambda: tumble.within_tolerance(mesh, None, mesh, None, math.nan),
-         "within_tolerance tol must be finite and >= 0, got NaN"),
-        (lambda: tumble.collide(tumble.Sphere(1), None, tumble.Box((1, 1, 1)), None),
-         "a query needs at least one mesh; got two primitives (sphere and cuboid)"),
-        (lambda: tumble.collide(mesh, None, tumble.ConvexHull(mesh.vertices), None),
-         "b: the queries take a TriMesh"),
+        (
+            lambda: tumble.collide(mesh, None, mesh, None, report="all"),
+            'report: expected "bool", "pairs" or "contacts", got "all"',
+        ),
+        (
+            lambda: tumble.collide(mesh, None, mesh, None, report="contacts", contact_margin=-1),
+            "CollideOptions::contact_margin must be finite and >= 0, got -1",
+        ),
+        (
+            lambda: tumble.distance(mesh, None, mesh, None, rel_err=-0.1),
+            "DistanceOptions::rel_err must be finite and >= 0, got -0.1",
+        ),
+        (
+            lambda: tumble.distance(mesh, None, mesh, None, abs_err=math.inf),
+            "DistanceOptions::abs_err must be finite and >= 0, got inf",
+        ),
+        (
+            lambda: tumble.within_tolerance(mesh, None, mesh, None, math.nan),
+            "within_tolerance tol must be finite and >= 0, got NaN",
+        ),
+        (
+            lambda: tumble.collide(tumble.Sphere(1), None, tumble.Box((1, 1, 1)), None),
+            "a query needs at least one mesh; got two primitives (sphere and cuboid)",
+        ),
+        (
+            lambda: tumble.collide(mesh, None, tumble.ConvexHull(mesh.vertices), None),
+            "b: the queries take a TriMesh",
+        ),
         (lambda: tumble.collide("box", None, mesh, None), "a: expected a TriMesh"),
-        (lambda: tumble.collide(mesh, None, tumble.Sphere(1).at((0, 0, 1)), None),
-         "b: the queries take a TriMesh"),
+        (
+            lambda: tumble.collide(mesh, None, tumble.Sphere(1).at((0, 0, 1)), None),
+            "b: the queries take a TriMesh",
+        ),
     ]
     for call, message in cases:
         with pytest.raises(tumble.InvalidArgument) as info:
@@ -347,8 +367,14 @@ def test_results_are_frozen_dataclasses() -> None:
     assert pickle.loads(pickle.dumps(d)).distance == d.distance
     assert repr(r).startswith("CollisionResult(intersect=True, pairs=<")
     assert repr(d).startswith("DistanceResult(distance=0.5")
-    for fn in (tumble.collide, tumble.distance, tumble.within_tolerance, tumble.CollisionResult,
-               tumble.DistanceResult, tumble.QueryStats):
+    for fn in (
+        tumble.collide,
+        tumble.distance,
+        tumble.within_tolerance,
+        tumble.CollisionResult,
+        tumble.DistanceResult,
+        tumble.QueryStats,
+    ):
         assert fn.__doc__ and len(fn.__doc__) > 100, fn
     assert "report=" in tumble.collide.__text_signature__
 

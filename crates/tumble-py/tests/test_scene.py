@@ -18,7 +18,8 @@ import tumble
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENES = sorted((ROOT / "examples" / "scenes").glob("*.*ml")) + sorted(
-    (ROOT / "examples" / "scenes").glob("*.json"))
+    (ROOT / "examples" / "scenes").glob("*.json")
+)
 CLI = ROOT / "target" / "release" / "tumble"
 
 
@@ -49,8 +50,7 @@ def test_pyramid_rows_follow_the_file() -> None:
     assert world.find("ground").kind == "static"
     # scenes.md: layer i holds 20 - i boxes at ((k - (n - 1) / 2) * 1.05, 0, 0.5 + i),
     # added layer by layer, k ascending.
-    expected = [((k - (19 - i) / 2) * 1.05, 0.0, 0.5 + i)
-                for i in range(20) for k in range(20 - i)]
+    expected = [((k - (19 - i) / 2) * 1.05, 0.0, 0.5 + i) for i in range(20) for k in range(20 - i)]
     np.testing.assert_allclose(world.positions[1:], expected, atol=1e-12)
     assert world.bodies[-1].name == "box_19_0"
     assert world.find("box_3_5").index == 1 + 20 + 19 + 18 + 5
@@ -93,8 +93,10 @@ def test_the_world_is_the_one_tumble_run_simulates(name: str, tmp_path: Path) ->
     # 30 steps its positions and Python's must agree bit for bit.
     path = ROOT / "examples" / "scenes" / name
     out = tmp_path / "run.csv"
-    subprocess.run([str(CLI), "run", str(path), "--steps", "30", "--trajectory", str(out),
-                    "--quiet"], check=True)
+    subprocess.run(
+        [str(CLI), "run", str(path), "--steps", "30", "--trajectory", str(out), "--quiet"],
+        check=True,
+    )
     world = tumble.load_scene(path)
     world.step(30)
     frame = last_frame(out)
@@ -130,10 +132,11 @@ def test_scene_errors_carry_file_line_column_and_field(tmp_path: Path) -> None:
     assert type(again) is tumble.SceneError and str(again) == str(e)
     assert (again.line, again.column, again.field) == (7, 8, "bodies[1].mass")
     # The line and column point at the value in the text.
-    assert BAD_MASS.splitlines()[e.line - 1][e.column - 1:].startswith("-1")
+    assert BAD_MASS.splitlines()[e.line - 1][e.column - 1 :].startswith("-1")
     if CLI.exists():
-        cli = subprocess.run([str(CLI), "run", str(path), "--steps", "1", "--quiet"],
-                             capture_output=True, text=True)
+        cli = subprocess.run(
+            [str(CLI), "run", str(path), "--steps", "1", "--quiet"], capture_output=True, text=True
+        )
         assert cli.returncode == 2
         assert cli.stderr.strip() == f"tumble: error: {e}"
 
@@ -142,14 +145,32 @@ def test_scene_errors_carry_file_line_column_and_field(tmp_path: Path) -> None:
     "name, text, line, column, field, reason",
     [
         ("syntax.toml", "[[bodies]]\nmass = = 1\n", 2, 8, "", ""),
-        ("unknown.toml", "[[bodies]]\nshapes = [{ type = \"sphere\", radius = 1 }]\ncolour = 1\n",
-         3, 1, "bodies[0].colour", "unknown field `colour`"),
+        (
+            "unknown.toml",
+            '[[bodies]]\nshapes = [{ type = "sphere", radius = 1 }]\ncolour = 1\n',
+            3,
+            1,
+            "bodies[0].colour",
+            "unknown field `colour`",
+        ),
         ("dt.toml", "[settings]\ndt = -0.01\n", 2, 6, "settings.dt", "must be finite and > 0"),
-        ("radius.json", json.dumps({"bodies": [{"shapes": [{"type": "sphere", "radius": 0}]}]},
-                                   indent=1),
-         7, 16, "bodies[0].shapes[0].radius", "must be finite and > 0 m, got 0"),
-        ("open.toml", "[[bodies]]\ndensity = 1000\nshapes = [{ type = \"mesh\", mesh = "
-                      "{ file = \"open.obj\" } }]\n", 3, 11, "bodies[0].shapes[0]", "mesh is open"),
+        (
+            "radius.json",
+            json.dumps({"bodies": [{"shapes": [{"type": "sphere", "radius": 0}]}]}, indent=1),
+            7,
+            16,
+            "bodies[0].shapes[0].radius",
+            "must be finite and > 0 m, got 0",
+        ),
+        (
+            "open.toml",
+            '[[bodies]]\ndensity = 1000\nshapes = [{ type = "mesh", mesh = '
+            '{ file = "open.obj" } }]\n',
+            3,
+            11,
+            "bodies[0].shapes[0]",
+            "mesh is open",
+        ),
     ],
 )
 def test_scene_error_places(tmp_path: Path, name, text, line, column, field, reason) -> None:

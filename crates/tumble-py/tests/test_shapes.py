@@ -32,8 +32,9 @@ def test_box_mass_properties_are_analytic() -> None:
 def test_principal_frame_diagonalises_a_rotated_offset_box() -> None:
     box = tumble.TriMesh.box((0.3, 0.2, 0.1))
     angle = 0.7
-    rot = np.array([[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0],
-                    [0, 0, 1]])
+    rot = np.array(
+        [[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0], [0, 0, 1]]
+    )
     vertices = box.vertices @ rot.T + [1.0, -2.0, 0.5]
     p = tumble.mass_properties(vertices, box.faces, mass=3.0)
     assert p.mass == pytest.approx(3.0)
@@ -138,23 +139,34 @@ def test_convex_hull_of_points() -> None:
 
 def test_compound_body_mass_and_centre() -> None:
     world = tumble.World()
-    body = world.add_body([tumble.Box((0.5, 0.5, 0.5)),
-                           tumble.Box((0.5, 0.5, 0.5)).at(position=(3, 0, 0)),
-                           tumble.Placed(tumble.Sphere(0.5), position=(0, 3, 0))],
-                          density=2.0, position=(10, 0, 0))
+    body = world.add_body(
+        [
+            tumble.Box((0.5, 0.5, 0.5)),
+            tumble.Box((0.5, 0.5, 0.5)).at(position=(3, 0, 0)),
+            tumble.Placed(tumble.Sphere(0.5), position=(0, 3, 0)),
+        ],
+        density=2.0,
+        position=(10, 0, 0),
+    )
     v_box, v_ball = 1.0, 4 / 3 * math.pi * 0.125
     assert body.mass == pytest.approx(2.0 * (2 * v_box + v_ball))
-    com = (v_box * np.array([0, 0, 0]) + v_box * np.array([3, 0, 0])
-           + v_ball * np.array([0, 3, 0])) / (2 * v_box + v_ball)
+    com = (
+        v_box * np.array([0, 0, 0]) + v_box * np.array([3, 0, 0]) + v_ball * np.array([0, 3, 0])
+    ) / (2 * v_box + v_ball)
     np.testing.assert_allclose(body.center_of_mass, com + [10, 0, 0], atol=1e-9)
     np.testing.assert_allclose(body.position, [10, 0, 0], atol=1e-12)  # model frame, not com
 
 
 @pytest.mark.parametrize(
     "shape",
-    [tumble.Box((1, 2, 3)), tumble.Sphere(0.5), tumble.Capsule(0.1, 0.3),
-     tumble.HalfSpace((0, 1, 0), 2.0), tumble.TriMesh.torus(1.0, 0.3, 12, 6),
-     tumble.ConvexHull(tumble.TriMesh.box((1, 1, 1)).vertices)],
+    [
+        tumble.Box((1, 2, 3)),
+        tumble.Sphere(0.5),
+        tumble.Capsule(0.1, 0.3),
+        tumble.HalfSpace((0, 1, 0), 2.0),
+        tumble.TriMesh.torus(1.0, 0.3, 12, 6),
+        tumble.ConvexHull(tumble.TriMesh.box((1, 1, 1)).vertices),
+    ],
 )
 def test_shapes_pickle(shape) -> None:
     copy = pickle.loads(pickle.dumps(shape))

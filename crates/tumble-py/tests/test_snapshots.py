@@ -33,10 +33,19 @@ def make_world() -> tumble.World:
     world.add_body(
         tumble.TriMesh.torus(1.0, 0.2, 16, 8), mass=1.0, position=(-3, 0, 0.5), name="torus"
     )
-    world.add_body(tumble.ConvexHull(tumble.TriMesh.box((0.2, 0.2, 0.2)).vertices), mass=1.0,
-                   position=(0, 2, 0.5), name="hull")
-    world.add_body(tumble.Box((1, 1, 0.05)), kind="kinematic", position=(0, -3, 0.2),
-                   velocity=(0, 0.1, 0), name="platform")
+    world.add_body(
+        tumble.ConvexHull(tumble.TriMesh.box((0.2, 0.2, 0.2)).vertices),
+        mass=1.0,
+        position=(0, 2, 0.5),
+        name="hull",
+    )
+    world.add_body(
+        tumble.Box((1, 1, 0.05)),
+        kind="kinematic",
+        position=(0, -3, 0.2),
+        velocity=(0, 0.1, 0),
+        name="platform",
+    )
     # A hole in the slots: the late body reuses ball1's slot but is the last row.
     balls[1].remove()
     world.add_body(tumble.Sphere(0.1), mass=0.5, position=(0, 2, 2), name="late")

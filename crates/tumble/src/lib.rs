@@ -6,7 +6,8 @@
 //! - [`world`]: the [`World`](world::World): bodies described by
 //!   [`BodyDesc`](world::BodyDesc), stepped by [`World::step`](world::World::step).
 //! - [`scene`]: scene files (TOML/JSON) to worlds; [`scenes`]: the standard scenes.
-//! - [`batch`]: many independent worlds stepped at once on every core.
+//! - [`batch`]: many independent worlds stepped at once on every core;
+//!   [`sweep`]: parameter sweeps over scene files.
 //! - [`export`]: recordings, animated glTF, CSV and NumPy trajectories.
 //! - [`body`]: rigid body state, mass properties, material, force accumulators.
 //! - [`mod@integrate`]: explicit Euler, midpoint, RK4 and semi-implicit Euler steps.
@@ -64,6 +65,7 @@ pub mod export;
 pub(crate) mod pool;
 pub mod scene;
 pub mod scenes;
+pub mod sweep;
 // The module's own docs link `lemke` and `pgs`, each both a module and a
 // function (rustdoc: ambiguous link). The solver is being reworked; until its
 // docs say `mod@lemke` / `mod@pgs`, the ambiguity is allowed here so that

@@ -14,7 +14,8 @@ quaternions are (x, y, z, w), angular velocity is in the world frame.
 Collision queries without a world: :func:`collide`, :func:`distance` and
 :func:`within_tolerance` on meshes (and primitives against meshes).
 Scene files (docs/scenes.md): :func:`load_scene`. Many worlds at once:
-:meth:`World.copy` and :func:`rollout`. Joints: :meth:`World.add_joint`;
+:meth:`World.copy` and :func:`rollout`; parameter sweeps (locally or on
+Ray): :func:`sweep`. Joints: :meth:`World.add_joint`;
 robots from URDF files: :func:`load_urdf`.
 
 Errors: everything tumble raises is a :class:`TumbleError`; bad arguments are
@@ -32,6 +33,7 @@ import numpy as _np
 from ._batch import RECORDABLE, rollout
 from ._query import CollisionResult, DistanceResult, QueryStats
 from ._records import ContactEvent, MassProperties
+from ._sweep import sweep
 from ._tumble import CONTACT_DTYPE_SPEC as _CONTACT_DTYPE_SPEC
 from ._tumble import QUERY_CONTACT_DTYPE_SPEC as _QUERY_CONTACT_DTYPE_SPEC
 from ._tumble import (
@@ -110,5 +112,6 @@ __all__ = [
     "load_urdf",
     "mass_properties",
     "rollout",
+    "sweep",
     "within_tolerance",
 ]

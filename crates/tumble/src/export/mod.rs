@@ -7,6 +7,7 @@
 //!   and 4.4 (GLB container).
 //! - [`csv`]: a flat trajectory table; [`npz`]: the same as NumPy arrays.
 //! - [`live`]: the viewer's live-mode messages (JSON over a WebSocket).
+//! - [`table`]: a column table (sweep results) as Parquet, CSV or JSON.
 //! - [`atomic`]: write-to-temp-then-rename so readers never see half a file.
 //!
 //! The viewer in `viewer/` (repository root) reads the `.glb` files written here;
@@ -43,6 +44,7 @@ pub mod live;
 mod mesh_data;
 pub mod npz;
 pub mod recording;
+pub mod table;
 pub mod world_recorder;
 
 pub use csv::{write_trajectory_csv, CsvStream};

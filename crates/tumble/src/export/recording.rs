@@ -94,6 +94,9 @@ pub enum ExportError {
     /// The export is larger than a GLB file can address (4 GiB).
     #[error("export too large for GLB: {0} bytes")]
     TooLarge(usize),
+    /// A results table that cannot be written (ragged columns, bad path).
+    #[error("results table: {0}")]
+    BadTable(String),
     /// Writing the file failed.
     #[error("cannot write {path}: {source}")]
     Io {

@@ -105,6 +105,17 @@ pub enum SceneError {
         /// What is wrong and what was expected.
         message: String,
     },
+    /// A scene parameter (a sweep's `bodies[ball].restitution = 2`) that
+    /// cannot be set, or makes the scene invalid.
+    #[error("{file}: {param}: {message}")]
+    Param {
+        /// The scene file.
+        file: PathBuf,
+        /// The parameter path, or the assignments of the run.
+        param: String,
+        /// What is wrong and what was expected.
+        message: String,
+    },
 }
 
 fn located(file: &std::path::Path, line: usize, column: usize, path: &str, message: &str) -> String {

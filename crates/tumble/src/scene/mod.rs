@@ -60,6 +60,7 @@
 pub mod error;
 mod joints;
 mod locate;
+pub mod params;
 mod parse;
 mod resolve;
 pub mod schema;
@@ -67,6 +68,7 @@ mod shapes;
 mod values;
 
 pub use error::{FieldError, FieldPath, PathSeg, SceneError};
+pub use params::{ParamPath, SceneDocument};
 pub use resolve::DEFAULT_DURATION;
 pub use schema::SceneFile;
 

@@ -300,6 +300,11 @@ fn resolve_body(
             )
         })?,
     };
+    let material = MaterialDesc {
+        friction: spec.friction.unwrap_or(material.friction),
+        restitution: spec.restitution.unwrap_or(material.restitution),
+    };
+    check_material(path, &material)?;
     let base_pose = pose(path, spec.position, spec.orientation, spec.rotation.as_deref())?;
     let linear_velocity = vec3_or_zero(&path.key("linear_velocity"), spec.linear_velocity)?;
     let angular_velocity = vec3_or_zero(&path.key("angular_velocity"), spec.angular_velocity)?;

@@ -147,6 +147,12 @@ pub struct BodySpec {
     /// Name of a material in the top-level `materials` table.
     #[serde(default)]
     pub material: Option<String>,
+    /// Coulomb friction coefficient (>= 0), replacing the material's.
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Coefficient of restitution (in [0, 1]), replacing the material's.
+    #[serde(default)]
+    pub restitution: Option<f64>,
     /// Position of the body's model frame (m). Default [0, 0, 0].
     #[serde(default)]
     pub position: Option<[f64; 3]>,

@@ -198,6 +198,17 @@ fn negative_mass_is_located_at_its_value() {
 }
 
 #[test]
+fn a_body_replaces_its_materials_friction_and_restitution_within_bounds() {
+    let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nrestitution = 0.25\nfriction = 1.5");
+    let b = &toml(&text).unwrap().scene.bodies[1];
+    assert_eq!((b.material.restitution, b.material.friction), (0.25, 1.5));
+    let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nrestitution = 1.5");
+    let (_, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(path, "bodies[1].restitution");
+    assert_eq!(message, "must be in [0, 1], got 1.5");
+}
+
+#[test]
 fn unknown_key_is_an_error_not_ignored() {
     let text = GROUND_AND_BALL.replace("mass = 2.0", "masss = 2.0");
     let (line, column, path, message) = at(toml(&text).unwrap_err());

@@ -62,12 +62,13 @@ bench:
 # The Python package: .venv with the pinned tools, `pip install .` of
 # crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
 PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py \
-	bench/python_query_overhead.py scripts/manual_blocks.py
+	bench/python_query_overhead.py bench/rollout_overhead.py scripts/manual_blocks.py
 
 python-env:
 	bash scripts/python-env.sh
 
-# The scene tests compare load_scene with `tumble run`, so the CLI is built first.
+# The scene and sweep tests compare with `tumble run` and `tumble sweep`, so
+# the CLI is built first. test_sweep_ray.py starts a 2-CPU Ray cluster here.
 python-test: python-env
 	.venv/bin/ruff check $(PYTHON_SOURCES)
 	$(CARGO) build --release -p tumble-cli
@@ -76,16 +77,22 @@ python-test: python-env
 	$(CARGO) build --release -p tumble --example step_readback
 	.venv/bin/python bench/python_overhead.py --quick
 	.venv/bin/python bench/python_query_overhead.py --quick
+	$(CARGO) build --release -p tumble --example batch_rollout
+	.venv/bin/python bench/rollout_overhead.py --quick
 
 # Python-vs-Rust overhead of step() + pose readback for 1,000 bodies
 # (bench/python_overhead.py; results in out/python_overhead.json), and of
 # tumble.collide on the tori against `tumble bench --scene tori`
-# (bench/python_query_overhead.py; out/python_query_overhead.json).
+# (bench/python_query_overhead.py; out/python_query_overhead.json), and of
+# tumble.rollout over the Rust batch on 1 and 2 threads
+# (bench/rollout_overhead.py; out/rollout_overhead.json).
 python-bench: python-env
 	$(CARGO) build --release -p tumble --example step_readback
+	$(CARGO) build --release -p tumble --example batch_rollout
 	$(CARGO) build --release -p tumble-cli
 	.venv/bin/python bench/python_overhead.py
 	.venv/bin/python bench/python_query_overhead.py
+	.venv/bin/python bench/rollout_overhead.py
 
 
 # The user manual (docs/manual): its Rust blocks are doc-tests of

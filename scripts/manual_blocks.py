@@ -13,7 +13,7 @@ Every fenced block must name its language; by language:
   manifest (it has a ``[package]`` table) is parsed and its path dependencies
   must name crates of this repository;
 - ``json``: parsed; a scene (it has ``bodies``) is run like a TOML scene;
-- ``sh``: each ``tumble run|mass|collide|help`` line is run with the built
+- ``sh``: each ``tumble run|mass|collide|help|sweep`` line is run with the built
   ``tumble`` from the repository root and must exit 0; ``tumble view``
   (serves until stopped), ``demo`` and ``bench`` lines and other commands
   (installs and builds, run by ``make`` itself) are listed as not run;
@@ -39,7 +39,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 SRC = ROOT / "docs" / "manual" / "src"
 OUT = ROOT / "out" / "manual-blocks"
-RUN_VERBS = {"run", "mass", "collide", "help"}
+RUN_VERBS = {"run", "mass", "collide", "help", "sweep"}
 SKIP_VERBS = {"view", "demo", "bench"}
 LANGUAGES = {"rust", "python", "toml", "json", "sh", "text"}
 

@@ -27,8 +27,9 @@ pub struct SweepArgs {
     /// A parameter and its values: PATH=v1,v2,... where PATH names a value
     /// of the scene file (settings.dt, bodies[ball].restitution,
     /// bodies[0].position[2], materials.rubber.friction) and each value is
-    /// JSON (0.5, [0, 0, 1], true) or text. Repeat for more parameters: one
-    /// run per combination, the first parameter varying slowest.
+    /// JSON (0.5, [0, 0, 1], true) or text; or PATH=START:STOP:COUNT for
+    /// COUNT evenly spaced numbers. Repeat for more parameters: one run per
+    /// combination, the first parameter varying slowest.
     #[arg(long = "param", value_name = "PATH=V1,V2,...", required = true)]
     params: Vec<String>,
     /// Steps per run.
@@ -70,9 +71,10 @@ Examples:
 
 Metrics: max_penetration (m), energy_start, energy_end, energy_drift
 (kinetic + potential, J), kinetic_energy_end (J), max_joint_error (m), time (s),
-and per body NAME.x, NAME.y, NAME.z (final centre of mass, m), NAME.max_z,
-NAME.min_z, NAME.speed (final, m/s), NAME.rebound_z (highest z after the body
-first turned from falling to rising, m).
+toppled (dynamic bodies turned more than 45 degrees from their start), and per
+body NAME.x, NAME.y, NAME.z (final centre of mass, m), NAME.max_z, NAME.min_z,
+NAME.speed (final, m/s), NAME.rebound_z (highest z after the body first turned
+from falling to rising, m).
 
 The table has one row per run: run, one column per parameter, status (ok,
 failed, cancelled), error, steps, then the metrics. A run that fails (a bad
@@ -101,10 +103,32 @@ fn split_values(text: &str) -> Vec<String> {
     out
 }
 
+/// `START:STOP:COUNT`: COUNT evenly spaced numbers, both ends included.
+fn linspace(text: &str) -> Option<Result<Vec<Value>, String>> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [a, b, n] = parts.as_slice() else {
+        return None;
+    };
+    let (a, b) = (a.trim().parse::<f64>().ok()?, b.trim().parse::<f64>().ok()?);
+    let n = n.trim().parse::<usize>().ok()?;
+    if !(a.is_finite() && b.is_finite()) || n < 2 {
+        return Some(Err(format!(
+            "{text:?}: START:STOP:COUNT needs finite ends and COUNT >= 2"
+        )));
+    }
+    Some(Ok((0..n)
+        .map(|k| Value::from(a + (b - a) * k as f64 / (n - 1) as f64))
+        .collect()))
+}
+
 fn parse_param(text: &str) -> Result<(String, Vec<Value>), CliError> {
     let (path, values) = text
         .split_once('=')
         .ok_or_else(|| CliError::Input(format!("--param {text:?}: expected PATH=V1,V2,...")))?;
+    if let Some(range) = linspace(values) {
+        let values = range.map_err(|e| CliError::Input(format!("--param {path}: {e}")))?;
+        return Ok((path.trim().to_string(), values));
+    }
     let values: Vec<Value> = split_values(values)
         .iter()
         .filter(|v| !v.trim().is_empty())
@@ -281,6 +305,18 @@ mod tests {
             vec![serde_json::json!([0, 0, 1]), serde_json::json!([0, 0, 2])]
         );
         assert!(parse_param("settings.dt").is_err());
+        let Ok((_, v)) = parse_param("settings.dt=0.01:0.02:3") else {
+            panic!("a range parses")
+        };
+        assert_eq!(
+            v,
+            vec![
+                serde_json::json!(0.01),
+                serde_json::json!(0.015),
+                serde_json::json!(0.02)
+            ]
+        );
+        assert!(parse_param("settings.dt=0.01:0.02:1").is_err());
         assert!(parse_param("settings.dt=").is_err());
     }
 }

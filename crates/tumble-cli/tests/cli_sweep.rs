@@ -212,3 +212,35 @@ fn an_interrupted_sweep_keeps_its_rows_and_resumes_to_the_same_table() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn dominoes_fall_as_far_as_a_domino_reaches() {
+    // A domino of height h and thickness t, falling about its front edge,
+    // reaches a neighbour whose near face is within h: centres up to h + t
+    // apart (1.7 m). Well inside, the whole row falls; beyond, only the
+    // pushed domino and the first of the row (0.8 m from it) do.
+    let dir = temp_dir("domino");
+    let out = dir.join("row.csv");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/domino_row.toml");
+    let status = tumble()
+        .arg("sweep")
+        .arg(scene)
+        .args([
+            "--param",
+            "bodies[row{i}].grid.spacing[0]=0.5,1.0,1.9,2.2",
+            "--metric",
+            "toppled",
+            "-q",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let fallen: Vec<String> = rows(&std::fs::read_to_string(&out).unwrap())
+        .into_iter()
+        .map(|r| r["toppled"].clone())
+        .collect();
+    assert_eq!(fallen, ["20", "20", "2", "2"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

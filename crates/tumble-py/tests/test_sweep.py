@@ -15,6 +15,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 import pytest
@@ -83,14 +84,17 @@ def test_a_restitution_sweep_bounces_to_e_squared_of_the_drop(drop: Path):
 
 
 def test_rows_do_not_depend_on_threads_or_chunks(drop: Path):
+    # numpy values are values like any others.
     params = {
-        "bodies[ball].position[2]": [0.5, 0.8, 1.1, 1.4, 1.7],
+        "bodies[ball].position[2]": np.linspace(0.5, 1.7, 5),
         "bodies[ball].restitution": [0.2, 0.6],
     }
     metrics = ["ball.max_z", "ball.rebound_z", "energy_drift", "max_penetration"]
     one = tumble.sweep(drop, params, metrics=metrics, threads=1, progress=False)
     many = tumble.sweep(drop, params, metrics=metrics, threads=3, chunk_size=2, progress=False)
     assert one.equals(many)
+    assert one.num_rows == 10
+    assert one.num_rows == 10
 
 
 def test_the_table_is_the_one_tumble_sweep_writes(drop: Path, tmp_path: Path):

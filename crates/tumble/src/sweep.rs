@@ -55,19 +55,24 @@ enum MetricKind {
     KineticEnergyEnd,
     MaxJointError,
     Time,
+    /// Dynamic bodies whose orientation is more than 45 degrees from the
+    /// one they started with (dominoes down, a tower fallen).
+    Toppled,
     Body(String, BodyQuantity),
 }
 
 /// The metrics a sweep knows, for messages and docs.
 pub const METRIC_NAMES: &str = "max_penetration (m), energy_start, energy_end, energy_drift \
-(kinetic + potential, J), kinetic_energy_end (J), max_joint_error (m), time (s), and per body \
+(kinetic + potential, J), kinetic_energy_end (J), max_joint_error (m), time (s), toppled \
+(dynamic bodies turned more than 45 degrees from their start), and per body \
 NAME.x, NAME.y, NAME.z (final centre of mass, m), NAME.max_z, NAME.min_z, NAME.speed (final, \
 m/s), NAME.rebound_z (highest z after the body first turned from falling to rising, m)";
 
 impl Metric {
     /// Parses a metric name: `max_penetration`, `energy_start`,
     /// `energy_end`, `energy_drift`, `kinetic_energy_end`,
-    /// `max_joint_error`, `time`, or `BODY.x|y|z|max_z|min_z|speed|rebound_z`.
+    /// `max_joint_error`, `time`, `toppled`, or
+    /// `BODY.x|y|z|max_z|min_z|speed|rebound_z`.
     pub fn parse(name: &str) -> Result<Metric, String> {
         let kind = match name {
             "max_penetration" => MetricKind::MaxPenetration,
@@ -77,6 +82,7 @@ impl Metric {
             "kinetic_energy_end" => MetricKind::KineticEnergyEnd,
             "max_joint_error" => MetricKind::MaxJointError,
             "time" => MetricKind::Time,
+            "toppled" => MetricKind::Toppled,
             _ => {
                 let (body, what) = name
                     .rsplit_once('.')
@@ -134,6 +140,8 @@ pub struct RunRow {
 struct Tracker<'a> {
     metric: &'a Metric,
     body: Option<BodyId>,
+    /// For toppled: each dynamic body and its orientation at the start.
+    start: Vec<(BodyId, crate::collide::DQuat)>,
     value: f64,
     /// For rebound_z: the body has fallen (vz < 0) and then risen.
     fell: bool,
@@ -155,9 +163,18 @@ impl<'a> Tracker<'a> {
             ),
             _ => None,
         };
+        let start = match metric.kind {
+            MetricKind::Toppled => ids
+                .iter()
+                .filter(|&&id| world.body(id).is_ok_and(|b| b.kind() == crate::BodyKind::Dynamic))
+                .filter_map(|&id| world.orientation(id).ok().map(|q| (id, q)))
+                .collect(),
+            _ => Vec::new(),
+        };
         let mut t = Tracker {
             metric,
             body,
+            start,
             value: match metric.kind {
                 MetricKind::EnergyStart | MetricKind::EnergyDrift => energy(world),
                 MetricKind::Body(_, BodyQuantity::MaxZ | BodyQuantity::ReboundZ) => f64::NEG_INFINITY,
@@ -208,6 +225,15 @@ impl<'a> Tracker<'a> {
             MetricKind::EnergyDrift => energy(world) - self.value,
             MetricKind::KineticEnergyEnd => world.kinetic_energy(),
             MetricKind::Time => world.time(),
+            MetricKind::Toppled => self
+                .start
+                .iter()
+                .filter(|(id, q0)| {
+                    world
+                        .orientation(*id)
+                        .is_ok_and(|q| q0.angle_between(q) > std::f64::consts::FRAC_PI_4)
+                })
+                .count() as f64,
             MetricKind::Body(_, q) => {
                 let id = self.body.expect("body metrics have a body");
                 match q {

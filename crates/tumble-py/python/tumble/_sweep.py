@@ -30,6 +30,8 @@ def _param_list(params: Mapping[str, Any]) -> list[tuple[str, str]]:
         )
     out = []
     for path, values in params.items():
+        if hasattr(values, "tolist"):  # numpy arrays (and scalars)
+            values = values.tolist()
         if isinstance(values, (str, bytes)) or not isinstance(values, Sequence):
             values = [values]
         values = [_plain(v) for v in values]

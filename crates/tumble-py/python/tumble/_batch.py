@@ -90,7 +90,9 @@ def rollout(
             centre of mass) applied during each step, float (B, T, N, 6),
             (T, N, 6) for every world or (N, 6) for every step; or a callable
             ``controls(step, worlds) -> array`` called before every ``chunk``
-            steps, returning (B, N, 6) or (N, 6) held for those steps.
+            steps, returning (B, N, 6) or (N, 6) held for those steps, or
+            None (no forces: a callable that sets joint motor targets,
+            ``joint.motor = {...}``, drives robots this way).
         record: names from :data:`RECORDABLE`.
         threads: threads of the batch (None or 0: every core, 1: serial).
             The results do not depend on it.
@@ -137,7 +139,12 @@ def rollout(
     done = 0
     while done < steps:
         k = min(chunk, steps - done)
-        held = np.asarray(controls(done, worlds), dtype=np.float64)
+        given = controls(done, worlds)
+        if given is None:  # the callable set motor targets (or nothing) itself
+            parts.append(_rollout(worlds, k, None, record, threads))
+            done += k
+            continue
+        held = np.asarray(given, dtype=np.float64)
         if held.ndim == 2:
             held = held[None]
         if held.ndim != 3 or held.shape[1:] != (n, 6) or held.shape[0] not in (1, b):

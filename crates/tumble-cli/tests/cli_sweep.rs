@@ -18,32 +18,9 @@ fn temp_dir(tag: &str) -> PathBuf {
     dir
 }
 
-/// A ball dropped from 1 m (its lowest point) onto the ground.
-fn drop_scene(dir: &Path) -> PathBuf {
-    let path = dir.join("drop.toml");
-    std::fs::write(
-        &path,
-        r#"name = "drop"
-duration = 2.0
-
-[settings]
-dt = 0.004
-sleeping = false
-
-[[bodies]]
-name = "ground"
-kind = "static"
-shapes = [{ type = "half_space" }]
-
-[[bodies]]
-name = "ball"
-shapes = [{ type = "sphere", radius = 0.1 }]
-mass = 1.0
-position = [0, 0, 1.1]
-"#,
-    )
-    .unwrap();
-    path
+/// A ball dropped from 1 m (its lowest point) onto the ground, 2 s.
+fn drop_scene() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/bounce.toml")
 }
 
 /// Rows of a CSV table as maps from column name to cell.
@@ -64,7 +41,7 @@ fn rows(csv: &str) -> Vec<std::collections::BTreeMap<String, String>> {
 #[test]
 fn a_restitution_sweep_bounces_to_e_squared_of_the_drop() {
     let dir = temp_dir("bounce");
-    let scene = drop_scene(&dir);
+    let scene = drop_scene();
     let out = dir.join("bounce.csv");
     let status = tumble()
         .arg("sweep")
@@ -102,7 +79,7 @@ fn a_restitution_sweep_bounces_to_e_squared_of_the_drop() {
 #[test]
 fn bad_sweeps_are_refused_naming_the_path_and_the_file() {
     let dir = temp_dir("bad");
-    let scene = drop_scene(&dir);
+    let scene = drop_scene();
     let out = dir.join("x.csv");
     let check = |param: &str, metric: &str, expect: &[&str]| {
         let o = tumble()
@@ -122,7 +99,7 @@ fn bad_sweeps_are_refused_naming_the_path_and_the_file() {
     check(
         "bodies[rock].mass=1",
         "time",
-        &["drop.toml", "bodies[rock].mass", "no element named \"rock\""],
+        &["bounce.toml", "bodies[rock].mass", "no element named \"rock\""],
     );
     check("settings..dt=1", "time", &["settings..dt"]);
     check("settings.dt=0.01", "ball.colour", &["unknown metric"]);
@@ -145,7 +122,7 @@ fn bad_sweeps_are_refused_naming_the_path_and_the_file() {
 #[test]
 fn an_interrupted_sweep_keeps_its_rows_and_resumes_to_the_same_table() {
     let dir = temp_dir("resume");
-    let scene = drop_scene(&dir);
+    let scene = drop_scene();
     // 40 runs of 100 s each (25,000 steps): long enough to interrupt.
     let values: Vec<String> = (0..40).map(|k| format!("{}", 0.5 + 0.01 * k as f64)).collect();
     let param = format!("bodies[ball].position[2]={}", values.join(","));

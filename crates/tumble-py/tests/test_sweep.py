@@ -25,31 +25,13 @@ import tumble
 ROOT = Path(__file__).resolve().parents[3]
 CLI = ROOT / "target" / "release" / "tumble"
 
-DROP = """name = "drop"
-duration = 2.0
-
-[settings]
-dt = 0.004
-sleeping = false
-
-[[bodies]]
-name = "ground"
-kind = "static"
-shapes = [{ type = "half_space" }]
-
-[[bodies]]
-name = "ball"
-shapes = [{ type = "sphere", radius = 0.1 }]
-mass = 1.0
-position = [0, 0, 1.1]
-"""
+BOUNCE = ROOT / "examples" / "scenes" / "bounce.toml"
 
 
 @pytest.fixture
-def drop(tmp_path: Path) -> Path:
-    path = tmp_path / "drop.toml"
-    path.write_text(DROP)
-    return path
+def drop() -> Path:
+    """A ball dropped from 1 m (its lowest point) onto the ground, 2 s."""
+    return BOUNCE
 
 
 def test_a_restitution_sweep_bounces_to_e_squared_of_the_drop(drop: Path):
@@ -132,7 +114,7 @@ def test_the_table_is_the_one_tumble_sweep_writes(drop: Path, tmp_path: Path):
 
 def test_bad_sweeps(drop: Path):
     with pytest.raises(
-        tumble.SceneError, match=r"drop\.toml.*bodies\[rock\]\.mass.*no element named"
+        tumble.SceneError, match=r"bounce\.toml.*bodies\[rock\]\.mass.*no element named"
     ):
         tumble.sweep(drop, {"bodies[rock].mass": [1.0]})
     with pytest.raises(tumble.InvalidArgument, match="unknown metric"):
@@ -158,7 +140,7 @@ def test_bad_value_rows_name_the_parameter(drop: Path):
     table = tumble.sweep(drop, {"bodies[ball].mass": [1.0, -2.0]}, steps=5, progress=False)
     rows = table.to_pylist()
     assert [r["status"] for r in rows] == ["ok", "failed"]
-    assert "bodies[ball].mass=-2" in rows[1]["error"] and "drop.toml" in rows[1]["error"]
+    assert "bodies[ball].mass=-2" in rows[1]["error"] and "bounce.toml" in rows[1]["error"]
     assert rows[1]["energy_drift"] is None and rows[1]["steps"] == 0
 
 

@@ -691,37 +691,18 @@ pub fn row_from_json(line: &str) -> Option<RunRow> {
 mod tests {
     use super::*;
 
-    fn ball_drop_doc(dir: &std::path::Path) -> SceneDocument {
-        let path = dir.join("drop.toml");
-        std::fs::write(
-            &path,
-            r#"
-name = "drop"
-duration = 2.0
-[settings]
-dt = 0.004
-sleeping = false
-[[bodies]]
-name = "ground"
-kind = "static"
-shapes = [{ type = "half_space" }]
-[[bodies]]
-name = "ball"
-shapes = [{ type = "sphere", radius = 0.1 }]
-mass = 1.0
-position = [0, 0, 1.1]
-restitution = 0.5
-"#,
-        )
-        .unwrap();
-        SceneDocument::load(&path).unwrap()
+    /// examples/scenes/bounce.toml: a ball dropped from 1 m, 2 s.
+    fn ball_drop_doc() -> SceneDocument {
+        SceneDocument::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../examples/scenes/bounce.toml"
+        ))
+        .unwrap()
     }
 
     #[test]
     fn a_bounce_rises_to_e_squared_of_its_drop_and_rows_do_not_depend_on_threads() {
-        let dir = std::env::temp_dir().join(format!("tumble-sweep-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let doc = ball_drop_doc(&dir);
+        let doc = ball_drop_doc();
         let e: Vec<Value> = [0.3, 0.5, 0.7, 0.9].iter().map(|&x| x.into()).collect();
         let params = vec![("bodies[ball].restitution".parse().unwrap(), e)];
         check_paths(&doc, &params).unwrap();
@@ -751,14 +732,11 @@ restitution = 0.5
                 b.metrics.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
             );
         }
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
     fn a_bad_value_fails_its_row_and_a_bad_path_the_sweep() {
-        let dir = std::env::temp_dir().join(format!("tumble-sweep-bad-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let doc = ball_drop_doc(&dir);
+        let doc = ball_drop_doc();
         let params = vec![(
             "bodies[ball].mass".parse().unwrap(),
             vec![Value::from(2.0), Value::from(-1.0)],
@@ -770,7 +748,7 @@ restitution = 0.5
         assert_eq!(rows[0].status, RunStatus::Ok);
         match &rows[1].status {
             RunStatus::Failed(m) => assert!(
-                m.contains("drop.toml") && m.contains("bodies[ball].mass=-1") && m.contains("mass"),
+                m.contains("bounce.toml") && m.contains("bodies[ball].mass=-1") && m.contains("mass"),
                 "{m}"
             ),
             s => panic!("{s:?}"),
@@ -779,7 +757,7 @@ restitution = 0.5
         let bad = vec![("bodies[rock].mass".parse().unwrap(), vec![Value::from(1.0)])];
         let err = check_paths(&doc, &bad).unwrap_err().to_string();
         assert!(
-            err.contains("drop.toml")
+            err.contains("bounce.toml")
                 && err.contains("bodies[rock].mass")
                 && err.contains("no element named"),
             "{err}"
@@ -798,6 +776,5 @@ restitution = 0.5
         cancel.store(true, Ordering::Relaxed);
         let cancelled = run_many(&doc, &runs, RunLength::Steps(10), &metrics, 1, &cancel, &|_| {});
         assert!(cancelled.iter().all(|r| r.status == RunStatus::Cancelled));
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -18,19 +18,12 @@ use tumble_collide::DVec3;
 const DT: f64 = 1.0 / 60.0;
 const HALF: f64 = 0.5;
 
-/// Deterministic xorshift64 generator.
-struct Rng(u64);
+/// Deterministic xorshift64 generator (`tumble-testkit`).
+use tumble_testkit::{RandomSource, XorShift64 as Rng};
 
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn vec(&mut self) -> DVec3 {
-        DVec3::new(self.unit(), self.unit(), self.unit())
-    }
+/// A point with each coordinate uniform in [0, 1).
+fn unit_point(rng: &mut Rng) -> DVec3 {
+    DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64())
 }
 
 /// Boxes in coherent motion.
@@ -50,8 +43,10 @@ impl Scene {
     fn with_speed(n: usize, speed: f64) -> Scene {
         let side = 2.0 * (n as f64).cbrt();
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
-        let centers = (0..n).map(|_| rng.vec() * side).collect();
-        let velocities = (0..n).map(|_| (rng.vec() * 2.0 - 1.0) * speed).collect();
+        let centers = (0..n).map(|_| unit_point(&mut rng) * side).collect();
+        let velocities = (0..n)
+            .map(|_| (unit_point(&mut rng) * 2.0 - 1.0) * speed)
+            .collect();
         Scene {
             side,
             centers,
@@ -80,7 +75,7 @@ impl Scene {
     /// Every box jumps to a random place.
     fn teleport(&mut self) {
         for c in &mut self.centers {
-            *c = self.rng.vec() * self.side;
+            *c = unit_point(&mut self.rng) * self.side;
         }
     }
 }

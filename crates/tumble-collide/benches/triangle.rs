@@ -6,15 +6,11 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use std::time::Duration;
 use tumble_collide::math::{DMat3, DVec3};
 use tumble_collide::triangle::{tri_box_overlap, tri_tri_overlap, triangle_contacts, triangle_distance};
+use tumble_testkit::{RandomSource, XorShift64};
 
 fn pairs(n: usize) -> Vec<([DVec3; 3], [DVec3; 3])> {
-    let mut s = 0x9E37_79B9_7F4A_7C15u64;
-    let mut f = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut source = XorShift64(0x9E37_79B9_7F4A_7C15);
+    let mut f = move || source.range(-1.0, 1.0);
     (0..n)
         .map(|_| {
             let mut p = || DVec3::new(f(), f(), f()) * 0.5;

@@ -404,17 +404,7 @@ mod tests {
     use proptest::prelude::*;
 
     /// Deterministic pseudo-random generator (SplitMix64) for test clouds.
-    fn rng(seed: u64) -> impl FnMut() -> f64 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use tumble_testkit::splitmix_f64 as rng;
 
     fn check_hull(points: &[DVec3], hull: &TriMesh) {
         hull.check_solid().unwrap();

@@ -5,7 +5,7 @@
 #[path = "lcp_common/mod.rs"]
 mod common;
 
-use common::{max_abs, random_contacts, world_inv_inertia, Rng};
+use common::{max_abs, random_contacts, rng, world_inv_inertia, RandomSource};
 use tumble::collide::math::{DMat3, DQuat, DVec3};
 use tumble::solver::{
     build_contact_lcp, check, lemke, pgs, pgs_boxed, BodyState, BodyVelocity, ContactLcpError, ContactRow,
@@ -24,7 +24,7 @@ fn thesis_denominator(a: &BodyState, b: &BodyState, ra: DVec3, rb: DVec3, n: DVe
 
 #[test]
 fn diagonal_is_the_thesis_impulse_denominator() {
-    let mut rng = Rng::new(20);
+    let mut rng = rng(20);
     for _ in 0..50 {
         let (bodies, contacts) = random_contacts(&mut rng, 4, 10);
         let lcp = build_contact_lcp(&bodies, &contacts, false).unwrap();
@@ -39,7 +39,7 @@ fn diagonal_is_the_thesis_impulse_denominator() {
 fn matrix_equals_explicit_jacobian_product() {
     // Cross-check: build J (rows x 6 nb) and block-diagonal M^-1 densely and
     // multiply, with no knowledge of which bodies rows share.
-    let mut rng = Rng::new(21);
+    let mut rng = rng(21);
     for _ in 0..20 {
         let nb = 4;
         let (bodies, contacts) = random_contacts(&mut rng, nb, 8);
@@ -89,7 +89,7 @@ fn matrix_equals_explicit_jacobian_product() {
 #[test]
 fn single_contact_gives_the_thesis_impulse() {
     // j = -(1 + e) v_rel / denominator, and v_rel+ = -e v_rel- (thesis 7.1).
-    let mut rng = Rng::new(22);
+    let mut rng = rng(22);
     for case in 0..100 {
         let (bodies, mut contacts) = random_contacts(&mut rng, 3, 1);
         let c = &mut contacts[0];
@@ -139,9 +139,9 @@ fn kinetic_energy(bodies: &[BodyState], v: &[BodyVelocity]) -> f64 {
 #[test]
 fn inelastic_contact_impulses_never_add_energy() {
     // With bias 0: dKE = z.Ju + 1/2 z.Az = z.(Az + q) - 1/2 z.Az = -1/2 z.Az <= 0.
-    let mut rng = Rng::new(23);
+    let mut rng = rng(23);
     for case in 0..100 {
-        let m = 1 + rng.index(12);
+        let m = 1 + rng.below(12);
         let (bodies, contacts) = random_contacts(&mut rng, 4, m);
         let lcp = build_contact_lcp(&bodies, &contacts, false).unwrap();
         let sol = lemke(&lcp.a, &lcp.b).unwrap();

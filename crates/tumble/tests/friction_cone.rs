@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::Rng;
+use common::{RandomSource, Rng};
 use tumble::collide::{DMat3, DQuat, DVec3};
 use tumble::solver::contact_solver::{prepare, solve, ManifoldConstraint, PointConstraint, SolverBody};
 use tumble::solver::{solve_friction_cone, BodyState, ContactRow, FrictionConeError};
@@ -109,17 +109,17 @@ fn problem(rng: &mut Rng, isotropic: bool) -> Problem {
     let mut bodies = vec![SolverBody::fixed()];
     for _ in 0..2 {
         bodies.push(SolverBody::new(
-            rng.vec(2.0),
-            rng.vec(1.5),
+            rng.vec3(2.0),
+            rng.vec3(1.5),
             rng.range(0.3, 2.0),
             DVec3::new(rng.range(0.5, 4.0), rng.range(0.5, 4.0), rng.range(0.5, 4.0)),
-            DQuat::from_scaled_axis(rng.vec(3.0)),
+            DQuat::from_scaled_axis(rng.vec3(3.0)),
         ));
     }
-    let n = rng.vec(1.0).normalize();
-    let b = if isotropic || rng.next() < 0.5 { 0 } else { 2 };
-    let r_a = if isotropic { DVec3::ZERO } else { rng.vec(0.6) };
-    let r_b = rng.vec(0.6);
+    let n = rng.vec3(1.0).normalize();
+    let b = if isotropic || rng.next_f64() < 0.5 { 0 } else { 2 };
+    let r_a = if isotropic { DVec3::ZERO } else { rng.vec3(0.6) };
+    let r_b = rng.vec3(0.6);
     // Make the point approach along the normal.
     let vrel = bodies[1].velocity_at(r_a) - bodies[b].velocity_at(r_b);
     let vn = vrel.dot(n);

@@ -19,22 +19,8 @@ fn fuzz_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz")
 }
 
-/// SplitMix64: deterministic, dependency-free.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+/// SplitMix64 (`tumble-testkit`): deterministic, the same on every machine.
+use tumble_testkit::{RandomSource, SplitMix64 as Rng};
 
 /// Number literals that break careless parsers and arithmetic.
 const NASTY_LITERALS: [&str; 14] = [
@@ -65,11 +51,11 @@ fn mutate(rng: &mut Rng, seed: &[u8], corpus: &[Vec<u8>]) -> Vec<u8> {
             }
             1 if len > 0 => {
                 let i = rng.below(len);
-                v[i] = [0x00, 0xff, 0x7f, 0x80, rng.next() as u8][rng.below(5)];
+                v[i] = [0x00, 0xff, 0x7f, 0x80, rng.next_u64() as u8][rng.below(5)];
             }
             2 => {
                 let i = rng.below(len + 1);
-                let chunk: Vec<u8> = (0..1 + rng.below(8)).map(|_| rng.next() as u8).collect();
+                let chunk: Vec<u8> = (0..1 + rng.below(8)).map(|_| rng.next_u64() as u8).collect();
                 v.splice(i..i, chunk);
             }
             3 if len > 0 => {
@@ -103,7 +89,7 @@ fn mutate(rng: &mut Rng, seed: &[u8], corpus: &[Vec<u8>]) -> Vec<u8> {
                 let at = rng.below(len + 1);
                 v.splice(at..at, chunk);
             }
-            _ => v.push(rng.next() as u8),
+            _ => v.push(rng.next_u64() as u8),
         }
     }
     v.truncate(1 << 16);
@@ -320,7 +306,7 @@ fn write_seed_corpus() {
     for target in ["collide", "world_step", "narrow"] {
         for k in 0..12 {
             let len = 32 + rng.below(224);
-            let data: Vec<u8> = (0..len).map(|_| (rng.next() % 224) as u8).collect();
+            let data: Vec<u8> = (0..len).map(|_| (rng.next_u64() % 224) as u8).collect();
             write(target, &format!("random_{k:02}"), &data);
         }
         write(target, "zeros", &[0u8; 128]);

@@ -6,7 +6,7 @@ mod common;
 
 use common::{
     brute_force_lcp, max_abs, max_abs_diff, random_contacts, random_p_matrix, random_pd_nonsym, random_spd,
-    Rng,
+    rng, RandomSource,
 };
 use proptest::prelude::*;
 use tumble::solver::{build_contact_lcp, check, lemke, lemke_with, DenseMatrix, LcpError, LemkeOptions};
@@ -27,14 +27,14 @@ fn contact_matrices_with_any_velocities_are_solved() {
     //     feasibility above holds only with y.q = 0 exactly, which round-off
     //     can break, so each contact gets a speculative gap (bias = gap/dt > 0)
     //     that makes y.q > 0 robustly.
-    let mut rng = Rng::new(1);
+    let mut rng = rng(1);
     for case in 0..300 {
-        let nb = 2 + rng.index(4);
+        let nb = 2 + rng.below(4);
         let wedged = case % 2 == 1;
         let m = if wedged {
-            1 + rng.index(30)
+            1 + rng.below(30)
         } else {
-            1 + rng.index(6 * (nb - 1))
+            1 + rng.below(6 * (nb - 1))
         };
         let (bodies, mut contacts) = random_contacts(&mut rng, nb, m);
         if wedged {
@@ -54,16 +54,16 @@ fn contact_matrices_with_any_velocities_are_solved() {
 fn contact_matrices_with_planted_solutions_are_solved() {
     // Plant a complementary pair (z*, w*) and set q = w* - A z*; many contacts
     // per body make A rank-deficient (redundant contacts).
-    let mut rng = Rng::new(2);
+    let mut rng = rng(2);
     for case in 0..200 {
-        let nb = 2 + rng.index(3);
-        let m = 2 + rng.index(30);
+        let nb = 2 + rng.below(3);
+        let m = 2 + rng.below(30);
         let (bodies, contacts) = random_contacts(&mut rng, nb, m);
         let a = build_contact_lcp(&bodies, &contacts, false).unwrap().a;
         let mut z_star = vec![0.0; m];
         let mut w_star = vec![0.0; m];
         for i in 0..m {
-            match rng.index(3) {
+            match rng.below(3) {
                 0 => z_star[i] = rng.range(0.0, 2.0),
                 1 => w_star[i] = rng.range(0.0, 2.0),
                 _ => {} // degenerate: both zero
@@ -80,9 +80,9 @@ fn contact_matrices_with_planted_solutions_are_solved() {
 #[test]
 fn p_matrices_match_the_unique_brute_force_solution() {
     // A P-matrix LCP has exactly one solution for every q (CPS Thm 3.3.7).
-    let mut rng = Rng::new(3);
+    let mut rng = rng(3);
     for case in 0..300 {
-        let n = 1 + rng.index(6);
+        let n = 1 + rng.below(6);
         let a = match case % 3 {
             0 => random_p_matrix(&mut rng, n),
             1 => random_pd_nonsym(&mut rng, n),
@@ -191,7 +191,7 @@ fn bad_inputs_are_typed_errors() {
 #[test]
 fn pivot_limit_is_reported() {
     // An SPD problem with q < 0 everywhere needs several pivots.
-    let mut rng = Rng::new(4);
+    let mut rng = rng(4);
     let a = random_spd(&mut rng, 8, 0.5);
     let q = vec![-1.0; 8];
     let full = lemke(&a, &q).unwrap();
@@ -211,7 +211,7 @@ proptest! {
         seed in any::<u64>(),
         qs in proptest::collection::vec(-5.0f64..5.0, 7),
     ) {
-        let mut rng = Rng::new(seed);
+        let mut rng = rng(seed);
         let a = random_p_matrix(&mut rng, n);
         let q = &qs[..n];
         let sol = lemke(&a, q).unwrap();
@@ -228,10 +228,10 @@ fn compliance_makes_wedged_contacts_solvable() {
     // A + eps I is positive definite, so Lemke must succeed on every case,
     // and the answer nearly solves the rigid problem: w_rigid = w - eps z.
     let eps = 1e-9;
-    let mut rng = Rng::new(5);
+    let mut rng = rng(5);
     for case in 0..100 {
-        let nb = 2 + rng.index(3);
-        let m = 6 * (nb - 1) + 1 + rng.index(12);
+        let nb = 2 + rng.below(3);
+        let m = 6 * (nb - 1) + 1 + rng.below(12);
         let (bodies, contacts) = random_contacts(&mut rng, nb, m);
         let lcp = build_contact_lcp(&bodies, &contacts, false).unwrap();
         let mut soft = lcp.a.clone();

@@ -5,15 +5,15 @@
 #[path = "lcp_common/mod.rs"]
 mod common;
 
-use common::{max_abs, max_abs_diff, random_contacts, random_spd, Rng};
+use common::{max_abs, max_abs_diff, random_contacts, random_spd, rng, RandomSource};
 use tumble::solver::{build_contact_lcp, check, lemke, pgs, pgs_boxed, DenseMatrix, LcpError, RowLimit};
 
 #[test]
 fn pgs_converges_to_lemke_on_spd_problems() {
     // Symmetric positive definite: one solution, which both must find.
-    let mut rng = Rng::new(10);
+    let mut rng = rng(10);
     for case in 0..100 {
-        let n = 1 + rng.index(12);
+        let n = 1 + rng.below(12);
         let a = random_spd(&mut rng, n, 1.0);
         let q: Vec<f64> = (0..n).map(|_| rng.range(-3.0, 3.0)).collect();
         let exact = lemke(&a, &q).unwrap();
@@ -35,10 +35,10 @@ fn pgs_matches_lemke_velocities_on_redundant_contacts() {
     // More contacts than degrees of freedom: z is not unique, but w = A z + q
     // and the body velocities u + M^-1 J^T z are (A(z1 - z2) = 0 implies
     // M^-1 J^T (z1 - z2) = 0 for PSD A = J M^-1 J^T).
-    let mut rng = Rng::new(11);
+    let mut rng = rng(11);
     for case in 0..60 {
-        let nb = 2 + rng.index(2);
-        let m = 6 * (nb - 1) + 1 + rng.index(6);
+        let nb = 2 + rng.below(2);
+        let m = 6 * (nb - 1) + 1 + rng.below(6);
         let (bodies, mut contacts) = random_contacts(&mut rng, nb, m);
         for c in &mut contacts {
             c.bias = rng.range(1e-2, 1e-1); // robustly feasible, see lemke.rs
@@ -62,7 +62,7 @@ fn pgs_matches_lemke_velocities_on_redundant_contacts() {
 
 #[test]
 fn warm_start_at_the_solution_needs_no_sweep() {
-    let mut rng = Rng::new(12);
+    let mut rng = rng(12);
     let a = random_spd(&mut rng, 8, 1.0);
     let q: Vec<f64> = (0..8).map(|_| rng.range(-3.0, 3.0)).collect();
     let exact = lemke(&a, &q).unwrap();
@@ -78,9 +78,9 @@ fn boxed_pgs_satisfies_the_box_kkt_conditions() {
     // For SPD A the boxed LCP is the optimality condition of
     // min 1/2 z.Az + q.z over the box: w_i >= 0 at lo, w_i <= 0 at hi,
     // w_i = 0 strictly inside.
-    let mut rng = Rng::new(13);
+    let mut rng = rng(13);
     for case in 0..100 {
-        let n = 1 + rng.index(10);
+        let n = 1 + rng.below(10);
         let a = random_spd(&mut rng, n, 1.0);
         let q: Vec<f64> = (0..n).map(|_| rng.range(-5.0, 5.0)).collect();
         let limits: Vec<RowLimit> = (0..n)
@@ -113,7 +113,7 @@ fn boxed_pgs_satisfies_the_box_kkt_conditions() {
 
 #[test]
 fn boxed_with_nonnegative_limits_is_plain_pgs() {
-    let mut rng = Rng::new(14);
+    let mut rng = rng(14);
     let a = random_spd(&mut rng, 6, 1.0);
     let q: Vec<f64> = (0..6).map(|_| rng.range(-3.0, 3.0)).collect();
     let plain = pgs(&a, &q, 500, 0.0, None).unwrap();
@@ -180,7 +180,7 @@ fn bad_inputs_are_typed_errors() {
 
 #[test]
 fn solvers_are_bit_deterministic() {
-    let mut rng = Rng::new(15);
+    let mut rng = rng(15);
     let (bodies, contacts) = random_contacts(&mut rng, 4, 12);
     let lcp = build_contact_lcp(&bodies, &contacts, true).unwrap();
     let run = || {

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::Rng;
+use common::{RandomSource, Rng};
 use tumble::collide::{DQuat, DVec3};
 use tumble::solver::contact_solver::{
     prepare, residual, solve, solve_normals_exactly, ManifoldConstraint, PointConstraint, SolverBody,
@@ -18,28 +18,28 @@ use tumble::solver::contact_solver::{
 fn problem(rng: &mut Rng) -> (Vec<SolverBody>, Vec<ManifoldConstraint>, Vec<PointConstraint>) {
     let mut bodies = vec![SolverBody::fixed()];
     for _ in 0..3 {
-        let q = DQuat::from_scaled_axis(rng.vec(3.0));
+        let q = DQuat::from_scaled_axis(rng.vec3(3.0));
         let inv_i = DVec3::new(rng.range(0.5, 4.0), rng.range(0.5, 4.0), rng.range(0.5, 4.0));
         bodies.push(SolverBody::new(
-            rng.vec(2.0),
-            rng.vec(1.0),
+            rng.vec3(2.0),
+            rng.vec3(1.0),
             rng.range(0.2, 2.0),
             inv_i,
             q,
         ));
     }
     let (mut manifolds, mut points) = (Vec::new(), Vec::new());
-    for _ in 0..(2 + (rng.next() * 3.0) as usize) {
-        let a = 1 + (rng.next() * 3.0) as u32;
-        let mut b = (rng.next() * 4.0) as u32;
+    for _ in 0..(2 + (rng.next_f64() * 3.0) as usize) {
+        let a = 1 + (rng.next_f64() * 3.0) as u32;
+        let mut b = (rng.next_f64() * 4.0) as u32;
         if b == a {
             b = 0;
         }
-        let n = rng.vec(1.0).normalize();
-        let count = 1 + (rng.next() * 4.0) as u32;
+        let n = rng.vec3(1.0).normalize();
+        let count = 1 + (rng.next_f64() * 4.0) as u32;
         let first = points.len() as u32;
         for _ in 0..count {
-            points.push(PointConstraint::new(n, rng.vec(0.6), rng.vec(0.6), 0.0, 0.0));
+            points.push(PointConstraint::new(n, rng.vec3(0.6), rng.vec3(0.6), 0.0, 0.0));
         }
         manifolds.push(ManifoldConstraint::new(
             a,

@@ -364,17 +364,7 @@ pub(crate) mod tests {
     use crate::mesh::{icosphere_mesh, torus_mesh, TriMesh};
     use std::collections::BTreeSet;
 
-    pub(crate) fn rng(seed: u64) -> impl FnMut() -> f64 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    pub(crate) use tumble_testkit::splitmix_f64 as rng;
 
     pub(crate) fn random_pose(r: &mut impl FnMut() -> f64, spread: f64) -> Pose {
         let q = DQuat::from_xyzw(r() - 0.5, r() - 0.5, r() - 0.5, r() - 0.5).normalize();

@@ -121,8 +121,9 @@ pub(crate) fn check_positive(shape: &'static str, name: &'static str, value: f64
     }
 }
 
-/// A collision shape. New variants (triangle meshes) will be added, so
-/// matches outside this crate need a wildcard arm.
+/// A collision shape: the primitives, convex hulls, the half-space and
+/// triangle meshes. Non-exhaustive (new kinds may come), so matches outside
+/// this crate need a wildcard arm.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum Shape {

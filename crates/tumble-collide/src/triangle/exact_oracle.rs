@@ -105,24 +105,3 @@ pub fn exact_tri_tri(a: &[IVec; 3], b: &[IVec; 3]) -> bool {
 pub fn to_f(p: IVec) -> crate::math::DVec3 {
     crate::math::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
 }
-
-/// Tiny deterministic RNG (xorshift64*), so that test cases are reproducible.
-pub struct Rng(pub u64);
-
-impl Rng {
-    /// Next raw value.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform integer in `lo..=hi`.
-    pub fn int(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + (self.next_u64() % (hi - lo + 1) as u64) as i64
-    }
-    /// Uniform float in `[lo, hi)`.
-    pub fn float(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}

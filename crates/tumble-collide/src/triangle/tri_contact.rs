@@ -485,10 +485,10 @@ fn improves(best: &Option<(f64, DVec3, Axis)>, d: f64) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::super::exact_oracle::Rng;
     use super::super::tri_distance::triangle_distance;
     use super::*;
     use crate::contact::SubFeature;
+    use tumble_testkit::{RandomSource, XorShift64Star as Rng};
 
     fn contacts(a: &[DVec3; 3], b: &[DVec3; 3], margin: f64) -> Vec<Contact> {
         let mut out = Vec::new();
@@ -497,7 +497,7 @@ mod tests {
     }
 
     fn random_tri(rng: &mut Rng, r: f64) -> [DVec3; 3] {
-        let mut p = || DVec3::new(rng.float(-r, r), rng.float(-r, r), rng.float(-r, r));
+        let mut p = || DVec3::new(rng.range(-r, r), rng.range(-r, r), rng.range(-r, r));
         [p(), p(), p()]
     }
 
@@ -658,7 +658,7 @@ mod tests {
         let mut exact_hits = 0;
         for _ in 0..4_000 {
             let a = random_tri(&mut rng, 1.0);
-            let shift = DVec3::new(rng.float(-1.0, 1.0), rng.float(-1.0, 1.0), rng.float(-1.0, 1.0));
+            let shift = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
             let b = random_tri(&mut rng, 1.0).map(|p| p + shift);
             let td = triangle_distance(&a, &b);
             if td.distance == 0.0 {

@@ -304,8 +304,9 @@ fn degenerate_overlap(a: &[DVec3; 3], na: DVec3, b: &[DVec3; 3], nb: DVec3) -> b
 
 #[cfg(test)]
 mod tests {
-    use super::super::exact_oracle::{exact_tri_tri, to_f, IVec, Rng};
+    use super::super::exact_oracle::{exact_tri_tri, to_f, IVec};
     use super::*;
+    use tumble_testkit::{RandomSource, XorShift64Star as Rng};
 
     fn check(a: &[IVec; 3], b: &[IVec; 3]) -> bool {
         let fa = [to_f(a[0]), to_f(a[1]), to_f(a[2])];

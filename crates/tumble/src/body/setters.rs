@@ -132,6 +132,12 @@ impl RigidBody {
         Ok(())
     }
 
+    /// Stops the body: both momenta zero (its pose is kept). Cannot fail.
+    pub fn stop(&mut self) {
+        self.state.linear_momentum = DVec3::ZERO;
+        self.state.angular_momentum = DVec3::ZERO;
+    }
+
     /// Sets the surface material.
     pub fn set_material(&mut self, material: Material) {
         self.material = material;

@@ -6,29 +6,10 @@ use tumble::collide::Pose;
 use tumble::integrate::{integrate_with_field, ForceField, Integrator, NoField};
 use tumble::{BodyState, RigidBody};
 
-/// A deterministic random source for the randomised tests (xorshift64*: no
-/// dependency, the same numbers on every machine).
-pub struct Rng(pub u64);
-
-impl Rng {
-    /// Uniform in [0, 1).
-    pub fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-
-    /// Each component uniform in [-r, r).
-    pub fn vec(&mut self, r: f64) -> DVec3 {
-        DVec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
-    }
-}
+/// The deterministic random source of the randomised tests (xorshift64*,
+/// from `tumble-testkit`: the same numbers on every machine).
+#[allow(unused_imports)] // each test binary uses a different subset
+pub use tumble_testkit::{RandomSource, XorShift64Star as Rng};
 
 /// Complete elliptic integral of the first kind `K(m) = int_0^{pi/2} dθ / sqrt(1 - m sin²θ)`
 /// (parameter `m = k²`), by the arithmetic-geometric mean: `K(m) = π / (2 AGM(1, sqrt(1 - m)))`

@@ -5,43 +5,13 @@
 use tumble::collide::math::{DMat3, DQuat, DVec3};
 use tumble::solver::{BodyState, ContactRow, DenseMatrix};
 
-/// SplitMix64: deterministic, dependency-free.
-pub struct Rng(u64);
+/// The random source of the LCP tests: SplitMix64 (`tumble-testkit`) from
+/// a scrambled seed, so that neighbouring seeds give unrelated problems.
+pub use tumble_testkit::{RandomSource, SplitMix64 as Rng};
 
-impl Rng {
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0xD1B5_4A32_D192_ED03)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        let u = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        lo + (hi - lo) * u
-    }
-    pub fn index(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-    pub fn vec3(&mut self, s: f64) -> DVec3 {
-        DVec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
-    }
-    pub fn unit(&mut self) -> DVec3 {
-        loop {
-            let v = self.vec3(1.0);
-            let l = v.length();
-            if l > 0.1 && l <= 1.0 {
-                return v / l;
-            }
-        }
-    }
-    pub fn rotation(&mut self) -> DQuat {
-        DQuat::from_axis_angle(self.unit(), self.range(0.0, std::f64::consts::TAU))
-    }
+/// The generator for test case `seed`.
+pub fn rng(seed: u64) -> Rng {
+    tumble_testkit::SplitMix64(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0xD1B5_4A32_D192_ED03)
 }
 
 /// World inverse inertia `R diag(1/I) R^T`.
@@ -66,17 +36,17 @@ pub fn random_contacts(rng: &mut Rng, nb: usize, m: usize) -> (Vec<BodyState>, V
     }
     let contacts = (0..m)
         .map(|_| {
-            let a = 1 + rng.index(nb - 1);
-            let mut b = rng.index(nb);
+            let a = 1 + rng.below(nb - 1);
+            let mut b = rng.below(nb);
             while b == a {
-                b = rng.index(nb);
+                b = rng.below(nb);
             }
             ContactRow {
                 body_a: a,
                 body_b: b,
                 r_a: rng.vec3(1.0),
                 r_b: rng.vec3(1.0),
-                normal: rng.unit(),
+                normal: rng.unit_vector(),
                 bias: 0.0,
                 friction: rng.range(0.0, 1.0),
             }

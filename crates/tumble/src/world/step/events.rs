@@ -99,10 +99,7 @@ impl World {
             let Some(e) = self.bodies.at_mut(i) else { continue };
             e.sleeping = true;
             e.sleep_group = l;
-            let mut state = *e.body.state();
-            state.linear_momentum = glam::DVec3::ZERO;
-            state.angular_momentum = glam::DVec3::ZERO;
-            let _ = e.body.set_state(state);
+            e.body.stop();
         }
     }
 }

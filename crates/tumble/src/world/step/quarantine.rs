@@ -46,8 +46,11 @@ impl World {
         let restored = f.stopped_state_before(slot as usize);
         let Some(e) = self.bodies.at_mut(slot) else { return };
         if let Some(restored) = restored {
-            // A state that was finite before the step is accepted again.
-            let _ = e.body.set_state(restored);
+            // A state that was valid before the step is accepted again;
+            // should it not be, the body at least stops where it is.
+            if e.body.set_state(restored).is_err() {
+                e.body.stop();
+            }
         }
         e.body.clear_forces();
         if let Some(body) = self.bodies.id_at(slot) {

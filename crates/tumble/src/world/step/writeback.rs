@@ -35,7 +35,13 @@ impl World {
                     linear_momentum: sb.v * e.body.mass(),
                     angular_momentum: inv_inertia.inverse() * sb.w,
                 };
-                let _ = e.body.set_state(state);
+                if e.body.set_state(state).is_err() {
+                    // Finite velocities can still give a non-finite momentum
+                    // (a huge mass or a near-singular inertia): quarantined
+                    // like a non-finite solve.
+                    self.quarantine(f, slot);
+                    continue;
+                }
             } else {
                 let pose = e.body.pose();
                 e.body.set_pose(Pose {

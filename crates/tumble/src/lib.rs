@@ -9,6 +9,8 @@
 //! - [`batch`]: many independent worlds stepped at once on every core;
 //!   [`sweep`]: parameter sweeps over scene files.
 //! - [`export`]: recordings, animated glTF, CSV and NumPy trajectories.
+//! - [`analytic`]: closed-form references (elliptic integrals, the
+//!   torque-free top) shared by tests, demos and benchmarks.
 //! - [`body`]: rigid body state, mass properties, material, force accumulators.
 //! - [`mod@integrate`]: explicit Euler, midpoint, RK4 and semi-implicit Euler steps.
 //! - [`solver`]: the contact solvers (sub-stepped PGS, Lemke, dense LCPs).
@@ -51,6 +53,7 @@
 
 #![warn(missing_docs)]
 
+pub mod analytic;
 pub mod batch;
 pub mod body;
 pub mod integrate;

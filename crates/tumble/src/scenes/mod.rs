@@ -6,6 +6,7 @@ mod joint_scenes;
 mod mesh_scenes;
 mod primitives_scenes;
 mod projectile_scenes;
+mod t_handle;
 
 pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
 pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
@@ -15,6 +16,7 @@ pub use primitives_scenes::{
 pub use projectile_scenes::{
     fire_projectile, projectile_cases, Fault, Flight, Projectile, ProjectileCase, PROJECTILE_STEPS,
 };
+pub use t_handle::{run_flips, t_handle, FlipRun, THandle};
 
 use crate::joint::JointDesc;
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};

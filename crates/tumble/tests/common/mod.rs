@@ -11,22 +11,9 @@ use tumble::{BodyState, RigidBody};
 #[allow(unused_imports)] // each test binary uses a different subset
 pub use tumble_testkit::{RandomSource, XorShift64Star as Rng};
 
-/// Complete elliptic integral of the first kind `K(m) = int_0^{pi/2} dθ / sqrt(1 - m sin²θ)`
-/// (parameter `m = k²`), by the arithmetic-geometric mean: `K(m) = π / (2 AGM(1, sqrt(1 - m)))`
-/// (Abramowitz & Stegun 17.6). Converges quadratically.
-pub fn elliptic_k(m: f64) -> f64 {
-    assert!((0.0..1.0).contains(&m));
-    let (mut a, mut b) = (1.0f64, (1.0 - m).sqrt());
-    for _ in 0..64 {
-        if (a - b).abs() <= 1e-16 * a {
-            break;
-        }
-        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
-        a = an;
-        b = bn;
-    }
-    std::f64::consts::PI / (2.0 * a)
-}
+/// The complete elliptic integral of the first kind (one home: `tumble::analytic`).
+#[allow(unused_imports)] // each test binary uses a different subset
+pub use tumble::analytic::elliptic_k;
 
 /// A test pose with a generic orientation.
 pub fn tilted_pose() -> Pose {
@@ -99,19 +86,4 @@ pub fn observed_order(coarse: f64, fine: f64) -> f64 {
 /// Unused-state helper so the type is named in every binary.
 pub fn state_of(b: &RigidBody) -> BodyState {
     *b.state()
-}
-
-#[test]
-fn elliptic_k_matches_known_values() {
-    // K(0) = π/2; K(1/2) = Γ(1/4)² / (4 sqrt(π)).
-    assert!((elliptic_k(0.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
-    let gamma_quarter = 3.625_609_908_221_908_f64;
-    let k_half = gamma_quarter * gamma_quarter / (4.0 * std::f64::consts::PI.sqrt());
-    assert!((elliptic_k(0.5) - k_half).abs() < 1e-14);
-    // Near m = 1 (A&S 17.3.26): K = ln(4/k') + k'^2/4 (ln(4/k') - 1) + O(k'^4 ln k'),
-    // k' = sqrt(1 - m).
-    let kp: f64 = 1e-3;
-    let lead = (4.0 / kp).ln();
-    let asymptotic = lead + 0.25 * kp * kp * (lead - 1.0);
-    assert!((elliptic_k(1.0 - kp * kp) - asymptotic).abs() < 1e-9);
 }

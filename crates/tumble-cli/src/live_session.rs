@@ -1,154 +1,20 @@
-//! One live session of `tumble view SCENE`: builds the scene's world, sends
-//! the viewer's `scene` message and one `frame` per step over a WebSocket,
-//! paced to real time, and reads the page's requests between steps. A
-//! `spawn` request adds a body to the running world (a ball thrown from the
-//! camera in the viewer); the page then gets a `bodies_added` message and
-//! the new body's pose in every later frame. Protocol: viewer/README.md,
-//! "Live mode".
+//! The transport of `tumble view SCENE`'s live sessions: builds the scene's
+//! world, sends the viewer's messages over a WebSocket, one `frame` per step
+//! paced to real time, and hands the page's requests (a `spawn`: a ball
+//! thrown from the camera) to the library's session between steps. The
+//! protocol, requests included, is `tumble::export::live` and
+//! `tumble::export::live_session` (viewer/README.md, "Live mode").
 //!
 //! The WebSocket runs on its own TCP listener (not tiny_http's upgraded
 //! stream) so that the socket's read timeout can be set: reading requests
 //! never holds up the stream of frames.
 
-use serde::Deserialize;
 use std::io::ErrorKind;
 use std::net::{TcpListener, TcpStream};
 use std::time::{Duration, Instant};
-use tumble::collide::{Cuboid, DVec3, Shape, Sphere};
-use tumble::export::live::{bodies_added_message, scene_message, world_frame_message};
-use tumble::export::{recorded_body, WorldRecorder};
+use tumble::export::live_session::LiveSession;
 use tumble::scene::LoadedScene;
-use tumble::world::{BodyDesc, BodyId, MassDesc, World};
 use tungstenite::{Message, WebSocket};
-
-/// Bodies a page may add to one session: bounds its cost.
-pub const MAX_SPAWNED: usize = 200;
-/// Largest radius or half extent of a spawned body (m).
-pub const MAX_SPAWN_SIZE: f64 = 2.0;
-/// Largest speed of a spawned body (m/s).
-pub const MAX_SPAWN_SPEED: f64 = 100.0;
-
-/// A page's request to add a body (`{"type": "spawn", ...}`).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SpawnRequest {
-    #[serde(rename = "type")]
-    _type: String,
-    /// `sphere` (with `radius`) or `box` (with `half_extents`).
-    shape: String,
-    radius: Option<f64>,
-    half_extents: Option<[f64; 3]>,
-    /// Centre (m, world frame, z up).
-    position: [f64; 3],
-    /// Initial velocity (m/s). Default zero.
-    velocity: Option<[f64; 3]>,
-    /// Density (kg/m^3). Default 1000; at most one of `density` and `mass`.
-    density: Option<f64>,
-    /// Total mass (kg).
-    mass: Option<f64>,
-    name: Option<String>,
-}
-
-fn size(field: &str, x: f64) -> Result<f64, String> {
-    if x.is_finite() && x > 0.0 && x <= MAX_SPAWN_SIZE {
-        Ok(x)
-    } else {
-        Err(format!(
-            "spawn.{field}: must be in (0, {MAX_SPAWN_SIZE}] m, got {x}"
-        ))
-    }
-}
-
-/// The body a spawn request describes; every value checked, with the field
-/// named in the error.
-fn spawn_desc(req: &SpawnRequest, n: usize) -> Result<BodyDesc, String> {
-    let shape: Shape = match req.shape.as_str() {
-        "sphere" => {
-            let r = size("radius", req.radius.ok_or("spawn.radius: required for a sphere")?)?;
-            Sphere::new(r).map_err(|e| format!("spawn.radius: {e}"))?.into()
-        }
-        "box" => {
-            let h = req.half_extents.ok_or("spawn.half_extents: required for a box")?;
-            for (k, x) in h.iter().enumerate() {
-                size(&format!("half_extents[{k}]"), *x)?;
-            }
-            Cuboid::new(DVec3::from_array(h))
-                .map_err(|e| format!("spawn.half_extents: {e}"))?
-                .into()
-        }
-        other => return Err(format!("spawn.shape: expected `sphere` or `box`, got `{other}`")),
-    };
-    let position = DVec3::from_array(req.position);
-    if !position.is_finite() {
-        return Err(format!("spawn.position: must be finite, got {:?}", req.position));
-    }
-    let velocity = DVec3::from_array(req.velocity.unwrap_or([0.0; 3]));
-    if !(velocity.is_finite() && velocity.length() <= MAX_SPAWN_SPEED) {
-        return Err(format!(
-            "spawn.velocity: must be finite with speed <= {MAX_SPAWN_SPEED} m/s, got {:?}",
-            req.velocity
-        ));
-    }
-    let mass = match (req.density, req.mass) {
-        (Some(_), Some(_)) => return Err("spawn: give `density` or `mass`, not both".into()),
-        (None, Some(m)) => MassDesc::Mass(m),
-        (Some(d), None) => MassDesc::Density(d),
-        (None, None) => MassDesc::default(),
-    };
-    let mut desc = BodyDesc::dynamic(shape)
-        .at(position)
-        .with_velocity(velocity, DVec3::ZERO)
-        .named(req.name.clone().unwrap_or_else(|| format!("spawned{n}")));
-    desc.mass = mass;
-    Ok(desc)
-}
-
-/// A live world and what the page has been told about it.
-struct Session {
-    world: World,
-    /// Bodies in the order of the page's pose lists.
-    ids: Vec<BodyId>,
-    spawned: usize,
-}
-
-impl Session {
-    /// Handles one text message from the page; returns the messages to send.
-    fn handle(&mut self, text: &str) -> Vec<String> {
-        let reply_error =
-            |message: String| vec![serde_json::json!({ "type": "error", "message": message }).to_string()];
-        let value: serde_json::Value = match serde_json::from_str(text) {
-            Ok(v) => v,
-            Err(e) => return reply_error(format!("not JSON: {e}")),
-        };
-        match value.get("type").and_then(|t| t.as_str()) {
-            Some("spawn") => {}
-            Some(other) => return reply_error(format!("unknown message type `{other}` (expected `spawn`)")),
-            None => return reply_error("a message needs a `type`".into()),
-        }
-        if self.spawned >= MAX_SPAWNED {
-            return reply_error(format!("spawn: at most {MAX_SPAWNED} bodies per session"));
-        }
-        let result = serde_json::from_value::<SpawnRequest>(value)
-            .map_err(|e| format!("spawn: {e}"))
-            .and_then(|req| spawn_desc(&req, self.spawned))
-            .and_then(|desc| self.world.add_body(&desc).map_err(|e| format!("spawn: {e}")));
-        match result {
-            Ok(id) => match recorded_body(&self.world, id, self.ids.len()) {
-                Ok(body) => {
-                    self.ids.push(id);
-                    self.spawned += 1;
-                    vec![bodies_added_message(&[body])]
-                }
-                Err(e) => {
-                    // Cannot be drawn: take it out again so that page and world agree.
-                    let _ = self.world.remove_body(id);
-                    reply_error(format!("spawn: {e}"))
-                }
-            },
-            Err(message) => reply_error(message),
-        }
-    }
-}
 
 /// Text messages that arrive before `due` (at least those already waiting);
 /// `Err` when the page closed the connection.
@@ -200,17 +66,8 @@ fn send_all(ws: &mut WebSocket<TcpStream>, messages: Vec<String>) -> Result<(), 
 /// page to close) or the page goes away.
 fn run(scene: &LoadedScene, mut ws: WebSocket<TcpStream>, speed: f64) -> Result<(), ()> {
     let (world, _) = scene.build().map_err(|_| ())?;
-    let ids = world.body_ids();
-    let scene_msg = scene_message(WorldRecorder::new(&world).map_err(|_| ())?.recording());
-    let mut session = Session {
-        world,
-        ids,
-        spawned: 0,
-    };
-    send_all(
-        &mut ws,
-        vec![scene_msg, world_frame_message(&session.world, &session.ids)],
-    )?;
+    let mut session = LiveSession::new(world);
+    send_all(&mut ws, session.start_messages().map_err(|_| ())?)?;
     let started = Instant::now();
     for _ in 0..scene.scene.steps {
         let due = if speed > 0.0 {
@@ -223,7 +80,7 @@ fn run(scene: &LoadedScene, mut ws: WebSocket<TcpStream>, speed: f64) -> Result<
             send_all(&mut ws, replies)?;
         }
         session.world.step();
-        send_all(&mut ws, vec![world_frame_message(&session.world, &session.ids)])?;
+        send_all(&mut ws, vec![session.frame_message()])?;
     }
     // The page keeps its frames: hold the connection until it closes it.
     ws.get_ref().set_read_timeout(None).map_err(|_| ())?;
@@ -267,95 +124,5 @@ pub fn serve(listener: TcpListener, scene: LoadedScene, speed: f64) {
                 let _ = run(&scene, ws, speed);
             }
         });
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use tumble::world::WorldSettings;
-
-    fn session() -> Session {
-        let world = World::new(WorldSettings::default()).unwrap();
-        Session {
-            world,
-            ids: Vec::new(),
-            spawned: 0,
-        }
-    }
-
-    #[test]
-    fn spawn_adds_a_body_with_the_requested_mass_and_velocity() {
-        let mut s = session();
-        let replies = s.handle(
-            r#"{"type":"spawn","shape":"sphere","radius":0.1,"position":[1,2,3],"velocity":[4,0,0],"mass":2}"#,
-        );
-        let msg: serde_json::Value = serde_json::from_str(&replies[0]).unwrap();
-        assert_eq!(msg["type"], "bodies_added", "{msg}");
-        assert_eq!(s.ids.len(), 1);
-        let id = s.ids[0];
-        assert_eq!(s.world.body(id).unwrap().mass(), 2.0);
-        assert_eq!(s.world.center_of_mass(id).unwrap(), DVec3::new(1.0, 2.0, 3.0));
-        assert_eq!(s.world.linear_velocity(id).unwrap(), DVec3::new(4.0, 0.0, 0.0));
-    }
-
-    #[test]
-    fn bad_requests_get_an_error_and_leave_the_world_unchanged() {
-        let mut s = session();
-        for (text, expect) in [
-            ("nonsense", "not JSON"),
-            (r#"{"type":"teleport"}"#, "unknown message type"),
-            (
-                r#"{"type":"spawn","shape":"cone","position":[0,0,0]}"#,
-                "spawn.shape",
-            ),
-            (
-                r#"{"type":"spawn","shape":"sphere","position":[0,0,0]}"#,
-                "spawn.radius",
-            ),
-            (
-                r#"{"type":"spawn","shape":"sphere","radius":-1,"position":[0,0,0]}"#,
-                "spawn.radius",
-            ),
-            (
-                r#"{"type":"spawn","shape":"sphere","radius":50,"position":[0,0,0]}"#,
-                "spawn.radius",
-            ),
-            (
-                r#"{"type":"spawn","shape":"box","half_extents":[1,0,1],"position":[0,0,0]}"#,
-                "half_extents[1]",
-            ),
-            (
-                r#"{"type":"spawn","shape":"sphere","radius":0.1,"position":[0,0,0],"velocity":[1e9,0,0]}"#,
-                "spawn.velocity",
-            ),
-            (
-                r#"{"type":"spawn","shape":"sphere","radius":0.1,"position":[0,0,0],"mass":-2}"#,
-                "mass",
-            ),
-            (
-                r#"{"type":"spawn","shape":"sphere","radius":0.1,"position":[0,0,0],"colour":1}"#,
-                "unknown field",
-            ),
-        ] {
-            let replies = s.handle(text);
-            let msg: serde_json::Value = serde_json::from_str(&replies[0]).unwrap();
-            assert_eq!(msg["type"], "error", "{text}");
-            let m = msg["message"].as_str().unwrap();
-            assert!(m.contains(expect), "{text}: {m}");
-        }
-        assert_eq!(s.world.body_count(), 0);
-        assert!(s.ids.is_empty());
-    }
-
-    #[test]
-    fn spawning_is_bounded_per_session() {
-        let mut s = session();
-        let text = r#"{"type":"spawn","shape":"sphere","radius":0.05,"position":[0,0,0]}"#;
-        for _ in 0..MAX_SPAWNED {
-            assert!(s.handle(text)[0].contains("bodies_added"));
-        }
-        assert!(s.handle(text)[0].contains("at most"));
-        assert_eq!(s.world.body_count(), MAX_SPAWNED);
     }
 }

@@ -6,7 +6,8 @@
 //!   specification sections 3.6-3.11 (buffers, accessors, meshes, animations)
 //!   and 4.4 (GLB container).
 //! - [`csv`]: a flat trajectory table; [`npz`]: the same as NumPy arrays.
-//! - [`live`]: the viewer's live-mode messages (JSON over a WebSocket).
+//! - [`live`]: the viewer's live-mode messages (JSON over a WebSocket);
+//!   [`live_session`]: a live session's requests (spawning bodies).
 //! - [`table`]: a column table (sweep results) as Parquet, CSV or JSON.
 //! - [`atomic`]: write-to-temp-then-rename so readers never see half a file.
 //!
@@ -41,6 +42,7 @@ pub mod atomic;
 pub mod csv;
 pub mod glb;
 pub mod live;
+pub mod live_session;
 mod mesh_data;
 pub mod npz;
 pub mod recording;

@@ -51,17 +51,27 @@ impl World {
             }
             e.body.clear_forces();
         }
+        // The integrator story: every integrator but the default advances the
+        // awake dynamic bodies that have no contact patch and no joint (free
+        // flight) over the whole step, on their momentum state; every other
+        // body is advanced by the solver's semi-implicit sub-steps, the only
+        // integration the contact and joint rows are built around.
         if f.settings.integrator != Integrator::SemiImplicitEuler {
             for i in 0..f.n_slots as u32 {
                 let Some(e) = self.bodies.at_mut(i) else { continue };
                 if e.body.kind() == BodyKind::Dynamic && !e.sleeping && !f.solver.has_contact[i as usize] {
-                    let _ = integrate(
+                    let advanced = integrate(
                         std::slice::from_mut(&mut e.body),
                         f.settings.gravity,
                         f.settings.dt,
                         f.settings.integrator,
                     );
                     e.body.clear_forces();
+                    // A refused step (a state that would become non-finite)
+                    // is quarantined like a non-finite solve.
+                    if advanced.is_err() {
+                        self.quarantine(f, i);
+                    }
                 }
             }
         }

@@ -6,7 +6,7 @@
 //! and [`merge_contacts`].
 
 use super::error::QueryError;
-use super::input::{checked_pose, world_triangle};
+use super::input::{checked_args, world_triangle, QueryArgs};
 use super::options::{CollideOptions, ReportMode};
 use super::report::{QueryStats, Report};
 use crate::bvh::{self, Traverse};
@@ -80,9 +80,7 @@ pub fn collide(
     pose_b: &Pose,
     options: &CollideOptions,
 ) -> Result<Report, QueryError> {
-    let pose_a = checked_pose("pose_a", pose_a)?;
-    let pose_b = checked_pose("pose_b", pose_b)?;
-    options.validate()?;
+    let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Collide(options))?;
     let mode = options.report;
     let stop_first = options.stops_at_first();
     let margin = if mode == ReportMode::Contacts {

@@ -4,7 +4,7 @@
 //! Ericson 5.1.9) at the leaves and PQP's relative / absolute error pruning.
 
 use super::error::QueryError;
-use super::input::{checked_pose, world_triangle};
+use super::input::{checked_args, world_triangle, QueryArgs};
 use super::options::DistanceOptions;
 use super::report::{DistanceResult, QueryStats};
 use crate::bvh;
@@ -34,9 +34,7 @@ pub fn distance(
     pose_b: &Pose,
     options: &DistanceOptions,
 ) -> Result<DistanceResult, QueryError> {
-    let pose_a = checked_pose("pose_a", pose_a)?;
-    let pose_b = checked_pose("pose_b", pose_b)?;
-    options.validate()?;
+    let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Distance(options))?;
     let (ma, mb) = (a.mesh(), b.mesh());
     let mut best: Option<(u32, u32, TriDistance)> = None;
     let mut tests = 0u64;

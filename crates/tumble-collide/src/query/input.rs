@@ -21,6 +21,33 @@ pub(crate) fn checked_pose(which: &'static str, pose: &Pose) -> Result<Pose, Que
     }
 }
 
+/// What a pairwise query was asked with, for [`checked_args`].
+pub(crate) enum QueryArgs<'a> {
+    /// `collide` and `collide_primitive`.
+    Collide(&'a super::options::CollideOptions),
+    /// `distance` and `distance_primitive`.
+    Distance(&'a super::options::DistanceOptions),
+    /// `within_tolerance` and `within_tolerance_primitive`: the tolerance.
+    Tolerance(f64),
+}
+
+/// The checks every pairwise query makes before it reads a triangle, in
+/// one place so that each error reads the same from every query: the two
+/// poses ([`checked_pose`]), then the options. Returns the poses to use.
+pub(crate) fn checked_args(
+    pose_a: &Pose,
+    pose_b: &Pose,
+    args: QueryArgs<'_>,
+) -> Result<(Pose, Pose), QueryError> {
+    let poses = (checked_pose("pose_a", pose_a)?, checked_pose("pose_b", pose_b)?);
+    match args {
+        QueryArgs::Collide(o) => o.validate()?,
+        QueryArgs::Distance(o) => o.validate()?,
+        QueryArgs::Tolerance(tol) => super::options::nonneg_finite("within_tolerance tol", tol)?,
+    }
+    Ok(poses)
+}
+
 /// Triangle `t` of `mesh` placed by `pose` (world frame). Every query and
 /// its brute-force oracle evaluate the exact predicates on these very
 /// coordinates, so the answers agree bit for bit.

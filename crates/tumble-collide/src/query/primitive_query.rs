@@ -6,8 +6,8 @@
 //! `contact_polytope_mesh`, `contact_capsule_mesh`, `contact_mesh_halfspace`).
 
 use super::error::QueryError;
-use super::input::{checked_pose, world_triangle};
-use super::options::{nonneg_finite, CollideOptions, DistanceOptions, ReportMode};
+use super::input::{checked_args, world_triangle, QueryArgs};
+use super::options::{CollideOptions, DistanceOptions, ReportMode};
 use super::primitive::{Placed, PrimDistance, Primitive};
 use super::report::{DistanceResult, QueryStats, Report};
 use crate::bvh::{self, TraversalError, TraversalStats, Traverse};
@@ -59,9 +59,7 @@ pub fn collide_primitive(
     pose_b: &Pose,
     options: &CollideOptions,
 ) -> Result<Report, QueryError> {
-    let pose_a = checked_pose("pose_a", pose_a)?;
-    let pose_b = checked_pose("pose_b", pose_b)?;
-    options.validate()?;
+    let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Collide(options))?;
     let mode = options.report;
     let stop_first = options.stops_at_first();
     let prim = Placed::new(a, &pose_a);
@@ -142,9 +140,7 @@ pub fn distance_primitive(
     pose_b: &Pose,
     options: &DistanceOptions,
 ) -> Result<DistanceResult, QueryError> {
-    let pose_a = checked_pose("pose_a", pose_a)?;
-    let pose_b = checked_pose("pose_b", pose_b)?;
-    options.validate()?;
+    let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Distance(options))?;
     let world = Placed::new(a, &pose_a);
     // The primitive in the mesh frame, for the node lower bounds.
     let local = Placed::new(a, &pose_b.inverse().mul_pose(&pose_a));
@@ -198,9 +194,7 @@ pub fn within_tolerance_primitive(
     pose_b: &Pose,
     tol: f64,
 ) -> Result<bool, QueryError> {
-    let pose_a = checked_pose("pose_a", pose_a)?;
-    let pose_b = checked_pose("pose_b", pose_b)?;
-    nonneg_finite("within_tolerance tol", tol)?;
+    let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Tolerance(tol))?;
     let prim = Placed::new(a, &pose_a);
     let mut within = false;
     walk(&prim, b, &pose_b, tol, |t| {

@@ -4,8 +4,8 @@
 //! that is close enough.
 
 use super::error::QueryError;
-use super::input::{checked_pose, world_triangle};
-use super::options::nonneg_finite;
+use super::input::{checked_args, world_triangle, QueryArgs};
+
 use crate::bvh::{self, Traverse};
 use crate::pose::Pose;
 use crate::shape::MeshShape;
@@ -26,9 +26,7 @@ pub fn within_tolerance(
     pose_b: &Pose,
     tol: f64,
 ) -> Result<bool, QueryError> {
-    let pose_a = checked_pose("pose_a", pose_a)?;
-    let pose_b = checked_pose("pose_b", pose_b)?;
-    nonneg_finite("within_tolerance tol", tol)?;
+    let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Tolerance(tol))?;
     let (ma, mb) = (a.mesh(), b.mesh());
     let mut within = false;
     // Boxes grown by tol / 2 each overlap whenever they are within tol: the

@@ -1,5 +1,8 @@
-//! The standard scenes of `shared/scenes.md` as plain f64 data, for peers that cannot use
-//! tumble's own scene code. Mirrors `bench/peers/common.py` line for line.
+//! The standard scenes of `shared/scenes.md` as plain f64 data, for the Rust peers
+//! (Rapier, parry). The tori poses and the torus mesh come from `tumble::scenes` and
+//! `tumble::collide::mesh` (one home); the pyramid, pile, cradle and chain data still
+//! mirror `tumble::scenes` and `bench/peers/common.py` line for line (to be read from
+//! `tumble::scenes` too: issue 17).
 
 use std::f64::consts::PI;
 
@@ -14,7 +17,7 @@ pub const FULL_STEPS: usize = 600;
 /// Pile sphere radius / cube half extent (m).
 pub const PILE_SIZE: f64 = 0.25;
 /// Number of tori poses.
-pub const TORI_POSES: usize = 200;
+pub use tumble::scenes::TORI_POSES;
 /// Cradle sphere radius (m); every sphere has mass 1 kg.
 pub const CRADLE_R: f64 = 0.1;
 /// Cradle time step (s) and full length (steps): 1 s.
@@ -146,33 +149,15 @@ pub fn chain_links() -> Vec<([f64; 3], [f64; 4])> {
         .collect()
 }
 
-/// `torus_mesh(R, r, n_major, n_minor)` of scenes.md: vertices and CCW triangles.
+/// `torus_mesh(R, r, n_major, n_minor)` of scenes.md as plain vertices and CCW
+/// triangles: `tumble_collide::mesh::torus_mesh`, the very mesh tumble uses.
 pub fn torus_mesh(big_r: f64, r: f64, n_major: u32, n_minor: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut v = Vec::with_capacity((n_major * n_minor) as usize);
-    for i in 0..n_major {
-        let u = 2.0 * PI * i as f64 / n_major as f64;
-        for j in 0..n_minor {
-            let w = 2.0 * PI * j as f64 / n_minor as f64;
-            let rho = big_r + r * w.cos();
-            v.push([rho * u.cos(), rho * u.sin(), r * w.sin()]);
-        }
-    }
-    let mut t = Vec::with_capacity(2 * (n_major * n_minor) as usize);
-    for i in 0..n_major {
-        let i1 = (i + 1) % n_major;
-        for j in 0..n_minor {
-            let j1 = (j + 1) % n_minor;
-            let (a, b, c, d) = (
-                i * n_minor + j,
-                i1 * n_minor + j,
-                i1 * n_minor + j1,
-                i * n_minor + j1,
-            );
-            t.push([a, b, c]);
-            t.push([a, c, d]);
-        }
-    }
-    (v, t)
+    let mesh = tumble::collide::mesh::torus_mesh(big_r, r, n_major as usize, n_minor as usize)
+        .expect("the scenes' tori are valid");
+    (
+        mesh.vertices().iter().map(|v| v.to_array()).collect(),
+        mesh.triangles().to_vec(),
+    )
 }
 
 /// Quaternion (x, y, z, w) of a rotation by `angle` rad about a unit `axis`.
@@ -193,27 +178,14 @@ pub fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
     ]
 }
 
-/// Pose of torus B at tori pose `k` (0..200): (translation, quaternion x y z w).
+/// Pose of torus B at tori pose `k` (0..200) as (translation, quaternion x y z
+/// w): `tumble::scenes::tori_pose`, the poses tumble itself is timed on.
 pub fn tori_pose(k: usize) -> ([f64; 3], [f64; 4]) {
-    let q = quat_mul(
-        quat_axis_angle([0.0, 0.0, 1.0], 0.1),
-        quat_axis_angle([1.0, 0.0, 0.0], PI / 2.0),
-    );
-    ([-3.0 + 6.0 * k as f64 / 199.0, 0.05, 0.02], q)
+    let p = tumble::scenes::tori_pose(k);
+    (p.position.to_array(), p.rotation.to_array())
 }
 
-/// `count` pose indices spread evenly over 0..200 (all of them for 200), as in tori_peer.py.
-pub fn tori_pose_indices(count: usize) -> Vec<usize> {
-    let count = count.clamp(1, TORI_POSES);
-    if count == 1 {
-        return vec![0];
-    }
-    let mut ks: Vec<usize> = (0..count)
-        .map(|i| (i as f64 * 199.0 / (count - 1) as f64).round() as usize)
-        .collect();
-    ks.dedup();
-    ks
-}
+pub use tumble::scenes::tori_pose_indices;
 
 #[cfg(test)]
 mod tests {

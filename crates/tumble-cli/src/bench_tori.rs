@@ -13,35 +13,11 @@ use crate::CliError;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 use std::time::Instant;
-use tumble_collide::mesh::torus_mesh;
+
 use tumble_collide::query::{self, CollideOptions, DistanceOptions, MeshShape, ReportMode};
-use tumble_collide::{DQuat, DVec3, Pose};
+use tumble_collide::Pose;
 
-/// Poses along the path.
-pub const TORI_POSES: usize = 200;
-
-/// Pose of torus B at pose `k` (scenes.md): `Rz(0.1) * Rx(pi/2)` at
-/// `(-3 + 6 k / 199, 0.05, 0.02)`.
-pub fn tori_pose(k: usize) -> Pose {
-    let q = DQuat::from_rotation_z(0.1) * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2);
-    Pose {
-        position: DVec3::new(-3.0 + 6.0 * k as f64 / 199.0, 0.05, 0.02),
-        rotation: q,
-    }
-}
-
-/// `count` pose indices spread evenly over 0..200, `k = floor(i 199 / (count - 1) + 0.5)`.
-pub fn tori_pose_indices(count: usize) -> Vec<usize> {
-    let count = count.clamp(1, TORI_POSES);
-    if count == 1 {
-        return vec![0];
-    }
-    let mut ks: Vec<usize> = (0..count)
-        .map(|i| (i as f64 * 199.0 / (count - 1) as f64 + 0.5).floor() as usize)
-        .collect();
-    ks.dedup();
-    ks
-}
+pub use tumble::scenes::{tori_pose, tori_pose_indices, TORI_POSES};
 
 /// The ground-truth pairs per pose, if the file can be found and read.
 fn truth() -> Option<Vec<u64>> {
@@ -117,7 +93,7 @@ fn check(counts: &[usize], truth: Option<&[u64]>) -> Value {
 /// `(settings, figures)`.
 pub fn run(poses: usize) -> Result<(Value, Value), CliError> {
     let internal = |e: &dyn std::fmt::Display| CliError::Internal(e.to_string());
-    let mesh = torus_mesh(1.0, 0.3, 50, 50).map_err(|e| internal(&e))?;
+    let mesh = tumble::scenes::tori_torus().map_err(|e| internal(&e))?;
     let build = Instant::now();
     let torus = MeshShape::new(mesh).map_err(|e| internal(&e))?;
     let build_s = build.elapsed().as_secs_f64();
@@ -204,17 +180,6 @@ pub fn run(poses: usize) -> Result<(Value, Value), CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn pose_indices_follow_the_harness() {
-        assert_eq!(tori_pose_indices(200), (0..200).collect::<Vec<_>>());
-        assert_eq!(tori_pose_indices(5), vec![0, 50, 100, 149, 199]);
-        assert_eq!(tori_pose_indices(1), vec![0]);
-        // Ring axis of B: Rx(pi/2) maps z to -y, Rz(0.1) turns it.
-        let axis = tori_pose(0).transform_vector(DVec3::Z);
-        assert!((axis - DVec3::new(0.1f64.sin(), -(0.1f64.cos()), 0.0)).length() < 1e-12);
-        assert!((tori_pose(199).position.x - 3.0).abs() < 1e-12);
-    }
 
     #[test]
     fn stats_match_the_harness_definitions() {

@@ -7,6 +7,7 @@ mod mesh_scenes;
 mod primitives_scenes;
 mod projectile_scenes;
 mod t_handle;
+mod tori_queries;
 
 pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
 pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
@@ -17,6 +18,7 @@ pub use projectile_scenes::{
     fire_projectile, projectile_cases, Fault, Flight, Projectile, ProjectileCase, PROJECTILE_STEPS,
 };
 pub use t_handle::{run_flips, t_handle, FlipRun, THandle};
+pub use tori_queries::{tori_pose, tori_pose_indices, tori_torus, TORI_POSES};
 
 use crate::joint::JointDesc;
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};

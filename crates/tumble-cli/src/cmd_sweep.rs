@@ -46,6 +46,10 @@ pub struct SweepArgs {
     /// The results table: .parquet, .csv or .json.
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
+    /// Also write each finished run's trajectory to DIR/run_00007.csv (run
+    /// 7; the CSV of `tumble run --trajectory`), named in a `trajectory` column.
+    #[arg(long, value_name = "DIR")]
+    trajectories: Option<PathBuf>,
     /// Run only the runs not yet in OUT.part (from an interrupted sweep).
     #[arg(long)]
     resume: bool,
@@ -158,6 +162,7 @@ fn run_on_ray(args: &SweepArgs, params: &[(String, Vec<Value>)], address: &str) 
         "duration": args.duration,
         "metrics": args.metrics,
         "out": args.out,
+        "trajectories": args.trajectories,
         "resume": args.resume,
         "address": if address == "local" { Value::Null } else { Value::from(address) },
         "progress": !args.quiet,
@@ -215,8 +220,13 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         (None, None) => RunLength::Scene,
     };
     let doc = SceneDocument::load(&args.scene).map_err(|e| CliError::Input(e.to_string()))?;
-    let sweep =
+    let mut sweep =
         Sweep::new(doc, params.clone(), length, &args.metrics).map_err(|e| CliError::Input(e.to_string()))?;
+    if let Some(dir) = &args.trajectories {
+        sweep = sweep
+            .with_trajectories(dir)
+            .map_err(|e| CliError::Input(e.to_string()))?;
+    }
     if let Some(address) = &args.ray {
         return run_on_ray(args, &params, address);
     }

@@ -28,8 +28,9 @@ fn sweep_error(e: SweepError) -> PyErr {
     }
 }
 
-/// A row as a plain tuple (index, status, error, steps, metrics), for Ray.
-type RowTuple = (usize, String, Option<String>, u64, Vec<f64>);
+/// A row as a plain tuple (index, status, error, steps, metrics,
+/// trajectory), for Ray.
+type RowTuple = (usize, String, Option<String>, u64, Vec<f64>, Option<String>);
 
 fn to_tuple(r: &RunRow) -> RowTuple {
     let (status, error) = match &r.status {
@@ -37,7 +38,14 @@ fn to_tuple(r: &RunRow) -> RowTuple {
         RunStatus::Failed(m) => ("failed", Some(m.clone())),
         RunStatus::Cancelled => ("cancelled", None),
     };
-    (r.index, status.to_string(), error, r.steps, r.metrics.clone())
+    (
+        r.index,
+        status.to_string(),
+        error,
+        r.steps,
+        r.metrics.clone(),
+        r.trajectory.clone(),
+    )
 }
 
 fn from_tuple(t: RowTuple) -> PyResult<RunRow> {
@@ -52,6 +60,7 @@ fn from_tuple(t: RowTuple) -> PyResult<RunRow> {
         status,
         steps: t.3,
         metrics: t.4,
+        trajectory: t.5,
     })
 }
 
@@ -69,7 +78,8 @@ impl SweepPlan {
     /// file's text if it is to be read from there rather than from `scene`
     /// (Ray workers get the text).
     #[new]
-    #[pyo3(signature = (scene, params, steps=None, duration=None, metrics=Vec::new(), text=None))]
+    #[pyo3(signature = (scene, params, steps=None, duration=None, metrics=Vec::new(), text=None, trajectories=None))]
+    #[allow(clippy::too_many_arguments)] // the Python signature
     fn new(
         py: Python<'_>,
         scene: PathBuf,
@@ -78,6 +88,7 @@ impl SweepPlan {
         duration: Option<f64>,
         metrics: Vec<String>,
         text: Option<String>,
+        trajectories: Option<PathBuf>,
     ) -> PyResult<SweepPlan> {
         guard(|| {
             let params = params
@@ -102,7 +113,10 @@ impl SweepPlan {
                     }
                 })
                 .or_raise()?;
-            let sweep = Sweep::new(doc, params, length, &metrics).map_err(sweep_error)?;
+            let mut sweep = Sweep::new(doc, params, length, &metrics).map_err(sweep_error)?;
+            if let Some(dir) = trajectories {
+                sweep = sweep.with_trajectories(dir).map_err(sweep_error)?;
+            }
             Ok(SweepPlan {
                 sweep,
                 rows: Vec::new(),
@@ -260,6 +274,7 @@ impl SweepPlan {
                     status: RunStatus::Cancelled,
                     steps: 0,
                     metrics: vec![f64::NAN; metrics],
+                    trajectory: None,
                 })
             })
             .collect();

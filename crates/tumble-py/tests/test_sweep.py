@@ -178,3 +178,27 @@ def test_an_interrupted_sweep_keeps_its_rows_and_resumes_to_the_same_table(
     whole = tmp_path / "whole.parquet"
     subprocess.run([sys.executable, "-c", SLOW_SWEEP.format(resume=""), drop, whole], check=True)
     assert pq.read_table(out).equals(pq.read_table(whole))
+
+
+def test_trajectories_are_written_per_run_as_tumble_run_writes_them(drop: Path, tmp_path: Path):
+    assert CLI.exists(), "make python-test builds target/release/tumble first"
+    table = tumble.sweep(
+        drop,
+        {"bodies[ball].restitution": [0.3, 0.8]},
+        steps=50,
+        metrics=["ball.z"],
+        trajectories=tmp_path / "runs",
+        progress=False,
+    )
+    paths = table.column("trajectory").to_pylist()
+    assert [Path(p).name for p in paths] == ["run_00000.csv", "run_00001.csv"]
+    # Run 1's trajectory is the one `tumble run` writes for the same scene and value.
+    scene = tmp_path / "e08.toml"
+    scene.write_text(drop.read_text().replace("restitution = 0.5", "restitution = 0.8"))
+    by_run = tmp_path / "by_run.csv"
+    subprocess.run(
+        [CLI, "run", scene, "--steps", "50", "--quiet", "--trajectory", by_run], check=True
+    )
+    assert Path(paths[1]).read_text() == by_run.read_text()
+    last_z = float(Path(paths[1]).read_text().splitlines()[-1].split(",")[4])
+    assert last_z == pytest.approx(table.column("ball.z").to_pylist()[1], abs=1e-12)

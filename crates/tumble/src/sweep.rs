@@ -134,6 +134,8 @@ pub struct RunRow {
     pub steps: u64,
     /// The metrics in the order asked for (NaN where the run failed).
     pub metrics: Vec<f64>,
+    /// The trajectory file written for the run, if trajectories were asked for.
+    pub trajectory: Option<String>,
 }
 
 /// Tracks one metric over a run.
@@ -250,20 +252,34 @@ impl<'a> Tracker<'a> {
     }
 }
 
+/// What every run of a sweep does: its length, its metrics, and where its
+/// trajectory goes (`DIR/run_00007.csv` for run 7), if anywhere.
+#[derive(Debug, Clone, Copy)]
+pub struct RunSpec<'a> {
+    /// How long each run is.
+    pub length: RunLength,
+    /// The metrics, in column order.
+    pub metrics: &'a [Metric],
+    /// The directory of the trajectory files (CSV, as `tumble run
+    /// --trajectory`), or `None` for none.
+    pub trajectories: Option<&'a std::path::Path>,
+}
+
 /// Runs one combination; `cancel` is looked at between steps.
 pub fn run_one(
     doc: &SceneDocument,
     index: usize,
     assignments: &[(ParamPath, Value)],
-    length: RunLength,
-    metrics: &[Metric],
+    spec: &RunSpec<'_>,
     cancel: &AtomicBool,
 ) -> RunRow {
+    let metrics = spec.metrics;
     let failed = |message: String, steps: u64| RunRow {
         index,
         status: RunStatus::Failed(message),
         steps,
         metrics: vec![f64::NAN; metrics.len()],
+        trajectory: None,
     };
     if cancel.load(Ordering::Relaxed) {
         return RunRow {
@@ -271,6 +287,7 @@ pub fn run_one(
             status: RunStatus::Cancelled,
             steps: 0,
             metrics: vec![f64::NAN; metrics.len()],
+            trajectory: None,
         };
     }
     let mut loaded = match doc.with(assignments) {
@@ -283,7 +300,7 @@ pub fn run_one(
         Ok(w) => w,
         Err(e) => return failed(e.to_string(), 0),
     };
-    let steps = match length {
+    let steps = match spec.length {
         RunLength::Steps(n) => n,
         RunLength::Duration(t) => (t / world.settings().dt).round().max(1.0) as u64,
         RunLength::Scene => loaded.scene.steps as u64,
@@ -295,6 +312,13 @@ pub fn run_one(
             Err(e) => return failed(e, 0),
         }
     }
+    let mut recorder = match spec.trajectories {
+        Some(_) => match crate::export::WorldRecorder::new(&world) {
+            Ok(r) => Some(r),
+            Err(e) => return failed(format!("trajectory: {e}"), 0),
+        },
+        None => None,
+    };
     let stepped = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         for k in 0..steps {
             if cancel.load(Ordering::Relaxed) {
@@ -314,21 +338,38 @@ pub fn run_one(
             for t in trackers.iter_mut() {
                 t.observe(&world, report.max_penetration);
             }
+            if let Some(r) = recorder.as_mut() {
+                r.record(&world);
+            }
         }
         Ok(())
     }));
     match stepped {
-        Ok(Ok(())) => RunRow {
-            index,
-            status: RunStatus::Ok,
-            steps,
-            metrics: trackers.iter().map(|t| t.finish(&world)).collect(),
-        },
+        Ok(Ok(())) => {
+            let trajectory = match (spec.trajectories, recorder) {
+                (Some(dir), Some(r)) => {
+                    let path = dir.join(format!("run_{index:05}.csv"));
+                    if let Err(e) = crate::export::write_trajectory_csv(&r.finish(), &path) {
+                        return failed(format!("trajectory: {e}"), steps);
+                    }
+                    Some(path.display().to_string())
+                }
+                _ => None,
+            };
+            RunRow {
+                index,
+                status: RunStatus::Ok,
+                steps,
+                metrics: trackers.iter().map(|t| t.finish(&world)).collect(),
+                trajectory,
+            }
+        }
         Ok(Err((status, k))) => RunRow {
             index,
             status,
             steps: k,
             metrics: vec![f64::NAN; metrics.len()],
+            trajectory: None,
         },
         Err(payload) => {
             let message = payload
@@ -378,8 +419,7 @@ pub fn check_paths(doc: &SceneDocument, params: &[(ParamPath, Vec<Value>)]) -> R
 pub fn run_many(
     doc: &SceneDocument,
     runs: &[(usize, Vec<(ParamPath, Value)>)],
-    length: RunLength,
-    metrics: &[Metric],
+    spec: &RunSpec<'_>,
     threads: u32,
     cancel: &AtomicBool,
     done: &(dyn Fn(&RunRow) + Sync),
@@ -387,7 +427,7 @@ pub fn run_many(
     let mut rows: Vec<Option<RunRow>> = vec![None; runs.len()];
     WorkerPool::new(threads).for_each_mut(&mut rows, |k, row| {
         let (index, assignments) = &runs[k];
-        let r = run_one(doc, *index, assignments, length, metrics, cancel);
+        let r = run_one(doc, *index, assignments, spec, cancel);
         done(&r);
         *row = Some(r);
     });
@@ -403,6 +443,7 @@ pub struct Sweep {
     runs: Vec<Vec<(ParamPath, Value)>>,
     length: RunLength,
     metrics: Vec<Metric>,
+    trajectories: Option<std::path::PathBuf>,
 }
 
 /// A sweep that cannot start: which part is wrong and why.
@@ -463,7 +504,21 @@ impl Sweep {
             runs,
             length,
             metrics,
+            trajectories: None,
         })
+    }
+
+    /// Writes each finished run's trajectory to `dir/run_00007.csv` (run 7;
+    /// the CSV of `tumble run --trajectory`) and adds a `trajectory` column.
+    /// The directory is created.
+    pub fn with_trajectories(mut self, dir: impl Into<std::path::PathBuf>) -> Result<Sweep, SweepError> {
+        let dir = dir.into();
+        std::fs::create_dir_all(&dir).map_err(|e| SweepError::Journal {
+            path: dir.clone(),
+            message: format!("cannot create the trajectory directory: {e}"),
+        })?;
+        self.trajectories = Some(dir);
+        Ok(self)
     }
 
     /// Number of runs (the product of the value counts).
@@ -494,15 +549,12 @@ impl Sweep {
             .iter()
             .filter_map(|&i| self.runs.get(i).map(|r| (i, r.clone())))
             .collect();
-        run_many(
-            &self.doc,
-            &runs,
-            self.length,
-            &self.metrics,
-            threads,
-            cancel,
-            done,
-        )
+        let spec = RunSpec {
+            length: self.length,
+            metrics: &self.metrics,
+            trajectories: self.trajectories.as_deref(),
+        };
+        run_many(&self.doc, &runs, &spec, threads, cancel, done)
     }
 
     /// The results table of `rows` (any order; sorted by run): `run`, one
@@ -573,6 +625,12 @@ impl Sweep {
             columns.push((
                 m.name().to_string(),
                 Column::Float(rows.iter().map(|r| r.metrics[k]).collect()),
+            ));
+        }
+        if self.trajectories.is_some() {
+            columns.push((
+                "trajectory".into(),
+                Column::Text(rows.iter().map(|r| r.trajectory.clone()).collect()),
             ));
         }
         Table { columns }
@@ -661,6 +719,7 @@ pub fn row_to_json(r: &RunRow) -> String {
         "error": error,
         "steps": r.steps,
         "metric_bits": r.metrics.iter().map(|x| x.to_bits()).collect::<Vec<u64>>(),
+        "trajectory": r.trajectory,
     })
     .to_string()
 }
@@ -684,12 +743,21 @@ pub fn row_from_json(line: &str) -> Option<RunRow> {
             .iter()
             .map(|b| b.as_u64().map(f64::from_bits))
             .collect::<Option<Vec<f64>>>()?,
+        trajectory: v.get("trajectory").and_then(Value::as_str).map(str::to_string),
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn spec(length: RunLength, metrics: &[Metric]) -> RunSpec<'_> {
+        RunSpec {
+            length,
+            metrics,
+            trajectories: None,
+        }
+    }
 
     /// examples/scenes/bounce.toml: a ball dropped from 1 m, 2 s.
     fn ball_drop_doc() -> SceneDocument {
@@ -712,7 +780,14 @@ mod tests {
             .map(|m| Metric::parse(m).unwrap())
             .collect();
         let cancel = AtomicBool::new(false);
-        let rows = run_many(&doc, &runs, RunLength::Scene, &metrics, 1, &cancel, &|_| {});
+        let rows = run_many(
+            &doc,
+            &runs,
+            &spec(RunLength::Scene, &metrics),
+            1,
+            &cancel,
+            &|_| {},
+        );
         for (row, e) in rows.iter().zip([0.3, 0.5, 0.7, 0.9]) {
             assert_eq!(row.status, RunStatus::Ok);
             assert_eq!(row.steps, 500);
@@ -725,7 +800,14 @@ mod tests {
             );
             assert!((row.metrics[2] - 2.0).abs() < 1e-9);
         }
-        let on_two = run_many(&doc, &runs, RunLength::Steps(500), &metrics, 2, &cancel, &|_| {});
+        let on_two = run_many(
+            &doc,
+            &runs,
+            &spec(RunLength::Steps(500), &metrics),
+            2,
+            &cancel,
+            &|_| {},
+        );
         for (a, b) in rows.iter().zip(&on_two) {
             assert_eq!(
                 a.metrics.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
@@ -744,7 +826,14 @@ mod tests {
         let runs: Vec<_> = combinations(&params).into_iter().enumerate().collect();
         let metrics = vec![Metric::parse("ball.z").unwrap()];
         let cancel = AtomicBool::new(false);
-        let rows = run_many(&doc, &runs, RunLength::Steps(10), &metrics, 2, &cancel, &|_| {});
+        let rows = run_many(
+            &doc,
+            &runs,
+            &spec(RunLength::Steps(10), &metrics),
+            2,
+            &cancel,
+            &|_| {},
+        );
         assert_eq!(rows[0].status, RunStatus::Ok);
         match &rows[1].status {
             RunStatus::Failed(m) => assert!(
@@ -763,18 +852,25 @@ mod tests {
             "{err}"
         );
         assert!(Metric::parse("ball.colour").is_err());
+        let rock = [Metric::parse("rock.z").unwrap()];
         let missing = run_many(
             &doc,
             &runs[..1],
-            RunLength::Steps(1),
-            &[Metric::parse("rock.z").unwrap()],
+            &spec(RunLength::Steps(1), &rock),
             1,
             &cancel,
             &|_| {},
         );
         assert!(matches!(&missing[0].status, RunStatus::Failed(m) if m.contains("no body named")));
         cancel.store(true, Ordering::Relaxed);
-        let cancelled = run_many(&doc, &runs, RunLength::Steps(10), &metrics, 1, &cancel, &|_| {});
+        let cancelled = run_many(
+            &doc,
+            &runs,
+            &spec(RunLength::Steps(10), &metrics),
+            1,
+            &cancel,
+            &|_| {},
+        );
         assert!(cancelled.iter().all(|r| r.status == RunStatus::Cancelled));
     }
 }

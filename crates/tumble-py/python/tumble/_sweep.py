@@ -63,9 +63,10 @@ def _run_chunk(
     duration: Any,
     metrics: list[str],
     indices: list[int],
+    trajectories: str | None = None,
 ) -> list[tuple]:
     """One chunk of runs, serially (a Ray task): the plan is rebuilt from the scene's text."""
-    plan = _SweepPlan(scene, params, steps, duration, metrics, text)
+    plan = _SweepPlan(scene, params, steps, duration, metrics, text, trajectories)
     return plan.run(indices, 1)
 
 
@@ -95,6 +96,7 @@ def sweep(
     progress: bool | None = None,
     out: str | os.PathLike[str] | None = None,
     resume: bool = False,
+    trajectories: str | os.PathLike[str] | None = None,
 ) -> Any:
     """Runs ``scene`` once per combination of parameter values and returns a table.
 
@@ -121,6 +123,10 @@ def sweep(
         out: also write the table there (.parquet, .csv or .json); finished
             runs are journaled to ``OUT.part`` as they end.
         resume: with ``out``, run only the runs not in ``OUT.part``.
+        trajectories: a directory: each finished run's trajectory is written
+            there as ``run_00007.csv`` (run 7; the CSV of ``tumble run
+            --trajectory``) and named in a ``trajectory`` column. With Ray, a
+            directory every worker can write (one machine, or shared storage).
 
     Returns:
         pyarrow.Table: one row per run: ``run``, the parameters, ``status``
@@ -147,7 +153,8 @@ def sweep(
     scene = os.fspath(scene)
     plist = _param_list(params)
     metrics = [metrics] if isinstance(metrics, str) else [str(m) for m in metrics]
-    plan = _SweepPlan(scene, plist, steps, duration, metrics)
+    traj = None if trajectories is None else os.fspath(trajectories)
+    plan = _SweepPlan(scene, plist, steps, duration, metrics, None, traj)
     if out is not None:
         plan.open_journal(os.fspath(out) + ".part", resume)
     pending = plan.pending()
@@ -157,7 +164,17 @@ def sweep(
             _run_local(plan, pending, threads or 0, chunk_size, bar)
         else:
             _run_ray(
-                plan, scene, plist, steps, duration, metrics, pending, address, chunk_size, bar
+                plan,
+                scene,
+                plist,
+                steps,
+                duration,
+                metrics,
+                pending,
+                address,
+                chunk_size,
+                bar,
+                traj,
             )
     except KeyboardInterrupt:
         if out is not None:
@@ -200,7 +217,7 @@ def _run_local(
 
 
 def _run_ray(
-    plan, scene, plist, steps, duration, metrics, pending, address, chunk_size, bar
+    plan, scene, plist, steps, duration, metrics, pending, address, chunk_size, bar, traj
 ) -> None:
     try:
         import ray
@@ -220,7 +237,7 @@ def _run_ray(
         chunk = chunk_size or max(1, math.ceil(len(pending) / (4 * cpus)))
         task = ray.remote(num_cpus=1)(_run_chunk)
         refs = [
-            task.remote(scene, text, plist, steps, duration, metrics, pending[i : i + chunk])
+            task.remote(scene, text, plist, steps, duration, metrics, pending[i : i + chunk], traj)
             for i in range(0, len(pending), chunk)
         ]
         try:

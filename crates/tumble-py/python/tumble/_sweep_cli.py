@@ -25,6 +25,7 @@ def main(argv: list[str]) -> int:
             address=spec.get("address"),
             out=spec["out"],
             resume=spec.get("resume", False),
+            trajectories=spec.get("trajectories"),
             progress=spec.get("progress"),
         )
     except KeyboardInterrupt:

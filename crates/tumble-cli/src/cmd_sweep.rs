@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use tumble::scene::params::value_from_text;
 use tumble::scene::SceneDocument;
-use tumble::sweep::{Journal, RunLength, RunStatus, Sweep};
+use tumble::sweep::{RunLength, RunStatus, Sweep};
 
 /// Arguments of `tumble sweep`.
 #[derive(Args)]
@@ -232,8 +232,9 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
     }
 
     let part = journal_path(&args.out);
-    let (journal, mut rows) =
-        Journal::open(&part, args.resume).map_err(|e| CliError::Input(e.to_string()))?;
+    let (journal, mut rows) = sweep
+        .open_journal(&part, args.resume)
+        .map_err(|e| CliError::Input(e.to_string()))?;
     let done: std::collections::BTreeSet<usize> = rows.iter().map(|r| r.index).collect();
     let pending: Vec<usize> = (0..sweep.len()).filter(|i| !done.contains(i)).collect();
     interrupt::install();

@@ -179,6 +179,25 @@ fn an_interrupted_sweep_keeps_its_rows_and_resumes_to_the_same_table() {
         .all(|r| r["status"] == "ok" || r["status"] == "cancelled"));
     assert!(part.exists(), "the journal stays for --resume");
 
+    // The journal belongs to its sweep: resuming another one is refused.
+    let other = tumble()
+        .arg("sweep")
+        .arg(&scene)
+        .args([
+            "--param",
+            "bodies[ball].position[2]=0.7,0.9",
+            "--duration",
+            "100",
+            "-q",
+            "--resume",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(other.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&other.stderr).contains("another sweep"));
+
     assert!(sweep(&out, &["--resume"]).status().unwrap().success());
     assert!(!part.exists());
     let whole = dir.join("whole.csv");

@@ -132,7 +132,7 @@ impl SweepPlan {
     /// Opens the journal of finished runs at `path` (with `resume`, keeps
     /// its rows) and returns the indices of the runs already finished.
     fn open_journal(&mut self, path: PathBuf, resume: bool) -> PyResult<Vec<usize>> {
-        let (journal, rows) = Journal::open(&path, resume).map_err(sweep_error)?;
+        let (journal, rows) = self.sweep.open_journal(&path, resume).map_err(sweep_error)?;
         self.journal = Some(journal);
         let done = rows.iter().map(|r| r.index).collect();
         self.rows.extend(rows);

@@ -526,6 +526,31 @@ impl Sweep {
         self.runs.len()
     }
 
+    /// Opens the journal of this sweep's finished runs at `path` (see
+    /// [`Journal::open`]); each run is labelled by its assignments, its
+    /// length and the metric names, so that `resume` keeps only rows of
+    /// the very same runs.
+    pub fn open_journal(
+        &self,
+        path: impl AsRef<std::path::Path>,
+        resume: bool,
+    ) -> Result<(Journal, Vec<RunRow>), SweepError> {
+        let metrics: Vec<&str> = self.metrics.iter().map(Metric::name).collect();
+        let labels = self
+            .runs
+            .iter()
+            .map(|run| {
+                format!(
+                    "{} | {:?} | {}",
+                    crate::scene::params::describe(run),
+                    self.length,
+                    metrics.join(",")
+                )
+            })
+            .collect();
+        Journal::open(path, resume, labels)
+    }
+
     /// Number of metrics (columns after `steps`).
     pub fn metric_count(&self) -> usize {
         self.metrics.len()
@@ -644,14 +669,20 @@ impl Sweep {
 pub struct Journal {
     path: std::path::PathBuf,
     file: std::fs::File,
+    /// What each run of the sweep is (its assignments, length and metrics),
+    /// stored with its row: a resumed sweep keeps only rows of the same runs.
+    labels: Vec<String>,
 }
 
 impl Journal {
-    /// Opens `path`: with `resume`, reads the rows already there (a torn
-    /// last line is dropped) and appends after them; without, starts empty.
+    /// Opens `path` for a sweep whose run `i` is described by `labels[i]`:
+    /// with `resume`, reads the rows already there (a torn last line is
+    /// dropped; a row of another sweep, by its label, is an error) and
+    /// appends after them; without, starts empty.
     pub fn open(
         path: impl AsRef<std::path::Path>,
         resume: bool,
+        labels: Vec<String>,
     ) -> Result<(Journal, Vec<RunRow>), SweepError> {
         let path = path.as_ref().to_path_buf();
         let err = |message: String| SweepError::Journal {
@@ -663,14 +694,27 @@ impl Journal {
             if let Ok(text) = std::fs::read_to_string(&path) {
                 for (k, line) in text.lines().enumerate() {
                     match row_from_json(line) {
-                        Some(r) => rows.push(r),
+                        Some((r, label)) => {
+                            if labels.get(r.index) != Some(&label) {
+                                return Err(err(format!(
+                                    "line {}: run {} of another sweep ({label}); resume the same \
+                                     sweep, or start afresh without --resume",
+                                    k + 1,
+                                    r.index
+                                )));
+                            }
+                            rows.push(r)
+                        }
                         None if k + 1 == text.lines().count() => {} // torn by a kill
                         None => return Err(err(format!("line {}: not a sweep row", k + 1))),
                     }
                 }
             }
             // Rewrite without a torn line, so appends start on a new line.
-            let text: String = rows.iter().map(|r| row_to_json(r) + "\n").collect();
+            let text: String = rows
+                .iter()
+                .map(|r| row_to_json(r, &labels[r.index]) + "\n")
+                .collect();
             std::fs::write(&path, text).map_err(|e| err(e.to_string()))?;
         } else {
             std::fs::write(&path, "").map_err(|e| err(e.to_string()))?;
@@ -679,7 +723,7 @@ impl Journal {
             .append(true)
             .open(&path)
             .map_err(|e| err(e.to_string()))?;
-        Ok((Journal { path, file }, rows))
+        Ok((Journal { path, file, labels }, rows))
     }
 
     /// Appends finished rows (cancelled ones are left to run again).
@@ -688,7 +732,7 @@ impl Journal {
         let text: String = rows
             .iter()
             .filter(|r| r.status != RunStatus::Cancelled)
-            .map(|r| row_to_json(r) + "\n")
+            .map(|r| row_to_json(r, self.labels.get(r.index).map_or("", String::as_str)) + "\n")
             .collect();
         self.file
             .write_all(text.as_bytes())
@@ -705,9 +749,10 @@ impl Journal {
     }
 }
 
-/// A row as one JSON line; floats as their bits, so that a resumed sweep's
-/// table equals an uninterrupted one's exactly (NaN included).
-pub fn row_to_json(r: &RunRow) -> String {
+/// A row as one JSON line with its run's label; floats as their bits, so
+/// that a resumed sweep's table equals an uninterrupted one's exactly (NaN
+/// included).
+pub fn row_to_json(r: &RunRow, label: &str) -> String {
     let (status, error) = match &r.status {
         RunStatus::Ok => ("ok", None),
         RunStatus::Failed(m) => ("failed", Some(m.clone())),
@@ -720,12 +765,13 @@ pub fn row_to_json(r: &RunRow) -> String {
         "steps": r.steps,
         "metric_bits": r.metrics.iter().map(|x| x.to_bits()).collect::<Vec<u64>>(),
         "trajectory": r.trajectory,
+        "label": label,
     })
     .to_string()
 }
 
-/// The row of a [`row_to_json`] line.
-pub fn row_from_json(line: &str) -> Option<RunRow> {
+/// The row and label of a [`row_to_json`] line.
+pub fn row_from_json(line: &str) -> Option<(RunRow, String)> {
     let v: Value = serde_json::from_str(line).ok()?;
     let status = match v.get("status")?.as_str()? {
         "ok" => RunStatus::Ok,
@@ -733,7 +779,8 @@ pub fn row_from_json(line: &str) -> Option<RunRow> {
         "cancelled" => RunStatus::Cancelled,
         _ => return None,
     };
-    Some(RunRow {
+    let label = v.get("label")?.as_str()?.to_string();
+    let row = RunRow {
         index: v.get("run")?.as_u64()? as usize,
         status,
         steps: v.get("steps")?.as_u64()?,
@@ -744,7 +791,8 @@ pub fn row_from_json(line: &str) -> Option<RunRow> {
             .map(|b| b.as_u64().map(f64::from_bits))
             .collect::<Option<Vec<f64>>>()?,
         trajectory: v.get("trajectory").and_then(Value::as_str).map(str::to_string),
-    })
+    };
+    Some((row, label))
 }
 
 #[cfg(test)]

@@ -240,8 +240,9 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
     Ok((world, robot.name, scene.steps))
 }
 
-/// The partial trajectory streamed while the run goes: `FILE.part`.
-fn part_path(path: &Path) -> PathBuf {
+/// The partial file written while the work goes: `FILE.part` (a run's
+/// streamed trajectory, a sweep's journal).
+pub fn part_path(path: &Path) -> PathBuf {
     let mut name = path.as_os_str().to_owned();
     name.push(".part");
     PathBuf::from(name)

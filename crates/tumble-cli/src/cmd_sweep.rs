@@ -11,7 +11,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::Value;
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Mutex;
 use tumble::scene::params::value_from_text;
 use tumble::scene::SceneDocument;
@@ -144,13 +144,6 @@ fn parse_param(text: &str) -> Result<(String, Vec<Value>), CliError> {
     Ok((path.trim().to_string(), values))
 }
 
-/// The journal of finished runs beside the table.
-fn journal_path(out: &Path) -> PathBuf {
-    let mut name = out.as_os_str().to_owned();
-    name.push(".part");
-    PathBuf::from(name)
-}
-
 /// Hands the sweep to `tumble.sweep(..., backend="ray")` in Python.
 fn run_on_ray(args: &SweepArgs, params: &[(String, Vec<Value>)], address: &str) -> Result<(), CliError> {
     let spec = serde_json::json!({
@@ -231,7 +224,8 @@ pub fn run(args: &SweepArgs) -> Result<(), CliError> {
         return run_on_ray(args, &params, address);
     }
 
-    let part = journal_path(&args.out);
+    // The journal of finished runs beside the table, as a run's streamed trajectory.
+    let part = crate::cmd_run::part_path(&args.out);
     let (journal, mut rows) = sweep
         .open_journal(&part, args.resume)
         .map_err(|e| CliError::Input(e.to_string()))?;

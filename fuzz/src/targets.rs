@@ -15,7 +15,7 @@ use std::path::Path;
 use tumble::collide::mesh::{self, TriMesh};
 use tumble::collide::query::{
     collide, collide_primitive, distance, distance_primitive, within_tolerance, CollideOptions,
-    DistanceOptions, Primitive, ReportMode,
+    DistanceOptions, ReportMode,
 };
 use tumble::collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble::collide::{hull, mass, narrow, triangle, DQuat, DVec3, Pose};
@@ -413,10 +413,10 @@ pub fn collide_target(data: &[u8]) {
     }
     let _ = within_tolerance(&a, &pose_a, &b, &pose_b, margin);
     let prim = match input.below(4) {
-        0 => Sphere::new(input.number(0.0, range)).map(Primitive::Sphere),
-        1 => Cuboid::new(input.vec3(0.0, range)).map(Primitive::Cuboid),
-        2 => Capsule::new(input.number(0.0, range), input.number(0.0, range)).map(Primitive::Capsule),
-        _ => HalfSpace::new(input.vec3(-1.0, 1.0), input.number(-range, range)).map(Primitive::HalfSpace),
+        0 => Sphere::new(input.number(0.0, range)).map(Shape::Sphere),
+        1 => Cuboid::new(input.vec3(0.0, range)).map(Shape::Cuboid),
+        2 => Capsule::new(input.number(0.0, range), input.number(0.0, range)).map(Shape::Capsule),
+        _ => HalfSpace::new(input.vec3(-1.0, 1.0), input.number(-range, range)).map(Shape::HalfSpace),
     };
     if let Ok(p) = prim {
         if let Ok(r) = collide_primitive(&p, &pose_a, &b, &pose_b, &contacts) {

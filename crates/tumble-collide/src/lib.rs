@@ -43,7 +43,7 @@ pub use narrow::{contact_shapes, NarrowError};
 pub use pose::{Pose, PoseError};
 pub use query::{
     collide, collide_primitive, distance, distance_primitive, time_of_impact, within_tolerance,
-    within_tolerance_primitive, CollideOptions, DistanceOptions, DistanceResult, Impact, Motion, Primitive,
-    QueryError, QueryStats, Report, ReportMode, ToiOptions, ToiStats,
+    within_tolerance_primitive, CollideOptions, DistanceOptions, DistanceResult, Impact, Motion, QueryError,
+    QueryStats, Report, ReportMode, ToiOptions, ToiStats,
 };
 pub use shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, ShapeError, Sphere};

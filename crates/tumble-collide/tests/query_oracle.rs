@@ -19,8 +19,8 @@ use tumble_collide::triangle::{
     MergeParams,
 };
 use tumble_collide::{
-    Capsule, Contact, ContactKind, Cuboid, DMat3, DQuat, DVec3, Feature, HalfSpace, Pose, PoseError, Sphere,
-    SubFeature,
+    Capsule, Contact, ContactKind, ConvexHull, Cuboid, DMat3, DQuat, DVec3, Feature, HalfSpace, Pose,
+    PoseError, Shape, Sphere, SubFeature,
 };
 
 /// A point of the grid {-2, -1.5, ..., 2}^3.
@@ -352,17 +352,17 @@ fn touching_cases_on_the_grid_are_found_exactly() {
 }
 
 /// Independent brute-force distance of a primitive to one triangle.
-fn primitive_triangle_distance(prim: &Primitive, pose: &Pose, t: &[DVec3; 3]) -> f64 {
+fn primitive_triangle_distance(prim: &Shape, pose: &Pose, t: &[DVec3; 3]) -> f64 {
     match prim {
-        Primitive::Sphere(s) => {
+        Shape::Sphere(s) => {
             let c = pose.position;
             ((closest_point_on_triangle(c, t).0 - c).length() - s.radius()).max(0.0)
         }
-        Primitive::Capsule(c) => {
+        Shape::Capsule(c) => {
             let [p, q] = c.world_segment(pose);
             (triangle_distance(&[p, q, q], t).distance - c.radius()).max(0.0)
         }
-        Primitive::Cuboid(b) => {
+        Shape::Cuboid(b) => {
             let axes = DMat3::from_quat(pose.rotation);
             if tri_box_overlap(t, pose.position, b.half_extents(), &axes) {
                 return 0.0;
@@ -390,19 +390,20 @@ fn primitive_triangle_distance(prim: &Primitive, pose: &Pose, t: &[DVec3; 3]) ->
                 .map(|k| triangle_distance(&k.map(corner), t).distance)
                 .fold(f64::INFINITY, f64::min)
         }
-        Primitive::HalfSpace(hs) => {
+        Shape::HalfSpace(hs) => {
             let (n, d) = hs.world_plane(pose);
             t.iter()
                 .map(|v| n.dot(*v) - d)
                 .fold(f64::INFINITY, f64::min)
                 .max(0.0)
         }
+        other => panic!("{} is not a primitive", other.kind_name()),
     }
 }
 
 #[test]
 fn primitives_against_soups_match_brute_force() {
-    let prims: Vec<Primitive> = vec![
+    let prims: Vec<Shape> = vec![
         Sphere::new(0.6).unwrap().into(),
         Cuboid::new(DVec3::new(0.7, 0.4, 0.25)).unwrap().into(),
         Capsule::new(0.3, 0.8).unwrap().into(),
@@ -495,7 +496,7 @@ fn primitive_contacts_have_the_analytic_depth() {
     // contact is 0.05 deep along +z (from the mesh to the primitive).
     let cube = MeshShape::new(tumble_collide::mesh::box_mesh(DVec3::splat(0.5)).unwrap()).unwrap();
     let o = options(ReportMode::Contacts, false, 0.0);
-    let cases: Vec<(Primitive, Pose)> = vec![
+    let cases: Vec<(Shape, Pose)> = vec![
         (
             Sphere::new(0.2).unwrap().into(),
             Pose::from_translation(DVec3::new(0.1, 0.05, 0.65)),
@@ -651,7 +652,30 @@ fn bad_input_gets_typed_errors() {
         collide(&m, &id, &m, &id, &bad_margin),
         Err(QueryError::BadOption { .. })
     ));
-    let s: Primitive = Sphere::new(1.0).unwrap().into();
+    let s: Shape = Sphere::new(1.0).unwrap().into();
+    // Hulls and meshes are not primitives: a typed error naming the query.
+    let hull: Shape = ConvexHull::from_points(m.mesh().vertices()).unwrap().into();
+    for not_prim in [hull, Shape::Mesh(m.clone())] {
+        let kind = not_prim.kind_name();
+        assert!(matches!(
+            collide_primitive(&not_prim, &id, &m, &id, &o),
+            Err(QueryError::NotPrimitive { query: "collide_primitive", kind: k }) if k == kind
+        ));
+        assert!(matches!(
+            distance_primitive(&not_prim, &id, &m, &id, &DistanceOptions::default()),
+            Err(QueryError::NotPrimitive {
+                query: "distance_primitive",
+                ..
+            })
+        ));
+        assert!(matches!(
+            within_tolerance_primitive(&not_prim, &id, &m, &id, 0.1),
+            Err(QueryError::NotPrimitive {
+                query: "within_tolerance_primitive",
+                ..
+            })
+        ));
+    }
     assert!(matches!(
         collide_primitive(&s, &nan, &m, &id, &o),
         Err(QueryError::BadPose { .. })

@@ -20,9 +20,9 @@ use crate::trimesh::{mesh_from_object, TriMesh};
 use pyo3::prelude::*;
 use std::borrow::Cow;
 use tumble_collide::query::{
-    self, CollideOptions, DistanceOptions, MeshShape, Primitive, QueryError, Report, ReportMode,
+    self, CollideOptions, DistanceOptions, MeshShape, QueryError, Report, ReportMode,
 };
-use tumble_collide::Pose;
+use tumble_collide::{Pose, Shape};
 
 impl ToPyErr for QueryError {
     fn to_py(&self) -> PyErr {
@@ -38,8 +38,8 @@ enum Object<'a> {
     /// A mesh with its tree: borrowed from a `TriMesh`, or built for this
     /// call from a trimesh-like object.
     Mesh(Cow<'a, MeshShape>),
-    /// A solid primitive.
-    Prim(Primitive),
+    /// A solid primitive (sphere, cuboid, capsule or half-space).
+    Prim(Shape),
 }
 
 /// The query object of argument `name`.
@@ -48,16 +48,16 @@ fn object<'a>(obj: &'a Bound<'_, PyAny>, name: &str) -> PyResult<Object<'a>> {
         return Ok(Object::Mesh(Cow::Borrowed(m.get().mesh_shape_ref()?)));
     }
     if let Ok(s) = obj.cast::<PySphere>() {
-        return Ok(Object::Prim(Primitive::Sphere(s.get().inner)));
+        return Ok(Object::Prim(Shape::Sphere(s.get().inner)));
     }
     if let Ok(s) = obj.cast::<PyBox>() {
-        return Ok(Object::Prim(Primitive::Cuboid(s.get().inner)));
+        return Ok(Object::Prim(Shape::Cuboid(s.get().inner)));
     }
     if let Ok(s) = obj.cast::<PyCapsule>() {
-        return Ok(Object::Prim(Primitive::Capsule(s.get().inner)));
+        return Ok(Object::Prim(Shape::Capsule(s.get().inner)));
     }
     if let Ok(s) = obj.cast::<PyHalfSpace>() {
-        return Ok(Object::Prim(Primitive::HalfSpace(s.get().inner)));
+        return Ok(Object::Prim(Shape::HalfSpace(s.get().inner)));
     }
     if obj.is_instance_of::<PyConvexHull>() || obj.is_instance_of::<Placed>() {
         return Err(invalid(format!(
@@ -83,7 +83,7 @@ enum Pairing<'a> {
     Meshes(Cow<'a, MeshShape>, Pose, Cow<'a, MeshShape>, Pose),
     /// Primitive, its pose, mesh, its pose; `swapped` when the primitive
     /// was Python's B.
-    Primitive(Primitive, Pose, Cow<'a, MeshShape>, Pose, bool),
+    Primitive(Shape, Pose, Cow<'a, MeshShape>, Pose, bool),
 }
 
 fn pairing<'a>(

@@ -40,6 +40,16 @@ pub enum QueryError {
     /// arithmetic overflowed (the queries over any shape pair).
     #[error("{0}")]
     Narrow(#[from] NarrowError),
+    /// A primitive query (`collide_primitive`, `distance_primitive`,
+    /// `within_tolerance_primitive`) was given a shape that is not a
+    /// primitive: a convex hull or a mesh.
+    #[error("{query}: shape A must be a sphere, cuboid, capsule or half_space, got a {kind} (meshes: collide, distance, within_tolerance)")]
+    NotPrimitive {
+        /// The query.
+        query: &'static str,
+        /// The shape given (`Shape::kind_name`).
+        kind: &'static str,
+    },
     /// The result overflowed (coordinates so large that distances are not
     /// finite in f64).
     #[error("{0}: the result is not finite (coordinates beyond the range of f64 arithmetic)")]

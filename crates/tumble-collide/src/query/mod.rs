@@ -14,7 +14,7 @@
 //!   (continuous collision; [`Motion`], [`ToiOptions`], [`Impact`]);
 //! - [`collide_primitive`], [`distance_primitive`],
 //!   [`within_tolerance_primitive`]: the same for a sphere, box, capsule or
-//!   half-space ([`Primitive`]) against a mesh.
+//!   half-space (the body shapes' own [`crate::Shape`]) against a mesh.
 //!
 //! Files: `options` (settings), `report` (results and statistics), `error`,
 //! `input` (pose checks, world triangles), one file per query, `primitive`
@@ -40,7 +40,6 @@ pub use distance::distance;
 pub use error::QueryError;
 pub use motion::Motion;
 pub use options::{CollideOptions, DistanceOptions, ReportMode};
-pub use primitive::Primitive;
 pub use primitive_query::{collide_primitive, distance_primitive, within_tolerance_primitive};
 pub use report::{DistanceResult, QueryStats, Report};
 pub use time_of_impact::{time_of_impact, Impact, ToiOptions, ToiStats};

@@ -1,5 +1,6 @@
-//! Primitive shapes as query partners of a mesh: the [`Primitive`] type and
-//! the exact primitive-triangle tests the primitive queries end in (Ericson,
+//! Primitive shapes as query partners of a mesh: which [`Shape`]s are
+//! primitives (sphere, cuboid, capsule, half-space) and the exact
+//! primitive-triangle tests the primitive queries end in (Ericson,
 //! Real-Time Collision Detection: 5.1.5 closest point on a triangle for the
 //! sphere, 5.1.9 for the capsule's core segment, 5.2.9 / Akenine-Moller 2001
 //! for the box, and vertex heights for the half-space).
@@ -8,59 +9,14 @@
 //! sphere when it has a point inside the closed ball, whereas a ball entirely
 //! inside a closed mesh touches no triangle.
 
+use super::error::QueryError;
 use crate::bvh::query::box_height_above;
 use crate::bvh::sat::{obb_distance_lower_bound, RelFrame};
 use crate::bvh::{Node, Obb};
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
-use crate::shape::{Capsule, Cuboid, HalfSpace, Polytope, Sphere};
+use crate::shape::{Polytope, Shape};
 use crate::triangle::{closest_point_on_triangle, tri_box_overlap, triangle_distance};
-
-/// A primitive shape that can be queried against a mesh.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Primitive {
-    /// A ball centred on the body origin.
-    Sphere(Sphere),
-    /// A box centred on the body origin, aligned with the body axes.
-    Cuboid(Cuboid),
-    /// A capsule along the body z axis.
-    Capsule(Capsule),
-    /// The solid below a plane.
-    HalfSpace(HalfSpace),
-}
-
-impl Primitive {
-    /// A short name of the variant, for messages.
-    pub fn kind_name(&self) -> &'static str {
-        match self {
-            Primitive::Sphere(_) => "sphere",
-            Primitive::Cuboid(_) => "cuboid",
-            Primitive::Capsule(_) => "capsule",
-            Primitive::HalfSpace(_) => "half_space",
-        }
-    }
-}
-
-impl From<Sphere> for Primitive {
-    fn from(s: Sphere) -> Primitive {
-        Primitive::Sphere(s)
-    }
-}
-impl From<Cuboid> for Primitive {
-    fn from(s: Cuboid) -> Primitive {
-        Primitive::Cuboid(s)
-    }
-}
-impl From<Capsule> for Primitive {
-    fn from(s: Capsule) -> Primitive {
-        Primitive::Capsule(s)
-    }
-}
-impl From<HalfSpace> for Primitive {
-    fn from(s: HalfSpace) -> Primitive {
-        Primitive::HalfSpace(s)
-    }
-}
 
 /// A primitive placed in one frame (the world, or a mesh's own frame).
 // One per query, on the stack: the box's face triangles inline cost nothing.
@@ -99,15 +55,16 @@ impl PrimDistance {
 }
 
 impl Placed {
-    /// `prim` placed by `pose`.
-    pub(crate) fn new(prim: &Primitive, pose: &Pose) -> Placed {
+    /// `prim` placed by `pose`; [`QueryError::NotPrimitive`] (naming
+    /// `query`) for a convex hull or a mesh.
+    pub(crate) fn new(prim: &Shape, pose: &Pose, query: &'static str) -> Result<Placed, QueryError> {
         let axes = DMat3::from_quat(pose.rotation);
-        match prim {
-            Primitive::Sphere(s) => Placed::Ball {
+        Ok(match prim {
+            Shape::Sphere(s) => Placed::Ball {
                 c: pose.position,
                 r: s.radius(),
             },
-            Primitive::Capsule(c) => {
+            Shape::Capsule(c) => {
                 let [p, q] = c.world_segment(pose);
                 let r = c.radius();
                 Placed::Capsule {
@@ -121,7 +78,7 @@ impl Placed {
                     },
                 }
             }
-            Primitive::Cuboid(b) => {
+            Shape::Cuboid(b) => {
                 let mut faces = [[DVec3::ZERO; 3]; 12];
                 let mut k = 0;
                 for f in 0..b.face_count() {
@@ -140,11 +97,17 @@ impl Placed {
                     faces,
                 }
             }
-            Primitive::HalfSpace(h) => {
+            Shape::HalfSpace(h) => {
                 let (n, d) = h.world_plane(pose);
                 Placed::Plane { n, d }
             }
-        }
+            Shape::ConvexHull(_) | Shape::Mesh(_) => {
+                return Err(QueryError::NotPrimitive {
+                    query,
+                    kind: prim.kind_name(),
+                })
+            }
+        })
     }
 
     /// Distance to the closed triangle `t` (same frame), 0 when they share a
@@ -249,6 +212,7 @@ impl Placed {
 mod tests {
     use super::*;
     use crate::bvh::traverse::tests::{random_pose, rng};
+    use crate::shape::{Capsule, Cuboid, HalfSpace, Sphere};
 
     fn random_triangle(r: &mut impl FnMut() -> f64) -> [DVec3; 3] {
         [(); 3].map(|_| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 3.0)
@@ -261,7 +225,7 @@ mod tests {
     #[test]
     fn distances_are_attained_and_not_beaten_by_samples() {
         let mut r = rng(41);
-        let prims: [Primitive; 4] = [
+        let prims: [Shape; 4] = [
             Sphere::new(0.4).unwrap().into(),
             Cuboid::new(DVec3::new(0.3, 0.5, 0.2)).unwrap().into(),
             Capsule::new(0.25, 0.4).unwrap().into(),
@@ -271,7 +235,7 @@ mod tests {
             let t = random_triangle(&mut r);
             let pose = random_pose(&mut r, 1.0);
             for prim in &prims {
-                let placed = Placed::new(prim, &pose);
+                let placed = Placed::new(prim, &pose, "test").unwrap();
                 let res = placed.distance(&t);
                 assert_eq!(placed.intersects(&t), res.distance == 0.0);
                 assert!(
@@ -296,19 +260,20 @@ mod tests {
     }
 
     /// Signed distance of `x` to the solid primitive (independent formulas).
-    fn signed_distance(prim: &Primitive, pose: &Pose, x: DVec3) -> f64 {
+    fn signed_distance(prim: &Shape, pose: &Pose, x: DVec3) -> f64 {
         let l = pose.inverse_transform_point(x);
         match prim {
-            Primitive::Sphere(s) => l.length() - s.radius(),
-            Primitive::Capsule(c) => {
+            Shape::Sphere(s) => l.length() - s.radius(),
+            Shape::Capsule(c) => {
                 let z = l.z.clamp(-c.half_height(), c.half_height());
                 (l - DVec3::new(0.0, 0.0, z)).length() - c.radius()
             }
-            Primitive::Cuboid(b) => {
+            Shape::Cuboid(b) => {
                 let q = l.abs() - b.half_extents();
                 q.max(DVec3::ZERO).length() + q.max_element().min(0.0)
             }
-            Primitive::HalfSpace(h) => h.normal().dot(l) - h.offset(),
+            Shape::HalfSpace(h) => h.normal().dot(l) - h.offset(),
+            other => panic!("{} is not a primitive", other.kind_name()),
         }
     }
 }

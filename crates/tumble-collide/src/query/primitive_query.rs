@@ -8,13 +8,13 @@
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};
 use super::options::{CollideOptions, DistanceOptions, ReportMode};
-use super::primitive::{Placed, PrimDistance, Primitive};
+use super::primitive::{Placed, PrimDistance};
 use super::report::{DistanceResult, QueryStats, Report};
 use crate::bvh::{self, TraversalError, TraversalStats, Traverse};
 use crate::contact::Contact;
 use crate::narrow;
 use crate::pose::Pose;
-use crate::shape::MeshShape;
+use crate::shape::{MeshShape, Shape};
 
 /// Walks the mesh's tree against the primitive (world frame) grown by
 /// `margin` (m), handing every candidate triangle to `on_tri`.
@@ -43,17 +43,19 @@ fn bad_margin(value: f64) -> QueryError {
     }
 }
 
-/// Collision query between primitive A at `pose_a` and mesh B at `pose_b`,
-/// in the modes of [`super::collide`]. `pairs` holds `(0, triangle of B)` for
+/// Collision query between primitive A (a sphere, cuboid, capsule or
+/// half-space [`Shape`]) at `pose_a` and mesh B at `pose_b`, in the modes
+/// of [`super::collide`]. `pairs` holds `(0, triangle of B)` for
 /// every triangle that shares a point with the solid primitive. In
 /// [`ReportMode::Contacts`] the contacts are the narrow phase's manifold for
 /// the pair (normals from the mesh to the primitive), computed whole even with
 /// `stop_at_first`.
 ///
 /// # Errors
-/// [`QueryError::BadPose`], [`QueryError::BadOption`] (`contact_margin`).
+/// [`QueryError::BadPose`], [`QueryError::BadOption`] (`contact_margin`),
+/// [`QueryError::NotPrimitive`] for a convex hull or a mesh as A.
 pub fn collide_primitive(
-    a: &Primitive,
+    a: &Shape,
     pose_a: &Pose,
     b: &MeshShape,
     pose_b: &Pose,
@@ -62,7 +64,7 @@ pub fn collide_primitive(
     let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Collide(options))?;
     let mode = options.report;
     let stop_first = options.stops_at_first();
-    let prim = Placed::new(a, &pose_a);
+    let prim = Placed::new(a, &pose_a, "collide_primitive")?;
     let mut report = Report::default();
     let mut tests = 0u64;
     let traversal = walk(&prim, b, &pose_b, 0.0, |t| {
@@ -104,25 +106,20 @@ pub fn collide_primitive(
 }
 
 /// The narrow phase's contacts of primitive A against mesh B.
-fn primitive_contacts(
-    a: &Primitive,
-    pa: &Pose,
-    b: &MeshShape,
-    pb: &Pose,
-    margin: f64,
-    out: &mut Vec<Contact>,
-) {
+fn primitive_contacts(a: &Shape, pa: &Pose, b: &MeshShape, pb: &Pose, margin: f64, out: &mut Vec<Contact>) {
     match a {
-        Primitive::Sphere(s) => narrow::contact_sphere_mesh(s, pa, b, pb, margin, out),
-        Primitive::Cuboid(c) => narrow::contact_polytope_mesh(c, pa, b, pb, margin, out),
-        Primitive::Capsule(c) => narrow::contact_capsule_mesh(c, pa, b, pb, margin, out),
-        Primitive::HalfSpace(h) => {
+        Shape::Sphere(s) => narrow::contact_sphere_mesh(s, pa, b, pb, margin, out),
+        Shape::Cuboid(c) => narrow::contact_polytope_mesh(c, pa, b, pb, margin, out),
+        Shape::Capsule(c) => narrow::contact_capsule_mesh(c, pa, b, pb, margin, out),
+        Shape::HalfSpace(h) => {
             let start = out.len();
             narrow::contact_mesh_halfspace(b, pb, h, pa, margin, out);
             for c in &mut out[start..] {
                 *c = c.flipped();
             }
         }
+        // Refused by `Placed::new` before any contact is sought.
+        Shape::ConvexHull(_) | Shape::Mesh(_) => {}
     }
 }
 
@@ -132,18 +129,18 @@ fn primitive_contacts(
 ///
 /// # Errors
 /// [`QueryError::BadPose`], [`QueryError::BadOption`],
-/// [`QueryError::NotFinite`].
+/// [`QueryError::NotFinite`], [`QueryError::NotPrimitive`].
 pub fn distance_primitive(
-    a: &Primitive,
+    a: &Shape,
     pose_a: &Pose,
     b: &MeshShape,
     pose_b: &Pose,
     options: &DistanceOptions,
 ) -> Result<DistanceResult, QueryError> {
     let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Distance(options))?;
-    let world = Placed::new(a, &pose_a);
+    let world = Placed::new(a, &pose_a, "distance_primitive")?;
     // The primitive in the mesh frame, for the node lower bounds.
-    let local = Placed::new(a, &pose_b.inverse().mul_pose(&pose_a));
+    let local = Placed::new(a, &pose_b.inverse().mul_pose(&pose_a), "distance_primitive")?;
     let mut best: Option<(u32, PrimDistance)> = None;
     let mut tests = 0u64;
     let traversal = bvh::volume_distance(
@@ -186,16 +183,17 @@ pub fn distance_primitive(
 /// exact mode.
 ///
 /// # Errors
-/// [`QueryError::BadPose`]; [`QueryError::BadOption`] for a bad `tol`.
+/// [`QueryError::BadPose`]; [`QueryError::BadOption`] for a bad `tol`;
+/// [`QueryError::NotPrimitive`].
 pub fn within_tolerance_primitive(
-    a: &Primitive,
+    a: &Shape,
     pose_a: &Pose,
     b: &MeshShape,
     pose_b: &Pose,
     tol: f64,
 ) -> Result<bool, QueryError> {
     let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Tolerance(tol))?;
-    let prim = Placed::new(a, &pose_a);
+    let prim = Placed::new(a, &pose_a, "within_tolerance_primitive")?;
     let mut within = false;
     walk(&prim, b, &pose_b, tol, |t| {
         if prim.distance(&world_triangle(b.mesh(), &pose_b, t)).distance <= tol {

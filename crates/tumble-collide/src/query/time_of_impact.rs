@@ -26,7 +26,6 @@ use super::error::QueryError;
 use super::hull_distance::polytope_mesh_distance;
 use super::motion::Motion;
 use super::options::DistanceOptions;
-use super::primitive::Primitive;
 use super::primitive_query::distance_primitive;
 use super::report::DistanceResult;
 use crate::contact::Contact;
@@ -308,10 +307,9 @@ fn convex_mesh_distance(
 ) -> Result<DistanceResult, QueryError> {
     let options = DistanceOptions::default();
     match a {
-        Shape::Sphere(s) => distance_primitive(&Primitive::Sphere(*s), pa, m, pm, &options),
-        Shape::Cuboid(s) => distance_primitive(&Primitive::Cuboid(*s), pa, m, pm, &options),
-        Shape::Capsule(s) => distance_primitive(&Primitive::Capsule(*s), pa, m, pm, &options),
-        Shape::HalfSpace(s) => distance_primitive(&Primitive::HalfSpace(*s), pa, m, pm, &options),
+        Shape::Sphere(_) | Shape::Cuboid(_) | Shape::Capsule(_) | Shape::HalfSpace(_) => {
+            distance_primitive(a, pa, m, pm, &options)
+        }
         Shape::ConvexHull(h) => polytope_mesh_distance(h, pa, m, pm),
         Shape::Mesh(x) => distance(x, pa, m, pm, &options),
     }

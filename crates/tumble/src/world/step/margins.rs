@@ -58,7 +58,7 @@ pub(crate) fn thickness(colliders: &[Collider]) -> f64 {
 /// contact. Zero when the centre is outside the material (a ring's centre,
 /// in its hole) or on a surface.
 pub(crate) fn core_radius(colliders: &[Collider]) -> f64 {
-    use tumble_collide::query::{distance_primitive, DistanceOptions, Primitive};
+    use tumble_collide::query::{distance_primitive, DistanceOptions};
     use tumble_collide::shape::Polytope;
     use tumble_collide::{Shape, Sphere};
     let inside = |c: &Collider| -> f64 {
@@ -77,7 +77,7 @@ pub(crate) fn core_radius(colliders: &[Collider]) -> f64 {
             Shape::Mesh(m) => {
                 let Ok(point) = Sphere::new(1e-9) else { return 0.0 };
                 distance_primitive(
-                    &Primitive::Sphere(point),
+                    &Shape::Sphere(point),
                     &tumble_collide::Pose::from_translation(p),
                     m,
                     &tumble_collide::Pose::IDENTITY,

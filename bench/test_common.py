@@ -1,4 +1,5 @@
-"""Fast checks of the shared scene data and the harness (python3 -m unittest bench/test_common.py; stdlib only)."""
+"""Fast checks of the scenes the peers receive and of the harness (python3 -m unittest bench/test_common.py;
+stdlib only; needs target/release/tumble, which bench-quick builds first)."""
 
 import math
 import os
@@ -10,65 +11,81 @@ import common as C  # noqa: E402
 
 
 class SceneData(unittest.TestCase):
-    def test_torus_is_outward_with_solid_torus_volume(self):
-        v, t = C.torus_mesh(1.0, 0.3, 50, 50)
-        self.assertEqual((len(v), len(t)), (2500, 5000))
-        vol = 0.0
-        for a, b, c in t:
-            p, q, r = v[a], v[b], v[c]
-            vol += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0])
-                    + p[2] * (q[0] * r[1] - q[1] * r[0])) / 6.0
-        exact = 2 * math.pi**2 * 1.0 * 0.3**2
-        self.assertTrue(0.99 * exact < vol < exact, (vol, exact))
+    """The scenes as the peers receive them from `tumble bench --export-scene` (built by bench-quick
+    before these tests run): layouts as scenes.md states them, the solids' mass properties."""
 
-    def test_pyramid_layout(self):
-        b = C.pyramid_boxes()
-        self.assertEqual(len(b), 210)
-        self.assertEqual(b[-1], (0.0, 0.0, 19.5))
-        self.assertAlmostEqual(b[1][0] - b[0][0], 1.05)
+    def test_pyramid_layout_and_unit_cubes(self):
+        s = C.load_scene("pyramid")
+        boxes = [s["bodies"][i] for i in C.dynamic_indices(s)]
+        self.assertEqual(len(boxes), 210)
+        self.assertEqual(boxes[-1]["position"], [0.0, 0.0, 19.5])
+        self.assertAlmostEqual(boxes[1]["position"][0] - boxes[0]["position"][0], 1.05)
+        for b in boxes:
+            self.assertAlmostEqual(b["mass"], 1.0)
+            for i in b["principal_inertia"]:
+                self.assertAlmostEqual(i, 1.0 / 6.0)  # m (1^2 + 1^2) / 12
+        self.assertEqual((s["dt"], s["steps"], s["gravity"]), (1.0 / 60.0, 600, [0.0, 0.0, -9.81]))
 
     def test_pile_inside_container_for_every_size(self):
         for n in (100, 1000, 10000):
-            bodies = C.pile_bodies(n)
+            s = C.load_scene("pile", n)
+            bodies = [s["bodies"][i] for i in C.dynamic_indices(s)]
             self.assertEqual(len(bodies), n)
-            walls = C.pile_container(n)
-            top = walls[1][1][2] + walls[1][0][2]
-            for _, c, size, mass in bodies:
+            self.assertEqual(C.pile_outside(s, [b["position"] for b in bodies]), 0)
+            kinds = {}
+            for b in bodies:
+                c, shape = b["position"], b["shapes"][0]
                 # scenes.md as written: the odd layers' offset o = 0.1 puts the i = 9 / j = 9
                 # bodies 0.05 m into the +x / +y walls (inner faces at 3.0 m).
-                self.assertLessEqual(abs(c[0]) + size, 3.05 + 1e-9)
-                self.assertLessEqual(abs(c[1]) + size, 3.05 + 1e-9)
-                self.assertLess(c[2] + size, top)
-            self.assertEqual(C.pile_outside([c for _, c, _, _ in bodies]), 0)
-        # density 1: sphere 4/3 pi r^3, cube (2h)^3
-        masses = {k: m for k, _, _, m in C.pile_bodies(100)}
-        self.assertAlmostEqual(masses["sphere"], 4 / 3 * math.pi * 0.25**3)
-        self.assertAlmostEqual(masses["box"], 0.125)
-
-    def test_rotations_follow_the_conventions(self):
-        # Rx(pi/2) maps z to -y; Ry(theta) * Rx(pi/2) applies Rx first.
-        z = C.quat_rotate(C.rx(math.pi / 2), (0.0, 0.0, 1.0))
-        for got, want in zip(z, (0.0, -1.0, 0.0)):
-            self.assertAlmostEqual(got, want)
-        q = C.quat_mul(C.ry(math.pi / 2), C.rx(math.pi / 2))
-        y = C.quat_rotate(q, (0.0, 1.0, 0.0))  # Rx: y -> z, then Ry(pi/2): z -> x
-        for got, want in zip(y, (1.0, 0.0, 0.0)):
-            self.assertAlmostEqual(got, want)
+                self.assertLessEqual(abs(c[0]) + 0.25, 3.05 + 1e-9)
+                self.assertLessEqual(abs(c[1]) + 0.25, 3.05 + 1e-9)
+                kinds[shape["type"]] = b["mass"]
+            # density 1: sphere 4/3 pi r^3, cube (2h)^3
+            self.assertAlmostEqual(kinds["sphere"], 4 / 3 * math.pi * 0.25**3)
+            self.assertAlmostEqual(kinds["box"], 0.125)
+        self.assertEqual(C.pile_outside(s, [(3.2, 0.0, 1.0), (0.0, 0.0, -0.1), (math.nan, 0, 0), (1, 1, 1)]), 3)
 
     def test_chain_links_start_interlocked_within_the_bound(self):
-        links = C.chain_links()
-        self.assertEqual(len(links), 21)
-        mon = C.ChainMonitor()
-        mon.sample([c for c, _ in links])
+        s = C.load_scene("chain")
+        self.assertEqual(len(s["bodies"]), 21)
+        self.assertEqual(len(s["meshes"]), 1)
+        self.assertEqual(len(s["meshes"][0]["triangles"]), 768)
+        mon = C.ChainMonitor(s)
+        mon.sample([b["position"] for b in s["bodies"]])
         self.assertAlmostEqual(mon.max_gap, 1.5)
-        self.assertLess(mon.max_gap, C.CHAIN_MAX_GAP)
-        self.assertAlmostEqual(C.CHAIN_MASS, 0.78957, places=5)
+        self.assertEqual(mon.limit, 1.8)
+        self.assertAlmostEqual(s["bodies"][1]["mass"], 2 * math.pi**2 * 1.0 * 0.2**2)
+        cut = C.load_scene("chain_decomposed")
+        self.assertEqual([len(b["shapes"]) for b in cut["bodies"]], [32] * 21)
+        self.assertTrue(all(p["type"] == "convex_hull" for p in cut["bodies"][1]["shapes"]))
 
     def test_ideal_cradle_has_no_errors(self):
+        s = C.load_scene("cradle")
+        self.assertEqual(s["gravity"], [0.0, 0.0, 0.0])
+        # The striker's momentum handed on whole to the last sphere of the row.
         v = [(0.0, 0.0, 0.0)] * 4 + [(1.0, 0.0, 0.0), (0.0, 0.0, 0.0)]
-        f = C.cradle_figures(v, [1.0] * 6)
+        f = C.cradle_figures(s, v)
         self.assertAlmostEqual(f["momentum_error"], 0.0)
         self.assertAlmostEqual(f["energy_error"], 0.0)
+
+    def test_tori_poses_run_along_x_through_the_hole(self):
+        t = C.load_scene("tori", poses=5)
+        self.assertEqual([p["index"] for p in t["poses"]], [0, 50, 100, 149, 199])
+        self.assertEqual(t["poses"][0]["position"], [-3.0, 0.05, 0.02])
+        self.assertAlmostEqual(t["poses"][-1]["position"][0], 3.0)
+        self.assertEqual((len(t["mesh"]["vertices"]), len(t["mesh"]["triangles"])), (2500, 5000))
+
+    def test_a_missing_binary_is_an_error_that_names_it(self):
+        old = os.environ.get("TUMBLE_BIN")
+        os.environ["TUMBLE_BIN"] = "/nonexistent/tumble"
+        try:
+            with self.assertRaisesRegex(RuntimeError, "/nonexistent/tumble"):
+                C.load_scene("pyramid")
+        finally:
+            if old is None:
+                del os.environ["TUMBLE_BIN"]
+            else:
+                os.environ["TUMBLE_BIN"] = old
 
     def test_timing_stats(self):
         s = C.timing_stats([k * 1e-3 for k in (7, 1, 11, 3, 9, 5, 2, 10, 4, 8, 6)])
@@ -76,9 +93,6 @@ class SceneData(unittest.TestCase):
         self.assertAlmostEqual(s["p10"], 2.0)
         self.assertAlmostEqual(s["p90"], 10.0)
 
-
-if __name__ == "__main__":
-    unittest.main()
 
 
 class Harness(unittest.TestCase):
@@ -138,3 +152,7 @@ class AnswerCheck(unittest.TestCase):
         ]
         for r in cases:
             self.assertTrue(self.wrong([r]), r)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,222 +1,106 @@
-"""Shared scene data and reporting for the peer-engine scripts.
+"""Shared scene loading and reporting for the peer-engine scripts.
 
-The scenes follow /work/shared/scenes.md (copied in spirit into docs/benchmarks.md): every
-number here (layout, masses, dt, step counts) is the spec's, so each engine script only
-translates these plain lists into its own API. Nothing engine-specific lives here.
+Every scene is defined once, in Rust (`tumble::scenes`): `load_scene` asks the tumble binary
+for its plain form (`tumble bench --scene S --export-scene -`: every body in its body frame,
+i.e. centre of mass and principal axes, with the mass and principal inertia tumble computed,
+its shapes posed in that frame, materials, velocities, dt, gravity, steps and the scene's pass
+marks). Each engine script only translates that data into its own API. Nothing
+engine-specific lives here.
 """
 
 import json
 import math
+import os
 import platform
 import resource
 import statistics
+import subprocess
 import sys
 import time
 
-G = (0.0, 0.0, -9.81)
-PAIR_FRICTION = 0.5
-
-# Steps per scene at full length (scenes.md); scripts accept --steps to shorten (quick mode).
-FULL_STEPS = {"pyramid": 600, "pile": 600, "chain": 600, "cradle": 240}
-DT = {"pyramid": 1.0 / 60.0, "pile": 1.0 / 60.0, "chain": 1.0 / 60.0, "cradle": 1.0 / 240.0}
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PLAIN_SCENE_FORMAT = "tumble-plain-scene/1"
+TORI_PLAIN_FORMAT = "tumble-tori-queries/1"
 
 
-# ---------------------------------------------------------------- torus mesh (scenes.md)
-def torus_mesh(big_r, small_r, n_major, n_minor):
-    """Vertices and CCW-from-outside triangles exactly as in scenes.md "Torus mesh"."""
-    verts = []
-    for i in range(n_major):
-        u = 2.0 * math.pi * i / n_major
-        for j in range(n_minor):
-            v = 2.0 * math.pi * j / n_minor
-            rho = big_r + small_r * math.cos(v)
-            verts.append((rho * math.cos(u), rho * math.sin(u), small_r * math.sin(v)))
-    tris = []
-    for i in range(n_major):
-        i1 = (i + 1) % n_major
-        for j in range(n_minor):
-            j1 = (j + 1) % n_minor
-            a = i * n_minor + j
-            b = i1 * n_minor + j
-            c = i1 * n_minor + j1
-            d = i * n_minor + j1
-            tris.append((a, b, c))
-            tris.append((a, c, d))
-    return verts, tris
+# ---------------------------------------------------------------- scenes (from tumble::scenes)
+def tumble_binary():
+    """The tumble CLI that exports the scenes: $TUMBLE_BIN, else target/release/tumble."""
+    return os.environ.get("TUMBLE_BIN") or os.path.join(ROOT, "target", "release", "tumble")
 
 
-# ---------------------------------------------------------------- rotations as quaternions (x, y, z, w)
-def quat_axis_angle(axis, angle):
-    s = math.sin(angle / 2.0)
-    return (axis[0] * s, axis[1] * s, axis[2] * s, math.cos(angle / 2.0))
+def load_scene(name, n=None, poses=None):
+    """The plain form of a standard scene (see the module doc); `n`: the pile's body count; for
+    "tori" the torus and `poses` poses of torus B instead (format tumble-tori-queries/1).
+    Raises RuntimeError naming the command when the binary is missing or refuses."""
+    exe = tumble_binary()
+    cmd = [exe, "bench", "--scene", name, "--export-scene", "-"]
+    cmd += ([] if n is None else ["--n", str(n)]) + ([] if poses is None else ["--poses", str(poses)])
+    if not os.path.exists(exe):
+        raise RuntimeError(f"{exe} missing (cargo build --release -p tumble-cli): cannot export scene {name}")
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed: {p.stderr.strip()}")
+    scene = json.loads(p.stdout)
+    want = TORI_PLAIN_FORMAT if name == "tori" else PLAIN_SCENE_FORMAT
+    if scene.get("format") != want:
+        raise RuntimeError(f"{' '.join(cmd)}: format {scene.get('format')!r}, expected {want!r}")
+    return scene
 
 
-def quat_mul(a, b):
-    """a * b (applies b first, then a), quaternions as (x, y, z, w)."""
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-        aw * bw - ax * bx - ay * by - az * bz,
-    )
+def scene_for(args):
+    """The scene a peer's parsed arguments ask for (`--scene`, `--n`, `--decomposed`)."""
+    if args.scene == "pile":
+        return load_scene("pile", args.n)
+    if args.scene == "chain" and args.decomposed:
+        return load_scene("chain_decomposed")
+    return load_scene(args.scene)
 
 
-def quat_rotate(q, v):
-    x, y, z, w = q
-    # v' = v + 2 w (q x v) + 2 q x (q x v)
-    cx = y * v[2] - z * v[1]
-    cy = z * v[0] - x * v[2]
-    cz = x * v[1] - y * v[0]
-    ccx = y * cz - z * cy
-    ccy = z * cx - x * cz
-    ccz = x * cy - y * cx
-    return (v[0] + 2 * (w * cx + ccx), v[1] + 2 * (w * cy + ccy), v[2] + 2 * (w * cz + ccz))
+def dynamic_indices(scene):
+    """Indices of the scene's dynamic bodies, in order."""
+    return [i for i, b in enumerate(scene["bodies"]) if b["kind"] == "dynamic"]
 
 
-def rx(a):
-    return quat_axis_angle((1.0, 0.0, 0.0), a)
+def pile_outside(scene, positions):
+    """Centres outside the pile's container (|x| or |y| beyond the scene's limit, z < 0, NaN)."""
+    w = scene["limits"]["inside_half_width"]
+    return sum(1 for p in positions
+               if not all(math.isfinite(c) for c in p) or abs(p[0]) > w or abs(p[1]) > w or p[2] < 0.0)
 
 
-def ry(a):
-    return quat_axis_angle((0.0, 1.0, 0.0), a)
-
-
-def rz(a):
-    return quat_axis_angle((0.0, 0.0, 1.0), a)
-
-
-# ---------------------------------------------------------------- scenes
-def pyramid_boxes():
-    """210 box centres, layer by layer, k ascending (top box last)."""
-    out = []
-    for i in range(20):
-        n = 20 - i
-        for k in range(n):
-            out.append(((k - (n - 1) / 2.0) * 1.05, 0.0, 0.5 + i))
-    return out
-
-
-PYRAMID_GROUND = {"half": (50.0, 50.0, 0.5), "centre": (0.0, 0.0, -0.5)}
-PYRAMID_HALF = 0.5
-PYRAMID_MASS = 1.0
-
-
-def pile_layers(n):
-    if n % 100 != 0 or n <= 0:
-        raise ValueError(f"pile: N must be a positive multiple of 100, got {n}")
-    return n // 100
-
-
-def pile_bodies(n):
-    """(kind, centre, size, mass) for the N-body pile; kind 'sphere' (radius) or 'box' (half extent)."""
-    out = []
-    for k in range(pile_layers(n)):
-        o = 0.1 if k % 2 == 1 else 0.0
-        for j in range(10):
-            for i in range(10):
-                c = (-2.7 + 0.6 * i + o, -2.7 + 0.6 * j + o, 1.0 + 0.6 * k)
-                if (i + j + k) % 2 == 0:
-                    out.append(("sphere", c, 0.25, 4.0 / 3.0 * math.pi * 0.25**3))
-                else:
-                    out.append(("box", c, 0.25, 0.5**3))
-    return out
-
-
-def pile_container(n):
-    """Static boxes (half extents, centre). Walls are 8 m high (half 4) for N <= 1000 and
-    raised for taller grids so that they reach 1 m above the top layer's centre."""
-    top = 1.0 + 0.6 * (pile_layers(n) - 1)
-    hz = max(4.0, (top + 1.0) / 2.0)
-    return [
-        ((3.5, 3.5, 0.5), (0.0, 0.0, -0.5)),
-        ((0.25, 3.5, hz), (3.25, 0.0, hz)),
-        ((0.25, 3.5, hz), (-3.25, 0.0, hz)),
-        ((3.0, 0.25, hz), (0.0, 3.25, hz)),
-        ((3.0, 0.25, hz), (0.0, -3.25, hz)),
-    ]
-
-
-def pile_outside(positions):
-    return sum(1 for p in positions if abs(p[0]) > 3.01 or abs(p[1]) > 3.01 or p[2] < 0.0)
-
-
-CHAIN_R = 1.0
-CHAIN_r = 0.2
-CHAIN_MASS = 2.0 * math.pi**2 * CHAIN_R * CHAIN_r**2
-CHAIN_INERTIA = (
-    CHAIN_MASS * (CHAIN_R**2 / 2.0 + 5.0 * CHAIN_r**2 / 8.0),
-    CHAIN_MASS * (CHAIN_R**2 / 2.0 + 5.0 * CHAIN_r**2 / 8.0),
-    CHAIN_MASS * (CHAIN_R**2 + 3.0 * CHAIN_r**2 / 4.0),
-)
-CHAIN_MAX_GAP = 2.0 * CHAIN_R - 2.0 * CHAIN_r + 0.2  # 1.8 m
-
-
-def chain_links():
-    """21 (centre, quat xyzw); link 0 is the static anchor."""
-    th = math.radians(60.0)
-    e = (-math.sin(th), 0.0, -math.cos(th))
-    out = []
-    for k in range(21):
-        c = (1.5 * k * e[0], 1.5 * k * e[1], 1.5 * k * e[2])
-        if k % 2 == 0:
-            q = quat_mul(ry(th), rx(math.pi / 2))
-        else:
-            q = quat_mul(ry(th), quat_mul(rz(math.pi / 2), rx(math.pi / 2)))
-        out.append((c, q))
-    return out
-
-
-def chain_link_pieces(n_major=32, n_minor=12):
-    """Convex decomposition of the link for peers that need one: piece i is the tube segment
-    between rings i and i + 1 (its 2 n_minor vertices, whose hull every engine computes) and
-    the 2 n_minor mesh triangles of that segment. 32 pieces as in scenes.md."""
-    verts, tris = torus_mesh(CHAIN_R, CHAIN_r, n_major, n_minor)
-    pieces = []
-    for i in range(n_major):
-        i1 = (i + 1) % n_major
-        ids = [i * n_minor + j for j in range(n_minor)] + [i1 * n_minor + j for j in range(n_minor)]
-        local = {g: k for k, g in enumerate(ids)}
-        ptris = [tuple(local[x] for x in tris[2 * (i * n_minor + j) + h]) for j in range(n_minor) for h in (0, 1)]
-        pieces.append(([verts[g] for g in ids], ptris))
-    return pieces
+def momentum_and_energy(masses, velocities):
+    """Linear momentum (3-vector) and translational kinetic energy of point masses."""
+    p = [sum(m * v[a] for m, v in zip(masses, velocities)) for a in range(3)]
+    e = sum(0.5 * m * (v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for m, v in zip(masses, velocities))
+    return p, e
 
 
 class ChainMonitor:
-    """Interlock check of scenes.md: adjacent link centres never further apart than 1.8 m."""
+    """Interlock check of scenes.md: adjacent link centres never further apart than the
+    scene's limit (1.8 m)."""
 
-    def __init__(self):
+    def __init__(self, scene):
+        self.limit = scene["limits"]["max_adjacent_centre_distance"]
         self.max_gap = 0.0
 
     def sample(self, centres):
         for a, b in zip(centres, centres[1:]):
             self.max_gap = max(self.max_gap, dist(a, b))
 
-    @staticmethod
-    def broken(centres):
-        return sum(1 for a, b in zip(centres, centres[1:]) if dist(a, b) > CHAIN_MAX_GAP)
+    def broken(self, centres):
+        return sum(1 for a, b in zip(centres, centres[1:]) if dist(a, b) > self.limit)
 
 
-CRADLE_R = 0.1
-
-
-def cradle_spheres():
-    """(centre, velocity) for the 6 spheres: 5 at rest in a row, the striker last."""
-    out = [((0.2 * i, 0.0, 0.0), (0.0, 0.0, 0.0)) for i in range(5)]
-    out.append(((-0.5, 0.0, 0.0), (1.0, 0.0, 0.0)))
-    return out
-
-
-def cradle_figures(velocities, masses):
-    p0 = 1.0  # striker: 1 kg at 1 m/s
-    e0 = 0.5
-    p = [sum(m * v[a] for m, v in zip(masses, velocities)) for a in range(3)]
-    e = sum(0.5 * m * (v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for m, v in zip(masses, velocities))
+def cradle_figures(scene, velocities):
+    """Final velocities and the momentum and energy errors against the scene's start."""
+    masses = [b["mass"] for b in scene["bodies"]]
+    p0, e0 = momentum_and_energy(masses, [b["linear_velocity"] for b in scene["bodies"]])
+    p, e = momentum_and_energy(masses, velocities)
     return {
         "final_velocities_x": [v[0] for v in velocities],
         "last_sphere_vx": velocities[4][0],
-        "momentum_error": math.sqrt((p[0] - p0) ** 2 + p[1] ** 2 + p[2] ** 2) / p0,
+        "momentum_error": dist(p, p0) / math.sqrt(sum(x * x for x in p0)),
         "energy_error": (e - e0) / e0,
     }
 
@@ -294,7 +178,7 @@ def parse_args(scenes, description, extra=()):
     ap.add_argument("--steps", type=int, default=None, help="override step count (quick mode)")
     ap.add_argument("--n", type=int, default=1000, help="pile: number of bodies (multiple of 100)")
     ap.add_argument("--decomposed", action="store_true",
-                    help="chain: links as 32 convex pieces (chain_link_pieces) instead of the plain mesh")
+                    help="chain: the scene chain_decomposed (each link as 32 convex pieces) instead of the plain mesh")
     for flag, typ, help_text in extra:
         ap.add_argument(flag, type=typ, default=None, help=help_text)
     args = ap.parse_args()

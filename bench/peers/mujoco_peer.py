@@ -1,11 +1,15 @@
-"""MuJoCo peer for the dynamics scenes of scenes.md, with MJCF built as strings in code.
+"""MuJoCo peer for the dynamics scenes of scenes.md, with MJCF built as strings in code from
+tumble's plain scene export (common.load_scene): the same bodies, poses, velocities, masses and
+principal inertias (each body's frame is its centre of mass and principal axes, with an
+explicit <inertial>; static bodies are bodies without a joint).
 
-MuJoCo combines friction by max, so every geom gets sliding friction 0.5 (condim 3, i.e.
-no torsional/rolling friction). Its contacts are soft (solref/solimp defaults), with no
-restitution parameter: the cradle uses the documented direct form solref = (-stiffness, 0)
-(zero damping = elastic). Default Euler integrator; pyramid, chain, cradle use the default
-Newton solver, the pile CG (Newton's dense factorisation does not scale to 6000+ dofs).
-Sleeping (mjENBL_SLEEP) is off. Mesh geoms collide as their convex hull.
+MuJoCo combines friction by max, so every geom gets its body's sliding friction (condim 3, i.e.
+no torsional/rolling friction; condim 1 where the friction is 0). Its contacts are soft
+(solref/solimp defaults), with no restitution parameter: an elastic body (restitution 1, the
+cradle) uses the documented direct form solref = (-stiffness, 0) (zero damping = elastic); other
+restitutions have no translation. Default Euler integrator; the default Newton solver, CG for
+the piles (Newton's dense factorisation does not scale to 6000+ dofs). Sleeping (mjENBL_SLEEP)
+is off. Mesh geoms collide as their convex hull (MuJoCo has no concave mesh collision).
 """
 
 import os
@@ -17,6 +21,7 @@ import common as C  # noqa: E402
 import mujoco  # noqa: E402
 
 SCENES = ["pyramid", "pile", "chain", "cradle"]
+ELASTIC = 'solref="-10000 0"'
 
 
 def fmt(v):
@@ -27,35 +32,85 @@ def wxyz(q):
     return (q[3], q[0], q[1], q[2])
 
 
-def model(name, dt, body_xml, static_xml, gravity=C.G, solver="Newton", asset="", default=""):
-    return f"""<mujoco model="{name}">
-  <option timestep="{dt!r}" gravity="{fmt(gravity)}" solver="{solver}"/>
+def geom(body, s, assets):
+    """One <geom> of a body's shape (posed in the body frame); mesh assets are added to `assets`."""
+    frame = f'pos="{fmt(s["position"])}" quat="{fmt(wxyz(s["rotation"]))}"'
+    mat = f'friction="{body["friction"]!r} 0 0" condim="{1 if body["friction"] == 0 else 3}"'
+    if body["restitution"] == 1.0:
+        mat += " " + ELASTIC
+    elif body["restitution"] != 0.0:
+        raise ValueError(f"{body['name']}: MuJoCo has no restitution coefficient ({body['restitution']})")
+    t = s["type"]
+    if t == "sphere":
+        g = f'type="sphere" size="{s["radius"]!r}"'
+    elif t == "box":
+        g = f'type="box" size="{fmt(s["half_extents"])}"'
+    elif t == "capsule":
+        g = f'type="capsule" size="{s["radius"]!r} {s["half_height"]!r}"'
+    elif t == "convex_hull":
+        name = f"hull{len(assets)}"
+        assets.append(f'<mesh name="{name}" vertex="{fmt([x for v in s["vertices"] for x in v])}"/>')
+        g = f'type="mesh" mesh="{name}"'
+    elif t == "mesh":
+        g = f'type="mesh" mesh="mesh{s["mesh"]}"'
+    elif t == "half_space":
+        # A plane geom's solid side is below its local z: turn z onto the normal, shift by the offset.
+        n, d = s["normal"], s["offset"]
+        return f'<geom type="plane" size="0 0 1" pos="{fmt([d * x for x in n])}" zaxis="{fmt(n)}" {mat}/>'
+    else:
+        raise ValueError(f"{body['name']}: shape type {t!r} has no translation here")
+    return f"<geom {g} {frame} {mat}/>"
+
+
+def mjcf(scene):
+    assets = [f'<mesh name="mesh{k}" vertex="{fmt([x for v in m["vertices"] for x in v])}" '
+              f'face="{" ".join(str(i) for t in m["triangles"] for i in t)}"/>' for k, m in enumerate(scene["meshes"])]
+    bodies = []
+    for i, b in enumerate(scene["bodies"]):
+        if b["kind"] == "kinematic":
+            raise ValueError(f"{b['name']}: kinematic bodies have no translation here")
+        geoms = "".join(geom(b, s, assets) for s in b["shapes"])
+        inner = ""
+        if b["kind"] == "dynamic":
+            inner = (f'<freejoint/><inertial pos="0 0 0" mass="{b["mass"]!r}" '
+                     f'diaginertia="{fmt(b["principal_inertia"])}"/>')
+        bodies.append(f'    <body name="b{i}" pos="{fmt(b["position"])}" quat="{fmt(wxyz(b["rotation"]))}">'
+                      f"{inner}{geoms}</body>")
+    solver = "CG" if scene["name"].startswith("pile") else "Newton"
+    return f"""<mujoco model="{scene['name']}">
+  <option timestep="{scene['dt']!r}" gravity="{fmt(scene['gravity'])}" solver="{solver}"/>
   <size memory="1G"/>
-  <default><geom friction="0.5 0 0" condim="3" {default}/></default>
-  <asset>{asset}</asset>
+  <asset>{''.join(assets)}</asset>
   <worldbody>
-{static_xml}
-{body_xml}
+{chr(10).join(bodies)}
   </worldbody>
 </mujoco>"""
 
 
-def build(xml):
-    m = mujoco.MjModel.from_xml_string(xml)
+def build(scene):
+    m = mujoco.MjModel.from_xml_string(mjcf(scene))
     d = mujoco.MjData(m)
+    ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"b{i}") for i in range(len(scene["bodies"]))]
+    for i, b in zip(ids, scene["bodies"]):
+        if b["kind"] == "dynamic":
+            adr = m.jnt_dofadr[m.body_jntadr[i]]
+            # A free joint's velocity: linear (world), then angular (body frame).
+            d.qvel[adr:adr + 3] = b["linear_velocity"]
+            mujoco.mju_rotVecQuat(d.qvel[adr + 3:adr + 6], b["angular_velocity"],
+                                  [b["rotation"][3], -b["rotation"][0], -b["rotation"][1], -b["rotation"][2]])
     mujoco.mj_forward(m, d)
-    return m, d
+    return m, d, ids
 
 
-def settings(m, dt, steps, extra=None):
+def settings(m, scene, steps, extra=None):
     s = {
-        "dt": dt,
+        "dt": scene["dt"],
         "steps": steps,
         "solver": mujoco.mjtSolver(m.opt.solver).name,
         "iterations": int(m.opt.iterations),
         "integrator": mujoco.mjtIntegrator(m.opt.integrator).name,
         "substeps": 0,
-        "friction_per_geom": 0.5,
+        "friction_per_geom": "tumble's per body",
         "friction_combine": "max",
         "sleeping": "off",
         "contacts": "soft (default solref/solimp)",
@@ -69,150 +124,67 @@ def positions(d, ids):
     return [tuple(d.xpos[i]) for i in ids]
 
 
-def deepest(d, geoms=None):
+def deepest(d):
     x = 0.0
     for i in range(d.ncon):
-        c = d.contact[i]
-        if geoms is not None and not (c.geom1 in geoms and c.geom2 in geoms):
-            continue
-        x = min(x, c.dist)
+        x = min(x, d.contact[i].dist)
     return 0.0 - x
 
 
-def box_static(half, centre):
-    return f'    <geom type="box" size="{fmt(half)}" pos="{fmt(centre)}"/>'
-
-
-def run_pyramid(steps):
-    dt = C.DT["pyramid"]
-    starts = C.pyramid_boxes()
-    bodies = "\n".join(
-        f'    <body name="b{i}" pos="{fmt(c)}"><freejoint/>'
-        f'<geom type="box" size="0.5 0.5 0.5" mass="{C.PYRAMID_MASS}"/></body>'
-        for i, c in enumerate(starts)
-    )
-    g = C.PYRAMID_GROUND
-    m, d = build(model("pyramid", dt, bodies, box_static(g["half"], g["centre"])))
-    ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"b{i}") for i in range(len(starts))]
+def run(scene, steps, variant):
+    m, d, ids = build(scene)
+    dyn = [ids[i] for i in C.dynamic_indices(scene)]
+    starts = positions(d, dyn)
+    chain = variant.startswith("chain")
+    mon = C.ChainMonitor(scene) if chain else None
+    initial_overlap = deepest(d)
     t = C.StepTimer()
-    pen = 0.0
+    pen, blew_up_at = 0.0, None
     for s in range(steps):
         t.time(mujoco.mj_step, m, d)
+        if blew_up_at is None and d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+            blew_up_at = (s + 1) * scene["dt"]
         if s % 10 == 9 or s == steps - 1:
             pen = max(pen, deepest(d))
-    disp = [C.dist(a, b) for a, b in zip(starts, positions(d, ids))]
-    C.emit("mujoco", mujoco.__version__, "pyramid", settings(m, dt, steps), {
-        "step_time": t.figures(),
-        "top_box_displacement_m": disp[-1],
-        "largest_displacement_m": max(disp),
-        "deepest_penetration_m": pen,
-    })
-
-
-def run_pile(steps, n):
-    dt = C.DT["pile"]
-    out = []
-    for i, (kind, c, size, mass) in enumerate(C.pile_bodies(n)):
-        geom = (f'<geom type="sphere" size="{size}" mass="{mass!r}"/>' if kind == "sphere"
-                else f'<geom type="box" size="{size} {size} {size}" mass="{mass!r}"/>')
-        out.append(f'    <body name="b{i}" pos="{fmt(c)}"><freejoint/>{geom}</body>')
-    static = "\n".join(box_static(h, c) for h, c in C.pile_container(n))
-    m, d = build(model(f"pile{n}", dt, "\n".join(out), static, solver="CG"))
-    ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"b{i}") for i in range(n)]
-    t = C.StepTimer()
-    for _ in range(steps):
-        t.time(mujoco.mj_step, m, d)
-    ends = positions(d, ids)
-    C.emit("mujoco", mujoco.__version__, f"pile{n}", settings(m, dt, steps, {"n": n}), {
-        "step_time": t.figures(),
-        "bodies_outside": C.pile_outside(ends),
-        "mean_final_height_m": sum(e[2] for e in ends) / len(ends),
-        "contact_points": int(d.ncon),
-        "deepest_penetration_m": deepest(d),
-    })
-
-
-def run_chain(steps, decomposed):
-    dt = C.DT["chain"]
-    if decomposed:
-        pieces = C.chain_link_pieces()
-        asset = "".join(f'<mesh name="p{i}" vertex="{fmt([x for v in pv for x in v])}"/>' for i, (pv, _) in enumerate(pieces))
-        geoms = "".join(f'<geom type="mesh" mesh="p{i}"/>' for i in range(len(pieces)))
-    else:
-        verts, tris = C.torus_mesh(C.CHAIN_R, C.CHAIN_r, 32, 12)
-        asset = (f'<mesh name="torus" vertex="{fmt([x for v in verts for x in v])}" '
-                 f'face="{" ".join(str(i) for t in tris for i in t)}"/>')
-        geoms = '<geom type="mesh" mesh="torus"/>'
-    links = C.chain_links()
-    c0, q0 = links[0]
-    static = f'    <body name="l0" pos="{fmt(c0)}" quat="{fmt(wxyz(q0))}">{geoms}</body>'
-    inertial = f'<inertial pos="0 0 0" mass="{C.CHAIN_MASS!r}" diaginertia="{fmt(C.CHAIN_INERTIA)}"/>'
-    bodies = "\n".join(
-        f'    <body name="l{k}" pos="{fmt(c)}" quat="{fmt(wxyz(q))}"><freejoint/>{inertial}{geoms}</body>'
-        for k, (c, q) in enumerate(links) if k > 0
-    )
-    m, d = build(model("chain", dt, bodies, static, asset=asset))
-    ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"l{k}") for k in range(21)]
-    gids = set(range(m.ngeom))
-    initial_overlap = deepest(d, gids)
-    mon = C.ChainMonitor()
-    t = C.StepTimer()
-    pen = 0.0
-    blew_up_at = None
-    for s in range(steps):
-        t.time(mujoco.mj_step, m, d)
-        if blew_up_at is None and (d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0):
-            blew_up_at = (s + 1) * dt
-        if s % 10 == 9 or s == steps - 1:
-            mon.sample(positions(d, ids))
-            pen = max(pen, deepest(d, gids))
-    ends = positions(d, ids)
-    collision = ("32 convex pieces per link (hulls of consecutive rings), not the plain mesh" if decomposed
-                 else "mesh geom = convex hull of the 768-triangle link (MuJoCo has no concave mesh collision)")
-    C.emit("mujoco", mujoco.__version__, "chain-decomposed" if decomposed else "chain",
-           settings(m, dt, steps, {"collision": collision}), {
-        "step_time": t.figures(),
-        "interlock_held": mon.max_gap <= C.CHAIN_MAX_GAP,
-        "max_adjacent_centre_distance_m": mon.max_gap,
-        "broken_links": C.ChainMonitor.broken(ends),
-        "deepest_penetration_m": pen,
-        "initial_hull_overlap_m": initial_overlap,
-        "simulation_unstable_at_s": blew_up_at,
-        "capability": ("needs a convex decomposition (32 pieces per link)" if decomposed
-                       else "links collide as convex hulls: interlocked links overlap from the start"),
-    })
-
-
-def run_cradle(steps):
-    dt = C.DT["cradle"]
-    spheres = C.cradle_spheres()
-    bodies = "\n".join(
-        f'    <body name="s{i}" pos="{fmt(c)}"><freejoint/>'
-        f'<geom type="sphere" size="{C.CRADLE_R}" mass="1" condim="1" solref="-10000 0"/></body>'
-        for i, (c, _) in enumerate(spheres)
-    )
-    m, d = build(model("cradle", dt, bodies, "", gravity=(0.0, 0.0, 0.0)))
-    for i, (_, v) in enumerate(spheres):
-        adr = m.jnt_dofadr[m.body_jntadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"s{i}")]]
-        d.qvel[adr:adr + 3] = v
-    t = C.StepTimer()
-    for _ in range(steps):
-        t.time(mujoco.mj_step, m, d)
-    vels = []
-    for i in range(6):
-        adr = m.jnt_dofadr[m.body_jntadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"s{i}")]]
-        vels.append(tuple(d.qvel[adr:adr + 3]))
-    f = C.cradle_figures(vels, [1.0] * 6)
-    f["step_time"] = t.figures()
-    C.emit("mujoco", mujoco.__version__, "cradle", settings(m, dt, steps, {
-        "restitution": "solref=(-1e4, 0): undamped contact spring (elastic)", "friction": "none (condim 1)"}), f)
+            if chain:
+                mon.sample(positions(d, ids))
+    ends = positions(d, dyn)
+    figures = {"step_time": t.figures(), "deepest_penetration_m": pen}
+    extra = {}
+    if variant == "pyramid":
+        disp = [C.dist(a, b) for a, b in zip(starts, ends)]
+        figures.update(top_box_displacement_m=disp[-1], largest_displacement_m=max(disp))
+    elif variant.startswith("pile"):
+        figures.update(bodies_outside=C.pile_outside(scene, ends), mean_final_height_m=sum(e[2] for e in ends) / len(ends),
+                       contact_points=int(d.ncon))
+        extra["n"] = len(dyn)
+    elif chain:
+        decomposed = variant == "chain-decomposed"
+        figures.update(
+            interlock_held=mon.max_gap <= mon.limit, max_adjacent_centre_distance_m=mon.max_gap,
+            broken_links=mon.broken(positions(d, ids)), initial_hull_overlap_m=initial_overlap,
+            simulation_unstable_at_s=blew_up_at,
+            capability=("needs a convex decomposition (32 pieces per link)" if decomposed
+                        else "links collide as convex hulls: interlocked links overlap from the start"))
+        extra["collision"] = ("32 convex pieces per link (hulls of consecutive rings), not the plain mesh" if decomposed
+                              else "mesh geom = convex hull of the 768-triangle link (MuJoCo has no concave mesh collision)")
+    elif variant == "cradle":
+        vels = [tuple(d.qvel[m.jnt_dofadr[m.body_jntadr[i]]:m.jnt_dofadr[m.body_jntadr[i]] + 3]) for i in ids]
+        figures.update(C.cradle_figures(scene, vels))
+        extra.update(restitution="solref=(-1e4, 0): undamped contact spring (elastic)", friction="none (condim 1)")
+    C.emit("mujoco", mujoco.__version__, variant, settings(m, scene, steps, extra), figures)
 
 
 def main():
     a = C.parse_args(SCENES, __doc__)
-    steps = a.steps or C.FULL_STEPS[a.scene]
-    {"pyramid": lambda: run_pyramid(steps), "pile": lambda: run_pile(steps, a.n),
-     "chain": lambda: run_chain(steps, a.decomposed), "cradle": lambda: run_cradle(steps)}[a.scene]()
+    scene = C.scene_for(a)
+    if a.scene == "pile":
+        variant = f"pile{a.n}"
+    elif a.scene == "chain" and a.decomposed:
+        variant = "chain-decomposed"
+    else:
+        variant = a.scene
+    run(scene, a.steps or scene["steps"], variant)
 
 
 if __name__ == "__main__":

@@ -1,14 +1,21 @@
-"""PyBullet peer (DIRECT mode) for the dynamics scenes of scenes.md.
+"""PyBullet peer (DIRECT mode) for the dynamics scenes of scenes.md, built from tumble's plain
+scene export (common.load_scene): the same bodies, poses, velocities, masses and principal
+inertias (each body's base frame is its centre of mass and principal axes).
 
-Bullet combines friction and restitution by product, so each body gets sqrt(0.5) friction
-(pair 0.5) and restitution 0 (cradle: 1 and friction 0). Default solver (sequential
-impulses, 50 iterations), no substeps, sleeping disabled per body, damping set to 0 (Bullet's
-default 0.04 would otherwise bleed energy that the other engines keep).
+Bullet combines friction and restitution by product, so each body gets the square root of its
+friction (a pair of equal bodies then has tumble's geometric mean) and its restitution as is
+(the standard scenes use 0, or 1 throughout the cradle). Default solver (sequential impulses,
+50 iterations), no substeps, sleeping disabled per body, damping set to 0 (Bullet's default 0.04
+would otherwise bleed energy that the other engines keep). Concave meshes are
+GEOM_FORCE_CONCAVE_TRIMESH shapes (Bullet collides them on static bodies only); a body made of
+several convex hulls is one compound shape (an OBJ file with one `o` object per hull, the
+format of Bullet's own V-HACD output).
 """
 
 import math
 import os
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
@@ -16,7 +23,6 @@ import common as C  # noqa: E402
 import pybullet as p  # noqa: E402
 
 SCENES = ["pyramid", "pile", "chain", "cradle"]
-FRICTION = math.sqrt(C.PAIR_FRICTION)
 
 
 def version():
@@ -28,23 +34,16 @@ def version():
         return "unknown"
 
 
-def setup(dt, gravity=C.G):
-    cid = p.connect(p.DIRECT)
-    p.resetSimulation()
-    p.setGravity(*gravity)
-    p.setPhysicsEngineParameter(fixedTimeStep=dt, numSubSteps=0, deterministicOverlappingPairs=1)
-    return cid
-
-
-def settings(dt, steps, extra=None):
+def settings(scene, steps, extra=None):
     s = {
-        "dt": dt,
+        "dt": scene["dt"],
         "steps": steps,
         "mode": "DIRECT",
         "solver_iterations": p.getPhysicsEngineParameters()["numSolverIterations"],
         "substeps": 0,
-        "friction_per_body": FRICTION,
+        "friction_per_body": "sqrt of tumble's",
         "friction_combine": "product",
+        "restitution_combine": "product",
         "damping": 0.0,
         "sleeping": "disabled",
     }
@@ -53,106 +52,17 @@ def settings(dt, steps, extra=None):
     return s
 
 
-def body(shape, mass, pos, orn=(0, 0, 0, 1), friction=FRICTION, restitution=0.0, inertia=None):
-    b = p.createMultiBody(
-        baseMass=mass, baseCollisionShapeIndex=shape, basePosition=pos, baseOrientation=orn
-    )
-    kw = {}
-    if inertia is not None:
-        kw["localInertiaDiagonal"] = inertia
-    p.changeDynamics(
-        b,
-        -1,
-        lateralFriction=friction,
-        restitution=restitution,
-        linearDamping=0.0,
-        angularDamping=0.0,
-        rollingFriction=0.0,
-        spinningFriction=0.0,
-        activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
-        **kw,
-    )
-    return b
-
-
-def deepest_penetration():
-    d = 0.0
-    for c in p.getContactPoints():
-        d = min(d, c[8])
-    return 0.0 - d
-
-
-def run_pyramid(steps, iterations=None):
-    dt = C.DT["pyramid"]
-    setup(dt)
-    if iterations is not None:
-        p.setPhysicsEngineParameter(numSolverIterations=iterations)
-    g = p.createCollisionShape(p.GEOM_BOX, halfExtents=C.PYRAMID_GROUND["half"])
-    body(g, 0.0, C.PYRAMID_GROUND["centre"])
-    cube = p.createCollisionShape(p.GEOM_BOX, halfExtents=[C.PYRAMID_HALF] * 3)
-    starts = C.pyramid_boxes()
-    ids = [body(cube, C.PYRAMID_MASS, c) for c in starts]
-    t = C.StepTimer()
-    deepest = 0.0
-    for s in range(steps):
-        t.time(p.stepSimulation)
-        if s % 10 == 9 or s == steps - 1:
-            deepest = max(deepest, deepest_penetration())
-    ends = [p.getBasePositionAndOrientation(b)[0] for b in ids]
-    disp = [C.dist(a, b) for a, b in zip(starts, ends)]
-    C.emit(
-        "pybullet",
-        version(),
-        "pyramid" if iterations is None else f"pyramid-it{iterations}",
-        settings(dt, steps),
-        {
-            "step_time": t.figures(),
-            "top_box_displacement_m": disp[-1],
-            "largest_displacement_m": max(disp),
-            "deepest_penetration_m": deepest,
-        },
-    )
-
-
-def run_pile(steps, n):
-    dt = C.DT["pile"]
-    setup(dt)
-    for half, centre in C.pile_container(n):
-        body(p.createCollisionShape(p.GEOM_BOX, halfExtents=half), 0.0, centre)
-    sphere = p.createCollisionShape(p.GEOM_SPHERE, radius=0.25)
-    cube = p.createCollisionShape(p.GEOM_BOX, halfExtents=[0.25] * 3)
-    ids = [body(sphere if k == "sphere" else cube, m, c) for k, c, _, m in C.pile_bodies(n)]
-    t = C.StepTimer()
-    for _ in range(steps):
-        t.time(p.stepSimulation)
-    ends = [p.getBasePositionAndOrientation(b)[0] for b in ids]
-    C.emit(
-        "pybullet",
-        version(),
-        f"pile{n}",
-        settings(dt, steps, {"n": n}),
-        {
-            "step_time": t.figures(),
-            "bodies_outside": C.pile_outside(ends),
-            "mean_final_height_m": sum(e[2] for e in ends) / len(ends),
-            "contact_points": len(p.getContactPoints()),
-            "deepest_penetration_m": deepest_penetration(),
-        },
-    )
-
-
-def decomposed_link_shape():
-    """Compound of 32 convex hulls: PyBullet loads each `o` object of an OBJ file as one
-    convex hull of a compound shape (the format its own V-HACD output uses)."""
-    import tempfile
-
+def hull_compound(hulls):
+    """One compound of convex hulls: an OBJ file with one `o` object per hull (vertices only
+    matter: Bullet takes each object's convex hull)."""
     lines, base = [], 1
-    for i, (pv, pt) in enumerate(C.chain_link_pieces()):
+    for i, (verts, pose) in enumerate(hulls):
         lines.append(f"o piece{i}")
-        lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in pv]
-        lines += [f"f {a + base} {b + base} {c + base}" for a, b, c in pt]
-        base += len(pv)
-    fd, path = tempfile.mkstemp(suffix=".obj", prefix="tumble-link-")
+        lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in (transform(pose, v) for v in verts)]
+        # A fan over the vertices so that the object is not empty; the hull ignores faces.
+        lines += [f"f {base} {base + k} {base + k + 1}" for k in range(1, len(verts) - 1)]
+        base += len(verts)
+    fd, path = tempfile.mkstemp(suffix=".obj", prefix="tumble-compound-")
     with os.fdopen(fd, "w") as f:
         f.write("\n".join(lines) + "\n")
     try:
@@ -161,89 +71,140 @@ def decomposed_link_shape():
         os.unlink(path)
 
 
-def run_chain(steps, decomposed):
-    dt = C.DT["chain"]
-    setup(dt)
-    if decomposed:
-        mesh = decomposed_link_shape()
-    else:
-        verts, tris = C.torus_mesh(C.CHAIN_R, C.CHAIN_r, 32, 12)
-        idx = [i for t in tris for i in t]
-        # Plain concave triangle mesh, no decomposition: Bullet builds a BVH triangle mesh
-        # shape, which it supports for static bodies only.
-        mesh = p.createCollisionShape(
-            p.GEOM_MESH, vertices=verts, indices=idx, flags=p.GEOM_FORCE_CONCAVE_TRIMESH
-        )
+def transform(pose, v):
+    """A point of a shape's frame in the body frame: rotate by the quaternion, then translate."""
+    pos, q = pose
+    x, y, z, w = q
+    cx, cy, cz = y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]
+    ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
+    return (v[0] + 2 * (w * cx + ccx) + pos[0], v[1] + 2 * (w * cy + ccy) + pos[1], v[2] + 2 * (w * cz + ccz) + pos[2])
+
+
+def collision_shape(scene, body):
+    """The Bullet collision shape of a body's shapes (in its body frame)."""
+    shapes = body["shapes"]
+    if len(shapes) > 1:
+        if any(s["type"] != "convex_hull" for s in shapes):
+            raise ValueError(f"{body['name']}: several shapes other than convex hulls have no translation here")
+        return hull_compound([(s["vertices"], (s["position"], s["rotation"])) for s in shapes])
+    s = shapes[0]
+    frame = {"collisionFramePosition": s["position"], "collisionFrameOrientation": s["rotation"]}
+    t = s["type"]
+    if t == "sphere":
+        return p.createCollisionShape(p.GEOM_SPHERE, radius=s["radius"], **frame)
+    if t == "box":
+        return p.createCollisionShape(p.GEOM_BOX, halfExtents=s["half_extents"], **frame)
+    if t == "capsule":
+        return p.createCollisionShape(p.GEOM_CAPSULE, radius=s["radius"], height=2 * s["half_height"], **frame)
+    if t == "convex_hull":
+        return p.createCollisionShape(p.GEOM_MESH, vertices=s["vertices"], **frame)
+    if t == "mesh":
+        m = scene["meshes"][s["mesh"]]
+        return p.createCollisionShape(p.GEOM_MESH, vertices=m["vertices"], indices=[i for t3 in m["triangles"] for i in t3],
+                                      flags=p.GEOM_FORCE_CONCAVE_TRIMESH, **frame)
+    if t == "half_space":
+        n, d = s["normal"], s["offset"]
+        return p.createCollisionShape(p.GEOM_PLANE, planeNormal=n, collisionFramePosition=[d * x for x in n])
+    raise ValueError(f"{body['name']}: shape type {t!r} has no translation here")
+
+
+def build(scene):
+    """Connects, sets up the scene's world and returns the body ids in scene order."""
+    p.connect(p.DIRECT)
+    p.resetSimulation()
+    p.setGravity(*scene["gravity"])
+    p.setPhysicsEngineParameter(fixedTimeStep=scene["dt"], numSubSteps=0, deterministicOverlappingPairs=1)
+    if any(b["restitution"] > 0 for b in scene["bodies"]):
+        # Elastic scenes (the cradle): bounce at any approach speed, as tumble does.
+        p.setPhysicsEngineParameter(restitutionVelocityThreshold=0.0)
     ids = []
-    for k, (c, q) in enumerate(C.chain_links()):
-        mass = 0.0 if k == 0 else C.CHAIN_MASS
-        ids.append(body(mesh, mass, c, q, inertia=C.CHAIN_INERTIA if k else None))
-    mon = C.ChainMonitor()
+    for b in scene["bodies"]:
+        if b["kind"] == "kinematic":
+            raise ValueError(f"{b['name']}: kinematic bodies have no translation here")
+        dynamic = b["kind"] == "dynamic"
+        bid = p.createMultiBody(baseMass=b["mass"] if dynamic else 0.0, baseCollisionShapeIndex=collision_shape(scene, b),
+                                basePosition=b["position"], baseOrientation=b["rotation"])
+        kw = {"localInertiaDiagonal": b["principal_inertia"]} if dynamic else {}
+        p.changeDynamics(bid, -1, lateralFriction=math.sqrt(b["friction"]), restitution=b["restitution"],
+                         linearDamping=0.0, angularDamping=0.0, rollingFriction=0.0, spinningFriction=0.0,
+                         activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)
+        if dynamic:
+            p.resetBaseVelocity(bid, linearVelocity=b["linear_velocity"], angularVelocity=b["angular_velocity"])
+        ids.append(bid)
+    return ids
+
+
+def centres(ids):
+    return [p.getBasePositionAndOrientation(b)[0] for b in ids]
+
+
+def deepest_penetration(ids=None):
+    d = 0.0
+    for c in p.getContactPoints():
+        if ids is None or (c[1] in ids and c[2] in ids):
+            d = min(d, c[8])
+    return 0.0 - d
+
+
+def run(scene, steps, variant, iterations=None):
+    ids = build(scene)
+    if iterations is not None:
+        p.setPhysicsEngineParameter(numSolverIterations=iterations)
+    dyn = [ids[i] for i in C.dynamic_indices(scene)]
+    starts = centres(dyn)
+    chain = variant.startswith("chain")
+    mon = C.ChainMonitor(scene) if chain else None
     t = C.StepTimer()
-    deepest = 0.0
-    contacts_seen = 0
+    deepest, contacts_seen = 0.0, 0
     for s in range(steps):
         t.time(p.stepSimulation)
         if s % 10 == 9 or s == steps - 1:
-            mon.sample([p.getBasePositionAndOrientation(b)[0] for b in ids])
-            cs = [c for c in p.getContactPoints() if c[1] in ids and c[2] in ids]
-            contacts_seen += len(cs)
-            for c in cs:
-                deepest = max(deepest, -c[8])
-    ends = [p.getBasePositionAndOrientation(b)[0] for b in ids]
-    C.emit(
-        "pybullet",
-        version(),
-        "chain-decomposed" if decomposed else "chain",
-        settings(dt, steps, {"collision": "compound of 32 convex hulls per link (OBJ objects)" if decomposed
-                             else "plain concave mesh (GEOM_FORCE_CONCAVE_TRIMESH), 768 triangles"}),
-        {
-            "step_time": t.figures(),
-            "interlock_held": mon.max_gap <= C.CHAIN_MAX_GAP,
-            "max_adjacent_centre_distance_m": mon.max_gap,
-            "broken_links": C.ChainMonitor.broken(ends),
-            "deepest_penetration_m": deepest,
-            "link_contacts_sampled": contacts_seen,
-            "lowest_link_z_m": min(e[2] for e in ends[1:]),
-            "capability": "needs a convex decomposition (32 pieces per link)" if decomposed else
+            deepest = max(deepest, deepest_penetration(ids if chain else None))
+            if chain:
+                mon.sample(centres(ids))
+                contacts_seen += sum(1 for c in p.getContactPoints() if c[1] in ids and c[2] in ids)
+    ends = centres(dyn)
+    figures = {"step_time": t.figures(), "deepest_penetration_m": deepest}
+    extra = {}
+    if variant.startswith("pyramid"):
+        disp = [C.dist(a, b) for a, b in zip(starts, ends)]
+        figures.update(top_box_displacement_m=disp[-1], largest_displacement_m=max(disp))
+    elif variant.startswith("pile"):
+        figures.update(bodies_outside=C.pile_outside(scene, ends), mean_final_height_m=sum(e[2] for e in ends) / len(ends),
+                       contact_points=len(p.getContactPoints()))
+        extra["n"] = len(dyn)
+    elif chain:
+        decomposed = variant == "chain-decomposed"
+        all_ends = centres(ids)
+        figures.update(
+            interlock_held=mon.max_gap <= mon.limit, max_adjacent_centre_distance_m=mon.max_gap,
+            broken_links=mon.broken(all_ends), link_contacts_sampled=contacts_seen,
+            lowest_link_z_m=min(e[2] for e in all_ends[1:]),
+            capability="needs a convex decomposition (32 pieces per link)" if decomposed else
             "Bullet supports concave triangle meshes only on static bodies; "
-            "dynamic links get no concave-concave contacts (sampled contact count above)",
-        },
-    )
-
-
-def run_cradle(steps):
-    dt = C.DT["cradle"]
-    setup(dt, gravity=(0.0, 0.0, 0.0))
-    p.setPhysicsEngineParameter(restitutionVelocityThreshold=0.0)
-    s = p.createCollisionShape(p.GEOM_SPHERE, radius=C.CRADLE_R)
-    ids = []
-    for c, v in C.cradle_spheres():
-        b = body(s, 1.0, c, friction=0.0, restitution=1.0)
-        p.resetBaseVelocity(b, linearVelocity=v)
-        ids.append(b)
-    t = C.StepTimer()
-    for _ in range(steps):
-        t.time(p.stepSimulation)
-    vels = [p.getBaseVelocity(b)[0] for b in ids]
-    f = C.cradle_figures(vels, [1.0] * 6)
-    f["step_time"] = t.figures()
-    C.emit(
-        "pybullet",
-        version(),
-        "cradle",
-        settings(dt, steps, {"restitution_per_body": 1.0, "friction_per_body": 0.0, "restitution_combine": "product"}),
-        f,
-    )
+            "dynamic links get no concave-concave contacts (sampled contact count above)")
+        extra["collision"] = ("compound of 32 convex hulls per link (OBJ objects)" if decomposed
+                              else "plain concave mesh (GEOM_FORCE_CONCAVE_TRIMESH), 768 triangles")
+    elif variant == "cradle":
+        figures.update(C.cradle_figures(scene, [p.getBaseVelocity(b)[0] for b in ids]))
+        extra.update(restitution_per_body=1.0, gravity=scene["gravity"])
+    C.emit("pybullet", version(), variant, settings(scene, steps, extra), figures)
 
 
 def main():
     a = C.parse_args(SCENES, __doc__, extra=[("--iterations", int, "pyramid: solver iterations (default: Bullet's 50)")])
     if a.iterations is not None and a.iterations <= 0:
         sys.exit("--iterations must be positive")
-    steps = a.steps or C.FULL_STEPS[a.scene]
-    {"pyramid": lambda: run_pyramid(steps, a.iterations), "pile": lambda: run_pile(steps, a.n),
-     "chain": lambda: run_chain(steps, a.decomposed), "cradle": lambda: run_cradle(steps)}[a.scene]()
+    scene = C.scene_for(a)
+    if a.scene == "pile":
+        variant = f"pile{a.n}"
+    elif a.scene == "chain" and a.decomposed:
+        variant = "chain-decomposed"
+    elif a.scene == "pyramid" and a.iterations is not None:
+        variant = f"pyramid-it{a.iterations}"
+    else:
+        variant = a.scene
+    run(scene, a.steps or scene["steps"], variant, a.iterations)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,6 @@ single binding call, so they include the Python-binding overhead (~1-2 us).
 
 import argparse
 import json
-import math
 import os
 import sys
 import time
@@ -27,20 +26,23 @@ TRUTH = os.environ.get(
 BIG = 1_000_000  # "all pairs": far above the 416 pairs of the worst pose
 
 
-def poses(count=200):
-    q = C.quat_mul(C.rz(0.1), C.rx(math.pi / 2))
+def rotation_matrix(q):
+    """3x3 matrix of the unit quaternion (x, y, z, w)."""
     x, y, z, w = q
-    rot = np.array([
+    return np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
     ])
-    return [(rot, np.array([-3.0 + 6.0 * k / 199.0, 0.05, 0.02])) for k in range(count)]
 
 
-def mesh_arrays():
-    v, t = C.torus_mesh(1.0, 0.3, 50, 50)
-    return np.array(v, dtype=np.float64), np.array(t, dtype=np.int64)
+def load_tori(count):
+    """The tori scene from its one definition in tumble (`tumble bench --scene tori --export-scene -`):
+    the torus as (vertices, triangles) arrays and the poses of B as [(index, rotation, translation)]."""
+    t = C.load_scene("tori", poses=count)
+    v = np.array(t["mesh"]["vertices"], dtype=np.float64)
+    tris = np.array(t["mesh"]["triangles"], dtype=np.int64)
+    return (v, tris), [(p["index"], rotation_matrix(p["rotation"]), np.array(p["position"])) for p in t["poses"]]
 
 
 def split_stats(times, colliding):
@@ -64,11 +66,11 @@ def pair_check(counts, truth):
     }
 
 
-def run_fcl(ps, truth):
+def run_fcl(mesh, ps, truth):
     import fcl
     from importlib.metadata import version
 
-    v, t = mesh_arrays()
+    v, t = mesh
 
     def model():
         m = fcl.BVHModel()
@@ -128,11 +130,11 @@ def run_fcl(ps, truth):
     }]
 
 
-def run_coal(ps, truth, bv):
+def run_coal(mesh, ps, truth, bv):
     import coal
     from importlib.metadata import version
 
-    v, t = mesh_arrays()
+    v, t = mesh
 
     def model():
         m = coal.BVHModelOBBRSS() if bv == "OBBRSS" else coal.BVHModelOBB()
@@ -205,14 +207,14 @@ def main():
         ap.error("--poses must be in 1..200")
     with open(TRUTH) as f:
         truth_all = json.load(f)["pairs_per_pose"]
-    # --poses N takes N poses spread evenly over k = 0..199 (all 200 when N = 200).
-    ks = sorted({math.floor(i * 199 / (a.poses - 1) + 0.5) for i in range(a.poses)}) if a.poses > 1 else [0]
-    truth = [truth_all[k] for k in ks]
-    ps = [poses()[k] for k in ks]
+    # --poses N takes N poses spread evenly over k = 0..199 (all 200 when N = 200): tumble's choice.
+    mesh, chosen = load_tori(a.poses)
+    truth = [truth_all[k] for k, _, _ in chosen]
+    ps = [(rot, x) for _, rot, x in chosen]
     if a.engine == "fcl":
-        out = run_fcl(ps, truth)
+        out = run_fcl(mesh, ps, truth)
     else:
-        out = run_coal(ps, truth, "OBBRSS" if a.engine == "coal-obbrss" else "OBB")
+        out = run_coal(mesh, ps, truth, "OBBRSS" if a.engine == "coal-obbrss" else "OBB")
     for o in out:
         C.emit(o["engine"], o["version"], "tori", {"bv": o["bv"], "poses": a.poses,
                "mesh": "torus_mesh(1.0, 0.3, 50, 50), 5000 triangles", "notes": o["notes"]},

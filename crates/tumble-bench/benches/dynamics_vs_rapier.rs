@@ -1,7 +1,7 @@
 //! tumble against Rapier on the pyramid and the piles of 100 and 1,000 bodies
 //! (shared/scenes.md) in one criterion run, so that the ratio of the two
-//! comes from the same machine state: same dt (1/60 s), gravity, friction
-//! 0.5, restitution 0, sleeping off, each engine at its default iterations
+//! comes from the same machine state: both built from `tumble::scenes`
+//! (Rapier through `rapier_scenes::build`: same bodies, masses and materials), sleeping off, each engine at its default iterations
 //! and sub-steps, one thread.
 //!
 //! Each engine first steps its scene for one simulated second (the pile
@@ -39,34 +39,30 @@ fn settle_rapier(w: &mut rapier3d::prelude::PhysicsWorld) {
 }
 
 fn pyramid(c: &mut Criterion) {
-    let (mut tw, tids) = tumble_world(tscenes::pyramid());
-    let (mut rw, rids, starts) = rs::pyramid();
-    settle_rapier(&mut rw);
-    let top = *starts.last().expect("boxes");
-    let t_top = tw.center_of_mass(*tids.last().expect("boxes")).expect("live");
-    let r_top = rw
-        .bodies
-        .get(*rids.last().expect("boxes"))
-        .expect("live")
-        .translation();
+    let scene = tscenes::pyramid();
+    let mut rw = rs::build(&scene, false).expect("the pyramid builds in Rapier");
+    let (mut tw, tids) = tumble_world(scene);
+    let top_index = tids.len() - 1;
+    let top = rw.centre(top_index);
+    settle_rapier(&mut rw.world);
+    let t_top = tw.center_of_mass(tids[top_index]).expect("live");
     println!(
         "pyramid top box drift after {SETTLE_STEPS} steps: tumble {:.2e} m, rapier3d {:.2e} m",
         (t_top - tumble::collide::DVec3::from_array(top)).length(),
-        ((r_top.x as f64 - top[0]).powi(2)
-            + (r_top.y as f64 - top[1]).powi(2)
-            + (r_top.z as f64 - top[2]).powi(2))
-        .sqrt()
+        (tumble::collide::DVec3::from_array(rw.centre(top_index)) - tumble::collide::DVec3::from_array(top))
+            .length()
     );
     let mut g = c.benchmark_group("pyramid");
     g.bench_function("tumble", |b| b.iter(|| tw.step()));
-    g.bench_function("rapier3d", |b| b.iter(|| rw.step()));
+    g.bench_function("rapier3d", |b| b.iter(|| rw.world.step()));
     g.finish();
 }
 
 fn pile(c: &mut Criterion, layers: usize) {
     let n = layers * 100;
-    let (mut tw, _) = tumble_world(tscenes::pile(layers));
-    let (mut rw, _) = rs::pile(n).expect("multiple of 100");
+    let scene = tscenes::pile(layers);
+    let mut rw = rs::build(&scene, false).expect("the pile builds in Rapier").world;
+    let (mut tw, _) = tumble_world(scene);
     settle_rapier(&mut rw);
     let mut g = c.benchmark_group(format!("pile{n}"));
     if n >= 1000 {

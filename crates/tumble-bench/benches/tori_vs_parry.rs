@@ -21,15 +21,15 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use parry3d::bounding_volume::BoundingVolume;
-use parry3d::math::{Pose as PPose, Rot3, Vector};
+use parry3d::math::Pose as PPose;
 use parry3d::query::{self as pq, ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d::shape::TriMesh as PMesh;
 use std::hint::black_box;
 use std::time::Duration;
-use tumble_bench::scenes;
-use tumble_collide::mesh::torus_mesh;
+use tumble::scenes;
+use tumble_bench::parry_scenes;
 use tumble_collide::query::{self as tq, CollideOptions, DistanceOptions, MeshShape, ReportMode};
-use tumble_collide::{DQuat, DVec3, Pose};
+use tumble_collide::Pose;
 
 struct Scene {
     torus: MeshShape,
@@ -54,20 +54,12 @@ fn contact_opts() -> CollideOptions {
 }
 
 fn scene() -> Scene {
-    let torus = MeshShape::new(torus_mesh(1.0, 0.3, 50, 50).expect("torus")).expect("tree");
-    let (v, t) = scenes::torus_mesh(1.0, 0.3, 50, 50);
-    let v: Vec<Vector> = v
-        .iter()
-        .map(|p| Vector::new(p[0] as f32, p[1] as f32, p[2] as f32))
-        .collect();
-    let parry = PMesh::new(v, t).expect("parry mesh");
+    let torus = MeshShape::new(scenes::tori_torus().expect("torus")).expect("tree");
+    let parry: PMesh = parry_scenes::torus().expect("parry mesh");
     let poses: Vec<(Pose, PPose)> = (0..scenes::TORI_POSES)
         .map(|k| {
-            let (x, q) = scenes::tori_pose(k);
-            let ours = Pose::new(DVec3::from_array(x), DQuat::from_array(q)).expect("unit quaternion");
-            let rot = Rot3::from_xyzw(q[0] as f32, q[1] as f32, q[2] as f32, q[3] as f32);
-            let theirs = PPose::from_parts(Vector::new(x[0] as f32, x[1] as f32, x[2] as f32), rot);
-            (ours, theirs)
+            let ours = scenes::tori_pose(k);
+            (ours, parry_scenes::pose(&ours))
         })
         .collect();
     let separated: Vec<usize> = (0..scenes::TORI_POSES)

@@ -1,16 +1,19 @@
-//! The pyramid, pile and cradle of `shared/scenes.md` built in Rapier (rapier3d, f32,
-//! one thread), shared by the `peer-rapier` binary and the in-process
-//! criterion bench `dynamics_vs_rapier`.
+//! The standard scenes of `shared/scenes.md` built in Rapier (rapier3d, f32)
+//! from their one definition in `tumble::scenes`, shared by the
+//! `peer-rapier` binary, `ccd-matrix` and the in-process criterion bench
+//! `dynamics_vs_rapier`.
 //!
-//! Settings mirror the other peers: dt 1/60 s, gravity -9.81 z, friction 0.5 on
-//! every collider (Rapier's default combine rule, Average, yields 0.5),
-//! restitution 0, sleeping off (`can_sleep(false)`), Rapier's default solver
-//! iterations and substeps.
+//! [`build`] reads a scene's plain form (`Scene::plain`): every body in its
+//! body frame with the mass and principal inertia tumble computed, its
+//! shapes posed in that frame. Materials combine as tumble combines them:
+//! friction by the geometric mean, restitution by the maximum (Rapier's
+//! `GeometricMean` and `Max` rules). Sleeping off (`can_sleep(false)`),
+//! Rapier's default solver iterations and sub-steps.
 
-use crate::scenes::{self, PileShape};
 use rapier3d::prelude::*;
+use tumble::scenes::Scene;
 
-/// Friction coefficient of every collider.
+/// Friction coefficient of the standard scenes' colliders (scenes.md).
 pub const FRICTION: f32 = 0.5;
 
 /// A point or vector of the scene data as Rapier's f32 vector.
@@ -18,107 +21,21 @@ pub fn v(p: [f64; 3]) -> Vector {
     Vector::new(p[0] as f32, p[1] as f32, p[2] as f32)
 }
 
-/// An empty world with the scenes' gravity and time step.
+/// An empty world with the standard scenes' gravity and time step (scenes.md).
 pub fn world() -> PhysicsWorld {
     let mut w = PhysicsWorld::new();
     w.gravity = Vector::new(0.0, 0.0, -9.81);
-    w.integration_parameters.dt = scenes::DT as f32;
+    w.integration_parameters.dt = 1.0 / 60.0;
     w
 }
 
-/// Adds a fixed box with half extents `half` centred at `centre`.
-pub fn add_static_box(w: &mut PhysicsWorld, half: [f64; 3], centre: [f64; 3]) {
-    w.insert(
-        RigidBodyBuilder::fixed().translation(v(centre)),
-        ColliderBuilder::cuboid(half[0] as f32, half[1] as f32, half[2] as f32)
-            .friction(FRICTION)
-            .restitution(0.0),
-    );
-}
-
-/// Adds a dynamic body of density 1 with `collider`, at rest at `centre`.
-pub fn add_dynamic(w: &mut PhysicsWorld, collider: ColliderBuilder, centre: [f64; 3]) -> RigidBodyHandle {
-    w.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(v(centre))
-            .can_sleep(false),
-        collider.friction(FRICTION).restitution(0.0).density(1.0),
+/// A tumble pose as Rapier's (f32).
+fn pose(p: &tumble::collide::Pose) -> Pose {
+    let q = p.rotation;
+    Pose::from_parts(
+        v(p.position.to_array()),
+        Rotation::from_xyzw(q.x as f32, q.y as f32, q.z as f32, q.w as f32),
     )
-    .0
-}
-
-/// The 20-row pyramid: the world, its boxes' handles and start centres (top
-/// box last).
-pub fn pyramid() -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
-    pyramid_with_base(20, scenes::PYRAMID_GROUND)
-}
-
-/// The 100-row large pyramid (5,050 boxes), as [`pyramid`].
-pub fn large_pyramid() -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
-    pyramid_with_base(100, scenes::LARGE_PYRAMID_GROUND)
-}
-
-fn pyramid_with_base(
-    base: usize,
-    ground: ([f64; 3], [f64; 3]),
-) -> (PhysicsWorld, Vec<RigidBodyHandle>, Vec<[f64; 3]>) {
-    let mut w = world();
-    add_static_box(&mut w, ground.0, ground.1);
-    let starts = scenes::pyramid_boxes_with_base(base);
-    let h = scenes::PYRAMID_HALF as f32;
-    let ids = starts
-        .iter()
-        .map(|&c| add_dynamic(&mut w, ColliderBuilder::cuboid(h, h, h), c))
-        .collect();
-    (w, ids, starts)
-}
-
-/// The pile of `n` bodies (a positive multiple of 100) in its container, or
-/// `None` for another `n`.
-pub fn pile(n: usize) -> Option<(PhysicsWorld, Vec<RigidBodyHandle>)> {
-    let bodies = scenes::pile_bodies(n)?;
-    let mut w = world();
-    for (half, centre) in scenes::pile_container(n) {
-        add_static_box(&mut w, half, centre);
-    }
-    let s = scenes::PILE_SIZE as f32;
-    let ids = bodies
-        .iter()
-        .map(|&(shape, c)| {
-            let col = match shape {
-                PileShape::Sphere => ColliderBuilder::ball(s),
-                PileShape::Cube => ColliderBuilder::cuboid(s, s, s),
-            };
-            add_dynamic(&mut w, col, c)
-        })
-        .collect();
-    Some((w, ids))
-}
-
-/// Newton's cradle: zero gravity, dt 1/240 s, six spheres of 1 kg with
-/// restitution 1 and friction 0 (Rapier's default combine rules, Average,
-/// keep both), the striker last.
-pub fn cradle() -> (PhysicsWorld, Vec<RigidBodyHandle>) {
-    let mut w = world();
-    w.gravity = Vector::ZERO;
-    w.integration_parameters.dt = scenes::CRADLE_DT as f32;
-    let ids = scenes::cradle_spheres()
-        .into_iter()
-        .map(|(c, vel)| {
-            w.insert(
-                RigidBodyBuilder::dynamic()
-                    .translation(v(c))
-                    .linvel(v(vel))
-                    .can_sleep(false),
-                ColliderBuilder::ball(scenes::CRADLE_R as f32)
-                    .mass(1.0)
-                    .friction(0.0)
-                    .restitution(1.0),
-            )
-            .0
-        })
-        .collect();
-    (w, ids)
 }
 
 /// The Rapier collider of a tumble shape (its own frame): balls, boxes,
@@ -148,15 +65,8 @@ pub fn collider(shape: &tumble::collide::shape::Shape) -> Result<ColliderBuilder
     })
 }
 
-/// A jointed scene of `tumble::scenes` (heavy chain, ragdoll pile) built in
-/// Rapier from the same descriptions: spheres, boxes and capsules with the
-/// same masses and poses; ball joints as spherical joints, hinges as
-/// revolute joints with the same limits (body 1 = the joint's body B, so
-/// the angle is A's relative to B as in tumble); joints to the world hang
-/// from one fixed body at the origin; contacts between jointed bodies off
-/// (tumble's default). `multibody`: the joints as Rapier's
-/// reduced-coordinate multibody joints instead of impulse joints.
-pub struct JointedWorld {
+/// A scene of `tumble::scenes` built in Rapier (see [`build`]).
+pub struct SceneWorld {
     /// The world.
     pub world: PhysicsWorld,
     /// Handle of each body of the scene, in order.
@@ -165,41 +75,80 @@ pub struct JointedWorld {
     pub anchors: Vec<(RigidBodyHandle, Vector, RigidBodyHandle, Vector)>,
 }
 
-/// Builds `scene` in Rapier (see [`JointedWorld`]).
-pub fn jointed(scene: &tumble::scenes::Scene, multibody: bool) -> Result<JointedWorld, String> {
-    use tumble::world::MassDesc;
+/// Builds `scene` in Rapier from its plain form: spheres, boxes, capsules,
+/// hulls, meshes and half-spaces with tumble's masses, inertias, poses,
+/// velocities and materials (see the module documentation). Ball joints
+/// become spherical joints, hinges revolute joints with the same limits
+/// (body 1 = the joint's body B, so the angle is A's relative to B as in
+/// tumble); joints to the world hang from one fixed body at the origin;
+/// contacts between jointed bodies as the joint says (off by default, as
+/// in tumble). `multibody`: the joints as Rapier's reduced-coordinate
+/// multibody joints instead of impulse joints.
+pub fn build(scene: &Scene, multibody: bool) -> Result<SceneWorld, String> {
+    let plain = scene.plain().map_err(|e| format!("{}: {e}", scene.name))?;
     let mut w = world();
+    w.gravity = v(plain.gravity.to_array());
+    w.integration_parameters.dt = plain.dt as f32;
+    let mut bodies = Vec::with_capacity(plain.bodies.len());
+    let mut frames = Vec::with_capacity(plain.bodies.len());
+    for b in &plain.bodies {
+        let linvel = v(b.linear_velocity.to_array());
+        let angvel = v(b.angular_velocity.to_array());
+        let builder = match b.kind {
+            tumble::BodyKind::Dynamic => RigidBodyBuilder::dynamic()
+                .can_sleep(false)
+                .additional_mass_properties(MassProperties::new(
+                    Vector::ZERO,
+                    b.mass as f32,
+                    v(b.principal_inertia.to_array()),
+                )),
+            tumble::BodyKind::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
+            _ => RigidBodyBuilder::fixed(),
+        };
+        let handle = w
+            .bodies
+            .insert(builder.pose(pose(&b.pose)).linvel(linvel).angvel(angvel));
+        for s in &b.shapes {
+            // The body's mass properties are tumble's (above): colliders add none.
+            let c = collider(&s.shape)
+                .map_err(|e| format!("{}: {e}", b.name))?
+                .position(pose(&s.local))
+                .density(0.0)
+                .friction(b.friction as f32)
+                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                .restitution(b.restitution as f32)
+                .restitution_combine_rule(CoefficientCombineRule::Max);
+            w.colliders.insert_with_parent(c, handle, &mut w.bodies);
+        }
+        bodies.push(handle);
+        frames.push(b.pose);
+    }
+    let anchors = joints(&mut w, scene, &bodies, &frames, multibody)?;
+    Ok(SceneWorld {
+        world: w,
+        bodies,
+        anchors,
+    })
+}
+
+/// The scene's joints in `w` (see [`build`]); `frames`: each body's frame.
+fn joints(
+    w: &mut PhysicsWorld,
+    scene: &Scene,
+    bodies: &[RigidBodyHandle],
+    frames: &[tumble::collide::Pose],
+    multibody: bool,
+) -> Result<Vec<(RigidBodyHandle, Vector, RigidBodyHandle, Vector)>, String> {
+    let mut anchors = Vec::new();
+    if scene.joints.is_empty() {
+        return Ok(anchors);
+    }
     let anchor_body = w
         .insert(
             RigidBodyBuilder::fixed(),
             ColliderBuilder::ball(0.01).sensor(true),
         )
         .0;
-    let mut bodies = Vec::new();
-    let mut frames = Vec::new();
-    for b in &scene.bodies {
-        let [shape] = b.shapes.as_slice() else {
-            return Err(format!("{}: one shape per body expected", b.name));
-        };
-        let collider = collider(&shape.shape)
-            .map_err(|e| format!("{}: {e}", b.name))?
-            .friction(FRICTION)
-            .restitution(0.0);
-        let p = b.pose.position.to_array();
-        let r = b.pose.rotation.to_scaled_axis().to_array();
-        let builder = match b.kind {
-            tumble::BodyKind::Dynamic => RigidBodyBuilder::dynamic().can_sleep(false),
-            _ => RigidBodyBuilder::fixed(),
-        };
-        let builder = builder.translation(v(p)).rotation(v(r));
-        let collider = match b.mass {
-            MassDesc::Mass(m) => collider.mass(m as f32),
-            _ => collider.density(1000.0),
-        };
-        bodies.push(w.insert(builder, collider).0);
-        frames.push(b.pose);
-    }
-    let mut anchors = Vec::new();
     for j in &scene.joints {
         // Rapier's body 1 is tumble's body B (the world: the fixed body at
         // the origin), body 2 is A.
@@ -242,14 +191,10 @@ pub fn jointed(scene: &tumble::scenes::Scene, multibody: bool) -> Result<Jointed
         }
         anchors.push((h1, v(a1.to_array()), h2, v(a2.to_array())));
     }
-    Ok(JointedWorld {
-        world: w,
-        bodies,
-        anchors,
-    })
+    Ok(anchors)
 }
 
-impl JointedWorld {
+impl SceneWorld {
     /// The largest distance between the two anchors of a joint (m).
     pub fn largest_joint_error(&self) -> f64 {
         let at = |h: RigidBodyHandle, local: Vector| {
@@ -260,5 +205,16 @@ impl JointedWorld {
             .iter()
             .map(|&(h1, a1, h2, a2)| (at(h1, a1) - at(h2, a2)).length() as f64)
             .fold(0.0, f64::max)
+    }
+
+    /// Centre of mass of the scene's body `i` (m; NaN if it is gone).
+    pub fn centre(&self, i: usize) -> [f64; 3] {
+        match self.world.bodies.get(self.bodies[i]) {
+            Some(b) => {
+                let c = b.center_of_mass();
+                [c.x as f64, c.y as f64, c.z as f64]
+            }
+            None => [f64::NAN; 3],
+        }
     }
 }

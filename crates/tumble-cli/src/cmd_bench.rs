@@ -12,8 +12,8 @@ use tumble::world::{BodyId, World};
 /// Arguments of `tumble bench`.
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Scene: pyramid, large_pyramid, pile (with --n), chain, cradle,
-    /// heavy_chain, ragdoll_pile or tori.
+    /// Scene: pyramid, large_pyramid, pile (with --n), chain,
+    /// chain_decomposed, cradle, heavy_chain, ragdoll_pile or tori.
     #[arg(long)]
     scene: String,
     /// Steps to run (default: the scene's own, 600 or 240).
@@ -29,6 +29,13 @@ pub struct BenchArgs {
     /// Tori poses: P poses spread evenly over the 200 (default all).
     #[arg(long)]
     poses: Option<usize>,
+    /// Instead of running the scene, write it as plain data (JSON: bodies in
+    /// their body frames with tumble's masses and inertias, shapes, meshes,
+    /// joints; for tori the torus and the --poses poses) to FILE, or to
+    /// standard output for `-`: what the benchmark's Python peers build
+    /// their worlds from.
+    #[arg(long, value_name = "FILE")]
+    export_scene: Option<std::path::PathBuf>,
 }
 
 /// Nearest-rank percentile of sorted samples: `int(q (n - 1) + 0.5)`.
@@ -76,12 +83,33 @@ fn centre(world: &World, id: BodyId) -> tumble_collide::DVec3 {
     world.center_of_mass(id).unwrap_or(tumble_collide::DVec3::NAN)
 }
 
+/// Writes `scene` as plain JSON to `path` (`-`: standard output).
+fn export_scene(scene: &Scene, path: &std::path::Path) -> Result<(), CliError> {
+    let json = scene
+        .to_plain_json()
+        .map_err(|e| CliError::Input(format!("{}: {e}", scene.name)))?;
+    write_json(&json, path)
+}
+
+/// Writes `json` on one line to `path` (`-`: standard output).
+fn write_json(json: &Value, path: &std::path::Path) -> Result<(), CliError> {
+    let text = json.to_string();
+    if path.as_os_str() == "-" {
+        println!("{text}");
+        Ok(())
+    } else {
+        std::fs::write(path, text + "\n")
+            .map_err(|e| CliError::Input(format!("{}: cannot write: {e}", path.display())))
+    }
+}
+
 /// Runs the verb.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let (name, mut scene): (String, Scene) = match args.scene.as_str() {
         "pyramid" => ("pyramid".into(), scenes::pyramid()),
         "large_pyramid" => ("large_pyramid".into(), scenes::large_pyramid()),
         "chain" => ("chain".into(), scenes::chain()),
+        "chain_decomposed" => ("chain_decomposed".into(), scenes::chain_decomposed()),
         "cradle" => ("cradle".into(), scenes::cradle()),
         "heavy_chain" => ("heavy_chain".into(), scenes::heavy_chain()),
         "ragdoll_pile" => ("ragdoll_pile".into(), scenes::ragdoll_pile()),
@@ -99,6 +127,10 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             if poses == 0 {
                 return Err(CliError::Input("--poses must be at least 1".into()));
             }
+            if let Some(path) = &args.export_scene {
+                let json = scenes::tori_plain_json(poses).map_err(|e| CliError::Internal(e.to_string()))?;
+                return write_json(&json, path);
+            }
             let (settings, figures) = crate::bench_tori::run(poses)?;
             let out = json!({
                 "engine": "tumble",
@@ -114,10 +146,13 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
         other => {
             return Err(CliError::Input(format!(
-                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, cradle, heavy_chain, ragdoll_pile, tori)"
+                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, chain_decomposed, cradle, heavy_chain, ragdoll_pile, tori)"
             )))
         }
     };
+    if let Some(path) = &args.export_scene {
+        return export_scene(&scene, path);
+    }
     let steps = args.steps.unwrap_or(scene.steps);
     scene.settings.threads = args.threads;
     let (mut world, ids) = scene.build().map_err(|e| CliError::Input(e.to_string()))?;
@@ -140,7 +175,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             );
             t
         }
-        "chain" => {
+        "chain" | "chain_decomposed" => {
+            let reach = scenes::CHAIN_MAX_CENTRE_DISTANCE;
             let mut widest: f64 = 0.0;
             let t = run_timed(&mut world, steps, |i, w, p| {
                 deepest = deepest.max(p);
@@ -152,11 +188,11 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             });
             let broken = ids
                 .windows(2)
-                .filter(|p| (centre(&world, p[0]) - centre(&world, p[1])).length() > 1.8)
+                .filter(|p| (centre(&world, p[0]) - centre(&world, p[1])).length() > reach)
                 .count();
             figures.insert(
                 "interlock_held".into(),
-                json!(if widest <= 1.8 { "yes" } else { "no" }),
+                json!(if widest <= reach { "yes" } else { "no" }),
             );
             figures.insert("max_adjacent_centre_distance_m".into(), json!(widest));
             figures.insert("broken_links".into(), json!(broken));
@@ -220,11 +256,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         _ => {
             let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
             let dynamic: Vec<_> = ids.iter().skip(5).map(|&id| centre(&world, id)).collect();
-            let outside = dynamic
-                .iter()
-                .filter(|c| c.x.abs() > 3.01 || c.y.abs() > 3.01 || c.z < 0.0 || !c.is_finite())
-                .count();
-            figures.insert("bodies_outside".into(), json!(outside));
+            figures.insert("bodies_outside".into(), json!(scenes::pile_outside(&dynamic)));
             figures.insert(
                 "mean_final_height_m".into(),
                 json!(dynamic.iter().map(|c| c.z).sum::<f64>() / dynamic.len() as f64),

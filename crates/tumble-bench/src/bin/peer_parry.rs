@@ -14,11 +14,12 @@
 use std::time::Instant;
 
 use parry3d::bounding_volume::BoundingVolume;
-use parry3d::math::{Pose, Rot3, Vector};
+use parry3d::math::Pose;
 use parry3d::query::{self, ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d::shape::TriMesh;
 use serde_json::json;
-use tumble_bench::scenes;
+use tumble::scenes::{tori_pose_indices, TORI_POSES};
+use tumble_bench::parry_scenes::{self as ps, torus};
 use tumble_bench::{Args, Record, Stats};
 
 /// shared/ sits beside the repository (as on CI).
@@ -26,15 +27,6 @@ const TRUTH: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../../shared/data/tori_pairs.json"
 );
-
-fn torus() -> Result<TriMesh, String> {
-    let (v, t) = scenes::torus_mesh(1.0, 0.3, 50, 50);
-    let v: Vec<Vector> = v
-        .iter()
-        .map(|p| Vector::new(p[0] as f32, p[1] as f32, p[2] as f32))
-        .collect();
-    TriMesh::new(v, t).map_err(|e| format!("torus mesh rejected by parry: {e:?}"))
-}
 
 fn truth() -> Option<Vec<u64>> {
     let path = std::env::var("TORI_TRUTH").unwrap_or_else(|_| TRUTH.to_string());
@@ -106,10 +98,10 @@ fn run(poses: usize) -> Result<(), String> {
     let b = torus()?;
     let truth_all =
         truth().ok_or_else(|| format!("cannot read the pair counts of {TRUTH} (set TORI_TRUTH)"))?;
-    if truth_all.len() != scenes::TORI_POSES {
+    if truth_all.len() != TORI_POSES {
         return Err(format!("truth file has {} poses, expected 200", truth_all.len()));
     }
-    let ks = scenes::tori_pose_indices(poses);
+    let ks = tori_pose_indices(poses);
     let truth: Vec<u64> = ks.iter().map(|&k| truth_all[k]).collect();
     let colliding: Vec<bool> = truth.iter().map(|&t| t > 0).collect();
     let pa = Pose::identity();
@@ -118,9 +110,7 @@ fn run(poses: usize) -> Result<(), String> {
     let mut contact_points = 0usize;
     let mut unsupported = vec![];
     for (&k, &tp) in ks.iter().zip(&truth) {
-        let (t, q) = scenes::tori_pose(k);
-        let rot = Rot3::from_xyzw(q[0] as f32, q[1] as f32, q[2] as f32, q[3] as f32);
-        let pb = Pose::from_parts(Vector::new(t[0] as f32, t[1] as f32, t[2] as f32), rot);
+        let pb = ps::tori_pose(k);
 
         let t0 = Instant::now();
         let r = query::intersection_test(&pa, &a, &pb, &b);
@@ -209,7 +199,7 @@ fn main() {
         eprintln!("peer-parry: only --scene tori is supported, got {s}");
         std::process::exit(2);
     }
-    if let Err(e) = run(args.poses.unwrap_or(scenes::TORI_POSES)) {
+    if let Err(e) = run(args.poses.unwrap_or(TORI_POSES)) {
         eprintln!("peer-parry: {e}");
         std::process::exit(2);
     }

@@ -1,18 +1,60 @@
-//! Scenes made of concave triangle meshes: the torus chain and the tori
-//! pass-through of shared/scenes.md.
+//! Scenes made of concave triangle meshes: the torus chain (plain and cut
+//! into convex pieces for the peers) and the tori pass-through of
+//! shared/scenes.md.
 
 use super::Scene;
-use crate::world::{BodyDesc, MassDesc, WorldSettings};
-use tumble_collide::mesh::torus_mesh;
-use tumble_collide::shape::{HalfSpace, MeshShape, Shape};
+use crate::body::BodyKind;
+use crate::world::{BodyDesc, MassDesc, ShapeDesc, WorldSettings};
+use tumble_collide::mesh::{torus_mesh, TriMesh};
+use tumble_collide::shape::{ConvexHull, HalfSpace, MeshShape, Shape};
 use tumble_collide::{DQuat, DVec3, Pose};
 
 /// chain: 21 interlocked torus links (`torus_mesh(1, 0.2, 32, 12)`), link 0
 /// static, hanging at 60 degrees from the vertical; dt 1/60, 600 steps. Links
 /// carry the mass of the solid torus, m = 2 pi^2 R r^2 (density 1).
 pub fn chain() -> Scene {
-    let link =
-        Shape::Mesh(MeshShape::new(torus_mesh(1.0, 0.2, 32, 12).expect("valid torus")).expect("tree builds"));
+    let link = Shape::Mesh(MeshShape::new(chain_link_mesh()).expect("tree builds"));
+    chain_of("chain", vec![ShapeDesc::new(link)])
+}
+
+/// chain_decomposed: the chain with each link cut into 32 convex pieces,
+/// piece `i` the hull of the link mesh's rings `i` and `i + 1` (its tube
+/// segment): the form the peers without dynamic concave meshes need
+/// (scenes.md), with the same links, poses and mass.
+pub fn chain_decomposed() -> Scene {
+    let mesh = chain_link_mesh();
+    let (n_major, n_minor) = (CHAIN_LINK_RINGS, CHAIN_LINK_RING_VERTICES);
+    let pieces = (0..n_major)
+        .map(|i| {
+            let next = (i + 1) % n_major;
+            let points: Vec<DVec3> = [i, next]
+                .iter()
+                .flat_map(|&ring| {
+                    mesh.vertices()[ring * n_minor..(ring + 1) * n_minor]
+                        .iter()
+                        .copied()
+                })
+                .collect();
+            ShapeDesc::new(Shape::ConvexHull(
+                ConvexHull::from_points(&points).expect("a tube segment spans a volume"),
+            ))
+        })
+        .collect();
+    chain_of("chain_decomposed", pieces)
+}
+
+/// Rings of the chain's link mesh (the torus' major resolution).
+const CHAIN_LINK_RINGS: usize = 32;
+/// Vertices per ring of the link mesh (the torus' minor resolution).
+const CHAIN_LINK_RING_VERTICES: usize = 12;
+
+/// The chain's link: `torus_mesh(1, 0.2, 32, 12)`, vertex `i * 12 + j` on ring `i`.
+fn chain_link_mesh() -> TriMesh {
+    torus_mesh(1.0, 0.2, CHAIN_LINK_RINGS, CHAIN_LINK_RING_VERTICES).expect("valid torus")
+}
+
+/// The chain's 21 links, each made of `link`'s shapes (in the link frame).
+fn chain_of(name: &str, link: Vec<ShapeDesc>) -> Scene {
     let theta = 60f64.to_radians();
     let e = DVec3::new(-theta.sin(), 0.0, -theta.cos());
     let tilt = DQuat::from_rotation_y(theta);
@@ -25,15 +67,18 @@ pub fn chain() -> Scene {
                 tilt * DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2)
                     * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)
             };
-            let desc = if k == 0 {
-                BodyDesc::fixed(link.clone())
+            let kind = if k == 0 {
+                BodyKind::Static
             } else {
-                BodyDesc {
-                    mass: MassDesc::Mass(mass),
-                    ..BodyDesc::dynamic(link.clone())
-                }
+                BodyKind::Dynamic
             };
-            desc.with_pose(Pose {
+            BodyDesc {
+                kind,
+                shapes: link.clone(),
+                mass: MassDesc::Mass(mass),
+                ..BodyDesc::default()
+            }
+            .with_pose(Pose {
                 position: e * (1.5 * k as f64),
                 rotation,
             })
@@ -41,7 +86,7 @@ pub fn chain() -> Scene {
         })
         .collect();
     Scene {
-        name: "chain".into(),
+        name: name.into(),
         settings: WorldSettings {
             sleeping: false,
             ..WorldSettings::default()

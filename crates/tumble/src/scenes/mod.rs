@@ -4,13 +4,18 @@
 
 mod joint_scenes;
 mod mesh_scenes;
+mod plain_data;
 mod primitives_scenes;
 mod projectile_scenes;
 mod t_handle;
 mod tori_queries;
 
 pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
-pub use mesh_scenes::{chain, tori_pass, torus_on_ground};
+pub use mesh_scenes::{chain, chain_decomposed, tori_pass, torus_on_ground};
+pub use plain_data::{
+    pile_outside, PlainBody, PlainScene, PlainShape, CHAIN_MAX_CENTRE_DISTANCE, PILE_INSIDE_HALF_WIDTH,
+    PLAIN_SCENE_FORMAT,
+};
 pub use primitives_scenes::{
     ball_drop, cradle, domino, incline, large_pyramid, pile, pyramid, pyramid_of_base, tower,
 };
@@ -18,7 +23,9 @@ pub use projectile_scenes::{
     fire_projectile, projectile_cases, Fault, Flight, Projectile, ProjectileCase, PROJECTILE_STEPS,
 };
 pub use t_handle::{run_flips, t_handle, FlipRun, THandle};
-pub use tori_queries::{tori_pose, tori_pose_indices, tori_torus, TORI_POSES};
+pub use tori_queries::{
+    tori_plain_json, tori_pose, tori_pose_indices, tori_torus, TORI_PLAIN_FORMAT, TORI_POSES,
+};
 
 use crate::joint::JointDesc;
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};

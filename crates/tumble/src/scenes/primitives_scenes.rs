@@ -93,9 +93,10 @@ pub fn tower(n: usize) -> Scene {
 
 /// pile: `layers` x 100 bodies (10 x 10 grid per layer, alternating spheres of
 /// radius 0.25 and cubes of half extent 0.25, density 1) dropped into a static
-/// container; `layers = 10` is the 1,000-body scene. Walls rise with the pile.
+/// container; `layers = 10` is the 1,000-body scene. The walls are 8 m high
+/// up to 1,000 bodies and beyond reach 1 m above the top layer's centre.
 pub fn pile(layers: usize) -> Scene {
-    let top = 1.0 + 0.6 * layers as f64;
+    let top = 1.0 + 0.6 * (layers.max(1) - 1) as f64;
     let wall_half_height = (top + 1.0).max(8.0) / 2.0;
     let mut bodies = vec![BodyDesc::fixed(cuboid(3.5, 3.5, 0.5))
         .at(DVec3::new(0.0, 0.0, -0.5))

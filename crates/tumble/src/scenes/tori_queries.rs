@@ -39,6 +39,33 @@ pub fn tori_pose_indices(count: usize) -> Vec<usize> {
     ks
 }
 
+/// The `format` field of [`tori_plain_json`].
+pub const TORI_PLAIN_FORMAT: &str = "tumble-tori-queries/1";
+
+/// The tori query scene as plain data for other libraries: `{format, mesh:
+/// {vertices, triangles}, poses: [{index, position, rotation}]}` for the
+/// `count` poses of [`tori_pose_indices`] (quaternions `[x, y, z, w]`; torus
+/// A at the identity). What `tumble bench --scene tori --poses P
+/// --export-scene FILE` writes.
+pub fn tori_plain_json(count: usize) -> Result<serde_json::Value, GeneratorError> {
+    let mesh = tori_torus()?;
+    let poses: Vec<serde_json::Value> = tori_pose_indices(count)
+        .into_iter()
+        .map(|k| {
+            let p = tori_pose(k);
+            serde_json::json!({"index": k, "position": p.position.to_array(), "rotation": p.rotation.to_array()})
+        })
+        .collect();
+    Ok(serde_json::json!({
+        "format": TORI_PLAIN_FORMAT,
+        "mesh": {
+            "vertices": mesh.vertices().iter().map(|v| v.to_array()).collect::<Vec<_>>(),
+            "triangles": mesh.triangles(),
+        },
+        "poses": poses,
+    }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -55,5 +82,33 @@ mod tests {
         assert!((axis - DVec3::new(0.1f64.sin(), -(0.1f64.cos()), 0.0)).length() < 1e-12);
         assert_eq!(tori_pose_indices(1), vec![0]);
         assert_eq!(tori_torus().unwrap().triangles().len(), 5000);
+    }
+
+    #[test]
+    fn the_plain_form_carries_the_poses_asked_for_and_the_torus() {
+        let j = tori_plain_json(5).unwrap();
+        assert_eq!(j["format"], TORI_PLAIN_FORMAT);
+        let poses = j["poses"].as_array().unwrap();
+        let ks: Vec<u64> = poses.iter().map(|p| p["index"].as_u64().unwrap()).collect();
+        assert_eq!(ks, vec![0, 50, 100, 149, 199]);
+        for p in poses {
+            let pose = tori_pose(p["index"].as_u64().unwrap() as usize);
+            let x: Vec<f64> = p["position"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            let q: Vec<f64> = p["rotation"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            assert_eq!(x, pose.position.to_array());
+            assert_eq!(q, pose.rotation.to_array());
+        }
+        assert_eq!(j["mesh"]["triangles"].as_array().unwrap().len(), 5000);
+        assert_eq!(j["mesh"]["vertices"].as_array().unwrap().len(), 2500);
     }
 }

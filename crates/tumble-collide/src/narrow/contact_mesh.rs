@@ -128,6 +128,8 @@ thread_local! {
 }
 
 /// Mesh A against mesh B: exact triangle contacts within `margin`.
+/// (`query::collide` in its contacts mode gives the geometric answer for
+/// the same pair; why the two stay apart: see its `finish_contacts`.)
 ///
 /// The triangle tests run in A's frame: A's triangles are used as stored and
 /// each of B's vertices is moved into A's frame once, instead of moving both

@@ -138,6 +138,18 @@ pub fn collide(
 
 /// Drops edge/edge contacts on internal edges (an edge between coplanar
 /// triangles defines no normal of its own) and merges duplicates.
+///
+/// Why this is not `narrow::contact_mesh_mesh`: both walk the trees with
+/// `bvh::collide` and end in `triangle_contacts` and `merge_contacts`, but
+/// the query's contacts are a geometric answer, checked contact for contact
+/// against brute force (tests/query_oracle.rs): world-frame triangles (the
+/// frame the exact pair predicates and the truth file use), contacts only
+/// for intersecting pairs at margin 0, only internal *edge* contacts
+/// dropped. The narrow phase's are a physics manifold: triangles in A's
+/// frame through a per-thread vertex cache (speed), every candidate pair
+/// within the margin, and ghost contacts on flat edges *and* vertices
+/// dropped unless they act along the face normal. Sharing the walk would
+/// change one contract or the other.
 fn finish_contacts(contacts: &mut Vec<Contact>, a: &MeshShape, b: &MeshShape) {
     let internal = |m: &MeshShape, f: crate::contact::Feature| match f.sub {
         SubFeature::Edge(k) => m.is_flat_edge(f.index, k),

@@ -18,10 +18,7 @@ use crate::query_out::{collision_result, distance_result};
 use crate::shapes::{Placed, PyBox, PyCapsule, PyConvexHull, PyHalfSpace, PySphere};
 use crate::trimesh::{mesh_from_object, TriMesh};
 use pyo3::prelude::*;
-use std::borrow::Cow;
-use tumble_collide::query::{
-    self, CollideOptions, DistanceOptions, MeshShape, QueryError, Report, ReportMode,
-};
+use tumble_collide::query::{self, CollideOptions, DistanceOptions, MeshShape, QueryError, ReportMode};
 use tumble_collide::{Pose, Shape};
 
 impl ToPyErr for QueryError {
@@ -33,31 +30,23 @@ impl ToPyErr for QueryError {
     }
 }
 
-/// What one argument of a query is.
-enum Object<'a> {
-    /// A mesh with its tree: borrowed from a `TriMesh`, or built for this
-    /// call from a trimesh-like object.
-    Mesh(Cow<'a, MeshShape>),
-    /// A solid primitive (sphere, cuboid, capsule or half-space).
-    Prim(Shape),
-}
-
-/// The query object of argument `name`.
-fn object<'a>(obj: &'a Bound<'_, PyAny>, name: &str) -> PyResult<Object<'a>> {
+/// The query shape of argument `name`: a mesh (borrowed from a `TriMesh`
+/// or built for this call from a trimesh-like object) or a solid primitive.
+fn object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Shape> {
     if let Ok(m) = obj.cast::<TriMesh>() {
-        return Ok(Object::Mesh(Cow::Borrowed(m.get().mesh_shape_ref()?)));
+        return Ok(Shape::Mesh(m.get().mesh_shape_ref()?.clone()));
     }
     if let Ok(s) = obj.cast::<PySphere>() {
-        return Ok(Object::Prim(Shape::Sphere(s.get().inner)));
+        return Ok(Shape::Sphere(s.get().inner));
     }
     if let Ok(s) = obj.cast::<PyBox>() {
-        return Ok(Object::Prim(Shape::Cuboid(s.get().inner)));
+        return Ok(Shape::Cuboid(s.get().inner));
     }
     if let Ok(s) = obj.cast::<PyCapsule>() {
-        return Ok(Object::Prim(Shape::Capsule(s.get().inner)));
+        return Ok(Shape::Capsule(s.get().inner));
     }
     if let Ok(s) = obj.cast::<PyHalfSpace>() {
-        return Ok(Object::Prim(Shape::HalfSpace(s.get().inner)));
+        return Ok(Shape::HalfSpace(s.get().inner));
     }
     if obj.is_instance_of::<PyConvexHull>() || obj.is_instance_of::<Placed>() {
         return Err(invalid(format!(
@@ -68,7 +57,7 @@ fn object<'a>(obj: &'a Bound<'_, PyAny>, name: &str) -> PyResult<Object<'a>> {
     }
     if obj.hasattr("vertices")? && obj.hasattr("faces")? {
         let mesh = mesh_from_object(obj, name)?;
-        return Ok(Object::Mesh(Cow::Owned(MeshShape::new(mesh).or_raise()?)));
+        return Ok(Shape::Mesh(MeshShape::new(mesh).or_raise()?));
     }
     Err(invalid(format!(
         "{name}: expected a TriMesh, a trimesh.Trimesh-like object (.vertices, .faces), or a \
@@ -77,45 +66,19 @@ fn object<'a>(obj: &'a Bound<'_, PyAny>, name: &str) -> PyResult<Object<'a>> {
     )))
 }
 
-/// The two objects and poses of a query, in the order Rust takes them.
-enum Pairing<'a> {
-    /// Mesh A, mesh B.
-    Meshes(Cow<'a, MeshShape>, Pose, Cow<'a, MeshShape>, Pose),
-    /// Primitive, its pose, mesh, its pose; `swapped` when the primitive
-    /// was Python's B.
-    Primitive(Shape, Pose, Cow<'a, MeshShape>, Pose, bool),
-}
-
-fn pairing<'a>(
-    a: &'a Bound<'_, PyAny>,
+/// The two shapes and poses of a query, checked as Python objects.
+fn arguments(
+    a: &Bound<'_, PyAny>,
     pose_a: &Bound<'_, PyAny>,
-    b: &'a Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
     pose_b: &Bound<'_, PyAny>,
-) -> PyResult<Pairing<'a>> {
-    let (oa, ob) = (object(a, "a")?, object(b, "b")?);
-    let (pa, pb) = (pose_arg(pose_a, "pose_a")?, pose_arg(pose_b, "pose_b")?);
-    match (oa, ob) {
-        (Object::Mesh(ma), Object::Mesh(mb)) => Ok(Pairing::Meshes(ma, pa, mb, pb)),
-        (Object::Prim(p), Object::Mesh(m)) => Ok(Pairing::Primitive(p, pa, m, pb, false)),
-        (Object::Mesh(m), Object::Prim(p)) => Ok(Pairing::Primitive(p, pb, m, pa, true)),
-        (Object::Prim(p), Object::Prim(q)) => Err(invalid(format!(
-            "a, b: a query needs at least one mesh; got two primitives ({} and {})",
-            p.kind_name(),
-            q.kind_name()
-        ))),
-    }
-}
-
-/// The report with A and B exchanged.
-fn swap_report(mut r: Report) -> Report {
-    for p in &mut r.pairs {
-        *p = (p.1, p.0);
-    }
-    r.pairs.sort_unstable();
-    for c in &mut r.contacts {
-        *c = c.flipped();
-    }
-    r
+) -> PyResult<(Shape, Pose, Shape, Pose)> {
+    Ok((
+        object(a, "a")?,
+        pose_arg(pose_a, "pose_a")?,
+        object(b, "b")?,
+        pose_arg(pose_b, "pose_b")?,
+    ))
 }
 
 fn report_mode(report: &str) -> PyResult<ReportMode> {
@@ -186,15 +149,9 @@ pub fn collide<'py>(
             report: mode,
             contact_margin,
         };
-        let pairing = pairing(a, pose_a, b, pose_b)?;
+        let (sa, pa, sb, pb) = arguments(a, pose_a, b, pose_b)?;
         let r = py
-            .detach(|| match &pairing {
-                Pairing::Meshes(ma, pa, mb, pb) => query::collide(ma, pa, mb, pb, &options),
-                Pairing::Primitive(p, pp, m, pm, swapped) => {
-                    let r = query::collide_primitive(p, pp, m, pm, &options)?;
-                    Ok(if *swapped { swap_report(r) } else { r })
-                }
-            })
+            .detach(|| query::collide_shapes(&sa, &pa, &sb, &pb, &options))
             .or_raise()?;
         collision_result(py, &r, mode == ReportMode::Contacts)
     })
@@ -235,15 +192,9 @@ pub fn distance<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     guard(|| {
         let options = DistanceOptions { rel_err, abs_err };
-        let pairing = pairing(a, pose_a, b, pose_b)?;
+        let (sa, pa, sb, pb) = arguments(a, pose_a, b, pose_b)?;
         let d = py
-            .detach(|| match &pairing {
-                Pairing::Meshes(ma, pa, mb, pb) => query::distance(ma, pa, mb, pb, &options),
-                Pairing::Primitive(p, pp, m, pm, swapped) => {
-                    let d = query::distance_primitive(p, pp, m, pm, &options)?;
-                    Ok(if *swapped { d.swapped() } else { d })
-                }
-            })
+            .detach(|| query::distance_shapes(&sa, &pa, &sb, &pb, &options))
             .or_raise()?;
         distance_result(py, &d)
     })
@@ -270,11 +221,8 @@ pub fn within_tolerance(
     tol: f64,
 ) -> PyResult<bool> {
     guard(|| {
-        let pairing = pairing(a, pose_a, b, pose_b)?;
-        py.detach(|| match &pairing {
-            Pairing::Meshes(ma, pa, mb, pb) => query::within_tolerance(ma, pa, mb, pb, tol),
-            Pairing::Primitive(p, pp, m, pm, _) => query::within_tolerance_primitive(p, pp, m, pm, tol),
-        })
-        .or_raise()
+        let (sa, pa, sb, pb) = arguments(a, pose_a, b, pose_b)?;
+        py.detach(|| query::within_tolerance_shapes(&sa, &pa, &sb, &pb, tol))
+            .or_raise()
     })
 }

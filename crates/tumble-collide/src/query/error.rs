@@ -50,6 +50,14 @@ pub enum QueryError {
         /// The shape given (`Shape::kind_name`).
         kind: &'static str,
     },
+    /// A query over two primitives (the queries need at least one mesh).
+    #[error("a query needs at least one mesh; got two primitives ({a} and {b})")]
+    NoMesh {
+        /// Shape A (`Shape::kind_name`).
+        a: &'static str,
+        /// Shape B.
+        b: &'static str,
+    },
     /// The result overflowed (coordinates so large that distances are not
     /// finite in f64).
     #[error("{0}: the result is not finite (coordinates beyond the range of f64 arithmetic)")]

@@ -14,11 +14,15 @@
 //!   (continuous collision; [`Motion`], [`ToiOptions`], [`Impact`]);
 //! - [`collide_primitive`], [`distance_primitive`],
 //!   [`within_tolerance_primitive`]: the same for a sphere, box, capsule or
-//!   half-space (the body shapes' own [`crate::Shape`]) against a mesh.
+//!   half-space (the body shapes' own [`crate::Shape`]) against a mesh;
+//! - [`collide_shapes`], [`distance_shapes`], [`within_tolerance_shapes`]:
+//!   any two shapes, dispatched to the fitting query (answers in the
+//!   caller's A / B order).
 //!
 //! Files: `options` (settings), `report` (results and statistics), `error`,
 //! `input` (pose checks, world triangles), one file per query, `primitive`
-//! (primitive-triangle tests) and `primitive_query`. Usage in
+//! (primitive-triangle tests), `primitive_query` and `shape_pair` (the
+//! dispatch over any two shapes). Usage in
 //! `docs/collision.md` and the example on [`collide`].
 
 mod collide;
@@ -31,6 +35,7 @@ mod options;
 mod primitive;
 mod primitive_query;
 mod report;
+mod shape_pair;
 mod time_of_impact;
 mod tolerance;
 
@@ -42,5 +47,6 @@ pub use motion::Motion;
 pub use options::{CollideOptions, DistanceOptions, ReportMode};
 pub use primitive_query::{collide_primitive, distance_primitive, within_tolerance_primitive};
 pub use report::{DistanceResult, QueryStats, Report};
+pub use shape_pair::{collide_shapes, distance_shapes, within_tolerance_shapes};
 pub use time_of_impact::{time_of_impact, Impact, ToiOptions, ToiStats};
 pub use tolerance::within_tolerance;

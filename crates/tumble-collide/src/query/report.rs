@@ -66,6 +66,21 @@ pub struct DistanceResult {
     pub stats: QueryStats,
 }
 
+impl Report {
+    /// The same report with A and B exchanged: pairs reversed (and sorted
+    /// again), contacts flipped (normals from the new B to the new A).
+    pub fn swapped(mut self) -> Report {
+        for p in &mut self.pairs {
+            *p = (p.1, p.0);
+        }
+        self.pairs.sort_unstable();
+        for c in &mut self.contacts {
+            *c = c.flipped();
+        }
+        self
+    }
+}
+
 impl DistanceResult {
     /// The same result with A and B exchanged (points and triangles).
     pub fn swapped(self) -> DistanceResult {

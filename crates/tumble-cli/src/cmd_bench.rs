@@ -38,22 +38,6 @@ pub struct BenchArgs {
     export_scene: Option<std::path::PathBuf>,
 }
 
-/// Nearest-rank percentile of sorted samples: `int(q (n - 1) + 0.5)`.
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    sorted[((q * (sorted.len() - 1) as f64) + 0.5) as usize]
-}
-
-fn stats_ms(samples: &mut [f64]) -> Value {
-    samples.sort_by(f64::total_cmp);
-    let n = samples.len().max(1);
-    json!({
-        "unit": "ms", "count": samples.len(),
-        "median": percentile(samples, 0.5), "mean": samples.iter().sum::<f64>() / n as f64,
-        "p10": percentile(samples, 0.1), "p90": percentile(samples, 0.9),
-        "min": samples[0], "max": samples[samples.len() - 1],
-    })
-}
-
 pub(crate) fn peak_rss_bytes() -> u64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
@@ -67,13 +51,13 @@ pub(crate) fn peak_rss_bytes() -> u64 {
         .unwrap_or(0)
 }
 
-/// Steps the world, timing each step call; `each` sees the world after every step.
+/// Steps the world, timing each step call (s); `each` sees the world after every step.
 fn run_timed(world: &mut World, steps: usize, mut each: impl FnMut(usize, &World, f64)) -> Vec<f64> {
     let mut times = Vec::with_capacity(steps);
     for i in 0..steps {
         let t = Instant::now();
         let report = world.step();
-        times.push(t.elapsed().as_secs_f64() * 1000.0);
+        times.push(t.elapsed().as_secs_f64());
         each(i, world, report.max_penetration);
     }
     times
@@ -160,7 +144,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let start: Vec<_> = ids.iter().map(|&id| centre(&world, id)).collect();
     let mut deepest: f64 = 0.0;
     let mut figures = serde_json::Map::new();
-    let mut times = match name.as_str() {
+    let times = match name.as_str() {
         "pyramid" | "large_pyramid" => {
             let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
             let moved: Vec<f64> = ids
@@ -266,7 +250,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
     };
     figures.insert("deepest_penetration_m".into(), json!(deepest));
-    figures.insert("step_time".into(), stats_ms(&mut times));
+    figures.insert("step_time".into(), json!(scenes::TimingStats::ms(&times)));
     let out = json!({
         "engine": "tumble",
         "version": env!("CARGO_PKG_VERSION"),

@@ -18,26 +18,10 @@ use parry3d::math::Pose;
 use parry3d::query::{self, ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d::shape::TriMesh;
 use serde_json::json;
+use tumble::scenes::{tori_pair_check, tori_truth, TimingStats};
 use tumble::scenes::{tori_pose_indices, TORI_POSES};
 use tumble_bench::parry_scenes::{self as ps, torus};
-use tumble_bench::{Args, Record, Stats};
-
-/// shared/ sits beside the repository (as on CI).
-const TRUTH: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../../shared/data/tori_pairs.json"
-);
-
-fn truth() -> Option<Vec<u64>> {
-    let path = std::env::var("TORI_TRUTH").unwrap_or_else(|_| TRUTH.to_string());
-    let text = std::fs::read_to_string(path).ok()?;
-    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-    v["pairs_per_pose"]
-        .as_array()?
-        .iter()
-        .map(|x| x.as_u64())
-        .collect()
-}
+use tumble_bench::{Args, Record};
 
 /// All intersecting triangle pairs: two-tree traversal, then GJK per leaf pair.
 fn all_pairs(a: &TriMesh, b: &TriMesh, pos12: &Pose) -> usize {
@@ -56,51 +40,12 @@ fn all_pairs(a: &TriMesh, b: &TriMesh, pos12: &Pose) -> usize {
     count
 }
 
-fn split(times: &[f64], colliding: &[bool]) -> serde_json::Value {
-    let pick = |want: bool| -> Vec<f64> {
-        times
-            .iter()
-            .zip(colliding)
-            .filter(|(_, &c)| c == want)
-            .map(|(t, _)| *t)
-            .collect()
-    };
-    json!({ "all": Stats::us(times), "colliding": Stats::us(&pick(true)), "separated": Stats::us(&pick(false)) })
-}
-
-fn check(counts: &[usize], truth: &[u64]) -> serde_json::Value {
-    let total: usize = counts.iter().sum();
-    let ttotal: u64 = truth.iter().sum();
-    let differing = counts
-        .iter()
-        .zip(truth)
-        .filter(|(c, t)| **c as u64 != **t)
-        .count();
-    let maxdiff = counts
-        .iter()
-        .zip(truth)
-        .map(|(c, t)| (*c as i64 - *t as i64).abs())
-        .max()
-        .unwrap_or(0);
-    json!({
-        "total_pairs": total,
-        "truth_total_pairs": ttotal,
-        "colliding_poses": counts.iter().filter(|&&c| c > 0).count(),
-        "truth_colliding_poses": truth.iter().filter(|&&t| t > 0).count(),
-        "poses_differing": differing,
-        "max_abs_pose_difference": maxdiff,
-        "within_two_pairs": (total as i64 - ttotal as i64).abs() <= 2,
-    })
-}
-
 fn run(poses: usize) -> Result<(), String> {
     let a = torus()?;
     let b = torus()?;
-    let truth_all =
-        truth().ok_or_else(|| format!("cannot read the pair counts of {TRUTH} (set TORI_TRUTH)"))?;
-    if truth_all.len() != TORI_POSES {
-        return Err(format!("truth file has {} poses, expected 200", truth_all.len()));
-    }
+    let truth_all = tori_truth().ok_or(
+        "cannot read the pair counts of shared/data/tori_pairs.json beside the repository (set TORI_TRUTH)",
+    )?;
     let ks = tori_pose_indices(poses);
     let truth: Vec<u64> = ks.iter().map(|&k| truth_all[k]).collect();
     let colliding: Vec<bool> = truth.iter().map(|&t| t > 0).collect();
@@ -168,14 +113,14 @@ fn run(poses: usize) -> Result<(), String> {
                       contacts = composite contact_manifolds, prediction 0",
         }),
         figures: json!({
-            "first_contact": split(&first, &colliding),
+            "first_contact": TimingStats::us_split(&first, &colliding),
             "first_contact_colliding_poses": hits,
-            "all_pairs": split(&allp, &colliding),
-            "all_pairs_check": check(&counts, &truth),
-            "all_pairs_with_contacts": split(&withc, &colliding),
-            "all_pairs_with_contacts_check": check(&manifold_pairs, &truth),
+            "all_pairs": TimingStats::us_split(&allp, &colliding),
+            "all_pairs_check": tori_pair_check(&counts, Some(&truth)),
+            "all_pairs_with_contacts": TimingStats::us_split(&withc, &colliding),
+            "all_pairs_with_contacts_check": tori_pair_check(&manifold_pairs, Some(&truth)),
             "contact_points": contact_points,
-            "distance_separated": Stats::us(&dist),
+            "distance_separated": TimingStats::us(&dist),
             "distance_min_m": dvals.iter().cloned().reduce(f64::min),
             "distance_negative_at_separated_poses": dvals.iter().filter(|&&d| d < 0.0).count(),
             "tree_memory_bytes": memory,

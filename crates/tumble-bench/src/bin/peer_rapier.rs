@@ -17,9 +17,10 @@ use std::time::Instant;
 use rapier3d::prelude::*;
 use serde_json::json;
 use tumble::collide::DVec3;
+use tumble::scenes::TimingStats;
 use tumble::scenes::{self, Scene};
 use tumble_bench::rapier_scenes as rs;
-use tumble_bench::{Args, Record, Stats};
+use tumble_bench::{Args, Record};
 
 /// (contact points in all manifolds, deepest penetration in m).
 fn contacts(w: &PhysicsWorld) -> (usize, f64) {
@@ -114,7 +115,7 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
         }
     }
     let ends: Vec<[f64; 3]> = (0..scene.bodies.len()).map(|i| sw.centre(i)).collect();
-    let mut figures = json!({ "step_time": Stats::ms(&times), "deepest_penetration_m": deepest });
+    let mut figures = json!({ "step_time": TimingStats::ms(&times), "deepest_penetration_m": deepest });
     let mut set = settings(&sw.world, steps);
     match name {
         "pyramid" | "large_pyramid" => {

@@ -8,6 +8,7 @@ mod plain_data;
 mod primitives_scenes;
 mod projectile_scenes;
 mod t_handle;
+mod timing;
 mod tori_queries;
 
 pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
@@ -23,8 +24,10 @@ pub use projectile_scenes::{
     fire_projectile, projectile_cases, Fault, Flight, Projectile, ProjectileCase, PROJECTILE_STEPS,
 };
 pub use t_handle::{run_flips, t_handle, FlipRun, THandle};
+pub use timing::TimingStats;
 pub use tori_queries::{
-    tori_plain_json, tori_pose, tori_pose_indices, tori_torus, TORI_PLAIN_FORMAT, TORI_POSES,
+    tori_pair_check, tori_plain_json, tori_pose, tori_pose_indices, tori_torus, tori_truth,
+    TORI_PLAIN_FORMAT, TORI_POSES,
 };
 
 use crate::joint::JointDesc;

@@ -39,6 +39,55 @@ pub fn tori_pose_indices(count: usize) -> Vec<usize> {
     ks
 }
 
+/// The ground truth of the tori queries, intersecting triangle pairs per
+/// pose (exact predicates), from `tori_pairs.json`: the file `TORI_TRUTH`
+/// names, else `shared/data/tori_pairs.json` in the first ancestor of this
+/// crate's directory that holds one (the repository's neighbour, as on
+/// CI). `None` when no such file can be read or it does not hold one count
+/// per pose.
+pub fn tori_truth() -> Option<Vec<u64>> {
+    let path = std::env::var_os("TORI_TRUTH")
+        .map(std::path::PathBuf::from)
+        .or_else(|| {
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .ancestors()
+                .map(|a| a.join("shared/data/tori_pairs.json"))
+                .find(|p| p.exists())
+        })?;
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
+    let counts: Option<Vec<u64>> = v["pairs_per_pose"]
+        .as_array()?
+        .iter()
+        .map(|x| x.as_u64())
+        .collect();
+    counts.filter(|t| t.len() == TORI_POSES)
+}
+
+/// Pair counts of a tori run (`counts[i]` at the i-th pose run) against
+/// the truth at those poses: totals, colliding poses, the poses that
+/// differ and by how much, and whether the totals agree within the two
+/// near-miss pairs a tolerance may move (the harness's pass mark). The
+/// truth fields are `null` without a truth.
+pub fn tori_pair_check(counts: &[usize], truth: Option<&[u64]>) -> serde_json::Value {
+    let total: usize = counts.iter().sum();
+    let colliding = counts.iter().filter(|&&c| c > 0).count();
+    let Some(truth) = truth else {
+        return serde_json::json!({"total_pairs": total, "truth_total_pairs": null,
+                                  "colliding_poses": colliding, "truth_colliding_poses": null});
+    };
+    let truth_total: u64 = truth.iter().sum();
+    let diff = |(c, t): (&usize, &u64)| (*c as i64 - *t as i64).abs();
+    serde_json::json!({
+        "total_pairs": total,
+        "truth_total_pairs": truth_total,
+        "colliding_poses": colliding,
+        "truth_colliding_poses": truth.iter().filter(|&&t| t > 0).count(),
+        "poses_differing": counts.iter().zip(truth).filter(|p| diff(*p) != 0).count(),
+        "max_abs_pose_difference": counts.iter().zip(truth).map(diff).max().unwrap_or(0),
+        "within_two_pairs": (total as i64 - truth_total as i64).abs() <= 2,
+    })
+}
+
 /// The `format` field of [`tori_plain_json`].
 pub const TORI_PLAIN_FORMAT: &str = "tumble-tori-queries/1";
 
@@ -82,6 +131,32 @@ mod tests {
         assert!((axis - DVec3::new(0.1f64.sin(), -(0.1f64.cos()), 0.0)).length() < 1e-12);
         assert_eq!(tori_pose_indices(1), vec![0]);
         assert_eq!(tori_torus().unwrap().triangles().len(), 5000);
+    }
+
+    #[test]
+    fn pair_counts_are_judged_against_the_truth_pose_by_pose() {
+        let c = tori_pair_check(&[0, 5, 7], Some(&[0, 5, 6]));
+        assert_eq!(
+            (c["total_pairs"].as_u64(), c["truth_total_pairs"].as_u64()),
+            (Some(12), Some(11))
+        );
+        assert_eq!(
+            (
+                c["poses_differing"].as_u64(),
+                c["max_abs_pose_difference"].as_u64()
+            ),
+            (Some(1), Some(1))
+        );
+        assert_eq!(
+            (c["colliding_poses"].as_u64(), c["within_two_pairs"].as_bool()),
+            (Some(2), Some(true))
+        );
+        assert_eq!(tori_pair_check(&[0, 9], Some(&[0, 5]))["within_two_pairs"], false);
+        assert!(tori_pair_check(&[1], None)["truth_total_pairs"].is_null());
+        // The shared truth file (beside the repository): 122 colliding poses, 36,782 pairs.
+        let truth = tori_truth().expect("shared/data/tori_pairs.json beside the repository");
+        assert_eq!(truth.iter().sum::<u64>(), 36_782);
+        assert_eq!(truth.iter().filter(|&&t| t > 0).count(), 122);
     }
 
     #[test]

@@ -120,22 +120,28 @@ fn describe(n: usize, speed: f64, teleport: bool) {
     );
 }
 
-fn sap_coherent(c: &mut Criterion) {
-    let mut group = c.benchmark_group("sap_coherent");
+/// Incremental sweep and prune on the moving scene; `teleport`: every box
+/// jumps to a random place each step instead of moving a little.
+fn sap_moving(c: &mut Criterion, name: &str, teleport: bool) {
+    let mut group = c.benchmark_group(name);
     group.sample_size(10);
     for n in [1_000, 10_000, 100_000] {
-        describe(n, 1.0, false);
+        describe(n, 1.0, teleport);
         let mut scene = Scene::new(n);
         let (mut sap, ids, mut events) = build(&scene);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(BenchmarkId::from_parameter(n), |b| {
             b.iter(|| {
-                advance(&mut scene, &mut sap, &ids, false);
+                advance(&mut scene, &mut sap, &ids, teleport);
                 black_box(sap.update(&mut events))
             })
         });
     }
     group.finish();
+}
+
+fn sap_coherent(c: &mut Criterion) {
+    sap_moving(c, "sap_coherent", false);
 }
 
 /// Same scene with speeds scaled by `(1000 / n)^(2/3)`, so that each box passes
@@ -161,21 +167,7 @@ fn sap_fixed_crossings(c: &mut Criterion) {
 }
 
 fn sap_teleport(c: &mut Criterion) {
-    let mut group = c.benchmark_group("sap_teleport");
-    group.sample_size(10);
-    for n in [1_000, 10_000, 100_000] {
-        describe(n, 1.0, true);
-        let mut scene = Scene::new(n);
-        let (mut sap, ids, mut events) = build(&scene);
-        group.throughput(Throughput::Elements(n as u64));
-        group.bench_function(BenchmarkId::from_parameter(n), |b| {
-            b.iter(|| {
-                advance(&mut scene, &mut sap, &ids, true);
-                black_box(sap.update(&mut events))
-            })
-        });
-    }
-    group.finish();
+    sap_moving(c, "sap_teleport", true);
 }
 
 fn brute_force(c: &mut Criterion) {

@@ -44,6 +44,14 @@ impl RelFrame {
         }
     }
 
+    /// `|r[i][j]| + PARALLEL_EPS`: the absolute rotation both box tests use,
+    /// padded so that nearly parallel edges (cross products near zero) do
+    /// not report a false separation.
+    #[inline]
+    pub fn abs_padded(&self) -> [[f64; 3]; 3] {
+        self.r.map(|row| row.map(|x| x.abs() + PARALLEL_EPS))
+    }
+
     /// Frame of box `b` relative to box `a`, both given in the same frame.
     pub fn between(a: &Obb, b: &Obb) -> RelFrame {
         let at = a.axes.transpose();
@@ -58,12 +66,7 @@ impl RelFrame {
 pub fn obb_disjoint(a: [f64; 3], b: [f64; 3], f: &RelFrame) -> bool {
     let r = &f.r;
     let t = &f.t;
-    let mut ar = [[0.0f64; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            ar[i][j] = r[i][j].abs() + PARALLEL_EPS;
-        }
-    }
+    let ar = f.abs_padded();
     // A's face axes.
     for i in 0..3 {
         let rb = b[0] * ar[i][0] + b[1] * ar[i][1] + b[2] * ar[i][2];
@@ -120,12 +123,7 @@ pub fn obb_overlap_margin(a: [f64; 3], b: [f64; 3], f: &RelFrame, margin: f64) -
 pub fn obb_distance_lower_bound(a: [f64; 3], b: [f64; 3], f: &RelFrame) -> f64 {
     let r = &f.r;
     let t = &f.t;
-    let mut ar = [[0.0f64; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            ar[i][j] = r[i][j].abs() + PARALLEL_EPS;
-        }
-    }
+    let ar = f.abs_padded();
     let mut best = 0.0f64;
     for i in 0..3 {
         let rb = b[0] * ar[i][0] + b[1] * ar[i][1] + b[2] * ar[i][2];

@@ -19,6 +19,12 @@ pub(crate) fn closest_point_on_segment(p: DVec3, a: DVec3, b: DVec3) -> (f64, DV
 /// `(s, t, c1, c2)` with `c1 = p1 + s (q1 - p1)`, `c2 = p2 + t (q2 - p2)`
 /// (Ericson 5.1.9). Parallel segments get the `s` that the clamping of `t`
 /// yields from `s = 0`, so the answer is deterministic.
+///
+/// Why not `triangle::closest_points_segments` (the same algorithm): the
+/// contact routines treat segments within 1e-14 (relative) of parallel as
+/// parallel, so that two capsules lying along each other keep the same
+/// contact end from step to step; the triangle distance keeps the exact
+/// formula down to machine epsilon, which its brute-force oracles check.
 pub(crate) fn closest_points_segments(
     p1: DVec3,
     q1: DVec3,

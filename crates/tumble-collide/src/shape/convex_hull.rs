@@ -293,6 +293,20 @@ impl ConvexHull {
         &self.corners
     }
 
+    /// The hull's surface as a closed triangle mesh: each (convex, outward)
+    /// face fanned from its first corner, over the hull's own vertices (for
+    /// mass properties and drawing).
+    pub fn surface_mesh(&self) -> Result<TriMesh, crate::mesh::MeshError> {
+        let mut triangles = Vec::new();
+        for f in 0..self.faces().len() {
+            let c = self.face_corners(f);
+            for k in 1..c.len().saturating_sub(1) {
+                triangles.push([c[0], c[k], c[k + 1]]);
+            }
+        }
+        TriMesh::new(self.vertices.clone(), triangles)
+    }
+
     /// Vertices (m, body frame).
     pub fn vertices(&self) -> &[DVec3] {
         &self.vertices

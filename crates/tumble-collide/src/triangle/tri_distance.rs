@@ -139,6 +139,8 @@ impl SegmentClosest {
 /// 5.1.9). Either segment may have zero length. For parallel segments one of
 /// the (infinitely many) closest pairs is returned, with `s` chosen as 0.
 /// A non-finite coordinate gives a NaN [`SegmentClosest::distance`].
+/// (The narrow phase has its own copy with a coarser parallel test, for
+/// steady capsule contacts: see `narrow::geometry`.)
 pub fn closest_points_segments(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> SegmentClosest {
     let d1 = q1 - p1;
     let d2 = q2 - p2;

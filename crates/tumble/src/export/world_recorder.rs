@@ -20,16 +20,7 @@ pub fn shape_mesh(shape: &Shape) -> Option<TriMesh> {
         Shape::Sphere(s) => mesh::icosphere_mesh(s.radius(), 3).ok(),
         Shape::Cuboid(c) => mesh::box_mesh(c.half_extents()).ok(),
         Shape::Capsule(c) => mesh::capsule_mesh(c.radius(), c.half_height(), 24, 6).ok(),
-        Shape::ConvexHull(h) => {
-            let mut triangles = Vec::new();
-            for f in 0..h.faces().len() {
-                let c = h.face_corners(f);
-                for k in 1..c.len().saturating_sub(1) {
-                    triangles.push([c[0], c[k], c[k + 1]]);
-                }
-            }
-            TriMesh::new(h.vertices().to_vec(), triangles).ok()
-        }
+        Shape::ConvexHull(h) => h.surface_mesh().ok(),
         Shape::Mesh(m) => Some(m.mesh().clone()),
         Shape::HalfSpace(hs) => {
             let thickness = 0.05;

@@ -228,16 +228,11 @@ fn resolve_body(
 ) -> Result<(), FieldError> {
     let kind = kind(spec.kind);
     let alternate = spec.grid.as_ref().and_then(|g| g.alternate_shapes.as_ref());
-    let sources = [spec.shape.is_some(), spec.shapes.is_some(), alternate.is_some()]
-        .iter()
-        .filter(|&&b| b)
-        .count();
-    if sources != 1 {
-        return Err(FieldError::new(
-            path,
-            "give exactly one of shape (a name), shapes (a list) or grid.alternate_shapes",
-        ));
-    }
+    super::values::exactly_one(
+        path,
+        &[spec.shape.is_some(), spec.shapes.is_some(), alternate.is_some()],
+        "shape (a name), shapes (a list) or grid.alternate_shapes",
+    )?;
     // The shape sets this body's copies cycle through (one set without a grid).
     let mut shape_sets: Vec<(Vec<ShapeDesc>, Vec<FieldPath>)> = Vec::new();
     if let Some(name) = &spec.shape {

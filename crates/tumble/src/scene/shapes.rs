@@ -14,27 +14,20 @@ use tumble_collide::DVec3;
 
 /// The triangle mesh of a [`MeshSource`] at `path`.
 pub fn mesh_from_source(src: &MeshSource, path: &FieldPath, base_dir: &Path) -> Result<TriMesh, FieldError> {
-    let given = [
-        src.file.is_some(),
-        src.box_.is_some(),
-        src.sphere.is_some(),
-        src.icosphere.is_some(),
-        src.cylinder.is_some(),
-        src.capsule.is_some(),
-        src.cone.is_some(),
-        src.torus.is_some(),
-    ]
-    .iter()
-    .filter(|&&b| b)
-    .count();
-    if given != 1 {
-        return Err(FieldError::new(
-            path,
-            format!(
-                "give exactly one of file, box, sphere, icosphere, cylinder, capsule, cone, torus (got {given})"
-            ),
-        ));
-    }
+    super::values::exactly_one(
+        path,
+        &[
+            src.file.is_some(),
+            src.box_.is_some(),
+            src.sphere.is_some(),
+            src.icosphere.is_some(),
+            src.cylinder.is_some(),
+            src.capsule.is_some(),
+            src.cone.is_some(),
+            src.torus.is_some(),
+        ],
+        "file, box, sphere, icosphere, cylinder, capsule, cone, torus",
+    )?;
     let generated = |key: &str, r: Result<TriMesh, GeneratorError>| {
         r.map_err(|e| FieldError::new(&path.key(key), e.to_string()))
     };

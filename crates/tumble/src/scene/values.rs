@@ -64,23 +64,30 @@ pub fn non_negative(path: &FieldPath, x: f64, unit: &str) -> Result<f64, FieldEr
     }
 }
 
+/// Checks that exactly one of the alternatives `given` is present at
+/// `path`; otherwise the error "give exactly one of {what} (got N)".
+pub fn exactly_one(path: &FieldPath, given: &[bool], what: &str) -> Result<(), FieldError> {
+    match given.iter().filter(|&&b| b).count() {
+        1 => Ok(()),
+        n => Err(FieldError::new(
+            path,
+            format!("give exactly one of {what} (got {n})"),
+        )),
+    }
+}
+
 /// One factor of a `rotation` product.
 fn rotation_factor(path: &FieldPath, r: &RotationSpec) -> Result<DQuat, FieldError> {
-    let given = [
-        r.x.is_some(),
-        r.y.is_some(),
-        r.z.is_some(),
-        r.axis.is_some() || r.angle.is_some(),
-    ]
-    .iter()
-    .filter(|&&b| b)
-    .count();
-    if given != 1 {
-        return Err(FieldError::new(
-            path,
-            "give exactly one of x, y, z (degrees) or axis with angle (degrees)",
-        ));
-    }
+    exactly_one(
+        path,
+        &[
+            r.x.is_some(),
+            r.y.is_some(),
+            r.z.is_some(),
+            r.axis.is_some() || r.angle.is_some(),
+        ],
+        "x, y, z (degrees) or axis with angle (degrees)",
+    )?;
     let degrees = |key: &str, a: f64| {
         if a.is_finite() {
             Ok(a.to_radians())

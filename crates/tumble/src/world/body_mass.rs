@@ -6,7 +6,6 @@
 use super::desc::{MassDesc, ShapeDesc};
 use super::error::WorldError;
 use tumble_collide::mass::{self, MassProperties, MassSpec, PrincipalFrame};
-use tumble_collide::mesh::TriMesh;
 use tumble_collide::shape::Shape;
 
 /// Mass properties of one shape in its own frame for a mass spec.
@@ -20,15 +19,7 @@ fn shape_properties(shape: &Shape, spec: MassSpec, index: usize) -> Result<MassP
         Shape::Cuboid(c) => mass::solid_box(c.half_extents(), spec).map_err(|e| bad(&e)),
         Shape::Capsule(c) => mass::solid_capsule(c.radius(), c.half_height(), spec).map_err(|e| bad(&e)),
         Shape::ConvexHull(h) => {
-            // Fan-triangulate the (convex, outward) faces into a closed mesh.
-            let mut triangles = Vec::new();
-            for f in 0..h.faces().len() {
-                let c = h.face_corners(f);
-                for k in 1..c.len().saturating_sub(1) {
-                    triangles.push([c[0], c[k], c[k + 1]]);
-                }
-            }
-            let mesh = TriMesh::new(h.vertices().to_vec(), triangles).map_err(|e| bad(&e))?;
+            let mesh = h.surface_mesh().map_err(|e| bad(&e))?;
             mass::solid_mass_properties(&mesh, spec)
                 .map(|(p, _volume)| p)
                 .map_err(|e| bad(&e))

@@ -2,6 +2,8 @@
 //! Rust `JointDesc` (no physics here), and a handle that reads a joint's
 //! state. A handle of a removed joint (or of a joint whose body was
 //! removed) raises `StaleBodyError`. `tumble.load_urdf` and its `Robot`.
+//! The getters of `Joint` are one line each over one `JointState`
+//! (pyo3 wants a method per attribute): alike by design.
 
 use crate::body::Body;
 use crate::convert::{self, vec3, vec_out};

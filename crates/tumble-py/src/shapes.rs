@@ -6,6 +6,10 @@
 //!
 //! Shapes are immutable values: validated once in the constructor, shared
 //! by every body made from them, picklable through `__reduce__`.
+//! pyo3 methods belong to one class each, so every shape class repeats its
+//! one-line `at` (placing it: `Placed::new`, written once) and its
+//! `__reduce__`; a shared Python base class would remove those lines and is
+//! not worth the change of the classes' identity (pickles, `isinstance`).
 
 use crate::convert::{self, describe, quat_out, vec3, vec_out};
 use crate::errors::{guard, invalid, OrRaise};

@@ -7,6 +7,7 @@
 use super::capsule_feature;
 use super::clip::reduce_to_four;
 use crate::contact::{Contact, ContactKind, Feature};
+use crate::math::DVec3;
 use crate::pose::Pose;
 use crate::shape::{Capsule, HalfSpace, Polytope, Sphere};
 
@@ -48,7 +49,7 @@ pub fn contact_capsule_halfspace(
 }
 
 fn push_ball_plane(
-    c: crate::math::DVec3,
+    c: DVec3,
     r: f64,
     fa: Feature,
     b: &HalfSpace,
@@ -87,28 +88,48 @@ pub fn contact_polytope_halfspace<P: Polytope + ?Sized>(
     let start = out.len();
     for v in 0..a.vertex_count() {
         let p = pose_a.transform_point(a.vertex(v));
-        let dist = n.dot(p) - d;
-        if dist <= margin {
-            out.push(Contact {
-                point: p - n * (0.5 * dist),
-                normal: n,
-                distance: dist,
-                kind: ContactKind::VertexFace,
-                feature_a: a.vertex_feature(v),
-                feature_b: Feature::face(0),
-            });
-        }
+        push_vertex_on_plane(out, p, n, d, margin, a.vertex_feature(v));
     }
     // Up to 8 vertices (a whole box) are kept as they are: a reduction by
     // spread in the plane can drop a deep vertex in favour of a shallow one
     // above it (a thin plate landing on its face), and speculative contacts
     // need every vertex that can arrive within the step.
-    let count = out.len() - start;
-    if count > 8 {
-        let (keep, k) = reduce_to_four(count, n, |i| (out[start + i].point, out[start + i].distance));
-        for (slot, &i) in keep[..k].iter().enumerate() {
-            out[start + slot] = out[start + i];
-        }
-        out.truncate(start + k);
+    if out.len() - start > 8 {
+        reduce_in_place(out, start, n);
     }
+}
+
+/// A vertex of A at `p` (world) against the plane `n . x = d` of
+/// half-space B: a vertex-face contact when it is within `margin`, its
+/// point midway between the vertex and the plane.
+pub(crate) fn push_vertex_on_plane(
+    out: &mut Vec<Contact>,
+    p: DVec3,
+    n: DVec3,
+    d: f64,
+    margin: f64,
+    feature_a: Feature,
+) {
+    let dist = n.dot(p) - d;
+    if dist <= margin {
+        out.push(Contact {
+            point: p - n * (0.5 * dist),
+            normal: n,
+            distance: dist,
+            kind: ContactKind::VertexFace,
+            feature_a,
+            feature_b: Feature::face(0),
+        });
+    }
+}
+
+/// Reduces the contacts `out[start..]` (on one plane of normal `n`) to
+/// four well spread ones, in place.
+pub(crate) fn reduce_in_place(out: &mut Vec<Contact>, start: usize, n: DVec3) {
+    let count = out.len() - start;
+    let (keep, k) = reduce_to_four(count, n, |i| (out[start + i].point, out[start + i].distance));
+    for (slot, &i) in keep[..k].iter().enumerate() {
+        out[start + slot] = out[start + i];
+    }
+    out.truncate(start + k);
 }

@@ -7,7 +7,7 @@
 //! triangles against the tree, spheres by the closest point on each nearby
 //! triangle, half-spaces by the mesh vertices within the margin.
 
-use super::clip::reduce_to_four;
+use super::contact_halfspace::{push_vertex_on_plane, reduce_in_place};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::math::{DMat3, DVec3};
@@ -196,17 +196,9 @@ pub fn contact_mesh_halfspace(
         }
     }
     for (v, &p) in a.mesh().vertices().iter().enumerate() {
-        let p = pose_a.transform_point(p);
-        let dist = n.dot(p) - d;
-        if dist <= margin && first_use[v] != u32::MAX {
-            out.push(Contact {
-                point: p - n * (0.5 * dist),
-                normal: n,
-                distance: dist,
-                kind: ContactKind::VertexFace,
-                feature_a: Feature::vertex(first_use[v] >> 2, (first_use[v] & 3) as u8),
-                feature_b: Feature::face(0),
-            });
+        if first_use[v] != u32::MAX {
+            let feature = Feature::vertex(first_use[v] >> 2, (first_use[v] & 3) as u8);
+            push_vertex_on_plane(out, pose_a.transform_point(p), n, d, margin, feature);
         }
     }
     if out.len() - start > MESH_PLANE_MAX_POINTS {
@@ -219,13 +211,8 @@ pub fn contact_mesh_halfspace(
         let band = deepest + MESH_PLANE_BAND;
         retain_from(out, start, |c| c.distance <= band);
     }
-    let count = out.len() - start;
-    if count > MESH_PLANE_MAX_POINTS {
-        let (keep, k) = reduce_to_four(count, n, |i| (out[start + i].point, out[start + i].distance));
-        for (slot, &i) in keep[..k].iter().enumerate() {
-            out[start + slot] = out[start + i];
-        }
-        out.truncate(start + k);
+    if out.len() - start > MESH_PLANE_MAX_POINTS {
+        reduce_in_place(out, start, n);
     }
 }
 

@@ -3,6 +3,7 @@
 //! collision table. Pairs below the diagonal are the mirror of a pair above
 //! it: the routine runs with A and B swapped and its contacts are flipped, so
 //! `contact_shapes(b, a)` is exactly the flip of `contact_shapes(a, b)`.
+//! The table's rows read alike by design: one line per shape pair.
 //!
 //! ```text
 //!  A \ B      | Sphere         Cuboid          Capsule          ConvexHull       HalfSpace          Mesh

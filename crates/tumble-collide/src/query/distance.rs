@@ -68,20 +68,15 @@ pub fn distance(
         value: options.rel_err,
     })?;
     let (tri_a, tri_b, td) = best.ok_or(QueryError::NotFinite("distance"))?;
-    // Finite coordinates near the f64 limit (1e300) can still overflow in
-    // the closest-point arithmetic (found by fuzzing): say so rather than
-    // return NaN points.
-    if !(td.distance.is_finite() && td.point_a.is_finite() && td.point_b.is_finite()) {
-        return Err(QueryError::NotFinite("distance"));
-    }
-    Ok(DistanceResult {
+    DistanceResult {
         distance: td.distance,
         point_a: td.point_a,
         point_b: td.point_b,
         tri_a,
         tri_b,
         stats: QueryStats::from_traversal(&traversal.stats, tests),
-    })
+    }
+    .finite("distance")
 }
 
 /// Euclidean distance between the axis-aligned boxes of two triangles (m),

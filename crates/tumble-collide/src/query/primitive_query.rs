@@ -163,19 +163,15 @@ pub fn distance_primitive(
         value: options.rel_err,
     })?;
     let (tri_b, d) = best.ok_or(QueryError::NotFinite("distance_primitive"))?;
-    // Coordinates near the f64 limit can overflow in the closest-point
-    // arithmetic: an error, never NaN points.
-    if !(d.distance.is_finite() && d.on_primitive.is_finite() && d.on_triangle.is_finite()) {
-        return Err(QueryError::NotFinite("distance_primitive"));
-    }
-    Ok(DistanceResult {
+    DistanceResult {
         distance: d.distance,
         point_a: d.on_primitive,
         point_b: d.on_triangle,
         tri_a: 0,
         tri_b,
         stats: QueryStats::from_traversal(&traversal.stats, tests),
-    })
+    }
+    .finite("distance_primitive")
 }
 
 /// `true` when primitive A at `pose_a` and mesh B at `pose_b` come within

@@ -3,6 +3,7 @@
 //! returns with every query, so tests and benchmarks can see a tree that got
 //! worse).
 
+use super::error::QueryError;
 use crate::bvh::TraversalStats;
 use crate::contact::Contact;
 use crate::math::DVec3;
@@ -82,6 +83,18 @@ impl Report {
 }
 
 impl DistanceResult {
+    /// The result if its distance and points are finite; coordinates near
+    /// the f64 limit (1e300) can overflow in the closest-point arithmetic
+    /// (found by fuzzing): then [`QueryError::NotFinite`] naming `query`,
+    /// never NaN points.
+    pub(crate) fn finite(self, query: &'static str) -> Result<DistanceResult, QueryError> {
+        if self.distance.is_finite() && self.point_a.is_finite() && self.point_b.is_finite() {
+            Ok(self)
+        } else {
+            Err(QueryError::NotFinite(query))
+        }
+    }
+
     /// The same result with A and B exchanged (points and triangles).
     pub fn swapped(self) -> DistanceResult {
         DistanceResult {

@@ -9,6 +9,10 @@
 //! [`ForceField`] evaluated at every stage, so that state-dependent forces get the full
 //! order of the method.
 //!
+//! Every method is a free function of one signature `(params, state, t, h,
+//! field)`, so that [`Integrator`] can select any of them; their first lines
+//! read alike by design (a `duplicates` listing of them is that signature).
+//!
 //! - [`Integrator`]: which method.
 //! - [`integrate`] / [`integrate_with_field`]: advance a slice of bodies by one step.
 //!

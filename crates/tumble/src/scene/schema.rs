@@ -6,6 +6,9 @@
 //!
 //! Conventions: SI units (m, kg, s), z up, quaternions `[x, y, z, w]`, angular
 //! velocity in the world frame, angles of `rotation` in degrees.
+//! Fields are declared one by one (optional, with their unit in the doc,
+//! which is the JSON schema's description): runs of them look alike by
+//! design.
 
 use std::collections::BTreeMap;
 

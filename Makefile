@@ -62,7 +62,7 @@ bench:
 # The Python package: .venv with the pinned tools, `pip install .` of
 # crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
 PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py \
-	bench/python_query_overhead.py bench/rollout_overhead.py scripts/manual_blocks.py
+	bench/python_query_overhead.py bench/rollout_overhead.py bench/peers bench/test_common.py scripts/manual_blocks.py
 
 python-env:
 	bash scripts/python-env.sh

@@ -1,4 +1,5 @@
-"""Fast checks of the scenes the peers receive and of the harness (python3 -m unittest bench/test_common.py;
+"""Fast checks of the scenes the peers receive and of the harness
+(python3 -m unittest bench/test_common.py;
 stdlib only; needs target/release/tumble, which bench-quick builds first)."""
 
 import math
@@ -43,7 +44,9 @@ class SceneData(unittest.TestCase):
             # density 1: sphere 4/3 pi r^3, cube (2h)^3
             self.assertAlmostEqual(kinds["sphere"], 4 / 3 * math.pi * 0.25**3)
             self.assertAlmostEqual(kinds["box"], 0.125)
-        self.assertEqual(C.pile_outside(s, [(3.2, 0.0, 1.0), (0.0, 0.0, -0.1), (math.nan, 0, 0), (1, 1, 1)]), 3)
+        self.assertEqual(
+            C.pile_outside(s, [(3.2, 0.0, 1.0), (0.0, 0.0, -0.1), (math.nan, 0, 0), (1, 1, 1)]), 3
+        )
 
     def test_chain_links_start_interlocked_within_the_bound(self):
         s = C.load_scene("chain")
@@ -94,7 +97,6 @@ class SceneData(unittest.TestCase):
         self.assertAlmostEqual(s["p90"], 10.0)
 
 
-
 class Harness(unittest.TestCase):
     def test_merge_replaces_rerun_records_and_status_placeholders(self):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -114,7 +116,8 @@ class Harness(unittest.TestCase):
 
 
 class AnswerCheck(unittest.TestCase):
-    """bench/run.py's check of tumble's answers: wrong answers are caught, right ones and peers pass."""
+    """bench/run.py's check of tumble's answers: wrong answers are caught,
+    right ones and peers pass."""
 
     def setUp(self):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -126,20 +129,34 @@ class AnswerCheck(unittest.TestCase):
         return {"engine": "tumble", "scene": scene, "status": "ok", "figures": figures}
 
     def test_right_answers_pass(self):
-        check = {"truth_total_pairs": 10, "total_pairs": 11, "max_abs_pose_difference": 1, "within_two_pairs": True}
+        check = {
+            "truth_total_pairs": 10,
+            "total_pairs": 11,
+            "max_abs_pose_difference": 1,
+            "within_two_pairs": True,
+        }
         ok = [
             self.record("tori", all_pairs_check=check, all_pairs_with_contacts_check=check),
             self.record("pyramid", top_box_displacement_m=0.004),
             self.record("large_pyramid", top_box_displacement_m=0.04),
             self.record("pile1000", bodies_outside=0),
-            {"engine": "rapier3d", "scene": "pile1000", "status": "ok", "figures": {"bodies_outside": 12}},
+            {
+                "engine": "rapier3d",
+                "scene": "pile1000",
+                "status": "ok",
+                "figures": {"bodies_outside": 12},
+            },
             {"engine": "mujoco", "scene": "pyramid", "status": "not installed"},
         ]
         self.assertEqual(self.wrong(ok), [])
 
     def test_wrong_answers_are_caught(self):
-        bad_pairs = {"truth_total_pairs": 10, "total_pairs": 30, "max_abs_pose_difference": 20,
-                     "within_two_pairs": False}
+        bad_pairs = {
+            "truth_total_pairs": 10,
+            "total_pairs": 30,
+            "max_abs_pose_difference": 20,
+            "within_two_pairs": False,
+        }
         no_truth = {"truth_total_pairs": None, "total_pairs": 30}
         cases = [
             self.record("tori", all_pairs_check=bad_pairs, all_pairs_with_contacts_check=bad_pairs),

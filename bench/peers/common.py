@@ -35,9 +35,13 @@ def load_scene(name, n=None, poses=None):
     Raises RuntimeError naming the command when the binary is missing or refuses."""
     exe = tumble_binary()
     cmd = [exe, "bench", "--scene", name, "--export-scene", "-"]
-    cmd += ([] if n is None else ["--n", str(n)]) + ([] if poses is None else ["--poses", str(poses)])
+    cmd += ([] if n is None else ["--n", str(n)]) + (
+        [] if poses is None else ["--poses", str(poses)]
+    )
     if not os.path.exists(exe):
-        raise RuntimeError(f"{exe} missing (cargo build --release -p tumble-cli): cannot export scene {name}")
+        raise RuntimeError(
+            f"{exe} missing (cargo build --release -p tumble-cli): cannot export scene {name}"
+        )
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     if p.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed: {p.stderr.strip()}")
@@ -65,8 +69,11 @@ def dynamic_indices(scene):
 def pile_outside(scene, positions):
     """Centres outside the pile's container (|x| or |y| beyond the scene's limit, z < 0, NaN)."""
     w = scene["limits"]["inside_half_width"]
-    return sum(1 for p in positions
-               if not all(math.isfinite(c) for c in p) or abs(p[0]) > w or abs(p[1]) > w or p[2] < 0.0)
+    return sum(
+        1
+        for p in positions
+        if not all(math.isfinite(c) for c in p) or abs(p[0]) > w or abs(p[1]) > w or p[2] < 0.0
+    )
 
 
 def momentum_and_energy(masses, velocities):
@@ -177,8 +184,12 @@ def parse_args(scenes, description, extra=()):
     ap.add_argument("--scene", required=True, help="one of: " + ", ".join(scenes))
     ap.add_argument("--steps", type=int, default=None, help="override step count (quick mode)")
     ap.add_argument("--n", type=int, default=1000, help="pile: number of bodies (multiple of 100)")
-    ap.add_argument("--decomposed", action="store_true",
-                    help="chain: the scene chain_decomposed (each link as 32 convex pieces) instead of the plain mesh")
+    ap.add_argument(
+        "--decomposed",
+        action="store_true",
+        help="chain: the scene chain_decomposed (each link as 32 convex pieces), "
+        "not the plain mesh",
+    )
     for flag, typ, help_text in extra:
         ap.add_argument(flag, type=typ, default=None, help=help_text)
     args = ap.parse_args()

@@ -17,7 +17,6 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
-
 import mujoco  # noqa: E402
 
 SCENES = ["pyramid", "pile", "chain", "cradle"]
@@ -39,7 +38,9 @@ def geom(body, s, assets):
     if body["restitution"] == 1.0:
         mat += " " + ELASTIC
     elif body["restitution"] != 0.0:
-        raise ValueError(f"{body['name']}: MuJoCo has no restitution coefficient ({body['restitution']})")
+        raise ValueError(
+            f"{body['name']}: MuJoCo has no restitution coefficient ({body['restitution']})"
+        )
     t = s["type"]
     if t == "sphere":
         g = f'type="sphere" size="{s["radius"]!r}"'
@@ -49,22 +50,29 @@ def geom(body, s, assets):
         g = f'type="capsule" size="{s["radius"]!r} {s["half_height"]!r}"'
     elif t == "convex_hull":
         name = f"hull{len(assets)}"
-        assets.append(f'<mesh name="{name}" vertex="{fmt([x for v in s["vertices"] for x in v])}"/>')
+        assets.append(
+            f'<mesh name="{name}" vertex="{fmt([x for v in s["vertices"] for x in v])}"/>'
+        )
         g = f'type="mesh" mesh="{name}"'
     elif t == "mesh":
         g = f'type="mesh" mesh="mesh{s["mesh"]}"'
     elif t == "half_space":
-        # A plane geom's solid side is below its local z: turn z onto the normal, shift by the offset.
+        # A plane geom's solid side is below its local z:
+        # turn z onto the normal, shift by the offset.
         n, d = s["normal"], s["offset"]
-        return f'<geom type="plane" size="0 0 1" pos="{fmt([d * x for x in n])}" zaxis="{fmt(n)}" {mat}/>'
+        at = fmt([d * x for x in n])
+        return f'<geom type="plane" size="0 0 1" pos="{at}" zaxis="{fmt(n)}" {mat}/>'
     else:
         raise ValueError(f"{body['name']}: shape type {t!r} has no translation here")
     return f"<geom {g} {frame} {mat}/>"
 
 
 def mjcf(scene):
-    assets = [f'<mesh name="mesh{k}" vertex="{fmt([x for v in m["vertices"] for x in v])}" '
-              f'face="{" ".join(str(i) for t in m["triangles"] for i in t)}"/>' for k, m in enumerate(scene["meshes"])]
+    assets = [
+        f'<mesh name="mesh{k}" vertex="{fmt([x for v in m["vertices"] for x in v])}" '
+        f'face="{" ".join(str(i) for t in m["triangles"] for i in t)}"/>'
+        for k, m in enumerate(scene["meshes"])
+    ]
     bodies = []
     for i, b in enumerate(scene["bodies"]):
         if b["kind"] == "kinematic":
@@ -72,15 +80,19 @@ def mjcf(scene):
         geoms = "".join(geom(b, s, assets) for s in b["shapes"])
         inner = ""
         if b["kind"] == "dynamic":
-            inner = (f'<freejoint/><inertial pos="0 0 0" mass="{b["mass"]!r}" '
-                     f'diaginertia="{fmt(b["principal_inertia"])}"/>')
-        bodies.append(f'    <body name="b{i}" pos="{fmt(b["position"])}" quat="{fmt(wxyz(b["rotation"]))}">'
-                      f"{inner}{geoms}</body>")
+            inner = (
+                f'<freejoint/><inertial pos="0 0 0" mass="{b["mass"]!r}" '
+                f'diaginertia="{fmt(b["principal_inertia"])}"/>'
+            )
+        bodies.append(
+            f'    <body name="b{i}" pos="{fmt(b["position"])}" quat="{fmt(wxyz(b["rotation"]))}">'
+            f"{inner}{geoms}</body>"
+        )
     solver = "CG" if scene["name"].startswith("pile") else "Newton"
-    return f"""<mujoco model="{scene['name']}">
-  <option timestep="{scene['dt']!r}" gravity="{fmt(scene['gravity'])}" solver="{solver}"/>
+    return f"""<mujoco model="{scene["name"]}">
+  <option timestep="{scene["dt"]!r}" gravity="{fmt(scene["gravity"])}" solver="{solver}"/>
   <size memory="1G"/>
-  <asset>{''.join(assets)}</asset>
+  <asset>{"".join(assets)}</asset>
   <worldbody>
 {chr(10).join(bodies)}
   </worldbody>
@@ -90,14 +102,19 @@ def mjcf(scene):
 def build(scene):
     m = mujoco.MjModel.from_xml_string(mjcf(scene))
     d = mujoco.MjData(m)
-    ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"b{i}") for i in range(len(scene["bodies"]))]
+    ids = [
+        mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"b{i}") for i in range(len(scene["bodies"]))
+    ]
     for i, b in zip(ids, scene["bodies"]):
         if b["kind"] == "dynamic":
             adr = m.jnt_dofadr[m.body_jntadr[i]]
             # A free joint's velocity: linear (world), then angular (body frame).
-            d.qvel[adr:adr + 3] = b["linear_velocity"]
-            mujoco.mju_rotVecQuat(d.qvel[adr + 3:adr + 6], b["angular_velocity"],
-                                  [b["rotation"][3], -b["rotation"][0], -b["rotation"][1], -b["rotation"][2]])
+            d.qvel[adr : adr + 3] = b["linear_velocity"]
+            mujoco.mju_rotVecQuat(
+                d.qvel[adr + 3 : adr + 6],
+                b["angular_velocity"],
+                [b["rotation"][3], -b["rotation"][0], -b["rotation"][1], -b["rotation"][2]],
+            )
     mujoco.mj_forward(m, d)
     return m, d, ids
 
@@ -155,23 +172,42 @@ def run(scene, steps, variant):
         disp = [C.dist(a, b) for a, b in zip(starts, ends)]
         figures.update(top_box_displacement_m=disp[-1], largest_displacement_m=max(disp))
     elif variant.startswith("pile"):
-        figures.update(bodies_outside=C.pile_outside(scene, ends), mean_final_height_m=sum(e[2] for e in ends) / len(ends),
-                       contact_points=int(d.ncon))
+        figures.update(
+            bodies_outside=C.pile_outside(scene, ends),
+            mean_final_height_m=sum(e[2] for e in ends) / len(ends),
+            contact_points=int(d.ncon),
+        )
         extra["n"] = len(dyn)
     elif chain:
         decomposed = variant == "chain-decomposed"
         figures.update(
-            interlock_held=mon.max_gap <= mon.limit, max_adjacent_centre_distance_m=mon.max_gap,
-            broken_links=mon.broken(positions(d, ids)), initial_hull_overlap_m=initial_overlap,
+            interlock_held=mon.max_gap <= mon.limit,
+            max_adjacent_centre_distance_m=mon.max_gap,
+            broken_links=mon.broken(positions(d, ids)),
+            initial_hull_overlap_m=initial_overlap,
             simulation_unstable_at_s=blew_up_at,
-            capability=("needs a convex decomposition (32 pieces per link)" if decomposed
-                        else "links collide as convex hulls: interlocked links overlap from the start"))
-        extra["collision"] = ("32 convex pieces per link (hulls of consecutive rings), not the plain mesh" if decomposed
-                              else "mesh geom = convex hull of the 768-triangle link (MuJoCo has no concave mesh collision)")
+            capability=(
+                "needs a convex decomposition (32 pieces per link)"
+                if decomposed
+                else "links collide as convex hulls: interlocked links overlap from the start"
+            ),
+        )
+        extra["collision"] = (
+            "32 convex pieces per link (hulls of consecutive rings), not the plain mesh"
+            if decomposed
+            else "mesh geom = convex hull of the 768-triangle link "
+            "(MuJoCo has no concave mesh collision)"
+        )
     elif variant == "cradle":
-        vels = [tuple(d.qvel[m.jnt_dofadr[m.body_jntadr[i]]:m.jnt_dofadr[m.body_jntadr[i]] + 3]) for i in ids]
+        vels = [
+            tuple(d.qvel[m.jnt_dofadr[m.body_jntadr[i]] : m.jnt_dofadr[m.body_jntadr[i]] + 3])
+            for i in ids
+        ]
         figures.update(C.cradle_figures(scene, vels))
-        extra.update(restitution="solref=(-1e4, 0): undamped contact spring (elastic)", friction="none (condim 1)")
+        extra.update(
+            restitution="solref=(-1e4, 0): undamped contact spring (elastic)",
+            friction="none (condim 1)",
+        )
     C.emit("mujoco", mujoco.__version__, variant, settings(m, scene, steps, extra), figures)
 
 

@@ -19,7 +19,6 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
-
 import pybullet as p  # noqa: E402
 
 SCENES = ["pyramid", "pile", "chain", "cradle"]
@@ -77,7 +76,11 @@ def transform(pose, v):
     x, y, z, w = q
     cx, cy, cz = y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]
     ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
-    return (v[0] + 2 * (w * cx + ccx) + pos[0], v[1] + 2 * (w * cy + ccy) + pos[1], v[2] + 2 * (w * cz + ccz) + pos[2])
+    return (
+        v[0] + 2 * (w * cx + ccx) + pos[0],
+        v[1] + 2 * (w * cy + ccy) + pos[1],
+        v[2] + 2 * (w * cz + ccz) + pos[2],
+    )
 
 
 def collision_shape(scene, body):
@@ -85,7 +88,9 @@ def collision_shape(scene, body):
     shapes = body["shapes"]
     if len(shapes) > 1:
         if any(s["type"] != "convex_hull" for s in shapes):
-            raise ValueError(f"{body['name']}: several shapes other than convex hulls have no translation here")
+            raise ValueError(
+                f"{body['name']}: several shapes other than convex hulls have no translation here"
+            )
         return hull_compound([(s["vertices"], (s["position"], s["rotation"])) for s in shapes])
     s = shapes[0]
     frame = {"collisionFramePosition": s["position"], "collisionFrameOrientation": s["rotation"]}
@@ -95,16 +100,25 @@ def collision_shape(scene, body):
     if t == "box":
         return p.createCollisionShape(p.GEOM_BOX, halfExtents=s["half_extents"], **frame)
     if t == "capsule":
-        return p.createCollisionShape(p.GEOM_CAPSULE, radius=s["radius"], height=2 * s["half_height"], **frame)
+        return p.createCollisionShape(
+            p.GEOM_CAPSULE, radius=s["radius"], height=2 * s["half_height"], **frame
+        )
     if t == "convex_hull":
         return p.createCollisionShape(p.GEOM_MESH, vertices=s["vertices"], **frame)
     if t == "mesh":
         m = scene["meshes"][s["mesh"]]
-        return p.createCollisionShape(p.GEOM_MESH, vertices=m["vertices"], indices=[i for t3 in m["triangles"] for i in t3],
-                                      flags=p.GEOM_FORCE_CONCAVE_TRIMESH, **frame)
+        return p.createCollisionShape(
+            p.GEOM_MESH,
+            vertices=m["vertices"],
+            indices=[i for t3 in m["triangles"] for i in t3],
+            flags=p.GEOM_FORCE_CONCAVE_TRIMESH,
+            **frame,
+        )
     if t == "half_space":
         n, d = s["normal"], s["offset"]
-        return p.createCollisionShape(p.GEOM_PLANE, planeNormal=n, collisionFramePosition=[d * x for x in n])
+        return p.createCollisionShape(
+            p.GEOM_PLANE, planeNormal=n, collisionFramePosition=[d * x for x in n]
+        )
     raise ValueError(f"{body['name']}: shape type {t!r} has no translation here")
 
 
@@ -113,7 +127,9 @@ def build(scene):
     p.connect(p.DIRECT)
     p.resetSimulation()
     p.setGravity(*scene["gravity"])
-    p.setPhysicsEngineParameter(fixedTimeStep=scene["dt"], numSubSteps=0, deterministicOverlappingPairs=1)
+    p.setPhysicsEngineParameter(
+        fixedTimeStep=scene["dt"], numSubSteps=0, deterministicOverlappingPairs=1
+    )
     if any(b["restitution"] > 0 for b in scene["bodies"]):
         # Elastic scenes (the cradle): bounce at any approach speed, as tumble does.
         p.setPhysicsEngineParameter(restitutionVelocityThreshold=0.0)
@@ -122,14 +138,29 @@ def build(scene):
         if b["kind"] == "kinematic":
             raise ValueError(f"{b['name']}: kinematic bodies have no translation here")
         dynamic = b["kind"] == "dynamic"
-        bid = p.createMultiBody(baseMass=b["mass"] if dynamic else 0.0, baseCollisionShapeIndex=collision_shape(scene, b),
-                                basePosition=b["position"], baseOrientation=b["rotation"])
+        bid = p.createMultiBody(
+            baseMass=b["mass"] if dynamic else 0.0,
+            baseCollisionShapeIndex=collision_shape(scene, b),
+            basePosition=b["position"],
+            baseOrientation=b["rotation"],
+        )
         kw = {"localInertiaDiagonal": b["principal_inertia"]} if dynamic else {}
-        p.changeDynamics(bid, -1, lateralFriction=math.sqrt(b["friction"]), restitution=b["restitution"],
-                         linearDamping=0.0, angularDamping=0.0, rollingFriction=0.0, spinningFriction=0.0,
-                         activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING, **kw)
+        p.changeDynamics(
+            bid,
+            -1,
+            lateralFriction=math.sqrt(b["friction"]),
+            restitution=b["restitution"],
+            linearDamping=0.0,
+            angularDamping=0.0,
+            rollingFriction=0.0,
+            spinningFriction=0.0,
+            activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
+            **kw,
+        )
         if dynamic:
-            p.resetBaseVelocity(bid, linearVelocity=b["linear_velocity"], angularVelocity=b["angular_velocity"])
+            p.resetBaseVelocity(
+                bid, linearVelocity=b["linear_velocity"], angularVelocity=b["angular_velocity"]
+            )
         ids.append(bid)
     return ids
 
@@ -170,21 +201,31 @@ def run(scene, steps, variant, iterations=None):
         disp = [C.dist(a, b) for a, b in zip(starts, ends)]
         figures.update(top_box_displacement_m=disp[-1], largest_displacement_m=max(disp))
     elif variant.startswith("pile"):
-        figures.update(bodies_outside=C.pile_outside(scene, ends), mean_final_height_m=sum(e[2] for e in ends) / len(ends),
-                       contact_points=len(p.getContactPoints()))
+        figures.update(
+            bodies_outside=C.pile_outside(scene, ends),
+            mean_final_height_m=sum(e[2] for e in ends) / len(ends),
+            contact_points=len(p.getContactPoints()),
+        )
         extra["n"] = len(dyn)
     elif chain:
         decomposed = variant == "chain-decomposed"
         all_ends = centres(ids)
         figures.update(
-            interlock_held=mon.max_gap <= mon.limit, max_adjacent_centre_distance_m=mon.max_gap,
-            broken_links=mon.broken(all_ends), link_contacts_sampled=contacts_seen,
+            interlock_held=mon.max_gap <= mon.limit,
+            max_adjacent_centre_distance_m=mon.max_gap,
+            broken_links=mon.broken(all_ends),
+            link_contacts_sampled=contacts_seen,
             lowest_link_z_m=min(e[2] for e in all_ends[1:]),
-            capability="needs a convex decomposition (32 pieces per link)" if decomposed else
-            "Bullet supports concave triangle meshes only on static bodies; "
-            "dynamic links get no concave-concave contacts (sampled contact count above)")
-        extra["collision"] = ("compound of 32 convex hulls per link (OBJ objects)" if decomposed
-                              else "plain concave mesh (GEOM_FORCE_CONCAVE_TRIMESH), 768 triangles")
+            capability="needs a convex decomposition (32 pieces per link)"
+            if decomposed
+            else "Bullet supports concave triangle meshes only on static bodies; "
+            "dynamic links get no concave-concave contacts (sampled contact count above)",
+        )
+        extra["collision"] = (
+            "compound of 32 convex hulls per link (OBJ objects)"
+            if decomposed
+            else "plain concave mesh (GEOM_FORCE_CONCAVE_TRIMESH), 768 triangles"
+        )
     elif variant == "cradle":
         figures.update(C.cradle_figures(scene, [p.getBaseVelocity(b)[0] for b in ids]))
         extra.update(restitution_per_body=1.0, gravity=scene["gravity"])
@@ -192,7 +233,11 @@ def run(scene, steps, variant, iterations=None):
 
 
 def main():
-    a = C.parse_args(SCENES, __doc__, extra=[("--iterations", int, "pyramid: solver iterations (default: Bullet's 50)")])
+    a = C.parse_args(
+        SCENES,
+        __doc__,
+        extra=[("--iterations", int, "pyramid: solver iterations (default: Bullet's 50)")],
+    )
     if a.iterations is not None and a.iterations <= 0:
         sys.exit("--iterations must be positive")
     scene = C.scene_for(a)

@@ -16,12 +16,19 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
-
 import numpy as np  # noqa: E402
 
 TRUTH = os.environ.get(
     "TORI_TRUTH",
-    os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data", "tori_pairs.json"),
+    os.path.join(
+        os.path.dirname(os.path.abspath(__file__)),
+        "..",
+        "..",
+        "..",
+        "shared",
+        "data",
+        "tori_pairs.json",
+    ),
 )
 BIG = 1_000_000  # "all pairs": far above the 416 pairs of the worst pose
 
@@ -29,20 +36,25 @@ BIG = 1_000_000  # "all pairs": far above the 416 pairs of the worst pose
 def rotation_matrix(q):
     """3x3 matrix of the unit quaternion (x, y, z, w)."""
     x, y, z, w = q
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def load_tori(count):
-    """The tori scene from its one definition in tumble (`tumble bench --scene tori --export-scene -`):
-    the torus as (vertices, triangles) arrays and the poses of B as [(index, rotation, translation)]."""
+    """The tori scene from its one definition in tumble
+    (`tumble bench --scene tori --export-scene -`): the torus as (vertices, triangles)
+    arrays and the poses of B as [(index, rotation, translation)]."""
     t = C.load_scene("tori", poses=count)
     v = np.array(t["mesh"]["vertices"], dtype=np.float64)
     tris = np.array(t["mesh"]["triangles"], dtype=np.int64)
-    return (v, tris), [(p["index"], rotation_matrix(p["rotation"]), np.array(p["position"])) for p in t["poses"]]
+    return (v, tris), [
+        (p["index"], rotation_matrix(p["rotation"]), np.array(p["position"])) for p in t["poses"]
+    ]
 
 
 def split_stats(times, colliding):
@@ -67,8 +79,9 @@ def pair_check(counts, truth):
 
 
 def run_fcl(mesh, ps, truth):
-    import fcl
     from importlib.metadata import version
+
+    import fcl
 
     v, t = mesh
 
@@ -112,27 +125,32 @@ def run_fcl(mesh, ps, truth):
             dist.append(time.perf_counter() - t0)
             dvals.append(d)
     col = [c > 0 for c in truth]
-    return [{
-        "engine": "python-fcl", "version": version("python-fcl"), "bv": "OBBRSS",
-        "figures": {
-            "first_contact": split_stats(first, col),
-            "first_contact_colliding_poses": sum(hit),
-            "all_pairs": split_stats(allp, col),
-            "all_pairs_check": pair_check(counts, truth),
-            "all_pairs_with_contacts": split_stats(withc, col),
-            "all_pairs_with_contacts_check": pair_check(counts_c, truth),
-            "distance_separated": C.timing_stats(dist, "us"),
-            "distance_min_m": min(dvals) if dvals else None,
-            "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
-            "tree_memory_bytes": None,
-        },
-        "notes": "python-fcl exposes only OBBRSS BVH models; tree memory is not exposed",
-    }]
+    return [
+        {
+            "engine": "python-fcl",
+            "version": version("python-fcl"),
+            "bv": "OBBRSS",
+            "figures": {
+                "first_contact": split_stats(first, col),
+                "first_contact_colliding_poses": sum(hit),
+                "all_pairs": split_stats(allp, col),
+                "all_pairs_check": pair_check(counts, truth),
+                "all_pairs_with_contacts": split_stats(withc, col),
+                "all_pairs_with_contacts_check": pair_check(counts_c, truth),
+                "distance_separated": C.timing_stats(dist, "us"),
+                "distance_min_m": min(dvals) if dvals else None,
+                "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
+                "tree_memory_bytes": None,
+            },
+            "notes": "python-fcl exposes only OBBRSS BVH models; tree memory is not exposed",
+        }
+    ]
 
 
 def run_coal(mesh, ps, truth, bv):
-    import coal
     from importlib.metadata import version
+
+    import coal
 
     v, t = mesh
 
@@ -180,28 +198,35 @@ def run_coal(mesh, ps, truth, bv):
             except Exception as e:  # coal has no OBB-OBB distance traversal
                 dist_note = f"distance not supported: {e}".splitlines()[0][:200]
     col = [c > 0 for c in truth]
-    return [{
-        "engine": "coal", "version": version("coal"), "bv": bv,
-        "figures": {
-            "first_contact": split_stats(first, col),
-            "first_contact_colliding_poses": sum(hit),
-            "all_pairs": split_stats(allp, col),
-            "all_pairs_check": pair_check(counts, truth),
-            "all_pairs_with_contacts": split_stats(withc, col),
-            "all_pairs_with_contacts_check": pair_check(counts_c, truth),
-            "distance_separated": C.timing_stats(dist, "us"),
-            "distance_min_m": min(dvals) if dvals else None,
-            "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
-            "tree_memory_bytes": int(ma.memUsage(False)) * 2,  # both models (BVs + vertices + triangles)
-        },
-        "notes": dist_note or "",
-    }]
+    return [
+        {
+            "engine": "coal",
+            "version": version("coal"),
+            "bv": bv,
+            "figures": {
+                "first_contact": split_stats(first, col),
+                "first_contact_colliding_poses": sum(hit),
+                "all_pairs": split_stats(allp, col),
+                "all_pairs_check": pair_check(counts, truth),
+                "all_pairs_with_contacts": split_stats(withc, col),
+                "all_pairs_with_contacts_check": pair_check(counts_c, truth),
+                "distance_separated": C.timing_stats(dist, "us"),
+                "distance_min_m": min(dvals) if dvals else None,
+                "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
+                "tree_memory_bytes": int(ma.memUsage(False))
+                * 2,  # both models (BVs + vertices + triangles)
+            },
+            "notes": dist_note or "",
+        }
+    ]
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--engine", required=True, choices=["fcl", "coal-obbrss", "coal-obb"])
-    ap.add_argument("--poses", type=int, default=200, help="N poses spread evenly over the 200 (quick mode)")
+    ap.add_argument(
+        "--poses", type=int, default=200, help="N poses spread evenly over the 200 (quick mode)"
+    )
     a = ap.parse_args()
     if not 1 <= a.poses <= 200:
         ap.error("--poses must be in 1..200")
@@ -216,9 +241,18 @@ def main():
     else:
         out = run_coal(mesh, ps, truth, "OBBRSS" if a.engine == "coal-obbrss" else "OBB")
     for o in out:
-        C.emit(o["engine"], o["version"], "tori", {"bv": o["bv"], "poses": a.poses,
-               "mesh": "torus_mesh(1.0, 0.3, 50, 50), 5000 triangles", "notes": o["notes"]},
-               o["figures"])
+        C.emit(
+            o["engine"],
+            o["version"],
+            "tori",
+            {
+                "bv": o["bv"],
+                "poses": a.poses,
+                "mesh": "torus_mesh(1.0, 0.3, 50, 50), 5000 triangles",
+                "notes": o["notes"],
+            },
+            o["figures"],
+        )
 
 
 if __name__ == "__main__":

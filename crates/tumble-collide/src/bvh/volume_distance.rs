@@ -49,6 +49,8 @@ pub fn volume_distance(
         }
         let n = &nodes[i as usize];
         if n.is_leaf() {
+            // The one-tree form of `traverse::distance`'s leaf step (one
+            // triangle per call instead of a pair): alike by design.
             stats.leaf_pairs += 1;
             for &t in tree.leaf_triangles(n) {
                 stats.triangle_pairs += 1;

@@ -531,7 +531,9 @@ fn primitive_contacts_have_the_analytic_depth() {
 }
 
 /// shared/data/tori_pairs.json: `TORI_TRUTH`, or `shared/` beside the
-/// repository (any ancestor of this crate holding `shared/data/`).
+/// repository (any ancestor of this crate holding `shared/data/`). The
+/// home of this reader is `tumble::scenes::tori_truth`; the query crate's
+/// tests cannot reach it (tumble depends on this crate, not the reverse).
 fn tori_truth() -> Option<Vec<u64>> {
     let path = std::env::var("TORI_TRUTH")
         .ok()

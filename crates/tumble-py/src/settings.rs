@@ -146,6 +146,8 @@ pub fn apply(s: &mut WorldSettings, kwargs: Option<&Bound<'_, PyDict>>) -> PyRes
 
 /// The settings as a dict of keyword -> value (vectors as numpy arrays).
 pub fn to_dict<'py>(py: Python<'py>, s: &WorldSettings) -> PyResult<Bound<'py, PyDict>> {
+    // One line per setting, the Python name beside the Rust field: alike by
+    // design (the names and units are the API; `apply` reads the same keys).
     let d = PyDict::new(py);
     d.set_item("gravity", vec_out(py, s.gravity))?;
     d.set_item("dt", s.dt)?;

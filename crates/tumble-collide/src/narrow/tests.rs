@@ -4,24 +4,21 @@
 use super::oracle::{boundary_distance, oshape, signed_distance};
 use super::*;
 use crate::math::{DQuat, DVec3};
-use crate::mesh::{cylinder_mesh, icosphere_mesh};
+use crate::mesh::icosphere_mesh;
 use crate::pose::Pose;
 use crate::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, Shape, Sphere};
 use proptest::prelude::*;
 
+/// The shape tests' bounded shapes, then an icosahedral hull and the ground.
 fn library() -> Vec<Shape> {
-    vec![
-        Sphere::new(0.4).unwrap().into(),
-        Cuboid::new(DVec3::new(0.5, 0.3, 0.2)).unwrap().into(),
-        Capsule::new(0.25, 0.4).unwrap().into(),
-        ConvexHull::from_mesh(&cylinder_mesh(0.4, 0.3, 7).unwrap())
-            .unwrap()
-            .into(),
+    let mut shapes = crate::shape::tests::shapes();
+    shapes.push(
         ConvexHull::from_mesh(&icosphere_mesh(0.5, 0).unwrap())
             .unwrap()
             .into(),
-        HalfSpace::ground().into(),
-    ]
+    );
+    shapes.push(HalfSpace::ground().into());
+    shapes
 }
 
 fn is_poly(s: &Shape) -> bool {

@@ -28,7 +28,7 @@ pub use polytope::Polytope;
 pub use sphere::Sphere;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use crate::hull::HullError;
 use crate::math::DVec3;

@@ -7,7 +7,9 @@ use crate::math::{DQuat, DVec3};
 use crate::mesh::cylinder_mesh;
 use proptest::prelude::*;
 
-fn shapes() -> Vec<Shape> {
+/// The bounded shapes the shape and narrow-phase tests run over (one list
+/// for both: `narrow::tests::library` adds a polyhedral hull and the ground).
+pub(crate) fn shapes() -> Vec<Shape> {
     vec![
         Sphere::new(0.4).unwrap().into(),
         Cuboid::new(DVec3::new(0.5, 0.3, 0.2)).unwrap().into(),

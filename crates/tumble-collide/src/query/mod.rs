@@ -24,6 +24,11 @@
 //! (primitive-triangle tests), `primitive_query` and `shape_pair` (the
 //! dispatch over any two shapes). Usage in
 //! `docs/collision.md` and the example on [`collide`].
+//!
+//! The query functions read alike at their ends by design: each starts with
+//! `input::checked_args` (the checks, written once) and turns a traversal's
+//! refusal of its margin into `QueryError::BadOption`; what lies between
+//! (which tree walk, which exact test) is each query's own.
 
 mod collide;
 mod distance;

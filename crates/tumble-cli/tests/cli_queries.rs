@@ -1,7 +1,8 @@
 //! The built `tumble` binary end to end: `collide` and `mass` give
 //! physically right answers in their JSON (known overlap depth, gap,
 //! closest points, the box mass formulas), `bench --scene tori` prints the
-//! harness record, and bad input exits with status 2 and one line.
+//! harness record, `bench --export-scene` writes the scene the peers build
+//! from, and bad input exits with status 2 and one line.
 
 use serde_json::Value;
 use std::process::{Command, Output};
@@ -277,4 +278,52 @@ fn bad_input_exits_2_with_one_line() {
     assert_input_error(&["collide", CUBE], "B");
     assert_input_error(&["mass", "/no/such/mesh.stl"], "/no/such/mesh.stl");
     assert_input_error(&["bench", "--scene", "tori", "--poses", "0"], "--poses");
+}
+
+#[test]
+fn export_scene_writes_the_plain_scene_and_refuses_bad_requests() {
+    // The pile of 100 as every peer receives it: 5 static boxes, then 100
+    // bodies of density 1 (a cube of half extent 0.25: 0.125 kg).
+    let v = json_of(&["bench", "--scene", "pile", "--n", "100", "--export-scene", "-"]);
+    assert_eq!(v["format"], "tumble-plain-scene/1");
+    let bodies = v["bodies"].as_array().expect("bodies");
+    assert_eq!(bodies.len(), 105);
+    assert_eq!(bodies[0]["kind"], "static");
+    let cube = bodies
+        .iter()
+        .find(|b| b["shapes"][0]["type"] == "box" && b["kind"] == "dynamic")
+        .expect("a dynamic cube");
+    assert!((cube["mass"].as_f64().unwrap() - 0.125).abs() < 1e-12);
+    // To a file, the same JSON.
+    let dir = std::env::temp_dir().join(format!("tumble-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("tori.json");
+    let out = tumble(&[
+        "bench",
+        "--scene",
+        "tori",
+        "--poses",
+        "3",
+        "--export-scene",
+        file.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let tori: Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(tori["poses"].as_array().unwrap().len(), 3);
+    std::fs::remove_dir_all(&dir).ok();
+    // Bad requests: a pile that is not a multiple of 100, an unwritable path.
+    assert_input_error(
+        &["bench", "--scene", "pile", "--n", "150", "--export-scene", "-"],
+        "multiple of 100",
+    );
+    assert_input_error(
+        &[
+            "bench",
+            "--scene",
+            "cradle",
+            "--export-scene",
+            "/nonexistent-dir/cradle.json",
+        ],
+        "cannot write",
+    );
 }

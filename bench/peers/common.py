@@ -76,6 +76,21 @@ def pile_outside(scene, positions):
     )
 
 
+def pyramid_figures(starts, ends):
+    """Displacement of the top box (the last body) and the largest one, start to end (m)."""
+    disp = [dist(a, b) for a, b in zip(starts, ends)]
+    return {"top_box_displacement_m": disp[-1], "largest_displacement_m": max(disp)}
+
+
+def pile_figures(scene, ends, contact_points):
+    """Bodies outside the container, mean final height (m) and the engine's contact count."""
+    return {
+        "bodies_outside": pile_outside(scene, ends),
+        "mean_final_height_m": sum(e[2] for e in ends) / len(ends),
+        "contact_points": contact_points,
+    }
+
+
 def momentum_and_energy(masses, velocities):
     """Linear momentum (3-vector) and translational kinetic energy of point masses."""
     p = [sum(m * v[a] for m, v in zip(masses, velocities)) for a in range(3)]

@@ -198,14 +198,9 @@ def run(scene, steps, variant, iterations=None):
     figures = {"step_time": t.figures(), "deepest_penetration_m": deepest}
     extra = {}
     if variant.startswith("pyramid"):
-        disp = [C.dist(a, b) for a, b in zip(starts, ends)]
-        figures.update(top_box_displacement_m=disp[-1], largest_displacement_m=max(disp))
+        figures.update(C.pyramid_figures(starts, ends))
     elif variant.startswith("pile"):
-        figures.update(
-            bodies_outside=C.pile_outside(scene, ends),
-            mean_final_height_m=sum(e[2] for e in ends) / len(ends),
-            contact_points=len(p.getContactPoints()),
-        )
+        figures.update(C.pile_figures(scene, ends, len(p.getContactPoints())))
         extra["n"] = len(dyn)
     elif chain:
         decomposed = variant == "chain-decomposed"

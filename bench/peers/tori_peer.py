@@ -78,6 +78,23 @@ def pair_check(counts, truth):
     }
 
 
+def query_figures(truth, first, hit, allp, counts, withc, counts_c, dist, dvals, tree_bytes):
+    """The record's figures from one library's timings (s) and answers at the poses run."""
+    col = [c > 0 for c in truth]
+    return {
+        "first_contact": split_stats(first, col),
+        "first_contact_colliding_poses": sum(hit),
+        "all_pairs": split_stats(allp, col),
+        "all_pairs_check": pair_check(counts, truth),
+        "all_pairs_with_contacts": split_stats(withc, col),
+        "all_pairs_with_contacts_check": pair_check(counts_c, truth),
+        "distance_separated": C.timing_stats(dist, "us"),
+        "distance_min_m": min(dvals) if dvals else None,
+        "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
+        "tree_memory_bytes": tree_bytes,
+    }
+
+
 def run_fcl(mesh, ps, truth):
     from importlib.metadata import version
 
@@ -124,24 +141,14 @@ def run_fcl(mesh, ps, truth):
             d = fcl.distance(oa, ob, dreq, dres)
             dist.append(time.perf_counter() - t0)
             dvals.append(d)
-    col = [c > 0 for c in truth]
     return [
         {
             "engine": "python-fcl",
             "version": version("python-fcl"),
             "bv": "OBBRSS",
-            "figures": {
-                "first_contact": split_stats(first, col),
-                "first_contact_colliding_poses": sum(hit),
-                "all_pairs": split_stats(allp, col),
-                "all_pairs_check": pair_check(counts, truth),
-                "all_pairs_with_contacts": split_stats(withc, col),
-                "all_pairs_with_contacts_check": pair_check(counts_c, truth),
-                "distance_separated": C.timing_stats(dist, "us"),
-                "distance_min_m": min(dvals) if dvals else None,
-                "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
-                "tree_memory_bytes": None,
-            },
+            "figures": query_figures(
+                truth, first, hit, allp, counts, withc, counts_c, dist, dvals, tree_bytes=None
+            ),
             "notes": "python-fcl exposes only OBBRSS BVH models; tree memory is not exposed",
         }
     ]
@@ -197,25 +204,24 @@ def run_coal(mesh, ps, truth, bv):
                 dvals.append(d)
             except Exception as e:  # coal has no OBB-OBB distance traversal
                 dist_note = f"distance not supported: {e}".splitlines()[0][:200]
-    col = [c > 0 for c in truth]
     return [
         {
             "engine": "coal",
             "version": version("coal"),
             "bv": bv,
-            "figures": {
-                "first_contact": split_stats(first, col),
-                "first_contact_colliding_poses": sum(hit),
-                "all_pairs": split_stats(allp, col),
-                "all_pairs_check": pair_check(counts, truth),
-                "all_pairs_with_contacts": split_stats(withc, col),
-                "all_pairs_with_contacts_check": pair_check(counts_c, truth),
-                "distance_separated": C.timing_stats(dist, "us"),
-                "distance_min_m": min(dvals) if dvals else None,
-                "distance_negative_at_separated_poses": sum(1 for d in dvals if d < 0),
-                "tree_memory_bytes": int(ma.memUsage(False))
-                * 2,  # both models (BVs + vertices + triangles)
-            },
+            # Tree bytes of both models (BVs + vertices + triangles).
+            "figures": query_figures(
+                truth,
+                first,
+                hit,
+                allp,
+                counts,
+                withc,
+                counts_c,
+                dist,
+                dvals,
+                tree_bytes=int(ma.memUsage(False)) * 2,
+            ),
             "notes": dist_note or "",
         }
     ]

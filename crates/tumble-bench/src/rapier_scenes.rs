@@ -73,6 +73,8 @@ pub struct SceneWorld {
     pub bodies: Vec<RigidBodyHandle>,
     /// Per joint: (body 1, local anchor 1, body 2, local anchor 2).
     pub anchors: Vec<(RigidBodyHandle, Vector, RigidBodyHandle, Vector)>,
+    /// The scene's plain form the world was built from (masses, start velocities).
+    pub plain: tumble::scenes::PlainScene,
 }
 
 /// Builds `scene` in Rapier from its plain form: spheres, boxes, capsules,
@@ -128,6 +130,7 @@ pub fn build(scene: &Scene, multibody: bool) -> Result<SceneWorld, String> {
         world: w,
         bodies,
         anchors,
+        plain,
     })
 }
 

@@ -18,6 +18,15 @@ fn dynamic(plain: &PlainScene) -> Vec<&scenes::PlainBody> {
         .collect()
 }
 
+/// A JSON array of numbers.
+fn floats(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
 fn close(a: f64, b: f64, rel: f64) -> bool {
     (a - b).abs() <= rel * b.abs().max(1e-300)
 }
@@ -187,20 +196,8 @@ fn json_form_says_what_the_plain_form_says() {
     for (b, p) in bodies.iter().zip(&plain.bodies) {
         assert_eq!(b["shapes"][0]["type"], "mesh");
         assert_eq!(b["shapes"][0]["mesh"], 0);
-        let pos: Vec<f64> = b["position"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect();
-        assert_eq!(pos, p.pose.position.to_array());
-        let q: Vec<f64> = b["rotation"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect();
-        assert_eq!(q, p.pose.rotation.to_array());
+        assert_eq!(floats(&b["position"]), p.pose.position.to_array());
+        assert_eq!(floats(&b["rotation"]), p.pose.rotation.to_array());
         assert_eq!(b["mass"].as_f64().unwrap(), p.mass);
     }
     assert_eq!(bodies[0]["kind"], "static");

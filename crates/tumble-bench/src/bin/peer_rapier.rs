@@ -91,8 +91,8 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
     let starts: Vec<[f64; 3]> = (0..scene.bodies.len()).map(|i| sw.centre(i)).collect();
     // Rapier computes its mass properties in the first step: the start's
     // energy comes from the scene's own masses and velocities.
-    let plain = scene.plain().map_err(|e| e.to_string())?;
-    let energy_start: f64 = plain
+    let energy_start: f64 = sw
+        .plain
         .bodies
         .iter()
         .map(|b| {
@@ -151,7 +151,7 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
                 })
                 .map(|v| [v.x as f64, v.y as f64, v.z as f64])
                 .collect();
-            let mass: Vec<f64> = plain.bodies.iter().map(|b| b.mass).collect();
+            let mass: Vec<f64> = sw.plain.bodies.iter().map(|b| b.mass).collect();
             let p: [f64; 3] = std::array::from_fn(|a| vel.iter().zip(&mass).map(|(v, m)| m * v[a]).sum());
             // The striker alone moves at the start: p0 = m v along x.
             let p0 = mass[5] * 1.0;

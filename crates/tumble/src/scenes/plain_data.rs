@@ -99,10 +99,9 @@ impl Scene {
     /// mass properties (see the module documentation). Joints stay as the
     /// scene has them ([`Scene::joints`]: anchors and axes in the world).
     pub fn plain(&self) -> Result<PlainScene, WorldError> {
-        let mut settings = self.settings.clone();
-        settings.threads = 1;
+        // Only the bodies' resolved mass properties are read: one thread, no joints.
         let mut scene = self.clone();
-        scene.settings = settings;
+        scene.settings.threads = 1;
         scene.joints.clear();
         let (world, ids) = scene.build()?;
         let bodies = ids

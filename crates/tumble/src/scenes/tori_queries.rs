@@ -168,20 +168,15 @@ mod tests {
         assert_eq!(ks, vec![0, 50, 100, 149, 199]);
         for p in poses {
             let pose = tori_pose(p["index"].as_u64().unwrap() as usize);
-            let x: Vec<f64> = p["position"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_f64().unwrap())
-                .collect();
-            let q: Vec<f64> = p["rotation"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_f64().unwrap())
-                .collect();
-            assert_eq!(x, pose.position.to_array());
-            assert_eq!(q, pose.rotation.to_array());
+            let floats = |v: &serde_json::Value| -> Vec<f64> {
+                v.as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect()
+            };
+            assert_eq!(floats(&p["position"]), pose.position.to_array());
+            assert_eq!(floats(&p["rotation"]), pose.rotation.to_array());
         }
         assert_eq!(j["mesh"]["triangles"].as_array().unwrap().len(), 5000);
         assert_eq!(j["mesh"]["vertices"].as_array().unwrap().len(), 2500);

@@ -197,7 +197,7 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
         poses = QUICK_POSES if quick else 200
         if on("tumble"):
             results += run_tumble("tori", poses=poses)
-        for eng in [e for e in ["fcl", "coal-obbrss", "coal-obb"] if on(e)]:
+        for eng in [e for e in ["fcl", "fcl-native", "coal-obbrss", "coal-obb"] if on(e)]:
             print(f"[bench] {eng} tori", file=sys.stderr, flush=True)
             results += python_peer(eng, "tori_peer.py", ["--engine", eng, "--poses", str(poses)], timeout, "tori")
         if on("parry3d"):
@@ -250,7 +250,7 @@ def main():
                          "(for slow peers such as the 10k pile; each record states its steps)")
     ap.add_argument("--pile-n", type=int, nargs="*", help="pile sizes to run (default 100 1000 10000; quick 100)")
     ap.add_argument("--engines", nargs="*",
-                    help="subset of: tumble pybullet mujoco rapier3d fcl coal-obbrss coal-obb parry3d")
+                    help="subset of: tumble pybullet mujoco rapier3d fcl fcl-native coal-obbrss coal-obb parry3d")
     ap.add_argument("--threads", type=int, nargs="*",
                     help="thread counts for tumble and Rapier on the dynamics scenes (default 1 2; quick 1)")
     ap.add_argument("--append", action="store_true",

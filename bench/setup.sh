@@ -24,6 +24,34 @@ while read -r line; do
     first=0
     status="$status\"$name\": $ok"
 done < "$here/requirements.txt"
-status="$status}"
+# The native FCL peer (bench/peers/fcl_native/peer_fcl.cpp): Debian's libfcl-dev and
+# nlohmann-json3-dev, then one g++ call into target/release/peer-fcl. Skipped (and the peer
+# recorded as not installed) where apt-get or g++ is missing.
+fcl_ok=false
+if ! pkg-config --exists fcl 2>/dev/null || [ ! -f /usr/include/nlohmann/json.hpp ]; then
+    if command -v apt-get >/dev/null; then
+        echo "setup.sh: installing libfcl-dev nlohmann-json3-dev pkg-config (apt-get)"
+        export DEBIAN_FRONTEND=noninteractive
+        apt-get update -qq >/dev/null
+        apt-get install -y -qq --no-install-recommends libfcl-dev nlohmann-json3-dev pkg-config >/dev/null \
+            || echo "setup.sh: could not install libfcl-dev" >&2
+    fi
+fi
+peer_fcl="$here/../target/release/peer-fcl"
+source_fcl="$here/peers/fcl_native/peer_fcl.cpp"
+if pkg-config --exists fcl 2>/dev/null && command -v g++ >/dev/null; then
+    if [ ! -x "$peer_fcl" ] || [ "$source_fcl" -nt "$peer_fcl" ]; then
+        mkdir -p "$(dirname "$peer_fcl")"
+        # shellcheck disable=SC2046 # pkg-config's flags are meant to split
+        if g++ -O2 -DNDEBUG -std=c++17 -o "$peer_fcl" "$source_fcl" $(pkg-config --cflags --libs fcl) 2>/dev/null; then
+            fcl_ok=true
+        else
+            echo "setup.sh: could not build $peer_fcl" >&2
+        fi
+    else
+        fcl_ok=true
+    fi
+fi
+status="$status, \"fcl-native\": $fcl_ok}"
 echo "$status" > "$venv/install-status.json"
 echo "setup.sh: $status"

@@ -176,7 +176,14 @@ def peak_rss_bytes():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 
-def emit(engine, version, scene, settings, figures, status="ok"):
+def children_peak_rss_bytes():
+    """Peak resident set size of the largest finished child process (a native peer)."""
+    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024
+
+
+def emit(engine, version, scene, settings, figures, status="ok", peak_rss=None):
+    """Prints one record; `peak_rss` (bytes) replaces this process's own peak when the work
+    ran in a child."""
     obj = {
         "engine": engine,
         "version": version,
@@ -184,7 +191,7 @@ def emit(engine, version, scene, settings, figures, status="ok"):
         "status": status,
         "settings": settings,
         "figures": figures,
-        "peak_rss_bytes": peak_rss_bytes(),
+        "peak_rss_bytes": peak_rss_bytes() if peak_rss is None else peak_rss,
         "python": platform.python_version(),
     }
     json.dump(obj, sys.stdout, allow_nan=False, default=float)

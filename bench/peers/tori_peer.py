@@ -1,16 +1,21 @@
-"""Tori collision-query peers (scenes.md "tori"): python-fcl (OBBRSS) and coal (OBBRSS, OBB).
+"""Tori collision-query peers (scenes.md "tori"): python-fcl (OBBRSS), native FCL (OBBRSS, the
+same library called from C++: target/release/peer-fcl, built by bench/setup.sh) and coal
+(OBBRSS, OBB).
 
 For each of the 200 poses of torus B, each query runs from scratch (new result object,
 no cached guess): (1) first contact, boolean, early exit; (2) all intersecting triangle
 pairs (no contact data); (3) all pairs with contact data; (4) minimum distance, at the
 poses the ground truth says are separated. Pair counts are checked per pose against
 /work/shared/data/tori_pairs.json (exact predicates). Times are perf_counter around the
-single binding call, so they include the Python-binding overhead (~1-2 us).
+single binding call, so they include the Python-binding overhead (~1-2 us); native FCL's are
+steady_clock around the single C++ call (python-fcl's calls also build a Python object per
+contact, which the native peer shows).
 """
 
 import argparse
 import json
 import os
+import subprocess
 import sys
 import time
 
@@ -45,11 +50,10 @@ def rotation_matrix(q):
     )
 
 
-def load_tori(count):
-    """The tori scene from its one definition in tumble
-    (`tumble bench --scene tori --export-scene -`): the torus as (vertices, triangles)
-    arrays and the poses of B as [(index, rotation, translation)]."""
-    t = C.load_scene("tori", poses=count)
+def tori_arrays(t):
+    """The tori scene (its one definition in tumble, `tumble bench --scene tori --export-scene
+    -`) as the bindings take it: the torus as (vertices, triangles) arrays and the poses of B
+    as [(index, rotation, translation)]."""
     v = np.array(t["mesh"]["vertices"], dtype=np.float64)
     tris = np.array(t["mesh"]["triangles"], dtype=np.int64)
     return (v, tris), [
@@ -154,6 +158,47 @@ def run_fcl(mesh, ps, truth):
     ]
 
 
+PEER_FCL = os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "..", "target", "release", "peer-fcl"
+)
+
+
+def run_fcl_native(scene, truth):
+    """FCL through its C++ API (bench/peers/fcl_native/peer_fcl.cpp): the same queries, timed
+    natively; its raw answers become the record's figures here, as every library's do."""
+    if not os.path.exists(PEER_FCL):
+        raise ModuleNotFoundError(f"{PEER_FCL} missing: bash bench/setup.sh builds it (libfcl-dev)")
+    request = {"scene": scene, "distance_at": [t == 0 for t in truth]}
+    p = subprocess.run(
+        [PEER_FCL], input=json.dumps(request), capture_output=True, text=True, timeout=3600
+    )
+    if p.returncode != 0:
+        raise RuntimeError(f"{PEER_FCL} failed: {p.stderr.strip()}")
+    r = json.loads(p.stdout)
+    figures = query_figures(
+        truth,
+        r["first"],
+        r["hit"],
+        r["all_pairs"],
+        r["counts"],
+        r["with_contacts"],
+        r["counts_with_contacts"],
+        r["distance"],
+        r["distances"],
+        tree_bytes=r["tree_memory_bytes"],
+    )
+    return [
+        {
+            "engine": "fcl (native)",
+            "version": r["version"],
+            "bv": "OBBRSS",
+            "figures": figures,
+            "notes": "FCL's C++ API (Debian libfcl-dev), g++ -O2; tree memory: BV nodes, "
+            "vertices and triangles (memUsage's sum; FCL 0.7's memUsage returns 0)",
+        }
+    ]
+
+
 def run_coal(mesh, ps, truth, bv):
     from importlib.metadata import version
 
@@ -229,7 +274,9 @@ def run_coal(mesh, ps, truth, bv):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--engine", required=True, choices=["fcl", "coal-obbrss", "coal-obb"])
+    ap.add_argument(
+        "--engine", required=True, choices=["fcl", "fcl-native", "coal-obbrss", "coal-obb"]
+    )
     ap.add_argument(
         "--poses", type=int, default=200, help="N poses spread evenly over the 200 (quick mode)"
     )
@@ -239,11 +286,17 @@ def main():
     with open(TRUTH) as f:
         truth_all = json.load(f)["pairs_per_pose"]
     # --poses N takes N poses spread evenly over k = 0..199 (all 200 when N = 200): tumble's choice.
-    mesh, chosen = load_tori(a.poses)
+    scene = C.load_scene("tori", poses=a.poses)
+    mesh, chosen = tori_arrays(scene)
     truth = [truth_all[k] for k, _, _ in chosen]
     ps = [(rot, x) for _, rot, x in chosen]
+    peak_rss = None
     if a.engine == "fcl":
         out = run_fcl(mesh, ps, truth)
+    elif a.engine == "fcl-native":
+        out = run_fcl_native(scene, truth)
+        # The native process's own peak, not this driver's.
+        peak_rss = C.children_peak_rss_bytes()
     else:
         out = run_coal(mesh, ps, truth, "OBBRSS" if a.engine == "coal-obbrss" else "OBB")
     for o in out:
@@ -258,6 +311,7 @@ def main():
                 "notes": o["notes"],
             },
             o["figures"],
+            peak_rss=peak_rss,
         )
 
 

@@ -216,6 +216,14 @@ impl TriMesh {
             .sum()
     }
 
+    /// Bytes the mesh holds: its vertices and triangles and the struct
+    /// itself (what a benchmark counts as a collision model's geometry).
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
+            + self.vertices.len() * std::mem::size_of::<DVec3>()
+            + self.triangles.len() * std::mem::size_of::<[u32; 3]>()
+    }
+
     /// Signed enclosed volume by the divergence theorem (m^3); positive for a
     /// closed mesh wound outward. Meaningless for an open mesh.
     pub fn signed_volume(&self) -> f64 {

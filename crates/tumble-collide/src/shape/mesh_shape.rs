@@ -111,6 +111,15 @@ impl MeshShape {
         &self.mesh
     }
 
+    /// Bytes of the whole collision model: the mesh (vertices and
+    /// triangles), its OBBTree and the flat-edge flags. The figure the
+    /// benchmarks compare with other libraries' models, which hold their
+    /// geometry beside their trees (FCL's and coal's `memUsage`, parry's
+    /// `total_memory_size`).
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>() + self.mesh.memory_bytes() + self.tree.memory_bytes() + self.flat.len()
+    }
+
     /// Its OBBTree.
     pub fn tree(&self) -> &ObbTree {
         &self.tree

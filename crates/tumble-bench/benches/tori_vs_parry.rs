@@ -185,6 +185,8 @@ fn tori(c: &mut Criterion) {
     });
     g.finish();
 
+    // One group per mode, spelt out like tori_all_pairs_200_poses above: each closure
+    // calls its library directly, so what is timed is read at the group.
     let mut g = c.benchmark_group("tori_all_pairs_with_contacts_200_poses");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     g.bench_function("tumble", |b| {

@@ -60,6 +60,8 @@ impl<'a> Params<'a> {
         }
     }
 
+    // `f64_or` for counts: two functions so that each message says what it
+    // expects ("a number", "a non-negative integer").
     fn usize_or(&self, key: &str, default: usize) -> Result<usize, String> {
         match self.map.get(key) {
             None => Ok(default),

@@ -125,6 +125,8 @@ fn separated_cubes_give_the_gap_and_closest_points() {
     assert!((pa[2] - 0.5).abs() < 1e-12 && (pb[2] - 1.0).abs() < 1e-12, "{d}");
     assert!((pa[0] - pb[0]).abs() < 1e-12 && (pa[1] - pb[1]).abs() < 1e-12);
     assert_eq!(v["within_tolerance"]["within"], Value::Bool(false));
+    // The command above again, without --distance and at tolerance 0.5: the
+    // whole argument list is the case, as a user would type it.
     let v = json_of(&[
         "collide",
         CUBE,
@@ -200,6 +202,8 @@ fn obj_files_work_in_mass_and_collide() {
         let c = |bit: usize, off: f64| if i & bit != 0 { off + 0.5 } else { off - 0.5 };
         obj += &format!("v {} {} {}\n", c(1, 2.0), c(2, -1.0), c(4, 0.5));
     }
+    // A hand-written OBJ on purpose (not mesh::box_mesh, nor the 0-based table
+    // of query_oracle.rs `primitive_triangle_distance`): the reader is under test.
     // Corner loops of the six faces (1-based), split into triangles wound
     // counter-clockwise seen from outside.
     for f in [

@@ -32,6 +32,8 @@ fn run_writes_a_glb_and_trajectories_that_match_the_simulation() {
     let dir = temp_dir("run");
     let (glb, csv, npz) = (dir.join("c.glb"), dir.join("c.csv"), dir.join("c.npz"));
     let steps = 40;
+    // Not `assert_bad_input`'s command (below): this run must succeed and its
+    // outputs are read back, so its arguments are written out here.
     let out = tumble()
         .args(["run", "--quiet", "--steps", &steps.to_string()])
         .arg(example("cradle.toml"))
@@ -376,6 +378,8 @@ fn view_streams_a_scene_live_over_a_websocket() {
         let poses = frame["poses"].as_array().unwrap();
         assert_eq!(poses.len(), 31);
         for p in poses {
+            // JSON array to floats as in tumble/src/export/tests.rs
+            // `extras_round_trip`: tumble-cli's tests cannot use tumble's test code.
             let p: Vec<f64> = p
                 .as_array()
                 .unwrap()

@@ -376,6 +376,9 @@ fn primitive_triangle_distance(prim: &Shape, pose: &Pose, t: &[DVec3; 3]) -> f64
                     if i & 4 != 0 { h.z } else { -h.z },
                 ))
             };
+            // Its own corner table, not mesh::box_mesh: the oracle stays apart from
+            // the code it checks. (cli_queries.rs writes a 1-based OBJ cube, and
+            // world_recorder.rs PALETTE is colours: alike in shape only.)
             let faces = [
                 [0, 1, 3, 2],
                 [4, 5, 7, 6],
@@ -616,6 +619,8 @@ fn bad_input_gets_typed_errors() {
         position: DVec3::ZERO,
         rotation: DQuat::from_xyzw(1.0, 1.0, 1.0, 1.0),
     };
+    // tumble/tests/bad_input.rs `queries_reject_bad_poses_and_options` repeats
+    // these through tumble for docs/validation.md; here they guard this crate alone.
     let o = CollideOptions::default();
     assert!(matches!(
         collide(&m, &nan, &m, &id, &o),

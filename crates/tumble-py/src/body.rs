@@ -151,6 +151,9 @@ impl Body {
         self.write(py, |w, id| w.inner.set_pose(id, pose).or_raise())
     }
 
+    // `velocity` and `angular_velocity` are mirror property pairs (pyo3 wants a
+    // getter and a setter per attribute); each setter keeps the other half,
+    // since the world sets both velocities at once.
     /// Linear velocity of the centre of mass (m/s), shape (3,). Settable
     /// (dynamic and kinematic bodies).
     #[getter]

@@ -120,6 +120,8 @@ pub fn points(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<DVec3>> {
         .collect())
 }
 
+// Checks as `points` above, but for integer dtypes and with a message that
+// says "vertex indices": each error names what its argument should be.
 /// An (M, 3) array of integer vertex indices (signed or unsigned dtype;
 /// negative entries are rejected).
 pub fn faces(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Vec<[u64; 3]>> {

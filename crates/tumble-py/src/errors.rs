@@ -69,6 +69,8 @@ fn make_class<'py>(
 
 fn classes(py: Python<'_>) -> PyResult<&Classes> {
     CLASSES.get_or_try_init(py, || {
+        // One call per class of the tree above: each names its own bases
+        // (made just before it) and its Python docstring.
         let tumble = make_class(
             py,
             "TumbleError",

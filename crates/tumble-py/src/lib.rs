@@ -54,6 +54,8 @@ fn _panic_for_tests(message: String) -> PyResult<()> {
 /// The native module `tumble._tumble`.
 #[pymodule]
 fn _tumble(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // One line per class and function: pyo3 registers each by its own type,
+    // and the list reads as the module's contents.
     errors::register(m)?;
     m.add_class::<world::World>()?;
     m.add_class::<body::Body>()?;

@@ -30,6 +30,8 @@ impl ToPyErr for QueryError {
     }
 }
 
+// Not `shapes::single_shape` (shapes.rs), which casts the same classes for
+// bodies: the queries refuse ConvexHull and Placed, with a hint of their own.
 /// The query shape of argument `name`: a mesh (borrowed from a `TriMesh`
 /// or built for this call from a trimesh-like object) or a solid primitive.
 fn object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Shape> {
@@ -179,6 +181,9 @@ pub fn collide<'py>(
 /// Raises:
 ///     InvalidArgument: bad shapes, poses or errors; two primitives.
 ///     TumbleError: coordinates so large that no distance is finite.
+// The `(py, a, pose_a, b, pose_b)` head and guard/arguments/detach body are
+// `collide`'s: each query is its own #[pyfunction] with its own keywords and
+// docstring (also `within_tolerance`); `arguments` holds the shared parsing.
 #[pyfunction]
 #[pyo3(signature = (a, pose_a, b, pose_b, *, rel_err = 0.0, abs_err = 0.0))]
 pub fn distance<'py>(

@@ -125,6 +125,8 @@ pub fn collision_result<'py>(
     )
 }
 
+// Names and values per dataclass, as in `collision_result` above: each
+// record lists its own class's fields in the order of _query.py.
 /// The `DistanceResult`.
 pub fn distance_result<'py>(py: Python<'py>, d: &DistanceResult) -> PyResult<Bound<'py, PyAny>> {
     record(

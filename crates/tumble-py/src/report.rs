@@ -182,6 +182,8 @@ impl PyStepReport {
         Ok(d)
     }
 
+    // Built as `stage_times` above: two getters for two Python attributes with
+    // their own docstrings (the four dict lines could be one helper).
     /// Wall time of each part of the last step's solve stage (s), in order:
     /// prepare, restitution, integrate_velocities, warm_start, iterate,
     /// relax, integrate_positions, store_impulses (the sub-step parts summed

@@ -149,6 +149,8 @@ impl PyCapsule {
         self.inner.radius()
     }
 
+    // One-line getters, a method per attribute for pyo3, as on TriMesh
+    // (trimesh.rs `volume`, `area`) and World (world.rs `time`, `step_count`).
     /// Half the length of the core segment (m).
     #[getter]
     fn half_height(&self) -> f64 {
@@ -383,6 +385,8 @@ impl Placed {
     }
 }
 
+// query.rs `object` casts the same classes for the collision queries but
+// refuses ConvexHull and Placed (the queries take meshes and primitives).
 /// The geometry of one shape-like object (not a list, not `Placed`).
 pub fn single_shape(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Shape> {
     if let Ok(s) = obj.cast::<PyBox>() {

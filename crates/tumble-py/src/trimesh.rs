@@ -139,6 +139,8 @@ impl TriMesh {
         })
     }
 
+    // The generators are one #[classmethod] each (a Python constructor per
+    // solid, with its own defaults); like `torus` below, each is guard + from_mesh.
     /// A capsule along z: cylinder of `radius` and `half_height` (m) with
     /// hemispherical caps of `rings` latitude bands each.
     #[classmethod]
@@ -219,6 +221,8 @@ impl TriMesh {
         self.mesh.triangles().len()
     }
 
+    // pyo3 wants one getter per attribute: these read like Capsule's
+    // (shapes.rs) and World's `time`/`step_count` (world.rs), each its own class.
     /// Signed volume (m^3); the volume of the solid when the mesh is closed
     /// and wound outward.
     #[getter]

@@ -546,6 +546,8 @@ impl World {
         Ok(matrix_out(py, data, 7))
     }
 
+    // `velocities`, `angular_velocities` and `centers_of_mass`: one getter per
+    // Python array attribute; the row loop they share is `rows_of`.
     /// Linear velocities of the centres of mass (m/s): float64 (N, 3).
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -701,6 +703,8 @@ impl World {
         Ok(self.inner.potential_energy())
     }
 
+    // One-line getters like TriMesh's `volume`/`area` (trimesh.rs) and Capsule's
+    // (shapes.rs): pyo3 needs a method per attribute of each class.
     /// Simulated time (s).
     #[getter]
     fn time(&self) -> f64 {

@@ -874,6 +874,9 @@ mod tests {
         let runs: Vec<_> = combinations(&params).into_iter().enumerate().collect();
         let metrics = vec![Metric::parse("ball.z").unwrap()];
         let cancel = AtomicBool::new(false);
+        // run_many's full argument list, as in
+        // a_bounce_rises_to_e_squared_of_its_drop_and_rows_do_not_depend_on_threads:
+        // the thread count and run length are what each call is about.
         let rows = run_many(
             &doc,
             &runs,

@@ -3,6 +3,10 @@
 //! world's full snapshot is compared before and after every rejected call
 //! (settings, bodies, arena, contact cache, time), so a half-applied change
 //! cannot hide. The section comments match the table's sections.
+//!
+//! Cases are written out one by one with their labels (e.g. the settings
+//! table of `world_calls_reject_bad_input_and_leave_the_world_unchanged`):
+//! runs of them look alike by design, and a failure names its case.
 
 use std::path::Path;
 use tumble::collide::mesh::{self, LoadError, MeshError, TriMesh};
@@ -824,6 +828,8 @@ fn queries_reject_bad_poses_and_options() {
             rotation: DQuat::from_xyzw(NAN, 0.0, 0.0, 1.0),
         },
     ];
+    // tumble-collide/tests/query_oracle.rs `bad_input_gets_typed_errors` checks
+    // such poses on the query crate itself; here, the validation.md rows via tumble.
     for p in bad_poses {
         let opts = CollideOptions::default();
         assert!(matches!(

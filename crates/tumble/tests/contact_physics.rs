@@ -254,6 +254,8 @@ fn falling_column_lands_without_sinking_into_itself() {
     // lands, then at up to 19 m/s: 0.31 m in one step of 1/60 s. Its
     // margin must have seen that coming (the neighbour's closing speed),
     // or the upper body sinks into the lower one by most of a step's fall.
+    // The no-sleep world of mesh_dynamics.rs `torus_dropped_over_a_peg_settles_around_it`,
+    // but on a box plate: each test file builds the ground its case needs.
     let mut world = World::new(WorldSettings {
         sleeping: false,
         ..WorldSettings::default()

@@ -3,6 +3,9 @@
 //! reach their targets or stall at their torque, springs with the analytic
 //! period, welds that move as one body, and the same bits on any thread
 //! count; bad joints refused with the world unchanged.
+//!
+//! Each test builds and steps its own joint (only `world` and `cube` are
+//! shared), so tests open alike by design.
 
 mod common;
 
@@ -259,6 +262,8 @@ fn a_slider_slides_along_its_axis_and_stops_at_its_limit() {
 fn a_slider_motor_drives_at_its_speed() {
     let mut w = world(true);
     let c = cube(&mut w, DVec3::ZERO);
+    // Built and stepped in full like a_position_motor_settles_on_its_target: the
+    // joint kind and motor under test stay beside their assertions.
     // Straight up against gravity (needs 9.81 N), at most 30 N.
     let j = w
         .add_joint(

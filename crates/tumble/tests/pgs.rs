@@ -78,6 +78,8 @@ fn boxed_pgs_satisfies_the_box_kkt_conditions() {
     // For SPD A the boxed LCP is the optimality condition of
     // min 1/2 z.Az + q.z over the box: w_i >= 0 at lo, w_i <= 0 at hi,
     // w_i = 0 strictly inside.
+    // Random SPD problems as in pgs_converges_to_lemke_on_spd_problems, with
+    // their own seed and range: each test owns its draws, so a case reproduces.
     let mut rng = rng(13);
     for case in 0..100 {
         let n = 1 + rng.below(10);

@@ -133,6 +133,8 @@ fn run(poses: usize) -> Result<(), String> {
 }
 
 fn main() {
+    // As in peer_rapier.rs `main`: each peer binary names itself in its one
+    // error line and exits 2, the harness's protocol.
     let args = match Args::parse(std::env::args().skip(1)) {
         Ok(a) => a,
         Err(e) => {

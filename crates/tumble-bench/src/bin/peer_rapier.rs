@@ -204,6 +204,7 @@ fn kinetic_energy(sw: &rs::SceneWorld) -> f64 {
 }
 
 fn main() {
+    // Argument errors as in peer_parry.rs `main`, under this binary's name.
     let args = match Args::parse(std::env::args().skip(1)) {
         Ok(a) => a,
         Err(e) => {

@@ -219,6 +219,9 @@ mod tests {
         assert!(query_aabb(&t, &p, DVec3::ONE, DVec3::ZERO, 0.0, |_| Traverse::Continue).is_err());
     }
 
+    // Same torus, tree and seeded rng as the test above (and as the tests of
+    // volume_distance.rs): each test owns its setup and seed, so one can be
+    // changed without moving the cases of the others.
     #[test]
     fn halfspace_query_reports_every_triangle_within_the_margin() {
         let m = torus_mesh(1.0, 0.3, 24, 12).unwrap();

@@ -267,6 +267,9 @@ mod tests {
         }
     }
 
+    // The seeded random loop of `sat_agrees_with_corner_projection_reference`
+    // (and of tri_contact.rs's `penetrating_pair_is_pushed_out_by_its_contact`)
+    // again: seed, count, box size and tallies are tuned per property.
     #[test]
     fn lower_bound_never_exceeds_true_distance() {
         let mut r = rng(99);

@@ -313,6 +313,9 @@ pub fn distance_with(
         if tol.prunes(lb, best) {
             continue; // the best improved since this pair was pushed
         }
+        // The leaf step of `collide` above, but folding distances into `best`
+        // where `collide` obeys a stop flag, and the walks around it differ
+        // (pruned nearest-first vs depth-first): each hot loop keeps its own.
         let (x, y) = (&na[ia as usize], &nb[ib as usize]);
         if x.is_leaf() && y.is_leaf() {
             stats.leaf_pairs += 1;

@@ -91,6 +91,9 @@ mod tests {
     use crate::math::DVec3;
     use crate::mesh::torus_mesh;
 
+    // Opens like the tests of bvh/query.rs (a torus, its tree, a seeded rng):
+    // three setup lines per test, not worth a fixture that would tie the
+    // modules' meshes and seeds together.
     #[test]
     fn point_distance_matches_brute_force_over_vertices() {
         // Volume = a point; triangle "distance" = nearest vertex, never below

@@ -49,6 +49,9 @@ fn box_is_exact() {
     assert!(error(&box_mesh(h).unwrap(), &solid_box(h, D).unwrap(), 1.0) < 1e-13);
 }
 
+// One test per generator, each the same five lines: the resolution ladders,
+// sizes and final tolerances differ per solid, and a failure should name
+// the solid (a loop over a table would report one test for all of them).
 #[test]
 fn uv_sphere_converges() {
     let r = 0.9;

@@ -9,6 +9,8 @@ use super::{MassError, MassProperties, MassSpec};
 use crate::math::{DMat3, DVec3};
 use std::f64::consts::PI;
 
+// The test of `shape::check_positive` (shape/mod.rs) in `MassError`: mass
+// properties come from bare dimensions, without building a shape first.
 fn dim(shape: &'static str, name: &'static str, value: f64) -> Result<(), MassError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
@@ -84,6 +86,8 @@ pub fn solid_cylinder(radius: f64, half_height: f64, spec: MassSpec) -> Result<M
 /// `d = h + 3r/8` from the capsule's centre (parallel axis).
 pub fn solid_capsule(radius: f64, half_height: f64, spec: MassSpec) -> Result<MassProperties, MassError> {
     dim("capsule", "radius", radius)?;
+    // Refuses exactly what `Capsule::new` (shape/capsule.rs) refuses, in this
+    // module's error type; a zero half height (a sphere) is allowed by both.
     if !(half_height.is_finite() && half_height >= 0.0) {
         return Err(MassError::BadDimension {
             shape: "capsule",

@@ -363,6 +363,9 @@ pub fn cone_mesh(radius: f64, height: f64, segments: usize) -> Result<TriMesh, G
 /// `i * n_minor + j`; triangles `2 (i n_minor + j)` = [a, b, c] and `+1` = [a, c, d].
 /// At 50 x 50 it has the thesis' 2,500 vertices and 5,000 triangles.
 pub fn torus_mesh(major: f64, minor: f64, n_major: usize, n_minor: usize) -> Result<TriMesh, GeneratorError> {
+    // The check sequence of `grid_mesh` (two dimensions, two resolutions,
+    // the triangle budget) through the same helpers; only names and minimum
+    // resolutions differ (3 per ring here), plus the torus's own R > r rule.
     dim("torus", "major radius R", major)?;
     dim("torus", "minor radius r", minor)?;
     res("torus", "n_major", n_major, 3)?;

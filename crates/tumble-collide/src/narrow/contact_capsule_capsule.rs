@@ -11,6 +11,9 @@ use crate::pose::Pose;
 use crate::shape::Capsule;
 
 /// Contacts between capsule A and capsule B (one, or two when parallel).
+// The narrow phase's common signature (see the module docs of `narrow`);
+// the body is capsule-only: segment-segment closest points plus the
+// two-point manifold of parallel cores, which no other pair has.
 pub fn contact_capsule_capsule(
     a: &Capsule,
     pose_a: &Pose,
@@ -63,6 +66,9 @@ pub fn contact_capsule_capsule(
     if fallback.dot((p1 + q1) - (p2 + q2)) < 0.0 {
         fallback = -fallback;
     }
+    // The parallel branch's call again, for the single closest pair: the two
+    // differ in their points and fallback normal, and that branch may bail out
+    // to here, so a shared closure would only hide which case is which.
     push_ball_ball(
         ca,
         ra,

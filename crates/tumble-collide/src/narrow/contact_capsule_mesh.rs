@@ -33,6 +33,9 @@ pub const PARALLEL_SIN: f64 = 0.05;
 
 /// Contacts between capsule A and mesh B within `margin` (m), normals from
 /// the mesh towards the capsule.
+// Opens like every narrow routine (the `dispatch` signature); the body
+// differs from `contact_sphere_mesh` (contact_mesh.rs) in querying the
+// tree with the capsule's box and testing the core segment, not a point.
 pub fn contact_capsule_mesh(
     a: &Capsule,
     pose_a: &Pose,

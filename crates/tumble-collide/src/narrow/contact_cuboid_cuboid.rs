@@ -15,6 +15,8 @@ use crate::pose::Pose;
 use crate::shape::Cuboid;
 
 /// Contacts between box A and box B: up to 4 face contacts or one edge-edge.
+// The common narrow signature; why a box pair has its own SAT rather than
+// `contact_polytope_polytope`'s: see the module docs above.
 pub fn contact_cuboid_cuboid(
     a: &Cuboid,
     pose_a: &Pose,

@@ -33,6 +33,8 @@ pub fn contact_sphere_halfspace(
 
 /// Contacts between capsule A and half-space B: each end sphere within the
 /// margin (one when the capsule has zero length).
+// The narrow routines' shared signature (see `narrow`); against a plane a
+// capsule is just its two end spheres, which is all this body adds.
 pub fn contact_capsule_halfspace(
     a: &Capsule,
     pose_a: &Pose,
@@ -76,6 +78,9 @@ fn push_ball_plane(
 
 /// Contacts between polytope A (box or convex hull) and half-space B: the
 /// vertices within the margin (all of them up to 8, else reduced to 4).
+// Starts like `contact_mesh_halfspace` (contact_mesh.rs): same plane, same
+// `push_vertex_on_plane`. They part on the vertices' feature ids (a polytope
+// has its own, a mesh names a vertex by its first triangle) and on reduction.
 pub fn contact_polytope_halfspace<P: Polytope + ?Sized>(
     a: &P,
     pose_a: &Pose,

@@ -135,6 +135,8 @@ thread_local! {
 /// each of B's vertices is moved into A's frame once, instead of moving both
 /// triangles of every candidate pair into the world. The contacts are moved
 /// to the world at the end.
+// The common narrow signature (see `narrow`'s module docs); the body is the
+// only two-tree walk, with the per-thread vertex cache of B's vertices.
 pub fn contact_mesh_mesh(
     a: &MeshShape,
     pose_a: &Pose,
@@ -176,6 +178,9 @@ pub const MESH_PLANE_BAND: f64 = 0.002;
 /// Mesh A against half-space B: every mesh vertex within `margin` of the
 /// plane; past `MESH_PLANE_MAX_POINTS`, the deepest band of them, reduced
 /// to four well-spread points.
+// Reads like `contact_polytope_halfspace` (contact_halfspace.rs) at the top;
+// a mesh needs its vertices named through their first triangle and its own
+// reduction (the deepest band past 16 points, not every point up to 8).
 pub fn contact_mesh_halfspace(
     a: &MeshShape,
     pose_a: &Pose,
@@ -269,6 +274,9 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
 }
 
 /// Sphere A against mesh B: the closest point of every nearby triangle.
+// Same argument list as `contact_sphere_polytope` (contact_segment_polytope.rs)
+// and the other narrow routines; a mesh is walked per triangle through its
+// tree, where a polytope is one convex body for GJK.
 pub fn contact_sphere_mesh(
     a: &Sphere,
     pose_a: &Pose,

@@ -130,6 +130,9 @@ pub(crate) struct SatResult {
 /// distance: nothing is reported beyond the margin, and if the face or edge
 /// contacts miss the closest features (corner against corner), a single
 /// contact at the GJK closest points replaces them.
+// Takes the narrow routines' arguments plus the `SatResult` because both
+// `contact_polytope_polytope` and `contact_cuboid_cuboid` end here: their SATs
+// differ (faces and edges walked vs one 3 x 3 rotation), the manifold does not.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     a: &A,

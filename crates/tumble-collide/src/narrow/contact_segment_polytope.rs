@@ -21,6 +21,8 @@ use crate::pose::Pose;
 use crate::shape::{Capsule, Polytope, Sphere};
 
 /// Contact between sphere A and polytope B (box or convex hull), at most one.
+// Signature of every narrow routine (the `dispatch` table calls them alike);
+// compare `contact_sphere_mesh` in contact_mesh.rs, which walks triangles.
 pub fn contact_sphere_polytope<P: Polytope + ?Sized>(
     a: &Sphere,
     pose_a: &Pose,

@@ -9,6 +9,8 @@ use crate::pose::Pose;
 use crate::shape::{Capsule, Sphere};
 
 /// Contact between sphere A and capsule B (at most one).
+// Same six arguments as the other narrow routines (the `dispatch` table's
+// row shape); what is its own is the point-segment closest point, one contact.
 pub fn contact_sphere_capsule(
     a: &Sphere,
     pose_a: &Pose,

@@ -8,6 +8,9 @@ use crate::pose::Pose;
 use crate::shape::{Cuboid, Polytope, Sphere};
 
 /// Contact between sphere A and box B (at most one).
+// Signature shared with every narrow routine (see `narrow`'s module docs);
+// kept apart from `contact_sphere_polytope` because a box's clamp in its own
+// frame is exact and needs no GJK.
 pub fn contact_sphere_cuboid(
     a: &Sphere,
     pose_a: &Pose,

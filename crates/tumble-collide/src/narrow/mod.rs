@@ -10,6 +10,12 @@
 //! Files are named for the shape pair they handle; the polytope routines
 //! (cuboid and convex hull) share the SAT and clipping code in `clip` and
 //! `contact_polytope_polytope`, the round shapes share `geometry` and `gjk`.
+//!
+//! Every routine opens with the same six arguments (`a, pose_a, b, pose_b,
+//! margin, out`) so that the `dispatch` table and its `mirror` call them all
+//! alike; only the two shape types differ, and they stay concrete (or a
+//! `Polytope` generic) so each pair compiles to its own specialised code.
+//! A trait over shape pairs would save those first lines and nothing else.
 
 mod clip;
 mod contact_capsule_capsule;

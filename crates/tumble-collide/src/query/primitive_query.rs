@@ -18,6 +18,9 @@ use crate::shape::{MeshShape, Shape};
 
 /// Walks the mesh's tree against the primitive (world frame) grown by
 /// `margin` (m), handing every candidate triangle to `on_tri`.
+// Its signature echoes `bvh::query_obb` (bvh/query.rs) because it only picks
+// which of the tree's queries fits the primitive: `bvh` knows nothing of
+// shapes, and `collide_primitive` and `within_tolerance_primitive` share it.
 fn walk(
     prim: &Placed,
     mesh: &MeshShape,
@@ -83,6 +86,10 @@ pub fn collide_primitive(
         }
     })
     .map_err(|_| bad_margin(0.0))?;
+    // The mode handling above and the tail below (sort, finite check, stats)
+    // are those of `collide` (collide.rs), kept apart because the contacts
+    // differ: here the narrow phase's manifold of the whole primitive, there
+    // per triangle pair, filtered and merged.
     report.pairs.sort_unstable();
     if mode == ReportMode::Contacts {
         primitive_contacts(
@@ -162,6 +169,9 @@ pub fn distance_primitive(
         expected: "finite and >= 0",
         value: options.rel_err,
     })?;
+    // The tail of `distance` (distance.rs) with a primitive for A: the walk is
+    // one tree against a volume (`bvh::volume_distance`), not two trees, and
+    // the best pair's type differs (`PrimDistance`, not `TriDistance`).
     let (tri_b, d) = best.ok_or(QueryError::NotFinite("distance_primitive"))?;
     DistanceResult {
         distance: d.distance,

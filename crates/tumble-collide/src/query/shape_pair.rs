@@ -75,6 +75,9 @@ pub fn distance_shapes(
     pose_b: &Pose,
     options: &DistanceOptions,
 ) -> Result<DistanceResult, QueryError> {
+    // Same three arms as `collide_shapes` and `within_tolerance_shapes`: the
+    // options, results and turn-back differ (`Report::swapped`,
+    // `DistanceResult::swapped`, nothing for a bool), so no one helper fits.
     match pairing(a, b, "distance_shapes")? {
         Pairing::Meshes(ma, mb) => distance(ma, pose_a, mb, pose_b, options),
         Pairing::PrimitiveMesh(p, m, false) => distance_primitive(p, pose_a, m, pose_b, options),

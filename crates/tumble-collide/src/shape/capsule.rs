@@ -6,6 +6,8 @@ use crate::pose::Pose;
 
 /// A capsule: all points within `radius` (m) of the segment from
 /// `(0, 0, -half_height)` to `(0, 0, +half_height)` (m).
+// The shapes' common serde header (see sphere.rs), routed through
+// `CapsuleParts` so a stored negative half height is refused as `new` does.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(
     try_from = "super::serde_parts::CapsuleParts",
@@ -21,6 +23,9 @@ impl Capsule {
     /// >= 0 (zero gives a sphere) (m).
     pub fn new(radius: f64, half_height: f64) -> Result<Capsule, ShapeError> {
         check_positive("capsule", "radius", radius)?;
+        // Written out because `check_positive` refuses 0; the same `>= 0` test
+        // guards `ConvexHull::from_mesh_with_tolerance` (convex_hull.rs) and
+        // `mass::solid_capsule` (which must accept what this accepts).
         if !(half_height.is_finite() && half_height >= 0.0) {
             return Err(ShapeError::BadDimension {
                 shape: "capsule",

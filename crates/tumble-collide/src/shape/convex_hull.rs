@@ -82,6 +82,8 @@ impl ConvexHull {
         mesh: &TriMesh,
         relative_tolerance: f64,
     ) -> Result<ConvexHull, ShapeError> {
+        // The `>= 0` form of `check_positive`, as in `Capsule::new`'s half
+        // height (capsule.rs): zero is a valid tolerance (exact coplanarity).
         if !(relative_tolerance.is_finite() && relative_tolerance >= 0.0) {
             return Err(ShapeError::BadDimension {
                 shape: "convex_hull",

@@ -23,6 +23,9 @@ pub(crate) const BOX_FACES: [[usize; 4]; 6] = [
 /// The 12 edges as (from, to) as the first face listing them traverses them,
 /// with that face first and the other face second (derived from `BOX_FACES`,
 /// checked by a test).
+// Rows alike by nature: a literal table, not derived from `BOX_FACES` at run
+// time, so `edge(e)` is a plain lookup in the SAT's edge loop; the test
+// `tables_are_consistent` checks every row.
 const BOX_EDGES: [([u32; 2], [u32; 2]); 12] = [
     ([1, 3], [0, 5]),
     ([3, 7], [0, 2]),
@@ -39,6 +42,8 @@ const BOX_EDGES: [([u32; 2], [u32; 2]); 12] = [
 ];
 
 /// A box with `half_extents` (m) along the body x, y, z axes.
+// As in sphere.rs and the other shapes; cannot be shared because it names
+// `CuboidParts`, whose `try_from` re-runs `Cuboid::new` on the half extents.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(
     try_from = "super::serde_parts::CuboidParts",

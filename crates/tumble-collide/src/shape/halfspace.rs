@@ -6,6 +6,8 @@ use crate::pose::Pose;
 
 /// The solid `normal . x <= offset` in the body frame; `normal` is the unit
 /// outward normal (pointing out of the solid), `offset` in m.
+// Same header as the other shape files (sphere.rs, ...), with its own Parts
+// form: `HalfSpaceParts` checks like `new` but keeps the normal bit for bit.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(
     try_from = "super::serde_parts::HalfSpaceParts",

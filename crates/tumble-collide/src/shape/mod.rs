@@ -108,6 +108,9 @@ pub enum ShapeError {
     Hull(#[from] HullError),
 }
 
+// `mass::primitives::dim` and `mesh::generators::dim` make the same test but
+// return `MassError` / `GeneratorError`: those modules take bare numbers, not
+// shapes, and each reports in its own error type.
 pub(crate) fn check_positive(shape: &'static str, name: &'static str, value: f64) -> Result<(), ShapeError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
@@ -141,6 +144,9 @@ pub enum Shape {
     Mesh(MeshShape),
 }
 
+// The matches below repeat one arm per variant on purpose: plain enum
+// dispatch to each shape's own method, with the exceptions (a half-space has
+// no support point) visible where they apply.
 impl Shape {
     /// A short name of the variant, for error messages.
     pub fn kind_name(&self) -> &'static str {
@@ -181,6 +187,9 @@ impl Shape {
     }
 }
 
+// One `From` per variant, alike by design: each wraps a different type in a
+// different variant, which no blanket impl can express; a macro would save
+// a dozen trivial lines and hide the list of shapes.
 impl From<Sphere> for Shape {
     fn from(s: Sphere) -> Shape {
         Shape::Sphere(s)

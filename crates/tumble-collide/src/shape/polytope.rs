@@ -69,6 +69,9 @@ pub trait Polytope {
     }
 
     /// The face whose normal is most aligned with `dir` (body frame).
+    // The first-maximum scan of `support_vertex` above, over face normals
+    // instead of vertices: both are defaults that `Cuboid` overrides with
+    // closed forms (cuboid.rs), so each stays a plain loop for the hull.
     fn best_face(&self, dir: DVec3) -> usize {
         let mut best = 0;
         let mut best_d = f64::NEG_INFINITY;

@@ -76,6 +76,9 @@ pub(crate) struct HalfSpaceParts {
     offset: f64,
 }
 
+// The same From / TryFrom pair as `CapsuleParts` above, one per shape: each
+// shape's serde attribute names its own Parts type, and the pairs differ in
+// their fields and checks (here the normal is kept, not renormalised).
 impl From<HalfSpace> for HalfSpaceParts {
     fn from(h: HalfSpace) -> Self {
         HalfSpaceParts {

@@ -5,6 +5,9 @@ use crate::math::DVec3;
 use crate::pose::Pose;
 
 /// A ball of `radius` (m) around the body origin.
+// The derive and serde header every shape file repeats (cuboid.rs, capsule.rs,
+// halfspace.rs, convex_hull.rs): the attribute must name the type's own Parts
+// form, here so that a read radius goes through `Sphere::new`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(
     try_from = "super::serde_parts::SphereParts",

@@ -291,6 +291,9 @@ mod tests {
         assert!((c[0].distance - 0.01).abs() < 1e-15);
     }
 
+    // Crossed wedges, as in tri_contact.rs's edge/edge test but doubled so
+    // that each ridge is shared by two triangles: spelled out, since the
+    // duplicated edge is what this test is about.
     #[test]
     fn edge_shared_by_two_triangles_on_each_side_is_merged_once() {
         let h = 0.1;

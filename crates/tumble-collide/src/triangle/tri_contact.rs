@@ -206,6 +206,9 @@ pub(crate) fn triangle_contacts_unchecked(
             }
         }
     }
+    // The loop above with A and B swapped: kind, normal sign and feature roles
+    // all flip, and a closure over both would blur which side is which on the
+    // hot path of every candidate pair.
     if let (Some(f), Some(d)) = (fa, db) {
         for k in 0..3 {
             let h = d[k];
@@ -335,6 +338,9 @@ fn deepest(t: &[DVec3; 3], n: DVec3) -> usize {
 
 /// The push-out contacts of an intersecting pair (see the module docs);
 /// returns how many were appended.
+// Same argument list as `edge_edge_contacts` above (both triangles with ids
+// and the faces computed once by the caller); a separate `#[cold]` function
+// so that the intersecting case stays out of the separated pairs' path.
 #[cold]
 fn penetrating_contacts(
     a: &[DVec3; 3],
@@ -501,6 +507,9 @@ mod tests {
         [p(), p(), p()]
     }
 
+    // The tests spell out their triangles corner by corner, as do those of
+    // tri_distance.rs and merge.rs: the coordinates are the case pinned, and
+    // a shared fixture would hide what a failing test is about.
     #[test]
     fn vertex_hovering_above_a_face_gives_one_vertex_face_contact() {
         let b = [

@@ -55,6 +55,9 @@ fn closest_point_on_finite_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeat
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0 {
         return (a + ab * ratio(d1, d1 - d3), SubFeature::Edge(0));
     }
+    // The vertex and edge tests above again for corner c, unrolled as in
+    // Ericson 5.1.5: each reuses the dot products d1..d6 computed once, which a
+    // loop over the corners would have to recompute or index.
     let cp = p - c;
     let d5 = ab.dot(cp);
     let d6 = ac.dot(cp);
@@ -539,6 +542,8 @@ mod tests {
         }
     }
 
+    // Triangles written out in full, like the cases in tri_contact.rs's tests:
+    // each literal is the geometry under test.
     #[test]
     fn piercing_triangles_report_zero_and_the_crossing_point() {
         let a = [

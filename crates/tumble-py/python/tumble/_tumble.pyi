@@ -1,5 +1,9 @@
 """Type stubs of the native module tumble._tumble (see the docstrings at run time)."""
 
+# Each class lists its attributes as @property stubs, one per pyo3 getter
+# (Joint, Robot, StepReport, World, ...): the stub mirrors every class, so
+# runs of them look alike by design.
+
 from __future__ import annotations
 
 from collections.abc import Sequence

@@ -50,6 +50,9 @@ impl RigidBody {
         Ok(())
     }
 
+    // The pattern of `apply_force_at_point`, on the momenta instead of the
+    // accumulators: both sums are checked before either is written, so a
+    // non-finite result leaves the body unchanged.
     /// Applies an impulse `impulse` (N s) at world point `point` (m), changing the momenta
     /// at once: `P += J`, `L += (point - x) x J`.
     pub fn apply_impulse_at_point(&mut self, impulse: DVec3, point: DVec3) -> Result<(), BodyError> {

@@ -202,6 +202,8 @@ fn add_joint_markers(
         ],
     )
     .expect("a closed octahedron");
+    // A literal mesh like the octahedron above, but a different solid; the bar
+    // is a box and could come from mesh::box_mesh(DVec3::new(half, thick, thick)).
     let (half, thick) = (0.15, 0.004);
     let corners: Vec<DVec3> = (0..8)
         .map(|k| {

@@ -287,6 +287,8 @@ fn extras_round_trip() {
         let cs = x["contacts"][f].as_array().unwrap();
         assert_eq!(cs.len(), e.contacts.len());
         for (c, want) in cs.iter().zip(&e.contacts) {
+            // tumble-cli/tests/cli_run_view.rs (`view_streams_a_scene_live_over_a_websocket`)
+            // reads its poses alike; test code is not shared across crates.
             let v: Vec<f64> = c
                 .as_array()
                 .unwrap()
@@ -305,6 +307,8 @@ fn extras_round_trip() {
 
 #[test]
 fn rejects_bad_recordings() {
+    // Each bad recording is made afresh from `scene(3)` with one fault and the
+    // error fields it must give, so a failure points at one case.
     assert!(matches!(
         glb_bytes(&Recording::default()),
         Err(ExportError::Empty { .. })

@@ -45,6 +45,8 @@ fn append(vertices: &mut Vec<DVec3>, triangles: &mut Vec<[u32; 3]>, part: &TriMe
     triangles.extend(part.triangles().iter().map(|t| t.map(|i| i + base)));
 }
 
+// Colours, not geometry: alike only in shape to the cube-face tables of
+// tumble-cli/tests/cli_queries.rs and tumble-collide/tests/query_oracle.rs.
 const PALETTE: [[f32; 4]; 6] = [
     [0.90, 0.45, 0.30, 1.0],
     [0.30, 0.60, 0.90, 1.0],

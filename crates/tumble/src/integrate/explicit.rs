@@ -1,5 +1,9 @@
 //! Explicit Runge-Kutta methods on the full state (thesis 3.4.2-3.4.3): forward Euler,
 //! explicit midpoint and classical RK4. Each returns the unnormalised state at `t + h`.
+//!
+//! `euler`, `midpoint` and `rk4` share their `(p, y, t, h, field)` head with
+//! `semi_implicit_euler` (symplectic.rs) and `semi_implicit_splitting`
+//! (splitting.rs): the one signature `Integrator` dispatches on (mod.rs).
 
 use super::ode::{advance, rates, Params, Rates};
 use super::ForceField;

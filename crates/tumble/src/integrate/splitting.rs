@@ -88,6 +88,9 @@ pub fn turn_by(angle: DVec3) -> DQuat {
     DQuat::from_xyzw(axis.x, axis.y, axis.z, c)
 }
 
+// Signature and kick (first three lines) are `semi_implicit_euler`'s in
+// symplectic.rs, written again so each method reads whole beside its
+// formula; only the rotation differs (the exact free-rotor flow here).
 #[inline(always)]
 pub(crate) fn semi_implicit_splitting<F: ForceField + ?Sized>(
     p: &Params,

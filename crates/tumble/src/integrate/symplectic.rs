@@ -12,6 +12,8 @@ use crate::body::angular_velocity_of;
 use crate::body::BodyState;
 use tumble_collide::math::quat_derivative;
 
+// `semi_implicit_splitting` (splitting.rs) opens with this same signature
+// and kick; it differs in turning the body by the exact free-rotor flow.
 /// `P1 = P + h F(y)`, `L1 = L + h tau(y)`, `x1 = x + h P1 / M`,
 /// `q1 = q + h/2 [0, omega(q, L1)] q`.
 #[inline(always)]

@@ -284,6 +284,8 @@ mod tests {
 
     #[test]
     fn bad_paths_say_where_they_fail() {
+        // One assertion per failing path with the message it must give, so a
+        // failure names the path.
         assert!(set("bodies[rock].mass", 1.into())
             .unwrap_err()
             .contains("no element named \"rock\" (names: ground, ball)"));

@@ -280,6 +280,8 @@ fn resolve_body(
     }
     let material = match &spec.material {
         None => ctx.default_material,
+        // Worded as `Context::lookup`'s unknown-shape error (keys listed, or
+        // "none") so both read alike; the tables hold different types.
         Some(name) => *ctx.materials.get(name).ok_or_else(|| {
             let known: Vec<&str> = ctx.materials.keys().map(String::as_str).collect();
             FieldError::new(

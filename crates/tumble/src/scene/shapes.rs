@@ -104,6 +104,8 @@ pub fn build_shape(spec: &ShapeSpec, path: &FieldPath, base_dir: &Path) -> Resul
                 local(local_pose)?,
             )
         }
+        // One arm per shape, as Sphere above: each checks its own fields, with
+        // their paths and units, before its constructor.
         ShapeSpec::Box {
             half_extents,
             local_pose,

@@ -351,6 +351,9 @@ fn world_rejections_point_at_the_body() {
 
 #[test]
 fn references_and_exclusive_keys() {
+    // Edit, parse, check path and message, as in
+    // non_unit_quaternion_and_ambiguous_orientation: each edit stays beside
+    // the field it must name, so a failure shows which key.
     let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nmaterial = \"ice\"");
     let (_, _, path, message) = at(toml(&text).unwrap_err());
     assert_eq!(path, "bodies[1].material");

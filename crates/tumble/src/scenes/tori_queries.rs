@@ -39,6 +39,8 @@ pub fn tori_pose_indices(count: usize) -> Vec<usize> {
     ks
 }
 
+// tumble-collide/tests/query_oracle.rs (`tori_truth`) keeps a copy of this
+// reader: the query crate's tests cannot depend on tumble.
 /// The ground truth of the tori queries, intersecting triangle pairs per
 /// pose (exact predicates), from `tori_pairs.json`: the file `TORI_TRUTH`
 /// names, else `shared/data/tori_pairs.json` in the first ancestor of this

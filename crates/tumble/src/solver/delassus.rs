@@ -193,6 +193,8 @@ pub struct ContactLcp {
     pub contacts: usize,
 }
 
+// `solve_friction_cone` (friction_cone.rs) starts alike from the same
+// `validate` and `jacobian_row`, then builds the polyhedral-cone LCP instead.
 /// Builds `A`, `b` and the row bounds for `contacts` between `bodies`;
 /// `with_friction` adds two tangent rows per contact.
 pub fn build_contact_lcp(
@@ -390,6 +392,8 @@ pub(crate) fn validate(bodies: &[BodyState], contacts: &[ContactRow]) -> Result<
                 body: c.body_a,
             });
         }
+        // One check per field, as for the bodies above: the fields differ in
+        // type (DVec3, f64) and the error names the one that failed.
         let nf = |field| ContactLcpError::NonFinite {
             what: "contact",
             index,

@@ -76,6 +76,8 @@ pub fn cone_directions(normal: DVec3, k: usize) -> Vec<DVec3> {
         .collect()
 }
 
+// Opens as `build_contact_lcp` (delassus.rs) does, with its `validate` and
+// `jacobian_row`; the rows then differ (k cone edges and a slack per contact).
 /// Solves the contact problem of `contacts` between `bodies` with Coulomb
 /// friction on a polyhedral cone of `k` directions (the contacts' `friction`
 /// is each one's `mu`; `bias` is added to the normal rows, as in

@@ -256,6 +256,9 @@ fn shared_lever_arms(ra0: DVec3, rb0: DVec3, ra: DVec3, rb: DVec3, dpa: DVec3, d
     (ra_mid, ra_mid - ab)
 }
 
+// The driver of `begin_substep` above with this pass's kernel: each pass keeps
+// its own one-thread loop over its `*_patch` kernel (the one `batches` runs on
+// colours), since the kernels take different arguments.
 /// One Gauss-Seidel pass over all patches on the real velocities: first
 /// the patch's friction within the Coulomb limit of its current total normal
 /// impulse, then for every point the LCP row of thesis 7.2,

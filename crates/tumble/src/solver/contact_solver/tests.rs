@@ -240,6 +240,8 @@ fn resting_box_on_static_ground_needs_m_g_h_per_substep() {
 fn speculative_contact_lets_the_gap_close_but_not_more() {
     // Body 1 cm above the ground falling at 10 m/s: in one step of 1/60 s it
     // would travel 16.7 cm; the speculative constraint allows 1 cm.
+    // Set up like bounce_from_a_gap_keeps_the_apex_of_newtons_law, with this
+    // case's gap, speed and restitution beside the assertion they explain.
     let h = 1.0 / 60.0;
     let mut bodies = vec![body(1.0, DVec3::new(0.0, 0.0, -10.0)), body(0.0, DVec3::ZERO)];
     let mut c = Contacts::default();

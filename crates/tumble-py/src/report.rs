@@ -169,21 +169,24 @@ impl PyStepReport {
     }
 }
 
+/// A Python dict of named times (s), in the list's order.
+fn timing_dict<'py>(py: Python<'py>, times: &[(&'static str, f64)]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in times {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
 #[pymethods]
 impl PyStepReport {
     /// Wall time of each stage of the last step (s), in pipeline order:
     /// forces, broad, narrow, islands, solve, integrate, continuous, events.
     #[getter]
     fn stage_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for (k, v) in &self.stage_times {
-            d.set_item(k, v)?;
-        }
-        Ok(d)
+        timing_dict(py, &self.stage_times)
     }
 
-    // Built as `stage_times` above: two getters for two Python attributes with
-    // their own docstrings (the four dict lines could be one helper).
     /// Wall time of each part of the last step's solve stage (s), in order:
     /// prepare, restitution, integrate_velocities, warm_start, iterate,
     /// relax, integrate_positions, store_impulses (the sub-step parts summed
@@ -191,11 +194,7 @@ impl PyStepReport {
     /// clock's own cost.
     #[getter]
     fn solve_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for (k, v) in &self.solve_times {
-            d.set_item(k, v)?;
-        }
-        Ok(d)
+        timing_dict(py, &self.solve_times)
     }
 
     /// Wall time of the last step (s).

@@ -7,7 +7,8 @@ use tumble_collide::mesh::{box_mesh, torus_mesh};
 use tumble_collide::shape::{Cuboid, HalfSpace, MeshShape, Shape};
 use tumble_collide::DVec3;
 
-fn settle(desc: BodyDesc, steps: usize) -> (World, tumble::world::BodyId) {
+/// A world without sleeping holding only the ground plane z = 0.
+fn ground_world() -> World {
     let mut world = World::new(WorldSettings {
         sleeping: false,
         ..WorldSettings::default()
@@ -16,6 +17,11 @@ fn settle(desc: BodyDesc, steps: usize) -> (World, tumble::world::BodyId) {
     world
         .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
         .unwrap();
+    world
+}
+
+fn settle(desc: BodyDesc, steps: usize) -> (World, tumble::world::BodyId) {
+    let mut world = ground_world();
     let id = world.add_body(&desc).unwrap();
     for _ in 0..steps {
         world.step();
@@ -137,17 +143,7 @@ fn torus_dropped_over_a_peg_settles_around_it() {
     // radius 0.15, off-centre by 0.1 m and tilted: it must slide down around
     // the peg to the ground. A convex-hull collider would fill the hole and
     // leave the ring sitting on top of the peg.
-    // `settle`'s world and ground written out (the peg must go in before any
-    // step); contact_physics.rs `falling_column_lands_without_sinking_into_itself`
-    // opens alike, on a plate of its own.
-    let mut world = World::new(WorldSettings {
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    world
-        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
-        .unwrap();
+    let mut world = ground_world();
     let peg = tumble_collide::mesh::cylinder_mesh(0.15, 0.6, 24).unwrap();
     let peg = world
         .add_body(&BodyDesc::fixed(mesh(peg)).at(DVec3::new(0.0, 0.0, 0.6)))

@@ -202,36 +202,8 @@ fn add_joint_markers(
         ],
     )
     .expect("a closed octahedron");
-    // A literal mesh like the octahedron above, but a different solid; the bar
-    // is a box and could come from mesh::box_mesh(DVec3::new(half, thick, thick)).
-    let (half, thick) = (0.15, 0.004);
-    let corners: Vec<DVec3> = (0..8)
-        .map(|k| {
-            DVec3::new(
-                if k & 1 == 0 { -half } else { half },
-                if k & 2 == 0 { -thick } else { thick },
-                if k & 4 == 0 { -thick } else { thick },
-            )
-        })
-        .collect();
-    let bar = tumble_collide::mesh::TriMesh::new(
-        corners,
-        vec![
-            [0, 2, 3],
-            [0, 3, 1],
-            [4, 5, 7],
-            [4, 7, 6],
-            [0, 1, 5],
-            [0, 5, 4],
-            [2, 6, 7],
-            [2, 7, 3],
-            [0, 4, 6],
-            [0, 6, 2],
-            [1, 3, 7],
-            [1, 7, 5],
-        ],
-    )
-    .expect("a closed bar");
+    // A thin box along x (the joint's axis once turned).
+    let bar = tumble_collide::mesh::box_mesh(DVec3::new(0.15, 0.004, 0.004)).expect("a closed bar");
     let marker = mesh_of(&octahedron, "joint_anchor");
     let axis_bar = mesh_of(&bar, "joint_axis");
     for (k, j) in rec.joints.iter().enumerate() {

@@ -1,6 +1,6 @@
 //! Capsule: the points within `radius` of a segment on the body z axis.
 
-use super::{check_positive, Aabb, ShapeError};
+use super::{check_non_negative, check_positive, Aabb, ShapeError};
 use crate::math::DVec3;
 use crate::pose::Pose;
 
@@ -23,17 +23,9 @@ impl Capsule {
     /// >= 0 (zero gives a sphere) (m).
     pub fn new(radius: f64, half_height: f64) -> Result<Capsule, ShapeError> {
         check_positive("capsule", "radius", radius)?;
-        // Written out because `check_positive` refuses 0; the same `>= 0` test
-        // guards `ConvexHull::from_mesh_with_tolerance` (convex_hull.rs) and
-        // `mass::solid_capsule` (which must accept what this accepts).
-        if !(half_height.is_finite() && half_height >= 0.0) {
-            return Err(ShapeError::BadDimension {
-                shape: "capsule",
-                name: "half_height",
-                expected: ">= 0",
-                value: half_height,
-            });
-        }
+        // `mass::solid_capsule` keeps its own `>= 0` test (it reports a
+        // MassError) and must accept what this accepts.
+        check_non_negative("capsule", "half_height", half_height)?;
         Ok(Capsule { radius, half_height })
     }
 

@@ -11,7 +11,7 @@
 //! pruning of SAT edge pairs (Gregorius, "The Separating Axis Test between
 //! Convex Polyhedra", GDC 2013).
 
-use super::{Aabb, Polytope, ShapeError};
+use super::{check_non_negative, Aabb, Polytope, ShapeError};
 use crate::contact::Feature;
 use crate::math::DVec3;
 use crate::mesh::{Topology, TriMesh};
@@ -82,16 +82,8 @@ impl ConvexHull {
         mesh: &TriMesh,
         relative_tolerance: f64,
     ) -> Result<ConvexHull, ShapeError> {
-        // The `>= 0` form of `check_positive`, as in `Capsule::new`'s half
-        // height (capsule.rs): zero is a valid tolerance (exact coplanarity).
-        if !(relative_tolerance.is_finite() && relative_tolerance >= 0.0) {
-            return Err(ShapeError::BadDimension {
-                shape: "convex_hull",
-                name: "relative_tolerance",
-                expected: ">= 0",
-                value: relative_tolerance,
-            });
-        }
+        // Zero is a valid tolerance (exact coplanarity).
+        check_non_negative("convex_hull", "relative_tolerance", relative_tolerance)?;
         mesh.check_solid()?;
         let (lo, hi) = mesh.bounds();
         let tol = relative_tolerance * (hi - lo).length();

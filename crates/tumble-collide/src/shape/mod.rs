@@ -112,13 +112,33 @@ pub enum ShapeError {
 // return `MassError` / `GeneratorError`: those modules take bare numbers, not
 // shapes, and each reports in its own error type.
 pub(crate) fn check_positive(shape: &'static str, name: &'static str, value: f64) -> Result<(), ShapeError> {
-    if value.is_finite() && value > 0.0 {
+    check_dimension(shape, name, value, value > 0.0, "> 0")
+}
+
+/// [`check_positive`]'s `>= 0` form (a capsule's half height, a tolerance:
+/// zero is valid).
+pub(crate) fn check_non_negative(
+    shape: &'static str,
+    name: &'static str,
+    value: f64,
+) -> Result<(), ShapeError> {
+    check_dimension(shape, name, value, value >= 0.0, ">= 0")
+}
+
+fn check_dimension(
+    shape: &'static str,
+    name: &'static str,
+    value: f64,
+    in_range: bool,
+    expected: &'static str,
+) -> Result<(), ShapeError> {
+    if value.is_finite() && in_range {
         Ok(())
     } else {
         Err(ShapeError::BadDimension {
             shape,
             name,
-            expected: "> 0",
+            expected,
             value,
         })
     }

@@ -161,10 +161,10 @@ pub struct ManifoldConstraint {
     /// [`BLOCK_POINTS`](super::BLOCK_POINTS) points; the solver then solves the patch's normal
     /// rows together (see `passes::solve_block`).
     pub block: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
-    /// Cholesky factor `L` of `block + eps I` (lower triangle; the diagonal
-    /// holds `1 / L_ii`), for the direct all-points-pressing solve that
-    /// `passes::solve_block` tries before its sweeps.
-    pub block_factor: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
+    /// The inverse of `block + eps I` ([`regularised_inverse`]), for the
+    /// direct all-points-pressing solve that `passes::solve_block` tries
+    /// before its sweeps.
+    pub block_inverse: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
 }
 
 /// Patches with at most this many points solve their normal rows as one
@@ -207,7 +207,7 @@ impl ManifoldConstraint {
             impulses: [warm_tangent.dot(t1), warm_tangent.dot(t2), warm_twist],
             inv_mass: [0.0; 2],
             block: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
-            block_factor: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
+            block_inverse: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
         }
     }
 
@@ -303,7 +303,7 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
 }
 
 /// Effective masses of a patch's rows and its normal block (with its
-/// factor) for the rows' present Jacobians. `prepare` calls it once; a
+/// inverse) for the rows' present Jacobians. `prepare` calls it once; a
 /// sub-step that re-aims the lever arms calls it again, because an impulse
 /// sized with the masses of other lever arms overshoots: where a row's
 /// inverse mass has grown (a fast body whose anchor has travelled far from
@@ -312,7 +312,7 @@ pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodie
 /// (a 10 cm box at 120 m/s gained a factor 10^6 in one step).
 ///
 /// The row masses cost a division each and are always refreshed; the block
-/// and its factor (most of the cost) only when some point's inverse mass
+/// and its inverse (most of the cost) only when some point's inverse mass
 /// has moved by more than [`BLOCK_REFRESH`] of the one the block was built
 /// with, or when `force`. A block that far
 /// behind its rows over-relaxes the solve by at most that fraction, which
@@ -351,7 +351,7 @@ pub fn refresh_masses(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], f
                     + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
             }
         }
-        m.block_factor = regularised_cholesky(&m.block);
+        m.block_inverse = regularised_inverse(&m.block);
     }
     turned
 }
@@ -392,6 +392,35 @@ pub fn regularised_cholesky(k: &[[f64; BLOCK_POINTS]; BLOCK_POINTS]) -> [[f64; B
         }
     }
     l
+}
+
+/// The inverse of `k + eps I` (as [`regularised_cholesky`] regularises),
+/// from the factor, one unit column at a time.
+///
+/// Why an explicit inverse: the solver applies it once or twice per patch
+/// per pass, and a product with a 4 x 4 matrix is four independent dot
+/// products, where the two triangular solves are a chain of dependent
+/// steps (a patch's direct solve was bound by that chain's latency).
+#[allow(clippy::needless_range_loop)]
+pub fn regularised_inverse(k: &[[f64; BLOCK_POINTS]; BLOCK_POINTS]) -> [[f64; BLOCK_POINTS]; BLOCK_POINTS] {
+    let l = regularised_cholesky(k);
+    let mut inv = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
+    for j in 0..BLOCK_POINTS {
+        let col = cholesky_solve(&l, std::array::from_fn(|i| if i == j { 1.0 } else { 0.0 }));
+        for i in 0..BLOCK_POINTS {
+            inv[i][j] = col[i];
+        }
+    }
+    inv
+}
+
+/// `m x` for a 4 x 4 matrix, each row's dot product on its own.
+#[inline(always)]
+pub fn mat4_mul(m: &[[f64; BLOCK_POINTS]; BLOCK_POINTS], x: &[f64; BLOCK_POINTS]) -> [f64; BLOCK_POINTS] {
+    std::array::from_fn(|i| {
+        let r = &m[i];
+        (r[0] * x[0] + r[1] * x[1]) + (r[2] * x[2] + r[3] * x[3])
+    })
 }
 
 /// Solves `(k + eps I) x = rhs` with the factor from [`regularised_cholesky`].

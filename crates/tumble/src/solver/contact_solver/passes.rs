@@ -12,8 +12,7 @@
 use super::body::SolverBody;
 use super::coloring::Shared;
 use super::constraint::{
-    cholesky_solve, refresh_masses, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams,
-    BLOCK_POINTS,
+    mat4_mul, refresh_masses, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS,
 };
 use tumble_collide::{DMat3, DVec3};
 
@@ -302,7 +301,10 @@ pub(super) unsafe fn solve_patch(
     let mut vel = unsafe { PairVelocity::load(bodies, m) };
     let total: f64 = pts.iter().map(|p| p.normal_impulse).sum();
     solve_patch_friction(m, total, &mut vel);
-    if m.point_count as usize <= BLOCK_POINTS {
+    // A lone point's block is its own row: the plain projected update is
+    // the block's answer (up to its regularisation) at a fraction of the
+    // cost (a point that lifts off sent the block to its sweeps).
+    if (2..=BLOCK_POINTS).contains(&(m.point_count as usize)) {
         solve_block(m, pts, &mut vel, inv_h);
     } else {
         for p in pts.iter_mut() {
@@ -359,8 +361,8 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
 }
 
 /// The usual case first: every point of the patch keeps pressing. Then
-/// `w = b + K d = 0`, solved directly with the patch's regularised Cholesky
-/// factor; the answer stands if every impulse stays non-negative and no
+/// `w = b + K d = 0`, solved directly with the patch's regularised inverse
+/// (built once per refresh of the block); the answer stands if every impulse stays non-negative and no
 /// point is left approaching (a patch whose gaps tilt it open, or one that
 /// lifts a corner, goes to the sweeps instead).
 #[inline(always)]
@@ -369,24 +371,24 @@ fn direct_block(
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
 ) -> Option<[f64; BLOCK_POINTS]> {
-    let w = |d: &[f64; BLOCK_POINTS], i: usize| {
-        let k = &m.block[i];
-        b[i] + k[0] * d[0] + k[1] * d[1] + k[2] * d[2] + k[3] * d[3]
+    let w = |d: &[f64; BLOCK_POINTS]| {
+        let kd = mat4_mul(&m.block, d);
+        std::array::from_fn::<f64, BLOCK_POINTS, _>(|i| b[i] + kd[i])
     };
-    let mut d = cholesky_solve(&m.block_factor, b.map(|x| -x));
+    let mut d = mat4_mul(&m.block_inverse, &b.map(|x| -x));
     // One step of iterative refinement takes the regularisation's relative
     // error from eps to eps^2 (a lone point then lands on its row exactly).
-    let fix = cholesky_solve(&m.block_factor, std::array::from_fn(|i| -w(&d, i)));
+    let fix = mat4_mul(&m.block_inverse, &w(&d).map(|x| -x));
     for i in 0..BLOCK_POINTS {
         d[i] += fix[i];
     }
     let tolerance = 1e-9 * (1.0 + b.iter().fold(0.0f64, |x, &y| x.max(y.abs())));
+    let w = w(&d);
+    let mut ok = true;
     for i in 0..BLOCK_POINTS {
-        if lambda[i] + d[i] < 0.0 || w(&d, i) < -tolerance {
-            return None;
-        }
+        ok &= !(lambda[i] + d[i] < 0.0 || w[i] < -tolerance);
     }
-    Some(d)
+    ok.then_some(d)
 }
 
 /// Symmetric projected Gauss-Seidel sweeps (forward, then backward: no

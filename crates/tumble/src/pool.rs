@@ -242,6 +242,20 @@ impl Team {
         }
     }
 
+    /// This thread's share of `n` items as one contiguous run: the items cut
+    /// in `size` runs of near-equal length, run `index` for thread `index`
+    /// (below `min` items, thread 0 takes all). Where neighbouring items
+    /// touch neighbouring data (patches in body order), a thread keeps
+    /// working on the same data pass after pass instead of pulling cache
+    /// lines the other threads just wrote.
+    pub fn share(&self, n: usize, min: usize) -> std::ops::Range<usize> {
+        if self.size == 1 || n < min.max(self.size) {
+            return if self.index == 0 { 0..n } else { n..n };
+        }
+        let cut = |i: usize| n * i / self.size;
+        cut(self.index)..cut(self.index + 1)
+    }
+
     /// This thread's share of `n` items cut in blocks of `block`: blocks
     /// dealt round-robin by thread index (a fixed assignment: no atomics,
     /// and the work of a block never depends on who does it). Below two

@@ -48,6 +48,24 @@ fn pile_is_bit_identical_on_1_2_3_and_8_threads() {
 }
 
 #[test]
+fn several_push_out_passes_end_together_on_every_thread_count() {
+    // With more than one push-out pass per sub-step, the threads decide
+    // together after each pass whether another is needed; a decision that
+    // differed between them left the team waiting forever. Run on a thread
+    // of its own so that a hang fails the test instead of stalling the run.
+    let mut scene = scenes::pile(10);
+    scene.settings.push_out_iterations = 3;
+    let (done, finished) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        same_for_every_thread_count(scene, 60, 10);
+        done.send(()).ok();
+    });
+    finished
+        .recv_timeout(std::time::Duration::from_secs(120))
+        .expect("the threads did not finish their push-out passes together (or a trajectory differed)");
+}
+
+#[test]
 fn chain_is_bit_identical_on_1_2_3_and_8_threads() {
     same_for_every_thread_count(scenes::chain(), 120, 10);
 }

@@ -176,7 +176,13 @@ impl World {
                     for pass in 1..=push_out_iterations {
                         let pass = (sub * push_out_iterations + pass) as usize;
                         unsafe { arrays.push_out(team, &params, h, pass, &pushed) };
-                        if pushed.load(Ordering::Relaxed) != pass {
+                        // `<`, not `!=`: a thread that went on may already
+                        // have raised `pushed` to `pass + 1` while a slower
+                        // one reads it; only a thread that saw `pass` goes
+                        // on, so "at least `pass`" is the same answer on
+                        // every thread (with `!=` the slow one stopped and
+                        // the team waited for it forever).
+                        if pushed.load(Ordering::Relaxed) < pass {
                             break;
                         }
                     }

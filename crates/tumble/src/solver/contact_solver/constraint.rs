@@ -161,7 +161,7 @@ pub struct ManifoldConstraint {
     /// [`BLOCK_POINTS`](super::BLOCK_POINTS) points; the solver then solves the patch's normal
     /// rows together (see `passes::solve_block`).
     pub block: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
-    /// The inverse of `block + eps I` ([`regularised_inverse`]), for the
+    /// The inverse of `block + eps I` (`regularised_inverse`), for the
     /// direct all-points-pressing solve that `passes::solve_block` tries
     /// before its sweeps.
     pub block_inverse: [[f64; BLOCK_POINTS]; BLOCK_POINTS],

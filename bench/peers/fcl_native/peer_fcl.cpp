@@ -100,33 +100,23 @@ int main() {
         std::vector<double> first, all_pairs, with_contacts, distance, distances;
         std::vector<bool> hit;
         std::vector<std::size_t> counts, counts_with_contacts;
+        // One collide call from scratch (a new request and result), timed alone.
+        auto timed_collide = [&](std::size_t max_contacts, bool enable_contact, fcl::CollisionResultd& result) {
+            fcl::CollisionRequestd request(max_contacts, enable_contact);
+            auto start = Clock::now();
+            fcl::collide(&a, &b, request, result);
+            return seconds_since(start);
+        };
         for (std::size_t i = 0; i < poses.size(); ++i) {
             b.setTransform(pose_of(poses[i]));
             b.computeAABB();
-            {
-                fcl::CollisionRequestd request(1, false);
-                fcl::CollisionResultd result;
-                auto start = Clock::now();
-                fcl::collide(&a, &b, request, result);
-                first.push_back(seconds_since(start));
-                hit.push_back(result.isCollision());
-            }
-            {
-                fcl::CollisionRequestd request(kAllPairs, false);
-                fcl::CollisionResultd result;
-                auto start = Clock::now();
-                fcl::collide(&a, &b, request, result);
-                all_pairs.push_back(seconds_since(start));
-                counts.push_back(result.numContacts());
-            }
-            {
-                fcl::CollisionRequestd request(kAllPairs, true);
-                fcl::CollisionResultd result;
-                auto start = Clock::now();
-                fcl::collide(&a, &b, request, result);
-                with_contacts.push_back(seconds_since(start));
-                counts_with_contacts.push_back(result.numContacts());
-            }
+            fcl::CollisionResultd boolean, pairs, contacts;
+            first.push_back(timed_collide(1, false, boolean));
+            hit.push_back(boolean.isCollision());
+            all_pairs.push_back(timed_collide(kAllPairs, false, pairs));
+            counts.push_back(pairs.numContacts());
+            with_contacts.push_back(timed_collide(kAllPairs, true, contacts));
+            counts_with_contacts.push_back(contacts.numContacts());
             if (distance_at[i].get<bool>()) {
                 fcl::DistanceRequestd request;
                 fcl::DistanceResultd result;

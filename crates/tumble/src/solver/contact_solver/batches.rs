@@ -3,7 +3,7 @@
 //! its run of each colour (patches of one colour share no dynamic body,
 //! so they can be updated at once) and meets the others at a barrier before
 //! the next colour; the overflow batch is thread 0's alone. The work of a
-//! block never depends on which thread does it, so the result is the same
+//! patch never depends on which thread does it, so the result is the same
 //! bits for any thread count, one thread included.
 
 use super::body::SolverBody;
@@ -18,7 +18,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Fewest patches (or joints) of a colour worth splitting over the team:
 /// a pass over a patch costs a fraction of a microsecond, and a smaller
 /// colour is not worth a second thread's cache misses.
-pub const PATCHES_PER_BLOCK: usize = 32;
+pub const MIN_PATCHES_TO_SPLIT: usize = 32;
 
 /// The solver's arrays, shared by a team. Each pass runs over the joints'
 /// colours, then the patches' colours.
@@ -56,7 +56,7 @@ where
         // cache lines moved between the cores at every colour, and two
         // threads solved the pile of 1,000 no faster than one).
         let block = if independent {
-            team.share(range.len(), PATCHES_PER_BLOCK)
+            team.share(range.len(), MIN_PATCHES_TO_SPLIT)
         } else if team.index() == 0 {
             0..range.len()
         } else {

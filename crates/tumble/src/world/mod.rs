@@ -138,6 +138,8 @@ pub struct World {
     step_count: u64,
     /// Worker threads for `settings.threads` (not state: results do not depend on it).
     pool: crate::pool::WorkerPool,
+    /// Buffers reused from step to step (not state).
+    scratch: step::StepScratch,
 }
 
 fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
@@ -241,6 +243,7 @@ impl World {
             touching: Vec::new(),
             time: 0.0,
             step_count: 0,
+            scratch: step::StepScratch::default(),
         })
     }
 

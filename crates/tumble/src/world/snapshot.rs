@@ -652,6 +652,7 @@ impl World {
             time: snapshot.time,
             step_count: snapshot.step_count,
             pool: crate::pool::WorkerPool::new(snapshot.settings.threads),
+            scratch: Default::default(),
         })
     }
 

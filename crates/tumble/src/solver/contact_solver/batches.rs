@@ -11,7 +11,9 @@ use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint, JOINT_PUSH_FRACTION};
 use super::joint_island::JointIsland;
+use super::lanes::LANES;
 use super::passes::{begin_patch, push_patch, solve_patch};
+use super::wide::{self, BundlePass, WideBatches, WidePatch};
 use crate::pool::Team;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -21,10 +23,20 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 pub const MIN_PATCHES_TO_SPLIT: usize = 32;
 
 /// The solver's arrays, shared by a team. Each pass runs over the joints'
-/// colours, then the patches' colours.
+/// colours, then the patches' colours: in each colour first its bundles of
+/// four small patches (`wide`), then its larger patches.
 pub(crate) struct SolverArrays<'a> {
     /// Patch rows, sorted by colour.
     pub manifolds: Shared<'a, ManifoldConstraint>,
+    /// The colours' lone points in bundles of four (their records in
+    /// `manifolds` and `points` are stale until `WideBatches::unpack`).
+    pub ones: Shared<'a, WidePatch<1>>,
+    /// The colours' two-point patches in bundles of four.
+    pub twos: Shared<'a, WidePatch<2>>,
+    /// The colours' three- and four-point patches in bundles of four.
+    pub fours: Shared<'a, WidePatch<4>>,
+    /// Which bundles and large patches make each colour.
+    pub wide: &'a WideBatches,
     /// Normal rows; each patch owns its run.
     pub points: Shared<'a, PointConstraint>,
     /// Solver bodies.
@@ -71,6 +83,30 @@ where
     }
 }
 
+/// Runs `kernel` on this thread's run of the bundles `range`, calling
+/// `pushed` for each on which it returned `true`.
+///
+/// # Safety
+/// Every thread of `team` calls this with the same range, and no other
+/// code touches these bundles meanwhile.
+#[inline(always)]
+unsafe fn bundles<const N: usize>(
+    team: &Team,
+    items: &Shared<WidePatch<N>>,
+    range: std::ops::Range<usize>,
+    kernel: impl Fn(&mut WidePatch<N>) -> bool,
+    pushed: impl Fn(),
+) {
+    let share = team.share(range.len(), MIN_PATCHES_TO_SPLIT / LANES);
+    let r = range.start + share.start..range.start + share.end;
+    // SAFETY: the runs of one range are disjoint between threads.
+    for w in unsafe { items.range_mut(r) } {
+        if kernel(w) {
+            pushed();
+        }
+    }
+}
+
 impl SolverArrays<'_> {
     /// Runs `kernel` on every joint island, the islands dealt over the
     /// team (they share no dynamic body), then a barrier; whether the
@@ -97,21 +133,65 @@ impl SolverArrays<'_> {
         any
     }
 
-    /// Runs `kernel` on every patch with its points.
+    /// Runs `kernel` on every patch with its points, and `pass` on every
+    /// bundle: colour by colour, this thread's run of each of the colour's
+    /// bundle arrays and of its large patches, a barrier after each colour,
+    /// then the overflow batch on thread 0. `pushed` is called (before the
+    /// colour's barrier) for every bundle whose pass returned `true`.
     ///
     /// # Safety
     /// As [`each`].
-    unsafe fn each_patch<F>(&self, team: &Team, kernel: F)
+    unsafe fn each_patch<F, P>(&self, team: &Team, kernel: F, pass: BundlePass, pushed: P)
     where
         F: Fn(&mut ManifoldConstraint, &mut [PointConstraint]),
+        P: Fn(),
     {
-        // SAFETY: the caller's promise; each patch owns its run of points.
-        unsafe {
-            each(team, self.coloring, &self.manifolds, |m| {
-                let pts = self.points.range_mut(m.range());
-                kernel(m, pts)
-            })
+        let run = |k: usize| {
+            // SAFETY: each patch owns its run of points, and the runs of one
+            // colour are disjoint between threads (the caller's promise).
+            unsafe {
+                let m = self.manifolds.get_mut(k);
+                kernel(m, self.points.range_mut(m.range()))
+            }
         };
+        for color in &self.wide.colors {
+            // SAFETY (each array): the runs of one colour are disjoint
+            // between threads and share no dynamic body.
+            unsafe {
+                bundles(
+                    team,
+                    &self.ones,
+                    color.ones.clone(),
+                    |w| pass.run(w, &self.bodies),
+                    &pushed,
+                );
+                bundles(
+                    team,
+                    &self.twos,
+                    color.twos.clone(),
+                    |w| pass.run(w, &self.bodies),
+                    &pushed,
+                );
+                bundles(
+                    team,
+                    &self.fours,
+                    color.fours.clone(),
+                    |w| pass.run(w, &self.bodies),
+                    &pushed,
+                );
+            }
+            let share = team.share(color.large.len(), MIN_PATCHES_TO_SPLIT);
+            let large = &self.wide.large[color.large.clone()];
+            large[share].iter().for_each(|&k| run(k as usize));
+            team.barrier();
+        }
+        let overflow = self.coloring.overflow.clone();
+        if !overflow.is_empty() {
+            if team.index() == 0 {
+                overflow.for_each(run);
+            }
+            team.barrier();
+        }
     }
 
     /// [`super::begin_substep`] and the joints' sub-step start, by the team.
@@ -129,7 +209,12 @@ impl SolverArrays<'_> {
                 island.factor(&self.joints, &self.bodies);
                 false
             });
-            self.each_patch(team, |m, pts| begin_patch(m, pts, &self.bodies, warm));
+            self.each_patch(
+                team,
+                |m, pts| begin_patch(m, pts, &self.bodies, warm),
+                BundlePass::Begin { warm },
+                || {},
+            );
         }
     }
 
@@ -145,7 +230,12 @@ impl SolverArrays<'_> {
             each(team, self.joint_coloring, &self.joints, |j| {
                 solve_joint(j, &self.bodies)
             });
-            self.each_patch(team, |m, pts| solve_patch(m, pts, &self.bodies, inv_h));
+            self.each_patch(
+                team,
+                |m, pts| solve_patch(m, pts, &self.bodies, inv_h),
+                BundlePass::Solve { inv_h },
+                || {},
+            );
         }
     }
 
@@ -176,11 +266,50 @@ impl SolverArrays<'_> {
                     pushed.fetch_max(pass, Ordering::Relaxed);
                 }
             });
-            self.each_patch(team, |m, pts| {
-                if push_patch(m, pts, &self.bodies, params, inv_h) {
+            self.each_patch(
+                team,
+                |m, pts| {
+                    if push_patch(m, pts, &self.bodies, params, inv_h) {
+                        pushed.fetch_max(pass, Ordering::Relaxed);
+                    }
+                },
+                BundlePass::Push { params, inv_h },
+                || {
                     pushed.fetch_max(pass, Ordering::Relaxed);
-                }
-            });
+                },
+            );
         }
+    }
+
+    /// The largest violation of the non-penetration rows by the current
+    /// velocities (m/s), over every patch (`super::residual`).
+    ///
+    /// # Safety
+    /// No thread touches the arrays meanwhile.
+    pub unsafe fn residual(&self, h: f64) -> f64 {
+        // SAFETY: the caller's promise.
+        let (manifolds, points, bodies, ones, twos, fours) = unsafe {
+            (
+                self.manifolds.range_mut(0..self.manifolds.len()),
+                self.points.range_mut(0..self.points.len()),
+                self.bodies.range_mut(0..self.bodies.len()),
+                self.ones.range_mut(0..self.ones.len()),
+                self.twos.range_mut(0..self.twos.len()),
+                self.fours.range_mut(0..self.fours.len()),
+            )
+        };
+        let inv_h = 1.0 / h;
+        let bundled = ones.iter().map(|w| wide::residual(w, bodies, inv_h));
+        let bundled = bundled.chain(twos.iter().map(|w| wide::residual(w, bodies, inv_h)));
+        let bundled = bundled.chain(fours.iter().map(|w| wide::residual(w, bodies, inv_h)));
+        let bundled = bundled.fold(0.0f64, f64::max);
+        let loose = |k: &u32| {
+            let m = &manifolds[*k as usize];
+            super::residual(std::slice::from_ref(m), points, bodies, h)
+        };
+        let large = self.wide.large.iter().map(loose).fold(0.0f64, f64::max);
+        let overflow = self.coloring.overflow.clone().map(|k| k as u32);
+        let overflow = overflow.map(|k| loose(&k)).fold(0.0f64, f64::max);
+        bundled.max(large).max(overflow)
     }
 }

@@ -33,7 +33,10 @@
 //! rows. In the world, patches are coloured ([`color_patches`]: no two
 //! patches of a colour share a dynamic body) and sorted by colour, and each
 //! pass walks the colours in order, the patches of a colour split over the
-//! world's threads: the same bits for any thread count.
+//! world's threads: the same bits for any thread count. Within a colour the
+//! patches of up to four points travel four at a time, one per SIMD lane
+//! (`wide`, over the portable lane type of `lanes`), grouped by point count
+//! (lone points, edges, faces); each lane computes the scalar kernel's bits.
 
 mod batches;
 mod body;
@@ -43,7 +46,9 @@ mod constraint;
 mod exact;
 mod joint;
 mod joint_island;
+mod lanes;
 mod passes;
+mod wide;
 
 #[cfg(test)]
 mod tests;
@@ -64,3 +69,4 @@ pub use joint::{
 };
 pub use joint_island::{joint_islands, JointIsland, MAX_PROFILE};
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};
+pub(crate) use wide::WideBatches;

@@ -326,7 +326,7 @@ pub(super) unsafe fn solve_patch(
 }
 
 /// Most sweeps of projected Gauss-Seidel on a patch's own block per solver pass.
-const BLOCK_SWEEPS: usize = 8;
+pub(super) const BLOCK_SWEEPS: usize = 8;
 
 /// The normal rows of a small patch solved together: with `b_i` the
 /// current relative normal velocity plus bias of point `i` and `K` the

@@ -5,7 +5,7 @@
 use crate::body::BodyState;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    Coloring, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint, SolverBody,
+    Coloring, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint, SolverBody, WideBatches,
 };
 use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
@@ -102,5 +102,27 @@ impl StepFrame {
             s.angular_momentum = tumble_collide::DVec3::ZERO;
             s
         })
+    }
+}
+
+/// Buffers a world keeps from step to step, so that a steady scene does not
+/// allocate (and fault in) its largest solver arrays anew every step. Not
+/// state: a copy of the world starts with none, and no result depends on
+/// them.
+#[derive(Default)]
+pub(crate) struct StepScratch {
+    /// The colour batches in bundles of four patches.
+    pub wide: WideBatches,
+}
+
+impl Clone for StepScratch {
+    fn clone(&self) -> StepScratch {
+        StepScratch::default()
+    }
+}
+
+impl std::fmt::Debug for StepScratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("StepScratch")
     }
 }

@@ -20,7 +20,7 @@ mod solve;
 mod writeback;
 
 pub use continuous::FAST_FRACTION;
-pub(crate) use frame::StepFrame;
+pub(crate) use frame::{StepFrame, StepScratch};
 pub(crate) use margins::{body_aabb, bounding_radius, core_radius, thickness, velocities};
 pub use quarantine::RUNAWAY_SPEED;
 

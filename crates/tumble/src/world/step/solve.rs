@@ -101,7 +101,18 @@ impl World {
             );
         } else {
             let joint_coloring = std::mem::take(&mut sf.joint_coloring);
+            let mut wide = std::mem::take(&mut self.scratch.wide);
+            wide.pack(&coloring, &sf.manifolds, &sf.points);
+            let (mut ones, mut twos, mut fours) = (
+                std::mem::take(&mut wide.ones),
+                std::mem::take(&mut wide.twos),
+                std::mem::take(&mut wide.fours),
+            );
             let arrays = SolverArrays {
+                ones: Shared::new(&mut ones),
+                twos: Shared::new(&mut twos),
+                fours: Shared::new(&mut fours),
+                wide: &wide,
                 manifolds: Shared::new(&mut sf.manifolds),
                 points: Shared::new(&mut sf.points),
                 bodies: Shared::new(&mut sf.bodies),
@@ -156,14 +167,7 @@ impl World {
                     if sub + 1 == substeps {
                         if lead {
                             // SAFETY: the others wait at the barrier below.
-                            let residual = unsafe {
-                                contact_solver::residual(
-                                    arrays.manifolds.range_mut(0..arrays.manifolds.len()),
-                                    arrays.points.range_mut(0..arrays.points.len()),
-                                    arrays.bodies.range_mut(0..n_bodies),
-                                    h,
-                                )
-                            };
+                            let residual = unsafe { arrays.residual(h) };
                             lead_only
                                 .lock()
                                 .unwrap_or_else(|e| e.into_inner())
@@ -197,6 +201,9 @@ impl World {
                 }
             });
             sf.joint_coloring = joint_coloring;
+            (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
+            wide.unpack(&mut sf.manifolds, &mut sf.points);
+            self.scratch.wide = wide;
         }
         report.substeps = substeps;
         report.iterations = s.iterations;

@@ -1,0 +1,257 @@
+//! The solver's one portable SIMD type: [`Lane`], four f64 lanes (the `wide`
+//! crate's `f64x4`: one AVX register where the build targets AVX, two SSE2
+//! registers otherwise), and the 3-vectors and 3 x 3 matrices made of them
+//! that the wide patch kernels (`wide`) use to solve four contact patches at
+//! once, one per lane.
+//!
+//! Every operation here performs, lane by lane, the same IEEE operations in
+//! the same order as `glam`'s `DVec3` and `DMat3` (dot products summed left
+//! to right, cross products and matrix-vector products as glam writes them),
+//! and nothing is fused into a multiply-add: a lane of a wide kernel gives
+//! the same bits as the scalar kernel on the same patch.
+
+use tumble_collide::{DMat3, DVec3};
+use wide::f64x4;
+
+/// Four f64 lanes.
+pub type Lane = f64x4;
+
+/// Number of lanes of a [`Lane`].
+pub const LANES: usize = 4;
+
+/// Lanewise `a > b` as a mask (all bits set where true).
+#[inline(always)]
+pub fn gt(a: Lane, b: Lane) -> Lane {
+    a.simd_gt(b)
+}
+
+/// Lanewise `a < b` as a mask.
+#[inline(always)]
+pub fn lt(a: Lane, b: Lane) -> Lane {
+    a.simd_lt(b)
+}
+
+/// Lanewise `a <= b` as a mask.
+#[inline(always)]
+pub fn le(a: Lane, b: Lane) -> Lane {
+    a.simd_le(b)
+}
+
+/// Lanewise `a == b` as a mask.
+#[inline(always)]
+pub fn eq(a: Lane, b: Lane) -> Lane {
+    a.simd_eq(b)
+}
+
+/// Lanewise `if mask { yes } else { no }`.
+#[inline(always)]
+pub fn select(mask: Lane, yes: Lane, no: Lane) -> Lane {
+    mask.select(yes, no)
+}
+
+/// A mask from one flag per lane.
+#[inline(always)]
+pub fn mask(flags: [bool; LANES]) -> Lane {
+    Lane::new(flags.map(|f| if f { f64::from_bits(u64::MAX) } else { 0.0 }))
+}
+
+/// `1 / k` where `k > 0`, else 0 (as the scalar `recip_or_zero`).
+#[inline(always)]
+pub fn recip_or_zero(k: Lane) -> Lane {
+    select(gt(k, Lane::ZERO), Lane::ONE / k, Lane::ZERO)
+}
+
+/// A 3-vector per lane, stored as three lanes (structure of arrays).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct V3 {
+    /// x of every lane.
+    pub x: Lane,
+    /// y of every lane.
+    pub y: Lane,
+    /// z of every lane.
+    pub z: Lane,
+}
+
+impl V3 {
+    /// Zero in every lane.
+    pub const ZERO: V3 = V3 {
+        x: Lane::ZERO,
+        y: Lane::ZERO,
+        z: Lane::ZERO,
+    };
+
+    /// One vector per lane.
+    #[inline(always)]
+    pub fn from_lanes(v: [DVec3; LANES]) -> V3 {
+        V3 {
+            x: Lane::new(v.map(|v| v.x)),
+            y: Lane::new(v.map(|v| v.y)),
+            z: Lane::new(v.map(|v| v.z)),
+        }
+    }
+
+    /// The vectors of the lanes.
+    #[inline(always)]
+    pub fn to_lanes(self) -> [DVec3; LANES] {
+        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
+        std::array::from_fn(|l| DVec3::new(x[l], y[l], z[l]))
+    }
+
+    /// Lane `l`'s vector.
+    #[inline(always)]
+    pub fn lane(self, l: usize) -> DVec3 {
+        DVec3::new(self.x.as_array()[l], self.y.as_array()[l], self.z.as_array()[l])
+    }
+
+    /// Sets lane `l` to `v`.
+    #[inline(always)]
+    pub fn set_lane(&mut self, l: usize, v: DVec3) {
+        self.x.as_mut_array()[l] = v.x;
+        self.y.as_mut_array()[l] = v.y;
+        self.z.as_mut_array()[l] = v.z;
+    }
+
+    /// `(x x') + (y y') + (z z')`, as glam's `dot`.
+    #[inline(always)]
+    pub fn dot(self, o: V3) -> Lane {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// As glam's `cross`.
+    #[inline(always)]
+    pub fn cross(self, o: V3) -> V3 {
+        V3 {
+            x: self.y * o.z - o.y * self.z,
+            y: self.z * o.x - o.z * self.x,
+            z: self.x * o.y - o.x * self.y,
+        }
+    }
+
+    /// Every component times the lane's scalar.
+    #[inline(always)]
+    pub fn scale(self, s: Lane) -> V3 {
+        V3 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    /// Lanewise `if mask { yes } else { no }`.
+    #[inline(always)]
+    pub fn select(mask: Lane, yes: V3, no: V3) -> V3 {
+        V3 {
+            x: select(mask, yes.x, no.x),
+            y: select(mask, yes.y, no.y),
+            z: select(mask, yes.z, no.z),
+        }
+    }
+}
+
+impl std::ops::Add for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn add(self, o: V3) -> V3 {
+        V3 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+}
+
+impl std::ops::Sub for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn sub(self, o: V3) -> V3 {
+        V3 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+}
+
+impl std::ops::AddAssign for V3 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: V3) {
+        *self = *self + o;
+    }
+}
+
+impl std::ops::SubAssign for V3 {
+    #[inline(always)]
+    fn sub_assign(&mut self, o: V3) {
+        *self = *self - o;
+    }
+}
+
+/// A 3 x 3 matrix per lane, by columns as glam's `DMat3`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct M3 {
+    /// First column.
+    pub x_axis: V3,
+    /// Second column.
+    pub y_axis: V3,
+    /// Third column.
+    pub z_axis: V3,
+}
+
+impl M3 {
+    /// One matrix per lane.
+    #[inline(always)]
+    pub fn from_lanes(m: [DMat3; LANES]) -> M3 {
+        M3 {
+            x_axis: V3::from_lanes(m.map(|m| m.x_axis)),
+            y_axis: V3::from_lanes(m.map(|m| m.y_axis)),
+            z_axis: V3::from_lanes(m.map(|m| m.z_axis)),
+        }
+    }
+
+    /// `M v` summed column by column, as glam's `mul_vec3`.
+    #[inline(always)]
+    pub fn mul_vec(&self, v: V3) -> V3 {
+        self.x_axis.scale(v.x) + self.y_axis.scale(v.y) + self.z_axis.scale(v.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// Each lane of every operation is bit for bit what glam computes.
+    #[test]
+    fn lanes_compute_glams_bits() {
+        let mut rng = SplitMix64(7);
+        for _ in 0..200 {
+            let a: [DVec3; LANES] = std::array::from_fn(|_| rng.vec3(3.0));
+            let b: [DVec3; LANES] = std::array::from_fn(|_| rng.vec3(3.0));
+            let m: [DMat3; LANES] =
+                std::array::from_fn(|_| DMat3::from_cols(rng.vec3(3.0), rng.vec3(3.0), rng.vec3(3.0)));
+            let (wa, wb, wm) = (V3::from_lanes(a), V3::from_lanes(b), M3::from_lanes(m));
+            let dot = wa.dot(wb).to_array();
+            let cross = wa.cross(wb).to_lanes();
+            let product = wm.mul_vec(wa).to_lanes();
+            for l in 0..LANES {
+                assert_eq!(dot[l].to_bits(), a[l].dot(b[l]).to_bits());
+                assert_eq!(cross[l], a[l].cross(b[l]));
+                assert_eq!(product[l], m[l] * a[l]);
+            }
+        }
+    }
+
+    #[test]
+    fn masks_select_lane_by_lane() {
+        let m = mask([true, false, false, true]);
+        let r = select(m, Lane::splat(1.0), Lane::splat(2.0)).to_array();
+        assert_eq!(r, [1.0, 2.0, 2.0, 1.0]);
+        assert_eq!(
+            recip_or_zero(Lane::new([2.0, 0.0, -1.0, 4.0])).to_array(),
+            [0.5, 0.0, 0.0, 0.25]
+        );
+        assert!(gt(Lane::splat(1.0), Lane::ZERO).all());
+        assert!(!lt(Lane::splat(1.0), Lane::ZERO).any());
+        assert!(le(Lane::ZERO, Lane::ZERO).all() && eq(Lane::ZERO, Lane::splat(-0.0)).all());
+    }
+}

@@ -1,0 +1,1327 @@
+//! Four contact patches at once: the passes of `passes` (sub-step start with
+//! warm start, velocity solve, push-out) over a [`WidePatch`], a bundle of
+//! four patches of one colour stored as structure of arrays, one patch per
+//! SIMD lane ([`Lane`]). Patches of one colour share no dynamic body, so the
+//! four lanes update four disjoint pairs of bodies: their velocities are
+//! gathered into lanes, the rows solved lane-parallel, and the velocities of
+//! the dynamic bodies scattered back.
+//!
+//! Each lane computes exactly what the scalar kernel of `passes` computes for
+//! its patch (the same operations in the same order, branches turned into
+//! lane selects, a lane's early exit into a frozen lane): the wide kernels
+//! are a faster layout of the same solver, not a second one, and a test holds
+//! them to the scalar kernels' bits. Patches of up to four points (the
+//! block-solved ones: box faces, edges, lone points) travel in bundles;
+//! larger patches, the overflow batch and problems too small to colour stay
+//! on the scalar kernels.
+//!
+//! Why: scalar, the velocity passes were bound by f64 arithmetic on one
+//! patch at a time (a 3-vector fills no register); four patches per lane set
+//! fill the vector unit with independent work.
+
+use super::body::SolverBody;
+use super::coloring::{Coloring, Shared};
+use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_REFRESH};
+use super::lanes::{self, eq, gt, le, lt, recip_or_zero, select, Lane, LANES, M3, V3};
+use std::ops::Range;
+use tumble_collide::{DMat3, DVec3};
+
+/// Marks a lane that holds no patch (padding of a colour's last bundle).
+const EMPTY: u32 = u32::MAX;
+
+/// The angular part of one row in every lane (`RowJacobian`, widened).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct WideRow {
+    ra_x_d: V3,
+    rb_x_d: V3,
+    ia_ra_x_d: V3,
+    ib_rb_x_d: V3,
+}
+
+impl WideRow {
+    /// `RowJacobian::new`: the row of an impulse along `d` at lever arms `ra`, `rb`.
+    #[inline(always)]
+    fn new(ia: &M3, ib: &M3, ra: V3, rb: V3, d: V3) -> WideRow {
+        let ra_x_d = ra.cross(d);
+        let rb_x_d = rb.cross(d);
+        WideRow {
+            ra_x_d,
+            rb_x_d,
+            ia_ra_x_d: ia.mul_vec(ra_x_d),
+            ib_rb_x_d: ib.mul_vec(rb_x_d),
+        }
+    }
+
+    /// `RowJacobian::twist`: a pure torque row about `axis`.
+    #[inline(always)]
+    fn twist(ia: &M3, ib: &M3, axis: V3) -> WideRow {
+        WideRow {
+            ra_x_d: axis,
+            rb_x_d: axis,
+            ia_ra_x_d: ia.mul_vec(axis),
+            ib_rb_x_d: ib.mul_vec(axis),
+        }
+    }
+
+    /// `RowJacobian::inverse_mass`.
+    #[inline(always)]
+    fn inverse_mass(&self, d: V3, ima: Lane, imb: Lane) -> Lane {
+        d.dot(d) * (ima + imb) + self.ra_x_d.dot(self.ia_ra_x_d) + self.rb_x_d.dot(self.ib_rb_x_d)
+    }
+
+    #[inline(always)]
+    fn select(mask: Lane, yes: WideRow, no: WideRow) -> WideRow {
+        WideRow {
+            ra_x_d: V3::select(mask, yes.ra_x_d, no.ra_x_d),
+            rb_x_d: V3::select(mask, yes.rb_x_d, no.rb_x_d),
+            ia_ra_x_d: V3::select(mask, yes.ia_ra_x_d, no.ia_ra_x_d),
+            ib_rb_x_d: V3::select(mask, yes.ib_rb_x_d, no.ib_rb_x_d),
+        }
+    }
+}
+
+/// Point `i` of every lane's patch (`PointConstraint`, widened); lanes whose
+/// patch has fewer points hold zeros there, which change nothing.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct WidePoint {
+    /// All bits set in lanes where the patch has this point.
+    real: Lane,
+    normal: V3,
+    r_a: V3,
+    r_b: V3,
+    row: WideRow,
+    separation: Lane,
+    separation_now: Lane,
+    normal_mass: Lane,
+    normal_impulse: Lane,
+    max_normal_impulse: Lane,
+    push_impulse: Lane,
+}
+
+/// Four patches of one colour, one per lane, each of at most `N` points
+/// (`ManifoldConstraint`s of one, two, or three and four points: a lone
+/// point, an edge, a face). A patch of fewer points than `N` is padded with
+/// zero rows; the scalar kernel pads its block to
+/// [`BLOCK_POINTS`](super::constraint::BLOCK_POINTS) points the same
+/// way, so that an `N`-point kernel drops only terms that are exact zeros
+/// there, and gives the same bits at a fraction of the work.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct WidePatch<const N: usize> {
+    /// Solver bodies A of the lanes (0, the immovable body, in empty lanes).
+    a: [u32; LANES],
+    /// Solver bodies B.
+    b: [u32; LANES],
+    /// Index of each lane's patch in the patch array, [`EMPTY`] for none.
+    source: [u32; LANES],
+    friction: Lane,
+    twist_radius: Lane,
+    normal: V3,
+    directions: [V3; 2],
+    r_a: V3,
+    r_b: V3,
+    rows: [WideRow; 3],
+    masses: [Lane; 3],
+    impulses: [Lane; 3],
+    inv_mass: [Lane; 2],
+    block: Block<N>,
+    block_inverse: Block<N>,
+    points: [WidePoint; N],
+}
+
+/// The bundle a patch travels in: the point count of its kernel, or `None`
+/// for a patch of more than [`BLOCK_POINTS`](super::constraint::BLOCK_POINTS)
+/// points (scalar kernels).
+#[inline]
+pub fn bundle_points(m: &ManifoldConstraint) -> Option<usize> {
+    match m.point_count {
+        0 | 1 => Some(1),
+        2 => Some(2),
+        3 | 4 => Some(4),
+        _ => None,
+    }
+}
+
+impl<const N: usize> WidePatch<N> {
+    /// A bundle of the patches `sources` (at most [`LANES`], indices into
+    /// `manifolds`), prepared, the rest of the lanes empty.
+    fn pack(sources: &[u32], manifolds: &[ManifoldConstraint], points: &[PointConstraint]) -> WidePatch<N> {
+        let mut w = WidePatch {
+            a: [0; LANES],
+            b: [0; LANES],
+            source: [EMPTY; LANES],
+            friction: Lane::ZERO,
+            twist_radius: Lane::ZERO,
+            normal: V3::ZERO,
+            directions: [V3::ZERO; 2],
+            r_a: V3::ZERO,
+            r_b: V3::ZERO,
+            rows: [WideRow::default(); 3],
+            masses: [Lane::ZERO; 3],
+            impulses: [Lane::ZERO; 3],
+            inv_mass: [Lane::ZERO; 2],
+            block: [[Lane::ZERO; N]; N],
+            block_inverse: [[Lane::ZERO; N]; N],
+            points: [WidePoint::default(); N],
+        };
+        for (l, &k) in sources.iter().enumerate() {
+            let m = &manifolds[k as usize];
+            debug_assert!(m.point_count as usize <= N);
+            w.a[l] = m.a;
+            w.b[l] = m.b;
+            w.source[l] = k;
+            set(&mut w.friction, l, m.friction);
+            set(&mut w.twist_radius, l, m.twist_radius);
+            w.normal.set_lane(l, m.normal);
+            w.directions[0].set_lane(l, m.directions[0]);
+            w.directions[1].set_lane(l, m.directions[1]);
+            w.r_a.set_lane(l, m.r_a);
+            w.r_b.set_lane(l, m.r_b);
+            for r in 0..3 {
+                set_row(&mut w.rows[r], l, &m.rows[r]);
+                set(&mut w.masses[r], l, m.masses[r]);
+                set(&mut w.impulses[r], l, m.impulses[r]);
+            }
+            set(&mut w.inv_mass[0], l, m.inv_mass[0]);
+            set(&mut w.inv_mass[1], l, m.inv_mass[1]);
+            for i in 0..N {
+                for j in 0..N {
+                    set(&mut w.block[i][j], l, m.block[i][j]);
+                    set(&mut w.block_inverse[i][j], l, m.block_inverse[i][j]);
+                }
+            }
+            for (wp, p) in w.points.iter_mut().zip(&points[m.range()]) {
+                set(&mut wp.real, l, f64::from_bits(u64::MAX));
+                wp.normal.set_lane(l, p.normal);
+                wp.r_a.set_lane(l, p.r_a);
+                wp.r_b.set_lane(l, p.r_b);
+                set_row(&mut wp.row, l, &p.row);
+                set(&mut wp.separation, l, p.separation);
+                set(&mut wp.separation_now, l, p.separation_now);
+                set(&mut wp.normal_mass, l, p.normal_mass);
+                set(&mut wp.normal_impulse, l, p.normal_impulse);
+                set(&mut wp.max_normal_impulse, l, p.max_normal_impulse);
+                set(&mut wp.push_impulse, l, p.push_impulse);
+            }
+        }
+        w
+    }
+
+    /// Writes every lane's patch back to its records: everything the passes
+    /// change (rows, masses, the block, separations and impulses), so that
+    /// the records read as if the scalar kernels had run.
+    fn unpack(&self, manifolds: &mut [ManifoldConstraint], points: &mut [PointConstraint]) {
+        for l in 0..LANES {
+            let k = self.source[l];
+            if k == EMPTY {
+                continue;
+            }
+            let m = &mut manifolds[k as usize];
+            for r in 0..3 {
+                m.rows[r] = get_row(&self.rows[r], l);
+                m.masses[r] = get(self.masses[r], l);
+                m.impulses[r] = get(self.impulses[r], l);
+            }
+            for i in 0..N {
+                for j in 0..N {
+                    m.block[i][j] = get(self.block[i][j], l);
+                    m.block_inverse[i][j] = get(self.block_inverse[i][j], l);
+                }
+            }
+            for (wp, p) in self.points.iter().zip(&mut points[m.range()]) {
+                p.row = get_row(&wp.row, l);
+                p.separation_now = get(wp.separation_now, l);
+                p.normal_mass = get(wp.normal_mass, l);
+                p.normal_impulse = get(wp.normal_impulse, l);
+                p.max_normal_impulse = get(wp.max_normal_impulse, l);
+                p.push_impulse = get(wp.push_impulse, l);
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn set(x: &mut Lane, l: usize, v: f64) {
+    x.as_mut_array()[l] = v;
+}
+
+#[inline(always)]
+fn get(x: Lane, l: usize) -> f64 {
+    x.as_array()[l]
+}
+
+fn set_row(w: &mut WideRow, l: usize, r: &super::constraint::RowJacobian) {
+    w.ra_x_d.set_lane(l, r.ra_x_d);
+    w.rb_x_d.set_lane(l, r.rb_x_d);
+    w.ia_ra_x_d.set_lane(l, r.ia_ra_x_d);
+    w.ib_rb_x_d.set_lane(l, r.ib_rb_x_d);
+}
+
+fn get_row(w: &WideRow, l: usize) -> super::constraint::RowJacobian {
+    super::constraint::RowJacobian {
+        ra_x_d: w.ra_x_d.lane(l),
+        rb_x_d: w.rb_x_d.lane(l),
+        ia_ra_x_d: w.ia_ra_x_d.lane(l),
+        ib_rb_x_d: w.ib_rb_x_d.lane(l),
+    }
+}
+
+/// The bundles of one colour: ranges of [`WideBatches`]' arrays.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ColorBundles {
+    /// Bundles of lone points.
+    pub ones: Range<usize>,
+    /// Bundles of two-point patches.
+    pub twos: Range<usize>,
+    /// Bundles of three- and four-point patches.
+    pub fours: Range<usize>,
+    /// Patches of more than four points (range of `large`).
+    pub large: Range<usize>,
+}
+
+/// The colour batches of a step in bundles: each colour's patches of up to
+/// four points, four to a [`WidePatch`] of their point count in patch order,
+/// and its larger patches, which the scalar kernels solve beside the bundles.
+#[derive(Debug, Default)]
+pub(crate) struct WideBatches {
+    /// Bundles of lone points, colour after colour.
+    pub ones: Vec<WidePatch<1>>,
+    /// Bundles of two-point patches.
+    pub twos: Vec<WidePatch<2>>,
+    /// Bundles of three- and four-point patches.
+    pub fours: Vec<WidePatch<4>>,
+    /// Per colour of the colouring: its bundles and large patches.
+    pub colors: Vec<ColorBundles>,
+    /// Patches of more than four points, colour after colour (indices into
+    /// the patch array).
+    pub large: Vec<u32>,
+}
+
+impl WideBatches {
+    /// Bundles the colours of `coloring` (the overflow batch stays out),
+    /// reusing this value's buffers.
+    pub fn pack(
+        &mut self,
+        coloring: &Coloring,
+        manifolds: &[ManifoldConstraint],
+        points: &[PointConstraint],
+    ) {
+        self.ones.clear();
+        self.twos.clear();
+        self.fours.clear();
+        self.colors.clear();
+        self.large.clear();
+        // Sized first: bundles are large, and a vector that doubles its way
+        // up moves them several times and faults in fresh pages each step.
+        let mut counts = [0usize; 3];
+        for range in &coloring.colors {
+            let mut per_color = [0usize; 3];
+            for m in &manifolds[range.clone()] {
+                match bundle_points(m) {
+                    Some(1) => per_color[0] += 1,
+                    Some(2) => per_color[1] += 1,
+                    Some(_) => per_color[2] += 1,
+                    None => {}
+                }
+            }
+            for (c, n) in counts.iter_mut().zip(per_color) {
+                *c += n.div_ceil(LANES);
+            }
+        }
+        self.ones.reserve(counts[0]);
+        self.twos.reserve(counts[1]);
+        self.fours.reserve(counts[2]);
+        let mut by_size: [Vec<u32>; 3] = Default::default();
+        for range in &coloring.colors {
+            by_size.iter_mut().for_each(Vec::clear);
+            let first_large = self.large.len();
+            for k in range.clone() {
+                match bundle_points(&manifolds[k]) {
+                    Some(1) => by_size[0].push(k as u32),
+                    Some(2) => by_size[1].push(k as u32),
+                    Some(_) => by_size[2].push(k as u32),
+                    None => self.large.push(k as u32),
+                }
+            }
+            self.colors.push(ColorBundles {
+                ones: bundle_run(&mut self.ones, &by_size[0], manifolds, points),
+                twos: bundle_run(&mut self.twos, &by_size[1], manifolds, points),
+                fours: bundle_run(&mut self.fours, &by_size[2], manifolds, points),
+                large: first_large..self.large.len(),
+            });
+        }
+    }
+
+    /// Writes the bundles back to the patch records (after the sub-steps).
+    pub fn unpack(&self, manifolds: &mut [ManifoldConstraint], points: &mut [PointConstraint]) {
+        self.ones.iter().for_each(|w| w.unpack(manifolds, points));
+        self.twos.iter().for_each(|w| w.unpack(manifolds, points));
+        self.fours.iter().for_each(|w| w.unpack(manifolds, points));
+    }
+}
+
+/// Appends the patches `sources` to `out` in bundles of four; their range.
+fn bundle_run<const N: usize>(
+    out: &mut Vec<WidePatch<N>>,
+    sources: &[u32],
+    manifolds: &[ManifoldConstraint],
+    points: &[PointConstraint],
+) -> Range<usize> {
+    let first = out.len();
+    for lanes in sources.chunks(LANES) {
+        out.push(WidePatch::pack(lanes, manifolds, points));
+    }
+    first..out.len()
+}
+
+/// The velocities of the lanes' body pairs while their rows are solved
+/// (`passes::PairVelocity`, widened).
+#[derive(Clone, Copy)]
+struct PairLanes {
+    va: V3,
+    wa: V3,
+    vb: V3,
+    wb: V3,
+}
+
+impl PairLanes {
+    /// # Safety
+    /// No other thread writes the lanes' bodies meanwhile.
+    #[inline(always)]
+    unsafe fn load<const N: usize>(bodies: &Shared<SolverBody>, w: &WidePatch<N>) -> PairLanes {
+        // SAFETY: the caller's promise.
+        let (a, b): ([&SolverBody; LANES], [&SolverBody; LANES]) = unsafe {
+            (
+                std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
+                std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
+            )
+        };
+        PairLanes {
+            va: V3::from_lanes(a.map(|b| b.v)),
+            wa: V3::from_lanes(a.map(|b| b.w)),
+            vb: V3::from_lanes(b.map(|b| b.v)),
+            wb: V3::from_lanes(b.map(|b| b.w)),
+        }
+    }
+
+    /// Writes the velocities of the dynamic bodies back (the others are
+    /// never changed by impulses and may be shared between lanes).
+    ///
+    /// # Safety
+    /// The lanes' dynamic bodies are this thread's alone meanwhile.
+    #[inline(always)]
+    unsafe fn store<const N: usize>(&self, bodies: &Shared<SolverBody>, w: &WidePatch<N>) {
+        let (va, wa, vb, wb) = (
+            self.va.to_lanes(),
+            self.wa.to_lanes(),
+            self.vb.to_lanes(),
+            self.wb.to_lanes(),
+        );
+        for l in 0..LANES {
+            // SAFETY: the caller's promise; only dynamic bodies are written.
+            unsafe {
+                if bodies.get(w.a[l] as usize).dynamic {
+                    let a = bodies.get_mut(w.a[l] as usize);
+                    a.v = va[l];
+                    a.w = wa[l];
+                }
+                if bodies.get(w.b[l] as usize).dynamic {
+                    let b = bodies.get_mut(w.b[l] as usize);
+                    b.v = vb[l];
+                    b.w = wb[l];
+                }
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn along(&self, d: V3, ra_x_d: V3, rb_x_d: V3) -> Lane {
+        d.dot(self.va - self.vb) + ra_x_d.dot(self.wa) - rb_x_d.dot(self.wb)
+    }
+
+    #[inline(always)]
+    fn apply(&mut self, d: V3, ia: V3, ib: V3, inv_mass: [Lane; 2], lambda: Lane) {
+        self.va += d.scale(lambda * inv_mass[0]);
+        self.wa += ia.scale(lambda);
+        self.vb -= d.scale(lambda * inv_mass[1]);
+        self.wb -= ib.scale(lambda);
+    }
+
+    /// [`PairLanes::apply`] for a pure torque row (its linear direction is
+    /// zero, which would add nothing to the linear velocities).
+    #[inline(always)]
+    fn apply_angular(&mut self, ia: V3, ib: V3, lambda: Lane) {
+        self.wa += ia.scale(lambda);
+        self.wb -= ib.scale(lambda);
+    }
+
+    #[inline(always)]
+    fn lerp(&self, to: &PairLanes, t: Lane) -> PairLanes {
+        PairLanes {
+            va: self.va + (to.va - self.va).scale(t),
+            wa: self.wa + (to.wa - self.wa).scale(t),
+            vb: self.vb + (to.vb - self.vb).scale(t),
+            wb: self.wb + (to.wb - self.wb).scale(t),
+        }
+    }
+
+    #[inline(always)]
+    fn select(mask: Lane, yes: &PairLanes, no: &PairLanes) -> PairLanes {
+        PairLanes {
+            va: V3::select(mask, yes.va, no.va),
+            wa: V3::select(mask, yes.wa, no.wa),
+            vb: V3::select(mask, yes.vb, no.vb),
+            wb: V3::select(mask, yes.wb, no.wb),
+        }
+    }
+}
+
+/// `passes::begin_patch` on four patches: separations for the current
+/// poses, rows re-aimed at the contacts as they are now (lanes whose bodies
+/// moved), masses and blocks refreshed, and with `warm` the warm start,
+/// scaled down where it would add energy.
+///
+/// # Safety
+/// The lanes' dynamic bodies are this thread's alone meanwhile.
+pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared<SolverBody>, warm: bool) {
+    // SAFETY: the caller's promise.
+    let (a, b): ([&SolverBody; LANES], [&SolverBody; LANES]) = unsafe {
+        (
+            std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
+            std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
+        )
+    };
+    let moved_lanes: [bool; LANES] = std::array::from_fn(|l| {
+        a[l].dp != DVec3::ZERO
+            || b[l].dp != DVec3::ZERO
+            || a[l].turn != DMat3::IDENTITY
+            || b[l].turn != DMat3::IDENTITY
+    });
+    let moved = lanes::mask(moved_lanes);
+    let any_moved = moved_lanes.contains(&true);
+    // Where every lane moved (the usual case) the new rows replace the old
+    // whole: a lane select written back to memory becomes a masked store,
+    // which is slow on some cores.
+    let all_moved = !moved_lanes.contains(&false);
+    let pick = |new: WideRow, old: WideRow| {
+        if all_moved {
+            new
+        } else {
+            WideRow::select(moved, new, old)
+        }
+    };
+    let (dpa, dpb) = (V3::from_lanes(a.map(|b| b.dp)), V3::from_lanes(b.map(|b| b.dp)));
+    let (ta, tb) = (
+        M3::from_lanes(a.map(|b| b.turn)),
+        M3::from_lanes(b.map(|b| b.turn)),
+    );
+    let (ia, ib) = (
+        M3::from_lanes(a.map(|b| b.inv_inertia)),
+        M3::from_lanes(b.map(|b| b.inv_inertia)),
+    );
+    for p in w.points.iter_mut() {
+        let (ra_now, rb_now) = (ta.mul_vec(p.r_a), tb.mul_vec(p.r_b));
+        let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
+        p.separation_now = p.separation + p.normal.dot(d);
+        p.push_impulse = Lane::ZERO;
+        if any_moved {
+            let (ra, rb) = shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb);
+            p.row = pick(WideRow::new(&ia, &ib, ra, rb, p.normal), p.row);
+        }
+    }
+    let mut turned = Lane::ZERO;
+    if any_moved {
+        let (ra, rb) = shared_lever_arms(w.r_a, w.r_b, ta.mul_vec(w.r_a), tb.mul_vec(w.r_b), dpa, dpb);
+        for i in 0..2 {
+            w.rows[i] = pick(WideRow::new(&ia, &ib, ra, rb, w.directions[i]), w.rows[i]);
+        }
+        w.rows[2] = pick(WideRow::twist(&ia, &ib, w.normal), w.rows[2]);
+        turned = refresh_masses(w, moved, all_moved);
+    }
+    if warm {
+        // SAFETY: the caller's promise.
+        let before = unsafe { PairLanes::load(bodies, w) };
+        let mut vel = before;
+        let any_turned = turned.any();
+        let work_before = if any_turned { work(&vel, w) } else { Lane::ZERO };
+        for p in w.points.iter() {
+            vel.apply(
+                p.normal,
+                p.row.ia_ra_x_d,
+                p.row.ib_rb_x_d,
+                w.inv_mass,
+                p.normal_impulse,
+            );
+        }
+        for (i, row) in w.rows.iter().enumerate() {
+            if i == 2 {
+                vel.apply_angular(row.ia_ra_x_d, row.ib_rb_x_d, w.impulses[i]);
+            } else {
+                vel.apply(
+                    w.directions[i],
+                    row.ia_ra_x_d,
+                    row.ib_rb_x_d,
+                    w.inv_mass,
+                    w.impulses[i],
+                );
+            }
+        }
+        if any_turned {
+            let scale = select(turned, energy_safe_scale(work_before, work(&vel, w)), Lane::ONE);
+            let shrink = lt(scale, Lane::ONE);
+            if shrink.any() {
+                vel = PairLanes::select(shrink, &before.lerp(&vel, scale), &vel);
+                for p in w.points.iter_mut() {
+                    p.normal_impulse = select(shrink, p.normal_impulse * scale, p.normal_impulse);
+                }
+                for impulse in &mut w.impulses {
+                    *impulse = select(shrink, *impulse * scale, *impulse);
+                }
+            }
+        }
+        // SAFETY: the caller's promise.
+        unsafe { vel.store(bodies, w) };
+    }
+}
+
+/// `sum lambda_i u_i` over a bundle's rows (`passes::begin_patch`'s `work`).
+#[inline(always)]
+fn work<const N: usize>(vel: &PairLanes, w: &WidePatch<N>) -> Lane {
+    let p = &w.points;
+    let term = |i: usize| p[i].normal_impulse * vel.along(p[i].normal, p[i].row.ra_x_d, p[i].row.rb_x_d);
+    let normal = (1..N).fold(term(0), |sum, i| sum + term(i));
+    let row =
+        |i: usize| w.impulses[i] * vel.along(w.directions_or_zero(i), w.rows[i].ra_x_d, w.rows[i].rb_x_d);
+    let friction = row(0) + row(1) + row(2);
+    normal + friction
+}
+
+impl<const N: usize> WidePatch<N> {
+    /// The linear direction of friction row `i` (zero for the twist row).
+    #[inline(always)]
+    fn directions_or_zero(&self, i: usize) -> V3 {
+        if i < 2 {
+            self.directions[i]
+        } else {
+            V3::ZERO
+        }
+    }
+}
+
+/// `passes::energy_safe_scale`, lane by lane.
+#[inline(always)]
+fn energy_safe_scale(work_before: Lane, work_after: Lane) -> Lane {
+    let b = work_after - work_before;
+    let partial = (Lane::splat(-2.0) * work_before / b).min(Lane::ONE);
+    let shrinks = lt(work_before, Lane::ZERO) & gt(b, Lane::ZERO);
+    let scale = select(shrinks, partial, Lane::ZERO);
+    select(le(work_before + work_after, Lane::ZERO), Lane::ONE, scale)
+}
+
+/// `passes::shared_lever_arms`, lane by lane.
+#[inline(always)]
+fn shared_lever_arms(ra0: V3, rb0: V3, ra: V3, rb: V3, dpa: V3, dpb: V3) -> (V3, V3) {
+    let ab = ra0 - rb0 + dpb - dpa;
+    let ra_mid = (ra + rb + ab).scale(Lane::splat(0.5));
+    (ra_mid, ra_mid - ab)
+}
+
+/// `constraint::refresh_masses` (not forced) in the lanes of `moved`;
+/// returns the lanes whose points' masses moved by more than
+/// [`BLOCK_REFRESH`] (their block was rebuilt).
+#[inline(always)]
+fn refresh_masses<const N: usize>(w: &mut WidePatch<N>, moved: Lane, all_moved: bool) -> Lane {
+    let pick = |new: Lane, old: Lane| if all_moved { new } else { select(moved, new, old) };
+    let [ima, imb] = w.inv_mass;
+    let mut turned = Lane::ZERO;
+    for (i, p) in w.points.iter_mut().enumerate() {
+        let k = p.row.inverse_mass(p.normal, ima, imb);
+        let reference = w.block[i][i];
+        turned |= gt((k - reference).abs(), Lane::splat(BLOCK_REFRESH) * reference);
+        p.normal_mass = pick(recip_or_zero(k), p.normal_mass);
+    }
+    let turned = turned & moved;
+    for i in 0..3 {
+        let m = recip_or_zero(w.rows[i].inverse_mass(w.directions_or_zero(i), ima, imb));
+        w.masses[i] = pick(m, w.masses[i]);
+    }
+    if turned.any() {
+        let mut block = [[Lane::ZERO; N]; N];
+        for (i, pi) in w.points.iter().enumerate() {
+            for (j, pj) in w.points.iter().enumerate() {
+                block[i][j] = pi.normal.dot(pj.normal) * (ima + imb)
+                    + pi.row.ra_x_d.dot(pj.row.ia_ra_x_d)
+                    + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
+            }
+        }
+        let inverse = regularised_inverse(&block);
+        if turned.all() {
+            w.block = block;
+            w.block_inverse = inverse;
+        } else {
+            for i in 0..N {
+                for j in 0..N {
+                    w.block[i][j] = select(turned, block[i][j], w.block[i][j]);
+                    w.block_inverse[i][j] = select(turned, inverse[i][j], w.block_inverse[i][j]);
+                }
+            }
+        }
+    }
+    turned
+}
+
+/// An `N` x `N` block of the Delassus matrix, or its inverse, per lane.
+type Block<const N: usize> = [[Lane; N]; N];
+
+/// `constraint::regularised_cholesky`, lane by lane, on the leading `N`
+/// rows (the padding rows beyond them factor apart, as zero rows with the
+/// pivot `eps`, and leave the rest alone).
+#[allow(clippy::needless_range_loop)] // index form mirrors the scalar version
+#[inline(always)]
+fn regularised_cholesky<const N: usize>(k: &Block<N>) -> Block<N> {
+    let mut largest = Lane::ZERO;
+    for i in 0..N {
+        largest = largest.max(k[i][i]);
+    }
+    let eps = Lane::splat(1e-9) * largest + Lane::splat(f64::MIN_POSITIVE);
+    let mut l = [[Lane::ZERO; N]; N];
+    for j in 0..N {
+        let mut diag = k[j][j] + eps;
+        for p in 0..j {
+            diag -= l[j][p] * l[j][p];
+        }
+        let pivot = diag.max(eps).sqrt();
+        l[j][j] = Lane::ONE / pivot;
+        for i in j + 1..N {
+            let mut v = k[i][j];
+            for p in 0..j {
+                v -= l[i][p] * l[j][p];
+            }
+            l[i][j] = v / pivot;
+        }
+    }
+    l
+}
+
+/// `constraint::regularised_inverse`, lane by lane.
+#[allow(clippy::needless_range_loop)]
+#[inline(always)]
+fn regularised_inverse<const N: usize>(k: &Block<N>) -> Block<N> {
+    let l = regularised_cholesky(k);
+    let mut inv = [[Lane::ZERO; N]; N];
+    for j in 0..N {
+        // The forward and backward substitutions of `cholesky_solve` on the
+        // unit column j.
+        let mut y = [Lane::ZERO; N];
+        for i in 0..N {
+            let mut v = if i == j { Lane::ONE } else { Lane::ZERO };
+            for p in 0..i {
+                v -= l[i][p] * y[p];
+            }
+            y[i] = v * l[i][i];
+        }
+        let mut x = [Lane::ZERO; N];
+        for i in (0..N).rev() {
+            let mut v = y[i];
+            for p in i + 1..N {
+                v -= l[p][i] * x[p];
+            }
+            x[i] = v * l[i][i];
+        }
+        for i in 0..N {
+            inv[i][j] = x[i];
+        }
+    }
+    inv
+}
+
+/// `constraint::mat4_mul`, lane by lane: `(r0 x0 + r1 x1) + (r2 x2 + r3 x3)`
+/// with the padding's zero terms left out.
+#[inline(always)]
+fn mat_mul<const N: usize>(m: &Block<N>, x: &[Lane; N]) -> [Lane; N] {
+    std::array::from_fn(|i| {
+        let r = &m[i];
+        match N {
+            1 => r[0] * x[0],
+            2 => r[0] * x[0] + r[1] * x[1],
+            _ => (r[0] * x[0] + r[1] * x[1]) + (r[2] * x[2] + r[3] * x[3]),
+        }
+    })
+}
+
+/// `passes::solve_patch` on four patches: patch friction, then the normal
+/// rows as one block.
+///
+/// # Safety
+/// The lanes' dynamic bodies are this thread's alone meanwhile.
+pub(super) unsafe fn solve<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared<SolverBody>, inv_h: f64) {
+    // SAFETY: the caller's promise.
+    let mut vel = unsafe { PairLanes::load(bodies, w) };
+    let p = &w.points;
+    let total = (1..N).fold(p[0].normal_impulse, |sum, i| sum + p[i].normal_impulse);
+    solve_friction(w, total, &mut vel);
+    solve_block(w, &mut vel, Lane::splat(inv_h));
+    // SAFETY: the caller's promise.
+    unsafe { vel.store(bodies, w) };
+}
+
+/// `passes::solve_patch_friction`, lane by lane.
+#[inline(always)]
+fn solve_friction<const N: usize>(w: &mut WidePatch<N>, total: Lane, vel: &mut PairLanes) {
+    let limit = w.friction * total;
+    let mut t = [w.impulses[0], w.impulses[1]];
+    for (i, ti) in t.iter_mut().enumerate() {
+        let (d, row) = (w.directions[i], &w.rows[i]);
+        let before = *ti;
+        *ti = before - w.masses[i] * vel.along(d, row.ra_x_d, row.rb_x_d);
+        vel.apply(d, row.ia_ra_x_d, row.ib_rb_x_d, w.inv_mass, *ti - before);
+    }
+    let len2 = t[0] * t[0] + t[1] * t[1];
+    let clamp = gt(len2, limit * limit);
+    if clamp.any() {
+        let scale = select(gt(len2, Lane::ZERO), limit / len2.sqrt(), Lane::ZERO);
+        for (i, ti) in t.iter_mut().enumerate() {
+            let clamped = *ti * scale;
+            let row = &w.rows[i];
+            let change = select(clamp, clamped - *ti, Lane::ZERO);
+            vel.apply(w.directions[i], row.ia_ra_x_d, row.ib_rb_x_d, w.inv_mass, change);
+            *ti = select(clamp, clamped, *ti);
+        }
+    }
+    w.impulses[0] = t[0];
+    w.impulses[1] = t[1];
+    let row = &w.rows[2];
+    let twist_limit = limit * w.twist_radius;
+    let before = w.impulses[2];
+    let spin = row.ra_x_d.dot(vel.wa) - row.rb_x_d.dot(vel.wb);
+    let after = (before - w.masses[2] * spin).max(-twist_limit).min(twist_limit);
+    vel.apply_angular(row.ia_ra_x_d, row.ib_rb_x_d, after - before);
+    w.impulses[2] = after;
+}
+
+/// `passes::solve_block`, lane by lane: the direct solve with every point
+/// pressing, and the block's sweeps in the lanes where that fails.
+#[inline(always)]
+fn solve_block<const N: usize>(w: &mut WidePatch<N>, vel: &mut PairLanes, inv_h: Lane) {
+    let mut b = [Lane::ZERO; N];
+    let mut lambda = [Lane::ZERO; N];
+    let mut mass = [Lane::ZERO; N];
+    for (i, p) in w.points.iter().enumerate() {
+        let s = p.separation_now;
+        let bias = select(gt(s, Lane::ZERO), s * inv_h, Lane::ZERO);
+        b[i] = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) + bias;
+        lambda[i] = p.normal_impulse;
+        mass[i] = p.normal_mass;
+    }
+    let (direct, ok) = direct_block(w, &b, &lambda);
+    let d = if ok.all() {
+        direct
+    } else {
+        let swept = swept_block(w, &b, &lambda, &mass, !ok);
+        std::array::from_fn(|i| select(ok, direct[i], swept[i]))
+    };
+    for (i, p) in w.points.iter_mut().enumerate() {
+        let new_impulse = lambda[i] + d[i];
+        p.normal_impulse = new_impulse;
+        p.max_normal_impulse = p.max_normal_impulse.max(new_impulse);
+        vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, w.inv_mass, d[i]);
+    }
+}
+
+/// `passes::direct_block`, lane by lane: the answer, and the lanes where it
+/// stands.
+#[inline(always)]
+fn direct_block<const N: usize>(w: &WidePatch<N>, b: &[Lane; N], lambda: &[Lane; N]) -> ([Lane; N], Lane) {
+    let residual = |d: &[Lane; N]| {
+        let kd = mat_mul(&w.block, d);
+        std::array::from_fn::<Lane, N, _>(|i| b[i] + kd[i])
+    };
+    let mut d = mat_mul(&w.block_inverse, &b.map(|x| -x));
+    let fix = mat_mul(&w.block_inverse, &residual(&d).map(|x| -x));
+    for i in 0..N {
+        d[i] += fix[i];
+    }
+    let largest = b.iter().fold(Lane::ZERO, |x, &y| x.max(y.abs()));
+    let tolerance = Lane::splat(1e-9) * (Lane::ONE + largest);
+    let r = residual(&d);
+    let mut fails = Lane::ZERO;
+    for i in 0..N {
+        fails |= lt(lambda[i] + d[i], Lane::ZERO) | lt(r[i], -tolerance);
+    }
+    (d, !fails)
+}
+
+/// `passes::swept_block`, lane by lane, in the lanes of `active`: a lane
+/// stops sweeping where the scalar loop would break.
+#[inline(always)]
+fn swept_block<const N: usize>(
+    w: &WidePatch<N>,
+    b: &[Lane; N],
+    lambda: &[Lane; N],
+    mass: &[Lane; N],
+    mut active: Lane,
+) -> [Lane; N] {
+    let mut d = [Lane::ZERO; N];
+    let largest = lambda.iter().fold(Lane::ZERO, |x, &y| x.max(y));
+    let scale = Lane::splat(1e-9) * (Lane::ONE + largest);
+    // One row of a sweep; the two orders are spelled out so that every
+    // index is a constant and `d` stays in registers. (The scalar sweep also
+    // visits the padding rows, which change nothing.)
+    let row = |i: usize, d: &mut [Lane; N], change: &mut Lane, active: Lane| {
+        let k = &w.block[i];
+        let r = (0..N).fold(b[i], |r, j| r + k[j] * d[j]);
+        let new = (lambda[i] + d[i] - mass[i] * r).max(Lane::ZERO) - lambda[i];
+        *change = change.max((new - d[i]).abs());
+        d[i] = select(active, new, d[i]);
+    };
+    for sweep in 0..super::passes::BLOCK_SWEEPS {
+        let mut change = Lane::ZERO;
+        if sweep % 2 == 0 {
+            for i in 0..N {
+                row(i, &mut d, &mut change, active);
+            }
+        } else {
+            for i in (0..N).rev() {
+                row(i, &mut d, &mut change, active);
+            }
+        }
+        active &= !le(change, scale);
+        if !active.any() {
+            break;
+        }
+    }
+    d
+}
+
+/// `passes::push_patch` on four patches; whether any lane pushed.
+///
+/// # Safety
+/// The lanes' dynamic bodies are this thread's alone meanwhile.
+pub(super) unsafe fn push<const N: usize>(
+    w: &mut WidePatch<N>,
+    bodies: &Shared<SolverBody>,
+    params: &SolverParams,
+    inv_h: f64,
+) -> bool {
+    let allowed = Lane::splat(params.allowed_penetration);
+    let mut pushing = Lane::ZERO;
+    for p in &w.points {
+        let excess = p.separation_now + allowed;
+        pushing |= p.real & !(le(Lane::ZERO, excess) & eq(p.push_impulse, Lane::ZERO));
+    }
+    if !pushing.any() {
+        return false;
+    }
+    // SAFETY: the caller's promise.
+    let (a, b): ([&SolverBody; LANES], [&SolverBody; LANES]) = unsafe {
+        (
+            std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
+            std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
+        )
+    };
+    let mut pav = V3::from_lanes(a.map(|b| b.push_v));
+    let mut paw = V3::from_lanes(a.map(|b| b.push_w));
+    let mut pbv = V3::from_lanes(b.map(|b| b.push_v));
+    let mut pbw = V3::from_lanes(b.map(|b| b.push_w));
+    let (fraction, max_speed, inv_h) = (
+        Lane::splat(-params.push_out_fraction),
+        Lane::splat(params.max_push_out_speed),
+        Lane::splat(inv_h),
+    );
+    for p in w.points.iter_mut() {
+        let excess = p.separation_now + allowed;
+        let act = p.real & !(le(Lane::ZERO, excess) & eq(p.push_impulse, Lane::ZERO));
+        if !act.any() {
+            continue;
+        }
+        let target = select(
+            lt(excess, Lane::ZERO),
+            (fraction * excess * inv_h).min(max_speed),
+            Lane::ZERO,
+        );
+        let vn = p.normal.dot(pav - pbv) + p.row.ra_x_d.dot(paw) - p.row.rb_x_d.dot(pbw);
+        let new_impulse = (p.push_impulse + p.normal_mass * (target - vn)).max(Lane::ZERO);
+        let applied = select(act, new_impulse - p.push_impulse, Lane::ZERO);
+        p.push_impulse = select(act, new_impulse, p.push_impulse);
+        pav += p.normal.scale(applied * w.inv_mass[0]);
+        paw += p.row.ia_ra_x_d.scale(applied);
+        pbv -= p.normal.scale(applied * w.inv_mass[1]);
+        pbw -= p.row.ib_rb_x_d.scale(applied);
+    }
+    let (pav, paw, pbv, pbw) = (pav.to_lanes(), paw.to_lanes(), pbv.to_lanes(), pbw.to_lanes());
+    for l in 0..LANES {
+        // SAFETY: the caller's promise; only dynamic bodies are written.
+        unsafe {
+            if bodies.get(w.a[l] as usize).dynamic {
+                let body = bodies.get_mut(w.a[l] as usize);
+                body.push_v = pav[l];
+                body.push_w = paw[l];
+            }
+            if bodies.get(w.b[l] as usize).dynamic {
+                let body = bodies.get_mut(w.b[l] as usize);
+                body.push_v = pbv[l];
+                body.push_w = pbw[l];
+            }
+        }
+    }
+    true
+}
+
+/// `passes::residual` over a bundle's real points: the largest violation
+/// of the non-penetration rows by the current velocities (m/s).
+pub(super) fn residual<const N: usize>(w: &WidePatch<N>, bodies: &[SolverBody], inv_h: f64) -> f64 {
+    let a: [&SolverBody; LANES] = std::array::from_fn(|l| &bodies[w.a[l] as usize]);
+    let b: [&SolverBody; LANES] = std::array::from_fn(|l| &bodies[w.b[l] as usize]);
+    let vel = PairLanes {
+        va: V3::from_lanes(a.map(|b| b.v)),
+        wa: V3::from_lanes(a.map(|b| b.w)),
+        vb: V3::from_lanes(b.map(|b| b.v)),
+        wb: V3::from_lanes(b.map(|b| b.w)),
+    };
+    let mut worst: f64 = 0.0;
+    for p in &w.points {
+        let s = p.separation_now;
+        let bias = select(gt(s, Lane::ZERO), s * Lane::splat(inv_h), Lane::ZERO);
+        let r = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) + bias;
+        let violation = select(p.real, -r, Lane::ZERO).to_array();
+        worst = violation.iter().fold(worst, |x, &y| x.max(y));
+    }
+    worst
+}
+
+/// One of the sub-step's passes, as run over bundles.
+#[derive(Clone, Copy)]
+pub(crate) enum BundlePass<'a> {
+    /// [`begin`]: separations, re-aimed rows, and with `warm` the warm start.
+    Begin {
+        /// Apply the accumulated impulses.
+        warm: bool,
+    },
+    /// [`solve`]: one velocity pass.
+    Solve {
+        /// `1 / h`.
+        inv_h: f64,
+    },
+    /// [`push`]: one push-out pass.
+    Push {
+        /// The solver's settings.
+        params: &'a SolverParams,
+        /// `1 / h`.
+        inv_h: f64,
+    },
+}
+
+impl BundlePass<'_> {
+    /// Runs this pass on bundle `w`; whether it pushed (push-out only).
+    ///
+    /// # Safety
+    /// The lanes' dynamic bodies are this thread's alone meanwhile.
+    #[inline(always)]
+    pub unsafe fn run<const N: usize>(&self, w: &mut WidePatch<N>, bodies: &Shared<SolverBody>) -> bool {
+        // SAFETY: the caller's promise.
+        unsafe {
+            match *self {
+                BundlePass::Begin { warm } => {
+                    begin(w, bodies, warm);
+                    false
+                }
+                BundlePass::Solve { inv_h } => {
+                    solve(w, bodies, inv_h);
+                    false
+                }
+                BundlePass::Push { params, inv_h } => push(w, bodies, params, inv_h),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The wide kernels against the scalar ones: the same sub-steps over the
+    //! same coloured patches give the same bits, on any thread count.
+    use super::super::constraint::BLOCK_POINTS;
+    use super::super::{
+        begin_substep, color_patches, integrate_positions, prepare, push_out, solve, SolverArrays,
+    };
+    use super::*;
+    use crate::pool::WorkerPool;
+    use std::sync::atomic::AtomicUsize;
+    use tumble_collide::DQuat;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// Bodies, the patches' body pairs, patches and points, in colour order.
+    type Problem = (
+        Vec<SolverBody>,
+        Vec<(u32, u32)>,
+        Vec<ManifoldConstraint>,
+        Vec<PointConstraint>,
+    );
+
+    /// Bodies (0 static, a few kinematic, the rest dynamic with unequal
+    /// inertia, moving and spinning) and ~400 patches of one to six points
+    /// between random pairs, with gaps and overlaps, friction, warm starts.
+    fn problem(seed: u64) -> Problem {
+        let mut rng = SplitMix64(seed);
+        let n = 120;
+        let mut bodies = vec![SolverBody::fixed()];
+        for i in 1..n {
+            let inv_i = DVec3::new(rng.range(0.5, 4.0), rng.range(0.5, 4.0), rng.range(0.5, 4.0));
+            // A quarter spin fast: their rows turn far enough within the
+            // step for the blocks to be rebuilt.
+            let spin = if i % 4 == 0 { 80.0 } else { 2.0 };
+            let mut b = SolverBody::new(
+                rng.vec3(1.0),
+                rng.vec3(spin),
+                rng.range(0.2, 3.0),
+                inv_i,
+                rng.rotation(),
+            );
+            if i % 17 == 0 {
+                b = SolverBody::new(rng.vec3(1.0), rng.vec3(1.0), 0.0, DVec3::ZERO, rng.rotation());
+                b.kinematic = true;
+            }
+            bodies.push(b);
+        }
+        let mut pairs = Vec::new();
+        let mut patches = Vec::new();
+        for _ in 0..400 {
+            let a = 1 + rng.below(n - 1) as u32;
+            let b = if rng.next_f64() < 0.3 {
+                0
+            } else {
+                1 + rng.below(n - 1) as u32
+            };
+            // The world pairs a dynamic body with anything (two bodies the
+            // solver never moves make no patch).
+            if a == b || !(bodies[a as usize].dynamic || bodies[b as usize].dynamic) {
+                continue;
+            }
+            pairs.push((a, b));
+            patches.push(rng.next_u64());
+        }
+        let (coloring, order) = color_patches(&pairs, &bodies);
+        assert!(coloring.colors.len() > 3, "the test needs colours");
+        let (mut manifolds, mut points) = (Vec::new(), Vec::new());
+        for &k in &order {
+            let mut rng = SplitMix64(patches[k as usize]);
+            // Normals mostly up, against the pull of `pull`: most points press.
+            let normal = (rng.vec3(0.6) + DVec3::Z).normalize();
+            let count = 1 + rng.below(6) as u32;
+            let first = points.len() as u32;
+            for _ in 0..count {
+                let (ra, rb) = (rng.vec3(0.6), rng.vec3(0.6));
+                let warm = if rng.next_f64() < 0.5 {
+                    rng.range(0.0, 0.3)
+                } else {
+                    0.0
+                };
+                points.push(PointConstraint::new(normal, ra, rb, rng.range(-0.03, 0.02), warm));
+            }
+            let (a, b) = pairs[k as usize];
+            let mut m = ManifoldConstraint::new(
+                a,
+                b,
+                first,
+                count,
+                normal,
+                rng.range(0.0, 0.6),
+                0.0,
+                rng.vec3(0.1),
+                rng.range(-0.01, 0.01),
+            );
+            prepare(&mut m, &mut points, &bodies);
+            manifolds.push(m);
+        }
+        let sorted_pairs = order.iter().map(|&k| pairs[k as usize]).collect();
+        (bodies, sorted_pairs, manifolds, points)
+    }
+
+    fn params() -> SolverParams {
+        SolverParams {
+            push_out_fraction: 0.2,
+            allowed_penetration: 0.0005,
+            max_push_out_speed: 3.0,
+            restitution_threshold: 0.5,
+        }
+    }
+
+    const SUBSTEPS: usize = 4;
+    const H: f64 = 1.0 / 240.0;
+
+    /// Gravity on the dynamic bodies for one sub-step.
+    fn pull(bodies: &mut [SolverBody]) {
+        for b in bodies.iter_mut().filter(|b| b.dynamic) {
+            b.v.z -= 9.81 * H;
+        }
+    }
+
+    /// The reference: the scalar whole-array passes in colour order.
+    fn scalar(
+        bodies: &mut [SolverBody],
+        manifolds: &mut [ManifoldConstraint],
+        points: &mut [PointConstraint],
+    ) {
+        let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
+        for _ in 0..SUBSTEPS {
+            pull(bodies);
+            begin_substep(manifolds, points, bodies, true);
+            for _ in 0..2 {
+                solve(manifolds, points, bodies, H);
+            }
+            push_out(manifolds, points, bodies, &params(), H);
+            integrate_positions(bodies, &q0, H);
+        }
+    }
+
+    /// The same passes by a team of `threads`, bundled.
+    fn bundled(
+        threads: u32,
+        bodies: &mut [SolverBody],
+        pairs: &[(u32, u32)],
+        manifolds: &mut [ManifoldConstraint],
+        points: &mut [PointConstraint],
+    ) -> WideBatches {
+        let (coloring, order) = color_patches(pairs, bodies);
+        assert!(
+            order.iter().enumerate().all(|(i, &k)| i == k as usize),
+            "already in colour order"
+        );
+        let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
+        let mut wide = WideBatches::default();
+        wide.pack(&coloring, manifolds, points);
+        let (mut ones, mut twos, mut fours) = (
+            std::mem::take(&mut wide.ones),
+            std::mem::take(&mut wide.twos),
+            std::mem::take(&mut wide.fours),
+        );
+        let empty = super::super::Coloring::default();
+        let arrays = SolverArrays {
+            manifolds: Shared::new(manifolds),
+            points: Shared::new(points),
+            bodies: Shared::new(bodies),
+            joints: Shared::new(&mut []),
+            joint_islands: Shared::new(&mut []),
+            ones: Shared::new(&mut ones),
+            twos: Shared::new(&mut twos),
+            fours: Shared::new(&mut fours),
+            wide: &wide,
+            coloring: &coloring,
+            joint_coloring: &empty,
+        };
+        let pushed = AtomicUsize::new(0);
+        WorkerPool::new(threads).team(|team| {
+            for sub in 0..SUBSTEPS {
+                if team.index() == 0 {
+                    // SAFETY: the others wait at the barrier below.
+                    pull(unsafe { arrays.bodies.range_mut(0..arrays.bodies.len()) });
+                }
+                team.barrier();
+                // SAFETY: the whole team runs the same passes.
+                unsafe {
+                    arrays.begin_substep(team, H, true);
+                    for _ in 0..2 {
+                        arrays.solve(team, H);
+                    }
+                    arrays.push_out(team, &params(), H, sub + 1, &pushed);
+                }
+                if team.index() == 0 {
+                    // SAFETY: the others wait at the barrier below.
+                    let bodies = unsafe { arrays.bodies.range_mut(0..arrays.bodies.len()) };
+                    integrate_positions(bodies, &q0, H);
+                }
+                team.barrier();
+            }
+        });
+        (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
+        wide.unpack(manifolds, points);
+        wide
+    }
+
+    /// The block inverse's entries beyond a patch's points: the scalar
+    /// kernel keeps a 4 x 4 inverse whose padding diagonal (`1 / eps`)
+    /// follows the block's scale, where a bundle of `N` points keeps `N x
+    /// N`; no kernel reads those entries (they meet zero rows), so they are
+    /// set aside before comparing.
+    fn inert_padding(mut m: Vec<ManifoldConstraint>) -> Vec<ManifoldConstraint> {
+        for m in &mut m {
+            let n = m.point_count as usize;
+            for i in 0..BLOCK_POINTS {
+                for j in 0..BLOCK_POINTS {
+                    if i >= n || j >= n {
+                        m.block_inverse[i][j] = 0.0;
+                    }
+                }
+            }
+        }
+        m
+    }
+
+    fn first_difference<T: PartialEq + std::fmt::Debug>(
+        a: &[T],
+        b: &[T],
+        what: &str,
+        seed: u64,
+        threads: u32,
+    ) {
+        assert_eq!(a.len(), b.len());
+        if let Some(i) = (0..a.len()).find(|&i| a[i] != b[i]) {
+            panic!(
+                "{what} {i} differs (seed {seed}, {threads} threads):\n wide   {:?}\n scalar {:?}",
+                a[i], b[i]
+            );
+        }
+    }
+
+    #[test]
+    fn bundles_give_the_scalar_kernels_bits_on_any_thread_count() {
+        for seed in 1..4 {
+            let (bodies, pairs, manifolds, points) = problem(seed);
+            let (mut b0, mut m0, mut p0) = (bodies.clone(), manifolds.clone(), points.clone());
+            scalar(&mut b0, &mut m0, &mut p0);
+            for threads in [1, 2, 3] {
+                let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
+                let wide = bundled(threads, &mut b1, &pairs, &mut m1, &mut p1);
+                let sizes = [
+                    wide.ones.len(),
+                    wide.twos.len(),
+                    wide.fours.len(),
+                    wide.large.len(),
+                ];
+                assert!(
+                    sizes.iter().all(|&n| n > 0),
+                    "every kind of bundle and large patches: {sizes:?}"
+                );
+                first_difference(&b1, &b0, "body", seed, threads);
+                first_difference(
+                    &inert_padding(m1),
+                    &inert_padding(m0.clone()),
+                    "patch",
+                    seed,
+                    threads,
+                );
+                first_difference(&p1, &p0, "point", seed, threads);
+            }
+        }
+    }
+
+    /// The test above must reach the lanes' divergent paths: corners that
+    /// lift (block sweeps), friction on the rim of its cone, pushes, and
+    /// blocks rebuilt after a turn.
+    #[test]
+    fn the_problem_reaches_every_branch() {
+        let (mut bodies, _, mut manifolds, mut points) = problem(1);
+        let before = manifolds.clone();
+        pull(&mut bodies);
+        scalar(&mut bodies, &mut manifolds, &mut points);
+        let sliding = manifolds.iter().filter(|m| {
+            let total: f64 = points[m.range()].iter().map(|p| p.normal_impulse).sum();
+            let t = m.impulses[0].hypot(m.impulses[1]);
+            total > 0.0 && t >= 0.99 * m.friction * total
+        });
+        assert!(sliding.count() > 10);
+        let lifted = points.iter().filter(|p| p.normal_impulse == 0.0).count();
+        assert!(lifted > 10 && lifted < points.len() - 10);
+        assert!(points.iter().any(|p| p.push_impulse > 0.0));
+        let rebuilt = manifolds.iter().zip(&before).filter(|(m, b)| m.block != b.block);
+        assert!(rebuilt.count() > 10);
+    }
+}

@@ -62,21 +62,65 @@ pub(crate) struct CachedPatch {
 pub(crate) const PATCH_COS: f64 = 0.95;
 
 /// The remembered friction of the patch of `key` whose normal is closest to
-/// `normal` (within [`PATCH_COS`]). The cache must be sorted by key.
-pub(crate) fn lookup_patch(cache: &[CachedPatch], key: PairKey, normal: DVec3) -> Option<&CachedPatch> {
-    let start = cache.partition_point(|c| c.key < key);
-    let end = start + cache[start..].partition_point(|c| c.key == key);
-    cache[start..end]
+/// `normal` (within [`PATCH_COS`]), searched from `cursor` as
+/// [`points_of`] does. The cache must be sorted by key.
+pub(crate) fn lookup_patch<'a>(
+    cache: &'a [CachedPatch],
+    key: PairKey,
+    normal: DVec3,
+    cursor: &mut usize,
+) -> Option<&'a CachedPatch> {
+    let run = run_of(cache, |c| c.key, key, cursor);
+    cache[run]
         .iter()
         .filter(|c| c.normal.dot(normal) >= PATCH_COS)
         .max_by(|x, y| x.normal.dot(normal).total_cmp(&y.normal.dot(normal)))
 }
 
-/// The cached points of one collider pair (the cache must be sorted by key).
-pub(crate) fn points_of(cache: &[CachedContact], key: PairKey) -> &[CachedContact] {
-    let start = cache.partition_point(|c| c.key < key);
-    let end = start + cache[start..].partition_point(|c| c.key == key);
-    &cache[start..end]
+/// The cached points of one collider pair (the cache must be sorted by
+/// key). The search starts at `cursor` and leaves it at the answer: asked
+/// for keys in increasing order (the narrow phase walks its pairs so), it
+/// gallops forward a few entries instead of bisecting the whole cache,
+/// whose bisections missed the cache lines of a large pile at every pair.
+/// A key before the cursor is found too, from the start.
+pub(crate) fn points_of<'a>(
+    cache: &'a [CachedContact],
+    key: PairKey,
+    cursor: &mut usize,
+) -> &'a [CachedContact] {
+    &cache[run_of(cache, |c| c.key, key, cursor)]
+}
+
+/// The run of entries with `key` in `cache` (sorted by `key_of`), searched
+/// from `cursor` forward (from the start if `key` lies before it).
+fn run_of<T>(
+    cache: &[T],
+    key_of: impl Fn(&T) -> PairKey,
+    key: PairKey,
+    cursor: &mut usize,
+) -> std::ops::Range<usize> {
+    let from = if *cursor <= cache.len() && (*cursor == 0 || key_of(&cache[*cursor - 1]) < key) {
+        *cursor
+    } else {
+        0
+    };
+    let start = from + gallop(&cache[from..], |c| key_of(c) < key);
+    let end = start + gallop(&cache[start..], |c| key_of(c) == key);
+    *cursor = start;
+    start..end
+}
+
+/// The first index of `items` at which `before` is false (`items` holds
+/// every `before` entry first), found by doubling steps from the front and
+/// a bisection of the last step: O(log d) for an answer d entries in.
+fn gallop<T>(items: &[T], before: impl Fn(&T) -> bool) -> usize {
+    let mut step = 1;
+    while step <= items.len() && before(&items[step - 1]) {
+        step *= 2;
+    }
+    let lo = step / 2;
+    let hi = step.min(items.len());
+    lo + items[lo..hi].partition_point(before)
 }
 
 /// Finds the remembered impulses of a contact among its collider pair's
@@ -119,6 +163,32 @@ pub(crate) fn finish(points: &mut [CachedContact], patches: &mut [CachedPatch]) 
 mod tests {
     use super::*;
 
+    /// The galloping search from a cursor finds what a bisection of the
+    /// whole cache finds, for keys asked in order, out of order, present
+    /// and absent.
+    #[test]
+    fn search_from_a_cursor_finds_every_run() {
+        let keys: Vec<PairKey> = [(1, 2), (1, 2), (1, 5), (2, 3), (2, 3), (2, 3), (4, 9), (7, 8)]
+            .iter()
+            .map(|&(a, b)| (a, b, 0, 0))
+            .collect();
+        let bisect = |key: PairKey| {
+            let start = keys.partition_point(|k| *k < key);
+            start..start + keys[start..].partition_point(|k| *k == key)
+        };
+        let asked: Vec<PairKey> = (0..10u32)
+            .flat_map(|a| (0..10u32).map(move |b| (a, b, 0, 0)))
+            .collect();
+        let mut cursor = 0;
+        for &key in asked.iter().chain(asked.iter().rev()) {
+            assert_eq!(run_of(&keys, |k| *k, key, &mut cursor), bisect(key), "{key:?}");
+        }
+        for i in 0..=keys.len() + 2 {
+            let mut cursor = i;
+            assert_eq!(run_of(&keys, |k| *k, (2, 3, 0, 0), &mut cursor), 3..6);
+        }
+    }
+
     #[test]
     fn lookup_finds_exact_feature_pairs_only() {
         let c = |key: PairKey, t: u32, j: f64| CachedContact {
@@ -135,8 +205,9 @@ mod tests {
         ];
         finish(&mut cache, &mut []);
         let far = DVec3::splat(100.0);
-        let found =
-            |key, fa, p| lookup(points_of(&cache, key), fa, Feature::face(1), p).map(|c| c.normal_impulse);
+        let found = |key, fa, p| {
+            lookup(points_of(&cache, key, &mut 0), fa, Feature::face(1), p).map(|c| c.normal_impulse)
+        };
         assert_eq!(
             found((1, 2, 0, 1), Feature::vertex(5, 0), DVec3::new(5.0, 0.0, 0.0)),
             Some(3.0),

@@ -59,6 +59,10 @@ pub(crate) struct PairInfo<'a> {
 pub(crate) struct PatchScratch {
     seeds: Vec<DVec3>,
     patch_of: Vec<usize>,
+    /// Where the last search of the point cache ended (see `manifold::points_of`).
+    point_cursor: usize,
+    /// Where the last search of the patch cache ended.
+    patch_cursor: usize,
 }
 
 /// Appends the points and patches of one collider pair's `contacts`; points
@@ -72,6 +76,9 @@ pub(crate) fn add_pair(
     points: &mut Vec<PreparedPoint>,
     patches: &mut Vec<PreparedPatch>,
 ) -> usize {
+    if contacts.is_empty() {
+        return 0;
+    }
     // Greedy grouping in narrow-phase order (deterministic): a contact joins
     // the first patch whose seed normal is within PATCH_COS of its own.
     scratch.seeds.clear();
@@ -85,7 +92,7 @@ pub(crate) fn add_pair(
         scratch.patch_of.push(patch);
     }
     let mut warm = 0;
-    let cached = manifold::points_of(point_cache, pair.key);
+    let cached = manifold::points_of(point_cache, pair.key, &mut scratch.point_cursor);
     let to_a = pair.pose_a.rotation.inverse();
     for (patch, &seed) in scratch.seeds.iter().enumerate() {
         let first = points.len() as u32;
@@ -115,8 +122,9 @@ pub(crate) fn add_pair(
             });
         }
         let normal = sum.try_normalize().unwrap_or(seed);
-        let (warm_tangent, warm_twist) = manifold::lookup_patch(patch_cache, pair.key, normal)
-            .map_or((DVec3::ZERO, 0.0), |p| (p.tangent_impulse, p.twist_impulse));
+        let (warm_tangent, warm_twist) =
+            manifold::lookup_patch(patch_cache, pair.key, normal, &mut scratch.patch_cursor)
+                .map_or((DVec3::ZERO, 0.0), |p| (p.tangent_impulse, p.twist_impulse));
         patches.push(PreparedPatch {
             key: pair.key,
             first,

@@ -97,12 +97,6 @@ impl V3 {
         std::array::from_fn(|l| DVec3::new(x[l], y[l], z[l]))
     }
 
-    /// Lane `l`'s vector.
-    #[inline(always)]
-    pub fn lane(self, l: usize) -> DVec3 {
-        DVec3::new(self.x.as_array()[l], self.y.as_array()[l], self.z.as_array()[l])
-    }
-
     /// Sets lane `l` to `v`.
     #[inline(always)]
     pub fn set_lane(&mut self, l: usize, v: DVec3) {

@@ -206,9 +206,9 @@ impl<const N: usize> WidePatch<N> {
         w
     }
 
-    /// Writes every lane's patch back to its records: everything the passes
-    /// change (rows, masses, the block, separations and impulses), so that
-    /// the records read as if the scalar kernels had run.
+    /// Writes every lane's impulses back to its records: what the step
+    /// reads after the sub-steps (warm-start cache, reported impulses,
+    /// contact events). Rows, masses and separations stay in the bundle.
     fn unpack(&self, manifolds: &mut [ManifoldConstraint], points: &mut [PointConstraint]) {
         for l in 0..LANES {
             let k = self.source[l];
@@ -217,23 +217,11 @@ impl<const N: usize> WidePatch<N> {
             }
             let m = &mut manifolds[k as usize];
             for r in 0..3 {
-                m.rows[r] = get_row(&self.rows[r], l);
-                m.masses[r] = get(self.masses[r], l);
                 m.impulses[r] = get(self.impulses[r], l);
             }
-            for i in 0..N {
-                for j in 0..N {
-                    m.block[i][j] = get(self.block[i][j], l);
-                    m.block_inverse[i][j] = get(self.block_inverse[i][j], l);
-                }
-            }
             for (wp, p) in self.points.iter().zip(&mut points[m.range()]) {
-                p.row = get_row(&wp.row, l);
-                p.separation_now = get(wp.separation_now, l);
-                p.normal_mass = get(wp.normal_mass, l);
                 p.normal_impulse = get(wp.normal_impulse, l);
                 p.max_normal_impulse = get(wp.max_normal_impulse, l);
-                p.push_impulse = get(wp.push_impulse, l);
             }
         }
     }
@@ -256,12 +244,13 @@ fn set_row(w: &mut WideRow, l: usize, r: &super::constraint::RowJacobian) {
     w.ib_rb_x_d.set_lane(l, r.ib_rb_x_d);
 }
 
+#[cfg(test)]
 fn get_row(w: &WideRow, l: usize) -> super::constraint::RowJacobian {
     super::constraint::RowJacobian {
-        ra_x_d: w.ra_x_d.lane(l),
-        rb_x_d: w.rb_x_d.lane(l),
-        ia_ra_x_d: w.ia_ra_x_d.lane(l),
-        ib_rb_x_d: w.ib_rb_x_d.lane(l),
+        ra_x_d: w.ra_x_d.to_lanes()[l],
+        rb_x_d: w.rb_x_d.to_lanes()[l],
+        ia_ra_x_d: w.ia_ra_x_d.to_lanes()[l],
+        ib_rb_x_d: w.ib_rb_x_d.to_lanes()[l],
     }
 }
 
@@ -351,7 +340,8 @@ impl WideBatches {
         }
     }
 
-    /// Writes the bundles back to the patch records (after the sub-steps).
+    /// Writes the bundles' impulses back to the patch records (after the
+    /// sub-steps).
     pub fn unpack(&self, manifolds: &mut [ManifoldConstraint], points: &mut [PointConstraint]) {
         self.ones.iter().for_each(|w| w.unpack(manifolds, points));
         self.twos.iter().for_each(|w| w.unpack(manifolds, points));
@@ -1233,7 +1223,39 @@ mod tests {
         });
         (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
         wide.unpack(manifolds, points);
+        wide.ones.iter().for_each(|w| unpack_rows(w, manifolds, points));
+        wide.twos.iter().for_each(|w| unpack_rows(w, manifolds, points));
+        wide.fours.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide
+    }
+
+    /// The rest of a bundle's state written to its records (rows, masses,
+    /// blocks, separations, push impulses), so that every field can be
+    /// compared with the scalar kernels'.
+    fn unpack_rows<const N: usize>(
+        w: &WidePatch<N>,
+        manifolds: &mut [ManifoldConstraint],
+        points: &mut [PointConstraint],
+    ) {
+        for l in (0..LANES).filter(|&l| w.source[l] != EMPTY) {
+            let m = &mut manifolds[w.source[l] as usize];
+            for r in 0..3 {
+                m.rows[r] = get_row(&w.rows[r], l);
+                m.masses[r] = get(w.masses[r], l);
+            }
+            for i in 0..N {
+                for j in 0..N {
+                    m.block[i][j] = get(w.block[i][j], l);
+                    m.block_inverse[i][j] = get(w.block_inverse[i][j], l);
+                }
+            }
+            for (wp, p) in w.points.iter().zip(&mut points[m.range()]) {
+                p.row = get_row(&wp.row, l);
+                p.separation_now = get(wp.separation_now, l);
+                p.normal_mass = get(wp.normal_mass, l);
+                p.push_impulse = get(wp.push_impulse, l);
+            }
+        }
     }
 
     /// The block inverse's entries beyond a patch's points: the scalar

@@ -112,13 +112,11 @@ pub(crate) fn core_radius(colliders: &[Collider]) -> f64 {
 /// of a swinging chain) this is far tighter than each body's own speed
 /// bound `|vA - vB| + |wA| rA + |wB| rB`, which is kept as the cap.
 pub(crate) fn relative_motion_bound(
-    ea: &BodyEntry,
-    eb: &BodyEntry,
+    (ea, (va, wa)): (&BodyEntry, (DVec3, DVec3)),
+    (eb, (vb, wb)): (&BodyEntry, (DVec3, DVec3)),
     box_a: Option<Aabb>,
     box_b: Option<Aabb>,
 ) -> f64 {
-    let (va, wa) = velocities(ea);
-    let (vb, wb) = velocities(eb);
     let coarse = (va - vb).length() + wa.length() * ea.radius + wb.length() * eb.radius;
     let region = match (box_a, box_b) {
         (Some(x), Some(y)) => {
@@ -156,10 +154,10 @@ pub(crate) fn relative_motion_bound(
 /// mesh bodies dropped together can still overlap by one step's fall).
 pub(crate) fn velocity_change_bounds(
     bodies: &Arena<BodyEntry>,
+    velocity: &[(DVec3, DVec3)],
     pairs: &[(u32, u32)],
-    n_slots: usize,
 ) -> Vec<f64> {
-    let mut shock = vec![0.0f64; n_slots];
+    let mut shock = vec![0.0f64; velocity.len()];
     for &(a, b) in pairs {
         let (ea, eb) = (bodies.at(a).expect("live"), bodies.at(b).expect("live"));
         if !is_active(ea) && !is_active(eb) {
@@ -172,8 +170,7 @@ pub(crate) fn velocity_change_bounds(
         if has_mesh(ea) || has_mesh(eb) {
             continue;
         }
-        let (va, _) = velocities(ea);
-        let (vb, _) = velocities(eb);
+        let (va, vb) = (velocity[a as usize].0, velocity[b as usize].0);
         let line = (eb.body.position() - ea.body.position()).normalize_or_zero();
         let change = (va - vb).dot(line).max(0.0) * (1.0 + e);
         for (slot, entry) in [(a, ea), (b, eb)] {
@@ -202,6 +199,16 @@ pub(crate) fn is_active(e: &BodyEntry) -> bool {
     }
 }
 
+/// [`velocities`] of every body slot (zero for free slots), for the
+/// stages that read them once per pair.
+pub(crate) fn slot_velocities(bodies: &Arena<BodyEntry>, n_slots: usize) -> Vec<(DVec3, DVec3)> {
+    (0..n_slots as u32)
+        .map(|i| bodies.at(i).map_or((DVec3::ZERO, DVec3::ZERO), velocities))
+        .collect()
+}
+
+/// A body's linear and angular velocity as the step sees it: zero for
+/// static and sleeping bodies, the imposed one for kinematic bodies.
 pub(crate) fn velocities(e: &BodyEntry) -> (DVec3, DVec3) {
     match e.body.kind() {
         BodyKind::Dynamic if !e.sleeping => (e.body.velocity(), e.body.angular_velocity()),

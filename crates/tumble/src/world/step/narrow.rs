@@ -9,13 +9,13 @@
 //! contacts do not depend on the chunk it falls in, so the result is the
 //! same bits for any thread count.
 
-use super::margins::{is_active, relative_motion_bound, velocity_change_bounds};
+use super::margins::{is_active, relative_motion_bound, slot_velocities, velocity_change_bounds};
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
 use crate::world::{Collider, MaterialDesc, World};
 use tumble_collide::narrow::contact_shapes;
-use tumble_collide::{Contact, Shape};
+use tumble_collide::{Contact, DVec3, Shape};
 
 /// What one chunk of candidate pairs produced.
 #[derive(Default)]
@@ -38,7 +38,8 @@ const MESH_PAIRS_PER_TASK: usize = 1;
 
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
-        let shock = velocity_change_bounds(&self.bodies, &f.pairs, f.n_slots);
+        let velocity = slot_velocities(&self.bodies, f.n_slots);
+        let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs);
         let chunk = if f.meshes {
             MESH_PAIRS_PER_TASK
         } else {
@@ -61,7 +62,7 @@ impl World {
             for (k, &pair) in pairs.iter().enumerate() {
                 self.pair_contacts(
                     frame,
-                    &shock,
+                    (&velocity, &shock),
                     first + k,
                     pair,
                     &mut buffer,
@@ -106,7 +107,7 @@ impl World {
     fn pair_contacts(
         &self,
         f: &StepFrame,
-        shock: &[f64],
+        (velocity, shock): (&[(DVec3, DVec3)], &[f64]),
         k: usize,
         (a, b): (u32, u32),
         buffer: &mut Vec<Contact>,
@@ -120,7 +121,12 @@ impl World {
         if ea.body.kind() != BodyKind::Dynamic && eb.body.kind() != BodyKind::Dynamic {
             return;
         }
-        let now = relative_motion_bound(ea, eb, f.swept[a as usize], f.swept[b as usize]);
+        let now = relative_motion_bound(
+            (ea, velocity[a as usize]),
+            (eb, velocity[b as usize]),
+            f.swept[a as usize],
+            f.swept[b as usize],
+        );
         let motion = (now + shock[a as usize] + shock[b as usize]) * f.settings.dt;
         let margin = f.settings.contact_margin + motion;
         let (pa, pb) = (ea.body.pose(), eb.body.pose());

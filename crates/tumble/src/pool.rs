@@ -218,6 +218,11 @@ impl Team {
         self.index
     }
 
+    /// Number of threads in the team.
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
     /// Waits until every thread of the team has arrived. What each thread
     /// wrote before is seen by every thread after.
     pub fn barrier(&self) {

@@ -11,7 +11,6 @@ use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint, JOINT_PUSH_FRACTION};
 use super::joint_island::JointIsland;
-use super::lanes::LANES;
 use super::passes::{begin_patch, push_patch, solve_patch};
 use super::wide::{self, BundlePass, WideBatches, WidePatch};
 use crate::pool::Team;
@@ -83,24 +82,20 @@ where
     }
 }
 
-/// Runs `kernel` on this thread's run of the bundles `range`, calling
-/// `pushed` for each on which it returned `true`.
+/// Runs `kernel` on the bundles `range`, calling `pushed` for each on which
+/// it returned `true`.
 ///
 /// # Safety
-/// Every thread of `team` calls this with the same range, and no other
-/// code touches these bundles meanwhile.
+/// No other thread touches these bundles or their dynamic bodies meanwhile.
 #[inline(always)]
 unsafe fn bundles<const N: usize>(
-    team: &Team,
     items: &Shared<WidePatch<N>>,
     range: std::ops::Range<usize>,
     kernel: impl Fn(&mut WidePatch<N>) -> bool,
     pushed: impl Fn(),
 ) {
-    let share = team.share(range.len(), MIN_PATCHES_TO_SPLIT / LANES);
-    let r = range.start + share.start..range.start + share.end;
-    // SAFETY: the runs of one range are disjoint between threads.
-    for w in unsafe { items.range_mut(r) } {
+    // SAFETY: the caller's promise.
+    for w in unsafe { items.range_mut(range) } {
         if kernel(w) {
             pushed();
         }
@@ -108,6 +103,68 @@ unsafe fn bundles<const N: usize>(
 }
 
 impl SolverArrays<'_> {
+    /// The start of the solve, by the team: every patch prepared from the
+    /// bodies at the step start (`constraint::prepare`; each thread its run
+    /// of the patches), then, on thread 0, `serial` (restitution, which
+    /// reads every prepared patch and changes bodies), then the bundles
+    /// filled from their records (each thread its run of each array).
+    ///
+    /// # Safety
+    /// Every thread of `team` calls this; nothing else touches the arrays.
+    pub unsafe fn prepare(&self, team: &Team, serial: impl FnOnce(&Self)) {
+        let patches = team.share(self.manifolds.len(), MIN_PATCHES_TO_SPLIT);
+        // SAFETY: the bodies are read only until the barrier; each patch owns
+        // its run of points, and the threads' runs of patches are disjoint.
+        unsafe {
+            let bodies = self.bodies.as_slice();
+            for m in self.manifolds.range_mut(patches) {
+                super::constraint::prepare_patch(m, self.points.range_mut(m.range()), bodies);
+            }
+        }
+        team.barrier();
+        if team.index() == 0 {
+            serial(self);
+        }
+        team.barrier();
+        // SAFETY: the records are only read until the barrier; each thread
+        // writes its own run of bundles.
+        unsafe {
+            let (manifolds, points) = (self.manifolds.as_slice(), self.points.as_slice());
+            for w in self.ones.range_mut(team.share(self.ones.len(), 1)) {
+                w.fill(manifolds, points);
+            }
+            for w in self.twos.range_mut(team.share(self.twos.len(), 1)) {
+                w.fill(manifolds, points);
+            }
+            for w in self.fours.range_mut(team.share(self.fours.len(), 1)) {
+                w.fill(manifolds, points);
+            }
+        }
+        team.barrier();
+    }
+
+    /// The end of the solve, by the team: every bundle's impulses written
+    /// back to its patch records (each thread its run of each array).
+    ///
+    /// # Safety
+    /// As [`SolverArrays::prepare`].
+    pub unsafe fn unpack(&self, team: &Team) {
+        // SAFETY: a bundle's lanes are distinct patches, each in one bundle,
+        // and the threads' runs of bundles are disjoint.
+        unsafe {
+            for w in self.ones.range_mut(team.share(self.ones.len(), 1)) {
+                w.unpack(&self.manifolds, &self.points);
+            }
+            for w in self.twos.range_mut(team.share(self.twos.len(), 1)) {
+                w.unpack(&self.manifolds, &self.points);
+            }
+            for w in self.fours.range_mut(team.share(self.fours.len(), 1)) {
+                w.unpack(&self.manifolds, &self.points);
+            }
+        }
+        team.barrier();
+    }
+
     /// Runs `kernel` on every joint island, the islands dealt over the
     /// team (they share no dynamic body), then a barrier; whether the
     /// kernel returned `true` for any of this thread's islands.
@@ -154,42 +211,30 @@ impl SolverArrays<'_> {
                 kernel(m, self.points.range_mut(m.range()))
             }
         };
-        for color in &self.wide.colors {
+        let run_color = |[ones, twos, fours, large]: [std::ops::Range<usize>; 4]| {
             // SAFETY (each array): the runs of one colour are disjoint
             // between threads and share no dynamic body.
             unsafe {
-                bundles(
-                    team,
-                    &self.ones,
-                    color.ones.clone(),
-                    |w| pass.run(w, &self.bodies),
-                    &pushed,
-                );
-                bundles(
-                    team,
-                    &self.twos,
-                    color.twos.clone(),
-                    |w| pass.run(w, &self.bodies),
-                    &pushed,
-                );
-                bundles(
-                    team,
-                    &self.fours,
-                    color.fours.clone(),
-                    |w| pass.run(w, &self.bodies),
-                    &pushed,
-                );
+                bundles(&self.ones, ones, |w| pass.run(w, &self.bodies), &pushed);
+                bundles(&self.twos, twos, |w| pass.run(w, &self.bodies), &pushed);
+                bundles(&self.fours, fours, |w| pass.run(w, &self.bodies), &pushed);
             }
-            let share = team.share(color.large.len(), MIN_PATCHES_TO_SPLIT);
-            let large = &self.wide.large[color.large.clone()];
-            large[share].iter().for_each(|&k| run(k as usize));
+            self.wide.large[large].iter().for_each(|&k| run(k as usize));
+        };
+        let (heavy, light) = self.wide.colors.split_at(self.wide.split);
+        for color in heavy {
+            run_color(color.share(team.index(), team.size()));
             team.barrier();
         }
+        // The light colours, then the overflow batch, on thread 0 in colour
+        // order: the same updates in the same order as with a barrier
+        // between each.
         let overflow = self.coloring.overflow.clone();
-        if !overflow.is_empty() {
-            if team.index() == 0 {
-                overflow.for_each(run);
-            }
+        if team.index() == 0 {
+            light.iter().for_each(|color| run_color(color.share(0, 1)));
+            overflow.clone().for_each(run);
+        }
+        if !light.is_empty() || !overflow.is_empty() {
             team.barrier();
         }
     }

@@ -162,6 +162,16 @@ impl<'a, T> Shared<'a, T> {
         unsafe { &mut *self.ptr.add(i) }
     }
 
+    /// All elements, shared.
+    ///
+    /// # Safety
+    /// No thread may write any element while the slice lives.
+    #[inline(always)]
+    pub unsafe fn as_slice(&self) -> &[T] {
+        // SAFETY: in bounds; no concurrent writer (the caller's promise).
+        unsafe { std::slice::from_raw_parts(self.ptr, self.len) }
+    }
+
     /// The elements in `r`, mutably.
     ///
     /// # Safety

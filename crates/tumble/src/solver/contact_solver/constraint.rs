@@ -270,10 +270,15 @@ fn recip_or_zero(k: f64) -> f64 {
 /// step start: normal rows and masses, the friction anchor (centroid of the
 /// points), the twist radius, and the friction rows and masses.
 pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodies: &[SolverBody]) {
+    let range = m.range();
+    prepare_patch(m, &mut points[range], bodies);
+}
+
+/// [`prepare`] given the patch's own points `pts`.
+pub(super) fn prepare_patch(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], bodies: &[SolverBody]) {
     let a = &bodies[m.a as usize];
     let b = &bodies[m.b as usize];
     m.inv_mass = [a.inv_mass, b.inv_mass];
-    let pts = &mut points[m.range()];
     let count = pts.len().max(1) as f64;
     let (mut ca, mut cb) = (DVec3::ZERO, DVec3::ZERO);
     for p in pts.iter_mut() {

@@ -142,13 +142,14 @@ pub fn bundle_points(m: &ManifoldConstraint) -> Option<usize> {
 }
 
 impl<const N: usize> WidePatch<N> {
-    /// A bundle of the patches `sources` (at most [`LANES`], indices into
-    /// `manifolds`), prepared, the rest of the lanes empty.
-    fn pack(sources: &[u32], manifolds: &[ManifoldConstraint], points: &[PointConstraint]) -> WidePatch<N> {
-        let mut w = WidePatch {
+    /// A bundle for the patches `sources` (at most [`LANES`], indices into
+    /// the patch array; the other lanes empty), to be
+    /// [`filled`](WidePatch::fill) from their records.
+    fn planned(sources: &[u32]) -> WidePatch<N> {
+        WidePatch {
             a: [0; LANES],
             b: [0; LANES],
-            source: [EMPTY; LANES],
+            source: std::array::from_fn(|l| sources.get(l).copied().unwrap_or(EMPTY)),
             friction: Lane::ZERO,
             twist_radius: Lane::ZERO,
             normal: V3::ZERO,
@@ -162,13 +163,17 @@ impl<const N: usize> WidePatch<N> {
             block: [[Lane::ZERO; N]; N],
             block_inverse: [[Lane::ZERO; N]; N],
             points: [WidePoint::default(); N],
-        };
-        for (l, &k) in sources.iter().enumerate() {
+        }
+    }
+
+    /// Sets every lane from its patch's record (a planned bundle, once).
+    pub(super) fn fill(&mut self, manifolds: &[ManifoldConstraint], points: &[PointConstraint]) {
+        let w = self;
+        for (l, k) in w.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
             let m = &manifolds[k as usize];
             debug_assert!(m.point_count as usize <= N);
             w.a[l] = m.a;
             w.b[l] = m.b;
-            w.source[l] = k;
             set(&mut w.friction, l, m.friction);
             set(&mut w.twist_radius, l, m.twist_radius);
             w.normal.set_lane(l, m.normal);
@@ -203,23 +208,35 @@ impl<const N: usize> WidePatch<N> {
                 set(&mut wp.push_impulse, l, p.push_impulse);
             }
         }
-        w
     }
 
     /// Writes every lane's impulses back to its records: what the step
     /// reads after the sub-steps (warm-start cache, reported impulses,
     /// contact events). Rows, masses and separations stay in the bundle.
-    fn unpack(&self, manifolds: &mut [ManifoldConstraint], points: &mut [PointConstraint]) {
+    ///
+    /// # Safety
+    /// No other reference to this bundle's patches and their points exists
+    /// meanwhile.
+    pub(super) unsafe fn unpack(
+        &self,
+        manifolds: &Shared<ManifoldConstraint>,
+        points: &Shared<PointConstraint>,
+    ) {
         for l in 0..LANES {
             let k = self.source[l];
             if k == EMPTY {
                 continue;
             }
-            let m = &mut manifolds[k as usize];
+            // SAFETY: the caller's promise.
+            let (m, pts) = unsafe {
+                let m = manifolds.get_mut(k as usize);
+                let pts = points.range_mut(m.range());
+                (m, pts)
+            };
             for r in 0..3 {
                 m.impulses[r] = get(self.impulses[r], l);
             }
-            for (wp, p) in self.points.iter().zip(&mut points[m.range()]) {
+            for (wp, p) in self.points.iter().zip(pts) {
                 p.normal_impulse = get(wp.normal_impulse, l);
                 p.max_normal_impulse = get(wp.max_normal_impulse, l);
             }
@@ -254,6 +271,16 @@ fn get_row(w: &WideRow, l: usize) -> super::constraint::RowJacobian {
     }
 }
 
+/// Relative cost of a bundle of lone points, of two-point patches, of three-
+/// and four-point patches, and of a large patch, in one pass: the weights by
+/// which a colour is dealt over the threads.
+const WEIGHTS: [usize; 4] = [1, 2, 4, 4];
+
+/// Colours lighter than this (in [`WEIGHTS`] units: sixteen bundles of lone
+/// points) are not worth a second thread; a run of them at the end of the
+/// colouring goes to one thread without barriers between them.
+pub const MIN_WEIGHT_TO_SPLIT: usize = 16;
+
 /// The bundles of one colour: ranges of [`WideBatches`]' arrays.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ColorBundles {
@@ -265,6 +292,37 @@ pub(crate) struct ColorBundles {
     pub fours: Range<usize>,
     /// Patches of more than four points (range of `large`).
     pub large: Range<usize>,
+}
+
+impl ColorBundles {
+    fn ranges(&self) -> [&Range<usize>; 4] {
+        [&self.ones, &self.twos, &self.fours, &self.large]
+    }
+
+    /// The colour's work in [`WEIGHTS`] units.
+    pub fn weight(&self) -> usize {
+        self.ranges().iter().zip(WEIGHTS).map(|(r, w)| r.len() * w).sum()
+    }
+
+    /// Thread `index` of `size`'s share of the colour: the colour's work
+    /// laid out in the order lone points, two points, faces, large patches
+    /// and cut in `size` runs of near-equal weight; an item belongs to the
+    /// run in which its weight starts. Ranges into the arrays of ones,
+    /// twos, fours and `large`, in that order.
+    pub fn share(&self, index: usize, size: usize) -> [Range<usize>; 4] {
+        let total = self.weight();
+        let (lo, hi) = (total * index / size, total * (index + 1) / size);
+        let ranges = self.ranges();
+        let mut start = 0;
+        std::array::from_fn(|k| {
+            let (r, unit) = (ranges[k], WEIGHTS[k]);
+            // Items of this array whose weight starts before `w`.
+            let before = |w: usize| w.saturating_sub(start).div_ceil(unit).min(r.len());
+            let run = r.start + before(lo)..r.start + before(hi);
+            start += r.len() * unit;
+            run
+        })
+    }
 }
 
 /// The colour batches of a step in bundles: each colour's patches of up to
@@ -283,17 +341,19 @@ pub(crate) struct WideBatches {
     /// Patches of more than four points, colour after colour (indices into
     /// the patch array).
     pub large: Vec<u32>,
+    /// Colours from this one on are all lighter than
+    /// [`MIN_WEIGHT_TO_SPLIT`]: one thread runs them, back to back.
+    pub split: usize,
 }
 
 impl WideBatches {
-    /// Bundles the colours of `coloring` (the overflow batch stays out),
-    /// reusing this value's buffers.
-    pub fn pack(
-        &mut self,
-        coloring: &Coloring,
-        manifolds: &[ManifoldConstraint],
-        points: &[PointConstraint],
-    ) {
+    /// Plans the bundles of the colours of `coloring` (the overflow batch
+    /// stays out), reusing this value's buffers.
+    ///
+    /// Only the lanes' sources are set here; each bundle is then
+    /// [`filled`](WidePatch::fill) from the records, by the solver's team
+    /// (`SolverArrays::fill`).
+    pub fn plan(&mut self, coloring: &Coloring, manifolds: &[ManifoldConstraint]) {
         self.ones.clear();
         self.twos.clear();
         self.fours.clear();
@@ -332,34 +392,25 @@ impl WideBatches {
                 }
             }
             self.colors.push(ColorBundles {
-                ones: bundle_run(&mut self.ones, &by_size[0], manifolds, points),
-                twos: bundle_run(&mut self.twos, &by_size[1], manifolds, points),
-                fours: bundle_run(&mut self.fours, &by_size[2], manifolds, points),
+                ones: bundle_run(&mut self.ones, &by_size[0]),
+                twos: bundle_run(&mut self.twos, &by_size[1]),
+                fours: bundle_run(&mut self.fours, &by_size[2]),
                 large: first_large..self.large.len(),
             });
         }
-    }
-
-    /// Writes the bundles' impulses back to the patch records (after the
-    /// sub-steps).
-    pub fn unpack(&self, manifolds: &mut [ManifoldConstraint], points: &mut [PointConstraint]) {
-        self.ones.iter().for_each(|w| w.unpack(manifolds, points));
-        self.twos.iter().for_each(|w| w.unpack(manifolds, points));
-        self.fours.iter().for_each(|w| w.unpack(manifolds, points));
+        self.split = self
+            .colors
+            .iter()
+            .rposition(|c| c.weight() >= MIN_WEIGHT_TO_SPLIT)
+            .map_or(0, |c| c + 1);
     }
 }
 
-/// Appends the patches `sources` to `out` in bundles of four; their range.
-fn bundle_run<const N: usize>(
-    out: &mut Vec<WidePatch<N>>,
-    sources: &[u32],
-    manifolds: &[ManifoldConstraint],
-    points: &[PointConstraint],
-) -> Range<usize> {
+/// Appends planned bundles of four of the patches `sources` to `out`;
+/// their range.
+fn bundle_run<const N: usize>(out: &mut Vec<WidePatch<N>>, sources: &[u32]) -> Range<usize> {
     let first = out.len();
-    for lanes in sources.chunks(LANES) {
-        out.push(WidePatch::pack(lanes, manifolds, points));
-    }
+    out.extend(sources.chunks(LANES).map(WidePatch::planned));
     first..out.len()
 }
 
@@ -1177,7 +1228,7 @@ mod tests {
         );
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         let mut wide = WideBatches::default();
-        wide.pack(&coloring, manifolds, points);
+        wide.plan(&coloring, manifolds);
         let (mut ones, mut twos, mut fours) = (
             std::mem::take(&mut wide.ones),
             std::mem::take(&mut wide.twos),
@@ -1199,6 +1250,9 @@ mod tests {
         };
         let pushed = AtomicUsize::new(0);
         WorkerPool::new(threads).team(|team| {
+            // SAFETY: the whole team runs it. (The patches are prepared
+            // again, from the same bodies: the same values.)
+            unsafe { arrays.prepare(team, |_| {}) };
             for sub in 0..SUBSTEPS {
                 if team.index() == 0 {
                     // SAFETY: the others wait at the barrier below.
@@ -1220,9 +1274,10 @@ mod tests {
                 }
                 team.barrier();
             }
+            // SAFETY: as above.
+            unsafe { arrays.unpack(team) };
         });
         (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
-        wide.unpack(manifolds, points);
         wide.ones.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide.twos.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide.fours.iter().for_each(|w| unpack_rows(w, manifolds, points));
@@ -1290,6 +1345,35 @@ mod tests {
                 "{what} {i} differs (seed {seed}, {threads} threads):\n wide   {:?}\n scalar {:?}",
                 a[i], b[i]
             );
+        }
+    }
+
+    /// A colour's shares partition each of its arrays among the threads in
+    /// order, at near-equal weight.
+    #[test]
+    fn shares_partition_a_colour_by_weight() {
+        let color = ColorBundles {
+            ones: 10..47,
+            twos: 3..9,
+            fours: 0..0,
+            large: 5..8,
+        };
+        for size in 1..6 {
+            let shares: Vec<[Range<usize>; 4]> = (0..size).map(|i| color.share(i, size)).collect();
+            for (k, whole) in color.ranges().iter().enumerate() {
+                let mut next = whole.start;
+                for share in &shares {
+                    assert_eq!(share[k].start, next, "contiguous");
+                    next = share[k].end;
+                }
+                assert_eq!(next, whole.end, "covers the array");
+            }
+            let weights: Vec<usize> = shares
+                .iter()
+                .map(|s| s.iter().zip(WEIGHTS).map(|(r, w)| r.len() * w).sum())
+                .collect();
+            let (most, least) = (weights.iter().max().unwrap(), weights.iter().min().unwrap());
+            assert!(most - least <= 2 * WEIGHTS[3], "{weights:?}");
         }
     }
 

@@ -59,7 +59,8 @@ impl World {
     }
 
     fn run_stages(&mut self, pool: WorkerPool, meshes: bool) -> StepReport {
-        let mut frame = StepFrame::new(self.settings.clone(), self.bodies.slot_count(), pool);
+        let buffers = std::mem::take(&mut self.scratch.frame);
+        let mut frame = StepFrame::new(self.settings.clone(), self.bodies.slot_count(), pool, buffers);
         frame.meshes = meshes;
         frame.report.threads = frame.pool.threads();
         for stage in Stage::ALL {
@@ -76,6 +77,7 @@ impl World {
             }
             frame.report.stage_time[stage as usize] += start.elapsed();
         }
+        self.scratch.frame = frame.recycle();
         frame.report
     }
 

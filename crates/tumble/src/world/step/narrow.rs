@@ -45,18 +45,15 @@ impl World {
         } else {
             PAIRS_PER_TASK
         };
+        // The frame's arrays, kept from the last step (empty).
+        let (mut points, mut patches) = (std::mem::take(&mut f.points), std::mem::take(&mut f.patches));
         let frame: &StepFrame = f;
         // Buffers sized from the last step's contacts, in proportion to the
         // chunk's share of the pairs: no growth in a steady scene.
         let per_pair = (self.cache.len() + self.cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
         let patches_per_pair =
             (self.patch_cache.len() + self.patch_cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
-        let chunks = frame.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
-            let mut out = ChunkContacts {
-                points: Vec::with_capacity((per_pair * pairs.len() as f64) as usize + 16),
-                patches: Vec::with_capacity((patches_per_pair * pairs.len() as f64) as usize + 16),
-                ..ChunkContacts::default()
-            };
+        let run = |first: usize, pairs: &[(u32, u32)], out: &mut ChunkContacts| {
             let mut scratch = PatchScratch::default();
             let mut buffer = Vec::new();
             for (k, &pair) in pairs.iter().enumerate() {
@@ -67,13 +64,34 @@ impl World {
                     pair,
                     &mut buffer,
                     &mut scratch,
-                    &mut out,
+                    out,
                 );
             }
-            out
-        });
+        };
+        let chunks = if frame.pool.threads() > 1 && frame.pairs.len() > chunk {
+            frame.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
+                let mut out = ChunkContacts {
+                    points: Vec::with_capacity((per_pair * pairs.len() as f64) as usize + 16),
+                    patches: Vec::with_capacity((patches_per_pair * pairs.len() as f64) as usize + 16),
+                    ..ChunkContacts::default()
+                };
+                run(first, pairs, &mut out);
+                out
+            })
+        } else {
+            // One chunk, on this thread: straight into the frame's arrays
+            // (kept from the last step).
+            let mut out = ChunkContacts {
+                points: std::mem::take(&mut points),
+                patches: std::mem::take(&mut patches),
+                ..ChunkContacts::default()
+            };
+            run(0, &frame.pairs, &mut out);
+            vec![out]
+        };
 
-        // Join in pair order (one chunk, on one thread, is taken as it is).
+        // Join in pair order, into the kept arrays (a lone chunk is them).
+        (f.points, f.patches) = (points, patches);
         let mut warned = false;
         for chunk in chunks {
             if let (false, Some((k, err))) = (warned, &chunk.error) {
@@ -81,7 +99,7 @@ impl World {
                 f.report.warnings.push(format!("bodies {a} and {b}: {err}"));
                 warned = true;
             }
-            if f.points.is_empty() && f.patches.is_empty() {
+            if f.points.is_empty() && f.patches.is_empty() && f.points.capacity() <= chunk.points.capacity() {
                 f.points = chunk.points;
                 f.patches = chunk.patches;
                 f.report.warm_started += chunk.warm_started;

@@ -12,7 +12,8 @@ use crate::body::BodyKind;
 use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    self, Coloring, JointConstraint, ManifoldConstraint, Shared, SolverArrays, SolverBody, SolverParams,
+    self, Coloring, JointConstraint, ManifoldConstraint, PointConstraint, Shared, SolverArrays, SolverBody,
+    SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::report::{SolveStage, StepReport};
@@ -76,18 +77,23 @@ impl World {
         clock.lap(report, SolveStage::Prepare);
 
         let linear_accel: Vec<DVec3> = drive.iter().map(|a| a.0).collect();
-        contact_solver::resolve_collisions(
-            &sf.manifolds,
-            &mut sf.points,
-            &mut sf.bodies,
-            &linear_accel,
-            &params,
-            dt,
-            h,
-        );
-        clock.lap(report, SolveStage::Restitution);
+        // The serial end of the prepare part (after the patches are
+        // prepared from the bodies as they start the step): the joints'
+        // geometric stiffness, then restitution (Newton's law on colliding
+        // contacts).
+        let stiffen_and_bounce =
+            |manifolds: &[ManifoldConstraint], points: &mut [PointConstraint], bodies: &mut [SolverBody]| {
+                apply_geometric_stiffness(bodies, &sf.geometric);
+                contact_solver::resolve_collisions(manifolds, points, bodies, &linear_accel, &params, dt, h);
+            };
 
         if exact {
+            for m in sf.manifolds.iter_mut() {
+                contact_solver::prepare(m, &mut sf.points, &sf.bodies);
+            }
+            clock.lap(report, SolveStage::Prepare);
+            stiffen_and_bounce(&sf.manifolds, &mut sf.points, &mut sf.bodies);
+            clock.lap(report, SolveStage::Restitution);
             exact_substeps(
                 sf,
                 report,
@@ -102,7 +108,7 @@ impl World {
         } else {
             let joint_coloring = std::mem::take(&mut sf.joint_coloring);
             let mut wide = std::mem::take(&mut self.scratch.wide);
-            wide.pack(&coloring, &sf.manifolds, &sf.points);
+            wide.plan(&coloring, &sf.manifolds);
             let (mut ones, mut twos, mut fours) = (
                 std::mem::take(&mut wide.ones),
                 std::mem::take(&mut wide.twos),
@@ -142,6 +148,22 @@ impl World {
                         clock.lap(report, part);
                     }
                 };
+                // SAFETY (here and in every pass): the whole team calls it;
+                // nothing else touches the arrays.
+                unsafe {
+                    arrays.prepare(team, |arrays| {
+                        lap(SolveStage::Prepare);
+                        // SAFETY: thread 0 alone, between two barriers.
+                        let (manifolds, points, bodies) = (
+                            arrays.manifolds.as_slice(),
+                            arrays.points.range_mut(0..arrays.points.len()),
+                            arrays.bodies.range_mut(0..arrays.bodies.len()),
+                        );
+                        stiffen_and_bounce(manifolds, points, bodies);
+                        lap(SolveStage::Restitution);
+                    })
+                };
+                lap(SolveStage::Prepare);
                 let n_bodies = arrays.bodies.len();
                 for sub in 0..substeps {
                     for r in team.blocks(n_bodies, BODIES_PER_BLOCK) {
@@ -199,10 +221,10 @@ impl World {
                     team.barrier();
                     lap(SolveStage::IntegratePositions);
                 }
+                unsafe { arrays.unpack(team) };
             });
             sf.joint_coloring = joint_coloring;
             (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
-            wide.unpack(&mut sf.manifolds, &mut sf.points);
             self.scratch.wide = wide;
         }
         report.substeps = substeps;
@@ -222,7 +244,8 @@ impl World {
         let n_slots = f.n_slots;
         let sf = &mut f.solver;
         sf.slot_to_solver = vec![0u32; n_slots];
-        sf.bodies = Vec::with_capacity(n_slots + 1);
+        sf.bodies.clear();
+        sf.bodies.reserve(n_slots + 1);
         sf.bodies.push(SolverBody::fixed());
         sf.slots = Vec::with_capacity(n_slots + 1);
         sf.slots.push(u32::MAX);
@@ -300,8 +323,10 @@ impl World {
             .map(|p| (slot_to_solver[p.key.0 as usize], slot_to_solver[p.key.1 as usize]))
             .collect();
         let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
-        sf.points = Vec::with_capacity(f.points.len());
-        sf.manifolds = Vec::with_capacity(f.patches.len());
+        sf.points.clear();
+        sf.points.reserve(f.points.len());
+        sf.manifolds.clear();
+        sf.manifolds.reserve(f.patches.len());
         sf.position = vec![0; f.patches.len()];
         for (k, &i) in order.iter().enumerate() {
             let p = &f.patches[i as usize];
@@ -309,7 +334,7 @@ impl World {
             let first = sf.points.len() as u32;
             sf.points.extend(f.points[p.range()].iter().map(|q| q.point));
             let (a, b) = pairs[i as usize];
-            let mut m = ManifoldConstraint::new(
+            let m = ManifoldConstraint::new(
                 a,
                 b,
                 first,
@@ -320,7 +345,6 @@ impl World {
                 p.warm_tangent,
                 p.warm_twist,
             );
-            contact_solver::prepare(&mut m, &mut sf.points, &sf.bodies);
             sf.manifolds.push(m);
         }
         self.prepare_joints(sf);
@@ -371,7 +395,7 @@ impl World {
         sf.joint_slots = slots;
         sf.joint_coloring = coloring;
         sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &sf.bodies);
-        self.add_geometric_stiffness(sf);
+        self.geometric_stiffness(sf);
     }
 
     /// Geometric stiffness (Andrews, Teichmann and Kry, "Geometric stiffness
@@ -385,7 +409,11 @@ impl World {
     /// that stiffness to the body's rotational inertia in the solver (from
     /// the last step's joint forces) keeps those modes stable; it vanishes
     /// as `h^2` and is not applied to the momentum written back.
-    fn add_geometric_stiffness(&self, sf: &mut SolverFrame) {
+    ///
+    /// This sets the added inertia per solver body (`SolverFrame::geometric`);
+    /// [`apply_geometric_stiffness`] adds it to the bodies once the patches
+    /// are prepared (they are prepared from the bodies as they are).
+    fn geometric_stiffness(&self, sf: &mut SolverFrame) {
         let h = self.settings.dt / self.settings.substeps as f64;
         sf.geometric = vec![0.0; sf.bodies.len()];
         for (j, &slot) in sf.joints.iter().zip(&sf.joint_slots) {
@@ -397,14 +425,6 @@ impl World {
                 if body != 0 {
                     sf.geometric[body as usize] += h * h * (f * local.position.length() + t);
                 }
-            }
-        }
-        for (b, &g) in sf.bodies.iter_mut().zip(&sf.geometric) {
-            if g > 0.0 && b.dynamic && g.is_finite() {
-                b.inv_inertia_body = b
-                    .inv_inertia_body
-                    .map(|i| if i > 0.0 { 1.0 / (1.0 / i + g) } else { i });
-                b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
             }
         }
     }
@@ -541,5 +561,18 @@ fn exact_substeps(
         clock.lap(report, SolveStage::Relax);
         contact_solver::integrate_positions(&mut sf.bodies, q0, h);
         clock.lap(report, SolveStage::IntegratePositions);
+    }
+}
+
+/// Adds the joints' geometric stiffness `geometric` (per solver body, see
+/// `World::geometric_stiffness`) to the bodies' rotational inertia.
+fn apply_geometric_stiffness(bodies: &mut [SolverBody], geometric: &[f64]) {
+    for (b, &g) in bodies.iter_mut().zip(geometric) {
+        if g > 0.0 && b.dynamic && g.is_finite() {
+            b.inv_inertia_body = b
+                .inv_inertia_body
+                .map(|i| if i > 0.0 { 1.0 / (1.0 / i + g) } else { i });
+            b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
+        }
     }
 }

@@ -18,6 +18,12 @@
 //! Why: scalar, the velocity passes were bound by f64 arithmetic on one
 //! patch at a time (a 3-vector fills no register); four patches per lane set
 //! fill the vector unit with independent work.
+//!
+//! Each function here names its scalar twin (`passes`, `constraint`) and
+//! reads like it on purpose, so that the two can be checked line by line;
+//! the twins stay because the scalar kernels also run the patches the
+//! bundles do not take, on the records, where a lane type of one lane would
+//! cost the layout conversion for every patch of a small scene.
 
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
@@ -451,27 +457,18 @@ impl PairLanes {
     /// The lanes' dynamic bodies are this thread's alone meanwhile.
     #[inline(always)]
     unsafe fn store<const N: usize>(&self, bodies: &Shared<SolverBody>, w: &WidePatch<N>) {
-        let (va, wa, vb, wb) = (
-            self.va.to_lanes(),
-            self.wa.to_lanes(),
-            self.vb.to_lanes(),
-            self.wb.to_lanes(),
-        );
-        for l in 0..LANES {
-            // SAFETY: the caller's promise; only dynamic bodies are written.
-            unsafe {
-                if bodies.get(w.a[l] as usize).dynamic {
-                    let a = bodies.get_mut(w.a[l] as usize);
-                    a.v = va[l];
-                    a.w = wa[l];
-                }
-                if bodies.get(w.b[l] as usize).dynamic {
-                    let b = bodies.get_mut(w.b[l] as usize);
-                    b.v = vb[l];
-                    b.w = wb[l];
-                }
-            }
-        }
+        // SAFETY: the caller's promise.
+        unsafe {
+            scatter(
+                bodies,
+                w,
+                [self.va, self.wa, self.vb, self.wb],
+                |body, v, omega| {
+                    body.v = v;
+                    body.w = omega;
+                },
+            )
+        };
     }
 
     #[inline(always)]
@@ -644,6 +641,33 @@ impl<const N: usize> WidePatch<N> {
             self.directions[i]
         } else {
             V3::ZERO
+        }
+    }
+}
+
+/// Writes a linear and an angular value per lane to the lanes' dynamic
+/// bodies (`[A linear, A angular, B linear, B angular]`) with `set`; static,
+/// kinematic and sleeping bodies are never written (impulses do not move
+/// them, and they may be shared between lanes).
+///
+/// # Safety
+/// The lanes' dynamic bodies are this thread's alone meanwhile.
+#[inline(always)]
+unsafe fn scatter<const N: usize>(
+    bodies: &Shared<SolverBody>,
+    w: &WidePatch<N>,
+    values: [V3; 4],
+    set: impl Fn(&mut SolverBody, DVec3, DVec3),
+) {
+    let [al, aa, bl, ba] = values.map(V3::to_lanes);
+    for l in 0..LANES {
+        for (body, linear, angular) in [(w.a[l], al[l], aa[l]), (w.b[l], bl[l], ba[l])] {
+            // SAFETY: the caller's promise; only dynamic bodies are written.
+            unsafe {
+                if bodies.get(body as usize).dynamic {
+                    set(bodies.get_mut(body as usize), linear, angular);
+                }
+            }
         }
     }
 }
@@ -988,22 +1012,13 @@ pub(super) unsafe fn push<const N: usize>(
         pbv -= p.normal.scale(applied * w.inv_mass[1]);
         pbw -= p.row.ib_rb_x_d.scale(applied);
     }
-    let (pav, paw, pbv, pbw) = (pav.to_lanes(), paw.to_lanes(), pbv.to_lanes(), pbw.to_lanes());
-    for l in 0..LANES {
-        // SAFETY: the caller's promise; only dynamic bodies are written.
-        unsafe {
-            if bodies.get(w.a[l] as usize).dynamic {
-                let body = bodies.get_mut(w.a[l] as usize);
-                body.push_v = pav[l];
-                body.push_w = paw[l];
-            }
-            if bodies.get(w.b[l] as usize).dynamic {
-                let body = bodies.get_mut(w.b[l] as usize);
-                body.push_v = pbv[l];
-                body.push_w = pbw[l];
-            }
-        }
-    }
+    // SAFETY: the caller's promise.
+    unsafe {
+        scatter(bodies, w, [pav, paw, pbv, pbw], |body, v, omega| {
+            body.push_v = v;
+            body.push_w = omega;
+        })
+    };
     true
 }
 

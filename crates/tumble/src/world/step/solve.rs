@@ -221,6 +221,7 @@ impl World {
                     team.barrier();
                     lap(SolveStage::IntegratePositions);
                 }
+                // SAFETY: as above.
                 unsafe { arrays.unpack(team) };
             });
             sf.joint_coloring = joint_coloring;
@@ -238,8 +239,9 @@ impl World {
     /// the shared immovable body for static and sleeping ones), the forces
     /// of the step; bodies whose forces or velocities are not finite, or
     /// would run away, are frozen (quarantine before solving, so NaN cannot
-    /// travel through contacts); the patches coloured, and one row set per
-    /// patch and point in colour order.
+    /// travel through contacts); the patches coloured, and one record per
+    /// patch and point laid out in colour order (their rows are prepared
+    /// afterwards, by the solve's team: `SolverArrays::prepare`).
     fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> (Vec<Drive>, Coloring) {
         let n_slots = f.n_slots;
         let sf = &mut f.solver;

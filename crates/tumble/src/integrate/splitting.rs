@@ -26,12 +26,29 @@ use tumble_collide::math::{DQuat, DVec3};
 /// call; larger angles take the library call.
 #[inline(always)]
 fn sin_cos(x: f64) -> (f64, f64) {
-    if x.abs() > 0.1 {
+    if x.abs() > SERIES_LIMIT {
         return x.sin_cos();
     }
+    sin_cos_series(x)
+}
+
+/// Largest |x| for which [`sin_cos`] takes the series.
+pub(crate) const SERIES_LIMIT: f64 = 0.1;
+
+/// The series of [`sin_cos`], for `f64` and for the contact solver's SIMD
+/// lanes alike (the same operations in the same order: the same bits).
+#[inline(always)]
+pub(crate) fn sin_cos_series<T>(x: T) -> (T, T)
+where
+    T: Copy + From<f64> + std::ops::Mul<Output = T> + std::ops::Sub<Output = T> + std::ops::Div<Output = T>,
+{
+    let k = T::from;
+    let one = k(1.0);
     let x2 = x * x;
-    let s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
-    let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0 * (1.0 - x2 / 90.0))));
+    let s = x * (one - x2 / k(6.0) * (one - x2 / k(20.0) * (one - x2 / k(42.0) * (one - x2 / k(72.0)))));
+    let c = one
+        - x2 / k(2.0)
+            * (one - x2 / k(12.0) * (one - x2 / k(30.0) * (one - x2 / k(56.0) * (one - x2 / k(90.0)))));
     (s, c)
 }
 

@@ -10,7 +10,7 @@
 //! and nothing is fused into a multiply-add: a lane of a wide kernel gives
 //! the same bits as the scalar kernel on the same patch.
 
-use tumble_collide::{DMat3, DVec3};
+use tumble_collide::{DMat3, DQuat, DVec3};
 use wide::f64x4;
 
 /// Four f64 lanes.
@@ -209,6 +209,121 @@ impl M3 {
     }
 }
 
+/// A quaternion per lane (x, y, z, w), with glam's `DQuat` arithmetic.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Q4 {
+    /// x of every lane.
+    pub x: Lane,
+    /// y of every lane.
+    pub y: Lane,
+    /// z of every lane.
+    pub z: Lane,
+    /// w of every lane.
+    pub w: Lane,
+}
+
+impl Q4 {
+    /// One quaternion per lane.
+    #[inline(always)]
+    pub fn from_lanes(q: [DQuat; LANES]) -> Q4 {
+        Q4 {
+            x: Lane::new(q.map(|q| q.x)),
+            y: Lane::new(q.map(|q| q.y)),
+            z: Lane::new(q.map(|q| q.z)),
+            w: Lane::new(q.map(|q| q.w)),
+        }
+    }
+
+    /// The quaternions of the lanes.
+    #[inline(always)]
+    pub fn to_lanes(self) -> [DQuat; LANES] {
+        let (x, y, z, w) = (
+            self.x.to_array(),
+            self.y.to_array(),
+            self.z.to_array(),
+            self.w.to_array(),
+        );
+        std::array::from_fn(|l| DQuat::from_xyzw(x[l], y[l], z[l], w[l]))
+    }
+
+    /// As glam's `mul_quat`: `self * rhs`.
+    #[inline(always)]
+    pub fn mul(self, rhs: Q4) -> Q4 {
+        let (x0, y0, z0, w0) = (self.x, self.y, self.z, self.w);
+        let (x1, y1, z1, w1) = (rhs.x, rhs.y, rhs.z, rhs.w);
+        Q4 {
+            x: w0 * x1 + x0 * w1 + y0 * z1 - z0 * y1,
+            y: w0 * y1 - x0 * z1 + y0 * w1 + z0 * x1,
+            z: w0 * z1 + x0 * y1 - y0 * x1 + z0 * w1,
+            w: w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1,
+        }
+    }
+
+    /// As glam's `conjugate`.
+    #[inline(always)]
+    pub fn conjugate(self) -> Q4 {
+        Q4 {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+            w: self.w,
+        }
+    }
+
+    /// As glam's `normalize`: times the reciprocal of the length.
+    #[inline(always)]
+    pub fn normalize(self) -> Q4 {
+        let dot = self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w;
+        let recip = Lane::ONE / dot.sqrt();
+        Q4 {
+            x: self.x * recip,
+            y: self.y * recip,
+            z: self.z * recip,
+            w: self.w * recip,
+        }
+    }
+
+    /// The rotation matrix, as glam's `DMat3::from_quat`.
+    #[inline(always)]
+    pub fn to_mat3(self) -> M3 {
+        let (x2, y2, z2) = (self.x + self.x, self.y + self.y, self.z + self.z);
+        let (xx, xy, xz) = (self.x * x2, self.x * y2, self.x * z2);
+        let (yy, yz, zz) = (self.y * y2, self.y * z2, self.z * z2);
+        let (wx, wy, wz) = (self.w * x2, self.w * y2, self.w * z2);
+        let one = Lane::ONE;
+        M3 {
+            x_axis: V3 {
+                x: one - (yy + zz),
+                y: xy + wz,
+                z: xz - wy,
+            },
+            y_axis: V3 {
+                x: xy - wz,
+                y: one - (xx + zz),
+                z: yz + wx,
+            },
+            z_axis: V3 {
+                x: xz + wy,
+                y: yz - wx,
+                z: one - (xx + yy),
+            },
+        }
+    }
+}
+
+impl M3 {
+    /// The matrices of the lanes.
+    #[inline(always)]
+    pub fn to_lanes(self) -> [DMat3; LANES] {
+        let (x, y, z) = (
+            self.x_axis.to_lanes(),
+            self.y_axis.to_lanes(),
+            self.z_axis.to_lanes(),
+        );
+        std::array::from_fn(|l| DMat3::from_cols(x[l], y[l], z[l]))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -227,10 +342,23 @@ mod tests {
             let dot = wa.dot(wb).to_array();
             let cross = wa.cross(wb).to_lanes();
             let product = wm.mul_vec(wa).to_lanes();
+            let q: [DQuat; LANES] = std::array::from_fn(|_| rng.rotation() * 1.3);
+            let r: [DQuat; LANES] = std::array::from_fn(|_| rng.rotation());
+            let (wq, wr) = (Q4::from_lanes(q), Q4::from_lanes(r));
+            let (prod, conj, unit) = (
+                wq.mul(wr).to_lanes(),
+                wq.conjugate().to_lanes(),
+                wq.normalize().to_lanes(),
+            );
+            let mats = wr.to_mat3().to_lanes();
             for l in 0..LANES {
                 assert_eq!(dot[l].to_bits(), a[l].dot(b[l]).to_bits());
                 assert_eq!(cross[l], a[l].cross(b[l]));
                 assert_eq!(product[l], m[l] * a[l]);
+                assert_eq!(prod[l], q[l] * r[l]);
+                assert_eq!(conj[l], q[l].conjugate());
+                assert_eq!(unit[l], q[l].normalize());
+                assert_eq!(mats[l], DMat3::from_quat(r[l]));
             }
         }
     }

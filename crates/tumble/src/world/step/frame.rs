@@ -104,6 +104,7 @@ impl StepFrame {
         frame.solver.points = buffers.solver_points;
         frame.solver.manifolds = buffers.manifolds;
         frame.solver.bodies = buffers.bodies;
+        frame.solver.joints = buffers.joints;
         frame
     }
 
@@ -115,12 +116,14 @@ impl StepFrame {
             solver_points: std::mem::take(&mut self.solver.points),
             manifolds: std::mem::take(&mut self.solver.manifolds),
             bodies: std::mem::take(&mut self.solver.bodies),
+            joints: std::mem::take(&mut self.solver.joints),
         };
         take.points.clear();
         take.patches.clear();
         take.solver_points.clear();
         take.manifolds.clear();
         take.bodies.clear();
+        take.joints.clear();
         take
     }
 
@@ -156,6 +159,7 @@ pub(crate) struct FrameBuffers {
     solver_points: Vec<PointConstraint>,
     manifolds: Vec<ManifoldConstraint>,
     bodies: Vec<SolverBody>,
+    joints: Vec<JointConstraint>,
 }
 
 impl Clone for StepScratch {

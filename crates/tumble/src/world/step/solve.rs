@@ -357,8 +357,12 @@ impl World {
     /// moves (a joint between two resting bodies waits), with the sides'
     /// step-start poses, coloured like the patches.
     fn prepare_joints(&self, sf: &mut SolverFrame) {
-        let mut records = Vec::new();
+        // Coloured first, from the body pairs alone, so that each record is
+        // built once, in colour order, into the kept array (a joint record
+        // is large: built and then copied into place, they cost a ragdoll
+        // pile more than its joint islands' factorisations).
         let mut pairs = Vec::new();
+        let mut sides = Vec::new();
         for (id, j) in self.joints.iter() {
             let (a, b) = j.slots();
             let side = |slot: Option<u32>| match slot.and_then(|s| self.bodies.at(s).map(|e| (s, e))) {
@@ -375,26 +379,27 @@ impl World {
                 continue;
             }
             pairs.push((ia, ib));
-            records.push(JointConstraint::new(
-                (ia, ib),
-                [xa, xb],
-                [qa, qb],
+            sides.push((id.index, [xa, xb], [qa, qb]));
+        }
+        let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
+        sf.joints.clear();
+        sf.joints.reserve(order.len());
+        sf.joint_slots.clear();
+        for &k in &order {
+            let (slot, x0, q0) = sides[k as usize];
+            let Some(j) = self.joints.at(slot) else {
+                continue;
+            };
+            sf.joints.push(JointConstraint::new(
+                pairs[k as usize],
+                x0,
+                q0,
                 j.local,
                 j.law,
                 &j.impulses,
             ));
-            sf.joint_slots.push(id.index);
+            sf.joint_slots.push(slot);
         }
-        let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
-        let mut slots = Vec::with_capacity(order.len());
-        sf.joints = order
-            .iter()
-            .map(|&k| {
-                slots.push(sf.joint_slots[k as usize]);
-                records[k as usize].clone()
-            })
-            .collect();
-        sf.joint_slots = slots;
         sf.joint_coloring = coloring;
         sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &sf.bodies);
         self.geometric_stiffness(sf);

@@ -436,12 +436,7 @@ impl PairLanes {
     #[inline(always)]
     unsafe fn load<const N: usize>(bodies: &Shared<SolverBody>, w: &WidePatch<N>) -> PairLanes {
         // SAFETY: the caller's promise.
-        let (a, b): ([&SolverBody; LANES], [&SolverBody; LANES]) = unsafe {
-            (
-                std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
-                std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
-            )
-        };
+        let (a, b) = unsafe { lane_bodies(bodies, w) };
         PairLanes {
             va: V3::from_lanes(a.map(|b| b.v)),
             wa: V3::from_lanes(a.map(|b| b.w)),
@@ -522,12 +517,7 @@ impl PairLanes {
 /// The lanes' dynamic bodies are this thread's alone meanwhile.
 pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared<SolverBody>, warm: bool) {
     // SAFETY: the caller's promise.
-    let (a, b): ([&SolverBody; LANES], [&SolverBody; LANES]) = unsafe {
-        (
-            std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
-            std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
-        )
-    };
+    let (a, b) = unsafe { lane_bodies(bodies, w) };
     let moved_lanes: [bool; LANES] = std::array::from_fn(|l| {
         a[l].dp != DVec3::ZERO
             || b[l].dp != DVec3::ZERO
@@ -642,6 +632,24 @@ impl<const N: usize> WidePatch<N> {
         } else {
             V3::ZERO
         }
+    }
+}
+
+/// The bodies A and B of every lane.
+///
+/// # Safety
+/// No other thread writes the lanes' bodies while the references live.
+#[inline(always)]
+unsafe fn lane_bodies<'a, const N: usize>(
+    bodies: &'a Shared<SolverBody>,
+    w: &WidePatch<N>,
+) -> ([&'a SolverBody; LANES], [&'a SolverBody; LANES]) {
+    // SAFETY: the caller's promise.
+    unsafe {
+        (
+            std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
+            std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
+        )
     }
 }
 
@@ -977,12 +985,7 @@ pub(super) unsafe fn push<const N: usize>(
         return false;
     }
     // SAFETY: the caller's promise.
-    let (a, b): ([&SolverBody; LANES], [&SolverBody; LANES]) = unsafe {
-        (
-            std::array::from_fn(|l| bodies.get(w.a[l] as usize)),
-            std::array::from_fn(|l| bodies.get(w.b[l] as usize)),
-        )
-    };
+    let (a, b) = unsafe { lane_bodies(bodies, w) };
     let mut pav = V3::from_lanes(a.map(|b| b.push_v));
     let mut paw = V3::from_lanes(a.map(|b| b.push_w));
     let mut pbv = V3::from_lanes(b.map(|b| b.push_v));

@@ -12,8 +12,10 @@ DYN_FIGURES = {
     "pile": ["bodies_outside", "mean_final_height_m", "contact_points", "deepest_penetration_m"],
     "chain": ["interlock_held", "broken_links", "max_adjacent_centre_distance_m", "deepest_penetration_m"],
     "cradle": ["last_sphere_vx", "momentum_error", "energy_error"],
-    "heavy_chain": ["largest_joint_error_m", "final_joint_error_m", "weight_distance_m"],
-    "ragdoll_pile": ["largest_joint_error_m", "final_joint_error_m", "deepest_penetration_m"],
+    "heavy_chain": ["largest_joint_error_m", "final_joint_error_m", "weight_distance_m",
+                    "simulation_unstable_at_s"],
+    "ragdoll_pile": ["largest_joint_error_m", "final_joint_error_m", "deepest_penetration_m",
+                     "bodies_below_ground", "simulation_unstable_at_s"],
 }
 TORI_QUERIES = [("first_contact", "first contact"), ("all_pairs", "all pairs"),
                 ("all_pairs_with_contacts", "all pairs + contacts")]
@@ -106,7 +108,10 @@ def markdown(doc):
                 continue
             st = r["figures"].get("step_time", {})
             base = "pile" if s.startswith("pile") else s.split("-")[0]
-            q = "; ".join(f"{k.replace('_m', '')}={_fmt(r['figures'].get(k))}" for k in DYN_FIGURES.get(base, []))
+            # (A figure only some engines report, such as MuJoCo's instability time, is left
+            # out of the rows without it.)
+            q = "; ".join(f"{k.replace('_m', '')}={_fmt(r['figures'][k])}"
+                          for k in DYN_FIGURES.get(base, []) if k in r["figures"])
             ratio = "-" if _is_tumble(r) else _ratio(tmed, st.get("median"))
             lines.append(
                 f"| {s} | {_label(r)} | ok ({st.get('count')} steps) | {_fmt(st.get('median'))} | "

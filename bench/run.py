@@ -27,7 +27,8 @@ VENV_PY = os.path.join(BENCH, ".venv", "bin", "python")
 RELEASE = os.path.join(ROOT, "target", "release")
 
 DYNAMICS = ["pyramid", "large_pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile"]
-# Scenes with joints: tumble and Rapier only (the Python peers have no joint scenes yet).
+# Scenes with joints: the Python peers run them on reduced coordinates (kinematic trees), and
+# MuJoCo also with as many steps of dt / 8 per scene step as tumble's sub-steps.
 JOINTED = ["heavy_chain", "ragdoll_pile"]
 PILE_N_FULL = [100, 1000, 10000]
 PILE_N_QUICK = [100]
@@ -170,9 +171,13 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                     print(f"[bench] {threaded('tumble', t)} {hint}", file=sys.stderr, flush=True)
                     results += run_tumble(scene, steps, n, threads=t)
             # The Python peers have no large pyramid yet (tumble and Rapier run it).
-            for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene not in ["large_pyramid"] + JOINTED]:
+            for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene != "large_pyramid"]:
                 print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
                 results += python_peer(eng, f"{eng}_peer.py", ["--scene", scene] + step_args(n), timeout, hint)
+            if scene in JOINTED and on("mujoco"):
+                print(f"[bench] mujoco {scene}-substeps8", file=sys.stderr, flush=True)
+                results += python_peer("mujoco", "mujoco_peer.py", ["--scene", scene, "--substeps", "8"]
+                                       + step_args(), timeout, f"{scene}-substeps8")
             if scene == "pyramid" and on("pybullet"):
                 # PyBullet's default 50 iterations do not hold the pyramid; scenes.md quotes 200.
                 print("[bench] pybullet pyramid-it200", file=sys.stderr, flush=True)

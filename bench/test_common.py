@@ -97,6 +97,92 @@ class SceneData(unittest.TestCase):
         self.assertAlmostEqual(s["p90"], 10.0)
 
 
+class Joints(unittest.TestCase):
+    """What the peers build jointed scenes from: trees, anchors, URDF angles."""
+
+    def test_ragdoll_pile_is_a_hundred_trees_rooted_at_the_pelvis(self):
+        s = C.load_scene("ragdoll_pile")
+        trees = C.joint_trees(s)
+        self.assertEqual(len(trees), 100)
+        for k, (root, order) in enumerate(trees):
+            first = 1 + 11 * k
+            self.assertEqual(root, first)  # the pelvis: the spine and both hips hang from it
+            self.assertEqual(
+                sorted(child for _, child, _ in order), list(range(first + 1, first + 11))
+            )
+            placed = {root}
+            for parent, child, joint in order:  # breadth-first: a parent before its children
+                self.assertIn(parent, placed)
+                self.assertEqual(
+                    {s["joints"][joint]["body_a"], s["joints"][joint]["body_b"]}, {parent, child}
+                )
+                placed.add(child)
+
+    def test_heavy_chain_hangs_from_the_world(self):
+        s = C.load_scene("heavy_chain")
+        [(root, order)] = C.joint_trees(s)
+        self.assertIsNone(root)
+        self.assertEqual([c for _, c, _ in order], list(range(21)))
+        self.assertEqual(order[0][0], None)
+
+    def test_loops_and_two_world_joints_are_refused(self):
+        ball = {"kind": "ball", "anchor_b": None}
+        bodies = [{}] * 3
+        loop = [dict(ball, body_a=a, body_b=b) for a, b in [(0, 1), (1, 2), (2, 0)]]
+        with self.assertRaises(ValueError):
+            C.joint_trees({"bodies": bodies, "joints": loop})
+        twice = [
+            dict(ball, body_a=0, body_b=None),
+            dict(ball, body_a=1, body_b=0),
+            dict(ball, body_a=1, body_b=None),
+        ]
+        with self.assertRaises(ValueError):
+            C.joint_trees({"bodies": bodies, "joints": twice})
+
+    def test_anchor_gap_is_zero_at_the_start_and_sees_a_moved_body(self):
+        for name in ("heavy_chain", "ragdoll_pile"):
+            s = C.load_scene(name)
+            poses = [(b["position"], b["rotation"]) for b in s["bodies"]]
+            anchors = C.JointAnchors(s)
+            self.assertLess(anchors.largest_error(poses), 1e-12)
+            moved = list(poses)
+            pos, rot = moved[5]
+            moved[5] = ((pos[0], pos[1], pos[2] + 0.01), rot)
+            self.assertAlmostEqual(anchors.largest_error(moved), 0.01, places=12)
+            # Turning a body about its own centre by 180 degrees about z moves its anchors by
+            # twice their horizontal lever.
+            j = next(j for j in s["joints"] if j["body_a"] == 5)
+            r = [j["anchor"][k] - pos[k] for k in range(3)]
+            half_turn = C.quat_mul((0.0, 0.0, 1.0, 0.0), rot)
+            moved[5] = (pos, half_turn)
+            self.assertGreaterEqual(
+                anchors.largest_error(moved) + 1e-12, 2 * math.hypot(r[0], r[1])
+            )
+
+    def test_rpy_rebuilds_the_rotation_also_at_gimbal_lock(self):
+        def about(axis, angle):
+            v = [0.0, 0.0, 0.0]
+            v[axis] = math.sin(angle / 2)
+            return (v[0], v[1], v[2], math.cos(angle / 2))
+
+        quarter = math.pi / 2
+        turns = [
+            (-0.5, -0.5, -0.5, -0.5),
+            about(1, quarter),
+            about(1, -quarter),
+            (0.0, 0.0, 0.0, 1.0),
+        ]
+        turns += [
+            C.quat_mul(about(2, 0.3 * k), C.quat_mul(about(1, 0.7 - 0.2 * k), about(0, 1.1 * k)))
+            for k in range(9)
+        ]
+        for q in turns:
+            roll, pitch, yaw = C.rpy(q)
+            again = C.quat_mul(about(2, yaw), C.quat_mul(about(1, pitch), about(0, roll)))
+            for e in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
+                self.assertLess(C.dist(C.quat_rotate(q, e), C.quat_rotate(again, e)), 1e-12)
+
+
 class Harness(unittest.TestCase):
     def test_merge_replaces_rerun_records_and_status_placeholders(self):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))

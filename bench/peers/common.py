@@ -131,6 +131,153 @@ def dist(a, b):
     return math.sqrt((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 + (a[2] - b[2]) ** 2)
 
 
+# ---------------------------------------------------------------- quaternions (x, y, z, w)
+def quat_mul(a, b):
+    """The rotation `a` after `b`."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz,
+    )
+
+
+def quat_conj(q):
+    return (-q[0], -q[1], -q[2], q[3])
+
+
+def quat_rotate(q, v):
+    """`v` turned by the unit quaternion `q`."""
+    x, y, z, w = q
+    cx, cy, cz = y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]
+    ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
+    return (v[0] + 2 * (w * cx + ccx), v[1] + 2 * (w * cy + ccy), v[2] + 2 * (w * cz + ccz))
+
+
+def rpy(q):
+    """URDF roll, pitch, yaw of the rotation `q` (x, y, z, w): R = Rz(yaw) Ry(pitch) Rx(roll).
+    At pitch +-90 degrees only roll -+ yaw is defined: yaw is taken as 0 there."""
+    x, y, z, w = q
+    r00, r10 = 1 - 2 * (y * y + z * z), 2 * (x * y + w * z)
+    r01, r11 = 2 * (x * y - w * z), 1 - 2 * (x * x + z * z)
+    r20, r21, r22 = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
+    cos_pitch = math.hypot(r00, r10)
+    pitch = math.atan2(-r20, cos_pitch)
+    if cos_pitch > 1e-9:
+        return (math.atan2(r21, r22), pitch, math.atan2(r10, r00))
+    # R01 = sin(pitch) sin(roll - sin(pitch) yaw), R11 = cos(roll - sin(pitch) yaw).
+    return (math.atan2(-r01 if r20 > 0 else r01, r11), pitch, 0.0)
+
+
+def to_local(position, rotation, point):
+    """A world point in the frame (position, rotation)."""
+    return quat_rotate(quat_conj(rotation), [point[k] - position[k] for k in range(3)])
+
+
+def to_world(position, rotation, point):
+    """A point of the frame (position, rotation) in the world."""
+    r = quat_rotate(rotation, point)
+    return (r[0] + position[0], r[1] + position[1], r[2] + position[2])
+
+
+# ---------------------------------------------------------------- joints (jointed scenes)
+class JointAnchors:
+    """Each joint's anchor fixed in each of its bodies (as tumble defines a joint: the frames at
+    creation), to measure a peer's joint error from body poses alone: the distance between a
+    joint's two anchors, whatever coordinates the engine keeps."""
+
+    def __init__(self, scene):
+        bodies = scene["bodies"]
+        self.anchors = []
+        for j in scene["joints"]:
+            a, b = j["body_a"], j["body_b"]
+            pa = j["anchor"]
+            pb = j["anchor_b"] if j["anchor_b"] is not None else pa
+            local_a = to_local(bodies[a]["position"], bodies[a]["rotation"], pa)
+            local_b = (
+                pb if b is None else to_local(bodies[b]["position"], bodies[b]["rotation"], pb)
+            )
+            self.anchors.append((a, local_a, b, local_b))
+
+    def largest_error(self, poses):
+        """The largest anchor gap (m) for body poses [(position, rotation xyzw)] in scene order."""
+        worst = 0.0
+        for a, la, b, lb in self.anchors:
+            wa = to_world(*poses[a], la)
+            wb = lb if b is None else to_world(*poses[b], lb)
+            d = dist(wa, wb)
+            worst = max(worst, d if math.isfinite(d) else math.inf)
+        return worst
+
+
+def joint_figures(scene, anchors, worst, poses):
+    """The jointed scenes' figures as tumble and Rapier report them: the largest anchor gap over
+    the run (sampled every 10 steps) and at the end (m); the heavy chain's weight distance from
+    the pivot at (0, 0, 2) (2.1 m when nothing stretches); the ragdoll pile's dynamic bodies
+    below the ground (z < 0) or lost (NaN)."""
+    f = {"largest_joint_error_m": worst, "final_joint_error_m": anchors.largest_error(poses)}
+    if scene["name"] == "heavy_chain":
+        f["weight_distance_m"] = dist(poses[-1][0], (0.0, 0.0, 2.0))
+    else:
+        f["bodies_below_ground"] = sum(
+            1
+            for i in dynamic_indices(scene)
+            if not all(math.isfinite(c) for c in poses[i][0]) or poses[i][0][2] < 0.0
+        )
+    return f
+
+
+def joint_trees(scene):
+    """The scene's joints as kinematic trees, for engines with reduced coordinates: a list of
+    (root, children) with `root` a body index (a floating base) or None (the world), and
+    `children` the joints in breadth-first order as (parent body or None, child body, joint).
+    A joint's child is the body further from the root. Raises ValueError for a loop, or for a
+    tree attached to the world by more than one joint."""
+    joints = scene["joints"]
+    n = len(scene["bodies"])
+    around = [[] for _ in range(n)]
+    to_world_joints = []
+    for k, j in enumerate(joints):
+        a, b = j["body_a"], j["body_b"]
+        if b is None:
+            to_world_joints.append(k)
+        else:
+            around[b].append((a, k))
+            around[a].append((b, k))
+    trees, placed, used = [], [False] * n, set()
+
+    def grow(order, queue):
+        """Breadth-first from the bodies in `queue` over joints not yet used."""
+        head = 0
+        while head < len(queue):
+            body = queue[head]
+            head += 1
+            for other, k in around[body]:
+                if k in used:
+                    continue
+                used.add(k)
+                if placed[other]:
+                    raise ValueError(f"joint {k}: the joints make a loop (no tree)")
+                placed[other] = True
+                order.append((body, other, k))
+                queue.append(other)
+        return order
+
+    for k in to_world_joints:
+        a = joints[k]["body_a"]
+        if placed[a]:
+            raise ValueError(f"joint {k}: a second joint to the world on one tree")
+        placed[a] = True
+        trees.append((None, grow([(None, a, k)], [a])))
+    for i in range(n):
+        if around[i] and not placed[i]:
+            placed[i] = True
+            trees.append((i, grow([], [i])))
+    return trees
+
+
 # ---------------------------------------------------------------- timing and output
 class StepTimer:
     """Wall time of the step call only (perf_counter around it)."""

@@ -10,6 +10,12 @@ cradle) uses the documented direct form solref = (-stiffness, 0) (zero damping =
 restitutions have no translation. Default Euler integrator; the default Newton solver, CG for
 the piles (Newton's dense factorisation does not scale to 6000+ dofs). Sleeping (mjENBL_SLEEP)
 is off. Mesh geoms collide as their convex hull (MuJoCo has no concave mesh collision).
+
+Jointed scenes (heavy_chain, ragdoll_pile) become kinematic trees (common.joint_trees): MuJoCo's
+joints are reduced coordinates, so a joint cannot open and its error is round-off; ball and hinge
+joints sit in the child body at the scene's anchor, hinge limits as ranges, and MuJoCo's own
+parent-child contact filter plays tumble's "no contacts across a joint". `--substeps k` runs k
+steps of dt / k per scene step (tumble sub-steps 8 times), timed together.
 """
 
 import os
@@ -19,7 +25,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
 import mujoco  # noqa: E402
 
-SCENES = ["pyramid", "pile", "chain", "cradle"]
+SCENES = ["pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile"]
 ELASTIC = 'solref="-10000 0"'
 
 
@@ -67,35 +73,86 @@ def geom(body, s, assets):
     return f"<geom {g} {frame} {mat}/>"
 
 
+def joint_xml(scene, k, child):
+    """The <joint> of scene joint `k` in the frame of its child body `child` (MuJoCo's joints
+    sit in the child; a fixed joint is no element: the child is welded to its parent)."""
+    j, body = scene["joints"][k], scene["bodies"][child]
+    if j["anchor_b"] is not None or j["motor"] or j["spring"]:
+        raise ValueError(f"joint {k}: anchor_b, motors and springs have no translation here")
+    pos = fmt(C.to_local(body["position"], body["rotation"], j["anchor"]))
+    axis = fmt(C.quat_rotate(C.quat_conj(body["rotation"]), j["axis"]))
+    kind = j["kind"]
+    if kind == "fixed":
+        return ""
+    if kind == "ball":
+        if j["limits"] or j["swing_limit"]:
+            raise ValueError(f"joint {k}: ball joint limits have no translation here")
+        return f'<joint type="ball" pos="{pos}"/>'
+    if kind in ("hinge", "slider"):
+        limits = j["limits"]
+        lim = "" if limits is None else f' limited="true" range="{fmt(limits)}"'
+        mj = "hinge" if kind == "hinge" else "slide"
+        return f'<joint type="{mj}" pos="{pos}" axis="{axis}"{lim}/>'
+    raise ValueError(f"joint {k}: kind {kind!r} has no translation here")
+
+
 def mjcf(scene):
+    """The scene as MJCF: jointed bodies nested as kinematic trees (C.joint_trees: reduced
+    coordinates, MuJoCo's only kind of joint), every other dynamic body on a free joint."""
     assets = [
         f'<mesh name="mesh{k}" vertex="{fmt([x for v in m["vertices"] for x in v])}" '
         f'face="{" ".join(str(i) for t in m["triangles"] for i in t)}"/>'
         for k, m in enumerate(scene["meshes"])
     ]
-    bodies = []
-    for i, b in enumerate(scene["bodies"]):
+    parent = {}  # child body -> (parent body or None for the world, joint)
+    floating = set()
+    for root, order in C.joint_trees(scene) if scene.get("joints") else []:
+        if root is not None:
+            floating.add(root)
+        for up, child, k in order:
+            parent[child] = (up, k)
+    kids = {}
+    for child, (up, _) in parent.items():
+        kids.setdefault(up, []).append(child)
+
+    def body_xml(i, depth):
+        b = scene["bodies"][i]
         if b["kind"] == "kinematic":
             raise ValueError(f"{b['name']}: kinematic bodies have no translation here")
         geoms = "".join(geom(b, s, assets) for s in b["shapes"])
+        up = parent.get(i, (None, None))[0]
+        if up is None:
+            pos, quat = b["position"], b["rotation"]
+        else:
+            pb = scene["bodies"][up]
+            pos = C.to_local(pb["position"], pb["rotation"], b["position"])
+            quat = C.quat_mul(C.quat_conj(pb["rotation"]), b["rotation"])
         inner = ""
         if b["kind"] == "dynamic":
-            inner = (
-                f'<freejoint/><inertial pos="0 0 0" mass="{b["mass"]!r}" '
+            if i in parent:
+                inner = joint_xml(scene, parent[i][1], i)
+            else:
+                inner = "<freejoint/>"
+            inner += (
+                f'<inertial pos="0 0 0" mass="{b["mass"]!r}" '
                 f'diaginertia="{fmt(b["principal_inertia"])}"/>'
             )
-        bodies.append(
-            f'    <body name="b{i}" pos="{fmt(b["position"])}" quat="{fmt(wxyz(b["rotation"]))}">'
-            f"{inner}{geoms}</body>"
+        nested = "".join(body_xml(c, depth + 1) for c in sorted(kids.get(i, [])))
+        return (
+            f'{"  " * depth}<body name="b{i}" pos="{fmt(pos)}" quat="{fmt(wxyz(quat))}">'
+            f"{inner}{geoms}{nested}</body>\n"
         )
+
+    top = [i for i in range(len(scene["bodies"])) if parent.get(i, (None,))[0] is None]
+    bodies = "".join(body_xml(i, 2) for i in top)
     solver = "CG" if scene["name"].startswith("pile") else "Newton"
     return f"""<mujoco model="{scene["name"]}">
+  <compiler angle="radian"/>
   <option timestep="{scene["dt"]!r}" gravity="{fmt(scene["gravity"])}" solver="{solver}"/>
   <size memory="1G"/>
   <asset>{"".join(assets)}</asset>
   <worldbody>
-{chr(10).join(bodies)}
-  </worldbody>
+{bodies}  </worldbody>
 </mujoco>"""
 
 
@@ -106,27 +163,33 @@ def build(scene):
         mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"b{i}") for i in range(len(scene["bodies"]))
     ]
     for i, b in zip(ids, scene["bodies"]):
-        if b["kind"] == "dynamic":
-            adr = m.jnt_dofadr[m.body_jntadr[i]]
-            # A free joint's velocity: linear (world), then angular (body frame).
-            d.qvel[adr : adr + 3] = b["linear_velocity"]
-            mujoco.mju_rotVecQuat(
-                d.qvel[adr + 3 : adr + 6],
-                b["angular_velocity"],
-                [b["rotation"][3], -b["rotation"][0], -b["rotation"][1], -b["rotation"][2]],
-            )
+        if b["kind"] != "dynamic":
+            continue
+        moving = any(b["linear_velocity"]) or any(b["angular_velocity"])
+        if m.jnt_type[m.body_jntadr[i]] != mujoco.mjtJoint.mjJNT_FREE:
+            if moving:
+                raise ValueError(f"{b['name']}: a jointed body's start velocity has no translation")
+            continue
+        adr = m.jnt_dofadr[m.body_jntadr[i]]
+        # A free joint's velocity: linear (world), then angular (body frame).
+        d.qvel[adr : adr + 3] = b["linear_velocity"]
+        mujoco.mju_rotVecQuat(
+            d.qvel[adr + 3 : adr + 6],
+            b["angular_velocity"],
+            [b["rotation"][3], -b["rotation"][0], -b["rotation"][1], -b["rotation"][2]],
+        )
     mujoco.mj_forward(m, d)
     return m, d, ids
 
 
-def settings(m, scene, steps, extra=None):
+def settings(m, scene, steps, substeps, extra=None):
     s = {
         "dt": scene["dt"],
         "steps": steps,
         "solver": mujoco.mjtSolver(m.opt.solver).name,
         "iterations": int(m.opt.iterations),
         "integrator": mujoco.mjtIntegrator(m.opt.integrator).name,
-        "substeps": 0,
+        "substeps": substeps,
         "friction_per_geom": "tumble's per body",
         "friction_combine": "max",
         "sleeping": "off",
@@ -141,6 +204,14 @@ def positions(d, ids):
     return [tuple(d.xpos[i]) for i in ids]
 
 
+def poses(d, ids):
+    """(position, rotation xyzw) of each body."""
+    return [
+        (tuple(d.xpos[i]), (d.xquat[i][1], d.xquat[i][2], d.xquat[i][3], d.xquat[i][0]))
+        for i in ids
+    ]
+
+
 def deepest(d):
     x = 0.0
     for i in range(d.ncon):
@@ -148,23 +219,34 @@ def deepest(d):
     return 0.0 - x
 
 
-def run(scene, steps, variant):
+def run(scene, steps, variant, substeps=1):
     m, d, ids = build(scene)
     dyn = [ids[i] for i in C.dynamic_indices(scene)]
     starts = positions(d, dyn)
     chain = variant.startswith("chain")
     mon = C.ChainMonitor(scene) if chain else None
+    joints = C.JointAnchors(scene) if scene.get("joints") else None
+    worst_joint = 0.0
     initial_overlap = deepest(d)
     t = C.StepTimer()
     pen, blew_up_at = 0.0, None
+    # `substeps` MuJoCo steps of dt / substeps per step of the scene (timed together).
+    m.opt.timestep = scene["dt"] / substeps
+
+    def frame():
+        for _ in range(substeps):
+            mujoco.mj_step(m, d)
+
     for s in range(steps):
-        t.time(mujoco.mj_step, m, d)
+        t.time(frame)
         if blew_up_at is None and d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
             blew_up_at = (s + 1) * scene["dt"]
         if s % 10 == 9 or s == steps - 1:
             pen = max(pen, deepest(d))
             if chain:
                 mon.sample(positions(d, ids))
+            if joints:
+                worst_joint = max(worst_joint, joints.largest_error(poses(d, ids)))
     ends = positions(d, dyn)
     figures = {"step_time": t.figures(), "deepest_penetration_m": pen}
     extra = {}
@@ -193,6 +275,10 @@ def run(scene, steps, variant):
             else "mesh geom = convex hull of the 768-triangle link "
             "(MuJoCo has no concave mesh collision)"
         )
+    elif joints:
+        figures.update(C.joint_figures(scene, joints, worst_joint, poses(d, ids)))
+        figures["simulation_unstable_at_s"] = blew_up_at
+        extra["joints"] = "reduced coordinates (kinematic trees; parent-child contacts off)"
     elif variant == "cradle":
         vels = [
             tuple(d.qvel[m.jnt_dofadr[m.body_jntadr[i]] : m.jnt_dofadr[m.body_jntadr[i]] + 3])
@@ -203,11 +289,19 @@ def run(scene, steps, variant):
             restitution="solref=(-1e4, 0): undamped contact spring (elastic)",
             friction="none (condim 1)",
         )
-    C.emit("mujoco", mujoco.__version__, variant, settings(m, scene, steps, extra), figures)
+    C.emit(
+        "mujoco", mujoco.__version__, variant, settings(m, scene, steps, substeps, extra), figures
+    )
 
 
 def main():
-    a = C.parse_args(SCENES, __doc__)
+    a = C.parse_args(
+        SCENES,
+        __doc__,
+        extra=[("--substeps", int, "MuJoCo steps of dt / substeps per scene step (default 1)")],
+    )
+    if a.substeps is not None and a.substeps <= 0:
+        sys.exit("--substeps must be positive")
     scene = C.scene_for(a)
     if a.scene == "pile":
         variant = f"pile{a.n}"
@@ -215,7 +309,9 @@ def main():
         variant = "chain-decomposed"
     else:
         variant = a.scene
-    run(scene, a.steps or scene["steps"], variant)
+    if a.substeps is not None:
+        variant += f"-substeps{a.substeps}"
+    run(scene, a.steps or scene["steps"], variant, a.substeps or 1)
 
 
 if __name__ == "__main__":

@@ -10,6 +10,12 @@ would otherwise bleed energy that the other engines keep). Concave meshes are
 GEOM_FORCE_CONCAVE_TRIMESH shapes (Bullet collides them on static bodies only); a body made of
 several convex hulls is one compound shape (an OBJ file with one `o` object per hull, the
 format of Bullet's own V-HACD output).
+
+Jointed scenes (heavy_chain, ragdoll_pile) become one URDF per kinematic tree
+(common.joint_trees), loaded as Featherstone multibodies (reduced coordinates: a joint cannot
+open): spherical and revolute joints with the scene's limits, the inertia from the file, the
+default joint motors switched off, self-collision on except between parent and child (tumble's
+"no contacts across a joint"). Each body's start pose is checked after loading.
 """
 
 import math
@@ -21,7 +27,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
 import pybullet as p  # noqa: E402
 
-SCENES = ["pyramid", "pile", "chain", "cradle"]
+SCENES = ["pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile"]
 
 
 def version():
@@ -122,6 +128,150 @@ def collision_shape(scene, body):
     raise ValueError(f"{body['name']}: shape type {t!r} has no translation here")
 
 
+def vec(v):
+    return " ".join(repr(float(x)) for x in v)
+
+
+def urdf_collisions(body, offset):
+    """<collision> elements of a body's shapes in a link frame whose origin is `offset` from the
+    body's centre of mass (body axes)."""
+    out = []
+    for s in body["shapes"]:
+        t = s["type"]
+        if t == "sphere":
+            g = f'<sphere radius="{s["radius"]!r}"/>'
+        elif t == "box":
+            g = f'<box size="{vec([2 * h for h in s["half_extents"]])}"/>'
+        elif t == "capsule":
+            g = f'<capsule radius="{s["radius"]!r}" length="{2 * s["half_height"]!r}"/>'
+        else:
+            raise ValueError(f"{body['name']}: shape type {t!r} has no URDF translation here")
+        at = [offset[k] + s["position"][k] for k in range(3)]
+        out.append(
+            f'<collision><origin xyz="{vec(at)}" rpy="{vec(C.rpy(s["rotation"]))}"/>'
+            f"<geometry>{g}</geometry></collision>"
+        )
+    return "".join(out)
+
+
+def urdf_link(name, body, offset):
+    """A link carrying `body`, its centre of mass `offset` from the link frame (body axes)."""
+    i = body["principal_inertia"]
+    inertial = (
+        f'<inertial><origin xyz="{vec(offset)}" rpy="0 0 0"/><mass value="{body["mass"]!r}"/>'
+        f'<inertia ixx="{i[0]!r}" iyy="{i[1]!r}" izz="{i[2]!r}" ixy="0" ixz="0" iyz="0"/>'
+        "</inertial>"
+    )
+    return f'<link name="{name}">{inertial}{urdf_collisions(body, offset)}</link>'
+
+
+URDF_JOINT = {"ball": "spherical", "hinge": "revolute", "slider": "prismatic", "fixed": "fixed"}
+
+
+def tree_urdf(scene, root, order):
+    """One kinematic tree (C.joint_trees) as URDF. Each link's frame has its body's axes and sits
+    at the anchor of the joint to its parent (the root's at its centre of mass; a tree hung from
+    the world has a massless fixed base at the world origin)."""
+    bodies = scene["bodies"]
+    frame = {}  # body -> (origin, rotation) of its link frame in the world
+    links, joints = [], []
+    if root is None:
+        # (PyBullet refuses a tree whose base link has no <inertial>.)
+        links.append(
+            '<link name="world_anchor"><inertial><mass value="0"/>'
+            '<inertia ixx="0" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+        )
+    else:
+        b = bodies[root]
+        frame[root] = (b["position"], b["rotation"])
+        links.append(urdf_link(f"l{root}", b, (0.0, 0.0, 0.0)))
+    for up, child, k in order:
+        j, b = scene["joints"][k], bodies[child]
+        kind = j["kind"]
+        if kind not in URDF_JOINT or j["anchor_b"] is not None or j["motor"] or j["spring"]:
+            raise ValueError(f"joint {k}: {kind} as given has no URDF translation here")
+        if kind == "ball" and (j["limits"] or j["swing_limit"]):
+            raise ValueError(f"joint {k}: ball joint limits have no URDF translation here")
+        anchor = j["anchor"]
+        frame[child] = (anchor, b["rotation"])
+        offset = C.to_local(anchor, b["rotation"], b["position"])
+        links.append(urdf_link(f"l{child}", b, offset))
+        origin, rot = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)) if up is None else frame[up]
+        at = C.to_local(origin, rot, anchor)
+        turn = C.rpy(C.quat_mul(C.quat_conj(rot), b["rotation"]))
+        axis = C.quat_rotate(C.quat_conj(b["rotation"]), j["axis"])
+        typ = URDF_JOINT[kind]
+        limit = ""
+        if kind in ("hinge", "slider"):
+            if j["limits"] is None:
+                typ = "continuous" if kind == "hinge" else typ
+                limit = (
+                    '<limit lower="0" upper="-1" effort="0" velocity="0"/>'
+                    if kind == "slider"
+                    else ""
+                )
+            else:
+                lo, hi = j["limits"]
+                limit = f'<limit lower="{lo!r}" upper="{hi!r}" effort="0" velocity="0"/>'
+        parent_link = "world_anchor" if up is None else f"l{up}"
+        joints.append(
+            f'<joint name="j{k}" type="{typ}"><parent link="{parent_link}"/>'
+            f'<child link="l{child}"/><origin xyz="{vec(at)}" rpy="{vec(turn)}"/>'
+            f'<axis xyz="{vec(axis)}"/>{limit}</joint>'
+        )
+    # One element per line: PyBullet's URDF reader lost a joint's <origin> deep in one long line.
+    return f'<robot name="tree">{"".join(links)}{"".join(joints)}</robot>'.replace("><", ">\n<")
+
+
+def load_tree(scene, root, order):
+    """Loads one tree as a Bullet multibody (reduced coordinates: Featherstone) with its default
+    joint motors off, and returns {body index: (multibody, link index or -1 for the base)}."""
+    fd, path = tempfile.mkstemp(suffix=".urdf", prefix="tumble-tree-")
+    with os.fdopen(fd, "w") as f:
+        f.write(tree_urdf(scene, root, order))
+    try:
+        flags = (
+            p.URDF_USE_INERTIA_FROM_FILE
+            | p.URDF_USE_SELF_COLLISION
+            | p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+        )
+        if root is None:
+            bid = p.loadURDF(path, useFixedBase=True, flags=flags)
+        else:
+            b = scene["bodies"][root]
+            bid = p.loadURDF(
+                path, basePosition=b["position"], baseOrientation=b["rotation"], flags=flags
+            )
+    finally:
+        os.unlink(path)
+    where = {} if root is None else {root: (bid, -1)}
+    for li in range(p.getNumJoints(bid)):
+        info = p.getJointInfo(bid, li)
+        where[int(info[12].decode()[1:])] = (bid, li)
+        if info[2] in (p.JOINT_REVOLUTE, p.JOINT_PRISMATIC):
+            p.setJointMotorControl2(bid, li, p.VELOCITY_CONTROL, force=0)
+        elif info[2] == p.JOINT_SPHERICAL:
+            p.setJointMotorControlMultiDof(
+                bid,
+                li,
+                p.POSITION_CONTROL,
+                targetPosition=[0, 0, 0, 1],
+                positionGain=0,
+                velocityGain=0,
+                force=[0, 0, 0],
+            )
+    return where
+
+
+def pose_of(where):
+    """(centre of mass, rotation) of a body: a multibody's base or one of its links."""
+    bid, link = where
+    if link < 0:
+        return p.getBasePositionAndOrientation(bid)
+    s = p.getLinkState(bid, link, computeForwardKinematics=1)
+    return s[0], s[1]
+
+
 def build(scene):
     """Connects, sets up the scene's world and returns the body ids in scene order."""
     p.connect(p.DIRECT)
@@ -134,7 +284,33 @@ def build(scene):
         # Elastic scenes (the cradle): bounce at any approach speed, as tumble does.
         p.setPhysicsEngineParameter(restitutionVelocityThreshold=0.0)
     ids = []
-    for b in scene["bodies"]:
+    trees = C.joint_trees(scene) if scene.get("joints") else []
+    jointed = {}
+    for root, order in trees:
+        jointed.update(load_tree(scene, root, order))
+    for i, b in enumerate(scene["bodies"]):
+        if i in jointed:
+            bid, link = jointed[i]
+            if any(b["linear_velocity"]) or any(b["angular_velocity"]):
+                raise ValueError(f"{b['name']}: a jointed body's start velocity has no translation")
+            p.changeDynamics(
+                bid,
+                link,
+                lateralFriction=math.sqrt(b["friction"]),
+                restitution=b["restitution"],
+                rollingFriction=0.0,
+                spinningFriction=0.0,
+                jointDamping=0.0,
+                linearDamping=0.0,
+                angularDamping=0.0,
+                activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
+            )
+            # The multibody must start where the scene's bodies are.
+            at = pose_of(jointed[i])[0]
+            if C.dist(at, b["position"]) > 1e-6:
+                raise RuntimeError(f"{b['name']}: loaded at {at}, expected {b['position']}")
+            ids.append(jointed[i])
+            continue
         if b["kind"] == "kinematic":
             raise ValueError(f"{b['name']}: kinematic bodies have no translation here")
         dynamic = b["kind"] == "dynamic"
@@ -166,7 +342,15 @@ def build(scene):
 
 
 def centres(ids):
-    return [p.getBasePositionAndOrientation(b)[0] for b in ids]
+    return [
+        pose_of(b)[0] if isinstance(b, tuple) else p.getBasePositionAndOrientation(b)[0]
+        for b in ids
+    ]
+
+
+def poses(ids):
+    """(centre of mass, rotation) of every body in scene order."""
+    return [pose_of(b) if isinstance(b, tuple) else p.getBasePositionAndOrientation(b) for b in ids]
 
 
 def deepest_penetration(ids=None):
@@ -185,6 +369,8 @@ def run(scene, steps, variant, iterations=None):
     starts = centres(dyn)
     chain = variant.startswith("chain")
     mon = C.ChainMonitor(scene) if chain else None
+    joints = C.JointAnchors(scene) if scene.get("joints") else None
+    worst_joint = 0.0
     t = C.StepTimer()
     deepest, contacts_seen = 0.0, 0
     for s in range(steps):
@@ -194,6 +380,8 @@ def run(scene, steps, variant, iterations=None):
             if chain:
                 mon.sample(centres(ids))
                 contacts_seen += sum(1 for c in p.getContactPoints() if c[1] in ids and c[2] in ids)
+            if joints:
+                worst_joint = max(worst_joint, joints.largest_error(poses(ids)))
     ends = centres(dyn)
     figures = {"step_time": t.figures(), "deepest_penetration_m": deepest}
     extra = {}
@@ -220,6 +408,12 @@ def run(scene, steps, variant, iterations=None):
             "compound of 32 convex hulls per link (OBJ objects)"
             if decomposed
             else "plain concave mesh (GEOM_FORCE_CONCAVE_TRIMESH), 768 triangles"
+        )
+    elif joints:
+        figures.update(C.joint_figures(scene, joints, worst_joint, poses(ids)))
+        extra["joints"] = (
+            "reduced coordinates (Featherstone multibodies from URDF); "
+            "self-collision on, parent-child off"
         )
     elif variant == "cradle":
         figures.update(C.cradle_figures(scene, [p.getBaseVelocity(b)[0] for b in ids]))

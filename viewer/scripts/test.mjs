@@ -102,7 +102,9 @@ function liveScene() {
     vertices: [0.4, 0, 0, -0.2, 0.35, 0, -0.2, -0.35, 0, 0, 0, 0.5],
     triangles: [0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3],
   };
-  return { type: 'scene', bodies: [box, tet] };
+  // A hinge on the box's edge, along its y axis: drawn on the box.
+  const joints = [{ name: 'edge', kind: 'hinge', body: 0, anchor: [0.3, 0, 0.3], axis: [0, 1, 0] }];
+  return { type: 'scene', bodies: [box, tet], joints };
 }
 
 /** Starts `tumble view ARGS` and resolves to { url, stop } once it prints its URL. */
@@ -268,6 +270,15 @@ try {
     const v = await live.evaluate(() => ({ bodies: window.tumbleViewer.bodies, time: window.tumbleViewer.time }));
     assert(v.bodies === 2, `expected 2 live bodies, got ${v.bodies}`);
     assert(Math.abs(v.time - (n - 1) / 30) < 1e-9, `live view should follow the newest frame, at ${v.time}`);
+    // The hinge marker moves with the box: at the box's newest pose applied to the anchor
+    // (turned by t about z, lifted to 0.8 + 0.3 sin 3t).
+    await live.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    const anchors = await live.evaluate(() => window.tumbleViewer.jointAnchors);
+    const t = (n - 1) / 30;
+    const want = [0.3 * Math.cos(t), 0.3 * Math.sin(t), 0.8 + 0.3 * Math.sin(3 * t) + 0.3];
+    assert(anchors.length === 1, `expected 1 joint marker, got ${anchors.length}`);
+    const off = Math.hypot(...anchors[0].map((x, k) => x - want[k]));
+    assert(off < 1e-5, `the joint marker is ${off} m from the box's anchor: ${anchors[0]} vs ${want}`);
     const s = await stats(live, await shot(live));
     assert(s.bluish > 100 && s.reddish > 100, `live bodies not visible: ${JSON.stringify(s)}`);
     writeFileSync(join(outDir, 'viewer-live.png'), await live.screenshot());

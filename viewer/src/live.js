@@ -1,7 +1,9 @@
 // Live mode: `?live=ws://host:port/path` streams JSON messages (format in
 // viewer/README.md, "Live mode"):
 //   {"type":"scene","bodies":[{"name","color":[r,g,b,a],"is_static",
-//                              "vertices":[x,y,z,...],"triangles":[i,j,k,...]}]}
+//                              "vertices":[x,y,z,...],"triangles":[i,j,k,...]}],
+//    "joints":[{"name","kind","body":i,"anchor":[x,y,z],"axis":[x,y,z]}]}
+//     (a joint's anchor and axis in its body's frame; drawn on that body)
 //   {"type":"frame","t":s,"poses":[[x,y,z,qx,qy,qz,qw],...],
 //    "kinetic_energy":J,"potential_energy":J,"contact_count":n,
 //    "contacts":[[px,py,pz,nx,ny,nz,d],...]}
@@ -12,7 +14,17 @@
 // All vectors are in tumble's z-up world frame. Frames are kept so that the
 // timeline and plot cover the whole session; a new "scene" message starts over.
 // A body added during the session is hidden in frames older than its arrival.
-import { BufferAttribute, BufferGeometry, Group, Mesh, MeshStandardMaterial, Quaternion, Vector3 } from 'three';
+import {
+  BoxGeometry,
+  BufferAttribute,
+  BufferGeometry,
+  Group,
+  Mesh,
+  MeshStandardMaterial,
+  OctahedronGeometry,
+  Quaternion,
+  Vector3,
+} from 'three';
 import { frameIndexAt } from './timeline.js';
 
 /** Flat-shaded geometry from an indexed triangle list (one vertex per corner). */
@@ -28,6 +40,35 @@ function flatGeometry(vertices, triangles) {
   g.setAttribute('position', new BufferAttribute(pos, 3));
   g.computeVertexNormals(); // non-indexed: face normals
   return g;
+}
+
+/**
+ * Each joint as the glTF recordings draw it: an orange octahedron at the
+ * anchor and a bar 0.15 m each way along the axis, children of the joint's
+ * body (so they move with it), named `joint:NAME` and `joint:NAME:axis`.
+ * Joints naming no body of the scene, or with non-finite vectors, are skipped.
+ */
+function addJointMarkers(bodyNodes, joints) {
+  if (!Array.isArray(joints) || !joints.length) return;
+  const mat = new MeshStandardMaterial({ color: 0xff730d, roughness: 0.5, metalness: 0 });
+  const marker = new OctahedronGeometry(0.02);
+  const bar = new BoxGeometry(0.3, 0.008, 0.008); // along x, turned onto the axis
+  const finite3 = (v) => Array.isArray(v) && v.length === 3 && v.every(Number.isFinite);
+  joints.forEach((j, k) => {
+    const body = bodyNodes[j.body];
+    if (!body || !finite3(j.anchor) || !finite3(j.axis)) return;
+    const name = j.name || `joint${k}`;
+    const axis = new Vector3(...j.axis);
+    if (axis.lengthSq() === 0) axis.set(1, 0, 0);
+    const anchorNode = new Mesh(marker, mat);
+    anchorNode.name = `joint:${name}`;
+    anchorNode.position.set(...j.anchor);
+    const axisNode = new Mesh(bar, mat);
+    axisNode.name = `joint:${name}:axis`;
+    axisNode.position.set(...j.anchor);
+    axisNode.quaternion.setFromUnitVectors(new Vector3(1, 0, 0), axis.normalize());
+    body.add(anchorNode, axisNode);
+  });
 }
 
 /** A live recording with the same shape as loader.js's file recordings. */
@@ -48,6 +89,7 @@ export function createLiveRecording(sceneMsg) {
     return mesh;
   };
   const bodyNodes = sceneMsg.bodies.map(makeNode);
+  addJointMarkers(bodyNodes, sceneMsg.joints);
   const rec = {
     kind: 'live',
     root,

@@ -271,6 +271,17 @@ window.tumbleViewer = {
   get bodies() {
     return state.rec?.bodyNodes.length ?? 0;
   },
+  /** Joint anchors drawn (nodes named `joint:NAME`), in world coordinates, z up. */
+  get jointAnchors() {
+    const out = [];
+    state.rec?.root.updateMatrixWorld(true);
+    state.rec?.world.traverse((n) => {
+      if (!n.name.startsWith('joint:') || n.name.endsWith(':axis')) return;
+      const p = n.getWorldPosition(new n.position.constructor());
+      out.push([p.x, -p.z, p.y]); // the viewer's y-up back to tumble's z-up
+    });
+    return out;
+  },
   get framesRendered() {
     return state.framesRendered;
   },

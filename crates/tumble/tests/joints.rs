@@ -893,3 +893,56 @@ fn the_gltf_shows_each_joint_on_its_body() {
     assert_eq!(joints[0]["kind"], "hinge");
     assert_eq!(joints[0]["body_b"], serde_json::Value::Null);
 }
+
+#[test]
+fn the_live_scene_message_shows_each_joint_on_its_body() {
+    // The door's hinge in the live viewer's scene message: on the door's
+    // body, at the hinge in the door's frame, along the hinge axis; placed
+    // by the door's pose in a frame message it lands on the world anchor.
+    let loaded = example("door.toml");
+    let (mut w, ids) = loaded.build().unwrap();
+    for _ in 0..30 {
+        w.step();
+    }
+    let recorder = tumble::export::WorldRecorder::new(&w).unwrap();
+    let msg: serde_json::Value =
+        serde_json::from_str(&tumble::export::live::scene_message(recorder.recording())).unwrap();
+    let joints = msg["joints"].as_array().unwrap();
+    assert_eq!(joints.len(), 1);
+    let j = &joints[0];
+    assert_eq!(
+        (j["name"].as_str(), j["kind"].as_str()),
+        (Some("hinge"), Some("hinge"))
+    );
+    let door_index = ids.iter().position(|&id| w.name(id).unwrap() == "door").unwrap();
+    assert_eq!(j["body"].as_u64(), Some(door_index as u64));
+    let v = |x: &serde_json::Value| {
+        DVec3::new(
+            x[0].as_f64().unwrap(),
+            x[1].as_f64().unwrap(),
+            x[2].as_f64().unwrap(),
+        )
+    };
+    let frame: serde_json::Value =
+        serde_json::from_str(&tumble::export::live::world_frame_message(&w, &ids)).unwrap();
+    let p = &frame["poses"][door_index];
+    let pose = tumble::collide::Pose {
+        position: DVec3::new(
+            p[0].as_f64().unwrap(),
+            p[1].as_f64().unwrap(),
+            p[2].as_f64().unwrap(),
+        ),
+        rotation: tumble::collide::DQuat::from_xyzw(
+            p[3].as_f64().unwrap(),
+            p[4].as_f64().unwrap(),
+            p[5].as_f64().unwrap(),
+            p[6].as_f64().unwrap(),
+        ),
+    };
+    let hinge = w.joint_ids()[0];
+    let state = w.joint_state(hinge).unwrap();
+    assert!((pose.transform_point(v(&j["anchor"])) - state.anchor_a).length() < 1e-9);
+    assert!((pose.rotation * v(&j["axis"]) - state.axis).length() < 1e-9);
+    // The door's hinge is vertical wherever the door has swung.
+    assert!((state.axis.abs() - DVec3::Z).length() < 1e-3);
+}

@@ -1,5 +1,7 @@
 //! The viewer's live-mode messages (`viewer/README.md`, "Live mode"): one
-//! `scene` message with every body's mesh (its model frame, z up), then one
+//! `scene` message with every body's mesh (its model frame, z up) and every
+//! joint's anchor and axis in its body A's frame (drawn as the glTF draws
+//! them, moving with A), then one
 //! `frame` message per step with the poses and the plot data, and a
 //! `bodies_added` message whenever bodies join a running session (their
 //! poses then follow the others' in every later frame). `tumble view` sends
@@ -8,7 +10,7 @@
 
 use serde_json::{json, Value};
 
-use super::recording::{FrameExtras, RecordedBody, Recording};
+use super::recording::{FrameExtras, RecordedBody, RecordedJoint, Recording};
 use super::world_recorder::{frame_extras, MAX_CONTACTS_DRAWN};
 use crate::world::{BodyId, World};
 use tumble_collide::Pose;
@@ -26,10 +28,30 @@ fn body_json(b: &RecordedBody) -> Value {
     })
 }
 
-/// The `scene` message: names, colours, static flags and meshes of the bodies.
+/// One joint of a `scene` message: its name (`joint<k>` when it has none),
+/// kind, body A (index in the message's bodies) and its anchor and axis in
+/// A's frame.
+fn joint_json(k: usize, j: &RecordedJoint) -> Value {
+    json!({
+        "name": if j.name.is_empty() { format!("joint{k}") } else { j.name.clone() },
+        "kind": j.kind,
+        "body": j.body_a,
+        "anchor": j.anchor.to_array(),
+        "axis": j.axis.to_array(),
+    })
+}
+
+/// The `scene` message: names, colours, static flags and meshes of the
+/// bodies, and the joints to draw.
 pub fn scene_message(rec: &Recording) -> String {
     let bodies: Vec<Value> = rec.bodies.iter().map(body_json).collect();
-    json!({ "type": "scene", "bodies": bodies }).to_string()
+    let joints: Vec<Value> = rec
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(k, j)| joint_json(k, j))
+        .collect();
+    json!({ "type": "scene", "bodies": bodies, "joints": joints }).to_string()
 }
 
 /// The `bodies_added` message: bodies appended to the session's list, in

@@ -9,7 +9,8 @@ import os
 DYN_FIGURES = {
     "pyramid": ["top_box_displacement_m", "largest_displacement_m", "deepest_penetration_m"],
     "large_pyramid": ["top_box_displacement_m", "largest_displacement_m", "deepest_penetration_m"],
-    "pile": ["bodies_outside", "mean_final_height_m", "contact_points", "deepest_penetration_m"],
+    "pile": ["bodies_outside", "mean_final_height_m", "contact_points", "deepest_penetration_m",
+             "final_kinetic_energy_j"],
     "chain": ["interlock_held", "broken_links", "max_adjacent_centre_distance_m", "deepest_penetration_m"],
     "cradle": ["last_sphere_vx", "momentum_error", "energy_error"],
     "heavy_chain": ["largest_joint_error_m", "final_joint_error_m", "weight_distance_m",

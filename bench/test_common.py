@@ -183,6 +183,24 @@ class Joints(unittest.TestCase):
                 self.assertLess(C.dist(C.quat_rotate(q, e), C.quat_rotate(again, e)), 1e-12)
 
 
+class Energy(unittest.TestCase):
+    def test_kinetic_energy_counts_motion_and_spin_about_each_principal_axis(self):
+        # One body with principal moments (1, 2, 3) turned a quarter about z: its body x axis
+        # points along world y, so a world spin about y is a spin about its x (moment 1).
+        s = math.sqrt(0.5)
+        scene = {
+            "bodies": [
+                {"kind": "fixed", "mass": 0.0, "principal_inertia": [0, 0, 0]},
+                {"kind": "dynamic", "mass": 2.0, "principal_inertia": [1.0, 2.0, 3.0]},
+            ]
+        }
+        quarter_z = (0.0, 0.0, s, s)
+        motion = [((1.0, 2.0, 2.0), (0.0, 3.0, 0.0), quarter_z)]
+        self.assertAlmostEqual(C.kinetic_energy(scene, motion), 0.5 * 2 * 9 + 0.5 * 1 * 9)
+        spin_x = [((0.0, 0.0, 0.0), (3.0, 0.0, 0.0), quarter_z)]  # world x = body -y: moment 2
+        self.assertAlmostEqual(C.kinetic_energy(scene, spin_x), 0.5 * 2 * 9)
+
+
 class Harness(unittest.TestCase):
     def test_merge_replaces_rerun_records_and_status_placeholders(self):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))

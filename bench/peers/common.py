@@ -82,13 +82,29 @@ def pyramid_figures(starts, ends):
     return {"top_box_displacement_m": disp[-1], "largest_displacement_m": max(disp)}
 
 
-def pile_figures(scene, ends, contact_points):
-    """Bodies outside the container, mean final height (m) and the engine's contact count."""
+def pile_figures(scene, ends, contact_points, motions):
+    """Bodies outside the container, mean final height (m), the engine's contact count, and the
+    kinetic energy left at the end (J; `motions`: (linear velocity, world angular velocity,
+    rotation) of each dynamic body, in order): whether the pile came to rest."""
     return {
         "bodies_outside": pile_outside(scene, ends),
         "mean_final_height_m": sum(e[2] for e in ends) / len(ends),
         "contact_points": contact_points,
+        "final_kinetic_energy_j": kinetic_energy(scene, motions),
     }
+
+
+def kinetic_energy(scene, motions):
+    """Translational plus rotational kinetic energy (J) of the scene's dynamic bodies, from each
+    one's (linear velocity, world angular velocity, rotation) in dynamic_indices order: the
+    spin about each principal axis (body frame) against that principal moment."""
+    total = 0.0
+    for i, (v, w, q) in zip(dynamic_indices(scene), motions):
+        b = scene["bodies"][i]
+        spin = quat_rotate(quat_conj(q), w)
+        total += 0.5 * b["mass"] * sum(c * c for c in v)
+        total += 0.5 * sum(m * s * s for m, s in zip(b["principal_inertia"], spin))
+    return total
 
 
 def momentum_and_energy(masses, velocities):

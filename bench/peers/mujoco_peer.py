@@ -204,6 +204,18 @@ def positions(d, ids):
     return [tuple(d.xpos[i]) for i in ids]
 
 
+def motions(m, d, ids):
+    """(linear velocity, world angular velocity, rotation xyzw) of free bodies: a free joint's
+    qvel is the linear velocity (world) and the angular one in the body frame."""
+    out = []
+    for i in ids:
+        adr = m.jnt_dofadr[m.body_jntadr[i]]
+        q = (d.xquat[i][1], d.xquat[i][2], d.xquat[i][3], d.xquat[i][0])
+        w = C.quat_rotate(q, d.qvel[adr + 3 : adr + 6])
+        out.append((tuple(d.qvel[adr : adr + 3]), w, q))
+    return out
+
+
 def poses(d, ids):
     """(position, rotation xyzw) of each body."""
     return [
@@ -253,7 +265,7 @@ def run(scene, steps, variant, substeps=1):
     if variant == "pyramid":
         figures.update(C.pyramid_figures(starts, ends))
     elif variant.startswith("pile"):
-        figures.update(C.pile_figures(scene, ends, int(d.ncon)))
+        figures.update(C.pile_figures(scene, ends, int(d.ncon), motions(m, d, dyn)))
         extra["n"] = len(dyn)
     elif chain:
         decomposed = variant == "chain-decomposed"

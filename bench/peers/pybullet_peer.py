@@ -388,7 +388,8 @@ def run(scene, steps, variant, iterations=None):
     if variant.startswith("pyramid"):
         figures.update(C.pyramid_figures(starts, ends))
     elif variant.startswith("pile"):
-        figures.update(C.pile_figures(scene, ends, len(p.getContactPoints())))
+        motions = [(*p.getBaseVelocity(b), p.getBasePositionAndOrientation(b)[1]) for b in dyn]
+        figures.update(C.pile_figures(scene, ends, len(p.getContactPoints()), motions))
         extra["n"] = len(dyn)
     elif chain:
         decomposed = variant == "chain-decomposed"

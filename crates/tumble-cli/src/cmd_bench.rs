@@ -246,6 +246,9 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 json!(dynamic.iter().map(|c| c.z).sum::<f64>() / dynamic.len() as f64),
             );
             figures.insert("contact_points".into(), json!(world.contacts().len()));
+            // Whether the pile has come to rest (a pile can keep its
+            // overlaps small by boiling): translational and rotational.
+            figures.insert("final_kinetic_energy_j".into(), json!(world.kinetic_energy()));
             t
         }
     };

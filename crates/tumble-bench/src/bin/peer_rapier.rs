@@ -129,6 +129,7 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
             figures["mean_final_height_m"] =
                 json!(centres.iter().map(|c| c.z).sum::<f64>() / centres.len() as f64);
             figures["contact_points"] = json!(contacts(&sw.world).0);
+            figures["final_kinetic_energy_j"] = json!(kinetic_energy(&sw));
             set["n"] = json!(n);
         }
         "chain" => {

@@ -13,7 +13,8 @@ use tumble::world::{BodyId, World};
 #[derive(Args)]
 pub struct BenchArgs {
     /// Scene: pyramid, large_pyramid, pile (with --n), chain,
-    /// chain_decomposed, cradle, heavy_chain, ragdoll_pile or tori.
+    /// chain_decomposed, cradle, heavy_chain, ragdoll_pile, concave_pile
+    /// or tori.
     #[arg(long)]
     scene: String,
     /// Steps to run (default: the scene's own, 600 or 240).
@@ -97,6 +98,10 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "cradle" => ("cradle".into(), scenes::cradle()),
         "heavy_chain" => ("heavy_chain".into(), scenes::heavy_chain()),
         "ragdoll_pile" => ("ragdoll_pile".into(), scenes::ragdoll_pile()),
+        "concave_pile" => (
+            "concave_pile".into(),
+            scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
+        ),
         s if s.starts_with("pile") => {
             let n = s.trim_start_matches("pile").parse::<usize>().unwrap_or(args.n);
             if n == 0 || n % 100 != 0 || n > 100_000 {
@@ -130,7 +135,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
         other => {
             return Err(CliError::Input(format!(
-                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, chain_decomposed, cradle, heavy_chain, ragdoll_pile, tori)"
+                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, chain_decomposed, cradle, heavy_chain, ragdoll_pile, concave_pile, tori)"
             )))
         }
     };
@@ -157,6 +162,32 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 "largest_displacement_m".into(),
                 json!(moved.iter().skip(1).fold(0.0f64, |m, &x| m.max(x))),
             );
+            t
+        }
+        "concave_pile" => {
+            // Escapes, the kinetic energy left, and how many contact points
+            // the mesh pairs make (the cost the contact reduction
+            // is about), besides the deepest overlap of every step.
+            let (mut most_points, mut points) = (0usize, 0usize);
+            let t = run_timed(&mut world, steps, |i, w, p| {
+                deepest = deepest.max(p);
+                if i % 10 == 9 || i + 1 == steps {
+                    let mut per_pair = std::collections::BTreeMap::new();
+                    for c in w.contacts() {
+                        *per_pair.entry((c.body_a, c.body_b)).or_insert(0usize) += 1;
+                    }
+                    most_points = most_points.max(per_pair.values().copied().max().unwrap_or(0));
+                    points = points.max(w.contacts().len());
+                }
+            });
+            let centres: Vec<_> = ids.iter().skip(1).map(|&id| centre(&world, id)).collect();
+            figures.insert(
+                "bodies_escaped".into(),
+                json!(scenes::concave_pile_escaped(&centres)),
+            );
+            figures.insert("final_kinetic_energy_j".into(), json!(world.kinetic_energy()));
+            figures.insert("most_contact_points".into(), json!(points));
+            figures.insert("most_points_in_one_pair".into(), json!(most_points));
             t
         }
         "chain" | "chain_decomposed" => {

@@ -1,7 +1,7 @@
 //! Prints the mean time per step and per stage of a standard scene:
 //! `cargo run --release -p tumble --example profile_stages -- pyramid 300 [threads [substeps iterations [push_out_iterations]]]`
 //! (scenes: pyramid, large_pyramid, pile100, pile1000, pile10000, chain, heavy_chain,
-//! ragdoll_pile); also
+//! ragdoll_pile, concave_pile[N]); also
 //! prints how far the last body moved and the deepest penetration seen
 //! (with `TRACE_DEPTH=1` in the environment, also the deepest of every 25 steps).
 use tumble::scenes;
@@ -20,6 +20,10 @@ fn main() {
         "chain" => scenes::chain(),
         "heavy_chain" => scenes::heavy_chain(),
         "ragdoll_pile" => scenes::ragdoll_pile(),
+        "concave_pile" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
+        other if other.starts_with("concave_pile") => {
+            scenes::concave_pile(other[12..].parse().expect("concave_pileN"))
+        }
         other if other.starts_with("pyramid") => {
             scenes::pyramid_of_base(other[7..].parse().expect("pyramidN"))
         }

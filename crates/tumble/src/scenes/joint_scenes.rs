@@ -4,9 +4,9 @@
 //! descriptions (`tumble-bench`), so both engines run the same bodies and
 //! joints.
 
-use super::Scene;
+use super::{no_sleep, Scene};
 use crate::joint::JointDesc;
-use crate::world::{BodyDesc, WorldSettings};
+use crate::world::BodyDesc;
 use tumble_collide::shape::{Capsule, Cuboid, Shape, Sphere};
 use tumble_collide::{DQuat, DVec3, Pose};
 
@@ -21,13 +21,6 @@ fn cuboid(h: [f64; 3]) -> Shape {
 /// A capsule along z of total length `length` (caps included) and radius `r`.
 fn capsule(length: f64, r: f64) -> Shape {
     Shape::Capsule(Capsule::new(r, length / 2.0 - r).expect("positive dimensions"))
-}
-
-fn no_sleep() -> WorldSettings {
-    WorldSettings {
-        sleeping: false,
-        ..WorldSettings::default()
-    }
 }
 
 /// heavy_chain: 20 links (spheres of radius 0.03 m, 0.1 kg) 0.1 m apart

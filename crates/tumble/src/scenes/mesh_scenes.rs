@@ -2,7 +2,7 @@
 //! into convex pieces for the peers) and the tori pass-through of
 //! shared/scenes.md.
 
-use super::Scene;
+use super::{no_sleep, Scene};
 use crate::body::BodyKind;
 use crate::world::{BodyDesc, MassDesc, ShapeDesc, WorldSettings};
 use tumble_collide::mesh::{torus_mesh, TriMesh};
@@ -87,10 +87,7 @@ fn chain_of(name: &str, link: Vec<ShapeDesc>) -> Scene {
         .collect();
     Scene {
         name: name.into(),
-        settings: WorldSettings {
-            sleeping: false,
-            ..WorldSettings::default()
-        },
+        settings: no_sleep(),
         bodies,
         steps: 600,
         joints: Vec::new(),

@@ -2,6 +2,7 @@
 //! tests, benchmarks, the CLI and the examples. Each function returns a
 //! [`Scene`]: world settings plus body descriptions in insertion order.
 
+mod concave_pile;
 mod joint_scenes;
 mod mesh_scenes;
 mod plain_data;
@@ -11,6 +12,10 @@ mod t_handle;
 mod timing;
 mod tori_queries;
 
+pub use concave_pile::{
+    concave_bin, concave_kind_meshes, concave_pile, concave_pile_escaped, CONCAVE_BIN_INNER_HALF_WIDTH,
+    CONCAVE_BIN_WALL_HEIGHT, CONCAVE_KINDS, CONCAVE_PILE_BODIES,
+};
 pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
 pub use mesh_scenes::{chain, chain_decomposed, tori_pass, torus_on_ground};
 pub use plain_data::{
@@ -32,6 +37,15 @@ pub use tori_queries::{
 
 use crate::joint::JointDesc;
 use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
+
+/// The standard scenes' settings: the defaults with sleeping off (a
+/// benchmark times every body in every step).
+fn no_sleep() -> WorldSettings {
+    WorldSettings {
+        sleeping: false,
+        ..WorldSettings::default()
+    }
+}
 
 /// A scene: settings and bodies, in the order they are added.
 #[derive(Debug, Clone)]

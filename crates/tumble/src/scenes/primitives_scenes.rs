@@ -2,7 +2,7 @@
 //! plus the small test scenes (tower, ball drop). Dimensions, materials and
 //! ordering exactly as shared/scenes.md specifies.
 
-use super::Scene;
+use super::{no_sleep, Scene};
 use crate::world::{BodyDesc, WorldSettings};
 use tumble_collide::shape::{Cuboid, HalfSpace, Shape, Sphere};
 use tumble_collide::{DQuat, DVec3, Pose};
@@ -19,13 +19,6 @@ fn ground_box(hx: f64, hy: f64) -> BodyDesc {
     BodyDesc::fixed(cuboid(hx, hy, 0.5))
         .at(DVec3::new(0.0, 0.0, -0.5))
         .named("ground")
-}
-
-fn no_sleep() -> WorldSettings {
-    WorldSettings {
-        sleeping: false,
-        ..WorldSettings::default()
-    }
 }
 
 /// pyramid: 20 layers of unit cubes (210 boxes, mass 1) on a static ground box;

@@ -1,0 +1,89 @@
+//! The concave pile (issue 15's standard scene): its meshes are what
+//! docs/scenes.md says (closed, concave, the blob's triangle count), the
+//! bin holds, and a small version of the pile settles in it.
+
+use tumble::scenes::{self, concave_pile_escaped, CONCAVE_KINDS};
+use tumble_collide::shape::ConvexHull;
+use tumble_collide::DVec3;
+
+#[test]
+fn every_kind_is_a_closed_concave_solid_of_the_stated_size() {
+    let meshes = scenes::concave_kind_meshes();
+    assert_eq!(meshes.len(), CONCAVE_KINDS.len());
+    for (kind, mesh) in CONCAVE_KINDS.iter().zip(&meshes) {
+        // Closed and outward: a positive volume; concave: clearly less
+        // than its convex hull's (a convex body would fill its hull).
+        let volume = mesh.signed_volume();
+        let hull = ConvexHull::from_points(mesh.vertices())
+            .unwrap()
+            .surface_mesh()
+            .unwrap()
+            .signed_volume();
+        assert!(volume > 0.0, "{kind}: volume {volume}");
+        assert!(
+            volume < 0.9 * hull,
+            "{kind}: volume {volume} of a hull of {hull}: not concave"
+        );
+        // Fits the 0.3 m drop grid whatever its turn: two neighbours, each
+        // within 0.15 m of its grid point, cannot overlap.
+        let reach = mesh.vertices().iter().map(|v| v.length()).fold(0.0, f64::max);
+        assert!(
+            reach <= 0.15 + 1e-12,
+            "{kind}: reaches {reach} m from its frame's origin"
+        );
+    }
+    let blob = &meshes[4];
+    assert!(
+        (2000..=5000).contains(&blob.triangles().len()),
+        "blob: {} triangles",
+        blob.triangles().len()
+    );
+    // The cup: a 0.09 m x 0.18 m cylinder less its 0.078 m x 0.168 m hollow.
+    let cup = meshes[1].signed_volume();
+    let pi = std::f64::consts::PI;
+    let ring = |r: f64| r * (pi / 24.0).sin() * 24.0 * r * (pi / 24.0).cos(); // area of the 24-gon
+    let exact = ring(0.09) * 0.18 - ring(0.078) * 0.168;
+    assert!(
+        (cup - exact).abs() < 1e-12,
+        "cup volume {cup}, 24-gon prism difference {exact}"
+    );
+}
+
+#[test]
+fn the_bin_is_a_closed_box_with_a_cavity() {
+    let bin = scenes::concave_bin();
+    let (w, h) = (
+        scenes::CONCAVE_BIN_INNER_HALF_WIDTH,
+        scenes::CONCAVE_BIN_WALL_HEIGHT,
+    );
+    let outer = 2.0 * (w + 0.1);
+    let exact = outer * outer * (h + 0.1) - (2.0 * w) * (2.0 * w) * h;
+    assert!(
+        (bin.signed_volume() - exact).abs() < 1e-9,
+        "bin volume {}",
+        bin.signed_volume()
+    );
+    assert_eq!(bin.triangles().len(), 28);
+}
+
+#[test]
+fn a_small_concave_pile_settles_inside_the_bin() {
+    // Ten bodies (two of each kind) for 2 s: none escapes, none sinks into
+    // another by more than 2 cm, and they come down to rest on the floor.
+    let scene = scenes::concave_pile(10);
+    let (mut world, ids) = scene.build().unwrap();
+    let mut deepest: f64 = 0.0;
+    for _ in 0..120 {
+        deepest = deepest.max(world.step().max_penetration);
+    }
+    let centres: Vec<DVec3> = ids[1..]
+        .iter()
+        .map(|&id| world.center_of_mass(id).unwrap())
+        .collect();
+    assert_eq!(concave_pile_escaped(&centres), 0, "{centres:?}");
+    assert!(deepest < 0.02, "deepest overlap {deepest} m");
+    assert!(centres.iter().all(|c| c.z < 0.3), "not down: {centres:?}");
+    let ke = world.kinetic_energy();
+    let mass: f64 = ids[1..].iter().map(|&id| world.body(id).unwrap().mass()).sum();
+    assert!(ke < 0.01 * mass, "still moving: {ke} J for {mass} kg");
+}

@@ -68,10 +68,11 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
         "cradle" => scenes::cradle(),
         "heavy_chain" | "heavy_chain-multibody" => scenes::heavy_chain(),
         "ragdoll_pile" => scenes::ragdoll_pile(),
+        "concave_pile" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
         other => {
             return Err(format!(
                 "--scene must be pyramid, large_pyramid, pile, chain, cradle, heavy_chain, \
-                 heavy_chain-multibody or ragdoll_pile, got {other:?}"
+                 heavy_chain-multibody, ragdoll_pile or concave_pile, got {other:?}"
             ))
         }
     })
@@ -131,6 +132,13 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
             figures["contact_points"] = json!(contacts(&sw.world).0);
             figures["final_kinetic_energy_j"] = json!(kinetic_energy(&sw));
             set["n"] = json!(n);
+        }
+        "concave_pile" => {
+            let centres: Vec<DVec3> = dynamic.iter().map(|&i| DVec3::from_array(ends[i])).collect();
+            figures["bodies_escaped"] = json!(scenes::concave_pile_escaped(&centres));
+            figures["final_kinetic_energy_j"] = json!(kinetic_energy(&sw));
+            figures["contact_points"] = json!(contacts(&sw.world).0);
+            set["collision"] = json!("plain TriMesh colliders, default flags");
         }
         "chain" => {
             let reach = scenes::CHAIN_MAX_CENTRE_DISTANCE;

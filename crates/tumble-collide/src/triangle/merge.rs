@@ -17,6 +17,8 @@
 //! original relative order.
 
 use crate::contact::{Contact, Feature, SubFeature};
+use crate::math::DVec3;
+use std::collections::HashMap;
 
 /// Tolerances for [`merge_contacts`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,11 +54,18 @@ pub enum MergeError {
 
 /// A feature named by mesh-global vertex ids (faces carry no identity here:
 /// a vertex touching two coplanar faces is one contact).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum GlobalFeature {
     Vertex(u32),
     Edge(u32, u32),
 }
+
+/// Up to this many contacts, duplicates are found by scanning the kept
+/// ones; beyond, through maps (the same survivors either way).
+const SCAN_UP_TO: usize = 48;
+
+/// The global identities of a contact's two sides.
+type FeatureKey = (Option<GlobalFeature>, Option<GlobalFeature>);
 
 /// Global identity of one side of a contact, if the triangle is known.
 fn global(f: Feature, tris: &[[u32; 3]]) -> Option<GlobalFeature> {
@@ -94,43 +103,122 @@ pub fn merge_contacts(
     if !(0.0..=std::f64::consts::PI).contains(&angle) {
         return Err(MergeError::NormalAngle(angle));
     }
-    let min_cos = angle.cos();
-    let tol2 = tol * tol;
     let n = contacts.len();
-    let keys: Vec<_> = contacts
+    let keys: Vec<FeatureKey> = contacts
         .iter()
         .map(|c| (global(c.feature_a, tris_a), global(c.feature_b, tris_b)))
         .collect();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| {
-        contacts[i]
-            .distance
-            .total_cmp(&contacts[j].distance)
-            .then(i.cmp(&j))
-    });
-    let mut kept: Vec<usize> = Vec::with_capacity(n);
-    let mut keep = vec![false; n];
-    for &i in &order {
-        let c = &contacts[i];
-        let duplicate = kept.iter().any(|&k| {
-            let d = &contacts[k];
-            if c.normal.dot(d.normal) < min_cos {
-                return false;
-            }
-            let same_feature = keys[i] == keys[k] && (keys[i].0.is_some() || keys[i].1.is_some());
-            same_feature || (c.point - d.point).length_squared() <= tol2
-        });
-        if !duplicate {
-            kept.push(i);
-            keep[i] = true;
-        }
-    }
+    let rule = Rule {
+        min_cos: angle.cos(),
+        tol,
+    };
+    let keep = if n <= SCAN_UP_TO {
+        survivors_by_scan(contacts, &keys, &rule)
+    } else {
+        survivors_by_lookup(contacts, &keys, &rule)
+    };
     let mut idx = 0;
     contacts.retain(|_| {
         idx += 1;
         keep[idx - 1]
     });
     Ok(n - contacts.len())
+}
+
+/// When two contacts are duplicates: agreeing normals (cosine at least
+/// `min_cos`), and the same named feature or points within `tol`.
+struct Rule {
+    min_cos: f64,
+    tol: f64,
+}
+
+impl Rule {
+    fn duplicates(&self, c: &Contact, d: &Contact, key_c: &FeatureKey, key_d: &FeatureKey) -> bool {
+        // (Not `x >= min`: a NaN normal agrees, as it always has.)
+        c.normal.dot(d.normal).partial_cmp(&self.min_cos) != Some(std::cmp::Ordering::Less)
+            && ((key_c == key_d && named(key_c))
+                || (c.point - d.point).length_squared() <= self.tol * self.tol)
+    }
+}
+
+/// `true` when a key names a mesh feature on some side.
+fn named(key: &FeatureKey) -> bool {
+    key.0.is_some() || key.1.is_some()
+}
+
+/// Deepest first (ties by position): the order contacts are kept in.
+fn deepest_first(contacts: &[Contact]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..contacts.len()).collect();
+    order.sort_by(|&i, &j| {
+        contacts[i]
+            .distance
+            .total_cmp(&contacts[j].distance)
+            .then(i.cmp(&j))
+    });
+    order
+}
+
+/// Which contacts survive, each visited deepest first against every one
+/// already kept (quadratic; fastest for the few contacts of most pairs).
+fn survivors_by_scan(contacts: &[Contact], keys: &[FeatureKey], rule: &Rule) -> Vec<bool> {
+    let mut kept: Vec<usize> = Vec::new();
+    let mut keep = vec![false; contacts.len()];
+    for i in deepest_first(contacts) {
+        if !kept
+            .iter()
+            .any(|&k| rule.duplicates(&contacts[i], &contacts[k], &keys[i], &keys[k]))
+        {
+            kept.push(i);
+            keep[i] = true;
+        }
+    }
+    keep
+}
+
+/// [`survivors_by_scan`]'s survivors, found through maps: whether *some*
+/// kept contact duplicates a new one is all that counts, so the kept ones
+/// are looked up by named feature and in a grid of cells `tol` wide (two
+/// points within `tol` lie in the same or neighbouring cells). Linear in
+/// the contacts, not quadratic (a lumpy mesh lying on another made
+/// thousands of contacts per pair). The maps are only looked up, never
+/// iterated.
+fn survivors_by_lookup(contacts: &[Contact], keys: &[FeatureKey], rule: &Rule) -> Vec<bool> {
+    let cell = if rule.tol > 0.0 { rule.tol } else { 1e-9 };
+    let cell_of = |p: DVec3| {
+        [
+            (p.x / cell).floor() as i64,
+            (p.y / cell).floor() as i64,
+            (p.z / cell).floor() as i64,
+        ]
+    };
+    let mut by_feature: HashMap<FeatureKey, Vec<usize>> = HashMap::new();
+    let mut by_cell: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    let mut keep = vec![false; contacts.len()];
+    for i in deepest_first(contacts) {
+        let dup = |k: &usize| rule.duplicates(&contacts[i], &contacts[*k], &keys[i], &keys[*k]);
+        let home = cell_of(contacts[i].point);
+        let duplicate = (named(&keys[i]) && by_feature.get(&keys[i]).is_some_and(|ks| ks.iter().any(dup)))
+            || (-1..=1).any(|dx| {
+                (-1..=1).any(|dy| {
+                    (-1..=1).any(|dz| {
+                        let near = [
+                            home[0].wrapping_add(dx),
+                            home[1].wrapping_add(dy),
+                            home[2].wrapping_add(dz),
+                        ];
+                        by_cell.get(&near).is_some_and(|ks| ks.iter().any(dup))
+                    })
+                })
+            });
+        if !duplicate {
+            keep[i] = true;
+            if named(&keys[i]) {
+                by_feature.entry(keys[i]).or_default().push(i);
+            }
+            by_cell.entry(home).or_default().push(i);
+        }
+    }
+    keep
 }
 
 #[cfg(test)]
@@ -143,6 +231,77 @@ mod tests {
 
     /// A 20 m x 20 m ground of two triangles in z = 0, normal +z, with its
     /// diagonal far from the cube placed below.
+    #[test]
+    fn looked_up_duplicates_are_the_scanned_ones() {
+        // Random contacts crowded into a few clusters (points a fraction of
+        // the tolerance apart, and some exactly on cell borders), a few
+        // normals, a few shared features: the same survivors, in the same
+        // order, as the quadratic scan.
+        let mut rng = tumble_testkit::splitmix_f64(41);
+        let tris: Vec<[u32; 3]> = (0..20).map(|t| [t, t + 1, t + 2]).collect();
+        let params = MergeParams::default();
+        let tol = params.point_tolerance;
+        let (mut seen, mut removed) = (0, 0);
+        for round in 0..200 {
+            let mut contacts = Vec::new();
+            for _ in 0..(5 + round % 60) {
+                let cluster = (rng() * 4.0).floor();
+                let jitter = if rng() < 0.3 {
+                    0.0
+                } else {
+                    (rng() - 0.5) * 3.0 * tol
+                };
+                let point = DVec3::new(
+                    cluster * 7.0 * tol + jitter,
+                    2.0 * tol * (rng() * 3.0).floor(),
+                    -tol,
+                );
+                let normal =
+                    [DVec3::Z, DVec3::new(0.0, 0.04, 1.0).normalize(), DVec3::X][(rng() * 3.0) as usize];
+                let sub = |x: f64| match (x * 3.0) as u8 {
+                    0 => SubFeature::Vertex((x * 7.0) as u8 % 3),
+                    1 => SubFeature::Edge((x * 11.0) as u8 % 3),
+                    _ => SubFeature::Face,
+                };
+                contacts.push(Contact {
+                    point,
+                    normal,
+                    distance: (rng() * 4.0).floor() * 1e-4,
+                    kind: ContactKind::VertexFace,
+                    feature_a: Feature {
+                        index: (rng() * 20.0) as u32,
+                        sub: sub(rng()),
+                    },
+                    feature_b: Feature {
+                        index: (rng() * 20.0) as u32,
+                        sub: sub(rng()),
+                    },
+                });
+            }
+            let keys: Vec<FeatureKey> = contacts
+                .iter()
+                .map(|c| (global(c.feature_a, &tris), global(c.feature_b, &tris)))
+                .collect();
+            let rule = Rule {
+                min_cos: params.normal_angle.cos(),
+                tol,
+            };
+            let want = survivors_by_scan(&contacts, &keys, &rule);
+            assert_eq!(
+                survivors_by_lookup(&contacts, &keys, &rule),
+                want,
+                "round {round}"
+            );
+            removed += want.iter().filter(|&&k| !k).count();
+            seen += contacts.len();
+        }
+        // The rounds do merge, and keep: both outcomes are exercised.
+        assert!(
+            removed > seen / 4 && removed < seen * 3 / 4,
+            "{removed} of {seen} merged"
+        );
+    }
+
     fn ground() -> TriMesh {
         let v = vec![
             DVec3::new(-10.0, -10.0, 0.0),

@@ -148,6 +148,8 @@ def dist(a, b):
 
 
 # ---------------------------------------------------------------- quaternions (x, y, z, w)
+# (examples/python/collision_query.py has its own quat_mul: an example reads whole on its own,
+# and this harness runs on the standard library alone, without tumble's package.)
 def quat_mul(a, b):
     """The rotation `a` after `b`."""
     ax, ay, az, aw = a

@@ -63,7 +63,7 @@ def hull_compound(hulls):
     lines, base = [], 1
     for i, (verts, pose) in enumerate(hulls):
         lines.append(f"o piece{i}")
-        lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in (transform(pose, v) for v in verts)]
+        lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in (C.to_world(*pose, v) for v in verts)]
         # A fan over the vertices so that the object is not empty; the hull ignores faces.
         lines += [f"f {base} {base + k} {base + k + 1}" for k in range(1, len(verts) - 1)]
         base += len(verts)
@@ -74,19 +74,6 @@ def hull_compound(hulls):
         return p.createCollisionShape(p.GEOM_MESH, fileName=path)
     finally:
         os.unlink(path)
-
-
-def transform(pose, v):
-    """A point of a shape's frame in the body frame: rotate by the quaternion, then translate."""
-    pos, q = pose
-    x, y, z, w = q
-    cx, cy, cz = y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]
-    ccx, ccy, ccz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
-    return (
-        v[0] + 2 * (w * cx + ccx) + pos[0],
-        v[1] + 2 * (w * cy + ccy) + pos[1],
-        v[2] + 2 * (w * cz + ccz) + pos[2],
-    )
 
 
 def collision_shape(scene, body):
@@ -272,6 +259,24 @@ def pose_of(where):
     return s[0], s[1]
 
 
+def set_material(bid, link, body, **extra):
+    """A body's Bullet settings (base `link` -1, or a multibody link): the square root of its
+    friction (Bullet multiplies), its restitution, no damping or rolling/spinning friction,
+    never asleep; `extra` adds to them (inertia, joint damping)."""
+    p.changeDynamics(
+        bid,
+        link,
+        lateralFriction=math.sqrt(body["friction"]),
+        restitution=body["restitution"],
+        linearDamping=0.0,
+        angularDamping=0.0,
+        rollingFriction=0.0,
+        spinningFriction=0.0,
+        activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
+        **extra,
+    )
+
+
 def build(scene):
     """Connects, sets up the scene's world and returns the body ids in scene order."""
     p.connect(p.DIRECT)
@@ -293,18 +298,7 @@ def build(scene):
             bid, link = jointed[i]
             if any(b["linear_velocity"]) or any(b["angular_velocity"]):
                 raise ValueError(f"{b['name']}: a jointed body's start velocity has no translation")
-            p.changeDynamics(
-                bid,
-                link,
-                lateralFriction=math.sqrt(b["friction"]),
-                restitution=b["restitution"],
-                rollingFriction=0.0,
-                spinningFriction=0.0,
-                jointDamping=0.0,
-                linearDamping=0.0,
-                angularDamping=0.0,
-                activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
-            )
+            set_material(bid, link, b, jointDamping=0.0)
             # The multibody must start where the scene's bodies are.
             at = pose_of(jointed[i])[0]
             if C.dist(at, b["position"]) > 1e-6:
@@ -321,18 +315,7 @@ def build(scene):
             baseOrientation=b["rotation"],
         )
         kw = {"localInertiaDiagonal": b["principal_inertia"]} if dynamic else {}
-        p.changeDynamics(
-            bid,
-            -1,
-            lateralFriction=math.sqrt(b["friction"]),
-            restitution=b["restitution"],
-            linearDamping=0.0,
-            angularDamping=0.0,
-            rollingFriction=0.0,
-            spinningFriction=0.0,
-            activationState=p.ACTIVATION_STATE_DISABLE_SLEEPING,
-            **kw,
-        )
+        set_material(bid, -1, b, **kw)
         if dynamic:
             p.resetBaseVelocity(
                 bid, linearVelocity=b["linear_velocity"], angularVelocity=b["angular_velocity"]

@@ -261,11 +261,17 @@ fn edge_edge_contacts(
             if line_gap * line_gap > margin2 * c2 {
                 continue;
             }
-            let r = closest_points_segments(p1, q1, p2, q2);
-            if !interior(r.s) || !interior(r.t) {
+            // Only closest points interior to both edges make a contact, and
+            // those are the closest points of the two lines (the distance is
+            // convex in (s, t): an interior minimum over the square is the
+            // unconstrained one). So solve for the lines' parameters and stop
+            // as soon as one leaves the interior, before any clamping; the
+            // expressions are those of `closest_points_segments`, which
+            // returns these same values when both are interior.
+            let Some((s, t)) = interior_line_parameters(ea, eb, p1 - p2, interior) else {
                 continue;
-            }
-            let gap = r.point_a - r.point_b;
+            };
+            let gap = (p1 + ea * s) - (p2 + eb * t);
             if gap.length_squared() > margin2 {
                 continue;
             }
@@ -296,7 +302,7 @@ fn edge_edge_contacts(
                 continue;
             }
             out.push(Contact {
-                point: (r.point_a + r.point_b) * 0.5,
+                point: ((p1 + ea * s) + (p2 + eb * t)) * 0.5,
                 normal: n,
                 distance: n.dot(gap),
                 kind: ContactKind::EdgeEdge,
@@ -305,6 +311,26 @@ fn edge_edge_contacts(
             });
         }
     }
+}
+
+/// The parameters `(s, t)` of the closest points of the lines `p1 + s d1`
+/// and `p2 + t d2` (`r = p1 - p2`), if both pass `interior`; `None` as soon
+/// as one does not. The lines must not be parallel (the caller checked).
+#[inline]
+fn interior_line_parameters(
+    d1: DVec3,
+    d2: DVec3,
+    r: DVec3,
+    interior: impl Fn(f64) -> bool,
+) -> Option<(f64, f64)> {
+    let (a, e) = (d1.length_squared(), d2.length_squared());
+    let (b, c, f) = (d1.dot(d2), d1.dot(r), d2.dot(r));
+    let s = (b * f - c * e) / (a * e - b * b);
+    if !interior(s) {
+        return None;
+    }
+    let t = (b * s + f) / e;
+    interior(t).then_some((s, t))
 }
 
 /// Which separating axis a penetrating contact uses.

@@ -310,3 +310,73 @@ fn interpenetrating_tori_separate_without_gaining_energy() {
     // The split impulse leaves the velocities alone: no energy gained.
     assert!(ke < 1e-6 * m, "kinetic energy {ke} J after separating");
 }
+
+#[test]
+fn mesh_slab_on_a_fine_sheet_rests_level_on_a_reduced_patch_that_carries_its_weight() {
+    // A mesh slab (0.4 x 0.4 x 0.1 m) lying on a sheet of 5 cm cells: 81
+    // sheet vertices under its face, the slab's corners and the crossings
+    // of their edges make one patch of over a hundred points, which the
+    // world reduces (tumble_collide::narrow::reduce_patch). The kept points
+    // must still hold the slab level and carry its whole weight.
+    let dt = 1.0 / 60.0;
+    let mut world = World::new(WorldSettings {
+        sleeping: false,
+        dt,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let sheet = tumble_collide::mesh::grid_mesh(1.0, 1.0, 40, 40).unwrap();
+    let ground = world.add_body(&BodyDesc::fixed(mesh(sheet))).unwrap();
+    let half = DVec3::new(0.2, 0.2, 0.05);
+    let slab = world
+        .add_body(
+            &BodyDesc::dynamic(mesh(box_mesh(half).unwrap()))
+                .at(DVec3::new(0.013, -0.021, half.z + 0.002))
+                .with_mass(2.0),
+        )
+        .unwrap();
+    for _ in 0..120 {
+        world.step();
+    }
+    // The narrow phase's own points for the pair, before reduction.
+    let shape = |id| world.colliders(id).unwrap()[0].shape.clone();
+    let mut raw = Vec::new();
+    tumble_collide::narrow::contact_shapes(
+        &shape(slab),
+        &world.pose(slab).unwrap(),
+        &shape(ground),
+        &world.pose(ground).unwrap(),
+        world.settings().contact_margin,
+        &mut raw,
+    )
+    .unwrap();
+    assert!(
+        raw.len() > 50,
+        "only {} raw points: the patch is not large",
+        raw.len()
+    );
+    let kept: Vec<_> = world
+        .contacts()
+        .iter()
+        .filter(|c| c.body_a == slab || c.body_b == slab)
+        .collect();
+    assert!(
+        (3..=tumble_collide::narrow::PATCH_MAX_POINTS).contains(&kept.len()),
+        "{} points kept of {}",
+        kept.len(),
+        raw.len()
+    );
+    // Level, at rest, at its height, and the kept points carry the weight.
+    let p = world.center_of_mass(slab).unwrap();
+    assert!((p.z - half.z).abs() < 2e-3, "rests at z = {}", p.z);
+    let up = (world.orientation(slab).unwrap() * DVec3::Z).z;
+    assert!(up > 1.0 - 1e-6, "tilted: axis z {up}");
+    let v = world.linear_velocity(slab).unwrap().length() + world.angular_velocity(slab).unwrap().length();
+    assert!(v < 1e-3, "still moving: {v}");
+    let carried: f64 = kept.iter().map(|c| c.normal_impulse).sum();
+    let weight = 2.0 * 9.81 * dt;
+    assert!(
+        (carried - weight).abs() < 0.01 * weight,
+        "carried {carried} N s of {weight}"
+    );
+}

@@ -10,6 +10,7 @@
 //! (`face(inc)` against `vertex(ref, k)`). These ids do not change under small
 //! motions, which is what warm starting needs.
 
+use super::reduce::reduce_to_four;
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;
 use crate::pose::Pose;
@@ -201,78 +202,4 @@ fn clip<const N: usize, R: Polytope + ?Sized, I: Polytope + ?Sized>(
         });
     }
     count
-}
-
-/// Chooses at most 4 of `n` points (position, distance) that keep the
-/// manifold's support area: the deepest point (see the tie rule inside), the point farthest from it,
-/// the point making the largest triangle with those two, and the point
-/// farthest outside that triangle (the usual heuristic of Bullet's and Jolt's
-/// contact reduction). Returns indices in increasing order.
-pub(crate) fn reduce_to_four(
-    n: usize,
-    normal: DVec3,
-    get: impl Fn(usize) -> (DVec3, f64),
-) -> ([usize; 4], usize) {
-    let mut keep = [0usize; 4];
-    if n <= 4 {
-        for (i, k) in keep.iter_mut().enumerate().take(n) {
-            *k = i;
-        }
-        return (keep, n);
-    }
-    let argmax = |score: &dyn Fn(usize) -> f64| {
-        let mut best = 0;
-        let mut best_s = f64::NEG_INFINITY;
-        for i in 0..n {
-            let s = score(i);
-            if s > best_s {
-                best_s = s;
-                best = i;
-            }
-        }
-        (best, best_s)
-    };
-    // Deepest point; depths equal within TIE x (manifold size) (a flat resting
-    // face) are told apart by position along a fixed tangent, so that the
-    // choice does not flip under round-off (feature ids must stay put for
-    // warm starting). The kept depth is then within that tolerance of the
-    // deepest.
-    const TIE: f64 = 1e-5;
-    let (deepest, _) = argmax(&|i| -get(i).1);
-    let pd = get(deepest).0;
-    let size = (0..n).map(|i| (get(i).0 - pd).length()).fold(0.0, f64::max);
-    let dmin = get(deepest).1;
-    let tangent = normal.any_orthonormal_vector();
-    let (i0, _) = argmax(&|i| {
-        if get(i).1 <= dmin + TIE * size {
-            get(i).0.dot(tangent)
-        } else {
-            f64::NEG_INFINITY
-        }
-    });
-    let p0 = get(i0).0;
-    let (i1, _) = argmax(&|i| (get(i).0 - p0).length_squared());
-    let p1 = get(i1).0;
-    let area = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a).dot(normal);
-    let (i2, _) = argmax(&|i| area(p0, p1, get(i).0).abs());
-    let p2 = get(i2).0;
-    let sign = area(p0, p1, p2).signum();
-    let (i3, s3) = argmax(&|i| {
-        let q = get(i).0;
-        let o = -sign * area(p0, p1, q);
-        o.max(-sign * area(p1, p2, q)).max(-sign * area(p2, p0, q))
-    });
-    keep = [i0, i1, i2, i3];
-    let mut count = if s3 > 0.0 { 4 } else { 3 };
-    keep[..count].sort_unstable();
-    // Drop duplicates (degenerate input: all points coincide or are collinear).
-    let mut m = 1;
-    for k in 1..count {
-        if keep[k] != keep[m - 1] {
-            keep[m] = keep[k];
-            m += 1;
-        }
-    }
-    count = m;
-    (keep, count)
 }

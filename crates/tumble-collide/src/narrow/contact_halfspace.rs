@@ -5,7 +5,7 @@
 //! The half-space is always shape B; the normal is its outward plane normal.
 
 use super::capsule_feature;
-use super::clip::reduce_to_four;
+use super::reduce::reduce_to_four;
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;
 use crate::pose::Pose;

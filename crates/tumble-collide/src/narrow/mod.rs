@@ -31,6 +31,7 @@ mod contact_sphere_sphere;
 mod dispatch;
 mod geometry;
 pub(crate) mod gjk;
+mod reduce;
 
 #[cfg(test)]
 mod oracle;
@@ -54,6 +55,7 @@ pub use contact_sphere_capsule::contact_sphere_capsule;
 pub use contact_sphere_cuboid::contact_sphere_cuboid;
 pub use contact_sphere_sphere::contact_sphere_sphere;
 pub use dispatch::contact_shapes;
+pub use reduce::{reduce_patch, reduce_to_four, PATCH_MAX_POINTS};
 
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;

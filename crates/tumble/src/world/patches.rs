@@ -1,12 +1,16 @@
 //! From one collider pair's narrow-phase contacts to the solver's patches:
 //! the contacts are grouped by normal (a box on the ground is one patch; a
-//! mesh pair touching in two places gives two), each point inherits its
+//! mesh pair touching in two places gives two), a patch of more than
+//! `PATCH_MAX_POINTS` is reduced to that many (`tumble_collide::narrow::
+//! reduce_patch`: the deepest point and the ones that span the patch; two
+//! lumpy meshes can touch at thousands of points), each point inherits its
 //! normal impulse from the previous step by features (`manifold::lookup`)
 //! and each patch its friction by normal (`manifold::lookup_patch`).
 
 use super::handles::BodyId;
 use super::manifold::{self, CachedContact, CachedPatch, PairKey, PATCH_COS};
 use crate::solver::contact_solver::PointConstraint;
+use tumble_collide::narrow::{reduce_patch, PATCH_MAX_POINTS};
 use tumble_collide::{Contact, DVec3, Pose};
 
 /// A contact point on its way to the solver, with what is needed to report
@@ -52,6 +56,22 @@ pub(crate) struct PairInfo<'a> {
     pub restitution: f64,
     /// Subtracted from every contact distance (m): the gap the solver keeps.
     pub skin: f64,
+    /// Linear and angular velocity of A and of B at the step start (m/s, rad/s).
+    pub velocity_a: (DVec3, DVec3),
+    pub velocity_b: (DVec3, DVec3),
+    /// The step (s): how far ahead a patch looks when it chooses its points.
+    pub dt: f64,
+}
+
+impl PairInfo<'_> {
+    /// The gap of contact `c` at the end of the step if the bodies kept
+    /// their velocities (m): its distance plus the normal relative velocity
+    /// at its point times the step.
+    fn gap_at_step_end(&self, c: &Contact) -> f64 {
+        let at = |(v, w): (DVec3, DVec3), pose: &Pose| v + w.cross(c.point - pose.position);
+        let closing = (at(self.velocity_a, self.pose_a) - at(self.velocity_b, self.pose_b)).dot(c.normal);
+        c.distance + closing * self.dt
+    }
 }
 
 /// Scratch of [`add_pair`], reused across pairs.
@@ -59,6 +79,9 @@ pub(crate) struct PairInfo<'a> {
 pub(crate) struct PatchScratch {
     seeds: Vec<DVec3>,
     patch_of: Vec<usize>,
+    /// The contacts of the patch being prepared, and the ones it keeps.
+    members: Vec<usize>,
+    kept: Vec<usize>,
     /// Where the last search of the point cache ended (see `manifold::points_of`).
     point_cursor: usize,
     /// Where the last search of the patch cache ended.
@@ -97,11 +120,28 @@ pub(crate) fn add_pair(
     for (patch, &seed) in scratch.seeds.iter().enumerate() {
         let first = points.len() as u32;
         let mut sum = DVec3::ZERO;
-        for (c, _) in contacts
-            .iter()
-            .zip(&scratch.patch_of)
-            .filter(|(_, &p)| p == patch)
-        {
+        scratch.members.clear();
+        scratch
+            .members
+            .extend((0..contacts.len()).filter(|&i| scratch.patch_of[i] == patch));
+        if scratch.members.len() > PATCH_MAX_POINTS {
+            let members = &scratch.members;
+            reduce_patch(
+                members.len(),
+                seed,
+                PATCH_MAX_POINTS,
+                |k| {
+                    let c = &contacts[members[k]];
+                    (c.point, pair.gap_at_step_end(c))
+                },
+                &mut scratch.kept,
+            );
+            for k in 0..scratch.kept.len() {
+                scratch.kept[k] = scratch.members[scratch.kept[k]];
+            }
+            std::mem::swap(&mut scratch.members, &mut scratch.kept);
+        }
+        for c in scratch.members.iter().map(|&i| &contacts[i]) {
             let r_a = c.point - pair.pose_a.position;
             let r_b = c.point - pair.pose_b.position;
             let local_a = to_a * r_a;

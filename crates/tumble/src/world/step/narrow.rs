@@ -180,6 +180,9 @@ impl World {
                     friction,
                     restitution,
                     skin,
+                    velocity_a: velocity[a as usize],
+                    velocity_b: velocity[b as usize],
+                    dt: f.settings.dt,
                 };
                 out.warm_started += add_pair(
                     buffer,

@@ -1,0 +1,352 @@
+//! Contact reduction: which points of a contact patch to keep when there
+//! are many. A patch is the set of contacts of one shape pair whose normals
+//! agree; the solver needs only the points that span its support region
+//! (the normal forces of any points inside their convex hull can be carried
+//! by its corners) and its deepest point, which drives the push-out. Four
+//! points chosen by area as in Bullet's and Jolt's manifold reduction, then,
+//! for curved or long patches, the points that grow their hull the most,
+//! so that the solver's work follows the contact area and not the number
+//! of triangles that touch (issue 15: two lumpy meshes make thousands).
+
+use crate::math::DVec3;
+
+/// Most points one patch keeps ([`reduce_patch`]).
+pub const PATCH_MAX_POINTS: usize = 8;
+
+/// Chooses at most 4 of `n` points (position, distance) that keep the
+/// manifold's support area: the deepest point (see the tie rule inside), the point farthest from it,
+/// the point making the largest triangle with those two, and the point
+/// farthest outside that triangle (the usual heuristic of Bullet's and Jolt's
+/// contact reduction). Returns indices in increasing order and how many.
+pub fn reduce_to_four(n: usize, normal: DVec3, get: impl Fn(usize) -> (DVec3, f64)) -> ([usize; 4], usize) {
+    let mut keep = [0usize; 4];
+    if n <= 4 {
+        for (i, k) in keep.iter_mut().enumerate().take(n) {
+            *k = i;
+        }
+        return (keep, n);
+    }
+    let argmax = |score: &dyn Fn(usize) -> f64| {
+        let mut best = 0;
+        let mut best_s = f64::NEG_INFINITY;
+        for i in 0..n {
+            let s = score(i);
+            if s > best_s {
+                best_s = s;
+                best = i;
+            }
+        }
+        (best, best_s)
+    };
+    // Deepest point; depths equal within TIE x (manifold size) (a flat resting
+    // face) are told apart by position along a fixed tangent, so that the
+    // choice does not flip under round-off (feature ids must stay put for
+    // warm starting). The kept depth is then within that tolerance of the
+    // deepest.
+    const TIE: f64 = 1e-5;
+    let (deepest, _) = argmax(&|i| -get(i).1);
+    let pd = get(deepest).0;
+    let size = (0..n).map(|i| (get(i).0 - pd).length()).fold(0.0, f64::max);
+    let dmin = get(deepest).1;
+    let tangent = normal.any_orthonormal_vector();
+    let (i0, _) = argmax(&|i| {
+        if get(i).1 <= dmin + TIE * size {
+            get(i).0.dot(tangent)
+        } else {
+            f64::NEG_INFINITY
+        }
+    });
+    let p0 = get(i0).0;
+    let (i1, _) = argmax(&|i| (get(i).0 - p0).length_squared());
+    let p1 = get(i1).0;
+    let area = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a).dot(normal);
+    let (i2, _) = argmax(&|i| area(p0, p1, get(i).0).abs());
+    let p2 = get(i2).0;
+    let sign = area(p0, p1, p2).signum();
+    let (i3, s3) = argmax(&|i| {
+        let q = get(i).0;
+        let o = -sign * area(p0, p1, q);
+        o.max(-sign * area(p1, p2, q)).max(-sign * area(p2, p0, q))
+    });
+    keep = [i0, i1, i2, i3];
+    let mut count = if s3 > 0.0 { 4 } else { 3 };
+    keep[..count].sort_unstable();
+    // Drop duplicates (degenerate input: all points coincide or are collinear).
+    let mut m = 1;
+    for k in 1..count {
+        if keep[k] != keep[m - 1] {
+            keep[m] = keep[k];
+            m += 1;
+        }
+    }
+    count = m;
+    (keep, count)
+}
+
+/// The convex hull of `points` (x, y) in counter-clockwise order, into
+/// `hull` (Andrew's monotone chain; collinear points dropped).
+fn convex_hull_2d(points: impl Iterator<Item = (f64, f64)>, hull: &mut Vec<(f64, f64)>) {
+    let mut p: Vec<(f64, f64)> = points.collect();
+    p.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    hull.clear();
+    if p.len() < 3 {
+        hull.extend(p);
+        return;
+    }
+    for pass in 0..2 {
+        let start = hull.len();
+        for k in 0..p.len() {
+            let q = if pass == 0 { p[k] } else { p[p.len() - 1 - k] };
+            while hull.len() >= start + 2 && cross_2d(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+}
+
+/// Twice the signed area of the triangle (o, a, b): positive when b lies
+/// left of o -> a.
+fn cross_2d(o: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+}
+
+/// How far `q` lies outside the counter-clockwise convex polygon (its
+/// largest distance beyond an edge line; <= 0 inside). A polygon of one
+/// or two points is a point or a segment: the distance from it.
+fn outside(polygon: &[(f64, f64)], q: (f64, f64)) -> f64 {
+    match polygon.len() {
+        0 => f64::INFINITY,
+        1 => ((q.0 - polygon[0].0).powi(2) + (q.1 - polygon[0].1).powi(2)).sqrt(),
+        _ => (0..polygon.len())
+            .map(|k| {
+                let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                let len = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+                if polygon.len() == 2 {
+                    cross_2d(a, b, q).abs() / len
+                } else {
+                    -cross_2d(a, b, q) / len
+                }
+            })
+            .fold(f64::NEG_INFINITY, f64::max),
+    }
+}
+
+/// Points of a patch within this of its deepest (m) are the ones it rests
+/// on ([`reduce_patch`]); the rest are speculative contacts further away.
+pub const PATCH_DEPTH_BAND: f64 = 0.002;
+
+/// Chooses at most `max` (>= 4) of a patch's `n` points (position, and
+/// distance or gap, m) and writes their indices, in increasing order, to
+/// `keep`: all of them when `n <= max`. Else the points within
+/// [`PATCH_DEPTH_BAND`] of the deepest, and every point of negative gap,
+/// are the patch's support: the four of
+/// [`reduce_to_four`] among them (the deepest and three that span the
+/// largest area across `normal`), then one at a time the support point
+/// farthest outside the kept points' convex hull (ties to the lower index)
+/// while one lies outside, which brings the kept hull close to the whole
+/// support polygon; when the support has fewer than `max`,
+/// the deepest of the other points fill up. Choosing by spread alone would
+/// keep shallow speculative points at the rim and leave the body resting
+/// on its one deepest point. Every choice is geometric and the input order
+/// decides ties, so a patch that moves little keeps the same points (and
+/// their warm-started impulses).
+pub fn reduce_patch(
+    n: usize,
+    normal: DVec3,
+    max: usize,
+    get: impl Fn(usize) -> (DVec3, f64),
+    keep: &mut Vec<usize>,
+) {
+    keep.clear();
+    let max = max.max(4);
+    if n <= max {
+        keep.extend(0..n);
+        return;
+    }
+    let deepest = (0..n).map(|i| get(i).1).fold(f64::INFINITY, f64::min);
+    let level = (deepest + PATCH_DEPTH_BAND).max(0.0);
+    let support: Vec<usize> = (0..n).filter(|&i| get(i).1 <= level).collect();
+    if support.len() <= max {
+        let mut rest: Vec<usize> = (0..n).filter(|&i| get(i).1 > level).collect();
+        rest.sort_by(|&x, &y| get(x).1.total_cmp(&get(y).1).then(x.cmp(&y)));
+        keep.extend_from_slice(&support);
+        keep.extend(rest.into_iter().take(max - support.len()));
+        keep.sort_unstable();
+        return;
+    }
+    let at = |k: usize| get(support[k]);
+    let (four, count) = reduce_to_four(support.len(), normal, at);
+    keep.extend(four[..count].iter().map(|&k| support[k]));
+    // Then grow the kept polygon (in the plane across the normal) by the
+    // support point farthest outside it, while one is: its corners are
+    // what carry the wrench.
+    let (t1, t2) = normal.any_orthonormal_pair();
+    let flat = |i: usize| {
+        let p = get(i).0;
+        (p.dot(t1), p.dot(t2))
+    };
+    let mut polygon = Vec::with_capacity(max);
+    while keep.len() < max {
+        convex_hull_2d(keep.iter().map(|&i| flat(i)), &mut polygon);
+        let mut best = None;
+        let mut best_out = 0.0;
+        for &i in &support {
+            let out = outside(&polygon, flat(i));
+            if out > best_out {
+                best_out = out;
+                best = Some(i);
+            }
+        }
+        let Some(i) = best else { break };
+        keep.push(i);
+    }
+    keep.sort_unstable();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    fn reduce(points: &[(DVec3, f64)]) -> Vec<usize> {
+        let mut keep = Vec::new();
+        reduce_patch(points.len(), DVec3::Z, PATCH_MAX_POINTS, |i| points[i], &mut keep);
+        keep
+    }
+
+    /// Twice the area of the convex hull of `p` (x, y): the support
+    /// polygon a set of points spans.
+    fn hull_area(p: Vec<(f64, f64)>) -> f64 {
+        let mut hull = Vec::new();
+        convex_hull_2d(p.into_iter(), &mut hull);
+        (0..hull.len())
+            .map(|i| {
+                let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+                a.0 * b.1 - a.1 * b.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn the_hull_of_a_square_with_inner_points_is_its_corners_counter_clockwise() {
+        let mut points = vec![
+            (0.5, 0.5),
+            (1.0, 1.0),
+            (0.0, 0.0),
+            (0.2, 0.7),
+            (1.0, 0.0),
+            (0.5, 0.0),
+            (0.0, 1.0),
+        ];
+        points.push((0.99, 0.01));
+        let mut hull = Vec::new();
+        convex_hull_2d(points.into_iter(), &mut hull);
+        assert_eq!(hull, vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+        assert_eq!(hull_area(hull.clone()), 2.0);
+        assert!(outside(&hull, (0.5, 0.5)) < 0.0);
+        assert!((outside(&hull, (1.5, 0.5)) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_flat_grid_keeps_its_four_corners_so_the_support_polygon_is_whole() {
+        // 20 x 20 points of one flat face resting at equal depth: any normal
+        // wrench the full set carries (centre of pressure anywhere in the
+        // square) the corners carry too.
+        let mut points = Vec::new();
+        for i in 0..20 {
+            for j in 0..20 {
+                points.push((DVec3::new(i as f64 * 0.01, j as f64 * 0.01, 0.0), -0.001));
+            }
+        }
+        let keep = reduce(&points);
+        assert!(keep.len() <= PATCH_MAX_POINTS && keep.len() >= 4);
+        for corner in [0, 19, 380, 399] {
+            assert!(keep.contains(&corner), "corner {corner} dropped: {keep:?}");
+        }
+    }
+
+    #[test]
+    fn random_patches_keep_the_deepest_point_and_most_of_the_support_area() {
+        let mut rng = SplitMix64(7);
+        for case in 0..200 {
+            let n = 9 + (rng.next_u64() % 300) as usize;
+            let points: Vec<(DVec3, f64)> = (0..n)
+                .map(|_| {
+                    let p = DVec3::new(
+                        rng.range(-0.1, 0.1),
+                        rng.range(-0.05, 0.05),
+                        rng.range(-1e-3, 1e-3),
+                    );
+                    (p, rng.range(-0.003, 0.0))
+                })
+                .collect();
+            let keep = reduce(&points);
+            assert!(keep.len() <= PATCH_MAX_POINTS, "case {case}: kept {}", keep.len());
+            assert!(
+                keep.windows(2).all(|w| w[0] < w[1]),
+                "case {case}: not increasing and unique"
+            );
+            // The deepest point, up to reduce_to_four's tie tolerance.
+            let deepest = points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+            let kept_deepest = keep.iter().map(|&i| points[i].1).fold(f64::INFINITY, f64::min);
+            assert!(
+                kept_deepest <= deepest + 1e-5 * 0.3,
+                "case {case}: deepest dropped"
+            );
+            // Every point here has a negative gap, so all are support; the
+            // kept ones span most of their hull (four chosen by area, then
+            // spread).
+            let flat =
+                |ids: &mut dyn Iterator<Item = usize>| ids.map(|i| (points[i].0.x, points[i].0.y)).collect();
+            let full = hull_area(flat(&mut (0..n)));
+            let kept = hull_area(flat(&mut keep.iter().copied()));
+            assert!(kept >= 0.85 * full, "case {case}: kept hull {kept} of {full}");
+        }
+    }
+
+    #[test]
+    fn speculative_points_do_not_displace_the_support() {
+        // A ring of 40 points resting at -1 mm (a torus on the floor) and 200
+        // speculative points 5 to 20 mm up around it: the kept points are all
+        // on the ring, spread round it.
+        let mut points = Vec::new();
+        for k in 0..40 {
+            let a = std::f64::consts::TAU * k as f64 / 40.0;
+            points.push((DVec3::new(0.1 * a.cos(), 0.1 * a.sin(), 0.0), -0.001));
+        }
+        let mut rng = SplitMix64(3);
+        for _ in 0..200 {
+            let p = DVec3::new(rng.range(-0.14, 0.14), rng.range(-0.14, 0.14), 0.0);
+            points.push((p, rng.range(0.005, 0.02)));
+        }
+        let keep = reduce(&points);
+        assert_eq!(keep.len(), PATCH_MAX_POINTS);
+        assert!(keep.iter().all(|&i| i < 40), "{keep:?}");
+        let ring = hull_area((0..40).map(|i| (points[i].0.x, points[i].0.y)).collect());
+        let kept = hull_area(keep.iter().map(|&i| (points[i].0.x, points[i].0.y)).collect());
+        assert!(kept >= 0.85 * ring, "kept {kept} of {ring}");
+    }
+
+    #[test]
+    fn a_small_support_is_kept_whole_and_the_deepest_others_fill_up() {
+        // Three points at rest and 20 above them: the three, then the five
+        // lowest of the others.
+        let mut points = vec![
+            (DVec3::ZERO, -0.001),
+            (DVec3::X * 0.1, -0.001),
+            (DVec3::Y * 0.1, -0.0012),
+        ];
+        for k in 0..20 {
+            points.push((DVec3::new(0.01 * k as f64, 0.05, 0.0), 0.02 - 0.0005 * k as f64));
+        }
+        let keep = reduce(&points);
+        assert_eq!(keep, vec![0, 1, 2, 18, 19, 20, 21, 22]);
+        // Up to the limit, nothing is dropped.
+        let few = &points[..PATCH_MAX_POINTS];
+        let mut all = Vec::new();
+        reduce_patch(few.len(), DVec3::Z, PATCH_MAX_POINTS, |i| few[i], &mut all);
+        assert_eq!(all, (0..PATCH_MAX_POINTS).collect::<Vec<_>>());
+    }
+}

@@ -8,6 +8,7 @@
 //! - [`pose`]: validated rigid poses.
 //! - [`mesh`]: validated triangle meshes, topology, generators, OBJ/STL loaders.
 //! - [`contact`]: the contact record shared by every narrow-phase routine.
+//! - [`drift`]: a small rigid displacement, for queries that look ahead over a step.
 //! - [`hull`]: convex hulls of point sets.
 //! - [`bvh`]: the OBBTree: build, box tests, tree-tree and tree-volume traversal.
 //! - [`broad`]: sweep-and-prune broad phase over AABBs with persistent pairs.
@@ -23,6 +24,7 @@
 pub mod broad;
 pub mod bvh;
 pub mod contact;
+pub mod drift;
 pub mod hull;
 pub mod mass;
 pub mod math;
@@ -36,6 +38,7 @@ pub mod triangle;
 pub use broad::{Aabb, PairEvent, ProxyId, SweepAndPrune};
 pub use bvh::{ObbTree, TraversalStats, Traverse};
 pub use contact::{Contact, ContactKind, Feature, SubFeature};
+pub use drift::Drift;
 pub use mass::{mesh_mass_properties, MassError, MassFallback, MassProperties, MassSpec, PrincipalFrame};
 pub use math::{DMat3, DQuat, DVec3};
 pub use mesh::TriMesh;

@@ -14,6 +14,7 @@ use super::build::ObbTree;
 use super::node::Node;
 use super::sat::{obb_disjoint, obb_distance_lower_bound, RelFrame};
 use super::stack::SmallStack;
+use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::pose::Pose;
 
@@ -85,6 +86,29 @@ impl Relative {
             h: nb.half_f64().map(|h| h + grow),
         }
     }
+
+    /// [`Self::place_b`], then made to hold every position of the box
+    /// while B drifts by `drift` (A's frame): stretched along its centre's
+    /// displacement (centre moved halfway, each half extent grown by half
+    /// the move along its axis) and grown on every side by the rotation's
+    /// reach over its half diagonal. Also returns how far the box's points
+    /// can move (m).
+    #[inline]
+    fn place_b_drifting(&self, nb: &Node, grow: f64, drift: &Drift) -> (Placed, f64) {
+        let mut placed = self.place_b(nb, grow);
+        if drift.is_none() {
+            return (placed, 0.0);
+        }
+        let half = nb.half_f64();
+        let turn = drift.rotation.length() * DVec3::from(half).length();
+        let shift = drift.displacement(placed.c);
+        let axes = DMat3::from_quat(placed.q);
+        placed.c += 0.5 * shift;
+        for k in 0..3 {
+            placed.h[k] += 0.5 * axes.col(k).dot(shift).abs() + turn;
+        }
+        (placed, shift.length() + turn)
+    }
 }
 
 /// A box in mesh A's frame. When a pair is split, the unsplit side is placed
@@ -143,15 +167,48 @@ pub fn collide(
     margin: f64,
     mut on_pair: impl FnMut(u32, u32) -> Traverse,
 ) -> Result<TraversalStats, TraversalError> {
+    collide_moving(a, pose_a, b, pose_b, margin, &Drift::NONE, |ta, tb, _| {
+        on_pair(ta, tb)
+    })
+}
+
+/// [`collide`] while mesh B drifts by `drift` (world frame) relative to A:
+/// every pair of triangles that comes within `margin` of each other
+/// somewhere along the drift is reported (a superset, as for [`collide`]),
+/// with how far B's leaf can move (m), which bounds how far the pair's
+/// gap can close. Each of B's boxes is stretched along its own centre's
+/// displacement and grown by the rotation's reach over its own size, not
+/// by the largest motion of the whole body: a spinning body's small boxes
+/// near its axis barely move, and a falling body tests the triangles below
+/// it rather than every triangle within a fall's length around it.
+pub fn collide_moving(
+    a: &ObbTree,
+    pose_a: &Pose,
+    b: &ObbTree,
+    pose_b: &Pose,
+    margin: f64,
+    drift: &Drift,
+    mut on_pair: impl FnMut(u32, u32, f64) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
     check_nonneg("collide margin", margin)?;
+    if !drift.is_finite() {
+        return Err(TraversalError::BadParameter {
+            what: "collide drift",
+            value: f64::NAN,
+        });
+    }
     let rel = Relative::new(pose_a, pose_b);
+    let drift = drift.in_frame_of(pose_a);
     let grow = 0.5 * margin;
     let (na, nb) = (a.nodes(), b.nodes());
     let mut stats = TraversalStats {
         bv_tests: 1,
         ..TraversalStats::default()
     };
-    if na.is_empty() || nb.is_empty() || !Placed::a(&na[0], grow).overlaps(&rel.place_b(&nb[0], grow)) {
+    if na.is_empty()
+        || nb.is_empty()
+        || !Placed::a(&na[0], grow).overlaps(&rel.place_b_drifting(&nb[0], grow, &drift).0)
+    {
         return Ok(stats);
     }
     let mut stack = SmallStack::<(u32, u32)>::new();
@@ -160,10 +217,15 @@ pub fn collide(
         let (x, y) = (&na[ia as usize], &nb[ib as usize]);
         if x.is_leaf() && y.is_leaf() {
             stats.leaf_pairs += 1;
+            let moves = if drift.is_none() {
+                0.0
+            } else {
+                rel.place_b_drifting(y, grow, &drift).1
+            };
             for &ta in a.leaf_triangles(x) {
                 for &tb in b.leaf_triangles(y) {
                     stats.triangle_pairs += 1;
-                    if on_pair(ta, tb) == Traverse::Stop {
+                    if on_pair(ta, tb, moves) == Traverse::Stop {
                         stats.stopped = true;
                         return Ok(stats);
                     }
@@ -174,7 +236,7 @@ pub fn collide(
         // Test the children before pushing; push the second child first so
         // the first is visited first (depth-first, left to right).
         if descend_a(x, y) {
-            let pb = rel.place_b(y, grow);
+            let pb = rel.place_b_drifting(y, grow, &drift).0;
             let c = x.first_child();
             for child in [c + 1, c] {
                 stats.bv_tests += 1;
@@ -187,7 +249,7 @@ pub fn collide(
             let c = y.first_child();
             for child in [c + 1, c] {
                 stats.bv_tests += 1;
-                if pa.overlaps(&rel.place_b(&nb[child as usize], grow)) {
+                if pa.overlaps(&rel.place_b_drifting(&nb[child as usize], grow, &drift).0) {
                     stack.push((ia, child));
                 }
             }
@@ -494,12 +556,18 @@ pub(crate) mod tests {
         assert!((pairs - 36_782).abs() <= 2, "{pairs}");
     }
 
-    #[test]
-    fn margin_reports_pairs_with_close_vertices() {
+    /// A coarse sphere and a thin ring with their trees: small enough for
+    /// brute-force oracles over every triangle pair.
+    fn sphere_and_ring() -> (TriMesh, TriMesh, ObbTree, ObbTree) {
         let ma = icosphere_mesh(1.0, 2).unwrap();
         let mb = torus_mesh(0.8, 0.2, 12, 8).unwrap();
-        let ta = ObbTree::build(&ma).unwrap();
-        let tb = ObbTree::build(&mb).unwrap();
+        let (ta, tb) = (ObbTree::build(&ma).unwrap(), ObbTree::build(&mb).unwrap());
+        (ma, mb, ta, tb)
+    }
+
+    #[test]
+    fn margin_reports_pairs_with_close_vertices() {
+        let (ma, mb, ta, tb) = sphere_and_ring();
         let mut r = rng(8);
         let margin = 0.15;
         for _ in 0..20 {
@@ -517,6 +585,91 @@ pub(crate) mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_drifting_walk_reports_every_pair_that_comes_close_along_the_drift() {
+        // Brute force: B's triangles moved along the first-order drift
+        // (x -> x + t displacement(x)) at t = 0, 1/8, ..., 1; every pair
+        // that comes within the margin at one of those times must be
+        // reported, with a motion bound that covers its B triangle's move.
+        // The drift is large against the gap (up to 0.6 m across, and
+        // turns of up to 0.3 rad), so the walk's stretched boxes matter.
+        use crate::triangle::triangle_distance;
+        let (ma, mb, ta, tb) = sphere_and_ring();
+        let mut r = rng(31);
+        let margin = 0.02;
+        let mut checked = 0;
+        for _ in 0..6 {
+            let pa = random_pose(&mut r, 0.2);
+            let pb = random_pose(&mut r, 3.0);
+            let drift = Drift {
+                origin: DVec3::new(r(), r(), r()) - 0.5,
+                translation: (pa.position - pb.position).normalize() * 0.6 * r()
+                    + DVec3::new(r(), r(), r()) * 0.1,
+                rotation: DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 0.6,
+            };
+            let mut moves_of = std::collections::BTreeMap::new();
+            collide_moving(&ta, &pa, &tb, &pb, margin, &drift, |i, j, moves| {
+                assert!(moves_of.insert((i, j), moves).is_none(), "pair reported twice");
+                Traverse::Continue
+            })
+            .unwrap();
+            for j in 0..mb.triangles().len() as u32 {
+                let q0 = world_tri(&mb, &pb, j);
+                let shifts = q0.map(|v| drift.displacement(v));
+                for i in 0..ma.triangles().len() as u32 {
+                    let p = world_tri(&ma, &pa, i);
+                    let close = (0..=8).any(|k| {
+                        let t = k as f64 / 8.0;
+                        let q = [0, 1, 2].map(|c| q0[c] + shifts[c] * t);
+                        triangle_distance(&p, &q).distance <= margin
+                    });
+                    if close {
+                        checked += 1;
+                        let moves = *moves_of
+                            .get(&(i, j))
+                            .unwrap_or_else(|| panic!("pair {i}, {j} missed"));
+                        let moved = shifts.iter().map(|s| s.length()).fold(0.0, f64::max);
+                        assert!(moved <= moves + 1e-9, "moves {moves} < {moved}");
+                    }
+                }
+            }
+        }
+        assert!(
+            checked > 100,
+            "only {checked} close pairs: the cases test nothing"
+        );
+    }
+
+    #[test]
+    fn a_drift_tests_fewer_pairs_than_a_margin_as_long_as_the_move() {
+        // A sphere falling 0.3 m onto a torus: the walk along the fall
+        // reports a fraction of the pairs that a margin of 0.3 m on every
+        // side would.
+        let ma = torus_mesh(1.0, 0.3, 48, 24).unwrap();
+        let mb = icosphere_mesh(0.5, 3).unwrap();
+        let ta = ObbTree::build(&ma).unwrap();
+        let tb = ObbTree::build(&mb).unwrap();
+        let pa = Pose::IDENTITY;
+        let pb = Pose::from_translation(DVec3::new(1.0, 0.0, 0.85));
+        let fall = Drift {
+            origin: DVec3::ZERO,
+            translation: DVec3::new(0.0, 0.0, -0.3),
+            rotation: DVec3::ZERO,
+        };
+        let mut along = 0;
+        collide_moving(&ta, &pa, &tb, &pb, 0.005, &fall, |_, _, _| {
+            along += 1;
+            Traverse::Continue
+        })
+        .unwrap();
+        let (around, _) = reported(&ta, &pa, &tb, &pb, 0.305);
+        assert!(
+            along > 0 && 3 * along < around.len(),
+            "{along} along the fall, {} around",
+            around.len()
+        );
     }
 
     #[test]

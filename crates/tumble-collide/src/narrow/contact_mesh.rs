@@ -10,6 +10,7 @@
 use super::contact_halfspace::{push_vertex_on_plane, reduce_in_place};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
+use crate::drift::Drift;
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
@@ -145,6 +146,25 @@ pub fn contact_mesh_mesh(
     margin: f64,
     out: &mut Vec<Contact>,
 ) {
+    contact_mesh_mesh_moving(a, pose_a, b, pose_b, margin, &Drift::NONE, out);
+}
+
+/// [`contact_mesh_mesh`] while B drifts by `drift` (world) relative to A,
+/// besides motions within `margin`: each triangle pair that comes within
+/// `margin` along the drift (`bvh::collide_moving`) gives its contacts
+/// within `margin` plus how far its triangle of B can move. A pair the
+/// drift cannot bring together is left out: no contact of it could close
+/// in the step, so the solver loses nothing, and the triangles tested
+/// follow each part's own motion instead of the body's fastest point.
+pub fn contact_mesh_mesh_moving(
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    margin: f64,
+    drift: &Drift,
+    out: &mut Vec<Contact>,
+) {
     let start = out.len();
     let rel = pose_a.inverse().mul_pose(pose_b);
     let rot = DMat3::from_quat(rel.rotation);
@@ -152,13 +172,21 @@ pub fn contact_mesh_mesh(
     let (verts_b, tris_b) = (b.mesh().vertices(), b.mesh().triangles());
     VERTEX_CACHE.with_borrow_mut(|cache| {
         cache.begin(verts_b.len());
-        let _ = bvh::collide(a.tree(), pose_a, b.tree(), pose_b, margin, |ta, tb| {
-            let [i, j, k] = tris_a[ta as usize];
-            let wa = [verts_a[i as usize], verts_a[j as usize], verts_a[k as usize]];
-            let wb = tris_b[tb as usize].map(|v| cache.get(v, &rot, rel.position, verts_b));
-            triangle_contacts_unchecked(&wa, ta, &wb, tb, margin, out);
-            Traverse::Continue
-        });
+        let _ = bvh::collide_moving(
+            a.tree(),
+            pose_a,
+            b.tree(),
+            pose_b,
+            margin,
+            drift,
+            |ta, tb, moves| {
+                let [i, j, k] = tris_a[ta as usize];
+                let wa = [verts_a[i as usize], verts_a[j as usize], verts_a[k as usize]];
+                let wb = tris_b[tb as usize].map(|v| cache.get(v, &rot, rel.position, verts_b));
+                triangle_contacts_unchecked(&wa, ta, &wb, tb, margin + moves, out);
+                Traverse::Continue
+            },
+        );
     });
     for c in &mut out[start..] {
         c.point = pose_a.transform_point(c.point);

@@ -18,6 +18,7 @@
 
 use super::*;
 use crate::contact::Contact;
+use crate::drift::Drift;
 use crate::pose::Pose;
 use crate::shape::Shape;
 
@@ -34,11 +35,56 @@ pub fn contact_shapes(
     margin: f64,
     out: &mut Vec<Contact>,
 ) -> Result<(), NarrowError> {
+    contact_shapes_moving(a, pose_a, b, pose_b, margin, &Drift::NONE, out)
+}
+
+/// [`contact_shapes`] while B drifts by `drift` (world frame) relative to
+/// A, besides motions within `margin`: the contacts the drift can close.
+/// Two meshes follow the drift through their trees
+/// ([`contact_mesh_mesh_moving`]); every other pair takes the contacts
+/// within `margin` plus the drift's reach over B's bounding box. A drift
+/// with a non-finite component is [`NarrowError::BadMargin`] (NaN).
+pub fn contact_shapes_moving(
+    a: &Shape,
+    pose_a: &Pose,
+    b: &Shape,
+    pose_b: &Pose,
+    margin: f64,
+    drift: &Drift,
+    out: &mut Vec<Contact>,
+) -> Result<(), NarrowError> {
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(NarrowError::BadMargin(margin));
     }
+    if !drift.is_finite() {
+        return Err(NarrowError::BadMargin(f64::NAN));
+    }
     let start = out.len();
-    dispatch(a, pose_a, b, pose_b, margin, out)?;
+    match (a, b) {
+        (Shape::Mesh(x), Shape::Mesh(y)) => {
+            contact_mesh_mesh_moving(x, pose_a, y, pose_b, margin, drift, out)
+        }
+        _ if drift.is_none() => dispatch(a, pose_a, b, pose_b, margin, out)?,
+        _ => {
+            let bounds = b.aabb(pose_b);
+            let (center, radius) = (
+                (bounds.min + bounds.max) * 0.5,
+                (bounds.max - bounds.min).length() * 0.5,
+            );
+            // An unbounded B (a half-space) is reached by A's motion instead.
+            let reach = if radius.is_finite() {
+                drift.reach(center, radius)
+            } else {
+                let bounds = a.aabb(pose_a);
+                let (center, radius) = (
+                    (bounds.min + bounds.max) * 0.5,
+                    (bounds.max - bounds.min).length() * 0.5,
+                );
+                drift.reach(center, radius)
+            };
+            dispatch(a, pose_a, b, pose_b, margin + reach, out)?
+        }
+    }
     let finite = out[start..]
         .iter()
         .all(|c| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite());

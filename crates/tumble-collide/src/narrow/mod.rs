@@ -47,14 +47,15 @@ pub use contact_halfspace::{
     contact_capsule_halfspace, contact_polytope_halfspace, contact_sphere_halfspace,
 };
 pub use contact_mesh::{
-    contact_mesh_halfspace, contact_mesh_mesh, contact_polytope_mesh, contact_sphere_mesh,
+    contact_mesh_halfspace, contact_mesh_mesh, contact_mesh_mesh_moving, contact_polytope_mesh,
+    contact_sphere_mesh,
 };
 pub use contact_polytope_polytope::contact_polytope_polytope;
 pub use contact_segment_polytope::{contact_capsule_polytope, contact_sphere_polytope};
 pub use contact_sphere_capsule::contact_sphere_capsule;
 pub use contact_sphere_cuboid::contact_sphere_cuboid;
 pub use contact_sphere_sphere::contact_sphere_sphere;
-pub use dispatch::contact_shapes;
+pub use dispatch::{contact_shapes, contact_shapes_moving};
 pub use reduce::{reduce_patch, reduce_to_four, PATCH_MAX_POINTS};
 
 use crate::contact::{Contact, ContactKind, Feature};

@@ -18,7 +18,9 @@
 
 use crate::contact::{Contact, Feature, SubFeature};
 use crate::math::DVec3;
-use std::collections::HashMap;
+// Fx hashing: the keys are small integers and vertex ids made here, never
+// an attacker's, and SipHash was a tenth of a settled mesh pile's step.
+use rustc_hash::FxHashMap as HashMap;
 
 /// Tolerances for [`merge_contacts`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -191,8 +193,8 @@ fn survivors_by_lookup(contacts: &[Contact], keys: &[FeatureKey], rule: &Rule) -
             (p.z / cell).floor() as i64,
         ]
     };
-    let mut by_feature: HashMap<FeatureKey, Vec<usize>> = HashMap::new();
-    let mut by_cell: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    let mut by_feature: HashMap<FeatureKey, Vec<usize>> = HashMap::default();
+    let mut by_cell: HashMap<[i64; 3], Vec<usize>> = HashMap::default();
     let mut keep = vec![false; contacts.len()];
     for i in deepest_first(contacts) {
         let dup = |k: &usize| rule.duplicates(&contacts[i], &contacts[*k], &keys[i], &keys[*k]);

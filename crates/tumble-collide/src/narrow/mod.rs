@@ -56,7 +56,7 @@ pub use contact_sphere_capsule::contact_sphere_capsule;
 pub use contact_sphere_cuboid::contact_sphere_cuboid;
 pub use contact_sphere_sphere::contact_sphere_sphere;
 pub use dispatch::{contact_shapes, contact_shapes_moving};
-pub use reduce::{reduce_patch, reduce_to_four, PATCH_MAX_POINTS};
+pub use reduce::{reduce_patch, reduce_to_four, PATCH_DEPTH_BAND, PATCH_MAX_POINTS};
 
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;

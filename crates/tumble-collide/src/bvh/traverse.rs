@@ -91,23 +91,30 @@ impl Relative {
     /// while B drifts by `drift` (A's frame): stretched along its centre's
     /// displacement (centre moved halfway, each half extent grown by half
     /// the move along its axis) and grown on every side by the rotation's
-    /// reach over its half diagonal. Also returns how far the box's points
-    /// can move (m).
+    /// reach over its half diagonal.
     #[inline]
-    fn place_b_drifting(&self, nb: &Node, grow: f64, drift: &Drift) -> (Placed, f64) {
+    fn place_b_drifting(&self, nb: &Node, grow: f64, drift: &Drift) -> Placed {
         let mut placed = self.place_b(nb, grow);
         if drift.is_none() {
-            return (placed, 0.0);
+            return placed;
         }
-        let half = nb.half_f64();
-        let turn = drift.rotation.length() * DVec3::from(half).length();
+        let turn = drift.rotation.length() * DVec3::from(nb.half_f64()).length();
         let shift = drift.displacement(placed.c);
         let axes = DMat3::from_quat(placed.q);
         placed.c += 0.5 * shift;
         for k in 0..3 {
             placed.h[k] += 0.5 * axes.col(k).dot(shift).abs() + turn;
         }
-        (placed, shift.length() + turn)
+        placed
+    }
+
+    /// How far any point of B's box `nb` can move while B drifts by
+    /// `drift` (A's frame, m): the drift's reach over the box's half
+    /// diagonal about its centre (no orientation needed).
+    #[inline]
+    fn reach_of_b(&self, nb: &Node, drift: &Drift) -> f64 {
+        let center = self.rot * nb.center_f64() + self.trans;
+        drift.reach(center, DVec3::from(nb.half_f64()).length())
     }
 }
 
@@ -207,7 +214,7 @@ pub fn collide_moving(
     };
     if na.is_empty()
         || nb.is_empty()
-        || !Placed::a(&na[0], grow).overlaps(&rel.place_b_drifting(&nb[0], grow, &drift).0)
+        || !Placed::a(&na[0], grow).overlaps(&rel.place_b_drifting(&nb[0], grow, &drift))
     {
         return Ok(stats);
     }
@@ -220,7 +227,7 @@ pub fn collide_moving(
             let moves = if drift.is_none() {
                 0.0
             } else {
-                rel.place_b_drifting(y, grow, &drift).1
+                rel.reach_of_b(y, &drift)
             };
             for &ta in a.leaf_triangles(x) {
                 for &tb in b.leaf_triangles(y) {
@@ -236,7 +243,7 @@ pub fn collide_moving(
         // Test the children before pushing; push the second child first so
         // the first is visited first (depth-first, left to right).
         if descend_a(x, y) {
-            let pb = rel.place_b_drifting(y, grow, &drift).0;
+            let pb = rel.place_b_drifting(y, grow, &drift);
             let c = x.first_child();
             for child in [c + 1, c] {
                 stats.bv_tests += 1;
@@ -249,7 +256,7 @@ pub fn collide_moving(
             let c = y.first_child();
             for child in [c + 1, c] {
                 stats.bv_tests += 1;
-                if pa.overlaps(&rel.place_b_drifting(&nb[child as usize], grow, &drift).0) {
+                if pa.overlaps(&rel.place_b_drifting(&nb[child as usize], grow, &drift)) {
                     stack.push((ia, child));
                 }
             }

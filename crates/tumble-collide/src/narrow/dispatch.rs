@@ -42,8 +42,9 @@ pub fn contact_shapes(
 /// A, besides motions within `margin`: the contacts the drift can close.
 /// Two meshes follow the drift through their trees
 /// ([`contact_mesh_mesh_moving`]); every other pair takes the contacts
-/// within `margin` plus the drift's reach over B's bounding box. A drift
-/// with a non-finite component is [`NarrowError::BadMargin`] (NaN).
+/// within `margin` plus the drift's reach over B's bounding box (A's, when
+/// B is a half-space). A drift with a non-finite component is
+/// [`NarrowError::BadDrift`]; nothing is appended then.
 pub fn contact_shapes_moving(
     a: &Shape,
     pose_a: &Pose,
@@ -57,7 +58,7 @@ pub fn contact_shapes_moving(
         return Err(NarrowError::BadMargin(margin));
     }
     if !drift.is_finite() {
-        return Err(NarrowError::BadMargin(f64::NAN));
+        return Err(NarrowError::BadDrift);
     }
     let start = out.len();
     match (a, b) {

@@ -75,6 +75,10 @@ pub enum NarrowError {
     /// The margin is negative, NaN or infinite.
     #[error("contact margin must be finite and >= 0 m, got {0}")]
     BadMargin(f64),
+    /// A drift with a NaN or infinite component (origin or translation in
+    /// m, rotation vector in rad).
+    #[error("contact drift must be finite (origin and translation in m, rotation in rad)")]
+    BadDrift,
     /// The contact arithmetic overflowed (dimensions or coordinates near the
     /// limit of f64, e.g. a capsule 1e300 m long): no contact is returned
     /// for the pair rather than a non-finite one.

@@ -202,3 +202,66 @@ fn capsule_against_mesh_is_routed_to_its_routine() {
     assert!((min_distance(&out) - 0.02).abs() < 1e-12);
     assert!(out.iter().all(|c| (c.normal - DVec3::Z).length() < 1e-12));
 }
+
+#[test]
+fn a_drift_finds_the_contacts_its_move_can_close_and_only_those() {
+    // A above B with a 0.3 m gap between the top face of B and the bottom
+    // of A. B rising 0.5 m relative to A closes it: the face contacts at
+    // 0.3 m are reported; rising 0.1 m does not. For two meshes the drift's
+    // direction counts: 0.5 m sideways closes nothing, where a margin of
+    // 0.5 m on every side would report the face.
+    use crate::Drift;
+    let rise = |dz: f64| Drift {
+        origin: DVec3::ZERO,
+        translation: DVec3::new(0.0, 0.0, dz),
+        rotation: DVec3::ZERO,
+    };
+    let sideways = Drift {
+        translation: DVec3::new(0.5, 0.0, 0.0),
+        ..rise(0.0)
+    };
+    let (pa, pb) = (Pose::from_translation(DVec3::new(0.0, 0.0, 0.9)), Pose::IDENTITY);
+    let cube = Shape::Mesh(mesh_box(0.3));
+    let sphere = Shape::Sphere(Sphere::new(0.3).unwrap());
+    let margin = 0.01;
+    for a in [&cube, &sphere] {
+        let found = |drift: &Drift| {
+            let mut out = Vec::new();
+            contact_shapes_moving(a, &pa, &cube, &pb, margin, drift, &mut out).unwrap();
+            out
+        };
+        let closing = found(&rise(0.5));
+        assert!(!closing.is_empty(), "{}: the rise closes the gap", a.kind_name());
+        // The gap itself, straight down, is the deepest of them (the ball
+        // also sees the cube's edges farther off within the reach).
+        let deepest = closing
+            .iter()
+            .min_by(|x, y| x.distance.total_cmp(&y.distance))
+            .unwrap();
+        assert!(
+            (deepest.distance - 0.3).abs() < 1e-9 && deepest.normal.z > 0.999,
+            "{deepest:?}"
+        );
+        assert!(
+            found(&rise(0.1)).is_empty(),
+            "{}: 0.1 m cannot close 0.3 m",
+            a.kind_name()
+        );
+    }
+    let mut out = Vec::new();
+    contact_shapes_moving(&cube, &pa, &cube, &pb, margin, &sideways, &mut out).unwrap();
+    assert!(out.is_empty(), "a sideways move closes no gap: {out:?}");
+    contact_shapes(&cube, &pa, &cube, &pb, 0.5, &mut out).unwrap();
+    assert!(!out.is_empty(), "an isotropic margin of 0.5 m reports the face");
+    // A drift that is not finite is refused and appends nothing.
+    let mut out = Vec::new();
+    let bad = Drift {
+        translation: DVec3::new(f64::NAN, 0.0, 0.0),
+        ..rise(0.0)
+    };
+    assert_eq!(
+        contact_shapes_moving(&cube, &pa, &sphere, &pb, margin, &bad, &mut out),
+        Err(NarrowError::BadDrift)
+    );
+    assert!(out.is_empty());
+}

@@ -70,6 +70,18 @@ impl Args {
         }
         Ok(out)
     }
+
+    /// This process's arguments, or, on a bad command line, the peers' protocol:
+    /// one line `{program}: {error}` on stderr and exit status 2.
+    pub fn from_env_or_exit(program: &str) -> Args {
+        match Args::parse(std::env::args().skip(1)) {
+            Ok(a) => a,
+            Err(e) => {
+                eprintln!("{program}: {e}");
+                std::process::exit(2);
+            }
+        }
+    }
 }
 
 #[cfg(test)]

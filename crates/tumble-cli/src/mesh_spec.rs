@@ -51,24 +51,23 @@ impl<'a> Params<'a> {
         Ok(Params { map })
     }
 
-    fn f64_or(&self, key: &str, default: f64) -> Result<f64, String> {
+    /// The value of `key` parsed as a `T`, or `default` when it is absent; the
+    /// error names the parameter and says what it must be (`what`).
+    fn value_or<T: std::str::FromStr>(&self, key: &str, default: T, what: &str) -> Result<T, String> {
         match self.map.get(key) {
             None => Ok(default),
             Some(v) => v
-                .parse::<f64>()
-                .map_err(|_| format!("parameter '{key}' must be a number, got '{v}'")),
+                .parse::<T>()
+                .map_err(|_| format!("parameter '{key}' must be {what}, got '{v}'")),
         }
     }
 
-    // `f64_or` for counts: two functions so that each message says what it
-    // expects ("a number", "a non-negative integer").
+    fn f64_or(&self, key: &str, default: f64) -> Result<f64, String> {
+        self.value_or(key, default, "a number")
+    }
+
     fn usize_or(&self, key: &str, default: usize) -> Result<usize, String> {
-        match self.map.get(key) {
-            None => Ok(default),
-            Some(v) => v
-                .parse::<usize>()
-                .map_err(|_| format!("parameter '{key}' must be a non-negative integer, got '{v}'")),
-        }
+        self.value_or(key, default, "a non-negative integer")
     }
 }
 

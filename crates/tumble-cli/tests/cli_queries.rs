@@ -204,6 +204,7 @@ fn obj_files_work_in_mass_and_collide() {
     }
     // A hand-written OBJ on purpose (not mesh::box_mesh, nor the 0-based table
     // of query_oracle.rs `primitive_triangle_distance`): the reader is under test.
+    // (world_recorder.rs `PALETTE` is six colours, alike to this table in shape only.)
     // Corner loops of the six faces (1-based), split into triangles wound
     // counter-clockwise seen from outside.
     for f in [

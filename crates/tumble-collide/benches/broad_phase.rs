@@ -120,14 +120,16 @@ fn describe(n: usize, speed: f64, teleport: bool) {
     );
 }
 
-/// Incremental sweep and prune on the moving scene; `teleport`: every box
-/// jumps to a random place each step instead of moving a little.
-fn sap_moving(c: &mut Criterion, name: &str, teleport: bool) {
+/// Incremental sweep and prune on the moving scene, velocities uniform in
+/// `[-speed(n), speed(n)]^3` m/s; `teleport`: every box jumps to a random place
+/// each step instead of moving a little.
+fn sap_moving(c: &mut Criterion, name: &str, speed: fn(usize) -> f64, teleport: bool) {
     let mut group = c.benchmark_group(name);
     group.sample_size(10);
     for n in [1_000, 10_000, 100_000] {
-        describe(n, 1.0, teleport);
-        let mut scene = Scene::new(n);
+        let speed = speed(n);
+        describe(n, speed, teleport);
+        let mut scene = Scene::with_speed(n, speed);
         let (mut sap, ids, mut events) = build(&scene);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(BenchmarkId::from_parameter(n), |b| {
@@ -140,37 +142,29 @@ fn sap_moving(c: &mut Criterion, name: &str, teleport: bool) {
     group.finish();
 }
 
+/// Speed 1 m/s at every n.
+fn unit_speed(_: usize) -> f64 {
+    1.0
+}
+
 fn sap_coherent(c: &mut Criterion) {
-    sap_moving(c, "sap_coherent", false);
+    sap_moving(c, "sap_coherent", unit_speed, false);
 }
 
 /// Same scene with speeds scaled by `(1000 / n)^(2/3)`, so that each box passes
 /// the same number of endpoints per step at every n (the endpoint spacing on an
 /// axis shrinks as n^(-2/3) at fixed 3D density): isolates the O(n + swaps) cost.
 fn sap_fixed_crossings(c: &mut Criterion) {
-    // `sap_moving`'s loop with a speed that depends on n, written out only
-    // because `sap_moving` takes no speed; giving it a speed function would
-    // merge the two, and until then they must change together.
-    let mut group = c.benchmark_group("sap_fixed_crossings");
-    group.sample_size(10);
-    for n in [1_000, 10_000, 100_000] {
-        let speed = (1000.0 / n as f64).powf(2.0 / 3.0);
-        describe(n, speed, false);
-        let mut scene = Scene::with_speed(n, speed);
-        let (mut sap, ids, mut events) = build(&scene);
-        group.throughput(Throughput::Elements(n as u64));
-        group.bench_function(BenchmarkId::from_parameter(n), |b| {
-            b.iter(|| {
-                advance(&mut scene, &mut sap, &ids, false);
-                black_box(sap.update(&mut events))
-            })
-        });
-    }
-    group.finish();
+    sap_moving(
+        c,
+        "sap_fixed_crossings",
+        |n| (1000.0 / n as f64).powf(2.0 / 3.0),
+        false,
+    );
 }
 
 fn sap_teleport(c: &mut Criterion) {
-    sap_moving(c, "sap_teleport", true);
+    sap_moving(c, "sap_teleport", unit_speed, true);
 }
 
 fn brute_force(c: &mut Criterion) {

@@ -93,6 +93,9 @@ fn busy() -> PyErr {
 
 #[pymethods]
 impl Body {
+    // `position` and `orientation` are mirror property pairs, like `velocity`
+    // and `angular_velocity` below: pyo3 wants a getter and a setter per
+    // attribute, and each setter keeps the other half of the pose it sets.
     /// Position of the model-frame origin (m), shape (3,). Settable (teleport).
     #[getter]
     fn position<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
@@ -284,6 +287,8 @@ impl Body {
         self.write(py, |w, id| w.inner.apply_torque(id, t).or_raise())
     }
 
+    // The (vector, point=None) arguments of `apply_force` above, but a method of
+    // its own: an impulse changes the velocities now, a force waits for the step.
     /// Applies an impulse (N s) now, at the centre of mass or at the world
     /// `point`: the velocities change immediately. Dynamic bodies.
     #[pyo3(signature = (impulse, point=None))]

@@ -2,8 +2,9 @@
 //! Rust `JointDesc` (no physics here), and a handle that reads a joint's
 //! state. A handle of a removed joint (or of a joint whose body was
 //! removed) raises `StaleBodyError`. `tumble.load_urdf` and its `Robot`.
-//! The getters of `Joint` are one line each over one `JointState`
-//! (pyo3 wants a method per attribute): alike by design.
+//! The getters of `Joint` are one line each over `Joint::state` (its
+//! `JointState`) or `Joint::desc` (its `JointDesc`, what it was made with):
+//! pyo3 wants a method per attribute, so they are alike by design.
 
 use crate::body::Body;
 use crate::convert::{self, vec3, vec_out};
@@ -224,6 +225,12 @@ impl Joint {
         w.check_usable()?;
         guard(|| w.inner.joint_state(self.id).or_raise())
     }
+
+    /// `f` of the joint's description (what it was made with).
+    fn desc<T>(&self, py: Python<'_>, f: impl FnOnce(&JointDesc) -> T) -> PyResult<T> {
+        let w = self.world.bind(py).borrow();
+        Ok(f(w.inner.joint(self.id).or_raise()?))
+    }
 }
 
 #[pymethods]
@@ -231,28 +238,19 @@ impl Joint {
     /// "fixed", "ball", "hinge", "slider" or "distance".
     #[getter]
     fn kind(&self, py: Python<'_>) -> PyResult<&'static str> {
-        let w = self.world.bind(py).borrow();
-        Ok(w.inner.joint(self.id).or_raise()?.kind.name())
+        self.desc(py, |d| d.kind.name())
     }
 
     /// The name given at creation.
     #[getter]
     fn name(&self, py: Python<'_>) -> PyResult<String> {
-        let w = self.world.bind(py).borrow();
-        Ok(w.inner.joint(self.id).or_raise()?.name.clone())
+        self.desc(py, |d| d.name.clone())
     }
 
     /// The first body.
     #[getter]
     fn body_a(&self, py: Python<'_>) -> PyResult<Body> {
-        let id = self
-            .world
-            .bind(py)
-            .borrow()
-            .inner
-            .joint(self.id)
-            .or_raise()?
-            .body_a;
+        let id = self.desc(py, |d| d.body_a)?;
         Ok(Body {
             world: self.world.clone_ref(py),
             id,
@@ -262,14 +260,7 @@ impl Joint {
     /// The second body, or None for the world.
     #[getter]
     fn body_b(&self, py: Python<'_>) -> PyResult<Option<Body>> {
-        let id = self
-            .world
-            .bind(py)
-            .borrow()
-            .inner
-            .joint(self.id)
-            .or_raise()?
-            .body_b;
+        let id = self.desc(py, |d| d.body_b)?;
         Ok(id.map(|id| Body {
             world: self.world.clone_ref(py),
             id,
@@ -335,14 +326,7 @@ impl Joint {
     /// new dict (e.g. a servo's next target) or None to switch it off.
     #[getter]
     fn motor<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let motor = self
-            .world
-            .bind(py)
-            .borrow()
-            .inner
-            .joint(self.id)
-            .or_raise()?
-            .motor;
+        let motor = self.desc(py, |d| d.motor)?;
         motor.map(|m| motor_dict(py, &m)).transpose()
     }
 

@@ -15,7 +15,7 @@ use crate::convert::describe;
 use crate::errors::{error, guard, invalid, Kind, OrRaise, ToPyErr};
 use crate::pose_arg::pose_arg;
 use crate::query_out::{collision_result, distance_result};
-use crate::shapes::{Placed, PyBox, PyCapsule, PyConvexHull, PyHalfSpace, PySphere};
+use crate::shapes::{primitive, Placed, PyConvexHull};
 use crate::trimesh::{mesh_from_object, TriMesh};
 use pyo3::prelude::*;
 use tumble_collide::query::{self, CollideOptions, DistanceOptions, MeshShape, QueryError, ReportMode};
@@ -32,23 +32,15 @@ impl ToPyErr for QueryError {
 
 // Not `shapes::single_shape` (shapes.rs), which casts the same classes for
 // bodies: the queries refuse ConvexHull and Placed, with a hint of their own.
+// The primitives are read by `shapes::primitive`, for both.
 /// The query shape of argument `name`: a mesh (borrowed from a `TriMesh`
 /// or built for this call from a trimesh-like object) or a solid primitive.
 fn object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Shape> {
     if let Ok(m) = obj.cast::<TriMesh>() {
         return Ok(Shape::Mesh(m.get().mesh_shape_ref()?.clone()));
     }
-    if let Ok(s) = obj.cast::<PySphere>() {
-        return Ok(Shape::Sphere(s.get().inner));
-    }
-    if let Ok(s) = obj.cast::<PyBox>() {
-        return Ok(Shape::Cuboid(s.get().inner));
-    }
-    if let Ok(s) = obj.cast::<PyCapsule>() {
-        return Ok(Shape::Capsule(s.get().inner));
-    }
-    if let Ok(s) = obj.cast::<PyHalfSpace>() {
-        return Ok(Shape::HalfSpace(s.get().inner));
+    if let Some(s) = primitive(obj) {
+        return Ok(s);
     }
     if obj.is_instance_of::<PyConvexHull>() || obj.is_instance_of::<Placed>() {
         return Err(invalid(format!(

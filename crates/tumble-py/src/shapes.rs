@@ -6,10 +6,12 @@
 //!
 //! Shapes are immutable values: validated once in the constructor, shared
 //! by every body made from them, picklable through `__reduce__`.
-//! pyo3 methods belong to one class each, so every shape class repeats its
-//! one-line `at` (placing it: `Placed::new`, written once) and its
-//! `__reduce__`; a shared Python base class would remove those lines and is
-//! not worth the change of the classes' identity (pickles, `isinstance`).
+//! pyo3 methods belong to one class each, so every shape class repeats the
+//! same frame: a struct around its Rust shape, `new`, one-line getters, the
+//! one-line `at` (placing it: `Placed::new`, written once), `__reduce__` and
+//! `__repr__` (as `TriMesh` does in trimesh.rs). A shared Python base class
+//! would remove some of those lines and is not worth the change of the
+//! classes' identity (pickles, `isinstance`).
 
 use crate::convert::{self, describe, quat_out, vec3, vec_out};
 use crate::errors::{guard, invalid, OrRaise};
@@ -385,24 +387,34 @@ impl Placed {
     }
 }
 
-// query.rs `object` casts the same classes for the collision queries but
-// refuses ConvexHull and Placed (the queries take meshes and primitives).
-/// The geometry of one shape-like object (not a list, not `Placed`).
-pub fn single_shape(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Shape> {
+/// The geometry of a `Box`, `Sphere`, `Capsule` or `HalfSpace`, `None` for
+/// any other object: the solid primitives that both bodies
+/// ([`single_shape`]) and the collision queries (query.rs `object`) take.
+pub(crate) fn primitive(obj: &Bound<'_, PyAny>) -> Option<Shape> {
     if let Ok(s) = obj.cast::<PyBox>() {
-        return Ok(Shape::Cuboid(s.get().inner));
+        return Some(Shape::Cuboid(s.get().inner));
     }
     if let Ok(s) = obj.cast::<PySphere>() {
-        return Ok(Shape::Sphere(s.get().inner));
+        return Some(Shape::Sphere(s.get().inner));
     }
     if let Ok(s) = obj.cast::<PyCapsule>() {
-        return Ok(Shape::Capsule(s.get().inner));
+        return Some(Shape::Capsule(s.get().inner));
+    }
+    if let Ok(s) = obj.cast::<PyHalfSpace>() {
+        return Some(Shape::HalfSpace(s.get().inner));
+    }
+    None
+}
+
+// query.rs `object` shares `primitive` but refuses ConvexHull and Placed,
+// with a hint of its own (the queries take meshes and solid primitives).
+/// The geometry of one shape-like object (not a list, not `Placed`).
+pub fn single_shape(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Shape> {
+    if let Some(s) = primitive(obj) {
+        return Ok(s);
     }
     if let Ok(s) = obj.cast::<PyConvexHull>() {
         return Ok(Shape::ConvexHull(s.get().inner.clone()));
-    }
-    if let Ok(s) = obj.cast::<PyHalfSpace>() {
-        return Ok(Shape::HalfSpace(s.get().inner));
     }
     if let Ok(s) = obj.cast::<TriMesh>() {
         return Ok(Shape::Mesh(s.get().mesh_shape()?));

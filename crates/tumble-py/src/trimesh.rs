@@ -2,7 +2,8 @@
 //! generators of `tumble_collide::mesh`, or any `trimesh.Trimesh`-like
 //! object (duck-typed on `.vertices` / `.faces`, so trimesh is optional).
 //! Its OBBTree is built on first use as a body shape and shared by every
-//! body made from it.
+//! body made from it. Its getters, `__reduce__` and `__repr__` follow the
+//! shape classes' (see shapes.rs): pyo3 methods belong to one class each.
 
 use crate::convert::{self, describe, vec3};
 use crate::errors::{guard, invalid, OrRaise};
@@ -59,6 +60,12 @@ impl TriMesh {
         }
     }
 
+    /// A `TriMesh` of the mesh `make` builds, under the panic guard: every
+    /// constructor (arrays, file, trimesh object, generators) ends here.
+    fn built(make: impl FnOnce() -> PyResult<RMesh>) -> PyResult<TriMesh> {
+        guard(|| make().map(TriMesh::from_mesh))
+    }
+
     /// The collision shape (OBBTree built once, then shared).
     pub(crate) fn mesh_shape(&self) -> PyResult<MeshShape> {
         self.mesh_shape_ref().cloned()
@@ -79,21 +86,21 @@ impl TriMesh {
     #[new]
     #[pyo3(signature = (vertices, faces))]
     fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
-        guard(|| Ok(TriMesh::from_mesh(mesh_from_arrays(vertices, faces)?)))
+        TriMesh::built(|| mesh_from_arrays(vertices, faces))
     }
 
     /// Loads a `.obj` or `.stl` file (ASCII or binary); all objects in the file
     /// are merged into one mesh.
     #[classmethod]
     fn from_file(_cls: &Bound<'_, PyType>, path: PathBuf) -> PyResult<Self> {
-        guard(|| Ok(TriMesh::from_mesh(mesh::load_mesh(&path).or_raise()?)))
+        TriMesh::built(|| mesh::load_mesh(&path).or_raise())
     }
 
     /// Converts a `trimesh.Trimesh` (or any object with `.vertices` and
     /// `.faces`).
     #[classmethod]
     fn from_trimesh(_cls: &Bound<'_, PyType>, mesh: &Bound<'_, PyAny>) -> PyResult<Self> {
-        guard(|| Ok(TriMesh::from_mesh(mesh_from_object(mesh, "mesh")?)))
+        TriMesh::built(|| mesh_from_object(mesh, "mesh"))
     }
 
     /// A box with the given half extents (m): 8 vertices, 12 triangles.
@@ -101,7 +108,7 @@ impl TriMesh {
     #[pyo3(signature = (half_extents))]
     fn r#box(_cls: &Bound<'_, PyType>, half_extents: &Bound<'_, PyAny>) -> PyResult<Self> {
         let h = vec3(half_extents, "half_extents")?;
-        guard(|| Ok(TriMesh::from_mesh(mesh::box_mesh(h).or_raise()?)))
+        TriMesh::built(|| mesh::box_mesh(h).or_raise())
     }
 
     /// A geodesic sphere of `radius` (m): an icosahedron subdivided
@@ -109,11 +116,7 @@ impl TriMesh {
     #[classmethod]
     #[pyo3(signature = (radius, subdivisions=3))]
     fn sphere(_cls: &Bound<'_, PyType>, radius: f64, subdivisions: usize) -> PyResult<Self> {
-        guard(|| {
-            Ok(TriMesh::from_mesh(
-                mesh::icosphere_mesh(radius, subdivisions).or_raise()?,
-            ))
-        })
+        TriMesh::built(|| mesh::icosphere_mesh(radius, subdivisions).or_raise())
     }
 
     /// A UV sphere of `radius` (m): `segments` around z (>= 3), `rings` from
@@ -121,26 +124,18 @@ impl TriMesh {
     #[classmethod]
     #[pyo3(signature = (radius, segments=32, rings=16))]
     fn uv_sphere(_cls: &Bound<'_, PyType>, radius: f64, segments: usize, rings: usize) -> PyResult<Self> {
-        guard(|| {
-            Ok(TriMesh::from_mesh(
-                mesh::uv_sphere_mesh(radius, segments, rings).or_raise()?,
-            ))
-        })
+        TriMesh::built(|| mesh::uv_sphere_mesh(radius, segments, rings).or_raise())
     }
 
     /// A capped cylinder along z from -half_height to +half_height (m).
     #[classmethod]
     #[pyo3(signature = (radius, half_height, segments=32))]
     fn cylinder(_cls: &Bound<'_, PyType>, radius: f64, half_height: f64, segments: usize) -> PyResult<Self> {
-        guard(|| {
-            Ok(TriMesh::from_mesh(
-                mesh::cylinder_mesh(radius, half_height, segments).or_raise()?,
-            ))
-        })
+        TriMesh::built(|| mesh::cylinder_mesh(radius, half_height, segments).or_raise())
     }
 
     // The generators are one #[classmethod] each (a Python constructor per
-    // solid, with its own defaults); like `torus` below, each is guard + from_mesh.
+    // solid, with its own defaults, like `torus` below); each is a call of `built`.
     /// A capsule along z: cylinder of `radius` and `half_height` (m) with
     /// hemispherical caps of `rings` latitude bands each.
     #[classmethod]
@@ -152,11 +147,7 @@ impl TriMesh {
         segments: usize,
         rings: usize,
     ) -> PyResult<Self> {
-        guard(|| {
-            Ok(TriMesh::from_mesh(
-                mesh::capsule_mesh(radius, half_height, segments, rings).or_raise()?,
-            ))
-        })
+        TriMesh::built(|| mesh::capsule_mesh(radius, half_height, segments, rings).or_raise())
     }
 
     /// A cone of base `radius` and `height` (m): base at z = -height/2, apex
@@ -164,11 +155,7 @@ impl TriMesh {
     #[classmethod]
     #[pyo3(signature = (radius, height, segments=32))]
     fn cone(_cls: &Bound<'_, PyType>, radius: f64, height: f64, segments: usize) -> PyResult<Self> {
-        guard(|| {
-            Ok(TriMesh::from_mesh(
-                mesh::cone_mesh(radius, height, segments).or_raise()?,
-            ))
-        })
+        TriMesh::built(|| mesh::cone_mesh(radius, height, segments).or_raise())
     }
 
     /// A torus around z with major radius `major_radius` and tube radius
@@ -183,10 +170,8 @@ impl TriMesh {
         major_segments: usize,
         minor_segments: usize,
     ) -> PyResult<Self> {
-        guard(|| {
-            Ok(TriMesh::from_mesh(
-                mesh::torus_mesh(major_radius, minor_radius, major_segments, minor_segments).or_raise()?,
-            ))
+        TriMesh::built(|| {
+            mesh::torus_mesh(major_radius, minor_radius, major_segments, minor_segments).or_raise()
         })
     }
 

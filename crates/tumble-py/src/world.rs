@@ -146,12 +146,19 @@ impl World {
         out
     }
 
-    fn rows_of(&self, f: impl Fn(&RWorld, BodyId) -> [f64; 3]) -> Vec<f64> {
+    /// An (N, 3) float64 array of `f` for every body, in row order: the
+    /// per-body vector getters (`positions`, `velocities`, ...).
+    fn rows_of<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&RWorld, BodyId) -> [f64; 3],
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.check_usable()?;
         let mut out = Vec::with_capacity(self.order.len() * 3);
         for &id in &self.order {
             out.extend_from_slice(&f(&self.inner, id));
         }
-        out
+        Ok(matrix_out(py, out, 3))
     }
 
     fn body_handle(slf: &Bound<'_, Self>, id: BodyId) -> Body {
@@ -470,9 +477,7 @@ impl World {
     /// Positions of the bodies' model-frame origins (m): float64 (N, 3).
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.check_usable()?;
-        let data = self.rows_of(|w, id| live3(w.pose(id).map(|p| p.position)));
-        Ok(matrix_out(py, data, 3))
+        self.rows_of(py, |w, id| live3(w.pose(id).map(|p| p.position)))
     }
 
     /// Orientations of the bodies' model frames as (x, y, z, w): float64 (N, 4).
@@ -546,39 +551,24 @@ impl World {
         Ok(matrix_out(py, data, 7))
     }
 
-    // `velocities`, `angular_velocities` and `centers_of_mass`: one getter per
-    // Python array attribute; the row loop they share is `rows_of`.
+    // `velocities`, `angular_velocities` and `centers_of_mass` (and `positions`
+    // above): one getter per Python array attribute, each a call of `rows_of`.
     /// Linear velocities of the centres of mass (m/s): float64 (N, 3).
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.check_usable()?;
-        Ok(matrix_out(
-            py,
-            self.rows_of(|w, id| live3(w.linear_velocity(id))),
-            3,
-        ))
+        self.rows_of(py, |w, id| live3(w.linear_velocity(id)))
     }
 
     /// Angular velocities, world frame (rad/s): float64 (N, 3).
     #[getter]
     fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.check_usable()?;
-        Ok(matrix_out(
-            py,
-            self.rows_of(|w, id| live3(w.angular_velocity(id))),
-            3,
-        ))
+        self.rows_of(py, |w, id| live3(w.angular_velocity(id)))
     }
 
     /// Centres of mass (m): float64 (N, 3).
     #[getter]
     fn centers_of_mass<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.check_usable()?;
-        Ok(matrix_out(
-            py,
-            self.rows_of(|w, id| live3(w.center_of_mass(id))),
-            3,
-        ))
+        self.rows_of(py, |w, id| live3(w.center_of_mass(id)))
     }
 
     /// The bodies, in insertion order (the rows of the arrays).

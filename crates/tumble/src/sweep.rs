@@ -799,12 +799,22 @@ pub fn row_from_json(line: &str) -> Option<(RunRow, String)> {
 mod tests {
     use super::*;
 
-    fn spec(length: RunLength, metrics: &[Metric]) -> RunSpec<'_> {
-        RunSpec {
+    /// `run_many` of `runs` for `length` on `threads` threads, measuring
+    /// `metrics`, with no progress callback.
+    fn run(
+        doc: &SceneDocument,
+        runs: &[(usize, Vec<(ParamPath, Value)>)],
+        length: RunLength,
+        metrics: &[Metric],
+        threads: u32,
+        cancel: &AtomicBool,
+    ) -> Vec<RunRow> {
+        let spec = RunSpec {
             length,
             metrics,
             trajectories: None,
-        }
+        };
+        run_many(doc, runs, &spec, threads, cancel, &|_| {})
     }
 
     /// examples/scenes/bounce.toml: a ball dropped from 1 m, 2 s.
@@ -828,14 +838,7 @@ mod tests {
             .map(|m| Metric::parse(m).unwrap())
             .collect();
         let cancel = AtomicBool::new(false);
-        let rows = run_many(
-            &doc,
-            &runs,
-            &spec(RunLength::Scene, &metrics),
-            1,
-            &cancel,
-            &|_| {},
-        );
+        let rows = run(&doc, &runs, RunLength::Scene, &metrics, 1, &cancel);
         for (row, e) in rows.iter().zip([0.3, 0.5, 0.7, 0.9]) {
             assert_eq!(row.status, RunStatus::Ok);
             assert_eq!(row.steps, 500);
@@ -848,14 +851,7 @@ mod tests {
             );
             assert!((row.metrics[2] - 2.0).abs() < 1e-9);
         }
-        let on_two = run_many(
-            &doc,
-            &runs,
-            &spec(RunLength::Steps(500), &metrics),
-            2,
-            &cancel,
-            &|_| {},
-        );
+        let on_two = run(&doc, &runs, RunLength::Steps(500), &metrics, 2, &cancel);
         for (a, b) in rows.iter().zip(&on_two) {
             assert_eq!(
                 a.metrics.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
@@ -874,17 +870,7 @@ mod tests {
         let runs: Vec<_> = combinations(&params).into_iter().enumerate().collect();
         let metrics = vec![Metric::parse("ball.z").unwrap()];
         let cancel = AtomicBool::new(false);
-        // run_many's full argument list, as in
-        // a_bounce_rises_to_e_squared_of_its_drop_and_rows_do_not_depend_on_threads:
-        // the thread count and run length are what each call is about.
-        let rows = run_many(
-            &doc,
-            &runs,
-            &spec(RunLength::Steps(10), &metrics),
-            2,
-            &cancel,
-            &|_| {},
-        );
+        let rows = run(&doc, &runs, RunLength::Steps(10), &metrics, 2, &cancel);
         assert_eq!(rows[0].status, RunStatus::Ok);
         match &rows[1].status {
             RunStatus::Failed(m) => assert!(
@@ -904,24 +890,10 @@ mod tests {
         );
         assert!(Metric::parse("ball.colour").is_err());
         let rock = [Metric::parse("rock.z").unwrap()];
-        let missing = run_many(
-            &doc,
-            &runs[..1],
-            &spec(RunLength::Steps(1), &rock),
-            1,
-            &cancel,
-            &|_| {},
-        );
+        let missing = run(&doc, &runs[..1], RunLength::Steps(1), &rock, 1, &cancel);
         assert!(matches!(&missing[0].status, RunStatus::Failed(m) if m.contains("no body named")));
         cancel.store(true, Ordering::Relaxed);
-        let cancelled = run_many(
-            &doc,
-            &runs,
-            &spec(RunLength::Steps(10), &metrics),
-            1,
-            &cancel,
-            &|_| {},
-        );
+        let cancelled = run(&doc, &runs, RunLength::Steps(10), &metrics, 1, &cancel);
         assert!(cancelled.iter().all(|r| r.status == RunStatus::Cancelled));
     }
 }

@@ -4,8 +4,10 @@
 //! (settings, bodies, arena, contact cache, time), so a half-applied change
 //! cannot hide. The section comments match the table's sections.
 //!
-//! Cases are written out one by one with their labels (e.g. the settings
-//! table of `world_calls_reject_bad_input_and_leave_the_world_unchanged`):
+//! Cases are written out one by one with their labels (in
+//! `world_calls_reject_bad_input_and_leave_the_world_unchanged` the settings
+//! table, the body descriptions and the `rejects` calls per handle, pose and
+//! force; further down the mesh loaders' asserts and the scene-file cases):
 //! runs of them look alike by design, and a failure names its case.
 
 use std::path::Path;

@@ -219,6 +219,8 @@ fn tower_of_ten_stands() {
 
 #[test]
 fn no_tunnelling_of_a_fast_small_sphere() {
+    // Zero gravity and no sleeping, spelt out here as in mesh_dynamics.rs
+    // (interpenetrating tori): each test states the settings it relies on.
     let mut world = World::new(WorldSettings {
         gravity: DVec3::ZERO,
         sleeping: false,

@@ -273,7 +273,9 @@ fn interpenetrating_tori_separate_without_gaining_energy() {
     // thickness: their tubes overlap all around), in zero gravity. The
     // push-out must separate them along z within a bounded time, and since
     // the correction moves bodies without giving them velocity, they must
-    // not fly apart with kinetic energy of their own.
+    // not fly apart with kinetic energy of their own. The world is built
+    // here, as in contact_physics.rs's tunnelling test, with the settings
+    // this case relies on (no gravity, no sleeping) in view.
     let mut world = World::new(WorldSettings {
         gravity: DVec3::ZERO,
         sleeping: false,

@@ -152,6 +152,8 @@ fn bad_inputs_are_typed_errors() {
         pgs_boxed(&a, &[1.0, 1.0], &bad_box, 10, 1e-9, None),
         Err(LcpError::BadParameter { .. })
     ));
+    // Two bad friction rows, each written out with its own fault (a row
+    // bounded by itself, a negative mu) so a failing assert names one.
     let self_ref = [
         RowLimit::NON_NEGATIVE,
         RowLimit::Friction {

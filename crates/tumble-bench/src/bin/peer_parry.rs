@@ -133,15 +133,7 @@ fn run(poses: usize) -> Result<(), String> {
 }
 
 fn main() {
-    // As in peer_rapier.rs `main`: each peer binary names itself in its one
-    // error line and exits 2, the harness's protocol.
-    let args = match Args::parse(std::env::args().skip(1)) {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("peer-parry: {e}");
-            std::process::exit(2);
-        }
-    };
+    let args = Args::from_env_or_exit("peer-parry");
     if let Some(s) = args.scene.as_deref().filter(|s| *s != "tori") {
         eprintln!("peer-parry: only --scene tori is supported, got {s}");
         std::process::exit(2);

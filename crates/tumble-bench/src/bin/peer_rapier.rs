@@ -213,14 +213,7 @@ fn kinetic_energy(sw: &rs::SceneWorld) -> f64 {
 }
 
 fn main() {
-    // Argument errors as in peer_parry.rs `main`, under this binary's name.
-    let args = match Args::parse(std::env::args().skip(1)) {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("peer-rapier: {e}");
-            std::process::exit(2);
-        }
-    };
+    let args = Args::from_env_or_exit("peer-rapier");
     let pool = match rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(1))
         .build()

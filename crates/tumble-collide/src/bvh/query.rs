@@ -1,6 +1,10 @@
 //! One OBBTree against a query volume in world space: an oriented box, an
 //! axis-aligned box or a sphere (for primitive-versus-mesh contact). Same
 //! depth-first walk and callback protocol as [`super::traverse::collide`].
+//!
+//! `walk` in query/primitive_query.rs takes the arguments of [`query_obb`]
+//! because it only picks one of these queries by the primitive's kind (this
+//! module knows no shapes).
 
 use super::build::ObbTree;
 use super::node::Node;

@@ -9,6 +9,11 @@
 //! SAT lower bound on box distance against the best distance found so far
 //! (branch and bound). Both use an explicit, non-allocating stack and return
 //! their statistics.
+//!
+//! The public walks (`collide`, `collide_moving`, `collide_leaves`,
+//! `distance_with`) open with
+//! the same header, two trees and their poses then a bound checked by
+//! `check_nonneg`: public API whose extra arguments and callbacks differ.
 
 use super::build::ObbTree;
 use super::node::Node;
@@ -385,6 +390,8 @@ pub fn distance_with(
         // The leaf step of `collide` above, but folding distances into `best`
         // where `collide` obeys a stop flag, and the walks around it differ
         // (pruned nearest-first vs depth-first): each hot loop keeps its own.
+        // `volume_distance` (volume_distance.rs) repeats this fold over the
+        // triangles of one leaf, its walk being over one tree, not pairs.
         let (x, y) = (&na[ia as usize], &nb[ib as usize]);
         if x.is_leaf() && y.is_leaf() {
             stats.leaf_pairs += 1;
@@ -566,8 +573,14 @@ pub(crate) mod tests {
     /// A coarse sphere and a thin ring with their trees: small enough for
     /// brute-force oracles over every triangle pair.
     fn sphere_and_ring() -> (TriMesh, TriMesh, ObbTree, ObbTree) {
-        let ma = icosphere_mesh(1.0, 2).unwrap();
-        let mb = torus_mesh(0.8, 0.2, 12, 8).unwrap();
+        with_trees(
+            icosphere_mesh(1.0, 2).unwrap(),
+            torus_mesh(0.8, 0.2, 12, 8).unwrap(),
+        )
+    }
+
+    /// Two meshes with their trees; each test picks its own sizes.
+    fn with_trees(ma: TriMesh, mb: TriMesh) -> (TriMesh, TriMesh, ObbTree, ObbTree) {
         let (ta, tb) = (ObbTree::build(&ma).unwrap(), ObbTree::build(&mb).unwrap());
         (ma, mb, ta, tb)
     }
@@ -654,10 +667,10 @@ pub(crate) mod tests {
         // A sphere falling 0.3 m onto a torus: the walk along the fall
         // reports a fraction of the pairs that a margin of 0.3 m on every
         // side would.
-        let ma = torus_mesh(1.0, 0.3, 48, 24).unwrap();
-        let mb = icosphere_mesh(0.5, 3).unwrap();
-        let ta = ObbTree::build(&ma).unwrap();
-        let tb = ObbTree::build(&mb).unwrap();
+        let (_, _, ta, tb) = with_trees(
+            torus_mesh(1.0, 0.3, 48, 24).unwrap(),
+            icosphere_mesh(0.5, 3).unwrap(),
+        );
         let pa = Pose::IDENTITY;
         let pb = Pose::from_translation(DVec3::new(1.0, 0.0, 0.85));
         let fall = Drift {
@@ -713,10 +726,10 @@ pub(crate) mod tests {
         // Callback distance: closest vertex pair of the two triangles, which is
         // never below the true triangle distance, so pruning by the box lower
         // bound must keep the exact brute-force minimum over all vertex pairs.
-        let ma = torus_mesh(1.0, 0.3, 14, 8).unwrap();
-        let mb = icosphere_mesh(0.5, 1).unwrap();
-        let ta = ObbTree::build(&ma).unwrap();
-        let tb = ObbTree::build(&mb).unwrap();
+        let (ma, mb, ta, tb) = with_trees(
+            torus_mesh(1.0, 0.3, 14, 8).unwrap(),
+            icosphere_mesh(0.5, 1).unwrap(),
+        );
         let mut r = rng(4);
         for _ in 0..30 {
             let pa = random_pose(&mut r, 1.0);

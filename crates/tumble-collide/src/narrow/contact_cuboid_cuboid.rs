@@ -106,6 +106,8 @@ pub fn contact_cuboid_cuboid(
         }
     }
     let scale = ha.max_element().max(hb.max_element());
+    // Hand-over to the manifold shared with `contact_polytope_polytope`,
+    // whose last lines read the same (see the module docs above).
     let sat = SatResult {
         sep_a,
         face_a,

@@ -100,6 +100,8 @@ pub fn contact_polytope_polytope<A: Polytope + ?Sized, B: Polytope + ?Sized>(
             return;
         }
     }
+    // The same hand-over ends `contact_cuboid_cuboid`: only the SATs differ,
+    // so both fill one `SatResult` and share `build_manifold`.
     let sat = SatResult {
         sep_a,
         face_a,

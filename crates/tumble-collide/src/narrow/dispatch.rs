@@ -110,6 +110,9 @@ fn dispatch(
 ) -> Result<(), NarrowError> {
     use Shape::*;
     let (pa, pb, m) = (pose_a, pose_b, margin);
+    // One arm per cell of the matrix in the module docs, row by row: the arms
+    // read alike on purpose, so each cell's routine (or its mirror) is
+    // visible at a glance; a macro would hide exactly that.
     match (a, b) {
         // Row: Sphere
         (Sphere(x), Sphere(y)) => contact_sphere_sphere(x, pa, y, pb, m, out),

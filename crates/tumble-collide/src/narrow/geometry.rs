@@ -3,6 +3,7 @@
 //! edge-edge contacts.
 
 use crate::math::DVec3;
+use crate::triangle::tri_distance::segment_parameters;
 
 /// Parameter `t` in [0, 1] and point of segment `a..b` closest to `p`.
 pub(crate) fn closest_point_on_segment(p: DVec3, a: DVec3, b: DVec3) -> (f64, DVec3) {
@@ -20,11 +21,13 @@ pub(crate) fn closest_point_on_segment(p: DVec3, a: DVec3, b: DVec3) -> (f64, DV
 /// (Ericson 5.1.9). Parallel segments get the `s` that the clamping of `t`
 /// yields from `s = 0`, so the answer is deterministic.
 ///
-/// Why not `triangle::closest_points_segments` (the same algorithm): the
-/// contact routines treat segments within 1e-14 (relative) of parallel as
-/// parallel, so that two capsules lying along each other keep the same
-/// contact end from step to step; the triangle distance keeps the exact
-/// formula down to machine epsilon, which its brute-force oracles check.
+/// The algorithm is `triangle::closest_points_segments`'s (one home:
+/// `segment_parameters`), with tolerances of its own: the contact routines
+/// treat segments within 1e-14 (relative) of parallel as parallel, so that
+/// two capsules lying along each other keep the same contact end from step
+/// to step, and a segment of squared length at most 1e-30 m^2 as a point;
+/// the triangle distance keeps the exact formula down to machine epsilon,
+/// which its brute-force oracles check.
 pub(crate) fn closest_points_segments(
     p1: DVec3,
     q1: DVec3,
@@ -33,45 +36,10 @@ pub(crate) fn closest_points_segments(
 ) -> (f64, f64, DVec3, DVec3) {
     let d1 = q1 - p1;
     let d2 = q2 - p2;
-    let r = p1 - p2;
-    let a = d1.length_squared();
-    let e = d2.length_squared();
-    let f = d2.dot(r);
-    let tiny = 1e-30;
-    let (s, t);
-    if a <= tiny && e <= tiny {
+    // Why the relative parallel test: denom = |d1|^2 |d2|^2 sin^2(angle).
+    let Some((s, t)) = segment_parameters(d1, d2, p1 - p2, |_, _| 1e-30, 1e-14) else {
         return (0.0, 0.0, p1, p2);
-    }
-    if a <= tiny {
-        s = 0.0;
-        t = (f / e).clamp(0.0, 1.0);
-    } else {
-        let c = d1.dot(r);
-        if e <= tiny {
-            t = 0.0;
-            s = (-c / a).clamp(0.0, 1.0);
-        } else {
-            let b = d1.dot(d2);
-            let denom = a * e - b * b;
-            // Why the relative test: denom = |d1|^2 |d2|^2 sin^2(angle).
-            let s0 = if denom > 1e-14 * a * e {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let t0 = (b * s0 + f) / e;
-            if t0 < 0.0 {
-                t = 0.0;
-                s = (-c / a).clamp(0.0, 1.0);
-            } else if t0 > 1.0 {
-                t = 1.0;
-                s = ((b - c) / a).clamp(0.0, 1.0);
-            } else {
-                t = t0;
-                s = s0;
-            }
-        }
-    }
+    };
     (s, t, p1 + d1 * s, p2 + d2 * t)
 }
 

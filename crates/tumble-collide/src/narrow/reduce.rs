@@ -8,7 +8,7 @@
 //! so that the solver's work follows the contact area and not the number
 //! of triangles that touch (issue 15: two lumpy meshes make thousands).
 
-use crate::math::DVec3;
+use crate::math::{first_max, DVec3};
 
 /// Most points one patch keeps ([`reduce_patch`]).
 pub const PATCH_MAX_POINTS: usize = 8;
@@ -26,18 +26,7 @@ pub fn reduce_to_four(n: usize, normal: DVec3, get: impl Fn(usize) -> (DVec3, f6
         }
         return (keep, n);
     }
-    let argmax = |score: &dyn Fn(usize) -> f64| {
-        let mut best = 0;
-        let mut best_s = f64::NEG_INFINITY;
-        for i in 0..n {
-            let s = score(i);
-            if s > best_s {
-                best_s = s;
-                best = i;
-            }
-        }
-        (best, best_s)
-    };
+    let argmax = |score: &dyn Fn(usize) -> f64| first_max(n, score);
     // Deepest point; depths equal within TIE x (manifold size) (a flat resting
     // face) are told apart by position along a fixed tangent, so that the
     // choice does not flip under round-off (feature ids must stay put for

@@ -7,8 +7,8 @@
 
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};
-use super::options::{CollideOptions, ReportMode};
-use super::report::{QueryStats, Report};
+use super::options::{bad_nonneg, CollideOptions, ReportMode};
+use super::report::Report;
 use crate::bvh::{self, Traverse};
 use crate::contact::{Contact, ContactKind, SubFeature};
 use crate::math::DVec3;
@@ -98,42 +98,24 @@ pub fn collide(
         // Closed triangles that share a point have overlapping bounding
         // boxes (min / max are exact): a cheap, exact first rejection.
         let hit = aabbs_overlap(&wa, &wb) && tri_tri_overlap(&wa, &wb);
-        if hit {
-            report.intersect = true;
-            if mode != ReportMode::Boolean {
-                report.pairs.push((ta, tb));
-            }
-        }
         // Disjoint closed triangles are apart by a positive distance, so
         // with no margin they have no contacts.
         if mode == ReportMode::Contacts && (hit || margin > 0.0) {
             // Inputs are finite and the margin valid: this cannot fail.
             let _ = triangle_contacts(&wa, ta, &wb, tb, margin, &mut report.contacts);
         }
-        if hit && stop_first {
-            Traverse::Stop
+        if hit {
+            report.record_hit((ta, tb), mode, stop_first)
         } else {
             Traverse::Continue
         }
     })
-    .map_err(|_| QueryError::BadOption {
-        option: "CollideOptions::contact_margin",
-        expected: "finite and >= 0",
-        value: margin,
-    })?;
-    // Each triangle sits in exactly one leaf, so every pair came once.
-    report.pairs.sort_unstable();
+    .map_err(|_| bad_nonneg("CollideOptions::contact_margin", margin))?;
     if mode == ReportMode::Contacts {
         finish_contacts(&mut report.contacts, a, b);
-        // Coordinates near the f64 limit can overflow in the contact
-        // arithmetic: an error, never a NaN contact.
-        let finite = |c: &Contact| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite();
-        if !report.contacts.iter().all(finite) {
-            return Err(QueryError::NotFinite("collide"));
-        }
     }
-    report.stats = QueryStats::from_traversal(&traversal, tests);
-    Ok(report)
+    // Each triangle sits in exactly one leaf, so every pair came once.
+    report.finish(&traversal, tests, "collide")
 }
 
 /// Drops edge/edge contacts on internal edges (an edge between coplanar

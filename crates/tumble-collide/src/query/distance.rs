@@ -5,7 +5,7 @@
 
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};
-use super::options::DistanceOptions;
+use super::options::{bad_nonneg, DistanceOptions};
 use super::report::{DistanceResult, QueryStats};
 use crate::bvh;
 use crate::math::DVec3;
@@ -62,11 +62,7 @@ pub fn distance(
             td.distance
         },
     )
-    .map_err(|_| QueryError::BadOption {
-        option: "DistanceOptions",
-        expected: "finite and >= 0",
-        value: options.rel_err,
-    })?;
+    .map_err(|_| bad_nonneg("DistanceOptions", options.rel_err))?;
     let (tri_a, tri_b, td) = best.ok_or(QueryError::NotFinite("distance"))?;
     DistanceResult {
         distance: td.distance,

@@ -25,10 +25,17 @@
 //! dispatch over any two shapes). Usage in
 //! `docs/collision.md` and the example on [`collide`].
 //!
-//! The query functions read alike at their ends by design: each starts with
-//! `input::checked_args` (the checks, written once) and turns a traversal's
-//! refusal of its margin into `QueryError::BadOption`; what lies between
-//! (which tree walk, which exact test) is each query's own.
+//! The query functions read alike at their ends by design. `collide`,
+//! `distance` and `within_tolerance` and their `_primitive` twins share one
+//! public signature shape, `(a, pose_a, b, pose_b, options or tol)` in PQP's
+//! order, differing in A's type (`MeshShape` / `Shape`), so each keeps its
+//! own header; each then opens with `input::checked_args` (the checks,
+//! written once) and turns a walk's refusal of its margin into
+//! `options::bad_nonneg`; a collision query records hits and ends through
+//! `Report::record_hit` and `Report::finish`; the two tolerance queries end
+//! at the first candidate within `tol` in the same few lines. What lies
+//! between (which tree walk, which exact test, which contacts) is each
+//! query's own.
 
 mod collide;
 mod distance;

@@ -95,10 +95,17 @@ pub(crate) fn nonneg_finite(option: &'static str, value: f64) -> Result<(), Quer
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(QueryError::BadOption {
-            option,
-            expected: "finite and >= 0",
-            value,
-        })
+        Err(bad_nonneg(option, value))
+    }
+}
+
+/// The error for `option` = `value` where a finite value >= 0 was due: what
+/// [`nonneg_finite`] returns, and what every query makes of a tree walk's
+/// refusal of its margin or tolerance.
+pub(crate) fn bad_nonneg(option: &'static str, value: f64) -> QueryError {
+    QueryError::BadOption {
+        option,
+        expected: "finite and >= 0",
+        value,
     }
 }

@@ -4,10 +4,14 @@
 //! primitive-triangle tests of [`super::primitive`], and contacts come from
 //! the narrow phase's primitive-mesh routines (`contact_sphere_mesh`,
 //! `contact_polytope_mesh`, `contact_capsule_mesh`, `contact_mesh_halfspace`).
+//!
+//! Each public query here opens like its mesh-mesh twin (same header and
+//! checks, a `Shape` for A): public API kept apart by A's type, as the note
+//! in query/mod.rs says; the walk and the exact tests are the primitive's.
 
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};
-use super::options::{CollideOptions, DistanceOptions, ReportMode};
+use super::options::{bad_nonneg, CollideOptions, DistanceOptions, ReportMode};
 use super::primitive::{Placed, PrimDistance};
 use super::report::{DistanceResult, QueryStats, Report};
 use crate::bvh::{self, TraversalError, TraversalStats, Traverse};
@@ -35,14 +39,6 @@ fn walk(
             bvh::query_obb(tree, pose_m, &obb, margin, on_tri)
         }
         Placed::Plane { n, d } => bvh::query_halfspace(tree, pose_m, n, d, margin, on_tri),
-    }
-}
-
-fn bad_margin(value: f64) -> QueryError {
-    QueryError::BadOption {
-        option: "margin",
-        expected: "finite and >= 0",
-        value,
     }
 }
 
@@ -75,22 +71,11 @@ pub fn collide_primitive(
         if !prim.intersects(&world_triangle(b.mesh(), &pose_b, t)) {
             return Traverse::Continue;
         }
-        report.intersect = true;
-        if mode != ReportMode::Boolean {
-            report.pairs.push((0, t));
-        }
-        if stop_first {
-            Traverse::Stop
-        } else {
-            Traverse::Continue
-        }
+        report.record_hit((0, t), mode, stop_first)
     })
-    .map_err(|_| bad_margin(0.0))?;
-    // The mode handling above and the tail below (sort, finite check, stats)
-    // are those of `collide` (collide.rs), kept apart because the contacts
-    // differ: here the narrow phase's manifold of the whole primitive, there
-    // per triangle pair, filtered and merged.
-    report.pairs.sort_unstable();
+    .map_err(|_| bad_nonneg("margin", 0.0))?;
+    // Unlike `collide`'s per triangle pair, the contacts are the narrow
+    // phase's manifold of the whole primitive.
     if mode == ReportMode::Contacts {
         primitive_contacts(
             a,
@@ -100,16 +85,8 @@ pub fn collide_primitive(
             options.contact_margin,
             &mut report.contacts,
         );
-        // Dimensions or coordinates near the f64 limit (a sphere of radius
-        // 1e308) can overflow in the contact arithmetic (found by fuzzing):
-        // an error, never a NaN contact.
-        let finite = |c: &Contact| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite();
-        if !report.contacts.iter().all(finite) {
-            return Err(QueryError::NotFinite("collide_primitive"));
-        }
     }
-    report.stats = QueryStats::from_traversal(&traversal, tests);
-    Ok(report)
+    report.finish(&traversal, tests, "collide_primitive")
 }
 
 /// The narrow phase's contacts of primitive A against mesh B.
@@ -164,11 +141,7 @@ pub fn distance_primitive(
             d.distance
         },
     )
-    .map_err(|_| QueryError::BadOption {
-        option: "DistanceOptions",
-        expected: "finite and >= 0",
-        value: options.rel_err,
-    })?;
+    .map_err(|_| bad_nonneg("DistanceOptions", options.rel_err))?;
     // The tail of `distance` (distance.rs) with a primitive for A: the walk is
     // one tree against a volume (`bvh::volume_distance`), not two trees, and
     // the best pair's type differs (`PrimDistance`, not `TriDistance`).
@@ -201,6 +174,8 @@ pub fn within_tolerance_primitive(
     let (pose_a, pose_b) = checked_args(pose_a, pose_b, QueryArgs::Tolerance(tol))?;
     let prim = Placed::new(a, &pose_a, "within_tolerance_primitive")?;
     let mut within = false;
+    // `within_tolerance`'s stop-at-first-close loop (tolerance.rs), around
+    // one tree against the primitive's volume instead of two trees.
     walk(&prim, b, &pose_b, tol, |t| {
         if prim.distance(&world_triangle(b.mesh(), &pose_b, t)).distance <= tol {
             within = true;
@@ -209,6 +184,6 @@ pub fn within_tolerance_primitive(
             Traverse::Continue
         }
     })
-    .map_err(|_| bad_margin(tol))?;
+    .map_err(|_| bad_nonneg("margin", tol))?;
     Ok(within)
 }

@@ -4,7 +4,8 @@
 //! worse).
 
 use super::error::QueryError;
-use crate::bvh::TraversalStats;
+use super::options::ReportMode;
+use crate::bvh::{TraversalStats, Traverse};
 use crate::contact::Contact;
 use crate::math::DVec3;
 use serde::Serialize;
@@ -68,6 +69,43 @@ pub struct DistanceResult {
 }
 
 impl Report {
+    /// Records a hit of the pair `(a, b)` as [`super::collide`] and
+    /// [`super::collide_primitive`] both report it in `mode`: `intersect`, the
+    /// pair unless in [`ReportMode::Boolean`]; then whether the walk stops.
+    #[inline]
+    pub(crate) fn record_hit(&mut self, pair: (u32, u32), mode: ReportMode, stop_first: bool) -> Traverse {
+        self.intersect = true;
+        if mode != ReportMode::Boolean {
+            self.pairs.push(pair);
+        }
+        if stop_first {
+            Traverse::Stop
+        } else {
+            Traverse::Continue
+        }
+    }
+
+    /// The end of a collision query once its walk (`traversal`, `tests`
+    /// exact tests) and its contacts are done: pairs sorted (each came once),
+    /// counters set; [`QueryError::NotFinite`] naming `query` when a contact
+    /// is not finite (coordinates or dimensions near the f64 limit, e.g. a
+    /// sphere of radius 1e308, overflow in the contact arithmetic; found by
+    /// fuzzing), never a NaN contact.
+    pub(crate) fn finish(
+        mut self,
+        traversal: &TraversalStats,
+        tests: u64,
+        query: &'static str,
+    ) -> Result<Report, QueryError> {
+        self.pairs.sort_unstable();
+        let finite = |c: &Contact| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite();
+        if !self.contacts.iter().all(finite) {
+            return Err(QueryError::NotFinite(query));
+        }
+        self.stats = QueryStats::from_traversal(traversal, tests);
+        Ok(self)
+    }
+
     /// The same report with A and B exchanged: pairs reversed (and sorted
     /// again), contacts flipped (normals from the new B to the new A).
     pub fn swapped(mut self) -> Report {

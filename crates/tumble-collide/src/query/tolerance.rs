@@ -5,7 +5,7 @@
 
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};
-
+use super::options::bad_nonneg;
 use crate::bvh::{self, Traverse};
 use crate::pose::Pose;
 use crate::shape::MeshShape;
@@ -40,10 +40,6 @@ pub fn within_tolerance(
             Traverse::Continue
         }
     })
-    .map_err(|_| QueryError::BadOption {
-        option: "within_tolerance tol",
-        expected: "finite and >= 0",
-        value: tol,
-    })?;
+    .map_err(|_| bad_nonneg("within_tolerance tol", tol))?;
     Ok(within)
 }

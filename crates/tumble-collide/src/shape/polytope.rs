@@ -11,7 +11,7 @@
 //! depend on the query.
 
 use crate::contact::Feature;
-use crate::math::DVec3;
+use crate::math::{first_max, DVec3};
 
 /// A convex polyhedron described in its body frame.
 pub trait Polytope {
@@ -56,33 +56,13 @@ pub trait Polytope {
     /// Index of a vertex farthest along `dir` (body frame); ties go to the
     /// lowest index, so the answer is deterministic.
     fn support_vertex(&self, dir: DVec3) -> usize {
-        let mut best = 0;
-        let mut best_d = f64::NEG_INFINITY;
-        for i in 0..self.vertex_count() {
-            let d = self.vertex(i).dot(dir);
-            if d > best_d {
-                best_d = d;
-                best = i;
-            }
-        }
-        best
+        first_max(self.vertex_count(), |i| self.vertex(i).dot(dir)).0
     }
 
-    /// The face whose normal is most aligned with `dir` (body frame).
-    // The first-maximum scan of `support_vertex` above, over face normals
-    // instead of vertices: both are defaults that `Cuboid` overrides with
-    // closed forms (cuboid.rs), so each stays a plain loop for the hull.
+    /// The face whose normal is most aligned with `dir` (body frame); ties
+    /// go to the lowest index.
     fn best_face(&self, dir: DVec3) -> usize {
-        let mut best = 0;
-        let mut best_d = f64::NEG_INFINITY;
-        for f in 0..self.face_count() {
-            let d = self.face_normal(f).dot(dir);
-            if d > best_d {
-                best_d = d;
-                best = f;
-            }
-        }
-        best
+        first_max(self.face_count(), |f| self.face_normal(f).dot(dir)).0
     }
 }
 

@@ -4,6 +4,10 @@
 //! file gives a typed error, never an invalid shape. Values are kept bit for
 //! bit (no renormalisation on the way back in), so that a restored world
 //! continues exactly as the saved one would have.
+//!
+//! The Parts types and their `From` / `TryFrom` pairs read alike, one per
+//! shape, on purpose: each shape's serde attribute must name a type of its
+//! own, and the fields and the checks on the way in differ per shape.
 
 use super::convex_hull::{HullEdge, HullFace, MAX_FACE_VERTICES};
 use super::{Capsule, ConvexHull, Cuboid, HalfSpace, ShapeError, Sphere};
@@ -76,9 +80,8 @@ pub(crate) struct HalfSpaceParts {
     offset: f64,
 }
 
-// The same From / TryFrom pair as `CapsuleParts` above, one per shape: each
-// shape's serde attribute names its own Parts type, and the pairs differ in
-// their fields and checks (here the normal is kept, not renormalised).
+// The same From / TryFrom pair as `CapsuleParts` above (see the module
+// note), but the way in keeps the normal as stored, not renormalised.
 impl From<HalfSpace> for HalfSpaceParts {
     fn from(h: HalfSpace) -> Self {
         HalfSpaceParts {

@@ -620,6 +620,8 @@ mod tests {
         assert!((c2[0].normal - DVec3::Z).length() < 1e-15);
     }
 
+    // Seeded random loop in the shape of bvh/sat.rs's box tests: the seed,
+    // the count and the tally of interesting cases are this property's own.
     #[test]
     fn penetrating_pair_is_pushed_out_by_its_contact() {
         let mut rng = Rng(3);

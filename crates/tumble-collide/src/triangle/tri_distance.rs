@@ -142,20 +142,47 @@ impl SegmentClosest {
 /// 5.1.9). Either segment may have zero length. For parallel segments one of
 /// the (infinitely many) closest pairs is returned, with `s` chosen as 0.
 /// A non-finite coordinate gives a NaN [`SegmentClosest::distance`].
-/// (The narrow phase has its own copy with a coarser parallel test, for
-/// steady capsule contacts: see `narrow::geometry`.)
+/// (The narrow phase runs the same `segment_parameters` with a coarser
+/// parallel test, for steady capsule contacts: see `narrow::geometry`.)
 pub fn closest_points_segments(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> SegmentClosest {
     let d1 = q1 - p1;
     let d2 = q2 - p2;
-    let r = p1 - p2;
+    // "Zero length" relative to the other segment, so the test is scale-free;
+    // parallel when |d1 x d2|^2 <= EPSILON |d1|^2 |d2|^2.
+    let zero_length = |a: f64, e: f64| f64::EPSILON * f64::EPSILON * (a + e);
+    let (s, t) = segment_parameters(d1, d2, p1 - p2, zero_length, f64::EPSILON).unwrap_or((0.0, 0.0));
+    SegmentClosest {
+        s,
+        t,
+        point_a: p1 + d1 * s,
+        point_b: p2 + d2 * t,
+    }
+}
+
+/// The parameters `(s, t)` of the closest points `p1 + s d1`, `p2 + t d2` of
+/// two closed segments (Ericson 5.1.9), given `d1`, `d2` and `r = p1 - p2`:
+/// the one home of the algorithm for [`closest_points_segments`] and the
+/// narrow phase's segment routine (`narrow::geometry`), which differ only in
+/// the two tolerances passed here. A segment whose squared length is at most
+/// `tiny(a, e)` (`a`, `e` the squared lengths of `d1`, `d2`) is a point, and
+/// the segments are parallel when `|d1 x d2|^2 <= parallel * a * e` (then
+/// `s` starts at 0). `None` when both segments are points.
+#[inline]
+pub(crate) fn segment_parameters(
+    d1: DVec3,
+    d2: DVec3,
+    r: DVec3,
+    tiny: impl FnOnce(f64, f64) -> f64,
+    parallel: f64,
+) -> Option<(f64, f64)> {
     let a = d1.length_squared();
     let e = d2.length_squared();
     let f = d2.dot(r);
-    // "Zero length" relative to the other segment, so the test is scale-free.
-    let tiny = f64::EPSILON * f64::EPSILON * (a + e);
-    let (s, t) = if a <= tiny && e <= tiny {
-        (0.0, 0.0)
-    } else if a <= tiny {
+    let tiny = tiny(a, e);
+    if a <= tiny && e <= tiny {
+        return None;
+    }
+    Some(if a <= tiny {
         (0.0, (f / e).clamp(0.0, 1.0))
     } else {
         let c = d1.dot(r);
@@ -165,7 +192,7 @@ pub fn closest_points_segments(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> Se
             let b = d1.dot(d2);
             // denom = |d1 x d2|^2 >= 0; zero for parallel segments.
             let denom = a * e - b * b;
-            let mut s = if denom > f64::EPSILON * a * e {
+            let mut s = if denom > parallel * a * e {
                 ((b * f - c * e) / denom).clamp(0.0, 1.0)
             } else {
                 0.0
@@ -182,13 +209,7 @@ pub fn closest_points_segments(p1: DVec3, q1: DVec3, p2: DVec3, q2: DVec3) -> Se
             }
             (s, t)
         }
-    };
-    SegmentClosest {
-        s,
-        t,
-        point_a: p1 + d1 * s,
-        point_b: p2 + d2 * t,
-    }
+    })
 }
 
 /// Closest points of two triangles (see [`triangle_distance`]).
@@ -265,6 +286,9 @@ fn closest_pair_features(a: &[DVec3; 3], b: &[DVec3; 3]) -> TriDistance {
             };
         }
     }
+    // B's vertices against A: the loop above with the roles swapped, written
+    // out so that each side's point and feature land in the right field (a
+    // shared loop would need a flag to swap them back).
     for (k, &p) in b.iter().enumerate() {
         let (q, f) = closest_point_on_finite_triangle(p, a);
         let d2 = (p - q).length_squared();

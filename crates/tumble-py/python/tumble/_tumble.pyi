@@ -1,8 +1,11 @@
 """Type stubs of the native module tumble._tumble (see the docstrings at run time)."""
 
 # Each class lists its attributes as @property stubs, one per pyo3 getter
-# (Joint, Robot, StepReport, World, ...): the stub mirrors every class, so
-# runs of them look alike by design.
+# (Joint, Robot, StepReport, World, ...), and each shape class (Box, Sphere,
+# Capsule, ConvexHull, HalfSpace) its own `__init__`, getters and `at`: the
+# stub mirrors every class of the native module one for one (a shared stub
+# base class would tell type checkers of a base that does not exist at run
+# time), so runs of them look alike by design.
 
 from __future__ import annotations
 

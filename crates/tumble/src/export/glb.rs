@@ -258,6 +258,10 @@ fn mesh_json(
 }
 
 /// The `extras.tumble` object (schema in the module docs).
+///
+/// Bodies, boxes and joints are each mapped to their JSON object key by key,
+/// as the schema lists them: the `iter().map(json!)` chains read alike, but
+/// each builds a different record's object.
 fn extras_json(rec: &Recording, animated: &[usize]) -> Value {
     let bodies: Vec<Value> = rec
         .bodies

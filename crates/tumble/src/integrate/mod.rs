@@ -206,29 +206,19 @@ pub fn integrate_with_field<F: ForceField + ?Sized>(
         return Err(IntegrateError::NonFiniteGravity(gravity));
     }
     let mut report = IntegrateReport::default();
-    // One loop per method so that the match is outside the hot loop.
+    // One loop per method so that the match is outside the hot loop; `run`'s
+    // arguments are the same for every method but the step function.
+    macro_rules! run_with {
+        ($step:path) => {
+            run(bodies, gravity, time, dt, field, &mut report, $step)
+        };
+    }
     match integrator {
-        Integrator::Euler => run(bodies, gravity, time, dt, field, &mut report, explicit::euler),
-        Integrator::Midpoint => run(bodies, gravity, time, dt, field, &mut report, explicit::midpoint),
-        Integrator::Rk4 => run(bodies, gravity, time, dt, field, &mut report, explicit::rk4),
-        Integrator::SemiImplicitEuler => run(
-            bodies,
-            gravity,
-            time,
-            dt,
-            field,
-            &mut report,
-            symplectic::semi_implicit_euler,
-        ),
-        Integrator::SemiImplicitSplitting => run(
-            bodies,
-            gravity,
-            time,
-            dt,
-            field,
-            &mut report,
-            splitting::semi_implicit_splitting,
-        ),
+        Integrator::Euler => run_with!(explicit::euler),
+        Integrator::Midpoint => run_with!(explicit::midpoint),
+        Integrator::Rk4 => run_with!(explicit::rk4),
+        Integrator::SemiImplicitEuler => run_with!(symplectic::semi_implicit_euler),
+        Integrator::SemiImplicitSplitting => run_with!(splitting::semi_implicit_splitting),
     }
     Ok(report)
 }

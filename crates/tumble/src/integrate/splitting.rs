@@ -13,9 +13,11 @@
 //! `h Pi_i / I_i` (`Pi_i` is constant under it), i.e. `q <- q exp(e_i h Pi_i / (2 I_i))`.
 //! The composition 1(h/2) 2(h/2) 3(h) 2(h/2) 1(h/2) is symmetric, hence second order,
 //! and symplectic: the energy error stays bounded (O(h²), no drift), `L` is untouched, and
-//! `q` stays unit up to round-off. Translation is semi-implicit Euler (first order).
+//! `q` stays unit up to round-off. Translation is semi-implicit Euler (first order):
+//! the kick and drift are symplectic.rs's `kick_and_drift`, given the turn above.
 
 use super::ode::Params;
+use super::symplectic::kick_and_drift;
 use super::ForceField;
 use crate::body::BodyState;
 use tumble_collide::math::{DQuat, DVec3};
@@ -91,8 +93,6 @@ pub fn free_rotation(q: DQuat, l: DVec3, inv_inertia: DVec3, h: f64) -> DQuat {
     principal_flow(q, l, inv_inertia, 0, half)
 }
 
-/// `P1 = P + h F(y)`, `L1 = L + h tau(y)`, `x1 = x + h P1 / M`, and `q1` from the
-/// symmetric principal-axis splitting of the free rotation under `L1`.
 /// The unit quaternion of a turn by the rotation vector `angle` (rad).
 #[inline(always)]
 pub fn turn_by(angle: DVec3) -> DQuat {
@@ -105,9 +105,8 @@ pub fn turn_by(angle: DVec3) -> DQuat {
     DQuat::from_xyzw(axis.x, axis.y, axis.z, c)
 }
 
-// Signature and kick (first three lines) are `semi_implicit_euler`'s in
-// symplectic.rs, written again so each method reads whole beside its
-// formula; only the rotation differs (the exact free-rotor flow here).
+/// `P1 = P + h F(y)`, `L1 = L + h tau(y)`, `x1 = x + h P1 / M`, and `q1` from the
+/// symmetric principal-axis splitting of the free rotation under `L1`.
 #[inline(always)]
 pub(crate) fn semi_implicit_splitting<F: ForceField + ?Sized>(
     p: &Params,
@@ -116,16 +115,7 @@ pub(crate) fn semi_implicit_splitting<F: ForceField + ?Sized>(
     h: f64,
     field: &F,
 ) -> BodyState {
-    let (f_ext, tau_ext) = field.wrench(p.index, y, t);
-    let linear_momentum = y.linear_momentum + (p.force + f_ext) * h;
-    let l = y.angular_momentum + (p.torque + tau_ext) * h;
-    let q = free_rotation(y.orientation, l, p.inv_inertia, h);
-    BodyState {
-        position: y.position + linear_momentum * (p.inv_mass * h),
-        orientation: q,
-        linear_momentum,
-        angular_momentum: l,
-    }
+    kick_and_drift(p, y, t, h, field, |q, l| free_rotation(q, l, p.inv_inertia, h))
 }
 
 #[cfg(test)]

@@ -203,21 +203,30 @@ impl Context<'_> {
         self.named
             .get(name)
             .map(|s| (s.clone(), FieldPath::root().key("shapes").key(name)))
-            .ok_or_else(|| {
-                let known: Vec<&str> = self.named.keys().copied().collect();
-                FieldError::new(
-                    path,
-                    format!(
-                        "unknown shape `{name}` (the top-level shapes table defines: {})",
-                        if known.is_empty() {
-                            "none".to_string()
-                        } else {
-                            known.join(", ")
-                        }
-                    ),
-                )
-            })
+            .ok_or_else(|| unknown_name(path, "shape", name, self.named.keys().copied()))
     }
+}
+
+/// The error for `name`, which the top-level table of `what`s does not
+/// define: unknown shapes and materials, listing the names the table has.
+fn unknown_name<'a>(
+    path: &FieldPath,
+    what: &str,
+    name: &str,
+    known: impl Iterator<Item = &'a str>,
+) -> FieldError {
+    let known: Vec<&str> = known.collect();
+    FieldError::new(
+        path,
+        format!(
+            "unknown {what} `{name}` (the top-level {what}s table defines: {})",
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        ),
+    )
 }
 
 fn resolve_body(
@@ -280,20 +289,12 @@ fn resolve_body(
     }
     let material = match &spec.material {
         None => ctx.default_material,
-        // Worded as `Context::lookup`'s unknown-shape error (keys listed, or
-        // "none") so both read alike; the tables hold different types.
         Some(name) => *ctx.materials.get(name).ok_or_else(|| {
-            let known: Vec<&str> = ctx.materials.keys().map(String::as_str).collect();
-            FieldError::new(
+            unknown_name(
                 &path.key("material"),
-                format!(
-                    "unknown material `{name}` (the top-level materials table defines: {})",
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
+                "material",
+                name,
+                ctx.materials.keys().map(String::as_str),
             )
         })?,
     };

@@ -8,7 +8,9 @@
 //! velocity in the world frame, angles of `rotation` in degrees.
 //! Fields are declared one by one (optional, with their unit in the doc,
 //! which is the JSON schema's description): runs of them look alike by
-//! design.
+//! design (as `BodySpec`'s `friction` to `ccd`): each key keeps its doc,
+//! unit and `#[serde(default)]` beside it, where a reader of the format
+//! looks the key up.
 
 use std::collections::BTreeMap;
 

@@ -1,5 +1,9 @@
 //! Scene file tests: values reach the world as written, and every kind of bad
 //! input gives one line naming the file, line, column and field.
+//!
+//! The error tests repeat one pattern (edit `GROUND_AND_BALL`, parse, take
+//! `at`'s line, column, path and message, assert them) case by case, so
+//! that each edit stands beside the location and message it must produce.
 
 use super::*;
 use std::path::Path;

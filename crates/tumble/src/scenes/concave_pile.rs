@@ -7,7 +7,7 @@
 //! the blob as a displaced UV sphere), so every engine gets the same ones
 //! through the scene export.
 
-use super::{no_sleep, Scene};
+use super::{ten_seconds_without_sleep, Scene};
 use crate::world::BodyDesc;
 use std::collections::HashMap;
 use tumble_collide::mesh::{torus_mesh, uv_sphere_mesh, TriMesh};
@@ -55,13 +55,7 @@ pub fn concave_pile(n: usize) -> Scene {
                 .named(CONCAVE_KINDS[k % CONCAVE_KINDS.len()]),
         );
     }
-    Scene {
-        name: "concave_pile".into(),
-        settings: no_sleep(),
-        bodies,
-        steps: 600,
-        joints: Vec::new(),
-    }
+    ten_seconds_without_sleep("concave_pile", bodies)
 }
 
 /// Dynamic bodies whose centre is outside the bin's inside: beyond its inner

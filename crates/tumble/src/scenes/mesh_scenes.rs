@@ -2,7 +2,7 @@
 //! into convex pieces for the peers) and the tori pass-through of
 //! shared/scenes.md.
 
-use super::{no_sleep, Scene};
+use super::{ten_seconds_without_sleep, Scene};
 use crate::body::BodyKind;
 use crate::world::{BodyDesc, MassDesc, ShapeDesc, WorldSettings};
 use tumble_collide::mesh::{torus_mesh, TriMesh};
@@ -85,13 +85,7 @@ fn chain_of(name: &str, link: Vec<ShapeDesc>) -> Scene {
             .named(format!("link{k}"))
         })
         .collect();
-    Scene {
-        name: name.into(),
-        settings: no_sleep(),
-        bodies,
-        steps: 600,
-        joints: Vec::new(),
-    }
+    ten_seconds_without_sleep(name, bodies)
 }
 
 /// A torus (R 1, r 0.3, 50 x 50: the thesis' 5,000 triangles) lying on the

@@ -47,6 +47,18 @@ fn no_sleep() -> WorldSettings {
     }
 }
 
+/// The shape most standard scenes share: [`no_sleep`] settings, 600 steps
+/// (10 s at the default dt of 1/60 s) and no joints.
+fn ten_seconds_without_sleep(name: impl Into<String>, bodies: Vec<BodyDesc>) -> Scene {
+    Scene {
+        name: name.into(),
+        settings: no_sleep(),
+        bodies,
+        steps: 600,
+        joints: Vec::new(),
+    }
+}
+
 /// A scene: settings and bodies, in the order they are added.
 #[derive(Debug, Clone)]
 pub struct Scene {

@@ -2,7 +2,7 @@
 //! plus the small test scenes (tower, ball drop). Dimensions, materials and
 //! ordering exactly as shared/scenes.md specifies.
 
-use super::{no_sleep, Scene};
+use super::{ten_seconds_without_sleep, Scene};
 use crate::world::{BodyDesc, WorldSettings};
 use tumble_collide::shape::{Cuboid, HalfSpace, Shape, Sphere};
 use tumble_collide::{DQuat, DVec3, Pose};
@@ -56,13 +56,7 @@ fn pyramid_with_base(name: &str, base: usize, ground: f64) -> Scene {
             );
         }
     }
-    Scene {
-        name: name.into(),
-        settings: no_sleep(),
-        bodies,
-        steps: 600,
-        joints: Vec::new(),
-    }
+    ten_seconds_without_sleep(name, bodies)
 }
 
 /// A single column of `n` unit cubes (mass 1) on the ground.
@@ -75,13 +69,7 @@ pub fn tower(n: usize) -> Scene {
                 .with_mass(1.0),
         );
     }
-    Scene {
-        name: format!("tower{n}"),
-        settings: no_sleep(),
-        bodies,
-        steps: 600,
-        joints: Vec::new(),
-    }
+    ten_seconds_without_sleep(format!("tower{n}"), bodies)
 }
 
 /// pile: `layers` x 100 bodies (10 x 10 grid per layer, alternating spheres of
@@ -127,13 +115,7 @@ pub fn pile(layers: usize) -> Scene {
             }
         }
     }
-    Scene {
-        name: format!("pile{}", layers * 100),
-        settings: no_sleep(),
-        bodies,
-        steps: 600,
-        joints: Vec::new(),
-    }
+    ten_seconds_without_sleep(format!("pile{}", layers * 100), bodies)
 }
 
 /// cradle: five touching spheres (r 0.1, mass 1, e = 1, mu = 0) in a row and a
@@ -216,13 +198,7 @@ pub fn domino() -> Scene {
         }
         bodies.push(d);
     }
-    Scene {
-        name: "domino".into(),
-        settings: no_sleep(),
-        bodies,
-        steps: 600,
-        joints: Vec::new(),
-    }
+    ten_seconds_without_sleep("domino", bodies)
 }
 
 /// A sphere (radius 0.1, mass 1) dropped from `height` (centre above the

@@ -374,6 +374,9 @@ pub const BLOCK_REFRESH: f64 = 0.1;
 /// least-norm split of the load over the corners, which is the symmetric
 /// one; velocities differ from the exact answer by `eps` relative.
 /// Padding rows (all zero) get the pivot `eps` and a zero solution.
+///
+/// `wide::regularised_cholesky` is this routine lane by lane, written alike
+/// line for line so that the two can be checked to give the same bits.
 #[allow(clippy::needless_range_loop)] // index form mirrors the textbook algorithm
 pub fn regularised_cholesky(k: &[[f64; BLOCK_POINTS]; BLOCK_POINTS]) -> [[f64; BLOCK_POINTS]; BLOCK_POINTS] {
     let largest = (0..BLOCK_POINTS).fold(0.0f64, |x, i| x.max(k[i][i]));

@@ -9,6 +9,11 @@
 //! to right, cross products and matrix-vector products as glam writes them),
 //! and nothing is fused into a multiply-add: a lane of a wide kernel gives
 //! the same bits as the scalar kernel on the same patch.
+//!
+//! `V3`, `M3` and `Q4` each spell out their gathers (`from_lanes`),
+//! scatters (`to_lanes`) and arithmetic field by field, as glam writes its
+//! own types, so each line can be held against the glam expression it must
+//! match; `wide`'s `PairLanes::load` gathers the bodies' velocities alike.
 
 use tumble_collide::{DMat3, DQuat, DVec3};
 use wide::f64x4;

@@ -8,6 +8,10 @@
 //! The kernels read and write bodies through a [`Shared`] view: within one
 //! colour no two patches share a dynamic body, and a kernel writes dynamic
 //! bodies only, so patches of one colour can run at once.
+//!
+//! `wide` holds the four-lane twins of these kernels (its `begin`, `solve`,
+//! `direct_block`, ...), written to read like them line by line so that the
+//! two can be checked against each other (see its module note).
 
 use super::body::SolverBody;
 use super::coloring::Shared;
@@ -117,6 +121,9 @@ pub fn begin_substep(
     bodies: &mut [SolverBody],
     warm: bool,
 ) {
+    // `solve` and `push_out` drive their kernels with this same loop, and
+    // `solve_patch` opens with `begin_patch`'s head: each wrapper keeps its
+    // kernel's unsafe call in view instead of behind a closure-taking driver.
     let bodies = Shared::new(bodies);
     for m in manifolds.iter_mut() {
         let pts = &mut points[m.range()];

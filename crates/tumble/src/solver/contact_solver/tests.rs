@@ -336,6 +336,9 @@ fn twist_friction_stops_a_spinning_box_within_its_torque_limit() {
     let g = 9.81;
     let iz = 1.0 / 6.0;
     let spin = 3.0;
+    // The box of patch_friction_stops_a_sliding_box_without_turning_it, set
+    // up in full with a spin instead of a slide: the velocities and inertia
+    // written here are the ones the brake limit below is computed from.
     let mut bodies = vec![
         SolverBody::new(
             -DVec3::Z * (g * h),

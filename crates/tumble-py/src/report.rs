@@ -96,6 +96,10 @@ pub struct PyStepReport {
     /// Contact points warm started from the previous step.
     #[pyo3(get)]
     warm_started: usize,
+    /// Mesh pairs that reused a remembered walk of their trees (resting
+    /// pairs: same contacts, less work).
+    #[pyo3(get)]
+    recalled_mesh_pairs: usize,
     /// Islands of awake bodies.
     #[pyo3(get)]
     islands: usize,
@@ -147,6 +151,7 @@ impl PyStepReport {
             broad_pairs: r.broad_pairs,
             contacts: r.contacts,
             warm_started: r.warm_started,
+            recalled_mesh_pairs: r.recalled_mesh_pairs,
             islands: r.islands,
             substeps: r.substeps,
             iterations: r.iterations,

@@ -97,6 +97,10 @@ pub struct ObbTree {
     leaves: usize,
     flat_fallbacks: usize,
     identity_fallbacks: usize,
+    /// Every leaf box lies within this of the root box's centre (m): the
+    /// largest distance of a leaf's centre from it plus the leaf's half
+    /// diagonal.
+    leaf_reach: f64,
 }
 
 /// Largest vertex coordinate (absolute, m, in the mesh's own frame) an
@@ -154,6 +158,7 @@ impl ObbTree {
             leaves: 0,
             flat_fallbacks: 0,
             identity_fallbacks: 0,
+            leaf_reach: 0.0,
         };
         let mut mark = vec![u32::MAX; mesh.vertices().len()];
         let mut points: Vec<DVec3> = Vec::new();
@@ -202,7 +207,21 @@ impl ObbTree {
             work.push((left + 1, mid, end, depth + 1));
             work.push((left, start, mid, depth + 1));
         }
+        let root = tree.nodes[0].center_f64();
+        tree.leaf_reach = tree
+            .nodes
+            .iter()
+            .filter(|n| n.is_leaf())
+            .map(|n| (n.center_f64() - root).length() + DVec3::from(n.half_f64()).length())
+            .fold(0.0, f64::max);
         Ok(tree)
+    }
+
+    /// A radius about the root box's centre (m) that holds every leaf box
+    /// whole: a point of any leaf box is at most this far from it, so a
+    /// rigid motion's reach over this ball bounds every leaf's.
+    pub fn leaf_reach(&self) -> f64 {
+        self.leaf_reach
     }
 
     /// All nodes; the root is `nodes()[0]`.

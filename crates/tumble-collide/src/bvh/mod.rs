@@ -27,7 +27,7 @@ pub use node::Node;
 pub use obb::Obb;
 pub use query::{query_aabb, query_halfspace, query_obb, query_sphere};
 pub use traverse::{
-    collide, collide_moving, distance, distance_with, DistanceResult, DistanceTolerance, TraversalError,
-    TraversalStats, Traverse,
+    collide, collide_leaves, collide_moving, distance, distance_with, DistanceResult, DistanceTolerance,
+    TraversalError, TraversalStats, Traverse,
 };
 pub use volume_distance::volume_distance;

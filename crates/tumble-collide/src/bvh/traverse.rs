@@ -202,6 +202,47 @@ pub fn collide_moving(
     drift: &Drift,
     mut on_pair: impl FnMut(u32, u32, f64) -> Traverse,
 ) -> Result<TraversalStats, TraversalError> {
+    let rel = Relative::new(pose_a, pose_b);
+    let local = drift.in_frame_of(pose_a);
+    let mut triangle_pairs = 0;
+    let mut stats = collide_leaves(a, pose_a, b, pose_b, margin, drift, |ia, ib| {
+        let (x, y) = (&a.nodes()[ia as usize], &b.nodes()[ib as usize]);
+        let moves = if local.is_none() {
+            0.0
+        } else {
+            rel.reach_of_b(y, &local)
+        };
+        for &ta in a.leaf_triangles(x) {
+            for &tb in b.leaf_triangles(y) {
+                triangle_pairs += 1;
+                if on_pair(ta, tb, moves) == Traverse::Stop {
+                    return Traverse::Stop;
+                }
+            }
+        }
+        Traverse::Continue
+    })?;
+    stats.triangle_pairs = triangle_pairs;
+    Ok(stats)
+}
+
+/// The walk of [`collide_moving`] at the level of leaves: every pair of
+/// leaf nodes `(of A, of B)` (indices into `nodes()`) whose boxes overlap
+/// after growing each by `margin / 2` and stretching B's along the drift,
+/// in depth-first order. That order is the trees' own: the walk descends
+/// into the larger box first and its left child before its right, whatever
+/// the poses, so the leaf pairs of two walks of the same trees come in the
+/// same relative order (what lets a pair remember a walk,
+/// `narrow::MeshPairMemory`).
+pub fn collide_leaves(
+    a: &ObbTree,
+    pose_a: &Pose,
+    b: &ObbTree,
+    pose_b: &Pose,
+    margin: f64,
+    drift: &Drift,
+    mut on_leaves: impl FnMut(u32, u32) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
     check_nonneg("collide margin", margin)?;
     if !drift.is_finite() {
         return Err(TraversalError::BadParameter {
@@ -229,19 +270,10 @@ pub fn collide_moving(
         let (x, y) = (&na[ia as usize], &nb[ib as usize]);
         if x.is_leaf() && y.is_leaf() {
             stats.leaf_pairs += 1;
-            let moves = if drift.is_none() {
-                0.0
-            } else {
-                rel.reach_of_b(y, &drift)
-            };
-            for &ta in a.leaf_triangles(x) {
-                for &tb in b.leaf_triangles(y) {
-                    stats.triangle_pairs += 1;
-                    if on_pair(ta, tb, moves) == Traverse::Stop {
-                        stats.stopped = true;
-                        return Ok(stats);
-                    }
-                }
+            stats.triangle_pairs += (a.leaf_triangles(x).len() * b.leaf_triangles(y).len()) as u64;
+            if on_leaves(ia, ib) == Traverse::Stop {
+                stats.stopped = true;
+                return Ok(stats);
             }
             continue;
         }

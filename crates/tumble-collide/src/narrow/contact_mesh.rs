@@ -92,14 +92,14 @@ fn merge(out: &mut Vec<Contact>, start: usize, tris_a: &[[u32; 3]], tris_b: &[[u
 /// Mesh B's vertices in mesh A's frame, each transformed once per query on
 /// first use. Kept per thread and reused, so the narrow phase does not
 /// allocate once warmed up; a generation stamp marks the valid entries.
-struct VertexCache {
+pub(super) struct VertexCache {
     points: Vec<DVec3>,
     stamp: Vec<u32>,
     generation: u32,
 }
 
 impl VertexCache {
-    fn begin(&mut self, n: usize) {
+    pub(super) fn begin(&mut self, n: usize) {
         if self.stamp.len() < n {
             self.points.resize(n, DVec3::ZERO);
             self.stamp.resize(n, 0);
@@ -112,7 +112,7 @@ impl VertexCache {
     }
 
     #[inline]
-    fn get(&mut self, v: u32, rot: &DMat3, trans: DVec3, vertices: &[DVec3]) -> DVec3 {
+    pub(super) fn get(&mut self, v: u32, rot: &DMat3, trans: DVec3, vertices: &[DVec3]) -> DVec3 {
         let i = v as usize;
         if self.stamp[i] != self.generation {
             self.stamp[i] = self.generation;
@@ -123,7 +123,7 @@ impl VertexCache {
 }
 
 thread_local! {
-    static VERTEX_CACHE: RefCell<VertexCache> = const {
+    pub(super) static VERTEX_CACHE: RefCell<VertexCache> = const {
         RefCell::new(VertexCache { points: Vec::new(), stamp: Vec::new(), generation: 0 })
     };
 }
@@ -188,12 +188,26 @@ pub fn contact_mesh_mesh_moving(
             },
         );
     });
+    finish_mesh_mesh(out, start, a, pose_a, b, pose_b);
+}
+
+/// The end of every mesh-mesh contact query: the contacts appended since
+/// `start` (A's frame) moved to the world, the ghosts of internal features
+/// dropped and the duplicates of shared features merged.
+pub(super) fn finish_mesh_mesh(
+    out: &mut Vec<Contact>,
+    start: usize,
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+) {
     for c in &mut out[start..] {
         c.point = pose_a.transform_point(c.point);
         c.normal = pose_a.rotation * c.normal;
     }
     drop_internal_contacts(out, start, Some((a, pose_a)), Some((b, pose_b)));
-    merge(out, start, tris_a, tris_b);
+    merge(out, start, a.mesh().triangles(), b.mesh().triangles());
 }
 
 /// Vertices of a mesh kept against a plane before reducing.

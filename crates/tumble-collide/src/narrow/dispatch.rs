@@ -54,12 +54,7 @@ pub fn contact_shapes_moving(
     drift: &Drift,
     out: &mut Vec<Contact>,
 ) -> Result<(), NarrowError> {
-    if !(margin.is_finite() && margin >= 0.0) {
-        return Err(NarrowError::BadMargin(margin));
-    }
-    if !drift.is_finite() {
-        return Err(NarrowError::BadDrift);
-    }
+    check_margin_and_drift(margin, drift)?;
     let start = out.len();
     match (a, b) {
         (Shape::Mesh(x), Shape::Mesh(y)) => {
@@ -86,20 +81,42 @@ pub fn contact_shapes_moving(
             dispatch(a, pose_a, b, pose_b, margin + reach, out)?
         }
     }
+    refuse_non_finite(out, start, a.kind_name(), b.kind_name())
+}
+
+/// [`NarrowError::BadMargin`] unless `margin` is finite and `>= 0`,
+/// [`NarrowError::BadDrift`] unless every component of `drift` is finite.
+pub(super) fn check_margin_and_drift(margin: f64, drift: &Drift) -> Result<(), NarrowError> {
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(NarrowError::BadMargin(margin));
+    }
+    if !drift.is_finite() {
+        return Err(NarrowError::BadDrift);
+    }
+    Ok(())
+}
+
+/// [`NarrowError::NotFinite`] for shapes of kinds `a` and `b` when a contact
+/// appended since `start` is not finite, and those contacts removed.
+pub(super) fn refuse_non_finite(
+    out: &mut Vec<Contact>,
+    start: usize,
+    a: &'static str,
+    b: &'static str,
+) -> Result<(), NarrowError> {
     let finite = out[start..]
         .iter()
         .all(|c| c.point.is_finite() && c.normal.is_finite() && c.distance.is_finite());
     if !finite {
         out.truncate(start);
-        return Err(NarrowError::NotFinite {
-            a: a.kind_name(),
-            b: b.kind_name(),
-        });
+        return Err(NarrowError::NotFinite { a, b });
     }
     Ok(())
 }
 
 /// The table itself.
+// Opens like `contact_shapes`, which checks the margin and drift and widens
+// the margin by the drift's reach before calling here; this is the bare table.
 fn dispatch(
     a: &Shape,
     pose_a: &Pose,

@@ -31,6 +31,7 @@ mod contact_sphere_sphere;
 mod dispatch;
 mod geometry;
 pub(crate) mod gjk;
+mod mesh_pair_memory;
 mod reduce;
 
 #[cfg(test)]
@@ -56,6 +57,9 @@ pub use contact_sphere_capsule::contact_sphere_capsule;
 pub use contact_sphere_cuboid::contact_sphere_cuboid;
 pub use contact_sphere_sphere::contact_sphere_sphere;
 pub use dispatch::{contact_shapes, contact_shapes_moving};
+pub use mesh_pair_memory::{
+    contact_mesh_mesh_recalled, MeshPairMemory, Recall, RECALL_MAX_REACH, RECALL_SLACK,
+};
 pub use reduce::{reduce_patch, reduce_to_four, PATCH_DEPTH_BAND, PATCH_MAX_POINTS};
 
 use crate::contact::{Contact, ContactKind, Feature};

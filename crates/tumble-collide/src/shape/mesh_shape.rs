@@ -125,6 +125,12 @@ impl MeshShape {
         &self.tree
     }
 
+    /// Its OBBTree as shared (a pair's remembered walk holds it, so that
+    /// the walk is only ever applied to this tree).
+    pub(crate) fn tree_arc(&self) -> &Arc<ObbTree> {
+        &self.tree
+    }
+
     /// World bounding box at `pose`: the mesh's box in its own frame, turned.
     pub fn aabb(&self, pose: &Pose) -> Aabb {
         let c = (self.lo + self.hi) * 0.5;

@@ -153,6 +153,10 @@ pub struct StepReport {
     pub contacts: usize,
     /// Contact points that matched one of the previous step (warm started).
     pub warm_started: usize,
+    /// Mesh pairs whose triangle pairs came from a walk of their trees that
+    /// they remembered from an earlier step (resting pairs; the contacts are
+    /// the same bits as from a new walk, only cheaper).
+    pub recalled_mesh_pairs: usize,
     /// Islands of awake bodies.
     pub islands: usize,
     /// Sub-steps run.

@@ -11,6 +11,7 @@ use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
 use crate::world::WorldSettings;
 use tumble_collide::broad::Aabb;
+use tumble_collide::narrow::MeshPairMemory;
 
 /// What the stages of one step share (see `World::step`).
 pub(crate) struct StepFrame {
@@ -149,7 +150,14 @@ pub(crate) struct StepScratch {
     pub wide: WideBatches,
     /// The last step's frame arrays, emptied (see [`StepFrame::recycle`]).
     pub frame: FrameBuffers,
+    /// The walks that resting mesh pairs remember (`narrow::MeshPairMemory`),
+    /// by collider pair, in the step's pair order. They change the narrow
+    /// phase's cost, never its contacts.
+    pub mesh_memory: Vec<(MeshPairKey, Option<MeshPairMemory>)>,
 }
+
+/// A collider pair: body slots and collider indices `(a, b, ia, ib)`.
+pub(crate) type MeshPairKey = (u32, u32, u16, u16);
 
 /// The frame's largest arrays, kept empty between steps.
 #[derive(Default)]

@@ -9,12 +9,13 @@
 //! contacts do not depend on the chunk it falls in, so the result is the
 //! same bits for any thread count.
 
+use super::frame::MeshPairKey;
 use super::margins::{is_active, relative_motion_bound, slot_velocities, velocity_change_bounds};
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
 use crate::world::{Collider, MaterialDesc, World};
-use tumble_collide::narrow::{contact_shapes, contact_shapes_moving};
+use tumble_collide::narrow::{contact_mesh_mesh_recalled, contact_shapes, MeshPairMemory, Recall};
 use tumble_collide::{Contact, DVec3, Drift, Shape};
 
 /// What one chunk of candidate pairs produced.
@@ -27,6 +28,15 @@ struct ChunkContacts {
     max_penetration: f64,
     /// The first error of the chunk: (index in the step's pair list, message).
     error: Option<(usize, String)>,
+    /// What each remembering mesh pair did with its memory, in pair order.
+    recalls: Vec<(MeshPairKey, Recalled)>,
+}
+
+/// A mesh pair's memory after this step: the last step's (by its index in
+/// the kept list) or a new one.
+enum Recalled {
+    Kept(usize),
+    New(MeshPairMemory),
 }
 
 /// Pairs per task when the narrow phase runs on several threads: each task
@@ -35,14 +45,9 @@ struct ChunkContacts {
 /// chunks of mesh scenes are single pairs.
 const PAIRS_PER_TASK: usize = 128;
 
-/// How many steps of their current motion two meshes look ahead for
-/// contacts. Two, not one: a body's velocity can change within the step by
-/// as much as it is (stopped by a third body, or thrown back), which the
-/// velocities at the step's start do not announce; a chain's links are
-/// jerked so by their neighbours. Measured over ensembles of the torus
-/// chain (examples/ensemble_depth): one step's look-ahead let links sink
-/// 4.6 mm (median of the runs' worst, 13.5 mm at worst), two 2.6 mm (2.7),
-/// three 2.5 mm (2.7) at a fifth more time.
+/// Pairs per task in a scene with meshes: one mesh pair can cost
+/// milliseconds, so each is its own task and the threads balance by taking
+/// the next.
 const MESH_PAIRS_PER_TASK: usize = 1;
 
 /// How many steps of their current motion two meshes look ahead for
@@ -66,7 +71,9 @@ impl World {
         };
         // The frame's arrays, kept from the last step (empty).
         let (mut points, mut patches) = (std::mem::take(&mut f.points), std::mem::take(&mut f.patches));
+        let mut memory = std::mem::take(&mut self.scratch.mesh_memory);
         let frame: &StepFrame = f;
+        let memory_read = &memory;
         // Buffers sized from the last step's contacts, in proportion to the
         // chunk's share of the pairs: no growth in a steady scene.
         let per_pair = (self.cache.len() + self.cache.len() / 4) as f64 / frame.pairs.len().max(1) as f64;
@@ -79,6 +86,7 @@ impl World {
                 self.pair_contacts(
                     frame,
                     (&velocity, &shock),
+                    memory_read,
                     first + k,
                     pair,
                     &mut buffer,
@@ -87,7 +95,7 @@ impl World {
                 );
             }
         };
-        let chunks = if frame.pool.threads() > 1 && frame.pairs.len() > chunk {
+        let mut chunks = if frame.pool.threads() > 1 && frame.pairs.len() > chunk {
             frame.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
                 let mut out = ChunkContacts {
                     points: Vec::with_capacity((per_pair * pairs.len() as f64) as usize + 16),
@@ -112,6 +120,20 @@ impl World {
         // Join in pair order, into the kept arrays (a lone chunk is them).
         (f.points, f.patches) = (points, patches);
         let mut warned = false;
+        let mut kept = Vec::new();
+        for chunk in &mut chunks {
+            for (key, recalled) in chunk.recalls.drain(..) {
+                let memory = match recalled {
+                    Recalled::Kept(i) => {
+                        f.report.recalled_mesh_pairs += 1;
+                        memory[i].1.take()
+                    }
+                    Recalled::New(m) => Some(m),
+                };
+                kept.push((key, memory));
+            }
+        }
+        self.scratch.mesh_memory = kept;
         for chunk in chunks {
             if let (false, Some((k, err))) = (warned, &chunk.error) {
                 let (a, b) = f.pairs[*k];
@@ -145,6 +167,7 @@ impl World {
         &self,
         f: &StepFrame,
         (velocity, shock): (&[(DVec3, DVec3)], &[f64]),
+        memory: &[(MeshPairKey, Option<MeshPairMemory>)],
         k: usize,
         (a, b): (u32, u32),
         buffer: &mut Vec<Contact>,
@@ -192,8 +215,17 @@ impl World {
             for (ib, cb) in eb.colliders.iter().enumerate() {
                 buffer.clear();
                 let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
-                let found = if is_mesh(ca) && is_mesh(cb) {
-                    contact_shapes_moving(&ca.shape, &wpa, &cb.shape, &wpb, mesh_margin, &drift, buffer)
+                let key = (a, b, ia as u16, ib as u16);
+                let found = if let (Shape::Mesh(ma), Shape::Mesh(mb)) = (&ca.shape, &cb.shape) {
+                    // The last step's walk of this pair, if it kept one.
+                    let index = memory.binary_search_by_key(&key, |e| e.0).ok();
+                    let remembered = index.and_then(|i| memory[i].1.as_ref());
+                    contact_mesh_mesh_recalled(ma, &wpa, mb, &wpb, mesh_margin, &drift, remembered, buffer)
+                        .map(|recall| match recall {
+                            Recall::Reused => out.recalls.push((key, Recalled::Kept(index.expect("found")))),
+                            Recall::Found(m) => out.recalls.push((key, Recalled::New(m))),
+                            Recall::Walked => {}
+                        })
                 } else {
                     contact_shapes(&ca.shape, &wpa, &cb.shape, &wpb, margin, buffer)
                 };
@@ -209,7 +241,7 @@ impl World {
                 };
                 let pair = PairInfo {
                     ids,
-                    key: (a, b, ia as u16, ib as u16),
+                    key,
                     pose_a: &pa,
                     pose_b: &pb,
                     friction,

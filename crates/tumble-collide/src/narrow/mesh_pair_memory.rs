@@ -1,0 +1,574 @@
+//! Temporal coherence for two meshes that barely move against each other
+//! (issue 15, "contacts re-validated rather than re-found"): a resting pair
+//! keeps the leaf pairs of one walk of the two OBB-trees and, step after
+//! step, tests only the triangle pairs of that list that its motion since
+//! then could have brought within the margin.
+//!
+//! The idea is the Verlet list of molecular dynamics (neighbours within a
+//! cutoff plus a skin, valid while no particle has moved half the skin)
+//! applied to triangle pairs: the walk collects the leaf pairs within the
+//! margin plus a slack `s`; later, while every point of B has moved (in A's
+//! frame) less than what is left of `s`, no triangle pair outside the list
+//! can have come within the margin. Each listed triangle pair also keeps its
+//! distance at the walk, and is skipped while that distance, less the
+//! motion since, stays beyond its margin: in a settled pile most listed
+//! pairs are, and the tests left are about those that give contacts.
+//!
+//! Both the skips and the list are exact in the sense that matters: a
+//! skipped or unlisted pair provably gives no contact, and the listed pairs
+//! are tested in the walk's depth-first order, which depends on the trees
+//! alone (`bvh::traverse` descends by box size, not by pose). So the contacts
+//! are the same bits whether the list is reused or found again this step:
+//! they are every contact the triangle test gives for any pair of the two
+//! meshes, a function of the poses, the margin and the drift only. That is
+//! what keeps a step independent of the memory's history (thread counts,
+//! snapshots, sleeping).
+
+use super::contact_mesh::{finish_mesh_mesh, VertexCache, VERTEX_CACHE};
+use super::dispatch::{check_margin_and_drift, refuse_non_finite};
+use super::NarrowError;
+use crate::bvh::{self, Node, ObbTree, Traverse};
+use crate::contact::Contact;
+use crate::drift::Drift;
+use crate::math::{DMat3, DQuat, DVec3};
+use crate::pose::Pose;
+use crate::shape::MeshShape;
+use crate::triangle::{triangle_contacts_unchecked, triangle_distance};
+use std::sync::Arc;
+
+/// A pair qualifies while no point of B can move farther than this (m)
+/// relative to A within the look-ahead: resting and slowly sliding pairs.
+/// Faster pairs walk their trees along the drift every step
+/// (`contact_mesh_mesh_moving`), which follows a fast part's own path
+/// instead of a list grown around all of it.
+pub const RECALL_MAX_REACH: f64 = 0.002;
+
+/// The slack (m) a new list is found with beyond the margin and the
+/// look-ahead: how far B may then move against A before the list must be
+/// found again. A resting pair moves microns per step and keeps its list
+/// for hundreds of steps; a larger slack lists (and bounds) more pairs.
+pub const RECALL_SLACK: f64 = 0.002;
+
+/// Round-off allowance (m) of the bounds below: far above the error of the
+/// coordinates' arithmetic (1e-15 relative), far below any margin.
+const ROUND_OFF: f64 = 1e-9;
+
+/// What one walk of two OBB-trees found, kept for the following steps.
+#[derive(Debug, Clone)]
+pub struct MeshPairMemory {
+    /// The trees the list indexes: an entry is only ever used for them (held,
+    /// so that no other tree can take their place in memory).
+    trees: (Arc<ObbTree>, Arc<ObbTree>),
+    /// B's pose in A's frame at the walk.
+    rel: Pose,
+    /// The margin the walk used (m): the step's margin plus B's look-ahead
+    /// reach plus [`RECALL_SLACK`].
+    reach: f64,
+    /// Leaf pairs `(node of A, node of B)` within `reach`, in walk order.
+    leaf_pairs: Vec<(u32, u32)>,
+    /// For each triangle pair of `leaf_pairs` (in order, A's triangles
+    /// outer), its distance at the walk or a lower bound of it beyond
+    /// `reach` (m).
+    gaps: Vec<f64>,
+}
+
+impl MeshPairMemory {
+    /// How many leaf pairs the list holds.
+    pub fn leaf_pairs(&self) -> usize {
+        self.leaf_pairs.len()
+    }
+}
+
+/// What [`contact_mesh_mesh_recalled`] did with the pair's memory.
+#[derive(Debug)]
+pub enum Recall {
+    /// The memory was still valid and was used: keep it.
+    Reused,
+    /// A new list was found (no memory, or it had run out): keep this one.
+    Found(MeshPairMemory),
+    /// The pair moves too fast for a list: it walked its trees along the
+    /// drift, and there is nothing to keep.
+    Walked,
+}
+
+/// [`contact_mesh_mesh_moving`](super::contact_mesh_mesh_moving) for a pair
+/// that may remember its last walk: when B can move less than
+/// [`RECALL_MAX_REACH`] against A, the contacts come from `memory` if it is
+/// still valid (else from a new walk, returned to be kept); faster pairs
+/// walk along the drift as `contact_mesh_mesh_moving` does.
+///
+/// The contacts of a remembered pair are those of every triangle pair of the
+/// two meshes under the triangle test with `margin` plus the reach of its B
+/// leaf's motion, whatever the memory: a memory changes the cost, never the
+/// answer (module docs). A margin that is not finite and `>= 0` is
+/// [`NarrowError::BadMargin`], a drift that is not finite
+/// [`NarrowError::BadDrift`], and contacts whose arithmetic overflowed
+/// [`NarrowError::NotFinite`]; nothing is appended then.
+// Opens with `contact_mesh_mesh_moving`'s arguments (the narrow phase's
+// common six and the drift, module docs of `narrow`), then the memory.
+#[allow(clippy::too_many_arguments)]
+pub fn contact_mesh_mesh_recalled(
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    margin: f64,
+    drift: &Drift,
+    memory: Option<&MeshPairMemory>,
+    out: &mut Vec<Contact>,
+) -> Result<Recall, NarrowError> {
+    check_margin_and_drift(margin, drift)?;
+    let start = out.len();
+    let recall = 'recall: {
+        let (tree_a, tree_b) = (a.tree_arc(), b.tree_arc());
+        let (na, nb) = (tree_a.nodes(), tree_b.nodes());
+        if na.is_empty() || nb.is_empty() {
+            break 'recall Recall::Walked;
+        }
+        let rel = pose_a.inverse().mul_pose(pose_b);
+        let rot = DMat3::from_quat(rel.rotation);
+        let local_drift = drift.in_frame_of(pose_a);
+        // Every leaf box of B lies within `leaf_reach` of its root's centre, so
+        // no leaf's reach exceeds the drift's reach over that ball.
+        let root_b = nb[0].center_f64();
+        let root_in_a = rot * root_b + rel.position;
+        let reach_max = if drift.is_none() {
+            0.0
+        } else {
+            local_drift.reach(root_in_a, tree_b.leaf_reach()) * (1.0 + 1e-12) + ROUND_OFF
+        };
+        if reach_max > RECALL_MAX_REACH {
+            super::contact_mesh_mesh_moving(a, pose_a, b, pose_b, margin, drift, out);
+            break 'recall Recall::Walked;
+        }
+        let remembered = memory.filter(|m| {
+            Arc::ptr_eq(&m.trees.0, tree_a)
+                && Arc::ptr_eq(&m.trees.1, tree_b)
+                && margin + reach_max + moved_since(&m.rel, &rel, root_b, tree_b.leaf_reach()) <= m.reach
+        });
+        // How far any point of B's leaf `y` can move over the drift (m).
+        let leaf_moves = |y: &Node| {
+            if drift.is_none() {
+                0.0
+            } else {
+                local_drift.reach(
+                    rot * y.center_f64() + rel.position,
+                    DVec3::from(y.half_f64()).length(),
+                )
+            }
+        };
+        let recall = VERTEX_CACHE.with_borrow_mut(|cache| {
+            cache.begin(b.mesh().vertices().len());
+            let mut placer = Placer {
+                a,
+                b,
+                rot: &rot,
+                trans: rel.position,
+                cache,
+            };
+            match remembered {
+                Some(m) => {
+                    let moved = moved_since(&m.rel, &rel, root_b, tree_b.leaf_reach());
+                    let listed = Listed {
+                        memory: m,
+                        moved,
+                        margin,
+                        reach_max,
+                    };
+                    listed.contacts(&mut placer, &leaf_moves, out);
+                    Recall::Reused
+                }
+                None => {
+                    let memory = walk(
+                        &mut placer,
+                        pose_a,
+                        pose_b,
+                        rel,
+                        margin + reach_max + RECALL_SLACK,
+                    );
+                    let listed = Listed {
+                        memory: &memory,
+                        moved: 0.0,
+                        margin,
+                        reach_max,
+                    };
+                    listed.contacts(&mut placer, &leaf_moves, out);
+                    Recall::Found(memory)
+                }
+            }
+        });
+        finish_mesh_mesh(out, start, a, pose_a, b, pose_b);
+        recall
+    };
+    refuse_non_finite(out, start, "mesh", "mesh")?;
+    Ok(recall)
+}
+
+/// Triangles of A (as stored) and of B (moved into A's frame through the
+/// per-thread vertex cache) for the triangle tests.
+struct Placer<'a> {
+    a: &'a MeshShape,
+    b: &'a MeshShape,
+    rot: &'a DMat3,
+    trans: DVec3,
+    cache: &'a mut VertexCache,
+}
+
+impl Placer<'_> {
+    #[inline]
+    fn place(&mut self, ta: u32, tb: u32) -> ([DVec3; 3], [DVec3; 3]) {
+        let [i, j, k] = self.a.mesh().triangles()[ta as usize];
+        let va = self.a.mesh().vertices();
+        let wa = [va[i as usize], va[j as usize], va[k as usize]];
+        let vb = self.b.mesh().vertices();
+        let wb = self.b.mesh().triangles()[tb as usize].map(|v| self.cache.get(v, self.rot, self.trans, vb));
+        (wa, wb)
+    }
+}
+
+/// A new list: the leaf pairs of the two trees within `reach` (no drift:
+/// the reach covers it) and each triangle pair's distance bound.
+fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64) -> MeshPairMemory {
+    let (tree_a, tree_b) = (placer.a.tree_arc(), placer.b.tree_arc());
+    let mut leaf_pairs = Vec::new();
+    let _ = bvh::traverse::collide_leaves(tree_a, pose_a, tree_b, pose_b, reach, &Drift::NONE, |x, y| {
+        leaf_pairs.push((x, y));
+        Traverse::Continue
+    });
+    let (na, nb) = (tree_a.nodes(), tree_b.nodes());
+    let mut gaps = Vec::with_capacity(2 * leaf_pairs.len());
+    for &(x, y) in &leaf_pairs {
+        for &ta in tree_a.leaf_triangles(&na[x as usize]) {
+            for &tb in tree_b.leaf_triangles(&nb[y as usize]) {
+                let (wa, wb) = placer.place(ta, tb);
+                // A pair the cheap bound puts beyond the list's reach is
+                // skipped for as long as the list is valid; the others get
+                // their exact distance, which skips about half of those a
+                // cheap bound keeps (a settled pile of concave bodies).
+                let cheap = gap_lower_bound(&wa, &wb);
+                gaps.push(if cheap > reach {
+                    cheap
+                } else {
+                    triangle_distance(&wa, &wb).distance.max(cheap)
+                });
+            }
+        }
+    }
+    MeshPairMemory {
+        trees: (tree_a.clone(), tree_b.clone()),
+        rel,
+        reach,
+        leaf_pairs,
+        gaps,
+    }
+}
+
+/// A list with how far B has moved since it was found.
+struct Listed<'m> {
+    memory: &'m MeshPairMemory,
+    /// A bound on any point of B's move in A's frame since the walk (m).
+    moved: f64,
+    /// The step's margin (m).
+    margin: f64,
+    /// No leaf of B reaches farther than this over the drift (m).
+    reach_max: f64,
+}
+
+impl Listed<'_> {
+    /// The triangle test on every listed pair that the motion since the
+    /// walk could have brought within its margin, in the list's order.
+    fn contacts(&self, placer: &mut Placer, leaf_moves: &dyn Fn(&Node) -> f64, out: &mut Vec<Contact>) {
+        let (tree_a, tree_b) = (placer.a.tree(), placer.b.tree());
+        let (na, nb) = (tree_a.nodes(), tree_b.nodes());
+        let gaps = &self.memory.gaps;
+        let mut k = 0;
+        for &(x, y) in &self.memory.leaf_pairs {
+            let (x, y) = (&na[x as usize], &nb[y as usize]);
+            // Each pair is measured first against the largest reach of any
+            // leaf, then against its own leaf's (computed once, if needed).
+            let mut moves = None;
+            for &ta in tree_a.leaf_triangles(x) {
+                for &tb in tree_b.leaf_triangles(y) {
+                    let gap = gaps[k] - self.moved - ROUND_OFF;
+                    k += 1;
+                    if gap > self.margin + self.reach_max {
+                        continue;
+                    }
+                    let moves = *moves.get_or_insert_with(|| leaf_moves(y));
+                    if gap > self.margin + moves {
+                        continue;
+                    }
+                    let (wa, wb) = placer.place(ta, tb);
+                    triangle_contacts_unchecked(&wa, ta, &wb, tb, self.margin + moves, out);
+                }
+            }
+        }
+    }
+}
+
+/// A bound (m) on how far any point within `radius` of `center` (B's own
+/// frame) has moved in A's frame between B's relative poses `then` and
+/// `now`: the centre's move plus the turn's chord over the radius (the
+/// rotation `q = now then^-1` moves a point at distance `r` from its axis
+/// by `2 sin(angle / 2) r = 2 |q.xyz| r`).
+fn moved_since(then: &Pose, now: &Pose, center: DVec3, radius: f64) -> f64 {
+    let shift = (now.transform_point(center) - then.transform_point(center)).length();
+    let turn: DQuat = (now.rotation * then.rotation.conjugate()).normalize();
+    let chord = 2.0 * DVec3::new(turn.x, turn.y, turn.z).length() * radius;
+    (shift + chord) * (1.0 + 1e-12) + ROUND_OFF
+}
+
+/// A lower bound (m) of the distance between triangles `a` and `b`: the
+/// larger of their bounding spheres' gap (about the centroids) and the
+/// separation by either triangle's plane; 0 when neither separates them.
+fn gap_lower_bound(a: &[DVec3; 3], b: &[DVec3; 3]) -> f64 {
+    let sphere = |t: &[DVec3; 3]| {
+        let c = (t[0] + t[1] + t[2]) / 3.0;
+        let r2 = (t[0] - c)
+            .length_squared()
+            .max((t[1] - c).length_squared())
+            .max((t[2] - c).length_squared());
+        (c, r2.sqrt())
+    };
+    let ((ca, ra), (cb, rb)) = (sphere(a), sphere(b));
+    let mut best = (ca - cb).length() - ra - rb;
+    // The plane of `q` separates `p` by the smallest height of `p`'s
+    // corners on one side of it.
+    let by_plane = |p: &[DVec3; 3], q: &[DVec3; 3]| {
+        let n = (q[1] - q[0]).cross(q[2] - q[0]);
+        let len = n.length();
+        if len == 0.0 || !len.is_finite() {
+            return 0.0;
+        }
+        let h = p.map(|v| n.dot(v - q[0]) / len);
+        let (lo, hi) = (h[0].min(h[1]).min(h[2]), h[0].max(h[1]).max(h[2]));
+        if lo > 0.0 {
+            lo
+        } else if hi < 0.0 {
+            -hi
+        } else {
+            0.0
+        }
+    };
+    best = best.max(by_plane(a, b)).max(by_plane(b, a));
+    best.max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{icosphere_mesh, torus_mesh};
+    use crate::narrow::{contact_mesh_mesh, contact_mesh_mesh_moving};
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// A point of the cube `[-half, half]^3`, uniformly.
+    fn within(rng: &mut SplitMix64, half: f64) -> DVec3 {
+        DVec3::new(
+            rng.range(-half, half),
+            rng.range(-half, half),
+            rng.range(-half, half),
+        )
+    }
+
+    /// A pose within the unit cube, turned by up to 1.7 rad.
+    fn random_pose(rng: &mut SplitMix64) -> Pose {
+        let turn = DQuat::from_scaled_axis(within(rng, 1.0));
+        Pose::new(within(rng, 1.0), turn).unwrap()
+    }
+
+    fn torus() -> MeshShape {
+        MeshShape::new(torus_mesh(0.3, 0.1, 32, 16).unwrap()).unwrap()
+    }
+
+    fn ball() -> MeshShape {
+        MeshShape::new(icosphere_mesh(0.15, 2).unwrap()).unwrap()
+    }
+
+    /// A ball resting on a torus's tube, then walking in small random steps
+    /// (0.3 mm and 2 mrad at most, with a steady 0.1 mm per step along x,
+    /// so that the list runs out along the way).
+    fn wander(steps: usize, seed: u64) -> Vec<Pose> {
+        let mut rng = SplitMix64(seed);
+        let mut pose = Pose::from_translation(DVec3::new(0.3, 0.0, 0.1 + 0.15 + 0.0005));
+        let mut poses = Vec::new();
+        for _ in 0..steps {
+            poses.push(pose);
+            let shift = within(&mut rng, 1.0) * 0.0003;
+            let turn = within(&mut rng, 1.0) * 0.002;
+            pose = Pose::new(
+                pose.position + shift + DVec3::new(0.0001, 0.0, 0.0),
+                (DQuat::from_scaled_axis(turn) * pose.rotation).normalize(),
+            )
+            .unwrap();
+        }
+        poses
+    }
+
+    fn bits(out: &[Contact]) -> String {
+        format!("{out:?}")
+    }
+
+    /// Runs the poses with the memory carried from step to step, and
+    /// checks every step against no memory at all (and, without drift,
+    /// against the plain walk): the same contacts, bit for bit.
+    fn carried_equals_fresh(drift: impl Fn(usize) -> Drift) -> (usize, usize) {
+        let (a, b) = (torus(), ball());
+        let pose_a = Pose::new(DVec3::new(0.01, -0.02, 0.0), DQuat::from_rotation_z(0.3)).unwrap();
+        let (mut memory, mut reused, mut found, mut touching) = (None, 0, 0, 0);
+        for (k, pose_b) in wander(60, 5).iter().enumerate() {
+            let drift = drift(k);
+            let margin = 0.004;
+            let mut carried = Vec::new();
+            match contact_mesh_mesh_recalled(
+                &a,
+                &pose_a,
+                &b,
+                pose_b,
+                margin,
+                &drift,
+                memory.as_ref(),
+                &mut carried,
+            )
+            .unwrap()
+            {
+                Recall::Reused => reused += 1,
+                Recall::Found(m) => {
+                    found += 1;
+                    memory = Some(m);
+                }
+                Recall::Walked => panic!("a slow pair walks along its drift"),
+            }
+            let mut fresh = Vec::new();
+            let again = contact_mesh_mesh_recalled(&a, &pose_a, &b, pose_b, margin, &drift, None, &mut fresh);
+            assert!(matches!(again, Ok(Recall::Found(_))));
+            touching += usize::from(!carried.is_empty());
+            assert_eq!(
+                bits(&carried),
+                bits(&fresh),
+                "step {k}: memory changed the contacts"
+            );
+            if drift.is_none() {
+                let mut walked = Vec::new();
+                contact_mesh_mesh(&a, &pose_a, &b, pose_b, margin, &mut walked);
+                assert_eq!(bits(&carried), bits(&walked), "step {k}: the plain walk differs");
+            }
+        }
+        // The comparison means something: the ball stays in contact.
+        assert!(touching >= 45, "in contact at {touching} of 60 steps");
+        (reused, found)
+    }
+
+    #[test]
+    fn a_remembered_walk_gives_the_plain_walks_contacts_bit_for_bit_until_it_runs_out() {
+        let (reused, found) = carried_equals_fresh(|_| Drift::NONE);
+        // The list served most steps, and was found again when the ball had
+        // wandered farther than the slack.
+        assert!(reused >= 30, "reused {reused} of 60");
+        assert!(found >= 2, "found {found} times");
+    }
+
+    #[test]
+    fn with_a_drift_the_contacts_do_not_depend_on_the_memory() {
+        let (reused, found) = carried_equals_fresh(|k| Drift {
+            origin: DVec3::new(0.3, 0.0, 0.25),
+            translation: DVec3::new(0.0002, -0.0001 * (k % 3) as f64, -0.0003),
+            rotation: DVec3::new(0.0, 0.001, 0.0005),
+        });
+        assert!(reused >= 20 && found >= 2, "reused {reused}, found {found}");
+    }
+
+    #[test]
+    fn a_fast_pair_walks_along_its_drift_and_a_memory_of_other_trees_is_not_used() {
+        let (a, b) = (torus(), ball());
+        let pose_a = Pose::IDENTITY;
+        let pose_b = wander(1, 3)[0];
+        // 5 mm along the normal within the look-ahead: the drift walk.
+        let fast = Drift {
+            origin: pose_b.position,
+            translation: DVec3::new(0.0, 0.0, -0.005),
+            rotation: DVec3::ZERO,
+        };
+        let (mut recalled, mut moving) = (Vec::new(), Vec::new());
+        let got = contact_mesh_mesh_recalled(&a, &pose_a, &b, &pose_b, 0.004, &fast, None, &mut recalled);
+        assert!(matches!(got, Ok(Recall::Walked)));
+        contact_mesh_mesh_moving(&a, &pose_a, &b, &pose_b, 0.004, &fast, &mut moving);
+        assert_eq!(bits(&recalled), bits(&moving));
+        // A memory of the ball against another torus (same shape, other
+        // tree) is found anew, not reused.
+        let other = torus();
+        let mut out = Vec::new();
+        let Ok(Recall::Found(m)) =
+            contact_mesh_mesh_recalled(&other, &pose_a, &b, &pose_b, 0.004, &Drift::NONE, None, &mut out)
+        else {
+            panic!("a first walk is found");
+        };
+        assert!(m.leaf_pairs() > 0);
+        let mut again = Vec::new();
+        let got = contact_mesh_mesh_recalled(
+            &a,
+            &pose_a,
+            &b,
+            &pose_b,
+            0.004,
+            &Drift::NONE,
+            Some(&m),
+            &mut again,
+        );
+        assert!(matches!(got, Ok(Recall::Found(_))));
+        assert_eq!(bits(&again), bits(&out));
+    }
+
+    #[test]
+    fn bad_margins_and_drifts_are_refused_and_append_nothing() {
+        let (a, b) = (torus(), ball());
+        let pose_b = wander(1, 3)[0];
+        let mut out = Vec::new();
+        let nan = Drift {
+            translation: DVec3::new(f64::NAN, 0.0, 0.0),
+            ..Drift::NONE
+        };
+        for (margin, drift, what) in [
+            (-1.0, Drift::NONE, "margin"),
+            (f64::INFINITY, Drift::NONE, "margin"),
+            (0.004, nan, "drift"),
+        ] {
+            let got =
+                contact_mesh_mesh_recalled(&a, &Pose::IDENTITY, &b, &pose_b, margin, &drift, None, &mut out);
+            match (got, what) {
+                (Err(NarrowError::BadMargin(_)), "margin") | (Err(NarrowError::BadDrift), "drift") => {}
+                (other, _) => panic!("{what}: {other:?}"),
+            }
+            assert!(out.is_empty());
+        }
+    }
+
+    #[test]
+    fn the_distance_bound_never_exceeds_the_distance() {
+        let mut rng = SplitMix64(17);
+        for _ in 0..2000 {
+            let mut tri = || {
+                let c = within(&mut rng, 1.0);
+                [0, 1, 2].map(|_| c + within(&mut rng, 0.3))
+            };
+            let (a, b) = (tri(), tri());
+            let exact = crate::triangle::triangle_distance(&a, &b).distance;
+            assert!(gap_lower_bound(&a, &b) <= exact + 1e-12, "{a:?} {b:?}");
+        }
+    }
+
+    #[test]
+    fn moved_since_bounds_every_points_move() {
+        let mut rng = SplitMix64(23);
+        for _ in 0..200 {
+            let (then, now) = (random_pose(&mut rng), random_pose(&mut rng));
+            let (center, radius) = (DVec3::new(0.1, -0.2, 0.3), 0.5);
+            let bound = moved_since(&then, &now, center, radius);
+            for _ in 0..20 {
+                let d = within(&mut rng, 1.0);
+                let x = center + d.normalize_or_zero() * radius * rng.range(0.0, 1.0);
+                let moved = (now.transform_point(x) - then.transform_point(x)).length();
+                assert!(moved <= bound, "{moved} > {bound}");
+            }
+        }
+    }
+}

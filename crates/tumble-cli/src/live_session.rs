@@ -87,10 +87,7 @@ fn run(scene: &LoadedScene, mut ws: WebSocket<TcpStream>, speed: f64) -> Result<
     loop {
         match ws.read() {
             Ok(Message::Close(_)) | Err(_) => return Ok(()),
-            Ok(Message::Text(_)) => send_all(
-                &mut ws,
-                vec![serde_json::json!({"type": "error", "message": "the simulation has ended"}).to_string()],
-            )?,
+            Ok(Message::Text(_)) => send_all(&mut ws, vec![LiveSession::ended_message()])?,
             Ok(_) => {}
         }
     }

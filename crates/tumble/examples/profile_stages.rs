@@ -47,6 +47,8 @@ fn main() {
     let mut sum = [0.0f64; Stage::ALL.len()];
     let mut parts = [0.0f64; 8];
     let mut total = 0.0;
+    // The last third of the steps alone: a pile's settled cost.
+    let mut late = 0.0;
     let mut swept_back = 0;
     let trace = std::env::var("TRACE_DEPTH").is_ok();
     let mut window = 0.0f64;
@@ -66,6 +68,9 @@ fn main() {
             parts[p as usize] += r.solve_time(p).as_secs_f64();
         }
         total += r.total_time().as_secs_f64();
+        if step >= steps - steps / 3 {
+            late += r.total_time().as_secs_f64();
+        }
     }
     let ms = |t: f64| t / steps as f64 * 1e3;
     let moved = (world.center_of_mass(last).unwrap() - start).length();
@@ -75,6 +80,11 @@ fn main() {
         world.threads(),
         world.settings().substeps,
         world.settings().iterations
+    );
+    println!(
+        "  last third of the steps: {:.3} ms/step; kinetic energy at the end {:.3e} J",
+        late / (steps / 3).max(1) as f64 * 1e3,
+        world.kinetic_energy()
     );
     println!("  bodies put back by continuous collision: {swept_back}");
     for s in Stage::ALL {

@@ -4,6 +4,10 @@
 //! pair goes through the exact closed triangle-triangle test
 //! ([`tri_tri_overlap`]), and, for contacts, through [`triangle_contacts`]
 //! and [`merge_contacts`].
+//!
+//! Its head (signature, then `checked_args`) reads like `distance`'s and the
+//! `_primitive` twins': one public shape in PQP's order, kept per query
+//! because A's type and the options differ (query/mod.rs says more).
 
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};

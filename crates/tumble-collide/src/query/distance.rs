@@ -2,6 +2,10 @@
 //! Manocha 1999): branch and bound over both OBBTrees, nearest box pair
 //! first, with the exact triangle-triangle distance ([`triangle_distance`],
 //! Ericson 5.1.9) at the leaves and PQP's relative / absolute error pruning.
+//!
+//! Its head (signature, then `checked_args`) reads like `collide`'s and the
+//! `_primitive` twins': one public shape in PQP's order, kept per query
+//! because A's type and the options differ (query/mod.rs says more).
 
 use super::error::QueryError;
 use super::input::{checked_args, world_triangle, QueryArgs};

@@ -102,6 +102,11 @@ pub struct LiveSession {
     spawned: usize,
 }
 
+/// An `error` message to the page.
+fn error_message(message: &str) -> String {
+    serde_json::json!({ "type": "error", "message": message }).to_string()
+}
+
 impl LiveSession {
     /// A session over `world`; the page will be shown every body it has now.
     pub fn new(world: World) -> LiveSession {
@@ -130,12 +135,16 @@ impl LiveSession {
         &self.ids
     }
 
+    /// The reply to any request once the scene's steps are done.
+    pub fn ended_message() -> String {
+        error_message("the simulation has ended")
+    }
+
     /// Handles one text message from the page (a `spawn` request); returns
     /// the messages to send back (`bodies_added`, or an `error` naming the
     /// field, the world unchanged).
     pub fn handle(&mut self, text: &str) -> Vec<String> {
-        let reply_error =
-            |message: String| vec![serde_json::json!({ "type": "error", "message": message }).to_string()];
+        let reply_error = |message: String| vec![error_message(&message)];
         let value: serde_json::Value = match serde_json::from_str(text) {
             Ok(v) => v,
             Err(e) => return reply_error(format!("not JSON: {e}")),

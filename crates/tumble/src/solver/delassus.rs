@@ -348,6 +348,8 @@ pub(crate) fn delassus(rows: &[JacobianRow], bodies: &[BodyState]) -> DenseMatri
 }
 
 pub(crate) fn validate(bodies: &[BodyState], contacts: &[ContactRow]) -> Result<(), ContactLcpError> {
+    // One check per field, each naming it in its error: the bodies' checks
+    // here and the contacts' below read alike but check different records.
     for (index, s) in bodies.iter().enumerate() {
         let nf = |field| ContactLcpError::NonFinite {
             what: "body",

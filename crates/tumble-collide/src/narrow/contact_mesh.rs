@@ -233,19 +233,34 @@ pub fn contact_mesh_halfspace(
 ) {
     let (n, d) = b.world_plane(pose_b);
     let start = out.len();
-    // Vertex v is named as a corner of the first triangle that uses it.
-    let mut first_use = vec![u32::MAX; a.mesh().vertices().len()];
-    for (t, tri) in a.mesh().triangles().iter().enumerate() {
-        for (k, &v) in tri.iter().enumerate() {
-            if first_use[v as usize] == u32::MAX {
-                first_use[v as usize] = (t as u32) << 2 | k as u32;
+    // The vertices within the margin lie in triangles whose leaf boxes
+    // reach within it: the tree finds them without visiting every vertex
+    // (a scanned mesh has millions). Each vertex is taken once, through the
+    // triangle that names it, and pushed in index order, as a scan of all
+    // vertices would push them.
+    let tris = a.mesh().triangles();
+    let mut near: Vec<u32> = Vec::new();
+    let _ = bvh::query_halfspace(a.tree(), pose_a, n, d, margin, |t| {
+        for (k, &v) in tris[t as usize].iter().enumerate() {
+            if a.first_corner(v) == Some((t, k as u8)) {
+                near.push(v);
             }
         }
-    }
-    for (v, &p) in a.mesh().vertices().iter().enumerate() {
-        if first_use[v] != u32::MAX {
-            let feature = Feature::vertex(first_use[v] >> 2, (first_use[v] & 3) as u8);
-            push_vertex_on_plane(out, pose_a.transform_point(p), n, d, margin, feature);
+        Traverse::Continue
+    });
+    near.sort_unstable();
+    let vertices = a.mesh().vertices();
+    for v in near {
+        if let Some((t, k)) = a.first_corner(v) {
+            let feature = Feature::vertex(t, k);
+            push_vertex_on_plane(
+                out,
+                pose_a.transform_point(vertices[v as usize]),
+                n,
+                d,
+                margin,
+                feature,
+            );
         }
     }
     if out.len() - start > MESH_PLANE_MAX_POINTS {

@@ -265,3 +265,54 @@ fn a_drift_finds_the_contacts_its_move_can_close_and_only_those() {
     );
     assert!(out.is_empty());
 }
+
+#[test]
+fn a_mesh_against_a_plane_gets_every_vertex_within_the_margin_once_in_index_order() {
+    // A torus tilted at random over the ground, its lowest point within the
+    // margin: the contacts are exactly the vertices within the margin (a
+    // scan of every vertex is the oracle), each once, named by its first
+    // corner, in vertex order; the tree only spares the visits.
+    use crate::mesh::torus_mesh;
+    use tumble_testkit::{RandomSource, SplitMix64};
+    let torus = MeshShape::new(torus_mesh(0.4, 0.1, 48, 24).unwrap()).unwrap();
+    let ground = HalfSpace::ground();
+    let mut rng = SplitMix64(31);
+    let margin = 0.004;
+    let mut seen = 0;
+    for _ in 0..60 {
+        let turn = DQuat::from_scaled_axis(DVec3::new(
+            rng.range(-0.4, 0.4),
+            rng.range(-0.4, 0.4),
+            rng.range(-3.0, 3.0),
+        ));
+        let unlifted = Pose::new(DVec3::ZERO, turn).unwrap();
+        let lowest = torus
+            .mesh()
+            .vertices()
+            .iter()
+            .map(|&v| unlifted.transform_point(v).z)
+            .fold(f64::INFINITY, f64::min);
+        let pose = Pose::new(DVec3::new(0.3, -0.2, -lowest + rng.range(-0.002, 0.003)), turn).unwrap();
+        let mut out = Vec::new();
+        contact_mesh_halfspace(&torus, &pose, &ground, &Pose::IDENTITY, margin, &mut out);
+        let expected: Vec<(DVec3, f64, Feature)> = torus
+            .mesh()
+            .vertices()
+            .iter()
+            .enumerate()
+            .filter_map(|(v, &p)| {
+                let (t, k) = torus.first_corner(v as u32)?;
+                let p = pose.transform_point(p);
+                (p.z <= margin).then_some((p - DVec3::Z * (0.5 * p.z), p.z, Feature::vertex(t, k)))
+            })
+            .collect();
+        if expected.len() > super::contact_mesh::MESH_PLANE_MAX_POINTS {
+            continue; // reduced: the band and spread rules decide
+        }
+        seen += 1;
+        let got: Vec<(DVec3, f64, Feature)> =
+            out.iter().map(|c| (c.point, c.distance, c.feature_a)).collect();
+        assert_eq!(got, expected);
+    }
+    assert!(seen >= 30, "only {seen} poses below the reduction");
+}

@@ -24,6 +24,10 @@ pub struct MeshShape {
     /// define no contact normal of its own. Bit `3 + k`: corner `k` is a flat
     /// vertex (every edge around it is flat: inside a flat region).
     flat: Arc<Vec<u8>>,
+    /// Entry `v`: vertex `v` as the corner `k` of the first triangle `t`
+    /// that uses it, `t << 2 | k` (`u32::MAX` for a vertex no triangle
+    /// uses): the one name a vertex contact gets, step after step.
+    first_corner: Arc<Vec<u32>>,
     lo: DVec3,
     hi: DVec3,
 }
@@ -73,10 +77,19 @@ impl MeshShape {
                 }
             }
         }
+        let mut first_corner = vec![u32::MAX; mesh.vertices().len()];
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            for (k, &v) in tri.iter().enumerate() {
+                if first_corner[v as usize] == u32::MAX {
+                    first_corner[v as usize] = (t as u32) << 2 | k as u32;
+                }
+            }
+        }
         Ok(MeshShape {
             mesh: Arc::new(mesh),
             tree: Arc::new(tree),
             flat: Arc::new(flat),
+            first_corner: Arc::new(first_corner),
             lo,
             hi,
         })
@@ -99,6 +112,13 @@ impl MeshShape {
             .is_some_and(|&bits| bits & (1 << (3 + k)) != 0)
     }
 
+    /// Vertex `v` named as corner `k` of the first triangle `t` that uses
+    /// it: `Some((t, k))`, or `None` for a vertex no triangle uses.
+    pub fn first_corner(&self, v: u32) -> Option<(u32, u8)> {
+        let code = *self.first_corner.get(v as usize)?;
+        (code != u32::MAX).then_some((code >> 2, (code & 3) as u8))
+    }
+
     /// `true` when both shapes were built from the same [`MeshShape::new`]
     /// call (clones share their mesh and tree): world snapshots store such a
     /// mesh once.
@@ -112,12 +132,16 @@ impl MeshShape {
     }
 
     /// Bytes of the whole collision model: the mesh (vertices and
-    /// triangles), its OBBTree and the flat-edge flags. The figure the
+    /// triangles), its OBBTree, the flat-edge flags and the vertices' names. The figure the
     /// benchmarks compare with other libraries' models, which hold their
     /// geometry beside their trees (FCL's and coal's `memUsage`, parry's
     /// `total_memory_size`).
     pub fn memory_bytes(&self) -> usize {
-        std::mem::size_of::<Self>() + self.mesh.memory_bytes() + self.tree.memory_bytes() + self.flat.len()
+        std::mem::size_of::<Self>()
+            + self.mesh.memory_bytes()
+            + self.tree.memory_bytes()
+            + self.flat.len()
+            + self.first_corner.len() * std::mem::size_of::<u32>()
     }
 
     /// Its OBBTree.

@@ -15,8 +15,8 @@ DYN_FIGURES = {
     "cradle": ["last_sphere_vx", "momentum_error", "energy_error"],
     "heavy_chain": ["largest_joint_error_m", "final_joint_error_m", "weight_distance_m",
                     "simulation_unstable_at_s"],
-    "concave_pile": ["bodies_escaped", "deepest_penetration_m", "final_kinetic_energy_j",
-                     "most_points_in_one_pair", "contact_points"],
+    "concave_pile": ["bodies_escaped", "deepest_penetration_m", "kinetic_energy_at_5s_j",
+                     "final_kinetic_energy_j", "most_points_in_one_pair", "contact_points"],
     "ragdoll_pile": ["largest_joint_error_m", "final_joint_error_m", "deepest_penetration_m",
                      "bodies_below_ground", "simulation_unstable_at_s"],
 }

@@ -5,7 +5,7 @@
 //!   principal axes of inertia tensors and OBB axes from covariance matrices.
 //! - [`skew`]: the cross-product matrix `a* b = a x b` (thesis 2.1.4).
 //! - [`quat_derivative`]: `dq/dt = 1/2 [0, omega] q` (thesis 3.3).
-//! - [`first_max`]: the first index of the largest score (deterministic ties).
+//! - `first_max`: the first index of the largest score (deterministic ties).
 //! - tolerance helpers for comparing floats in tests and algorithms.
 
 pub use glam::{DMat3, DQuat, DVec3, Mat3, Quat, Vec3, Vec3A};
@@ -16,7 +16,7 @@ pub use glam::{DMat3, DQuat, DVec3, Mat3, Quat, Vec3, Vec3A};
 /// The scan behind `Polytope::support_vertex`, `Polytope::best_face` and the
 /// contact reduction's picks.
 #[inline]
-pub fn first_max(count: usize, score: impl Fn(usize) -> f64) -> (usize, f64) {
+pub(crate) fn first_max(count: usize, score: impl Fn(usize) -> f64) -> (usize, f64) {
     let mut best = 0;
     let mut best_score = f64::NEG_INFINITY;
     for i in 0..count {

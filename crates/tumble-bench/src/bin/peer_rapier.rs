@@ -103,10 +103,16 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
         .sum();
     let mut times = Vec::with_capacity(steps);
     let (mut deepest, mut widest, mut worst_joint) = (0.0f64, 0.0f64, 0.0f64);
+    // The kinetic energy 5 s in (the concave pile's "at rest within 5 s").
+    let five_seconds = (5.0 / scene.settings.dt).round() as usize;
+    let mut energy_at_five = None;
     for s in 0..steps {
         let t0 = Instant::now();
         sw.world.step();
         times.push(t0.elapsed().as_secs_f64());
+        if s + 1 == five_seconds {
+            energy_at_five = Some(kinetic_energy(&sw));
+        }
         if s % 10 == 9 || s + 1 == steps {
             deepest = deepest.max(contacts(&sw.world).1);
             worst_joint = worst_joint.max(sw.largest_joint_error());
@@ -137,6 +143,7 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
             let centres: Vec<DVec3> = dynamic.iter().map(|&i| DVec3::from_array(ends[i])).collect();
             figures["bodies_escaped"] = json!(scenes::concave_pile_escaped(&centres));
             figures["final_kinetic_energy_j"] = json!(kinetic_energy(&sw));
+            figures["kinetic_energy_at_5s_j"] = json!(energy_at_five);
             figures["contact_points"] = json!(contacts(&sw.world).0);
             set["collision"] = json!("plain TriMesh colliders, default flags");
         }

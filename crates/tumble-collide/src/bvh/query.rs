@@ -2,9 +2,10 @@
 //! axis-aligned box or a sphere (for primitive-versus-mesh contact). Same
 //! depth-first walk and callback protocol as [`super::traverse::collide`].
 //!
-//! `walk` in query/primitive_query.rs takes the arguments of [`query_obb`]
-//! because it only picks one of these queries by the primitive's kind (this
-//! module knows no shapes).
+//! `walk` in query/primitive_query.rs reads like [`query_obb`] (a placed
+//! volume, the mesh and its pose, a margin, the callback) because it only
+//! picks one of these queries by the primitive's kind (this module knows no
+//! shapes).
 
 use super::build::ObbTree;
 use super::node::Node;

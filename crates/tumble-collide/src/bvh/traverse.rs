@@ -11,9 +11,10 @@
 //! their statistics.
 //!
 //! The public walks (`collide`, `collide_moving`, `collide_leaves`,
-//! `distance_with`) open with
-//! the same header, two trees and their poses then a bound checked by
-//! `check_nonneg`: public API whose extra arguments and callbacks differ.
+//! `distance_with`) open with the same header, two trees and their poses
+//! then a bound (checked by `check_nonneg` in `collide_leaves`, which the
+//! first two run on, and in `distance_with`): public API whose extra
+//! arguments and callbacks differ.
 
 use super::build::ObbTree;
 use super::node::Node;

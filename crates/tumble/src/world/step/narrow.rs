@@ -8,6 +8,11 @@
 //! points and patches, and the chunks are joined in pair order. A pair's
 //! contacts do not depend on the chunk it falls in, so the result is the
 //! same bits for any thread count.
+//!
+//! Mesh pairs also read the tree walks they remembered last step
+//! (`StepScratch::mesh_memory`, `narrow::contact_mesh_mesh_recalled`) and
+//! say what to keep; the kept list is rebuilt in pair order at the join. A
+//! memory changes what a pair costs, never its contacts.
 
 use super::frame::MeshPairKey;
 use super::margins::{is_active, relative_motion_bound, slot_velocities, velocity_change_bounds};

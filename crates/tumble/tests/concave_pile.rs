@@ -112,3 +112,22 @@ fn resting_mesh_pairs_recall_their_walks_and_step_to_the_same_bits_as_without() 
     // two runs of the same code path).
     assert!(recalled >= 60, "{recalled} recalled pairs over the last 60 steps");
 }
+
+#[test]
+fn a_small_concave_pile_with_remembered_walks_is_the_same_bits_on_1_2_3_and_8_threads() {
+    // The memories are kept per pair and rebuilt in pair order at the join
+    // of the threads' chunks: no thread count may change a bit.
+    let mut hashes = Vec::new();
+    for threads in [1, 2, 3, 8] {
+        let mut scene = scenes::concave_pile(10);
+        scene.settings.threads = threads;
+        let (mut world, _) = scene.build().unwrap();
+        let mut recalled = 0;
+        for _ in 0..180 {
+            recalled += world.step().recalled_mesh_pairs;
+        }
+        assert!(recalled > 0, "{threads} threads: no pair recalled its walk");
+        hashes.push((threads, world.state_hash()));
+    }
+    assert!(hashes.iter().all(|h| h.1 == hashes[0].1), "{hashes:?}");
+}

@@ -226,10 +226,11 @@ impl World {
                     let index = memory.binary_search_by_key(&key, |e| e.0).ok();
                     let remembered = index.and_then(|i| memory[i].1.as_ref());
                     contact_mesh_mesh_recalled(ma, &wpa, mb, &wpb, mesh_margin, &drift, remembered, buffer)
-                        .map(|recall| match recall {
-                            Recall::Reused => out.recalls.push((key, Recalled::Kept(index.expect("found")))),
-                            Recall::Found(m) => out.recalls.push((key, Recalled::New(m))),
-                            Recall::Walked => {}
+                        .map(|recall| match (recall, index) {
+                            // Reused only when there was a memory, so it has an index.
+                            (Recall::Reused, Some(i)) => out.recalls.push((key, Recalled::Kept(i))),
+                            (Recall::Found(m), _) => out.recalls.push((key, Recalled::New(m))),
+                            (Recall::Reused, None) | (Recall::Walked, _) => {}
                         })
                 } else {
                     contact_shapes(&ca.shape, &wpa, &cb.shape, &wpb, margin, buffer)

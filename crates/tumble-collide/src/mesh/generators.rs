@@ -1,7 +1,10 @@
 //! Mesh generators for the standard solids (thesis 6.2, `BodyCreatorUtil`).
 //!
 //! Every generator but the ground sheet [`grid_mesh`] returns a closed mesh
-//! wound counter-clockwise seen from outside, centred on its bounding box, with the symmetry axis along z.
+//! wound counter-clockwise seen from outside. The standard solids are
+//! centred on their bounding box, with the symmetry axis along z; the bowl
+//! and the half-pipe are placed by the centre (axis) of the surface a body
+//! rolls on, and a revolved profile stays where its points are.
 //! Curved solids are inscribed polyhedra: their volume converges to the
 //! analytic one from below as the resolution rises. Resolutions below the
 //! smallest sensible value are rejected with a [`GeneratorError`].
@@ -358,6 +361,164 @@ pub fn cone_mesh(radius: f64, height: f64, segments: usize) -> Result<TriMesh, G
     )?)
 }
 
+/// The solid swept by turning `profile` about z in `segments` steps (>= 3).
+/// `profile` lists `(radius, z)` points counter-clockwise around the solid's
+/// cross-section in the (r, z) half-plane, the first and the last on the axis
+/// (r = 0) and every other one off it (r > 0): a cup is
+/// `[(0, 0), (R, 0), (R, h), (R - t, h), (R - t, t), (0, t)]`.
+pub fn revolved_mesh(profile: &[(f64, f64)], segments: usize) -> Result<TriMesh, GeneratorError> {
+    let shape = "revolved";
+    res(shape, "segments", segments, 3)?;
+    if profile.len() < 3 {
+        return Err(GeneratorError::Constraint(
+            format!(
+                "the profile needs at least 3 points (two on the axis), got {}",
+                profile.len()
+            ),
+            shape,
+        ));
+    }
+    let last = profile.len() - 1;
+    for (i, &(r, z)) in profile.iter().enumerate() {
+        let on_axis = i == 0 || i == last;
+        let fine = r.is_finite() && z.is_finite() && if on_axis { r == 0.0 } else { r > 0.0 };
+        if !fine {
+            let want = if on_axis {
+                "on the axis (r = 0)"
+            } else {
+                "off the axis (r > 0)"
+            };
+            return Err(GeneratorError::Constraint(
+                format!("profile point {i} = ({r}, {z}) must be finite and {want}"),
+                shape,
+            ));
+        }
+    }
+    budget(shape, 2 * segments as u128 * profile.len() as u128)?;
+    Ok(revolve(
+        &profile[1..last],
+        segments,
+        Some(profile[0].1),
+        Some(profile[last].1),
+    )?)
+}
+
+/// A hemispherical bowl: a shell of `thickness` whose inside is the lower
+/// half of the sphere of `inner_radius` about the origin, open at the top
+/// (rim at z = 0), with `segments` facets around z (>= 3) and `rings` from
+/// the rim to the bottom (>= 1) on each of its two curved surfaces.
+/// Unlike the other solids it is placed by its sphere's centre, not centred
+/// on its box: a ball of radius r rests in it at z = -(inner_radius - r).
+pub fn bowl_mesh(
+    inner_radius: f64,
+    thickness: f64,
+    segments: usize,
+    rings: usize,
+) -> Result<TriMesh, GeneratorError> {
+    dim("bowl", "inner_radius", inner_radius)?;
+    dim("bowl", "thickness", thickness)?;
+    res("bowl", "segments", segments, 3)?;
+    res("bowl", "rings", rings, 1)?;
+    budget("bowl", 4 * segments as u128 * rings as u128)?;
+    let outer = inner_radius + thickness;
+    // Polar angle from the bottom, ring k of `rings`.
+    let at = |radius: f64, k: usize| {
+        let phi = PI / 2.0 * k as f64 / rings as f64;
+        (radius * phi.sin(), -radius * phi.cos())
+    };
+    // Up the outside, across the rim, down the inside: counter-clockwise.
+    let mut profile = vec![(0.0, -outer)];
+    profile.extend((1..=rings).map(|k| at(outer, k)));
+    profile.extend((1..=rings).rev().map(|k| at(inner_radius, k)));
+    profile.push((0.0, -inner_radius));
+    revolved_mesh(&profile, segments)
+}
+
+/// A half-pipe: a trough along x of `length`, whose inside is the lower half
+/// of the cylinder of `inner_radius` about the x axis, `thickness` thick,
+/// open at the top (rims at z = 0), with `segments` facets across the
+/// trough (>= 2), closed by flat ends at x = +-length / 2. Like
+/// [`bowl_mesh`], placed by its cylinder's axis.
+pub fn half_pipe_mesh(
+    inner_radius: f64,
+    thickness: f64,
+    length: f64,
+    segments: usize,
+) -> Result<TriMesh, GeneratorError> {
+    dim("half_pipe", "inner_radius", inner_radius)?;
+    dim("half_pipe", "thickness", thickness)?;
+    dim("half_pipe", "length", length)?;
+    res("half_pipe", "segments", segments, 2)?;
+    budget("half_pipe", 8 * segments as u128 + 4)?;
+    let n = segments + 1;
+    // Vertex (end e, surface s, j): end 0 at -x, 1 at +x; surface 0 the
+    // inside, 1 the outside; j from the -y rim under the axis to the +y rim.
+    let index = |e: usize, s: usize, j: usize| ((e * 2 + s) * n + j) as u32;
+    let mut vertices = Vec::with_capacity(4 * n);
+    for e in 0..2 {
+        let x = if e == 0 { -0.5 * length } else { 0.5 * length };
+        for radius in [inner_radius, inner_radius + thickness] {
+            for j in 0..n {
+                let theta = PI + PI * j as f64 / segments as f64;
+                vertices.push(DVec3::new(x, radius * theta.cos(), radius * theta.sin()));
+            }
+        }
+    }
+    // Each quad wound so that its first triangle faces `outward`.
+    let mut triangles = Vec::with_capacity(8 * segments + 4);
+    let mut quad = |q: [u32; 4], outward: DVec3| {
+        let [a, b, c, d] = q;
+        let p = |i: u32| vertices[i as usize];
+        let facing = (p(b) - p(a)).cross(p(c) - p(a)).dot(outward);
+        if facing >= 0.0 {
+            triangles.extend([[a, b, c], [a, c, d]]);
+        } else {
+            triangles.extend([[a, d, c], [a, c, b]]);
+        }
+    };
+    for j in 0..segments {
+        let mid = PI + PI * (j as f64 + 0.5) / segments as f64;
+        let radial = DVec3::new(0.0, mid.cos(), mid.sin());
+        // The inside faces the axis, the outside away from it.
+        quad(
+            [
+                index(0, 0, j),
+                index(1, 0, j),
+                index(1, 0, j + 1),
+                index(0, 0, j + 1),
+            ],
+            -radial,
+        );
+        quad(
+            [
+                index(0, 1, j),
+                index(1, 1, j),
+                index(1, 1, j + 1),
+                index(0, 1, j + 1),
+            ],
+            radial,
+        );
+        for (e, outward) in [(0, -DVec3::X), (1, DVec3::X)] {
+            quad(
+                [
+                    index(e, 0, j),
+                    index(e, 0, j + 1),
+                    index(e, 1, j + 1),
+                    index(e, 1, j),
+                ],
+                outward,
+            );
+        }
+    }
+    for j in [0, segments] {
+        quad(
+            [index(0, 0, j), index(1, 0, j), index(1, 1, j), index(0, 1, j)],
+            DVec3::Z,
+        );
+    }
+    Ok(TriMesh::new(vertices, triangles)?)
+}
+
 /// Torus around z with major radius `major` (R) and tube radius `minor` (r),
 /// laid out exactly as `torus_mesh` in shared/scenes.md: vertex (i, j) has index
 /// `i * n_minor + j`; triangles `2 (i n_minor + j)` = [a, b, c] and `+1` = [a, c, d].
@@ -418,6 +579,23 @@ mod tests {
             ("capsule0", capsule_mesh(0.5, 0.0, 12, 4).unwrap()),
             ("cone", cone_mesh(0.5, 2.0, 12).unwrap()),
             ("torus", torus_mesh(1.0, 0.3, 50, 50).unwrap()),
+            ("bowl", bowl_mesh(0.5, 0.05, 24, 6).unwrap()),
+            ("half_pipe", half_pipe_mesh(0.5, 0.05, 2.0, 12).unwrap()),
+            (
+                "cup",
+                revolved_mesh(
+                    &[
+                        (0.0, 0.0),
+                        (1.0, 0.0),
+                        (1.0, 2.0),
+                        (0.9, 2.0),
+                        (0.9, 0.1),
+                        (0.0, 0.1),
+                    ],
+                    16,
+                )
+                .unwrap(),
+            ),
         ]
     }
 
@@ -453,6 +631,45 @@ mod tests {
         assert!(icosphere_mesh(1.0, 30).is_err());
         assert!(grid_mesh(1.0, 0.0, 4, 4).is_err());
         assert!(grid_mesh(1.0, 1.0, 0, 4).is_err());
+    }
+
+    /// The shells hold the volume of their analytic solids, from below (the
+    /// facets are inscribed) and within the chord error of their resolution.
+    #[test]
+    fn bowl_and_half_pipe_enclose_their_shells() {
+        let (r, t): (f64, f64) = (0.5, 0.05);
+        let shell = 2.0 / 3.0 * PI * ((r + t).powi(3) - r * r * r);
+        let bowl = bowl_mesh(r, t, 96, 48).unwrap().signed_volume();
+        assert!(
+            bowl < shell && bowl > shell * (1.0 - 2e-3),
+            "bowl {bowl} vs {shell}"
+        );
+        let trough = 0.5 * PI * ((r + t).powi(2) - r * r) * 2.0;
+        let pipe = half_pipe_mesh(r, t, 2.0, 64).unwrap().signed_volume();
+        assert!(
+            pipe < trough && pipe > trough * (1.0 - 1e-3),
+            "half-pipe {pipe} vs {trough}"
+        );
+        // The bowl's inside vertices lie on its sphere: a ball resting at
+        // the bottom sits at z = -(r - radius).
+        let inside = bowl_mesh(r, t, 96, 48).unwrap();
+        let on_inner = inside
+            .vertices()
+            .iter()
+            .filter(|v| (v.length() - r).abs() < 1e-12)
+            .count();
+        assert_eq!(on_inner, 96 * 48 + 1);
+    }
+
+    #[test]
+    fn revolved_profiles_off_the_axis_or_open_are_refused() {
+        assert!(revolved_mesh(&[(0.0, 0.0), (1.0, 0.0)], 8).is_err());
+        assert!(revolved_mesh(&[(0.1, 0.0), (1.0, 0.0), (0.0, 1.0)], 8).is_err());
+        assert!(revolved_mesh(&[(0.0, 0.0), (0.0, 0.5), (0.0, 1.0)], 8).is_err());
+        assert!(revolved_mesh(&[(0.0, 0.0), (f64::NAN, 0.5), (0.0, 1.0)], 8).is_err());
+        assert!(revolved_mesh(&[(0.0, 0.0), (1.0, 0.5), (0.0, 1.0)], 2).is_err());
+        assert!(bowl_mesh(0.5, 0.0, 8, 4).is_err());
+        assert!(half_pipe_mesh(0.5, 0.1, 1.0, 1).is_err());
     }
 
     #[test]

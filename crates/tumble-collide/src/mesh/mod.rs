@@ -8,8 +8,8 @@ pub mod topology;
 mod trimesh;
 
 pub use generators::{
-    box_mesh, capsule_mesh, cone_mesh, cylinder_mesh, grid_mesh, icosphere_mesh, torus_mesh, uv_sphere_mesh,
-    GeneratorError, MAX_GENERATED_TRIANGLES,
+    bowl_mesh, box_mesh, capsule_mesh, cone_mesh, cylinder_mesh, grid_mesh, half_pipe_mesh, icosphere_mesh,
+    revolved_mesh, torus_mesh, uv_sphere_mesh, GeneratorError, MAX_GENERATED_TRIANGLES,
 };
 pub use load::{load_mesh, load_obj, load_stl, obj_from_bytes, stl_from_bytes, LoadError};
 pub use topology::{EdgeReport, Topology};

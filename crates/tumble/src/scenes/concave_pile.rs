@@ -10,7 +10,7 @@
 use super::{ten_seconds_without_sleep, Scene};
 use crate::world::BodyDesc;
 use std::collections::HashMap;
-use tumble_collide::mesh::{torus_mesh, uv_sphere_mesh, TriMesh};
+use tumble_collide::mesh::{revolved_mesh, torus_mesh, uv_sphere_mesh, TriMesh};
 use tumble_collide::shape::{MeshShape, Shape};
 use tumble_collide::{DQuat, DVec3, Pose};
 
@@ -86,7 +86,8 @@ pub fn concave_kind_meshes() -> Vec<TriMesh> {
             (0.0, z(t)),
         ],
         24,
-    );
+    )
+    .expect("a valid cup profile");
     // An L-bracket of 0.05 m cubes: a 4-long foot and a 3-high upright, 2 deep.
     let mut bracket = Vec::new();
     for y in 0..2 {
@@ -211,49 +212,6 @@ fn voxel_mesh(cells: &[[i32; 3]], size: f64) -> TriMesh {
         }
     }
     TriMesh::new(vertices, triangles).expect("the faces of face-connected cubes close")
-}
-
-/// The surface swept by turning `profile` (points `(r, z)`, counter-clockwise
-/// around the solid's cross-section, first and last on the axis r = 0)
-/// about z in `segments` steps.
-fn revolved_mesh(profile: &[(f64, f64)], segments: usize) -> TriMesh {
-    let m = profile.len();
-    let mut vertices = vec![DVec3::new(0.0, 0.0, profile[0].1)];
-    let ring = |i: usize| 1 + (i - 1) * segments; // first vertex of profile point i's ring
-    for &(r, z) in &profile[1..m - 1] {
-        for j in 0..segments {
-            let phi = std::f64::consts::TAU * j as f64 / segments as f64;
-            vertices.push(DVec3::new(r * phi.cos(), r * phi.sin(), z));
-        }
-    }
-    let top = vertices.len() as u32;
-    vertices.push(DVec3::new(0.0, 0.0, profile[m - 1].1));
-    let at = |i: usize, j: usize| -> u32 {
-        if i == 0 {
-            0
-        } else if i == m - 1 {
-            top
-        } else {
-            (ring(i) + j % segments) as u32
-        }
-    };
-    let mut triangles = Vec::new();
-    for i in 0..m - 1 {
-        for j in 0..segments {
-            // Quad (i, j) (i, j+1) (i+1, j+1) (i+1, j), outward for a
-            // counter-clockwise profile; one triangle where a side is on the axis.
-            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-            if i == 0 {
-                triangles.push([a, c, d]);
-            } else if i + 1 == m - 1 {
-                triangles.push([a, b, c]);
-            } else {
-                triangles.push([a, b, c]);
-                triangles.push([a, c, d]);
-            }
-        }
-    }
-    TriMesh::new(vertices, triangles).expect("a closed surface of revolution")
 }
 
 /// A lumpy blob: a UV sphere of radius 0.1 m (64 x 32, 3,968 triangles)

@@ -820,14 +820,15 @@ fn the_rope_example_swings_without_stretching() {
         errors.push(w.max_joint_error().0);
     }
     errors.sort_by(f64::total_cmp);
-    // Held to a micrometre most of the time; the whip as the rope snaps
-    // taut opens a joint by millimetres for a few steps.
+    // Held to about ten micrometres most of the time (the links touch
+    // each other as the rope whips); the whip as the rope snaps taut opens
+    // a joint by a millimetre for a few steps.
     let (median, p90, worst) = (
         errors[errors.len() / 2],
         errors[errors.len() * 9 / 10],
         errors[errors.len() - 1],
     );
-    assert!(median < 1e-5, "median joint error {median} m");
+    assert!(median < 2e-5, "median joint error {median} m");
     assert!(p90 < 1e-3, "90th percentile {p90} m");
     assert!(worst < 0.02, "largest joint error {worst} m");
 }
@@ -850,7 +851,11 @@ fn the_door_example_is_pushed_open_and_closes_again() {
         assert!(s.linear_error < 1e-3);
     }
     let last = w.joint_state(hinge).unwrap().position;
-    assert!(widest > 0.5, "the box pushed it open to {widest} rad");
+    // A perfectly inelastic hit of the 20 kg ball at 3 m/s, 0.75 m from the
+    // hinge, gives the door (13.3 kg m^2 about it) 1.8 rad/s: 22 J, which
+    // the closer's 15 N m absorbs over 1.5 rad; the ball rolls on and
+    // pushes further, to the 1.745 rad stop at most.
+    assert!(widest > 1.0, "the ball pushed it open to {widest} rad");
     assert!(
         last < 0.05,
         "the closer shut it again: {last} rad (widest {widest})"

@@ -14,14 +14,17 @@
 //!
 //! As for spheres, a closest point on an internal edge between coplanar
 //! triangles (or at a vertex between two such edges) is left to the
-//! neighbouring face, and duplicates from shared edges are merged.
+//! neighbouring face, and duplicates from shared edges are merged. On a
+//! mesh with a smooth surface (`shape::SmoothSurface`) the core's nearest
+//! point and its ends touch that surface instead, where they lie over it.
 
 use super::capsule_feature;
+use super::contact_mesh::{smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
-use crate::shape::{Capsule, MeshShape};
+use crate::shape::{Capsule, MeshShape, SmoothSurface};
 use crate::triangle::{
     closest_point_on_triangle, closest_points_segments, merge_contacts, segment_triangle_overlap, MergeParams,
 };
@@ -52,7 +55,18 @@ pub fn contact_capsule_mesh(
         half_extents: DVec3::new(r, r, a.half_height() + r),
     };
     let start = out.len();
-    let _ = bvh::query_obb(b.tree(), pose_b, &query, margin, |t| {
+    let smooth = b.smooth_surface();
+    let reach = smooth.map_or(0.0, |s| s.reach());
+    let local = [
+        pose_b.inverse_transform_point(p),
+        pose_b.inverse_transform_point(q),
+    ];
+    let _ = bvh::query_obb(b.tree(), pose_b, &query, margin + reach, |t| {
+        if let Some(s) = smooth {
+            if smooth_segment_contacts(local, r, s, b, t, pose_b, margin, out) {
+                return Traverse::Continue;
+            }
+        }
         let tri = b.mesh().triangle(t as usize).map(|v| pose_b.transform_point(v));
         segment_triangle_contacts([p, q], r, &tri, t, b, margin, out);
         Traverse::Continue
@@ -61,6 +75,57 @@ pub fn contact_capsule_mesh(
     // The default parameters are valid: merging cannot fail.
     let _ = merge_contacts(&mut tail, &[], b.mesh().triangles(), &MergeParams::default());
     out.extend(tail);
+}
+
+/// The contacts of the core `seg` (radius `r`, mesh B's frame) against the
+/// smooth surface over triangle `t` (`shape::SmoothSurface`): the feet of
+/// the core point nearest the flat triangle and of the two core ends, each
+/// where it lies over `t` (a capsule lying in a trough gets its two ends
+/// and its middle). `false` when the flat triangle decides instead (the
+/// core crosses it, or a candidate lies beyond a crease): then nothing is
+/// appended.
+#[allow(clippy::too_many_arguments)]
+fn smooth_segment_contacts(
+    seg: [DVec3; 2],
+    r: f64,
+    s: &SmoothSurface,
+    m: &MeshShape,
+    t: u32,
+    pose: &Pose,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) -> bool {
+    let tri = m.mesh().triangle(t as usize);
+    if segment_triangle_overlap(seg[0], seg[1], &tri) {
+        return false;
+    }
+    let (nearest, on_seg, _, _) = closest_segment_triangle(seg, &tri);
+    let mut feet = [None; 3];
+    for (slot, (k, x)) in feet
+        .iter_mut()
+        .zip([(nearest, on_seg), (0.0, seg[0]), (1.0, seg[1])])
+    {
+        match smooth_foot(s, m, t, x, r) {
+            SmoothFoot::Over(foot) => *slot = Some((k, foot)),
+            SmoothFoot::Neighbour => {}
+            SmoothFoot::Crease => return false,
+        }
+    }
+    for (k, foot) in feet.into_iter().flatten() {
+        let distance = foot.height - r;
+        if distance <= margin {
+            let normal = pose.rotation * foot.normal;
+            out.push(Contact {
+                point: pose.transform_point(foot.surface) + normal * (0.5 * distance),
+                normal,
+                distance,
+                kind: ContactKind::Smooth,
+                feature_a: capsule_feature(k),
+                feature_b: Feature::face(t),
+            });
+        }
+    }
+    true
 }
 
 /// Closest points of the segment `seg` and triangle `t` (disjoint): segment

@@ -5,7 +5,9 @@
 //! intersect), and the duplicates that shared vertices and edges produce are
 //! merged. Primitives against meshes: boxes and hulls as their faces'
 //! triangles against the tree, spheres by the closest point on each nearby
-//! triangle, half-spaces by the mesh vertices within the margin.
+//! triangle (or their centre's foot on the smooth surface the mesh stands
+//! for, when it has one: `shape::SmoothSurface`), half-spaces by the mesh
+//! vertices within the margin.
 
 use super::contact_halfspace::{push_vertex_on_plane, reduce_in_place};
 use crate::bvh::{self, Obb, Traverse};
@@ -13,9 +15,10 @@ use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::drift::Drift;
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
-use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
+use crate::shape::{HalfSpace, MeshShape, Polytope, SmoothSurface, Sphere};
 use crate::triangle::{
-    closest_point_on_triangle, merge_contacts, triangle_contacts, triangle_contacts_unchecked, MergeParams,
+    closest_point_on_triangle, merge_contacts, phong_point, triangle_contacts, triangle_contacts_unchecked,
+    MergeParams, PhongPoint,
 };
 use std::cell::RefCell;
 
@@ -330,7 +333,8 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
     merge(out, start, &[], b.mesh().triangles());
 }
 
-/// Sphere A against mesh B: the closest point of every nearby triangle.
+/// Sphere A against mesh B: the closest point of every nearby triangle, or
+/// on a mesh with a smooth surface, the foot of the centre on it.
 // Same argument list as `contact_sphere_polytope` (contact_segment_polytope.rs)
 // and the other narrow routines; a mesh is walked per triangle through its
 // tree, where a polytope is one convex body for GJK.
@@ -345,7 +349,31 @@ pub fn contact_sphere_mesh(
     let c = pose_a.position;
     let r = a.radius();
     let start = out.len();
-    let _ = bvh::query_sphere(b.tree(), pose_b, c, r + margin, |tb| {
+    let smooth = b.smooth_surface();
+    let reach = smooth.map_or(0.0, |s| s.reach());
+    let local = pose_b.inverse_transform_point(c);
+    let _ = bvh::query_sphere(b.tree(), pose_b, c, r + margin + reach, |tb| {
+        if let Some(s) = smooth {
+            match smooth_foot(s, b, tb, local, r) {
+                SmoothFoot::Over(foot) => {
+                    let distance = foot.height - r;
+                    if distance <= margin {
+                        let normal = pose_b.rotation * foot.normal;
+                        out.push(Contact {
+                            point: pose_b.transform_point(foot.surface) + normal * (0.5 * distance),
+                            normal,
+                            distance,
+                            kind: ContactKind::Smooth,
+                            feature_a: Feature::WHOLE,
+                            feature_b: Feature::face(tb),
+                        });
+                    }
+                    return Traverse::Continue;
+                }
+                SmoothFoot::Neighbour => return Traverse::Continue,
+                SmoothFoot::Crease => {}
+            }
+        }
         let wb = world_triangle(b, pose_b, tb);
         let (q, sub) = closest_point_on_triangle(c, &wb);
         let delta = c - q;
@@ -381,4 +409,45 @@ pub fn contact_sphere_mesh(
         Traverse::Continue
     });
     merge(out, start, &[], b.mesh().triangles());
+}
+
+/// A foot on the smooth surface counts as over its triangle down to this
+/// barycentric coordinate (round-off: a centre over a shared edge is then
+/// claimed by both triangles, and `merge` keeps one copy, rather than by
+/// neither).
+const OVER_EDGE_TOLERANCE: f64 = 1e-9;
+
+/// Where a point (shape frame) stands against triangle `t` of a mesh's
+/// smooth surface.
+pub(super) enum SmoothFoot {
+    /// Over the triangle: the contact is the foot's.
+    Over(PhongPoint),
+    /// Beyond a smooth edge: the neighbour across it has the foot.
+    Neighbour,
+    /// Beyond a crease (or no foot at all): the flat triangle's closest
+    /// point gives the contact, as on a mesh without a smooth surface.
+    Crease,
+}
+
+/// The foot of `point` (shape frame), the centre of a round body of
+/// `radius`, on the smooth surface over triangle `t`. A centre more than
+/// its radius behind the surface is not this triangle's to push: it is
+/// inside the solid (a bowl's outer face, seen from a ball inside the
+/// bowl), and the flat triangle's unsigned distance decides.
+pub(super) fn smooth_foot(s: &SmoothSurface, m: &MeshShape, t: u32, point: DVec3, radius: f64) -> SmoothFoot {
+    let tri = m.mesh().triangle(t as usize);
+    let Some(foot) = phong_point(point, &tri, s.corner_normals(t)) else {
+        return SmoothFoot::Crease;
+    };
+    if foot.height < -radius {
+        return SmoothFoot::Crease;
+    }
+    let (k, worst) = foot.worst_corner();
+    if worst >= -OVER_EDGE_TOLERANCE {
+        SmoothFoot::Over(foot)
+    } else if s.is_crease(t, (k + 1) % 3) {
+        SmoothFoot::Crease
+    } else {
+        SmoothFoot::Neighbour
+    }
 }

@@ -16,6 +16,7 @@ mod halfspace;
 mod mesh_shape;
 mod polytope;
 mod serde_parts;
+mod smooth_surface;
 mod sphere;
 
 pub use aabb::Aabb;
@@ -25,6 +26,7 @@ pub use cuboid::Cuboid;
 pub use halfspace::HalfSpace;
 pub use mesh_shape::MeshShape;
 pub use polytope::Polytope;
+pub use smooth_surface::SmoothSurface;
 pub use sphere::Sphere;
 
 #[cfg(test)]
@@ -203,6 +205,20 @@ impl Shape {
             Shape::ConvexHull(s) => Some(s.support(dir)),
             Shape::HalfSpace(_) => None,
             Shape::Mesh(s) => Some(s.support(dir)),
+        }
+    }
+
+    /// The radius of the round surface every contact of the shape lies on
+    /// (m): a sphere's or a capsule's radius, 0 for shapes whose contacts
+    /// are at faces, edges and corners. A round shape rolls: the point it
+    /// touches with is not a material point but the one nearest the other
+    /// body, a radius from a centre of curvature fixed in it (the solver
+    /// follows that point within a step).
+    pub fn rolling_radius(&self) -> f64 {
+        match self {
+            Shape::Sphere(s) => s.radius(),
+            Shape::Capsule(s) => s.radius(),
+            Shape::Cuboid(_) | Shape::ConvexHull(_) | Shape::HalfSpace(_) | Shape::Mesh(_) => 0.0,
         }
     }
 }

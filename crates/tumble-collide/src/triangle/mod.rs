@@ -11,6 +11,8 @@
 //! - [`tri_contact`]: vertex/face, face/vertex and edge/edge contacts of a
 //!   triangle pair within a margin, and push-out contacts for intersecting pairs
 //!   (thesis 5.2, 7.1).
+//! - [`phong`]: a point against the smooth surface a triangle with corner
+//!   normals stands for (Phong normals, Phong tessellation).
 //! - [`merge`]: removal of the duplicates that shared vertices and edges produce.
 //!
 //! All functions take triangles as `[DVec3; 3]` in one common frame: the caller
@@ -20,6 +22,7 @@
 mod exact_oracle;
 pub mod merge;
 pub mod orient;
+pub mod phong;
 pub mod tri_box;
 pub mod tri_contact;
 pub mod tri_distance;
@@ -27,6 +30,7 @@ pub mod tri_tri_overlap;
 
 pub use merge::{merge_contacts, MergeError, MergeParams};
 pub use orient::{orient2d, orient3d};
+pub use phong::{phong_point, PhongPoint, PHONG_SHAPE_FACTOR};
 pub use tri_box::tri_box_overlap;
 pub(crate) use tri_contact::triangle_contacts_unchecked;
 pub use tri_contact::{triangle_contacts, TriContactError};

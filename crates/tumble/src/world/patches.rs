@@ -10,8 +10,10 @@
 use super::handles::BodyId;
 use super::manifold::{self, CachedContact, CachedPatch, PairKey, PATCH_COS};
 use crate::solver::contact_solver::PointConstraint;
+use tumble_collide::contact::SubFeature;
 use tumble_collide::narrow::{reduce_patch, PATCH_MAX_POINTS};
-use tumble_collide::{Contact, DVec3, Pose};
+use tumble_collide::shape::MeshShape;
+use tumble_collide::{Contact, DMat3, DVec3, Pose};
 
 /// A contact point on its way to the solver, with what is needed to report
 /// and cache it.
@@ -33,6 +35,11 @@ pub(crate) struct PreparedPatch {
     pub normal: DVec3,
     pub friction: f64,
     pub restitution: f64,
+    /// Radii of the round surfaces of A and B (`Shape::rolling_radius`).
+    pub rolling: [f64; 2],
+    /// How the patch turns under a round body on a smooth mesh
+    /// (`ManifoldConstraint::curvature`; zero otherwise).
+    pub curvature: DMat3,
     /// Warm-start friction: tangential (world vector, N s) and twist (N m s).
     pub warm_tangent: DVec3,
     pub warm_twist: f64,
@@ -56,6 +63,12 @@ pub(crate) struct PairInfo<'a> {
     pub restitution: f64,
     /// Subtracted from every contact distance (m): the gap the solver keeps.
     pub skin: f64,
+    /// Radii of the round surfaces of A's and B's colliders
+    /// (`Shape::rolling_radius`, 0 when not round).
+    pub rolling: [f64; 2],
+    /// A round collider against a mesh with a smooth surface: the mesh,
+    /// its world pose, and whether it is A.
+    pub smooth: Option<(&'a MeshShape, Pose, bool)>,
     /// Linear and angular velocity of A and of B at the step start (m/s, rad/s).
     pub velocity_a: (DVec3, DVec3),
     pub velocity_b: (DVec3, DVec3),
@@ -64,6 +77,33 @@ pub(crate) struct PairInfo<'a> {
 }
 
 impl PairInfo<'_> {
+    /// `ManifoldConstraint::curvature` for a patch whose first contact is
+    /// `c`: the smooth mesh's path curvature at the round side's centre of
+    /// curvature (a radius beyond its surface point along the normal), in
+    /// the world; zero for other pairs and for contacts at a crease.
+    fn curvature(&self, c: &Contact) -> DMat3 {
+        let Some((mesh, pose, mesh_is_a)) = self.smooth else {
+            return DMat3::ZERO;
+        };
+        let (feature, radius, away) = if mesh_is_a {
+            (c.feature_a, self.rolling[1], -c.normal)
+        } else {
+            (c.feature_b, self.rolling[0], c.normal)
+        };
+        let surface = mesh.smooth_surface();
+        if feature.sub != SubFeature::Face || surface.is_none() {
+            return DMat3::ZERO;
+        }
+        let centre = c.point + away * (radius + 0.5 * c.distance);
+        let local = pose.inverse_transform_point(centre);
+        surface
+            .and_then(|s| s.path_curvature(mesh.mesh(), feature.index, local))
+            .map_or(DMat3::ZERO, |k| {
+                let turn = DMat3::from_quat(pose.rotation);
+                turn * k * turn.transpose()
+            })
+    }
+
     /// The gap of contact `c` at the end of the step if the bodies kept
     /// their velocities (m): its distance plus the normal relative velocity
     /// at its point times the step.
@@ -162,6 +202,7 @@ pub(crate) fn add_pair(
             });
         }
         let normal = sum.try_normalize().unwrap_or(seed);
+        let curvature = pair.curvature(&contacts[scratch.members[0]]);
         let (warm_tangent, warm_twist) =
             manifold::lookup_patch(patch_cache, pair.key, normal, &mut scratch.patch_cursor)
                 .map_or((DVec3::ZERO, 0.0), |p| (p.tangent_impulse, p.twist_impulse));
@@ -172,6 +213,8 @@ pub(crate) fn add_pair(
             normal,
             friction: pair.friction,
             restitution: pair.restitution,
+            rolling: pair.rolling,
+            curvature,
             warm_tangent,
             warm_twist,
         });

@@ -40,7 +40,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 4;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 5;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -96,6 +96,9 @@ pub struct Snapshot {
     step_count: u64,
     /// Triangle meshes, each once; colliders refer to them by index.
     meshes: Vec<TriMesh>,
+    /// The crease angle of each mesh's smooth surface (rad), if it has one
+    /// (`MeshShape::with_smooth_surface`).
+    mesh_crease_angles: Vec<Option<f64>>,
     /// Arena slots in order: generation and body (None for a free slot).
     slots: Vec<SlotRecord>,
     /// Free slots, in the arena's reuse order.
@@ -507,6 +510,7 @@ impl World {
             time: self.time,
             step_count: self.step_count,
             meshes: meshes.iter().map(|m| m.mesh().clone()).collect(),
+            mesh_crease_angles: meshes.iter().map(MeshShape::crease_angle).collect(),
             slots,
             free: self.bodies.free_slots().to_vec(),
             unbounded: self.unbounded.clone(),
@@ -537,8 +541,23 @@ impl World {
             .meshes
             .iter()
             .enumerate()
-            .map(|(i, m)| MeshShape::new(m.clone()).map_err(|e| invalid(format!("meshes[{i}]: {e}"))))
+            .map(|(i, m)| {
+                let shape = MeshShape::new(m.clone()).map_err(|e| invalid(format!("meshes[{i}]: {e}")))?;
+                match snapshot.mesh_crease_angles.get(i).copied().flatten() {
+                    Some(angle) => shape
+                        .with_smooth_surface(angle)
+                        .map_err(|e| invalid(format!("mesh_crease_angles[{i}]: {e}"))),
+                    None => Ok(shape),
+                }
+            })
             .collect::<Result<Vec<_>, _>>()?;
+        if snapshot.mesh_crease_angles.len() != snapshot.meshes.len() {
+            return Err(invalid(format!(
+                "{} mesh crease angles for {} meshes",
+                snapshot.mesh_crease_angles.len(),
+                snapshot.meshes.len()
+            )));
+        }
         let mut slots = Vec::with_capacity(snapshot.slots.len());
         let mut boxes = Vec::new();
         for (i, slot) in snapshot.slots.iter().enumerate() {

@@ -18,7 +18,7 @@
 //! `passes::begin_substep` and [`refresh_masses`]).
 
 use super::body::SolverBody;
-use tumble_collide::DVec3;
+use tumble_collide::{DMat3, DVec3};
 
 /// The angular part of one constraint row on both bodies, with the inverse
 /// inertia applied (so that a row costs dot products only).
@@ -71,8 +71,11 @@ impl RowJacobian {
 /// One contact point: the normal row of the contact LCP (thesis 7.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointConstraint {
-    /// Unit normal from B to A.
+    /// Unit normal from B to A (for the current sub-step: on a curved
+    /// patch it turns within the step, see `ManifoldConstraint::curvature`).
     pub normal: DVec3,
+    /// The normal at the step start.
+    pub normal_start: DVec3,
     /// Anchor relative to A's centre of mass at the step start, world frame.
     pub r_a: DVec3,
     /// Anchor relative to B's centre of mass at the step start, world frame.
@@ -106,6 +109,7 @@ impl PointConstraint {
     ) -> PointConstraint {
         PointConstraint {
             normal,
+            normal_start: normal,
             r_a,
             r_b,
             row: RowJacobian::default(),
@@ -139,6 +143,23 @@ pub struct ManifoldConstraint {
     /// Tangents of the friction plane and a zero vector for the twist row:
     /// the linear directions of the three friction rows.
     pub directions: [DVec3; 3],
+    /// How the patch's normals and gaps turn as A's centres of curvature
+    /// move relative to B within the step (1/m, symmetric, world frame at
+    /// the step start; zero for a flat patch): a displacement `d` gives the
+    /// normal `normalize(n + K d)` and the gap `s + n . d + d . K d / 2`
+    /// (`SmoothSurface::path_curvature`: a ball in a tessellated bowl).
+    /// Such a patch is re-aimed every sub-step by the scalar kernels.
+    pub curvature: DMat3,
+    /// The patch normal at the step start.
+    pub normal_start: DVec3,
+    /// The friction directions at the step start (a curved patch turns
+    /// them with its normal).
+    pub directions_start: [DVec3; 2],
+    /// Radii of the round surfaces of A and of B at the patch (m): a
+    /// sphere's or a capsule's radius, 0 for faces, edges and corners. Its
+    /// contacts roll with the round side within the step instead of staying
+    /// on the bodies' material points (see `passes::begin_patch`). Default 0.
+    pub rolling: [f64; 2],
     /// Friction anchor (the patch centroid) relative to A's centre of mass.
     pub r_a: DVec3,
     /// Friction anchor relative to B's centre of mass.
@@ -199,6 +220,10 @@ impl ManifoldConstraint {
             restitution,
             normal,
             directions: [t1, t2, DVec3::ZERO],
+            curvature: DMat3::ZERO,
+            normal_start: normal,
+            directions_start: [t1, t2],
+            rolling: [0.0; 2],
             r_a: DVec3::ZERO,
             r_b: DVec3::ZERO,
             twist_radius: 0.0,
@@ -215,6 +240,13 @@ impl ManifoldConstraint {
     #[inline]
     pub fn range(&self) -> std::ops::Range<usize> {
         self.first_point as usize..(self.first_point + self.point_count) as usize
+    }
+
+    /// `true` when the patch's normals turn within the step (a non-zero
+    /// [`curvature`](ManifoldConstraint::curvature)).
+    #[inline]
+    pub fn is_curved(&self) -> bool {
+        self.curvature != DMat3::ZERO
     }
 
     /// The tangential friction impulse as a world vector (N s).

@@ -29,6 +29,7 @@ use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_REFRESH};
 use super::lanes::{self, eq, gt, le, lt, recip_or_zero, select, Lane, LANES, M3, V3};
+use super::passes::Rolling;
 use std::ops::Range;
 use tumble_collide::{DMat3, DVec3};
 
@@ -121,6 +122,10 @@ pub(crate) struct WidePatch<const N: usize> {
     source: [u32; LANES],
     friction: Lane,
     twist_radius: Lane,
+    /// Each lane's `ManifoldConstraint::rolling` (lanes with a round side
+    /// are re-aimed by the scalar kernel's `Rolling`: rare, and so the same
+    /// bits).
+    rolling: [[f64; 2]; LANES],
     normal: V3,
     directions: [V3; 2],
     r_a: V3,
@@ -139,6 +144,10 @@ pub(crate) struct WidePatch<const N: usize> {
 /// points (scalar kernels).
 #[inline]
 pub fn bundle_points(m: &ManifoldConstraint) -> Option<usize> {
+    if m.is_curved() {
+        // Its normals turn every sub-step: rare, and scalar.
+        return None;
+    }
     match m.point_count {
         0 | 1 => Some(1),
         2 => Some(2),
@@ -158,6 +167,7 @@ impl<const N: usize> WidePatch<N> {
             source: std::array::from_fn(|l| sources.get(l).copied().unwrap_or(EMPTY)),
             friction: Lane::ZERO,
             twist_radius: Lane::ZERO,
+            rolling: [[0.0; 2]; LANES],
             normal: V3::ZERO,
             directions: [V3::ZERO; 2],
             r_a: V3::ZERO,
@@ -182,6 +192,7 @@ impl<const N: usize> WidePatch<N> {
             w.b[l] = m.b;
             set(&mut w.friction, l, m.friction);
             set(&mut w.twist_radius, l, m.twist_radius);
+            w.rolling[l] = m.rolling;
             w.normal.set_lane(l, m.normal);
             w.directions[0].set_lane(l, m.directions[0]);
             w.directions[1].set_lane(l, m.directions[1]);
@@ -546,19 +557,50 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         M3::from_lanes(a.map(|b| b.inv_inertia)),
         M3::from_lanes(b.map(|b| b.inv_inertia)),
     );
+    let rolls: [Option<Rolling>; LANES] = std::array::from_fn(|l| Rolling::of(w.rolling[l]));
+    let any_rolls = rolls.iter().any(Option::is_some);
+    let lever_arms = |r_a: V3, r_b: V3, n: V3, ra_now: V3, rb_now: V3| {
+        let (ra, rb) = shared_lever_arms(r_a, r_b, ra_now, rb_now, dpa, dpb);
+        if any_rolls {
+            rolled(
+                &rolls,
+                [r_a, r_b, n, ra_now, rb_now],
+                (ra, rb),
+                |r, l, [r_a, r_b, _, ra_now, rb_now]| {
+                    r.shared_lever_arms(r_a, r_b, ra_now, rb_now, a[l].dp, b[l].dp)
+                },
+            )
+        } else {
+            (ra, rb)
+        }
+    };
+    let anchors = |r_a: V3, r_b: V3, n: V3| {
+        let now = (ta.mul_vec(r_a), tb.mul_vec(r_b));
+        if any_rolls {
+            rolled(
+                &rolls,
+                [r_a, r_b, n, now.0, now.1],
+                now,
+                |r, l, [r_a, r_b, n, _, _]| r.anchors(a[l].turn, b[l].turn, r_a, r_b, n),
+            )
+        } else {
+            now
+        }
+    };
     for p in w.points.iter_mut() {
-        let (ra_now, rb_now) = (ta.mul_vec(p.r_a), tb.mul_vec(p.r_b));
+        let (ra_now, rb_now) = anchors(p.r_a, p.r_b, p.normal);
         let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
         p.separation_now = p.separation + p.normal.dot(d);
         p.push_impulse = Lane::ZERO;
         if any_moved {
-            let (ra, rb) = shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb);
+            let (ra, rb) = lever_arms(p.r_a, p.r_b, p.normal, ra_now, rb_now);
             p.row = pick(WideRow::new(&ia, &ib, ra, rb, p.normal), p.row);
         }
     }
     let mut turned = Lane::ZERO;
     if any_moved {
-        let (ra, rb) = shared_lever_arms(w.r_a, w.r_b, ta.mul_vec(w.r_a), tb.mul_vec(w.r_b), dpa, dpb);
+        let (ra_now, rb_now) = anchors(w.r_a, w.r_b, w.normal);
+        let (ra, rb) = lever_arms(w.r_a, w.r_b, w.normal, ra_now, rb_now);
         for i in 0..2 {
             w.rows[i] = pick(WideRow::new(&ia, &ib, ra, rb, w.directions[i]), w.rows[i]);
         }
@@ -688,6 +730,26 @@ fn energy_safe_scale(work_before: Lane, work_after: Lane) -> Lane {
     let shrinks = lt(work_before, Lane::ZERO) & gt(b, Lane::ZERO);
     let scale = select(shrinks, partial, Lane::ZERO);
     select(le(work_before + work_after, Lane::ZERO), Lane::ONE, scale)
+}
+
+/// `plain` with the lanes that have a round side replaced by `f` of their
+/// `Rolling`, lane index and the lanes of `inputs`: the scalar kernel's
+/// arithmetic, so the same bits.
+#[inline(always)]
+fn rolled(
+    rolls: &[Option<Rolling>; LANES],
+    inputs: [V3; 5],
+    plain: (V3, V3),
+    f: impl Fn(&Rolling, usize, [DVec3; 5]) -> (DVec3, DVec3),
+) -> (V3, V3) {
+    let inputs = inputs.map(V3::to_lanes);
+    let (mut x, mut y) = (plain.0.to_lanes(), plain.1.to_lanes());
+    for (l, roll) in rolls.iter().enumerate() {
+        if let Some(r) = roll {
+            (x[l], y[l]) = f(r, l, std::array::from_fn(|i| inputs[i][l]));
+        }
+    }
+    (V3::from_lanes(x), V3::from_lanes(y))
 }
 
 /// `passes::shared_lever_arms`, lane by lane.
@@ -1187,6 +1249,21 @@ mod tests {
                 rng.vec3(0.1),
                 rng.range(-0.01, 0.01),
             );
+            // Round sides (re-aimed by the scalar `Rolling` in the lanes)
+            // and curved patches (scalar kernels only) among the others.
+            let radius = rng.range(0.05, 0.5);
+            match rng.below(8) {
+                0 => m.rolling = [radius, 0.0],
+                1 => m.rolling = [0.0, radius],
+                2 => m.rolling = [radius, 0.5 * radius],
+                3 => {
+                    m.rolling = [radius, 0.0];
+                    let across = DMat3::IDENTITY
+                        - DMat3::from_cols(normal * normal.x, normal * normal.y, normal * normal.z);
+                    m.curvature = across * (-1.0 / (3.0 * radius));
+                }
+                _ => {}
+            }
             prepare(&mut m, &mut points, &bodies);
             manifolds.push(m);
         }

@@ -253,6 +253,20 @@ impl World {
                     friction,
                     restitution,
                     skin,
+                    rolling: [ca.shape.rolling_radius(), cb.shape.rolling_radius()],
+                    smooth: match (&ca.shape, &cb.shape) {
+                        (Shape::Mesh(m), round)
+                            if round.rolling_radius() > 0.0 && m.smooth_surface().is_some() =>
+                        {
+                            Some((m, wpa, true))
+                        }
+                        (round, Shape::Mesh(m))
+                            if round.rolling_radius() > 0.0 && m.smooth_surface().is_some() =>
+                        {
+                            Some((m, wpb, false))
+                        }
+                        _ => None,
+                    },
                     velocity_a: velocity[a as usize],
                     velocity_b: velocity[b as usize],
                     dt: f.settings.dt,

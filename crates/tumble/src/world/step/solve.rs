@@ -336,7 +336,7 @@ impl World {
             let first = sf.points.len() as u32;
             sf.points.extend(f.points[p.range()].iter().map(|q| q.point));
             let (a, b) = pairs[i as usize];
-            let m = ManifoldConstraint::new(
+            let mut m = ManifoldConstraint::new(
                 a,
                 b,
                 first,
@@ -347,6 +347,8 @@ impl World {
                 p.warm_tangent,
                 p.warm_twist,
             );
+            m.rolling = p.rolling;
+            m.curvature = p.curvature;
             sf.manifolds.push(m);
         }
         self.prepare_joints(sf);

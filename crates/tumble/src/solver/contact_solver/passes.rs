@@ -371,6 +371,11 @@ impl Rolling {
         (ra + turned * self.radius[0], rb - turned * self.radius[1])
     }
 
+    /// The radii and A's share of the shared point (the wide kernels' lanes).
+    pub(super) fn parts(&self) -> ([f64; 2], f64) {
+        (self.radius, self.share_a)
+    }
+
     /// [`shared_lever_arms`] with the shared point weighted by `share_a`.
     #[inline(always)]
     pub(super) fn shared_lever_arms(

@@ -122,10 +122,10 @@ pub(crate) struct WidePatch<const N: usize> {
     source: [u32; LANES],
     friction: Lane,
     twist_radius: Lane,
-    /// Each lane's `ManifoldConstraint::rolling` (lanes with a round side
-    /// are re-aimed by the scalar kernel's `Rolling`: rare, and so the same
-    /// bits).
-    rolling: [[f64; 2]; LANES],
+    /// Each lane's `passes::Rolling` in lanes (`ManifoldConstraint::rolling`),
+    /// and whether any lane has a round side.
+    roll: RollLanes,
+    any_rolling: bool,
     normal: V3,
     directions: [V3; 2],
     r_a: V3,
@@ -137,6 +137,20 @@ pub(crate) struct WidePatch<const N: usize> {
     block: Block<N>,
     block_inverse: Block<N>,
     points: [WidePoint; N],
+}
+
+/// `passes::Rolling` of four patches, one per lane (zero in lanes without
+/// a round side, whose `mask` is clear): the values its arithmetic reads,
+/// each computed as the scalar kernel computes it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct RollLanes {
+    mask: Lane,
+    radius_a: Lane,
+    /// `-radius[1]`, negated in f64 as `Rolling::anchors` negates it.
+    neg_radius_b: Lane,
+    share_a: Lane,
+    /// `1 - share_a`, as `Rolling::shared_lever_arms` computes it.
+    share_b: Lane,
 }
 
 /// The bundle a patch travels in: the point count of its kernel, or `None`
@@ -167,7 +181,8 @@ impl<const N: usize> WidePatch<N> {
             source: std::array::from_fn(|l| sources.get(l).copied().unwrap_or(EMPTY)),
             friction: Lane::ZERO,
             twist_radius: Lane::ZERO,
-            rolling: [[0.0; 2]; LANES],
+            roll: RollLanes::default(),
+            any_rolling: false,
             normal: V3::ZERO,
             directions: [V3::ZERO; 2],
             r_a: V3::ZERO,
@@ -192,7 +207,15 @@ impl<const N: usize> WidePatch<N> {
             w.b[l] = m.b;
             set(&mut w.friction, l, m.friction);
             set(&mut w.twist_radius, l, m.twist_radius);
-            w.rolling[l] = m.rolling;
+            if let Some(r) = Rolling::of(m.rolling) {
+                w.any_rolling = true;
+                let ([ra, rb], share) = r.parts();
+                set(&mut w.roll.mask, l, f64::from_bits(u64::MAX));
+                set(&mut w.roll.radius_a, l, ra);
+                set(&mut w.roll.neg_radius_b, l, -rb);
+                set(&mut w.roll.share_a, l, share);
+                set(&mut w.roll.share_b, l, 1.0 - share);
+            }
             w.normal.set_lane(l, m.normal);
             w.directions[0].set_lane(l, m.directions[0]);
             w.directions[1].set_lane(l, m.directions[1]);
@@ -557,34 +580,36 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         M3::from_lanes(a.map(|b| b.inv_inertia)),
         M3::from_lanes(b.map(|b| b.inv_inertia)),
     );
-    let rolls: [Option<Rolling>; LANES] = std::array::from_fn(|l| Rolling::of(w.rolling[l]));
-    let any_rolls = rolls.iter().any(Option::is_some);
-    let lever_arms = |r_a: V3, r_b: V3, n: V3, ra_now: V3, rb_now: V3| {
-        let (ra, rb) = shared_lever_arms(r_a, r_b, ra_now, rb_now, dpa, dpb);
-        if any_rolls {
-            rolled(
-                &rolls,
-                [r_a, r_b, n, ra_now, rb_now],
-                (ra, rb),
-                |r, l, [r_a, r_b, _, ra_now, rb_now]| {
-                    r.shared_lever_arms(r_a, r_b, ra_now, rb_now, a[l].dp, b[l].dp)
-                },
-            )
-        } else {
-            (ra, rb)
+    // Lanes with a round side (`ManifoldConstraint::rolling`) are re-aimed
+    // as `passes::Rolling` re-aims them, by the same operations in the same
+    // order (so the same bits), and selected into those lanes only.
+    let roll = w.any_rolling.then_some(&w.roll);
+    let anchors = |r_a: V3, r_b: V3, n: V3| {
+        let plain = (ta.mul_vec(r_a), tb.mul_vec(r_b));
+        match roll {
+            Some(k) => {
+                let (ca, cb) = (n.scale(k.radius_a), n.scale(k.neg_radius_b));
+                let rolled = (ta.mul_vec(r_a + ca) - ca, tb.mul_vec(r_b + cb) - cb);
+                (
+                    V3::select(k.mask, rolled.0, plain.0),
+                    V3::select(k.mask, rolled.1, plain.1),
+                )
+            }
+            None => plain,
         }
     };
-    let anchors = |r_a: V3, r_b: V3, n: V3| {
-        let now = (ta.mul_vec(r_a), tb.mul_vec(r_b));
-        if any_rolls {
-            rolled(
-                &rolls,
-                [r_a, r_b, n, now.0, now.1],
-                now,
-                |r, l, [r_a, r_b, n, _, _]| r.anchors(a[l].turn, b[l].turn, r_a, r_b, n),
-            )
-        } else {
-            now
+    let lever_arms = |r_a: V3, r_b: V3, ra_now: V3, rb_now: V3| {
+        let plain = shared_lever_arms(r_a, r_b, ra_now, rb_now, dpa, dpb);
+        match roll {
+            Some(k) => {
+                let ab = r_a - r_b + dpb - dpa;
+                let shared = ra_now.scale(k.share_a) + (rb_now + ab).scale(k.share_b);
+                (
+                    V3::select(k.mask, shared, plain.0),
+                    V3::select(k.mask, shared - ab, plain.1),
+                )
+            }
+            None => plain,
         }
     };
     for p in w.points.iter_mut() {
@@ -593,18 +618,20 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         p.separation_now = p.separation + p.normal.dot(d);
         p.push_impulse = Lane::ZERO;
         if any_moved {
-            let (ra, rb) = lever_arms(p.r_a, p.r_b, p.normal, ra_now, rb_now);
+            let (ra, rb) = lever_arms(p.r_a, p.r_b, ra_now, rb_now);
             p.row = pick(WideRow::new(&ia, &ib, ra, rb, p.normal), p.row);
         }
     }
     let mut turned = Lane::ZERO;
     if any_moved {
         let (ra_now, rb_now) = anchors(w.r_a, w.r_b, w.normal);
-        let (ra, rb) = lever_arms(w.r_a, w.r_b, w.normal, ra_now, rb_now);
+        let (ra, rb) = lever_arms(w.r_a, w.r_b, ra_now, rb_now);
         for i in 0..2 {
             w.rows[i] = pick(WideRow::new(&ia, &ib, ra, rb, w.directions[i]), w.rows[i]);
         }
         w.rows[2] = pick(WideRow::twist(&ia, &ib, w.normal), w.rows[2]);
+    }
+    if any_moved {
         turned = refresh_masses(w, moved, all_moved);
     }
     if warm {
@@ -730,26 +757,6 @@ fn energy_safe_scale(work_before: Lane, work_after: Lane) -> Lane {
     let shrinks = lt(work_before, Lane::ZERO) & gt(b, Lane::ZERO);
     let scale = select(shrinks, partial, Lane::ZERO);
     select(le(work_before + work_after, Lane::ZERO), Lane::ONE, scale)
-}
-
-/// `plain` with the lanes that have a round side replaced by `f` of their
-/// `Rolling`, lane index and the lanes of `inputs`: the scalar kernel's
-/// arithmetic, so the same bits.
-#[inline(always)]
-fn rolled(
-    rolls: &[Option<Rolling>; LANES],
-    inputs: [V3; 5],
-    plain: (V3, V3),
-    f: impl Fn(&Rolling, usize, [DVec3; 5]) -> (DVec3, DVec3),
-) -> (V3, V3) {
-    let inputs = inputs.map(V3::to_lanes);
-    let (mut x, mut y) = (plain.0.to_lanes(), plain.1.to_lanes());
-    for (l, roll) in rolls.iter().enumerate() {
-        if let Some(r) = roll {
-            (x[l], y[l]) = f(r, l, std::array::from_fn(|i| inputs[i][l]));
-        }
-    }
-    (V3::from_lanes(x), V3::from_lanes(y))
 }
 
 /// `passes::shared_lever_arms`, lane by lane.

@@ -46,16 +46,33 @@ pub fn mesh_from_object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<RMesh> {
 /// Args:
 ///     vertices: (N, 3) array of numbers (m).
 ///     faces: (M, 3) array of integer vertex indices (0 <= index < N).
+///     crease_angle_deg: when given, spheres and capsules touch the smooth
+///         surface the mesh tessellates, blended across every edge whose
+///         faces meet at no more than this angle (degrees, in (0, 180)), as
+///         `TriMesh.smooth` makes it.
 #[pyclass(module = "tumble", name = "TriMesh", frozen)]
 pub struct TriMesh {
     pub(crate) mesh: Arc<RMesh>,
+    /// The smooth surface's crease angle (rad), if any.
+    crease_angle: Option<f64>,
     shape: OnceLock<MeshShape>,
+}
+
+/// A crease angle in degrees checked and turned to radians.
+fn crease_radians(degrees: Option<f64>) -> PyResult<Option<f64>> {
+    match degrees {
+        Some(d) if !(d.is_finite() && d > 0.0 && d < 180.0) => Err(invalid(format!(
+            "crease_angle_deg must be an angle in (0, 180) degrees, got {d}"
+        ))),
+        other => Ok(other.map(f64::to_radians)),
+    }
 }
 
 impl TriMesh {
     pub(crate) fn from_mesh(mesh: RMesh) -> TriMesh {
         TriMesh {
             mesh: Arc::new(mesh),
+            crease_angle: None,
             shape: OnceLock::new(),
         }
     }
@@ -76,7 +93,10 @@ impl TriMesh {
         if let Some(s) = self.shape.get() {
             return Ok(s);
         }
-        let built = MeshShape::new((*self.mesh).clone()).or_raise()?;
+        let mut built = MeshShape::new((*self.mesh).clone()).or_raise()?;
+        if let Some(angle) = self.crease_angle {
+            built = built.with_smooth_surface(angle).or_raise()?;
+        }
         Ok(self.shape.get_or_init(|| built))
     }
 }
@@ -84,9 +104,39 @@ impl TriMesh {
 #[pymethods]
 impl TriMesh {
     #[new]
-    #[pyo3(signature = (vertices, faces))]
-    fn new(vertices: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
-        TriMesh::built(|| mesh_from_arrays(vertices, faces))
+    #[pyo3(signature = (vertices, faces, crease_angle_deg=None))]
+    fn new(
+        vertices: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+        crease_angle_deg: Option<f64>,
+    ) -> PyResult<Self> {
+        let crease_angle = crease_radians(crease_angle_deg)?;
+        let mut mesh = TriMesh::built(|| mesh_from_arrays(vertices, faces))?;
+        mesh.crease_angle = crease_angle;
+        Ok(mesh)
+    }
+
+    /// The same mesh (shared, not copied), touched by spheres and capsules
+    /// as the smooth surface it tessellates: corner normals blended across
+    /// every edge whose faces meet at no more than `crease_angle_deg`
+    /// (degrees, in (0, 180); 30 blends a tessellated bowl or sphere and
+    /// keeps a box's or a rim's edges sharp). A ball then rolls in a
+    /// faceted bowl as in a smooth one instead of losing speed at every
+    /// edge. Mesh-mesh contacts stay exact, triangle against triangle.
+    #[pyo3(signature = (crease_angle_deg=30.0))]
+    fn smooth(&self, crease_angle_deg: f64) -> PyResult<TriMesh> {
+        Ok(TriMesh {
+            mesh: Arc::clone(&self.mesh),
+            crease_angle: crease_radians(Some(crease_angle_deg))?,
+            shape: OnceLock::new(),
+        })
+    }
+
+    /// The crease angle of its smooth surface (degrees), or None when
+    /// bodies touch its facets as they are.
+    #[getter]
+    fn crease_angle_deg(&self) -> Option<f64> {
+        self.crease_angle.map(f64::to_degrees)
     }
 
     /// Loads a `.obj` or `.stl` file (ASCII or binary); all objects in the file
@@ -175,6 +225,37 @@ impl TriMesh {
         })
     }
 
+    /// A hemispherical bowl: the lower half of the sphere of `inner_radius`
+    /// about the origin (m), `thickness` thick, open at the top (rim at
+    /// z = 0), `segments` facets around z and `rings` from rim to bottom.
+    /// A ball of radius r rests in it at z = -(inner_radius - r).
+    #[classmethod]
+    #[pyo3(signature = (inner_radius, thickness, segments=96, rings=48))]
+    fn bowl(
+        _cls: &Bound<'_, PyType>,
+        inner_radius: f64,
+        thickness: f64,
+        segments: usize,
+        rings: usize,
+    ) -> PyResult<Self> {
+        TriMesh::built(|| mesh::bowl_mesh(inner_radius, thickness, segments, rings).or_raise())
+    }
+
+    /// A half-pipe along x: the lower half of the cylinder of
+    /// `inner_radius` about the x axis (m), `thickness` thick and `length`
+    /// long, open at the top (rims at z = 0), `segments` facets across.
+    #[classmethod]
+    #[pyo3(signature = (inner_radius, thickness, length, segments=64))]
+    fn half_pipe(
+        _cls: &Bound<'_, PyType>,
+        inner_radius: f64,
+        thickness: f64,
+        length: f64,
+        segments: usize,
+    ) -> PyResult<Self> {
+        TriMesh::built(|| mesh::half_pipe_mesh(inner_radius, thickness, length, segments).or_raise())
+    }
+
     /// Vertex positions (m), float64 array of shape (N, 3) (a copy).
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
@@ -254,13 +335,18 @@ impl TriMesh {
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
         let py = slf.py();
         let m = slf.get();
-        let args = PyTuple::new(py, [m.vertices(py).into_any(), m.faces(py).into_any()])?;
+        let crease = m.crease_angle_deg().into_pyobject(py)?.into_any();
+        let args = PyTuple::new(py, [m.vertices(py).into_any(), m.faces(py).into_any(), crease])?;
         PyTuple::new(py, [slf.get_type().into_any(), args.into_any()])
     }
 
     fn __repr__(&self) -> String {
+        let smooth = match self.crease_angle_deg() {
+            Some(d) => format!(", smooth at {d} deg"),
+            None => String::new(),
+        };
         format!(
-            "tumble.TriMesh(<{} vertices, {} faces>)",
+            "tumble.TriMesh(<{} vertices, {} faces{smooth}>)",
             self.mesh.vertices().len(),
             self.mesh.triangles().len()
         )

@@ -1,7 +1,9 @@
 //! Primitive collision shapes (design map: `shape`): sphere, cuboid, capsule,
 //! convex hull and half-space, each validated at construction, with world
 //! bounding boxes for a pose and support functions (Ericson, "Real-Time
-//! Collision Detection", 3.8 and 9.2) used by the narrow phase.
+//! Collision Detection", 3.8 and 9.2) used by the narrow phase; and triangle
+//! meshes with their OBBTrees ([`MeshShape`]), optionally with the smooth
+//! surface they tessellate ([`SmoothSurface`]).
 //!
 //! Every shape is described in its own body frame; a [`crate::Pose`] places
 //! it in the world. Cuboids and convex hulls share the [`Polytope`] view so

@@ -318,6 +318,14 @@ pub enum ShapeSpec {
     Mesh {
         /// Where the triangles come from.
         mesh: MeshSource,
+        /// Spheres and capsules touch the smooth surface the mesh
+        /// tessellates instead of its facets, blended across every edge
+        /// whose faces meet at no more than this (degrees, in (0, 180); 30
+        /// blends a tessellated bowl and keeps a box's edges sharp). A ball
+        /// then rolls in a faceted bowl as in a smooth one. Default: none,
+        /// the facets as they are.
+        #[serde(default)]
+        crease_angle_deg: Option<f64>,
         /// Pose in the body's model frame. Default identity.
         #[serde(default)]
         local_pose: PoseSpec,
@@ -352,6 +360,12 @@ pub struct MeshSource {
     /// A torus around z (shared/scenes.md `torus_mesh`).
     #[serde(default)]
     pub torus: Option<TorusMesh>,
+    /// A hemispherical bowl, open at the top, placed by its sphere's centre.
+    #[serde(default)]
+    pub bowl: Option<BowlMesh>,
+    /// A half-pipe along x, open at the top, placed by its cylinder's axis.
+    #[serde(default)]
+    pub half_pipe: Option<HalfPipeMesh>,
 }
 
 /// Box mesh generator.
@@ -425,6 +439,37 @@ pub struct ConeMesh {
     /// Height (m, > 0).
     pub height: f64,
     /// Segments around z. Default 32.
+    #[serde(default)]
+    pub segments: Option<usize>,
+}
+
+/// Bowl generator.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BowlMesh {
+    /// Radius of the sphere its inside is half of (m, > 0).
+    pub inner_radius: f64,
+    /// Wall thickness (m, > 0).
+    pub thickness: f64,
+    /// Facets around z. Default 96.
+    #[serde(default)]
+    pub segments: Option<usize>,
+    /// Facets from the rim to the bottom. Default segments / 2.
+    #[serde(default)]
+    pub rings: Option<usize>,
+}
+
+/// Half-pipe generator.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HalfPipeMesh {
+    /// Radius of the cylinder its inside is half of (m, > 0).
+    pub inner_radius: f64,
+    /// Wall thickness (m, > 0).
+    pub thickness: f64,
+    /// Length along x (m, > 0).
+    pub length: f64,
+    /// Facets across the trough. Default 64.
     #[serde(default)]
     pub segments: Option<usize>,
 }

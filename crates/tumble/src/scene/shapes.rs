@@ -25,8 +25,10 @@ pub fn mesh_from_source(src: &MeshSource, path: &FieldPath, base_dir: &Path) -> 
             src.capsule.is_some(),
             src.cone.is_some(),
             src.torus.is_some(),
+            src.bowl.is_some(),
+            src.half_pipe.is_some(),
         ],
-        "file, box, sphere, icosphere, cylinder, capsule, cone, torus",
+        "file, box, sphere, icosphere, cylinder, capsule, cone, torus, bowl, half_pipe",
     )?;
     let generated = |key: &str, r: Result<TriMesh, GeneratorError>| {
         r.map_err(|e| FieldError::new(&path.key(key), e.to_string()))
@@ -69,6 +71,19 @@ pub fn mesh_from_source(src: &MeshSource, path: &FieldPath, base_dir: &Path) -> 
         return generated(
             "cone",
             mesh::cone_mesh(g.radius, g.height, g.segments.unwrap_or(32)),
+        );
+    }
+    if let Some(g) = &src.bowl {
+        let n = g.segments.unwrap_or(96);
+        return generated(
+            "bowl",
+            mesh::bowl_mesh(g.inner_radius, g.thickness, n, g.rings.unwrap_or((n / 2).max(1))),
+        );
+    }
+    if let Some(g) = &src.half_pipe {
+        return generated(
+            "half_pipe",
+            mesh::half_pipe_mesh(g.inner_radius, g.thickness, g.length, g.segments.unwrap_or(64)),
         );
     }
     match &src.torus {
@@ -173,9 +188,26 @@ pub fn build_shape(spec: &ShapeSpec, path: &FieldPath, base_dir: &Path) -> Resul
                 local(local_pose)?,
             )
         }
-        ShapeSpec::Mesh { mesh, local_pose } => {
+        ShapeSpec::Mesh {
+            mesh,
+            crease_angle_deg,
+            local_pose,
+        } => {
             let m = mesh_from_source(mesh, &path.key("mesh"), base_dir)?;
-            let shape = MeshShape::new(m).map_err(|e| FieldError::new(&path.key("mesh"), e.to_string()))?;
+            let mut shape =
+                MeshShape::new(m).map_err(|e| FieldError::new(&path.key("mesh"), e.to_string()))?;
+            if let Some(degrees) = *crease_angle_deg {
+                let at = path.key("crease_angle_deg");
+                if !(degrees.is_finite() && degrees > 0.0 && degrees < 180.0) {
+                    return Err(FieldError::new(
+                        &at,
+                        format!("must be an angle in (0, 180) degrees, got {degrees}"),
+                    ));
+                }
+                shape = shape
+                    .with_smooth_surface(degrees.to_radians())
+                    .map_err(|e| FieldError::new(&at, e.to_string()))?;
+            }
             (Shape::Mesh(shape), local(local_pose)?)
         }
     };

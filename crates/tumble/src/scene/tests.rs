@@ -202,6 +202,24 @@ fn negative_mass_is_located_at_its_value() {
 }
 
 #[test]
+fn a_mesh_crease_angle_outside_0_to_180_degrees_is_located() {
+    let text = GROUND_AND_BALL.replace(
+        r#"shapes = [{ type = "sphere", radius = 0.5 }]"#,
+        r#"shapes = [{ type = "mesh", mesh = { icosphere = { radius = 0.5 } }, crease_angle_deg = 200.0 }]"#,
+    );
+    let (line, _, path, message) = at(toml(&text).unwrap_err());
+    assert_eq!(line, position_of(&text, "crease_angle_deg").0);
+    assert_eq!(path, "bodies[1].shapes[0].crease_angle_deg");
+    assert_eq!(message, "must be an angle in (0, 180) degrees, got 200");
+    let good = text.replace("200.0", "30.0");
+    let loaded = toml(&good).unwrap();
+    let tumble_collide::shape::Shape::Mesh(m) = &loaded.scene.bodies[1].shapes[0].shape else {
+        panic!("not a mesh")
+    };
+    assert!((m.crease_angle().unwrap() - 30f64.to_radians()).abs() < 1e-15);
+}
+
+#[test]
 fn a_body_replaces_its_materials_friction_and_restitution_within_bounds() {
     let text = GROUND_AND_BALL.replace("mass = 2.0", "mass = 2.0\nrestitution = 0.25\nfriction = 1.5");
     let b = &toml(&text).unwrap().scene.bodies[1];

@@ -13,6 +13,7 @@ DYN_FIGURES = {
              "final_kinetic_energy_j"],
     "chain": ["interlock_held", "broken_links", "max_adjacent_centre_distance_m", "deepest_penetration_m"],
     "cradle": ["last_sphere_vx", "momentum_error", "energy_error"],
+    "bowl": ["period_error", "amplitude_kept", "amplitude_kept_facets", "deepest_penetration_m"],
     "heavy_chain": ["largest_joint_error_m", "final_joint_error_m", "weight_distance_m",
                     "simulation_unstable_at_s"],
     "concave_pile": ["bodies_escaped", "deepest_penetration_m", "kinetic_energy_at_5s_j",

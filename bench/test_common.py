@@ -78,6 +78,22 @@ class SceneData(unittest.TestCase):
         self.assertAlmostEqual(t["poses"][-1]["position"][0], 3.0)
         self.assertEqual((len(t["mesh"]["vertices"]), len(t["mesh"]["triangles"])), (2500, 5000))
 
+    def test_bowl_swing_meter_reads_a_cosine_and_the_scene_s_rolling_period(self):
+        # A swing phi0 cos(2 pi t / T) sampled at the scene's dt: the meter's period is T and its
+        # amplitude after two oscillations phi0, to the sampling; with the bowl's start, the
+        # rolling period of a solid ball (2 pi sqrt(7 (R - r) / 5 g) = 1.59 s, stretched by
+        # the 25 degree amplitude).
+        s = C.load_scene("bowl")
+        phi0, period = math.radians(25), 1.6
+        m = C.SwingMeter(s["dt"], phi0)
+        for k in range(1, 1000):
+            m.observe(phi0 * math.cos(2 * math.pi * k * s["dt"] / period))
+        self.assertAlmostEqual(m.period(), period, delta=1e-4)
+        self.assertAlmostEqual(m.amplitude_after_two(), phi0, delta=1e-4)
+        want = C.bowl_figures(s, m)["rolling_period_s"]
+        small = 2 * math.pi * math.sqrt(1.4 * 0.45 / 9.81)
+        self.assertAlmostEqual(want, small * 1.0121, delta=1e-3)
+
     def test_a_missing_binary_is_an_error_that_names_it(self):
         old = os.environ.get("TUMBLE_BIN")
         os.environ["TUMBLE_BIN"] = "/nonexistent/tumble"

@@ -143,6 +143,56 @@ def cradle_figures(scene, velocities):
     }
 
 
+class SwingMeter:
+    """The bowl scene's swing, one angle per step: crossings of the bottom
+    (times interpolated within the step) and turning points after the first
+    crossing. The Python twin of tumble::scenes::SwingMeter (the harness runs
+    on the standard library alone)."""
+
+    def __init__(self, dt, start):
+        self.dt, self.time, self.prev, self.prev_rate = dt, 0.0, start, 0.0
+        self.crossings, self.turns = [], []
+
+    def observe(self, angle):
+        self.time += self.dt
+        if (self.prev > 0.0) != (angle > 0.0):
+            self.crossings.append(self.time - self.dt * angle / (angle - self.prev))
+        rate = angle - self.prev
+        if self.prev_rate != 0.0 and (rate > 0.0) != (self.prev_rate > 0.0) and self.crossings:
+            self.turns.append(abs(self.prev))
+        self.prev, self.prev_rate = angle, rate
+
+    def period(self):
+        return (self.crossings[4] - self.crossings[0]) / 2.0 if len(self.crossings) >= 5 else None
+
+    def amplitude_after_two(self):
+        return self.turns[3] if len(self.turns) >= 4 else None
+
+
+def swing_angle(centre):
+    """The bowl ball's angle from straight down about the origin, in the x-z plane (rad)."""
+    return math.atan2(centre[0], -centre[2])
+
+
+def bowl_figures(scene, meter):
+    """Period and amplitude kept after two swings, against the rolling period of a
+    solid ball (k = 2/5) on the circle of radius R - r at the start's amplitude."""
+    start = scene["bodies"][1]["position"]
+    path = math.sqrt(sum(x * x for x in start))
+    phi0 = swing_angle(start)
+    a, b = 1.0, math.sqrt(1.0 - math.sin(phi0 / 2) ** 2)
+    while abs(a - b) > 1e-15 * a:
+        a, b = (a + b) / 2.0, math.sqrt(a * b)
+    want = 4.0 * math.sqrt(1.4 * path / 9.81) * math.pi / (2.0 * a)
+    period, amplitude = meter.period(), meter.amplitude_after_two()
+    return {
+        "period_s": period,
+        "rolling_period_s": want,
+        "period_error": None if period is None else period / want - 1.0,
+        "amplitude_kept": None if amplitude is None else amplitude / phi0,
+    }
+
+
 def dist(a, b):
     return math.sqrt((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 + (a[2] - b[2]) ** 2)
 

@@ -27,7 +27,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
 import pybullet as p  # noqa: E402
 
-SCENES = ["pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile"]
+SCENES = ["pyramid", "pile", "chain", "cradle", "bowl", "heavy_chain", "ragdoll_pile"]
 
 
 def version():
@@ -356,8 +356,12 @@ def run(scene, steps, variant, iterations=None):
     worst_joint = 0.0
     t = C.StepTimer()
     deepest, contacts_seen = 0.0, 0
+    ball_angle = lambda: C.swing_angle(centres([ids[1]])[0])  # noqa: E731 (the bowl's ball)
+    meter = C.SwingMeter(scene["dt"], ball_angle()) if variant == "bowl" else None
     for s in range(steps):
         t.time(p.stepSimulation)
+        if meter:
+            meter.observe(ball_angle())
         if s % 10 == 9 or s == steps - 1:
             deepest = max(deepest, deepest_penetration(ids if chain else None))
             if chain:
@@ -399,6 +403,9 @@ def run(scene, steps, variant, iterations=None):
             "reduced coordinates (Featherstone multibodies from URDF); "
             "self-collision on, parent-child off"
         )
+    elif variant == "bowl":
+        figures.update(C.bowl_figures(scene, meter))
+        extra["collision"] = "static concave mesh (GEOM_FORCE_CONCAVE_TRIMESH), 96 x 48 facets"
     elif variant == "cradle":
         figures.update(C.cradle_figures(scene, [p.getBaseVelocity(b)[0] for b in ids]))
         extra.update(restitution_per_body=1.0, gravity=scene["gravity"])

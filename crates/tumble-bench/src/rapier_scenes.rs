@@ -40,7 +40,8 @@ fn pose(p: &tumble::collide::Pose) -> Pose {
 
 /// The Rapier collider of a tumble shape (its own frame): balls, boxes,
 /// capsules, convex hulls (from the hull's vertices) and triangle meshes
-/// (`TriMesh`, default flags; give a dynamic mesh body its mass properties,
+/// (`TriMesh`, default flags, or `FIX_INTERNAL_EDGES` for a mesh with a
+/// smooth surface; give a dynamic mesh body its mass properties,
 /// a mesh has no volume of its own in Rapier). Half-spaces have no twin.
 pub fn collider(shape: &tumble::collide::shape::Shape) -> Result<ColliderBuilder, String> {
     use tumble::collide::shape::Shape;
@@ -58,7 +59,14 @@ pub fn collider(shape: &tumble::collide::shape::Shape) -> Result<ColliderBuilder
         }
         Shape::Mesh(m) => {
             let vertices: Vec<Vector> = m.mesh().vertices().iter().map(f).collect();
-            ColliderBuilder::trimesh(vertices, m.mesh().triangles().to_vec())
+            // A mesh that tumble touches as a smooth surface gets Rapier's
+            // nearest option: normals corrected at internal edges.
+            let flags = if m.crease_angle().is_some() {
+                TriMeshFlags::FIX_INTERNAL_EDGES
+            } else {
+                TriMeshFlags::empty()
+            };
+            ColliderBuilder::trimesh_with_flags(vertices, m.mesh().triangles().to_vec(), flags)
                 .map_err(|e| format!("Rapier rejected a mesh: {e:?}"))?
         }
         other => return Err(format!("shape {} has no Rapier twin here", other.kind_name())),

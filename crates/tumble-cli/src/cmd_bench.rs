@@ -13,7 +13,7 @@ use tumble::world::{BodyId, World};
 #[derive(Args)]
 pub struct BenchArgs {
     /// Scene: pyramid, large_pyramid, pile (with --n), chain,
-    /// chain_decomposed, cradle, heavy_chain, ragdoll_pile, concave_pile
+    /// chain_decomposed, cradle, bowl, heavy_chain, ragdoll_pile, concave_pile
     /// or tori.
     #[arg(long)]
     scene: String,
@@ -96,6 +96,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "chain" => ("chain".into(), scenes::chain()),
         "chain_decomposed" => ("chain_decomposed".into(), scenes::chain_decomposed()),
         "cradle" => ("cradle".into(), scenes::cradle()),
+        "bowl" => ("bowl".into(), scenes::bowl_swing(true)),
         "heavy_chain" => ("heavy_chain".into(), scenes::heavy_chain()),
         "ragdoll_pile" => ("ragdoll_pile".into(), scenes::ragdoll_pile()),
         "concave_pile" => (
@@ -135,7 +136,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
         other => {
             return Err(CliError::Input(format!(
-                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, chain_decomposed, cradle, heavy_chain, ragdoll_pile, concave_pile, tori)"
+                "unknown scene '{other}' (expected pyramid, large_pyramid, pile, chain, chain_decomposed, cradle, bowl, heavy_chain, ragdoll_pile, concave_pile, tori)"
             )))
         }
     };
@@ -248,6 +249,42 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                     .count();
                 figures.insert("bodies_below_ground".into(), json!(fallen));
             }
+            t
+        }
+        "bowl" => {
+            // The swing's period and the amplitude it keeps after two
+            // oscillations, on the smooth surface (timed) and on the bare
+            // facets (a second, untimed run of the same scene without it).
+            let swing = |w: &World| scenes::swing_angle(centre(w, ids[1]), false);
+            let mut meter = scenes::SwingMeter::new(settings.dt, swing(&world));
+            let t = run_timed(&mut world, steps, |_, w, p| {
+                deepest = deepest.max(p);
+                meter.observe(swing(w));
+            });
+            let phi0 = scenes::BOWL_START_DEG.to_radians();
+            let want = scenes::rolling_period(scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS, 0.4, phi0);
+            let (mut facets, facet_ids) = scenes::bowl_swing(false)
+                .build()
+                .map_err(|e| CliError::Internal(e.to_string()))?;
+            let mut facet_meter = scenes::SwingMeter::new(settings.dt, phi0);
+            for _ in 0..steps {
+                facets.step();
+                facet_meter.observe(scenes::swing_angle(centre(&facets, facet_ids[1]), false));
+            }
+            figures.insert("period_s".into(), json!(meter.period()));
+            figures.insert("rolling_period_s".into(), json!(want));
+            figures.insert(
+                "period_error".into(),
+                json!(meter.period().map(|p| p / want - 1.0)),
+            );
+            figures.insert(
+                "amplitude_kept".into(),
+                json!(meter.amplitude_after_two().map(|a| a / phi0)),
+            );
+            figures.insert(
+                "amplitude_kept_facets".into(),
+                json!(facet_meter.amplitude_after_two().map(|a| a / phi0)),
+            );
             t
         }
         "cradle" => {

@@ -11,7 +11,7 @@
 //! any amplitude is `4 sqrt(L / g) K(sin^2(phi0 / 2))` (complete elliptic
 //! integral of the first kind). Sliding without friction, k = 0.
 
-use tumble::analytic::elliptic_k;
+use tumble::scenes::{bowl_swing, rolling_period, swing_angle, SwingMeter};
 use tumble::world::{BodyDesc, BodyId, World, WorldSettings};
 use tumble_collide::mesh::{bowl_mesh, half_pipe_mesh};
 use tumble_collide::shape::{Capsule, HalfSpace, MeshShape, Shape, Sphere};
@@ -41,60 +41,36 @@ struct Swing {
     deepest: f64,
 }
 
-/// Steps `world` until the body's swing angle (in the plane normal to x for
-/// `about_x`, else to y, measured from straight down about the origin) has
-/// turned four times after its first crossing, and reports the swing.
+/// Steps `world` until the body has swung through two oscillations
+/// (`scenes::SwingMeter`, angle in the plane normal to x for `about_x`,
+/// else to y), and reports the swing.
 fn swing(world: &mut World, id: BodyId, about_x: bool, start: f64) -> Swing {
-    let angle = |w: &World| {
-        let d = w.center_of_mass(id).unwrap();
-        if about_x {
-            d.y.atan2(-d.z)
-        } else {
-            d.x.atan2(-d.z)
-        }
-    };
+    let angle = |w: &World| swing_angle(w.center_of_mass(id).unwrap(), about_x);
     let energy = |w: &World| w.kinetic_energy() + w.potential_energy();
-    let mut first_turn = None;
-    let (mut crossings, mut turns) = (Vec::new(), Vec::new());
-    let (mut prev, mut prev_rate, mut deepest, mut rise) = (angle(world), 0.0, 0.0f64, 0.0f64);
+    let mut meter = SwingMeter::new(DT, angle(world));
+    let (mut first_turn, mut deepest, mut rise) = (None, 0.0f64, 0.0f64);
     let mut t = 0.0;
-    while (crossings.len() < 5 || turns.len() < 4) && t < 30.0 {
+    while !meter.done() && t < 30.0 {
         world.step();
         t += DT;
         for c in world.contacts() {
             deepest = deepest.max(-c.contact.distance);
         }
-        let now = angle(world);
-        if (prev > 0.0) != (now > 0.0) {
-            // Linear interpolation of the crossing time within the step.
-            crossings.push(t - DT * now / (now - prev));
-        }
-        let rate = now - prev;
-        if prev_rate != 0.0 && (rate > 0.0) != (prev_rate > 0.0) && !crossings.is_empty() {
-            turns.push(prev.abs());
+        if meter.observe(angle(world)) {
             let e = energy(world);
             rise = rise.max(e - *first_turn.get_or_insert(e));
         }
-        (prev, prev_rate) = (now, rate);
     }
-    assert!(
-        crossings.len() >= 5 && turns.len() >= 4,
-        "did not swing: {crossings:?} {turns:?}"
-    );
+    let (Some(period), Some(after_two)) = (meter.period(), meter.amplitude_after_two()) else {
+        panic!("did not swing: {meter:?}");
+    };
     Swing {
-        period: (crossings[4] - crossings[0]) / 2.0,
+        period,
         start,
-        after_two: turns[3],
+        after_two,
         energy_rise: rise,
         deepest,
     }
-}
-
-/// The period of a body rolling without slipping inside a surface, centre
-/// path radius `path`, `k = I / (m r^2)`, amplitude `phi0` (rad).
-fn rolling_period(path: f64, k: f64, phi0: f64) -> f64 {
-    let length = (1.0 + k) * path;
-    4.0 * (length / G).sqrt() * elliptic_k((phi0 / 2.0).sin().powi(2))
 }
 
 fn world_without_sleep() -> World {
@@ -129,25 +105,16 @@ fn check(s: &Swing, want_period: f64, swing_energy: f64) {
     assert!(s.deepest < 0.001, "{s:?}");
 }
 
-/// A 0.5 m bowl of 96 x 48 facets with a 5 cm ball let go 25 degrees up
-/// its side, friction `mu`.
+/// The standard bowl scene (`scenes::bowl_swing`: a 0.5 m bowl of 96 x 48
+/// facets with a smooth surface, a 5 cm ball let go 25 degrees up its
+/// side), both bodies at friction `mu`.
 fn ball_in_bowl(mu: f64) -> (World, BodyId) {
-    let (big_r, r, phi0) = (0.5, 0.05, 25f64.to_radians());
-    let mut world = world_without_sleep();
-    let bowl = smooth(MeshShape::new(bowl_mesh(big_r, 0.05, 96, 48).unwrap()).unwrap());
-    world
-        .add_body(&BodyDesc::fixed(Shape::Mesh(bowl)).with_material(mu, 0.0))
-        .unwrap();
-    let path = big_r - r;
-    let ball = world
-        .add_body(
-            &BodyDesc::dynamic(Shape::Sphere(Sphere::new(r).unwrap()))
-                .at(DVec3::new(path * phi0.sin(), 0.0, -path * phi0.cos()))
-                .with_mass(1.0)
-                .with_material(mu, 0.0),
-        )
-        .unwrap();
-    (world, ball)
+    let mut scene = bowl_swing(true);
+    for body in &mut scene.bodies {
+        *body = body.clone().with_material(mu, 0.0);
+    }
+    let (world, ids) = scene.build().unwrap();
+    (world, ids[1])
 }
 
 #[test]

@@ -10,7 +10,7 @@
 //! are the plain 768-triangle mesh (`TriMesh`, default flags): no convex decomposition.
 //! `heavy_chain-multibody` runs the heavy chain on Rapier's multibody joints.
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|heavy_chain|heavy_chain-multibody|ragdoll_pile [--steps K] [--n N] [--threads T]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl_facets|heavy_chain|heavy_chain-multibody|ragdoll_pile [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -66,12 +66,14 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
         "pile" => return Err(format!("pile: --n must be a positive multiple of 100, got {n}")),
         "chain" => scenes::chain(),
         "cradle" => scenes::cradle(),
+        "bowl" => scenes::bowl_swing(true),
+        "bowl_facets" => scenes::bowl_swing(false),
         "heavy_chain" | "heavy_chain-multibody" => scenes::heavy_chain(),
         "ragdoll_pile" => scenes::ragdoll_pile(),
         "concave_pile" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
         other => {
             return Err(format!(
-                "--scene must be pyramid, large_pyramid, pile, chain, cradle, heavy_chain, \
+                "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, heavy_chain, \
                  heavy_chain-multibody, ragdoll_pile or concave_pile, got {other:?}"
             ))
         }
@@ -106,10 +108,18 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
     // The kinetic energy 5 s in (the concave pile's "at rest within 5 s").
     let five_seconds = (5.0 / scene.settings.dt).round() as usize;
     let mut energy_at_five = None;
+    // The bowl's swing, read every step (the ball is body 1).
+    let swing = |sw: &rs::SceneWorld| scenes::swing_angle(DVec3::from_array(sw.centre(1)), false);
+    let mut meter = name
+        .starts_with("bowl")
+        .then(|| scenes::SwingMeter::new(scene.settings.dt, swing(&sw)));
     for s in 0..steps {
         let t0 = Instant::now();
         sw.world.step();
         times.push(t0.elapsed().as_secs_f64());
+        if let Some(m) = meter.as_mut() {
+            m.observe(swing(&sw));
+        }
         if s + 1 == five_seconds {
             energy_at_five = Some(kinetic_energy(&sw));
         }
@@ -153,6 +163,20 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
             figures["max_adjacent_centre_distance_m"] = json!(widest);
             figures["broken_links"] = json!(ends.windows(2).filter(|p| dist(p[0], p[1]) > reach).count());
             set["collision"] = json!("plain concave TriMesh, 768 triangles, default flags");
+        }
+        "bowl" | "bowl_facets" => {
+            let meter = meter.as_ref().ok_or("the bowl's swing was not read")?;
+            let phi0 = scenes::BOWL_START_DEG.to_radians();
+            let want = scenes::rolling_period(scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS, 0.4, phi0);
+            figures["period_s"] = json!(meter.period());
+            figures["rolling_period_s"] = json!(want);
+            figures["period_error"] = json!(meter.period().map(|p| p / want - 1.0));
+            figures["amplitude_kept"] = json!(meter.amplitude_after_two().map(|a| a / phi0));
+            set["collision"] = json!(if name == "bowl" {
+                "TriMesh with FIX_INTERNAL_EDGES (96 x 48 facets)"
+            } else {
+                "TriMesh, default flags (96 x 48 facets)"
+            });
         }
         "cradle" => {
             let vel: Vec<[f64; 3]> = sw

@@ -2,6 +2,7 @@
 //! tests, benchmarks, the CLI and the examples. Each function returns a
 //! [`Scene`]: world settings plus body descriptions in insertion order.
 
+mod bowl_swing;
 mod concave_pile;
 mod joint_scenes;
 mod mesh_scenes;
@@ -12,6 +13,10 @@ mod t_handle;
 mod timing;
 mod tori_queries;
 
+pub use bowl_swing::{
+    bowl_swing, rolling_period, swing_angle, SwingMeter, BOWL_BALL_RADIUS, BOWL_CREASE_DEG, BOWL_RADIUS,
+    BOWL_START_DEG,
+};
 pub use concave_pile::{
     concave_bin, concave_kind_meshes, concave_pile, concave_pile_escaped, CONCAVE_BIN_INNER_HALF_WIDTH,
     CONCAVE_BIN_WALL_HEIGHT, CONCAVE_KINDS, CONCAVE_PILE_BODIES,

@@ -262,7 +262,12 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 meter.observe(swing(w));
             });
             let phi0 = scenes::BOWL_START_DEG.to_radians();
-            let want = scenes::rolling_period(scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS, 0.4, phi0);
+            let want = tumble::analytic::rolling_period(
+                scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS,
+                0.4,
+                phi0,
+                settings.gravity.length(),
+            );
             let (mut facets, facet_ids) = scenes::bowl_swing(false)
                 .build()
                 .map_err(|e| CliError::Internal(e.to_string()))?;

@@ -53,18 +53,19 @@ pub fn mesh_from_object(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<RMesh> {
 #[pyclass(module = "tumble", name = "TriMesh", frozen)]
 pub struct TriMesh {
     pub(crate) mesh: Arc<RMesh>,
-    /// The smooth surface's crease angle (rad), if any.
-    crease_angle: Option<f64>,
+    /// The smooth surface's crease angle as given (degrees, checked), if
+    /// any: kept in degrees so that a pickle gives back the same angle.
+    crease_angle_deg: Option<f64>,
     shape: OnceLock<MeshShape>,
 }
 
-/// A crease angle in degrees checked and turned to radians.
-fn crease_radians(degrees: Option<f64>) -> PyResult<Option<f64>> {
+/// A crease angle in degrees, checked.
+fn checked_crease(degrees: Option<f64>) -> PyResult<Option<f64>> {
     match degrees {
         Some(d) if !(d.is_finite() && d > 0.0 && d < 180.0) => Err(invalid(format!(
             "crease_angle_deg must be an angle in (0, 180) degrees, got {d}"
         ))),
-        other => Ok(other.map(f64::to_radians)),
+        other => Ok(other),
     }
 }
 
@@ -72,7 +73,7 @@ impl TriMesh {
     pub(crate) fn from_mesh(mesh: RMesh) -> TriMesh {
         TriMesh {
             mesh: Arc::new(mesh),
-            crease_angle: None,
+            crease_angle_deg: None,
             shape: OnceLock::new(),
         }
     }
@@ -94,8 +95,8 @@ impl TriMesh {
             return Ok(s);
         }
         let mut built = MeshShape::new((*self.mesh).clone()).or_raise()?;
-        if let Some(angle) = self.crease_angle {
-            built = built.with_smooth_surface(angle).or_raise()?;
+        if let Some(degrees) = self.crease_angle_deg {
+            built = built.with_smooth_surface(degrees.to_radians()).or_raise()?;
         }
         Ok(self.shape.get_or_init(|| built))
     }
@@ -110,9 +111,9 @@ impl TriMesh {
         faces: &Bound<'_, PyAny>,
         crease_angle_deg: Option<f64>,
     ) -> PyResult<Self> {
-        let crease_angle = crease_radians(crease_angle_deg)?;
+        let crease = checked_crease(crease_angle_deg)?;
         let mut mesh = TriMesh::built(|| mesh_from_arrays(vertices, faces))?;
-        mesh.crease_angle = crease_angle;
+        mesh.crease_angle_deg = crease;
         Ok(mesh)
     }
 
@@ -127,7 +128,7 @@ impl TriMesh {
     fn smooth(&self, crease_angle_deg: f64) -> PyResult<TriMesh> {
         Ok(TriMesh {
             mesh: Arc::clone(&self.mesh),
-            crease_angle: crease_radians(Some(crease_angle_deg))?,
+            crease_angle_deg: checked_crease(Some(crease_angle_deg))?,
             shape: OnceLock::new(),
         })
     }
@@ -136,7 +137,7 @@ impl TriMesh {
     /// bodies touch its facets as they are.
     #[getter]
     fn crease_angle_deg(&self) -> Option<f64> {
-        self.crease_angle.map(f64::to_degrees)
+        self.crease_angle_deg
     }
 
     /// Loads a `.obj` or `.stl` file (ASCII or binary); all objects in the file
@@ -227,17 +228,19 @@ impl TriMesh {
 
     /// A hemispherical bowl: the lower half of the sphere of `inner_radius`
     /// about the origin (m), `thickness` thick, open at the top (rim at
-    /// z = 0), `segments` facets around z and `rings` from rim to bottom.
-    /// A ball of radius r rests in it at z = -(inner_radius - r).
+    /// z = 0), `segments` facets around z and `rings` from rim to bottom
+    /// (default segments / 2, as in scene files). A ball of radius r rests
+    /// in it at z = -(inner_radius - r).
     #[classmethod]
-    #[pyo3(signature = (inner_radius, thickness, segments=96, rings=48))]
+    #[pyo3(signature = (inner_radius, thickness, segments=96, rings=None))]
     fn bowl(
         _cls: &Bound<'_, PyType>,
         inner_radius: f64,
         thickness: f64,
         segments: usize,
-        rings: usize,
+        rings: Option<usize>,
     ) -> PyResult<Self> {
+        let rings = rings.unwrap_or((segments / 2).max(1));
         TriMesh::built(|| mesh::bowl_mesh(inner_radius, thickness, segments, rings).or_raise())
     }
 

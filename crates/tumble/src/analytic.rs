@@ -4,6 +4,9 @@
 //! - [`elliptic_k`]: the complete elliptic integral of the first kind, by the
 //!   arithmetic-geometric mean (Abramowitz & Stegun 17.6), for large-swing
 //!   pendulum periods and the torque-free top.
+//! - [`rolling_period`]: the period of a body rolling without slipping
+//!   (or sliding without friction) inside a sphere or a cylinder, a pendulum
+//!   of length `(1 + k)(R - r)`.
 //! - [`torque_free_period`]: the period of a free rigid body's body-frame
 //!   angular velocity (Euler's equations solved by Jacobi elliptic
 //!   functions; Landau & Lifshitz, Mechanics, section 37): the flip period of
@@ -27,6 +30,18 @@ pub fn elliptic_k(m: f64) -> f64 {
         (a, b) = (0.5 * (a + b), (a * b).sqrt());
     }
     std::f64::consts::PI / (2.0 * a)
+}
+
+/// The period of a body rolling without slipping inside a sphere or a
+/// cylinder, its centre on a circle of radius `path` (m), `k = I / (m r^2)`
+/// about its rolling axis (0 for sliding without friction), let go at `phi0`
+/// (rad) under gravity `g` (m/s^2): a pendulum of length `(1 + k) path` at
+/// that amplitude (s). From `(1 + k) path phi'' = -g sin phi`: the body's
+/// speed is `path phi'`, its spin `path phi' / r`, and the contact force
+/// does no work.
+pub fn rolling_period(path: f64, k: f64, phi0: f64, g: f64) -> f64 {
+    let length = (1.0 + k) * path;
+    4.0 * (length / g).sqrt() * elliptic_k((phi0 / 2.0).sin().powi(2))
 }
 
 /// Period of the body-frame angular velocity of a torque-free rigid body

@@ -71,12 +71,10 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
         "heavy_chain" | "heavy_chain-multibody" => scenes::heavy_chain(),
         "ragdoll_pile" => scenes::ragdoll_pile(),
         "concave_pile" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
-        other => {
-            return Err(format!(
-                "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, heavy_chain, \
+        other => return Err(format!(
+            "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, bowl_facets, heavy_chain, \
                  heavy_chain-multibody, ragdoll_pile or concave_pile, got {other:?}"
-            ))
-        }
+        )),
     })
 }
 
@@ -167,7 +165,12 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
         "bowl" | "bowl_facets" => {
             let meter = meter.as_ref().ok_or("the bowl's swing was not read")?;
             let phi0 = scenes::BOWL_START_DEG.to_radians();
-            let want = scenes::rolling_period(scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS, 0.4, phi0);
+            let want = tumble::analytic::rolling_period(
+                scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS,
+                0.4,
+                phi0,
+                scene.settings.gravity.length(),
+            );
             figures["period_s"] = json!(meter.period());
             figures["rolling_period_s"] = json!(want);
             figures["period_error"] = json!(meter.period().map(|p| p / want - 1.0));

@@ -19,7 +19,7 @@
 //! point and its ends touch that surface instead, where they lie over it.
 
 use super::capsule_feature;
-use super::contact_mesh::{smooth_foot, SmoothFoot};
+use super::smooth_foot::{smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::math::{DMat3, DVec3};

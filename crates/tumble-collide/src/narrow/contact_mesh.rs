@@ -10,15 +10,15 @@
 //! vertices within the margin.
 
 use super::contact_halfspace::{push_vertex_on_plane, reduce_in_place};
+use super::smooth_foot::{smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::drift::Drift;
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
-use crate::shape::{HalfSpace, MeshShape, Polytope, SmoothSurface, Sphere};
+use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
 use crate::triangle::{
-    closest_point_on_triangle, merge_contacts, phong_point, triangle_contacts, triangle_contacts_unchecked,
-    MergeParams, PhongPoint,
+    closest_point_on_triangle, merge_contacts, triangle_contacts, triangle_contacts_unchecked, MergeParams,
 };
 use std::cell::RefCell;
 
@@ -409,45 +409,4 @@ pub fn contact_sphere_mesh(
         Traverse::Continue
     });
     merge(out, start, &[], b.mesh().triangles());
-}
-
-/// A foot on the smooth surface counts as over its triangle down to this
-/// barycentric coordinate (round-off: a centre over a shared edge is then
-/// claimed by both triangles, and `merge` keeps one copy, rather than by
-/// neither).
-const OVER_EDGE_TOLERANCE: f64 = 1e-9;
-
-/// Where a point (shape frame) stands against triangle `t` of a mesh's
-/// smooth surface.
-pub(super) enum SmoothFoot {
-    /// Over the triangle: the contact is the foot's.
-    Over(PhongPoint),
-    /// Beyond a smooth edge: the neighbour across it has the foot.
-    Neighbour,
-    /// Beyond a crease (or no foot at all): the flat triangle's closest
-    /// point gives the contact, as on a mesh without a smooth surface.
-    Crease,
-}
-
-/// The foot of `point` (shape frame), the centre of a round body of
-/// `radius`, on the smooth surface over triangle `t`. A centre more than
-/// its radius behind the surface is not this triangle's to push: it is
-/// inside the solid (a bowl's outer face, seen from a ball inside the
-/// bowl), and the flat triangle's unsigned distance decides.
-pub(super) fn smooth_foot(s: &SmoothSurface, m: &MeshShape, t: u32, point: DVec3, radius: f64) -> SmoothFoot {
-    let tri = m.mesh().triangle(t as usize);
-    let Some(foot) = phong_point(point, &tri, s.corner_normals(t)) else {
-        return SmoothFoot::Crease;
-    };
-    if foot.height < -radius {
-        return SmoothFoot::Crease;
-    }
-    let (k, worst) = foot.worst_corner();
-    if worst >= -OVER_EDGE_TOLERANCE {
-        SmoothFoot::Over(foot)
-    } else if s.is_crease(t, (k + 1) % 3) {
-        SmoothFoot::Crease
-    } else {
-        SmoothFoot::Neighbour
-    }
 }

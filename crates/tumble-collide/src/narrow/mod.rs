@@ -33,6 +33,7 @@ mod geometry;
 pub(crate) mod gjk;
 mod mesh_pair_memory;
 mod reduce;
+mod smooth_foot;
 
 #[cfg(test)]
 mod oracle;

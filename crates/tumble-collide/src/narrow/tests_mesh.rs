@@ -448,3 +448,52 @@ fn bad_crease_angles_are_refused() {
         assert!(mesh_box(0.5).with_smooth_surface(angle).is_err(), "{angle}");
     }
 }
+
+/// The smooth surface is the same whichever side of the pair the mesh is:
+/// the contacts of mesh against ball are those of ball against mesh,
+/// flipped, at random poses around a tessellated sphere.
+#[test]
+fn smooth_contacts_are_mirrored_when_the_mesh_is_a() {
+    let mesh = Shape::Mesh(
+        MeshShape::new(crate::mesh::uv_sphere_mesh(1.0, 24, 12).unwrap())
+            .unwrap()
+            .with_smooth_surface(0.6)
+            .unwrap(),
+    );
+    let mut rng = crate::bvh::traverse::tests::rng(11);
+    let mut touching = 0;
+    for _ in 0..100 {
+        let pose_b = crate::bvh::traverse::tests::random_pose(&mut rng, 0.2);
+        let dir = DVec3::new(rng() - 0.5, rng() - 0.5, rng() - 0.5).normalize();
+        let pose_a = Pose::from_translation(pose_b.transform_point(dir * (1.1 + 0.02 * (rng() - 0.5))));
+        for round in [
+            Shape::Sphere(Sphere::new(0.1).unwrap()),
+            Shape::Capsule(Capsule::new(0.1, 0.2).unwrap()),
+        ] {
+            let (mut ab, mut ba) = (Vec::new(), Vec::new());
+            contact_shapes(&round, &pose_a, &mesh, &pose_b, 0.02, &mut ab).unwrap();
+            contact_shapes(&mesh, &pose_b, &round, &pose_a, 0.02, &mut ba).unwrap();
+            touching += !ab.is_empty() as usize;
+            assert_eq!(ab.iter().map(|c| c.flipped()).collect::<Vec<_>>(), ba);
+        }
+    }
+    assert!(touching > 100, "too few touching poses: {touching}");
+}
+
+/// A mesh with a face wound the wrong way (one triangle of a sphere
+/// flipped) still gets its smooth surface: the flipped face's edges are
+/// creases, even at a crease angle that blends everything else.
+#[test]
+fn a_flipped_face_is_a_crease_not_a_loop() {
+    let sphere = crate::mesh::uv_sphere_mesh(1.0, 16, 8).unwrap();
+    let mut triangles = sphere.triangles().to_vec();
+    triangles[40].swap(1, 2);
+    // A mesh is not refused for its winding (only solids for mass are).
+    let flipped = crate::mesh::TriMesh::new(sphere.vertices().to_vec(), triangles).unwrap();
+    let shape = MeshShape::new(flipped)
+        .unwrap()
+        .with_smooth_surface(179f64.to_radians())
+        .unwrap();
+    let s = shape.smooth_surface().unwrap();
+    assert!((0..3).all(|k| s.is_crease(40, k)));
+}

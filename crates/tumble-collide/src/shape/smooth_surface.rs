@@ -38,6 +38,13 @@ impl SmoothSurface {
             .map(|t| mesh.triangle_normal_scaled(t).normalize_or_zero())
             .collect();
         let min_cos = crease_angle.cos();
+        // An edge is blended only between consistently wound neighbours
+        // (the neighbour runs it the other way): across a flipped face the
+        // fan walk below would never come round.
+        let consistent = |t: usize, k: usize, other: usize| {
+            let (a, b) = (tris[t][k], tris[t][(k + 1) % 3]);
+            (0..3).any(|j| tris[other][j] == b && tris[other][(j + 1) % 3] == a)
+        };
         let creases: Vec<u8> = topology
             .neighbors
             .iter()
@@ -45,7 +52,10 @@ impl SmoothSurface {
             .map(|(t, nb)| {
                 let mut bits = 0;
                 for (k, &other) in nb.iter().enumerate() {
-                    if other == NO_NEIGHBOR || face[t].dot(face[other as usize]) < min_cos {
+                    if other == NO_NEIGHBOR
+                        || !consistent(t, k, other as usize)
+                        || face[t].dot(face[other as usize]) < min_cos
+                    {
                         bits |= 1 << k;
                     }
                 }
@@ -76,7 +86,9 @@ impl SmoothSurface {
                         break;
                     }
                     let (mut at, mut ck) = (t, k);
-                    loop {
+                    // A fan has fewer triangles than the mesh: the bound
+                    // only guards against a walk that cannot come round.
+                    for _ in 0..tris.len() {
                         let edge = if forward { ck } else { (ck + 2) % 3 };
                         if creases[at] & (1 << edge) != 0 {
                             break;
@@ -146,21 +158,29 @@ impl SmoothSurface {
     /// matrix `K` (1/m, shape frame, zero along the normal) with which a
     /// displacement `d` of that centre gives the normal `normalize(n + K d)`
     /// and the gap `gap + n . d + d . K d / 2`, to second order in `d`.
-    /// `None` when `centre` has no foot over `t` or lies beyond a focal
-    /// point of the surface.
+    /// `None` when `centre` has no foot over `t` (the contact belongs to a
+    /// neighbour or to a crease, whose flat contact does not turn) or lies
+    /// beyond a focal point of the surface.
     ///
-    /// The surface's shape operator `W` (`dn = W dp` along it) comes from
-    /// the interpolated normals: `dn/du_i = (I - n n^T)(n_i - n_0) / |N|`
-    /// over the triangle's edge vectors. The centre, `h` above the surface,
-    /// moves `(I + h W) dp` when the foot moves `dp`, so `K = W (I + h W)^-1`:
-    /// a ball of radius r in a bowl of radius R gets `-1 / (R - r)` across
-    /// its tangent plane, the curvature of the sphere its centre runs on.
+    /// The surface's shape operator `W` (the Weingarten map, `dn = W dp`
+    /// along it; do Carmo, Differential Geometry of Curves and Surfaces,
+    /// 3-2) comes from the interpolated normals over the flat triangle:
+    /// `dn/du_i = (I - n n^T)(n_i - n_0) / |N|` over its edge vectors. The
+    /// centre lies `h` along the normal from its foot `p` (`c = p + h n`),
+    /// so it moves `(I + h W) dp` when the foot moves `dp`, and
+    /// `K = W (I + h W)^-1`: a ball of radius r in a bowl of radius R gets
+    /// `-1 / (R - r)` across its tangent plane, the curvature of the sphere
+    /// its centre runs on.
     pub fn path_curvature(&self, mesh: &TriMesh, t: u32, centre: DVec3) -> Option<DMat3> {
-        let p = mesh.triangle(t as usize);
         let n = self.normals.get(t as usize)?;
+        let p = mesh.triangle(t as usize);
         let foot = phong_point(centre, &p, n)?;
+        if !foot.is_over() {
+            return None;
+        }
         let [_, v, w] = foot.barycentric;
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let flat = p[0] + e1 * v + e2 * w;
         let interpolated = n[0] + (n[1] - n[0]) * v + (n[2] - n[0]) * w;
         let (unit, length) = (foot.normal, interpolated.length());
         let along = |d: DVec3| (d - unit * unit.dot(d)) / length;
@@ -181,8 +201,10 @@ impl SmoothSurface {
         let (w1, w2) = (turn(t1), turn(t2));
         let off = 0.5 * (t1.dot(w2) + t2.dot(w1));
         let w = [[t1.dot(w1), off], [off, t2.dot(w2)]];
-        // K = W (I + h W)^-1; the two commute, so K is symmetric.
-        let h = foot.height;
+        // K = W (I + h W)^-1; the two commute, so K is symmetric. h is the
+        // centre's height over the flat foot W was taken along (not over
+        // the tessellated surface: c = p + h n holds for the flat p).
+        let h = (centre - flat).dot(unit);
         let m = [[1.0 + h * w[0][0], h * w[0][1]], [h * w[1][0], 1.0 + h * w[1][1]]];
         let det_m = m[0][0] * m[1][1] - m[0][1] * m[1][0];
         if det_m.is_nan() || det_m <= 1e-6 {

@@ -30,7 +30,7 @@ pub mod tri_tri_overlap;
 
 pub use merge::{merge_contacts, MergeError, MergeParams};
 pub use orient::{orient2d, orient3d};
-pub use phong::{phong_point, PhongPoint, PHONG_SHAPE_FACTOR};
+pub use phong::{phong_point, PhongPoint, OVER_TRIANGLE_TOLERANCE, PHONG_SHAPE_FACTOR};
 pub use tri_box::tri_box_overlap;
 pub(crate) use tri_contact::triangle_contacts_unchecked;
 pub use tri_contact::{triangle_contacts, TriContactError};

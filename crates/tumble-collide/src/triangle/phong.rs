@@ -36,6 +36,11 @@ use crate::math::{DMat3, DVec3};
 /// tessellated sphere or cylinder onto it (see the module note).
 pub const PHONG_SHAPE_FACTOR: f64 = 0.5;
 
+/// A foot counts as over its triangle down to this barycentric coordinate
+/// (round-off: a point over a shared edge is then over both triangles
+/// rather than over neither).
+pub const OVER_TRIANGLE_TOLERANCE: f64 = 1e-9;
+
 /// Newton steps from the flat projection (each squares the error; the
 /// first leaves about (t |n_i - n_j| / h)^2 of it).
 const NEWTON_STEPS: usize = 4;
@@ -57,8 +62,9 @@ pub struct PhongPoint {
 
 impl PhongPoint {
     /// The most negative barycentric coordinate and its corner: the point
-    /// lies over the triangle when it is >= 0, else it lies beyond the edge
-    /// opposite that corner (edge `(k + 1) % 3`, from corner `k + 1` to `k + 2`).
+    /// lies over the triangle when it is >= 0 (to [`OVER_TRIANGLE_TOLERANCE`]),
+    /// else it lies beyond the edge opposite that corner (edge `(k + 1) % 3`,
+    /// from corner `k + 1` to `k + 2`).
     pub fn worst_corner(&self) -> (usize, f64) {
         let u = self.barycentric;
         let k = if u[0] <= u[1] && u[0] <= u[2] {
@@ -69,6 +75,11 @@ impl PhongPoint {
             2
         };
         (k, u[k])
+    }
+
+    /// `true` when the point lies over the triangle, edges included.
+    pub fn is_over(&self) -> bool {
+        self.worst_corner().1 >= -OVER_TRIANGLE_TOLERANCE
     }
 }
 

@@ -124,7 +124,7 @@ class TriMesh:
     ) -> TriMesh: ...
     @classmethod
     def bowl(
-        cls, inner_radius: float, thickness: float, segments: int = 96, rings: int = 48
+        cls, inner_radius: float, thickness: float, segments: int = 96, rings: int | None = None
     ) -> TriMesh: ...
     @classmethod
     def half_pipe(

@@ -9,14 +9,12 @@ mod mesh_scenes;
 mod plain_data;
 mod primitives_scenes;
 mod projectile_scenes;
+mod swing_meter;
 mod t_handle;
 mod timing;
 mod tori_queries;
 
-pub use bowl_swing::{
-    bowl_swing, rolling_period, swing_angle, SwingMeter, BOWL_BALL_RADIUS, BOWL_CREASE_DEG, BOWL_RADIUS,
-    BOWL_START_DEG,
-};
+pub use bowl_swing::{bowl_swing, BOWL_BALL_RADIUS, BOWL_CREASE_DEG, BOWL_RADIUS, BOWL_START_DEG};
 pub use concave_pile::{
     concave_bin, concave_kind_meshes, concave_pile, concave_pile_escaped, CONCAVE_BIN_INNER_HALF_WIDTH,
     CONCAVE_BIN_WALL_HEIGHT, CONCAVE_KINDS, CONCAVE_PILE_BODIES,
@@ -33,6 +31,7 @@ pub use primitives_scenes::{
 pub use projectile_scenes::{
     fire_projectile, projectile_cases, Fault, Flight, Projectile, ProjectileCase, PROJECTILE_STEPS,
 };
+pub use swing_meter::{swing_angle, SwingMeter};
 pub use t_handle::{run_flips, t_handle, FlipRun, THandle};
 pub use timing::TimingStats;
 pub use tori_queries::{

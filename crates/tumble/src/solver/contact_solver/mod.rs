@@ -48,6 +48,7 @@ mod joint;
 mod joint_island;
 mod lanes;
 mod passes;
+mod rolling;
 mod wide;
 
 #[cfg(test)]

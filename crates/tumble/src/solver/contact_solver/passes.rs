@@ -18,6 +18,7 @@ use super::coloring::Shared;
 use super::constraint::{
     mat4_mul, refresh_masses, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS,
 };
+use super::rolling::{turn_friction_plane, Rolling};
 use tumble_collide::{DMat3, DVec3};
 
 /// Velocities of a patch's two bodies while its rows are solved.
@@ -113,8 +114,8 @@ impl PairVelocity {
 /// line, so every impulse conserves linear and angular momentum exactly.
 /// (Rows kept at the step start's lever arms would not: their error in
 /// angular momentum is the bodies' relative displacement times the impulse.)
-/// Normals stay those of the step start; the effective masses follow the
-/// re-aimed rows ([`refresh_masses`]).
+/// Normals stay those of the step start (but on a curved patch, see
+/// below); the effective masses follow the re-aimed rows ([`refresh_masses`]).
 ///
 /// Round sides (`ManifoldConstraint::rolling`): a ball does not touch the
 /// ground with a material point of its own; it touches with whichever of its
@@ -304,93 +305,6 @@ fn shared_lever_arms(ra0: DVec3, rb0: DVec3, ra: DVec3, rb: DVec3, dpa: DVec3, d
     let ab = ra0 - rb0 + dpb - dpa;
     let ra_mid = (ra + rb + ab) * 0.5;
     (ra_mid, ra_mid - ab)
-}
-
-/// Turns a curved patch's friction plane to the normal `n`: its normal, and
-/// its step-start directions by the smallest rotation taking the step-start
-/// normal `a` to `n` (for `v` normal to `a`:
-/// `v - (v . n) / (1 + a . n) (a + n)`, exactly unit and normal to `n`), so
-/// that the friction impulses accumulated along them turn with the surface.
-fn turn_friction_plane(m: &mut ManifoldConstraint, n: DVec3) {
-    let a = m.normal_start;
-    let along = a + n;
-    let denominator = 1.0 + a.dot(n);
-    m.normal = n;
-    for i in 0..2 {
-        let v = m.directions_start[i];
-        m.directions[i] = v - along * (v.dot(n) / denominator);
-    }
-}
-
-/// The round sides of a patch (`ManifoldConstraint::rolling`), for
-/// [`begin_patch`]: `None` when neither side is round.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Rolling {
-    radius: [f64; 2],
-    /// Weight of A's anchor in the shared point: 1 when only A is round, 0
-    /// when only B is, 1/2 for two round sides (two balls touch on the line
-    /// of their centres, where both anchors are).
-    share_a: f64,
-}
-
-impl Rolling {
-    #[inline(always)]
-    pub(super) fn of(radius: [f64; 2]) -> Option<Rolling> {
-        let share_a = match (radius[0] > 0.0, radius[1] > 0.0) {
-            (false, false) => return None,
-            (true, false) => 1.0,
-            (false, true) => 0.0,
-            (true, true) => 0.5,
-        };
-        Some(Rolling { radius, share_a })
-    }
-
-    /// The anchors of a point (step-start lever arms `ra0`, `rb0`, normal
-    /// `n` from B to A) for bodies turned by `ta`, `tb` since the step
-    /// start, relative to their current centres: a round side's anchor is
-    /// its centre of curvature (`ra0 + radius n` on A, `rb0 - radius n` on
-    /// B, carried by the body) offset back by the radius along the normal.
-    #[inline(always)]
-    pub(super) fn anchors(&self, ta: DMat3, tb: DMat3, ra0: DVec3, rb0: DVec3, n: DVec3) -> (DVec3, DVec3) {
-        let (ca, cb) = (n * self.radius[0], n * -self.radius[1]);
-        (ta * (ra0 + ca) - ca, tb * (rb0 + cb) - cb)
-    }
-
-    /// The anchors where the round sides touch now: the [`anchors`](Rolling::anchors)
-    /// (found with the step-start normal `n0`) moved to a radius from their
-    /// centres of curvature along the current normal `n` (on a curved
-    /// patch the normal turns within the step; a ball touches straight
-    /// below its centre along it, and a lever arm left along `n0` would
-    /// turn its spin into a normal velocity).
-    #[inline(always)]
-    pub(super) fn touching(&self, ra: DVec3, rb: DVec3, n0: DVec3, n: DVec3) -> (DVec3, DVec3) {
-        if n == n0 {
-            return (ra, rb);
-        }
-        let turned = n0 - n;
-        (ra + turned * self.radius[0], rb - turned * self.radius[1])
-    }
-
-    /// The radii and A's share of the shared point (the wide kernels' lanes).
-    pub(super) fn parts(&self) -> ([f64; 2], f64) {
-        (self.radius, self.share_a)
-    }
-
-    /// [`shared_lever_arms`] with the shared point weighted by `share_a`.
-    #[inline(always)]
-    pub(super) fn shared_lever_arms(
-        &self,
-        ra0: DVec3,
-        rb0: DVec3,
-        ra: DVec3,
-        rb: DVec3,
-        dpa: DVec3,
-        dpb: DVec3,
-    ) -> (DVec3, DVec3) {
-        let ab = ra0 - rb0 + dpb - dpa;
-        let shared = ra * self.share_a + (rb + ab) * (1.0 - self.share_a);
-        (shared, shared - ab)
-    }
 }
 
 // The driver of `begin_substep` above with this pass's kernel: each pass keeps

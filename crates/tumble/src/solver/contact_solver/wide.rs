@@ -29,7 +29,7 @@ use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_REFRESH};
 use super::lanes::{self, eq, gt, le, lt, recip_or_zero, select, Lane, LANES, M3, V3};
-use super::passes::Rolling;
+use super::rolling::Rolling;
 use std::ops::Range;
 use tumble_collide::{DMat3, DVec3};
 
@@ -122,7 +122,7 @@ pub(crate) struct WidePatch<const N: usize> {
     source: [u32; LANES],
     friction: Lane,
     twist_radius: Lane,
-    /// Each lane's `passes::Rolling` in lanes (`ManifoldConstraint::rolling`),
+    /// Each lane's `rolling::Rolling` in lanes (`ManifoldConstraint::rolling`),
     /// and whether any lane has a round side.
     roll: RollLanes,
     any_rolling: bool,
@@ -139,7 +139,7 @@ pub(crate) struct WidePatch<const N: usize> {
     points: [WidePoint; N],
 }
 
-/// `passes::Rolling` of four patches, one per lane (zero in lanes without
+/// `rolling::Rolling` of four patches, one per lane (zero in lanes without
 /// a round side, whose `mask` is clear): the values its arithmetic reads,
 /// each computed as the scalar kernel computes it.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -581,7 +581,7 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         M3::from_lanes(b.map(|b| b.inv_inertia)),
     );
     // Lanes with a round side (`ManifoldConstraint::rolling`) are re-aimed
-    // as `passes::Rolling` re-aims them, by the same operations in the same
+    // as `rolling::Rolling` re-aims them, by the same operations in the same
     // order (so the same bits), and selected into those lanes only.
     let roll = w.any_rolling.then_some(&w.roll);
     let anchors = |r_a: V3, r_b: V3, n: V3| {

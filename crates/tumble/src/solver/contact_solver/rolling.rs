@@ -1,0 +1,100 @@
+//! Contacts that roll and turn within a step (see `passes::begin_patch`):
+//! a round side's contact follows its centre of curvature (`Rolling`: a
+//! ball touches straight below its centre, not with a material point),
+//! and a curved patch's friction plane turns with its normal
+//! (`turn_friction_plane`). Used by the scalar kernels and, operation for
+//! operation, by the wide lanes (`wide::begin`).
+
+use super::constraint::ManifoldConstraint;
+use tumble_collide::{DMat3, DVec3};
+
+/// Turns a curved patch's friction plane to the normal `n`: its normal, and
+/// its step-start directions by the smallest rotation taking the step-start
+/// normal `a` to `n` (for `v` normal to `a`:
+/// `v - (v . n) / (1 + a . n) (a + n)`, exactly unit and normal to `n`), so
+/// that the friction impulses accumulated along them turn with the surface.
+pub(super) fn turn_friction_plane(m: &mut ManifoldConstraint, n: DVec3) {
+    let a = m.normal_start;
+    let along = a + n;
+    let denominator = 1.0 + a.dot(n);
+    m.normal = n;
+    for i in 0..2 {
+        let v = m.directions_start[i];
+        m.directions[i] = v - along * (v.dot(n) / denominator);
+    }
+}
+
+/// The round sides of a patch (`ManifoldConstraint::rolling`), for
+/// `passes::begin_patch`: `None` when neither side is round.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Rolling {
+    radius: [f64; 2],
+    /// Weight of A's anchor in the shared point: 1 when only A is round, 0
+    /// when only B is, 1/2 for two round sides (two balls touch on the line
+    /// of their centres, where both anchors are).
+    share_a: f64,
+}
+
+impl Rolling {
+    #[inline(always)]
+    pub(super) fn of(radius: [f64; 2]) -> Option<Rolling> {
+        let share_a = match (radius[0] > 0.0, radius[1] > 0.0) {
+            (false, false) => return None,
+            (true, false) => 1.0,
+            (false, true) => 0.0,
+            (true, true) => 0.5,
+        };
+        Some(Rolling { radius, share_a })
+    }
+
+    /// The anchors of a point (step-start lever arms `ra0`, `rb0`, normal
+    /// `n` from B to A) for bodies turned by `ta`, `tb` since the step
+    /// start, relative to their current centres: a round side's anchor is
+    /// its centre of curvature (`ra0 + radius n` on A, `rb0 - radius n` on
+    /// B, carried by the body) offset back by the radius along the normal.
+    /// (The contact point lies midway across the gap, so the true centre is
+    /// half the gap further along the normal; leaving it out moves the
+    /// anchor by half the gap times the turn within the step, a fraction of
+    /// a millimetre at most, and keeps the point's data as it was.)
+    #[inline(always)]
+    pub(super) fn anchors(&self, ta: DMat3, tb: DMat3, ra0: DVec3, rb0: DVec3, n: DVec3) -> (DVec3, DVec3) {
+        let (ca, cb) = (n * self.radius[0], n * -self.radius[1]);
+        (ta * (ra0 + ca) - ca, tb * (rb0 + cb) - cb)
+    }
+
+    /// The anchors where the round sides touch now: the [`anchors`](Rolling::anchors)
+    /// (found with the step-start normal `n0`) moved to a radius from their
+    /// centres of curvature along the current normal `n` (on a curved
+    /// patch the normal turns within the step; a ball touches straight
+    /// below its centre along it, and a lever arm left along `n0` would
+    /// turn its spin into a normal velocity).
+    #[inline(always)]
+    pub(super) fn touching(&self, ra: DVec3, rb: DVec3, n0: DVec3, n: DVec3) -> (DVec3, DVec3) {
+        if n == n0 {
+            return (ra, rb);
+        }
+        let turned = n0 - n;
+        (ra + turned * self.radius[0], rb - turned * self.radius[1])
+    }
+
+    /// The radii and A's share of the shared point (the wide kernels' lanes).
+    pub(super) fn parts(&self) -> ([f64; 2], f64) {
+        (self.radius, self.share_a)
+    }
+
+    /// `passes::shared_lever_arms` with the shared point weighted by `share_a`.
+    #[inline(always)]
+    pub(super) fn shared_lever_arms(
+        &self,
+        ra0: DVec3,
+        rb0: DVec3,
+        ra: DVec3,
+        rb: DVec3,
+        dpa: DVec3,
+        dpb: DVec3,
+    ) -> (DVec3, DVec3) {
+        let ab = ra0 - rb0 + dpb - dpa;
+        let shared = ra * self.share_a + (rb + ab) * (1.0 - self.share_a);
+        (shared, shared - ab)
+    }
+}

@@ -203,7 +203,9 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                                            timeout, "chain-decomposed")
             if on("rapier3d"):
                 # The heavy chain also on Rapier's multibody (reduced-coordinate) joints.
-                variants = [scene] + (["heavy_chain-multibody"] if scene == "heavy_chain" else [])
+                # The bowl also on Rapier's plain TriMesh (default flags), as tumble reports its bare facets.
+                variants = ([scene] + (["heavy_chain-multibody"] if scene == "heavy_chain" else [])
+                            + (["bowl-facets"] if scene == "bowl" else []))
                 for t in threads:
                     label = threaded("rapier3d", t)
                     for variant in variants:

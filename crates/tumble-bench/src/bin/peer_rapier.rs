@@ -10,7 +10,7 @@
 //! are the plain 768-triangle mesh (`TriMesh`, default flags): no convex decomposition.
 //! `heavy_chain-multibody` runs the heavy chain on Rapier's multibody joints.
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl_facets|heavy_chain|heavy_chain-multibody|ragdoll_pile [--steps K] [--n N] [--threads T]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -67,14 +67,16 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
         "chain" => scenes::chain(),
         "cradle" => scenes::cradle(),
         "bowl" => scenes::bowl_swing(true),
-        "bowl_facets" => scenes::bowl_swing(false),
+        "bowl-facets" => scenes::bowl_swing(false),
         "heavy_chain" | "heavy_chain-multibody" => scenes::heavy_chain(),
         "ragdoll_pile" => scenes::ragdoll_pile(),
         "concave_pile" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
-        other => return Err(format!(
-            "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, bowl_facets, heavy_chain, \
+        other => {
+            return Err(format!(
+            "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, bowl-facets, heavy_chain, \
                  heavy_chain-multibody, ragdoll_pile or concave_pile, got {other:?}"
-        )),
+        ))
+        }
     })
 }
 
@@ -162,7 +164,7 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
             figures["broken_links"] = json!(ends.windows(2).filter(|p| dist(p[0], p[1]) > reach).count());
             set["collision"] = json!("plain concave TriMesh, 768 triangles, default flags");
         }
-        "bowl" | "bowl_facets" => {
+        "bowl" | "bowl-facets" => {
             let meter = meter.as_ref().ok_or("the bowl's swing was not read")?;
             let phi0 = scenes::BOWL_START_DEG.to_radians();
             let want = tumble::analytic::rolling_period(

@@ -44,7 +44,7 @@ pub fn bowl_swing(smooth: bool) -> Scene {
         .with_material(0.8, 0.0)
         .named("ball"),
     ];
-    let mut scene = super::ten_seconds_without_sleep(if smooth { "bowl" } else { "bowl_facets" }, bodies);
+    let mut scene = super::ten_seconds_without_sleep(if smooth { "bowl" } else { "bowl-facets" }, bodies);
     scene.settings.dt = 1.0 / 240.0;
     scene.steps = 960;
     scene

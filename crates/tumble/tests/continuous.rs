@@ -58,10 +58,12 @@ fn no_projectile_passes_a_slab_gains_energy_or_gets_stuck() {
 
 #[test]
 fn without_continuous_collision_fast_bodies_do_pass_through() {
-    // The matrix above is not vacuous: without the continuous stage 463 of
-    // its 720 cases fail (448 pass through), among them these.
+    // The matrix above is not vacuous: without the continuous stage boxes,
+    // hulls and meshes pass through in 284 of its 720 cases, among them
+    // these. (Spheres and capsules no longer do: their speculative contacts
+    // roll with them, so a gap the step can close is closed.)
     let picks = [
-        (Projectile::Sphere, false, 30.0, 120.0),
+        (Projectile::Hull, false, 30.0, 120.0),
         (Projectile::Box, false, 30.0, 600.0),
         (Projectile::Box, true, 30.0, 250.0),
         (Projectile::Mesh, true, 0.0, 600.0),

@@ -85,7 +85,7 @@ fn world_without_sleep() -> World {
 
 /// The swing's figures against the smooth surface's: the period within 1 %,
 /// at least 95 % of the amplitude after two oscillations and no more than
-/// the start's plus 0.5 %, the energy never more than 0.5 % of the swing's
+/// the start's plus 0.5 % (contact adds no energy), the energy never more than 0.05 % of the swing's
 /// above the first turn's, no penetration beyond the allowance.
 fn check(s: &Swing, want_period: f64, swing_energy: f64) {
     let kept = s.after_two / s.start;
@@ -99,7 +99,7 @@ fn check(s: &Swing, want_period: f64, swing_energy: f64) {
         "kept {kept} of the amplitude ({s:?})"
     );
     assert!(
-        s.energy_rise < 0.005 * swing_energy,
+        s.energy_rise < 0.0005 * swing_energy,
         "energy rose {} J of a {swing_energy} J swing ({s:?})",
         s.energy_rise
     );

@@ -193,12 +193,14 @@ pub(crate) fn add_pair(
                 None => 0.0,
             };
             sum += c.normal;
+            let mut point = PointConstraint::new(c.normal, r_a, r_b, c.distance - pair.skin, normal_impulse);
+            point.half_gap = 0.5 * c.distance;
             points.push(PreparedPoint {
                 ids: pair.ids,
                 key: pair.key,
                 contact: *c,
                 local_a,
-                point: PointConstraint::new(c.normal, r_a, r_b, c.distance - pair.skin, normal_impulse),
+                point,
             });
         }
         let normal = sum.try_normalize().unwrap_or(seed);

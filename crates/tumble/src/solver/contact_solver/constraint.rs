@@ -94,6 +94,11 @@ pub struct PointConstraint {
     pub max_normal_impulse: f64,
     /// Accumulated push-out pseudo-impulse of the current sub-step.
     pub push_impulse: f64,
+    /// Half the contact's gap at the step start (m; the narrow phase's
+    /// distance, before any skin): the point lies this far from each
+    /// surface, so a round side's centre of curvature is its radius plus
+    /// this away (`rolling::Rolling::reach`). Default 0.
+    pub half_gap: f64,
 }
 
 impl PointConstraint {
@@ -119,6 +124,7 @@ impl PointConstraint {
             normal_impulse,
             max_normal_impulse: 0.0,
             push_impulse: 0.0,
+            half_gap: 0.0,
         }
     }
 }
@@ -160,6 +166,8 @@ pub struct ManifoldConstraint {
     /// contacts roll with the round side within the step instead of staying
     /// on the bodies' material points (see `passes::begin_patch`). Default 0.
     pub rolling: [f64; 2],
+    /// The points' mean `half_gap` (m), for the friction anchor's rolling.
+    pub half_gap: f64,
     /// Friction anchor (the patch centroid) relative to A's centre of mass.
     pub r_a: DVec3,
     /// Friction anchor relative to B's centre of mass.
@@ -224,6 +232,7 @@ impl ManifoldConstraint {
             normal_start: normal,
             directions_start: [t1, t2],
             rolling: [0.0; 2],
+            half_gap: 0.0,
             r_a: DVec3::ZERO,
             r_b: DVec3::ZERO,
             twist_radius: 0.0,
@@ -312,7 +321,7 @@ pub(super) fn prepare_patch(m: &mut ManifoldConstraint, pts: &mut [PointConstrai
     let b = &bodies[m.b as usize];
     m.inv_mass = [a.inv_mass, b.inv_mass];
     let count = pts.len().max(1) as f64;
-    let (mut ca, mut cb) = (DVec3::ZERO, DVec3::ZERO);
+    let (mut ca, mut cb, mut gap) = (DVec3::ZERO, DVec3::ZERO, 0.0);
     for p in pts.iter_mut() {
         p.row = RowJacobian::new(a, b, p.r_a, p.r_b, p.normal);
         p.separation_now = p.separation;
@@ -320,9 +329,11 @@ pub(super) fn prepare_patch(m: &mut ManifoldConstraint, pts: &mut [PointConstrai
         p.push_impulse = 0.0;
         ca += p.r_a;
         cb += p.r_b;
+        gap += p.half_gap;
     }
     m.r_a = ca / count;
     m.r_b = cb / count;
+    m.half_gap = gap / count;
     let n = m.normal;
     m.twist_radius = pts
         .iter()

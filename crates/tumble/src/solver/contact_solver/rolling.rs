@@ -47,34 +47,59 @@ impl Rolling {
         Some(Rolling { radius, share_a })
     }
 
-    /// The anchors of a point (step-start lever arms `ra0`, `rb0`, normal
-    /// `n` from B to A) for bodies turned by `ta`, `tb` since the step
-    /// start, relative to their current centres: a round side's anchor is
-    /// its centre of curvature (`ra0 + radius n` on A, `rb0 - radius n` on
-    /// B, carried by the body) offset back by the radius along the normal.
-    /// (The contact point lies midway across the gap, so the true centre is
-    /// half the gap further along the normal; leaving it out moves the
-    /// anchor by half the gap times the turn within the step, a fraction of
-    /// a millimetre at most, and keeps the point's data as it was.)
+    /// How far a point's centres of curvature lie from it along the normal
+    /// (m): a round side's radius plus half the gap (`half_gap`, the contact
+    /// point lies midway across it), 0 for a side that is not round.
     #[inline(always)]
-    pub(super) fn anchors(&self, ta: DMat3, tb: DMat3, ra0: DVec3, rb0: DVec3, n: DVec3) -> (DVec3, DVec3) {
-        let (ca, cb) = (n * self.radius[0], n * -self.radius[1]);
+    pub(super) fn reach(&self, half_gap: f64) -> [f64; 2] {
+        let side = |r: f64| if r > 0.0 { r + half_gap } else { 0.0 };
+        [side(self.radius[0]), side(self.radius[1])]
+    }
+
+    /// The anchors of a point (step-start lever arms `ra0`, `rb0`, normal
+    /// `n` from B to A, centres of curvature `reach` away along it) for
+    /// bodies turned by `ta`, `tb` since the step start, relative to their
+    /// current centres: a round side's anchor is its centre of curvature
+    /// (`ra0 + reach n` on A, `rb0 - reach n` on B, carried by the body)
+    /// offset back along the normal. (Without the half gap, the pivot of a
+    /// ball a gap g above the ground sits g / 2 off its centre, and as the
+    /// ball turns by w the anchor rises by g w^2 / 4: a gap that is not
+    /// there, closed by sinking and pushed back out, a little energy per
+    /// step.)
+    #[inline(always)]
+    pub(super) fn anchors(
+        &self,
+        ta: DMat3,
+        tb: DMat3,
+        ra0: DVec3,
+        rb0: DVec3,
+        n: DVec3,
+        reach: [f64; 2],
+    ) -> (DVec3, DVec3) {
+        let (ca, cb) = (n * reach[0], n * -reach[1]);
         (ta * (ra0 + ca) - ca, tb * (rb0 + cb) - cb)
     }
 
     /// The anchors where the round sides touch now: the [`anchors`](Rolling::anchors)
-    /// (found with the step-start normal `n0`) moved to a radius from their
-    /// centres of curvature along the current normal `n` (on a curved
-    /// patch the normal turns within the step; a ball touches straight
-    /// below its centre along it, and a lever arm left along `n0` would
-    /// turn its spin into a normal velocity).
+    /// (found with the step-start normal `n0`) moved to `reach` from their
+    /// centres of curvature along the current normal `n` (on a curved patch
+    /// the normal turns within the step; a ball touches straight below its
+    /// centre along it, and a lever arm left along `n0` would turn its spin
+    /// into a normal velocity).
     #[inline(always)]
-    pub(super) fn touching(&self, ra: DVec3, rb: DVec3, n0: DVec3, n: DVec3) -> (DVec3, DVec3) {
+    pub(super) fn touching(
+        &self,
+        ra: DVec3,
+        rb: DVec3,
+        n0: DVec3,
+        n: DVec3,
+        reach: [f64; 2],
+    ) -> (DVec3, DVec3) {
         if n == n0 {
             return (ra, rb);
         }
         let turned = n0 - n;
-        (ra + turned * self.radius[0], rb - turned * self.radius[1])
+        (ra + turned * reach[0], rb - turned * reach[1])
     }
 
     /// The radii and A's share of the shared point (the wide kernels' lanes).

@@ -103,6 +103,7 @@ struct WidePoint {
     normal_impulse: Lane,
     max_normal_impulse: Lane,
     push_impulse: Lane,
+    half_gap: Lane,
 }
 
 /// Four patches of one colour, one per lane, each of at most `N` points
@@ -126,6 +127,8 @@ pub(crate) struct WidePatch<const N: usize> {
     /// and whether any lane has a round side.
     roll: RollLanes,
     any_rolling: bool,
+    /// Each lane's `ManifoldConstraint::half_gap`.
+    half_gap: Lane,
     normal: V3,
     directions: [V3; 2],
     r_a: V3,
@@ -145,9 +148,11 @@ pub(crate) struct WidePatch<const N: usize> {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct RollLanes {
     mask: Lane,
+    /// Lanes whose side A (B) is round.
+    round_a: Lane,
+    round_b: Lane,
     radius_a: Lane,
-    /// `-radius[1]`, negated in f64 as `Rolling::anchors` negates it.
-    neg_radius_b: Lane,
+    radius_b: Lane,
     share_a: Lane,
     /// `1 - share_a`, as `Rolling::shared_lever_arms` computes it.
     share_b: Lane,
@@ -183,6 +188,7 @@ impl<const N: usize> WidePatch<N> {
             twist_radius: Lane::ZERO,
             roll: RollLanes::default(),
             any_rolling: false,
+            half_gap: Lane::ZERO,
             normal: V3::ZERO,
             directions: [V3::ZERO; 2],
             r_a: V3::ZERO,
@@ -210,12 +216,16 @@ impl<const N: usize> WidePatch<N> {
             if let Some(r) = Rolling::of(m.rolling) {
                 w.any_rolling = true;
                 let ([ra, rb], share) = r.parts();
-                set(&mut w.roll.mask, l, f64::from_bits(u64::MAX));
+                let all = f64::from_bits(u64::MAX);
+                set(&mut w.roll.mask, l, all);
+                set(&mut w.roll.round_a, l, if ra > 0.0 { all } else { 0.0 });
+                set(&mut w.roll.round_b, l, if rb > 0.0 { all } else { 0.0 });
                 set(&mut w.roll.radius_a, l, ra);
-                set(&mut w.roll.neg_radius_b, l, -rb);
+                set(&mut w.roll.radius_b, l, rb);
                 set(&mut w.roll.share_a, l, share);
                 set(&mut w.roll.share_b, l, 1.0 - share);
             }
+            set(&mut w.half_gap, l, m.half_gap);
             w.normal.set_lane(l, m.normal);
             w.directions[0].set_lane(l, m.directions[0]);
             w.directions[1].set_lane(l, m.directions[1]);
@@ -246,6 +256,7 @@ impl<const N: usize> WidePatch<N> {
                 set(&mut wp.normal_impulse, l, p.normal_impulse);
                 set(&mut wp.max_normal_impulse, l, p.max_normal_impulse);
                 set(&mut wp.push_impulse, l, p.push_impulse);
+                set(&mut wp.half_gap, l, p.half_gap);
             }
         }
     }
@@ -584,11 +595,15 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
     // as `rolling::Rolling` re-aims them, by the same operations in the same
     // order (so the same bits), and selected into those lanes only.
     let roll = w.any_rolling.then_some(&w.roll);
-    let anchors = |r_a: V3, r_b: V3, n: V3| {
+    let anchors = |r_a: V3, r_b: V3, n: V3, half_gap: Lane| {
         let plain = (ta.mul_vec(r_a), tb.mul_vec(r_b));
         match roll {
             Some(k) => {
-                let (ca, cb) = (n.scale(k.radius_a), n.scale(k.neg_radius_b));
+                // `Rolling::reach`, then `anchors`' `n * reach[0]`, `n * -reach[1]`
+                // (x * -1 is the exact negation, signed zeros included).
+                let reach_a = select(k.round_a, k.radius_a + half_gap, Lane::ZERO);
+                let reach_b = select(k.round_b, k.radius_b + half_gap, Lane::ZERO);
+                let (ca, cb) = (n.scale(reach_a), n.scale(reach_b * Lane::splat(-1.0)));
                 let rolled = (ta.mul_vec(r_a + ca) - ca, tb.mul_vec(r_b + cb) - cb);
                 (
                     V3::select(k.mask, rolled.0, plain.0),
@@ -613,7 +628,7 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         }
     };
     for p in w.points.iter_mut() {
-        let (ra_now, rb_now) = anchors(p.r_a, p.r_b, p.normal);
+        let (ra_now, rb_now) = anchors(p.r_a, p.r_b, p.normal, p.half_gap);
         let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
         p.separation_now = p.separation + p.normal.dot(d);
         p.push_impulse = Lane::ZERO;
@@ -624,7 +639,7 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
     }
     let mut turned = Lane::ZERO;
     if any_moved {
-        let (ra_now, rb_now) = anchors(w.r_a, w.r_b, w.normal);
+        let (ra_now, rb_now) = anchors(w.r_a, w.r_b, w.normal, w.half_gap);
         let (ra, rb) = lever_arms(w.r_a, w.r_b, ra_now, rb_now);
         for i in 0..2 {
             w.rows[i] = pick(WideRow::new(&ia, &ib, ra, rb, w.directions[i]), w.rows[i]);

@@ -164,10 +164,11 @@ pub(super) unsafe fn begin_patch(
     let curved = m.is_curved();
     let mut turned = false;
     for p in pts.iter_mut() {
-        let reach = roll.map(|r| r.reach(p.half_gap));
-        let (ra_now, rb_now) = match (roll, reach) {
-            (Some(r), Some(reach)) => r.anchors(ta, tb, p.r_a, p.r_b, p.normal_start, reach),
-            _ => (ta * p.r_a, tb * p.r_b),
+        // A round side's anchor and how far its centre of curvature is.
+        let rolling = roll.map(|r| (r, r.reach(p.half_gap)));
+        let (ra_now, rb_now) = match rolling {
+            Some((r, reach)) => r.anchors(ta, tb, p.r_a, p.r_b, p.normal_start, reach),
+            None => (ta * p.r_a, tb * p.r_b),
         };
         let d = (dpa + ra_now - p.r_a) - (dpb + rb_now - p.r_b);
         if curved {
@@ -180,32 +181,32 @@ pub(super) unsafe fn begin_patch(
         }
         p.push_impulse = 0.0;
         if moved {
-            let (ra, rb) = match (roll, reach) {
-                (Some(r), Some(reach)) => {
+            let (ra, rb) = match rolling {
+                Some((r, reach)) => {
                     let (ra_now, rb_now) = r.touching(ra_now, rb_now, p.normal_start, p.normal, reach);
                     r.shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb)
                 }
-                _ => shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb),
+                None => shared_lever_arms(p.r_a, p.r_b, ra_now, rb_now, dpa, dpb),
             };
             p.row = RowJacobian::new(a, b, ra, rb, p.normal);
         }
     }
     if moved {
-        let reach = roll.map(|r| r.reach(m.half_gap));
-        let (ra_now, rb_now) = match (roll, reach) {
-            (Some(r), Some(reach)) => r.anchors(ta, tb, m.r_a, m.r_b, m.normal_start, reach),
-            _ => (ta * m.r_a, tb * m.r_b),
+        let rolling = roll.map(|r| (r, r.reach(m.half_gap)));
+        let (ra_now, rb_now) = match rolling {
+            Some((r, reach)) => r.anchors(ta, tb, m.r_a, m.r_b, m.normal_start, reach),
+            None => (ta * m.r_a, tb * m.r_b),
         };
         if curved {
             let d = (dpa + ra_now - m.r_a) - (dpb + rb_now - m.r_b);
             turn_friction_plane(m, (m.normal_start + m.curvature * d).normalize_or(m.normal_start));
         }
-        let (ra, rb) = match (roll, reach) {
-            (Some(r), Some(reach)) => {
+        let (ra, rb) = match rolling {
+            Some((r, reach)) => {
                 let (ra_now, rb_now) = r.touching(ra_now, rb_now, m.normal_start, m.normal, reach);
                 r.shared_lever_arms(m.r_a, m.r_b, ra_now, rb_now, dpa, dpb)
             }
-            _ => shared_lever_arms(m.r_a, m.r_b, ra_now, rb_now, dpa, dpb),
+            None => shared_lever_arms(m.r_a, m.r_b, ra_now, rb_now, dpa, dpb),
         };
         for i in 0..2 {
             m.rows[i] = RowJacobian::new(a, b, ra, rb, m.directions[i]);

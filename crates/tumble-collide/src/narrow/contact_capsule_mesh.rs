@@ -19,7 +19,7 @@
 //! point and its ends touch that surface instead, where they lie over it.
 
 use super::capsule_feature;
-use super::smooth_foot::{smooth_foot, SmoothFoot};
+use super::smooth_foot::{push_foot_contact, smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::math::{DMat3, DVec3};
@@ -57,12 +57,15 @@ pub fn contact_capsule_mesh(
     let start = out.len();
     let smooth = b.smooth_surface();
     let reach = smooth.map_or(0.0, |s| s.reach());
-    let local = [
-        pose_b.inverse_transform_point(p),
-        pose_b.inverse_transform_point(q),
-    ];
+    // The core in the mesh's frame, where its smooth surface is.
+    let local = smooth.map(|_| {
+        [
+            pose_b.inverse_transform_point(p),
+            pose_b.inverse_transform_point(q),
+        ]
+    });
     let _ = bvh::query_obb(b.tree(), pose_b, &query, margin + reach, |t| {
-        if let Some(s) = smooth {
+        if let (Some(s), Some(local)) = (smooth, local) {
             if smooth_segment_contacts(local, r, s, b, t, pose_b, margin, out) {
                 return Traverse::Continue;
             }
@@ -112,18 +115,7 @@ fn smooth_segment_contacts(
         }
     }
     for (k, foot) in feet.into_iter().flatten() {
-        let distance = foot.height - r;
-        if distance <= margin {
-            let normal = pose.rotation * foot.normal;
-            out.push(Contact {
-                point: pose.transform_point(foot.surface) + normal * (0.5 * distance),
-                normal,
-                distance,
-                kind: ContactKind::Smooth,
-                feature_a: capsule_feature(k),
-                feature_b: Feature::face(t),
-            });
-        }
+        push_foot_contact(out, &foot, r, pose, margin, capsule_feature(k), t);
     }
     true
 }

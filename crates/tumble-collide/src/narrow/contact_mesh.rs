@@ -10,7 +10,7 @@
 //! vertices within the margin.
 
 use super::contact_halfspace::{push_vertex_on_plane, reduce_in_place};
-use super::smooth_foot::{smooth_foot, SmoothFoot};
+use super::smooth_foot::{push_foot_contact, smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::drift::Drift;
@@ -351,23 +351,13 @@ pub fn contact_sphere_mesh(
     let start = out.len();
     let smooth = b.smooth_surface();
     let reach = smooth.map_or(0.0, |s| s.reach());
-    let local = pose_b.inverse_transform_point(c);
+    // The centre in the mesh's frame, where its smooth surface is.
+    let local = smooth.map(|_| pose_b.inverse_transform_point(c));
     let _ = bvh::query_sphere(b.tree(), pose_b, c, r + margin + reach, |tb| {
-        if let Some(s) = smooth {
+        if let (Some(s), Some(local)) = (smooth, local) {
             match smooth_foot(s, b, tb, local, r) {
                 SmoothFoot::Over(foot) => {
-                    let distance = foot.height - r;
-                    if distance <= margin {
-                        let normal = pose_b.rotation * foot.normal;
-                        out.push(Contact {
-                            point: pose_b.transform_point(foot.surface) + normal * (0.5 * distance),
-                            normal,
-                            distance,
-                            kind: ContactKind::Smooth,
-                            feature_a: Feature::WHOLE,
-                            feature_b: Feature::face(tb),
-                        });
-                    }
+                    push_foot_contact(out, &foot, r, pose_b, margin, Feature::WHOLE, tb);
                     return Traverse::Continue;
                 }
                 SmoothFoot::Neighbour => return Traverse::Continue,

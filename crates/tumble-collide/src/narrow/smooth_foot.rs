@@ -4,7 +4,9 @@
 //! has the foot), or beyond a crease (the flat triangle decides). Shared by
 //! the sphere and the capsule contacts with meshes.
 
+use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;
+use crate::pose::Pose;
 use crate::shape::{MeshShape, SmoothSurface};
 use crate::triangle::{phong_point, PhongPoint};
 
@@ -42,5 +44,32 @@ pub(super) fn smooth_foot(s: &SmoothSurface, m: &MeshShape, t: u32, point: DVec3
         SmoothFoot::Crease
     } else {
         SmoothFoot::Neighbour
+    }
+}
+
+/// Appends the contact of a round body of `radius` (its side `feature_a`)
+/// whose centre has `foot` over triangle `t` of a mesh at `pose`, when its
+/// gap is within `margin`: normal along the surface's, point midway across
+/// the gap (world frame).
+pub(super) fn push_foot_contact(
+    out: &mut Vec<Contact>,
+    foot: &PhongPoint,
+    radius: f64,
+    pose: &Pose,
+    margin: f64,
+    feature_a: Feature,
+    t: u32,
+) {
+    let distance = foot.height - radius;
+    if distance <= margin {
+        let normal = pose.rotation * foot.normal;
+        out.push(Contact {
+            point: pose.transform_point(foot.surface) + normal * (0.5 * distance),
+            normal,
+            distance,
+            kind: ContactKind::Smooth,
+            feature_a,
+            feature_b: Feature::face(t),
+        });
     }
 }

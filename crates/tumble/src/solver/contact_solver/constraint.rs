@@ -158,9 +158,6 @@ pub struct ManifoldConstraint {
     pub curvature: DMat3,
     /// The patch normal at the step start.
     pub normal_start: DVec3,
-    /// The friction directions at the step start (a curved patch turns
-    /// them with its normal).
-    pub directions_start: [DVec3; 2],
     /// Radii of the round surfaces of A and of B at the patch (m): a
     /// sphere's or a capsule's radius, 0 for faces, edges and corners. Its
     /// contacts roll with the round side within the step instead of staying
@@ -230,7 +227,6 @@ impl ManifoldConstraint {
             directions: [t1, t2, DVec3::ZERO],
             curvature: DMat3::ZERO,
             normal_start: normal,
-            directions_start: [t1, t2],
             rolling: [0.0; 2],
             half_gap: 0.0,
             r_a: DVec3::ZERO,

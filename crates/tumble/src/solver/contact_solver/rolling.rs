@@ -5,7 +5,7 @@
 //! (`turn_friction_plane`). Used by the scalar kernels and, operation for
 //! operation, by the wide lanes (`wide::begin`).
 
-use super::constraint::ManifoldConstraint;
+use super::constraint::{tangent_basis, ManifoldConstraint};
 use tumble_collide::{DMat3, DVec3};
 
 /// Turns a curved patch's friction plane to the normal `n`: its normal, and
@@ -18,9 +18,10 @@ pub(super) fn turn_friction_plane(m: &mut ManifoldConstraint, n: DVec3) {
     let along = a + n;
     let denominator = 1.0 + a.dot(n);
     m.normal = n;
-    for i in 0..2 {
-        let v = m.directions_start[i];
-        m.directions[i] = v - along * (v.dot(n) / denominator);
+    // The step start's directions are `tangent_basis` of its normal, as
+    // `ManifoldConstraint::new` made them.
+    for (direction, v) in m.directions.iter_mut().zip(tangent_basis(a)) {
+        *direction = v - along * (v.dot(n) / denominator);
     }
 }
 

@@ -77,7 +77,10 @@ pub struct WorldSettings {
     /// Continuous collision: a body moving more than half its thickness in
     /// one step (or with `ccd` set) is swept over the step and put back at
     /// the first surface in its path, so that nothing passes through a thin
-    /// wall (see docs/pipeline.md, stage `continuous`). Default true.
+    /// wall; mesh pairs that moved against each other by more than the
+    /// contact margin are collided again at the step's end and pushed out of
+    /// overlaps their speculative contacts missed (see docs/pipeline.md,
+    /// stage `continuous`). Default true.
     pub continuous: bool,
     /// Let resting islands fall asleep (skipped until woken). Default true.
     pub sleeping: bool,

@@ -48,6 +48,13 @@ impl World {
         if !f.settings.continuous {
             return;
         }
+        self.sweep_fast_bodies(f);
+        self.separate_end_overlaps(f);
+    }
+
+    /// Sweeps the fast bodies (module docs) and puts each back at its
+    /// first impact that the step did not resolve.
+    fn sweep_fast_bodies(&mut self, f: &mut StepFrame) {
         // Jointed bodies are swept only when asked: putting one back along
         // its path would pull it away from the bodies it is jointed to.
         let mut jointed = vec![false; f.n_slots];

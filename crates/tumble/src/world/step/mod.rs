@@ -11,6 +11,7 @@
 
 mod broad;
 mod continuous;
+mod end_overlap;
 mod events;
 mod frame;
 mod margins;

@@ -435,7 +435,7 @@ fn ends_clear(
 
 /// Linear and angular velocity (world frame) of `body` in the state
 /// `state` it had before the step.
-fn state_velocities(state: &BodyState, body: &crate::body::RigidBody) -> (DVec3, DVec3) {
+pub(super) fn state_velocities(state: &BodyState, body: &crate::body::RigidBody) -> (DVec3, DVec3) {
     let r = DMat3::from_quat(state.orientation);
     let omega = r * (body.inv_principal_inertia() * (r.transpose() * state.angular_momentum));
     (state.linear_momentum * body.inv_mass(), omega)

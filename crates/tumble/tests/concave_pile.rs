@@ -134,14 +134,16 @@ fn a_small_concave_pile_with_remembered_walks_is_the_same_bits_on_1_2_3_and_8_th
 
 #[test]
 fn landing_bodies_are_pushed_out_of_what_their_speculative_contacts_missed() {
-    // Fifty bodies, two layers landing on the first: tumbling jacks and
-    // cups meet each other with features that were not the closest ones at
-    // the step's start (a corner swinging in sideways). Collided again at
-    // the end of each step and pushed apart, no two bodies ever overlap by
-    // more than the contact margin; without that stage (continuous off) the
-    // same landing sinks bodies centimetres into each other, which shows the
-    // bound is the stage's doing and not the scene's. (Overlaps with the
-    // static bin are the sweeps' to judge, and not counted here.)
+    // Fifty bodies in two layers of 25, the second landing on the first:
+    // tumbling jacks and cups meet each other with features that were not
+    // the closest ones at the step's start (a corner swinging in sideways).
+    // Collided again at the end of each step and pushed apart, no two
+    // bodies ever overlap by more than the contact margin at a step's start;
+    // with the continuous stage off (its sweeps too, which never sweep one
+    // dynamic body against another) the same landing sinks bodies
+    // centimetres into each other, which shows the bound is the stage's
+    // doing and not the scene's. (Overlaps with the static bin, which the
+    // stage also takes out for slow bodies, are left out of the count.)
     let deepest = |continuous: bool| {
         let mut scene = scenes::concave_pile(50);
         scene.settings.continuous = continuous;

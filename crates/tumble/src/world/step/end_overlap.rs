@@ -15,9 +15,9 @@
 //! other along the line of their centres by [`LANDING_CLOSING`] of the
 //! margin per step or more: bodies that slide and roll on each other, as a
 //! chain's links, keep speculative contacts to the features that meet), and
-//! the depth the step added beyond what the pair began with (at least the
-//! allowed penetration) is taken out when it exceeds
-//! [`END_OVERLAP_TRIGGER`] allowed penetrations. Left out: a pair that
+//! where it ends deeper than it began (at least the allowed penetration) by
+//! more than [`END_OVERLAP_SLACK`] allowed penetrations, the step's
+//! addition is taken out. Left out: a pair that
 //! began deeper than the margin (two bodies spawned inside each other are
 //! the push-out's to separate, along its own normals), and a fast body
 //! against a static or kinematic one (its speed would carry it
@@ -60,10 +60,11 @@ use tumble_collide::narrow::contact_shapes;
 use tumble_collide::query::Motion;
 use tumble_collide::{Contact, DMat3, DQuat, DVec3, Pose, Shape};
 
-/// A pair collided again at its end poses is separated when the step made
-/// it deeper than this many allowed penetrations (the solver's own resting
-/// overlap is one, a mesh pair's skin two).
-pub const END_OVERLAP_TRIGGER: f64 = 3.0;
+/// A pair collided again at its end poses is separated when it ends deeper
+/// than its floor (its depth at the step's start, at least the allowed
+/// penetration) by more than this many allowed penetrations (the solver's
+/// own resting overlap is one, a mesh pair's skin two).
+pub const END_OVERLAP_SLACK: f64 = 2.0;
 
 /// Two dynamic bodies are collided again only when they closed in on each
 /// other along the line of their centres by at least this fraction of the
@@ -72,6 +73,9 @@ pub const LANDING_CLOSING: f64 = 0.5;
 
 /// Passes of collision and separation per step.
 const PASSES: usize = 3;
+
+/// Largest turn (rad) one pass gives a body.
+const MAX_TURN: f64 = 0.1;
 
 /// Gauss-Seidel sweeps over the overlapping points per pass.
 const SWEEPS: usize = 4;
@@ -114,11 +118,22 @@ impl World {
             motion.travel().length() + motion.turn() * eb.radius
         };
         // Per body slot: dynamic and awake; has a triangle mesh.
+        // Jointed bodies stay where the solver left them, as in the sweeps:
+        // pushing one alone would pull it from the bodies it is jointed to.
+        let mut jointed = vec![false; f.n_slots];
+        for (a, b) in self.joint_slots() {
+            jointed[a as usize] = true;
+            if let Some(b) = b {
+                jointed[b as usize] = true;
+            }
+        }
         let movable: Vec<bool> = (0..f.n_slots as u32)
             .map(|slot| {
-                self.bodies
-                    .at(slot)
-                    .is_some_and(|e| e.body.kind() == BodyKind::Dynamic && !e.sleeping)
+                !jointed[slot as usize]
+                    && self
+                        .bodies
+                        .at(slot)
+                        .is_some_and(|e| e.body.kind() == BodyKind::Dynamic && !e.sleeping)
             })
             .collect();
         let meshy: Vec<bool> = (0..f.n_slots as u32)
@@ -128,7 +143,8 @@ impl World {
                     .is_some_and(|e| e.colliders.iter().any(|c| matches!(c.shape, Shape::Mesh(_))))
             })
             .collect();
-        let movable = |slot: u32| movable[slot as usize];
+        let movable_slots = movable;
+        let movable = |slot: u32| movable_slots[slot as usize];
         let has_mesh = |slot: u32| meshy[slot as usize];
         // How deep each pair was at the step's start: an overlap that was
         // already there is the solver's push-out's to lift (it moves bodies
@@ -231,7 +247,7 @@ impl World {
                                     .map(|s| s.pose())
                             };
                             let floor = floor(a, b);
-                            let trigger = floor + (END_OVERLAP_TRIGGER - 1.0) * allowed;
+                            let trigger = floor + END_OVERLAP_SLACK * allowed;
                             (
                                 floor,
                                 self.end_overlaps((a, before(a)), (b, before(b)), floor, trigger),
@@ -260,8 +276,7 @@ impl World {
                 moved[a as usize] |= movable(a);
                 moved[b as usize] |= movable(b);
             }
-            self.push_apart(&deep);
-            f.report.continuous += deep.len();
+            self.push_apart(&deep, &movable_slots);
             // The next pass collides again every mesh pair that a moved
             // body is in (a body pushed out of one may now be in another).
             active = f
@@ -324,7 +339,7 @@ impl World {
     /// Gauss-Seidel sweep over all points of all pairs, the bodies'
     /// displacements accumulated and applied at the end), then stops each
     /// pair's approach at its deepest point.
-    fn push_apart(&mut self, deep: &[Overlap]) {
+    fn push_apart(&mut self, deep: &[Overlap], movable: &[bool]) {
         // The bodies taking part, sorted, with their displacement
         // (translation, small rotation about the centre of mass).
         let mut slots: Vec<u32> = deep.iter().flat_map(|o| [o.pair.0, o.pair.1]).collect();
@@ -334,8 +349,7 @@ impl World {
         let mut shift = vec![(DVec3::ZERO, DVec3::ZERO); slots.len()];
         let side = |slot: u32| -> Option<(DVec3, f64, DMat3)> {
             let e = self.bodies.at(slot)?;
-            (e.body.kind() == BodyKind::Dynamic && !e.sleeping)
-                .then(|| (e.body.position(), e.body.inv_mass(), e.body.inv_inertia_world()))
+            movable[slot as usize].then(|| (e.body.position(), e.body.inv_mass(), e.body.inv_inertia_world()))
         };
         let sides: Vec<Option<(DVec3, f64, DMat3)>> = slots.iter().map(|&s| side(s)).collect();
         for _ in 0..SWEEPS {
@@ -377,10 +391,20 @@ impl World {
             }
             let body = &mut self.bodies.at_mut(slot).expect("live").body;
             let pose = body.pose();
+            // A first-order step is no guide to a large turn: at most
+            // MAX_TURN per pass (the next pass collides again).
+            let angle = shift[i].1.length();
+            let turn = DQuat::from_scaled_axis(shift[i].1 * (MAX_TURN / angle.max(MAX_TURN)));
+            let spin = body.angular_velocity();
             body.set_pose(Pose {
                 position: pose.position + shift[i].0,
-                rotation: (DQuat::from_scaled_axis(shift[i].1) * pose.rotation).normalize(),
+                rotation: (turn * pose.rotation).normalize(),
             });
+            // The angular velocity turns with the body, which keeps its
+            // kinetic energy (a turned inertia with the same angular
+            // momentum would change it, up or down). Finite by
+            // construction; a failure leaves the momentum as it was.
+            let _ = body.set_angular_velocity(turn * spin);
         }
         // Stop each pair's approach at its deepest point (plastic: no
         // bounce, no friction; removes kinetic energy, never adds it).

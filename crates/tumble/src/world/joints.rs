@@ -282,6 +282,20 @@ impl World {
         self.joints.iter().map(|(_, j)| j.slots())
     }
 
+    /// Per body slot (of `n_slots`): some joint holds the body. The
+    /// continuous stage leaves such bodies where the solver put them:
+    /// moving one alone would pull it from the bodies it is jointed to.
+    pub(crate) fn jointed_flags(&self, n_slots: usize) -> Vec<bool> {
+        let mut jointed = vec![false; n_slots];
+        for (a, b) in self.joint_slots() {
+            jointed[a as usize] = true;
+            if let Some(b) = b {
+                jointed[b as usize] = true;
+            }
+        }
+        jointed
+    }
+
     /// Removes the joints attached to body slot `slot` (with the body).
     pub(crate) fn remove_joints_of(&mut self, slot: u32) {
         let attached: Vec<JointId> = self

@@ -57,13 +57,7 @@ impl World {
     fn sweep_fast_bodies(&mut self, f: &mut StepFrame) {
         // Jointed bodies are swept only when asked: putting one back along
         // its path would pull it away from the bodies it is jointed to.
-        let mut jointed = vec![false; f.n_slots];
-        for (a, b) in self.joint_slots() {
-            jointed[a as usize] = true;
-            if let Some(b) = b {
-                jointed[b as usize] = true;
-            }
-        }
+        let jointed = self.jointed_flags(f.n_slots);
         let fast: Vec<u32> = (0..f.n_slots as u32)
             .filter(|&slot| {
                 let (Some(e), Some(Some(before))) = (self.bodies.at(slot), f.before.get(slot as usize))

@@ -97,6 +97,11 @@ impl World {
     /// moving against each other by more than the contact margin (module
     /// docs).
     pub(super) fn separate_end_overlaps(&mut self, f: &mut StepFrame) {
+        // Only mesh pairs take part: a world without meshes has nothing here
+        // (and need not index its contact patches every step for it).
+        if !f.meshes {
+            return;
+        }
         let margin = f.settings.contact_margin;
         let allowed = f.settings.allowed_penetration;
         // How far any point of `b` moved against `a` over the step: the
@@ -118,16 +123,9 @@ impl World {
             let motion = Motion::new(start, end, DVec3::ZERO);
             motion.travel().length() + motion.turn() * eb.radius
         };
-        // Per body slot: dynamic and awake; has a triangle mesh.
-        // Jointed bodies stay where the solver left them, as in the sweeps:
-        // pushing one alone would pull it from the bodies it is jointed to.
-        let mut jointed = vec![false; f.n_slots];
-        for (a, b) in self.joint_slots() {
-            jointed[a as usize] = true;
-            if let Some(b) = b {
-                jointed[b as usize] = true;
-            }
-        }
+        // Per body slot: dynamic, awake and not jointed (jointed bodies stay
+        // where the solver left them, as in the sweeps); has a triangle mesh.
+        let jointed = self.jointed_flags(f.n_slots);
         let movable: Vec<bool> = (0..f.n_slots as u32)
             .map(|slot| {
                 !jointed[slot as usize]

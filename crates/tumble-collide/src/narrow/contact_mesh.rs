@@ -9,7 +9,7 @@
 //! for, when it has one: `shape::SmoothSurface`), half-spaces by the mesh
 //! vertices within the margin.
 
-use super::contact_halfspace::{push_vertex_on_plane, reduce_in_place};
+use super::contact_halfspace::push_vertex_on_plane;
 use super::smooth_foot::{push_foot_contact, smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
@@ -213,19 +213,13 @@ pub(super) fn finish_mesh_mesh(
     merge(out, start, a.mesh().triangles(), b.mesh().triangles());
 }
 
-/// Vertices of a mesh kept against a plane before reducing.
-pub const MESH_PLANE_MAX_POINTS: usize = 16;
-
-/// When there are more, only vertices within this of the deepest one are
-/// kept (m), then reduced to four well-spread ones if still too many.
-pub const MESH_PLANE_BAND: f64 = 0.002;
-
 /// Mesh A against half-space B: every mesh vertex within `margin` of the
-/// plane; past `MESH_PLANE_MAX_POINTS`, the deepest band of them, reduced
-/// to four well-spread points.
+/// plane, in vertex order (a resting torus gives a ring of them; choosing
+/// the few the solver needs is the contact reduction's job, which can keep
+/// last step's choice: `reduce_patch`).
 // Reads like `contact_polytope_halfspace` (contact_halfspace.rs) at the top;
-// a mesh needs its vertices named through their first triangle and its own
-// reduction (the deepest band past 16 points, not every point up to 8).
+// a mesh needs its vertices named through their first triangle and is not
+// reduced here.
 pub fn contact_mesh_halfspace(
     a: &MeshShape,
     pose_a: &Pose,
@@ -235,7 +229,6 @@ pub fn contact_mesh_halfspace(
     out: &mut Vec<Contact>,
 ) {
     let (n, d) = b.world_plane(pose_b);
-    let start = out.len();
     // The vertices within the margin lie in triangles whose leaf boxes
     // reach within it: the tree finds them without visiting every vertex
     // (a scanned mesh has millions). Each vertex is taken once, through the
@@ -265,19 +258,6 @@ pub fn contact_mesh_halfspace(
                 feature,
             );
         }
-    }
-    if out.len() - start > MESH_PLANE_MAX_POINTS {
-        // Keep the deepest band first: reducing by spread alone can keep
-        // shallow vertices and drop the deep ones the body rests on.
-        let deepest = out[start..]
-            .iter()
-            .map(|c| c.distance)
-            .fold(f64::INFINITY, f64::min);
-        let band = deepest + MESH_PLANE_BAND;
-        retain_from(out, start, |c| c.distance <= band);
-    }
-    if out.len() - start > MESH_PLANE_MAX_POINTS {
-        reduce_in_place(out, start, n);
     }
 }
 

@@ -126,6 +126,15 @@ fn outside(polygon: &[(f64, f64)], q: (f64, f64)) -> f64 {
 /// on ([`reduce_patch`]); the rest are speculative contacts further away.
 pub const PATCH_DEPTH_BAND: f64 = 0.002;
 
+/// A choice that starts from the points kept last step stands while its
+/// kept polygon spans at least this fraction of the area a fresh choice
+/// spans ([`reduce_patch`]).
+pub const KEEP_AREA_FRACTION: f64 = 0.9;
+
+/// Points kept last step stand for the patch's deepest while they are
+/// within this of it (m); else the deepest joins them ([`reduce_patch`]).
+pub const KEEP_DEPTH_SLACK: f64 = 0.0002;
+
 /// Chooses at most `max` (>= 4) of a patch's `n` points (position, and
 /// distance or gap, m) and writes their indices, in increasing order, to
 /// `keep`: all of them when `n <= max`. Else the points within
@@ -138,14 +147,27 @@ pub const PATCH_DEPTH_BAND: f64 = 0.002;
 /// support polygon; when the support has fewer than `max`,
 /// the deepest of the other points fill up. Choosing by spread alone would
 /// keep shallow speculative points at the rim and leave the body resting
-/// on its one deepest point. Every choice is geometric and the input order
-/// decides ties, so a patch that moves little keeps the same points (and
-/// their warm-started impulses).
+/// on its one deepest point.
+///
+/// `prior(i)` says that point `i` was kept last step (same features, about
+/// the same place). Where a support has many nearly equal candidates (the
+/// ring of vertices a torus rests on, a flat face on a fine mesh), a fresh
+/// choice flips between neighbours from step to step as the body rocks by
+/// microns: the support polygon turns, the points lose their warm-started
+/// impulses, and the body rocks on. So the support points kept last step
+/// stay (with the deepest point when they are more than
+/// [`KEEP_DEPTH_SLACK`] shallower than it, and grown by the hull rule while
+/// there is room) as long as their polygon spans at least
+/// [`KEEP_AREA_FRACTION`] of the fresh choice's; Bullet's persistent
+/// manifolds keep their points for the same reason. Every choice is
+/// geometric and the input order decides ties: the result is a function
+/// of the points and the prior flags.
 pub fn reduce_patch(
     n: usize,
     normal: DVec3,
     max: usize,
     get: impl Fn(usize) -> (DVec3, f64),
+    prior: impl Fn(usize) -> bool,
     keep: &mut Vec<usize>,
 ) {
     keep.clear();
@@ -154,44 +176,117 @@ pub fn reduce_patch(
         keep.extend(0..n);
         return;
     }
-    let deepest = (0..n).map(|i| get(i).1).fold(f64::INFINITY, f64::min);
+    let points: Vec<(DVec3, f64)> = (0..n).map(get).collect();
+    let deepest = points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
     let level = (deepest + PATCH_DEPTH_BAND).max(0.0);
-    let support: Vec<usize> = (0..n).filter(|&i| get(i).1 <= level).collect();
+    let support: Vec<usize> = (0..n).filter(|&i| points[i].1 <= level).collect();
     if support.len() <= max {
-        let mut rest: Vec<usize> = (0..n).filter(|&i| get(i).1 > level).collect();
-        rest.sort_by(|&x, &y| get(x).1.total_cmp(&get(y).1).then(x.cmp(&y)));
+        let mut rest: Vec<usize> = (0..n).filter(|&i| points[i].1 > level).collect();
+        rest.sort_by(|&x, &y| points[x].1.total_cmp(&points[y].1).then(x.cmp(&y)));
         keep.extend_from_slice(&support);
         keep.extend(rest.into_iter().take(max - support.len()));
         keep.sort_unstable();
         return;
     }
-    let at = |k: usize| get(support[k]);
-    let (four, count) = reduce_to_four(support.len(), normal, at);
-    keep.extend(four[..count].iter().map(|&k| support[k]));
-    // Then grow the kept polygon (in the plane across the normal) by the
-    // support point farthest outside it, while one is: its corners are
-    // what carry the wrench.
+    // The support in the plane across the normal, in support order.
     let (t1, t2) = normal.any_orthonormal_pair();
-    let flat = |i: usize| {
-        let p = get(i).0;
-        (p.dot(t1), p.dot(t2))
-    };
+    let flat: Vec<(f64, f64)> = support
+        .iter()
+        .map(|&i| (points[i].0.dot(t1), points[i].0.dot(t2)))
+        .collect();
     let mut polygon = Vec::with_capacity(max);
+    // A fresh choice, as positions in `support`.
+    let (four, count) = reduce_to_four(support.len(), normal, |k| points[support[k]]);
+    let mut fresh: Vec<usize> = four[..count].to_vec();
+    grow_by_hull(&mut fresh, &flat, max, &mut polygon);
+    // The points kept last step, if they still do the job.
+    let mut kept: Vec<usize> = (0..support.len()).filter(|&k| prior(support[k])).collect();
+    let chosen = 'chosen: {
+        if kept.is_empty() {
+            break 'chosen fresh;
+        }
+        if kept
+            .iter()
+            .all(|&k| points[support[k]].1 > deepest + KEEP_DEPTH_SLACK)
+        {
+            let (first_deepest, _) = first_max(support.len(), |k| -points[support[k]].1);
+            kept.push(first_deepest);
+        }
+        if kept.len() > max {
+            break 'chosen fresh;
+        }
+        grow_by_hull(&mut kept, &flat, max, &mut polygon);
+        let area_kept = hull_area(kept.iter().map(|&k| flat[k]), &mut polygon);
+        if area_kept >= KEEP_AREA_FRACTION * hull_area(fresh.iter().map(|&k| flat[k]), &mut polygon) {
+            kept
+        } else {
+            fresh
+        }
+    };
+    keep.extend(chosen.into_iter().map(|k| support[k]));
+    keep.sort_unstable();
+}
+
+/// Adds to `keep` (positions in `flat`), one at a time while it has fewer
+/// than `max`, the point farthest outside the kept points' convex hull,
+/// while one lies outside (ties to the lower position): the hull's corners
+/// carry the wrench.
+fn grow_by_hull(keep: &mut Vec<usize>, flat: &[(f64, f64)], max: usize, polygon: &mut Vec<(f64, f64)>) {
+    let mut edges: Vec<(f64, f64, f64)> = Vec::with_capacity(max);
     while keep.len() < max {
-        convex_hull_2d(keep.iter().map(|&i| flat(i)), &mut polygon);
+        convex_hull_2d(keep.iter().map(|&k| flat[k]), polygon);
         let mut best = None;
         let mut best_out = 0.0;
-        for &i in &support {
-            let out = outside(&polygon, flat(i));
-            if out > best_out {
-                best_out = out;
-                best = Some(i);
+        if polygon.len() >= 3 {
+            // Outward unit normals and offsets of the edges, once per round:
+            // a point's distance outside is its largest edge distance.
+            edges.clear();
+            for k in 0..polygon.len() {
+                let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                let len = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+                let (nx, ny) = ((b.1 - a.1) / len, (a.0 - b.0) / len);
+                edges.push((nx, ny, nx * a.0 + ny * a.1));
+            }
+            for (k, q) in flat.iter().enumerate() {
+                if keep.contains(&k) {
+                    continue; // on the hull already, whatever round-off says
+                }
+                let out = edges
+                    .iter()
+                    .map(|e| e.0 * q.0 + e.1 * q.1 - e.2)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                if out > best_out {
+                    best_out = out;
+                    best = Some(k);
+                }
+            }
+        } else {
+            for (k, &q) in flat.iter().enumerate() {
+                if keep.contains(&k) {
+                    continue;
+                }
+                let out = outside(polygon, q);
+                if out > best_out {
+                    best_out = out;
+                    best = Some(k);
+                }
             }
         }
-        let Some(i) = best else { break };
-        keep.push(i);
+        let Some(k) = best else { break };
+        keep.push(k);
     }
-    keep.sort_unstable();
+}
+
+/// Area of the convex hull of `points` (m^2); `polygon` is scratch.
+fn hull_area(points: impl Iterator<Item = (f64, f64)>, polygon: &mut Vec<(f64, f64)>) -> f64 {
+    convex_hull_2d(points, polygon);
+    let twice: f64 = (0..polygon.len())
+        .map(|i| {
+            let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+            a.0 * b.1 - a.1 * b.0
+        })
+        .sum();
+    0.5 * twice
 }
 
 #[cfg(test)]
@@ -200,9 +295,7 @@ mod tests {
     use tumble_testkit::{RandomSource, SplitMix64};
 
     fn reduce(points: &[(DVec3, f64)]) -> Vec<usize> {
-        let mut keep = Vec::new();
-        reduce_patch(points.len(), DVec3::Z, PATCH_MAX_POINTS, |i| points[i], &mut keep);
-        keep
+        reduce_after(points, &[])
     }
 
     /// Twice the area of the convex hull of `p` (x, y): the support
@@ -335,7 +428,82 @@ mod tests {
         // Up to the limit, nothing is dropped.
         let few = &points[..PATCH_MAX_POINTS];
         let mut all = Vec::new();
-        reduce_patch(few.len(), DVec3::Z, PATCH_MAX_POINTS, |i| few[i], &mut all);
+        reduce_patch(
+            few.len(),
+            DVec3::Z,
+            PATCH_MAX_POINTS,
+            |i| few[i],
+            |_| false,
+            &mut all,
+        );
         assert_eq!(all, (0..PATCH_MAX_POINTS).collect::<Vec<_>>());
+    }
+
+    /// A ring of 120 points (a torus resting on the floor, 0.5 mm in),
+    /// rocked by `tilt` (rad about y, rad about x): its depths.
+    fn rocked_ring(tilt: (f64, f64)) -> Vec<(DVec3, f64)> {
+        (0..120)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 120.0;
+                let p = DVec3::new(0.4 * a.cos(), 0.4 * a.sin(), 0.0);
+                (p, -0.0005 + tilt.0 * p.x + tilt.1 * p.y)
+            })
+            .collect()
+    }
+
+    fn reduce_after(points: &[(DVec3, f64)], before: &[usize]) -> Vec<usize> {
+        let mut keep = Vec::new();
+        reduce_patch(
+            points.len(),
+            DVec3::Z,
+            PATCH_MAX_POINTS,
+            |i| points[i],
+            |i| before.contains(&i),
+            &mut keep,
+        );
+        keep
+    }
+
+    #[test]
+    fn a_rocking_ring_keeps_the_points_it_kept() {
+        // Rocked by 0.1 mrad this way and that (40 um across the ring), a
+        // fresh choice moves round the ring; the kept points stay, and they
+        // are the ones a fresh choice made at the start.
+        let first = reduce(&rocked_ring((1e-4, 0.0)));
+        let mut fresh_moved = false;
+        for step in 1..20 {
+            let a = step as f64;
+            let points = rocked_ring((1e-4 * a.cos(), 1e-4 * a.sin()));
+            assert_eq!(reduce_after(&points, &first), first, "step {step}");
+            fresh_moved |= reduce(&points) != first;
+        }
+        assert!(fresh_moved, "a fresh choice never moved: the test shows nothing");
+    }
+
+    #[test]
+    fn kept_points_that_no_longer_span_the_patch_give_way_to_a_fresh_choice() {
+        // Four neighbours on the ring span almost nothing of it.
+        let points = rocked_ring((0.0, 0.0));
+        assert_eq!(reduce_after(&points, &[10, 11, 12, 13]), reduce(&points));
+    }
+
+    #[test]
+    fn the_deepest_point_joins_kept_points_that_are_too_shallow() {
+        // Tipped by 3 mrad about y, the ring's deepest point (x = -0.4) is
+        // 2.4 mm deeper than its shallowest; kept points near the top of
+        // the tilt stay (they still span the ring) and the deepest joins.
+        let points = rocked_ring((3e-3, 0.0));
+        let deepest = (0..points.len())
+            .min_by(|&i, &j| points[i].1.total_cmp(&points[j].1))
+            .unwrap();
+        assert_eq!(deepest, 60);
+        let before = [20, 30, 40, 80, 90, 100];
+        let keep = reduce_after(&points, &before);
+        assert!(keep.contains(&deepest), "{keep:?}");
+        for i in before {
+            if points[i].1 <= points[deepest].1 + PATCH_DEPTH_BAND {
+                assert!(keep.contains(&i), "{i} dropped: {keep:?}");
+            }
+        }
     }
 }

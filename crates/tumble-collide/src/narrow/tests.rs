@@ -141,7 +141,9 @@ fn check_pair(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> Result<(), String> 
                 rotation: pa.rotation,
             };
             let d3 = signed_distance(&oshape(a, &out_pose), &ob);
-            if d3 < -TOL - 1e-9 || d3 > slack + 1e-6 {
+            // The reported deepest point may be up to 1e-5 x size shallower
+            // than the true one (clip.rs's depth tie rule, as above).
+            if d3 < -TOL - 2e-5 || d3 > slack + 1e-6 {
                 return Err(format!(
                     "push-out by the depth does not touch (d3 = {d3}): {}",
                     ctx()

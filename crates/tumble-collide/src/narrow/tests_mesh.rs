@@ -279,10 +279,13 @@ fn a_mesh_against_a_plane_gets_every_vertex_within_the_margin_once_in_index_orde
     let mut rng = SplitMix64(31);
     let margin = 0.004;
     let mut seen = 0;
-    for _ in 0..60 {
+    for case in 0..60 {
+        // Every tenth pose lies almost flat: a whole ring of vertices near
+        // the plane.
+        let tilt = if case % 10 == 0 { 0.002 } else { 0.4 };
         let turn = DQuat::from_scaled_axis(DVec3::new(
-            rng.range(-0.4, 0.4),
-            rng.range(-0.4, 0.4),
+            rng.range(-tilt, tilt),
+            rng.range(-tilt, tilt),
             rng.range(-3.0, 3.0),
         ));
         let unlifted = Pose::new(DVec3::ZERO, turn).unwrap();
@@ -306,15 +309,12 @@ fn a_mesh_against_a_plane_gets_every_vertex_within_the_margin_once_in_index_orde
                 (p.z <= margin).then_some((p - DVec3::Z * (0.5 * p.z), p.z, Feature::vertex(t, k)))
             })
             .collect();
-        if expected.len() > super::contact_mesh::MESH_PLANE_MAX_POINTS {
-            continue; // reduced: the band and spread rules decide
-        }
-        seen += 1;
+        seen += usize::from(expected.len() > 16);
         let got: Vec<(DVec3, f64, Feature)> =
             out.iter().map(|c| (c.point, c.distance, c.feature_a)).collect();
         assert_eq!(got, expected);
     }
-    assert!(seen >= 30, "only {seen} poses below the reduction");
+    assert!(seen >= 5, "only {seen} poses with many vertices near the plane");
 }
 
 /// A ball carried over a tessellated sphere (UV, 32 x 16) at a fixed height

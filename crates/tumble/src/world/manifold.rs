@@ -147,6 +147,19 @@ pub(crate) fn lookup(
         })
 }
 
+/// Whether a contact of features `fa`, `fb` at `local_a` (A's body frame)
+/// was kept last step: a cached point of its collider pair (`same`) has
+/// the same features within [`MATCH_DISTANCE`] of it. Contact reduction
+/// keeps such points while they still span the patch
+/// (`tumble_collide::narrow::reduce_patch`).
+pub(crate) fn was_kept(same: &[CachedContact], fa: Feature, fb: Feature, local_a: DVec3) -> bool {
+    same.iter().any(|c| {
+        c.feature_a == fa
+            && c.feature_b == fb
+            && (c.local_a - local_a).length_squared() <= MATCH_DISTANCE * MATCH_DISTANCE
+    })
+}
+
 /// Orders a freshly built cache by key so that [`lookup`] works. The world
 /// builds it in pair order already, so this is a check plus a stable sort
 /// that does nothing in that case.

@@ -174,6 +174,15 @@ pub(crate) fn add_pair(
                     let c = &contacts[members[k]];
                     (c.point, pair.gap_at_step_end(c))
                 },
+                |k| {
+                    let c = &contacts[members[k]];
+                    manifold::was_kept(
+                        cached,
+                        c.feature_a,
+                        c.feature_b,
+                        to_a * (c.point - pair.pose_a.position),
+                    )
+                },
                 &mut scratch.kept,
             );
             for k in 0..scratch.kept.len() {

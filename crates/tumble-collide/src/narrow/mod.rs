@@ -61,7 +61,9 @@ pub use dispatch::{contact_shapes, contact_shapes_moving};
 pub use mesh_pair_memory::{
     contact_mesh_mesh_recalled, MeshPairMemory, Recall, RECALL_MAX_REACH, RECALL_SLACK,
 };
-pub use reduce::{reduce_patch, reduce_to_four, PATCH_DEPTH_BAND, PATCH_MAX_POINTS};
+pub use reduce::{
+    reduce_patch, reduce_to_four, KEEP_AREA_FRACTION, KEEP_DEPTH_SLACK, PATCH_DEPTH_BAND, PATCH_MAX_POINTS,
+};
 
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;

@@ -100,6 +100,10 @@ pub struct PyStepReport {
     /// pairs: same contacts, less work).
     #[pyo3(get)]
     recalled_mesh_pairs: usize,
+    /// Mesh collider pairs that had barely moved since their last contact
+    /// search and re-evaluated the points they kept (`resting_motion`).
+    #[pyo3(get)]
+    revalidated_mesh_pairs: usize,
     /// Islands of awake bodies.
     #[pyo3(get)]
     islands: usize,
@@ -152,6 +156,7 @@ impl PyStepReport {
             contacts: r.contacts,
             warm_started: r.warm_started,
             recalled_mesh_pairs: r.recalled_mesh_pairs,
+            revalidated_mesh_pairs: r.revalidated_mesh_pairs,
             islands: r.islands,
             substeps: r.substeps,
             iterations: r.iterations,

@@ -383,24 +383,23 @@ fn mesh_slab_on_a_fine_sheet_rests_level_on_a_reduced_patch_that_carries_its_wei
     );
 }
 
-#[test]
-fn two_fine_tori_stacked_on_the_ground_come_to_rest_on_points_they_keep() {
-    // A torus of 10,000 triangles flat on the ground and a second across it
-    // (their tubes cross twice). The lower one rests on a ring of ~100
-    // vertices and the crossings touch at many triangle pairs, so every
-    // patch is reduced to a few points. A choice made afresh each step flips
-    // between neighbouring vertices as the bodies rock by microns; the
-    // points then lose their warm-started impulses and the stack rocks for
-    // ever (kinetic energy swinging between 1e-4 and 5e-2 J, step after
-    // step). Kept points (reduce_patch's prior) let it come to rest.
+/// A torus of 10,000 triangles flat on the ground and a second across it
+/// (their tubes cross twice), in a world without sleeping.
+fn stacked_fine_tori(settings: WorldSettings) -> (World, [tumble::world::BodyId; 3]) {
     let shape = mesh(torus_mesh(0.4, 0.1, 100, 50).unwrap());
-    let mut world = ground_world();
-    let density = 1000.0;
+    let mut world = World::new(WorldSettings {
+        sleeping: false,
+        ..settings
+    })
+    .unwrap();
+    let ground = world
+        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
+        .unwrap();
     let lower = world
         .add_body(
             &BodyDesc::dynamic(shape.clone())
                 .at(DVec3::new(0.0, 0.0, 0.1))
-                .with_density(density),
+                .with_density(1000.0),
         )
         .unwrap();
     let across = tumble_collide::Pose::new(
@@ -409,8 +408,21 @@ fn two_fine_tori_stacked_on_the_ground_come_to_rest_on_points_they_keep() {
     )
     .unwrap();
     let upper = world
-        .add_body(&BodyDesc::dynamic(shape).with_pose(across).with_density(density))
+        .add_body(&BodyDesc::dynamic(shape).with_pose(across).with_density(1000.0))
         .unwrap();
+    (world, [ground, lower, upper])
+}
+
+#[test]
+fn two_fine_tori_stacked_on_the_ground_come_to_rest_on_points_they_keep() {
+    // The lower torus rests on a ring of ~100 vertices and the crossings
+    // touch at many triangle pairs, so every patch is reduced to a few
+    // points. A choice made afresh each step flips between neighbouring
+    // vertices as the bodies rock by microns; the points then lose their
+    // warm-started impulses and the stack rocks for ever (kinetic energy
+    // swinging between 1e-4 and 5e-2 J, step after step). Kept points
+    // (reduce_patch's prior) let it come to rest.
+    let (mut world, [ground, lower, upper]) = stacked_fine_tori(WorldSettings::default());
     let dt = world.settings().dt;
     let weight = (world.body(lower).unwrap().mass() + world.body(upper).unwrap().mass()) * 9.81;
     for step in 0..180 {
@@ -425,7 +437,6 @@ fn two_fine_tori_stacked_on_the_ground_come_to_rest_on_points_they_keep() {
         let energy = world.kinetic_energy();
         assert!(energy < 1e-9, "step {step}: still moving, {energy} J");
         // The ground carries both tori.
-        let ground = world.body_ids()[0];
         let carried: f64 = world
             .contacts()
             .iter()
@@ -438,4 +449,160 @@ fn two_fine_tori_stacked_on_the_ground_come_to_rest_on_points_they_keep() {
             carried / dt
         );
     }
+}
+
+/// The contacts of a collider pair of the last step, as the world reports them.
+fn contacts_of(
+    world: &World,
+    a: tumble::world::BodyId,
+    b: tumble::world::BodyId,
+) -> Vec<tumble_collide::Contact> {
+    world
+        .contacts()
+        .iter()
+        .filter(|c| (c.body_a, c.body_b) == (a, b))
+        .map(|c| c.contact)
+        .collect()
+}
+
+#[test]
+fn resting_mesh_pairs_re_evaluate_their_kept_points_and_miss_nothing_a_search_finds() {
+    // Once the stacked tori rest, their three mesh pairs re-evaluate the
+    // points they kept instead of searching their trees. Every point they
+    // report is one a full search at the same poses finds, and a full
+    // search finds nothing deeper than the deepest of them by more than
+    // the reduction's depth slack plus the resting motion. With
+    // resting_motion = 0 every step searches, and the stack rests in the
+    // same place.
+    let settings = WorldSettings::default();
+    let (mut world, [_, lower, upper]) = stacked_fine_tori(settings.clone());
+    let (mut searched, _) = stacked_fine_tori(WorldSettings {
+        resting_motion: 0.0,
+        ..settings
+    });
+    let margin = world.settings().contact_margin;
+    let slack = tumble_collide::narrow::KEEP_DEPTH_SLACK + world.settings().resting_motion;
+    let shape = |world: &World, id| world.colliders(id).unwrap()[0].shape.clone();
+    for step in 0..200 {
+        let report = world.step();
+        assert_eq!(searched.step().revalidated_mesh_pairs, 0, "step {step}");
+        if step < 150 {
+            continue;
+        }
+        assert_eq!(report.revalidated_mesh_pairs, 3, "step {step}");
+        let kept = contacts_of(&world, lower, upper);
+        assert!(!kept.is_empty(), "step {step}: the tori do not touch");
+        let mut found = Vec::new();
+        tumble_collide::narrow::contact_shapes(
+            &shape(&world, lower),
+            &world.pose(lower).unwrap(),
+            &shape(&world, upper),
+            &world.pose(upper).unwrap(),
+            margin + 1e-4,
+            &mut found,
+        )
+        .unwrap();
+        for c in &kept {
+            assert!(
+                found.iter().any(
+                    |d| (d.point - c.point).length() <= 1e-12 && (d.distance - c.distance).abs() <= 1e-12
+                ),
+                "step {step}: {c:?} is not a point of the search"
+            );
+        }
+        let deepest =
+            |cs: &[tumble_collide::Contact]| cs.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min);
+        assert!(
+            deepest(&found) >= deepest(&kept) - slack,
+            "step {step}: search {} m, kept {} m",
+            deepest(&found),
+            deepest(&kept)
+        );
+    }
+    for id in [lower, upper] {
+        let (p, q) = (
+            world.center_of_mass(id).unwrap(),
+            searched.center_of_mass(id).unwrap(),
+        );
+        assert!(
+            (p - q).length() < 1e-4,
+            "{id:?}: {p:?} against {q:?} when searched every step"
+        );
+    }
+}
+
+#[test]
+fn resting_mesh_pairs_give_the_same_bits_after_a_snapshot_and_on_any_thread_count() {
+    // Where each pair was last searched is state: a snapshot taken while
+    // the tori rest (re-evaluating) continues as the original does.
+    let (mut world, _) = stacked_fine_tori(WorldSettings {
+        threads: 1,
+        ..WorldSettings::default()
+    });
+    let (mut threaded, _) = stacked_fine_tori(WorldSettings {
+        threads: 3,
+        ..WorldSettings::default()
+    });
+    for _ in 0..160 {
+        world.step();
+        threaded.step();
+    }
+    assert_eq!(world.state_hash(), threaded.state_hash());
+    let mut copy = World::from_snapshot(&world.snapshot()).unwrap();
+    for step in 0..30 {
+        let report = world.step();
+        assert_eq!(report.revalidated_mesh_pairs, 3, "step {step}");
+        assert_eq!(copy.step().revalidated_mesh_pairs, 3, "step {step}");
+        threaded.step();
+        assert_eq!(world.state_hash(), copy.state_hash(), "step {step}");
+        assert_eq!(world.state_hash(), threaded.state_hash(), "step {step}");
+    }
+}
+
+#[test]
+fn a_resting_stack_struck_from_above_searches_again_and_holds() {
+    // A third torus dropped onto the resting pair. Its approach announces
+    // the blow (`resting_motion` counts how far a neighbour's approach can
+    // push a body within the look-ahead), so the pairs of the bodies it
+    // comes near (the 1 m tori's boxes overlap all three) search again:
+    // none re-evaluates in the step it arrives (all three would, were the
+    // approach not counted); and nothing sinks in deeper than when every
+    // step searches.
+    let run = |resting_motion: f64| {
+        let (mut world, [_, lower, upper]) = stacked_fine_tori(WorldSettings {
+            resting_motion,
+            ..WorldSettings::default()
+        });
+        for _ in 0..150 {
+            world.step();
+        }
+        let falling = world
+            .add_body(
+                &BodyDesc::dynamic(mesh(torus_mesh(0.4, 0.1, 100, 50).unwrap()))
+                    .at(world.center_of_mass(upper).unwrap() + DVec3::new(-0.2, 0.05, 0.4))
+                    .with_density(1000.0),
+            )
+            .unwrap();
+        let (mut deepest, mut revalidated_at_impact) = (0.0f64, None);
+        for _ in 0..90 {
+            let report = world.step();
+            if revalidated_at_impact.is_none() && !contacts_of(&world, upper, falling).is_empty() {
+                revalidated_at_impact = Some(report.revalidated_mesh_pairs);
+            }
+            for (a, b) in [(lower, upper), (upper, falling), (lower, falling)] {
+                deepest = deepest.max(penetration_between(&world, a, b));
+            }
+        }
+        (
+            deepest,
+            revalidated_at_impact.expect("the falling torus never arrived"),
+        )
+    };
+    let (resting, revalidated) = run(1e-5);
+    let (always, _) = run(0.0);
+    assert_eq!(revalidated, 0, "pairs re-evaluated in the step of the impact");
+    assert!(
+        resting <= always + 5e-4,
+        "deepest overlap {resting} m re-evaluating, {always} m searching every step"
+    );
 }

@@ -310,8 +310,8 @@ impl Listed<'_> {
 /// frame) has moved in A's frame between B's relative poses `then` and
 /// `now`: the centre's move plus the turn's chord over the radius (the
 /// rotation `q = now then^-1` moves a point at distance `r` from its axis
-/// by `2 sin(angle / 2) r = 2 |q.xyz| r`).
-fn moved_since(then: &Pose, now: &Pose, center: DVec3, radius: f64) -> f64 {
+/// by `2 sin(angle / 2) r = 2 |q.xyz| r`), with a round-off allowance.
+pub fn moved_since(then: &Pose, now: &Pose, center: DVec3, radius: f64) -> f64 {
     let shift = (now.transform_point(center) - then.transform_point(center)).length();
     let turn: DQuat = (now.rotation * then.rotation.conjugate()).normalize();
     let chord = 2.0 * DVec3::new(turn.x, turn.y, turn.z).length() * radius;

@@ -21,6 +21,7 @@ mod clip;
 mod contact_capsule_capsule;
 mod contact_capsule_mesh;
 mod contact_cuboid_cuboid;
+mod contact_features;
 mod contact_halfspace;
 mod contact_mesh;
 mod contact_polytope_polytope;
@@ -45,6 +46,7 @@ mod tests_mesh;
 pub use contact_capsule_capsule::contact_capsule_capsule;
 pub use contact_capsule_mesh::contact_capsule_mesh;
 pub use contact_cuboid_cuboid::contact_cuboid_cuboid;
+pub use contact_features::contact_at_features;
 pub use contact_halfspace::{
     contact_capsule_halfspace, contact_polytope_halfspace, contact_sphere_halfspace,
 };
@@ -59,7 +61,7 @@ pub use contact_sphere_cuboid::contact_sphere_cuboid;
 pub use contact_sphere_sphere::contact_sphere_sphere;
 pub use dispatch::{contact_shapes, contact_shapes_moving};
 pub use mesh_pair_memory::{
-    contact_mesh_mesh_recalled, MeshPairMemory, Recall, RECALL_MAX_REACH, RECALL_SLACK,
+    contact_mesh_mesh_recalled, moved_since, MeshPairMemory, Recall, RECALL_MAX_REACH, RECALL_SLACK,
 };
 pub use reduce::{
     reduce_patch, reduce_to_four, KEEP_AREA_FRACTION, KEEP_DEPTH_SLACK, PATCH_DEPTH_BAND, PATCH_MAX_POINTS,

@@ -497,3 +497,92 @@ fn a_flipped_face_is_a_crease_not_a_loop() {
     let s = shape.smooth_surface().unwrap();
     assert!((0..3).all(|k| s.is_crease(40, k)));
 }
+
+/// Re-evaluating the features of a search's contacts at the same poses
+/// gives those contacts again (the same triangle test on the same
+/// coordinates; a shared vertex or edge may be named through another of
+/// its triangles, to round-off), for two meshes touching at random poses and for a
+/// mesh over a plane, in either order; other shape pairs are not
+/// re-evaluated, and a bad margin is refused.
+#[test]
+fn contacts_re_evaluated_at_their_features_are_the_contacts_found() {
+    use crate::mesh::torus_mesh;
+    use tumble_testkit::{RandomSource, SplitMix64};
+    let torus = Shape::Mesh(MeshShape::new(torus_mesh(0.3, 0.1, 32, 16).unwrap()).unwrap());
+    let ball = Shape::Mesh(MeshShape::new(icosphere_mesh(0.15, 2).unwrap()).unwrap());
+    let ground = Shape::HalfSpace(HalfSpace::ground());
+    let mut rng = SplitMix64(17);
+    let margin = 0.004;
+    let mut checked = 0;
+    for case in 0..40 {
+        let turn = DQuat::from_scaled_axis(DVec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+        ));
+        let pose_a = Pose::new(DVec3::new(0.01, -0.02, 0.1), DQuat::from_rotation_z(0.3)).unwrap();
+        // The ball on the tube (a gap of -3 to 3 mm), or the torus over the ground.
+        let (a, pa, b, pb) = if case % 2 == 0 {
+            let on_tube = pose_a.transform_point(DVec3::new(0.3, 0.0, 0.25 + rng.range(-0.003, 0.003)));
+            (&torus, pose_a, &ball, Pose::new(on_tube, turn).unwrap())
+        } else {
+            let flat =
+                DQuat::from_scaled_axis(DVec3::new(rng.range(-0.05, 0.05), rng.range(-0.05, 0.05), 0.0));
+            let lifted = Pose::new(DVec3::new(0.0, 0.0, 0.1 + rng.range(-0.002, 0.003)), flat).unwrap();
+            if case % 4 == 1 {
+                (&torus, lifted, &ground, Pose::IDENTITY)
+            } else {
+                (&ground, Pose::IDENTITY, &torus, lifted)
+            }
+        };
+        let mut found = Vec::new();
+        contact_shapes(a, &pa, b, &pb, margin, &mut found).unwrap();
+        let features = found.iter().map(|c| (c.feature_a, c.feature_b));
+        let mut again = Vec::new();
+        assert!(contact_at_features(a, &pa, b, &pb, margin, features, &mut again).unwrap());
+        // The same points; a vertex or edge shared by several triangles
+        // may be named through another of them (merging keeps the first
+        // duplicate, and the order of the triangle pairs differs).
+        // Through another triangle an edge runs the other way, which can
+        // change the last bit of its closest points.
+        let same = |c: &Contact, d: &Contact| {
+            c.kind == d.kind
+                && (c.point - d.point).length() <= 1e-12
+                && (c.normal - d.normal).length() <= 1e-12
+                && (c.distance - d.distance).abs() <= 1e-12
+        };
+        for c in &found {
+            assert!(
+                again.iter().any(|d| same(c, d)),
+                "case {case}: {c:?} not found again in {again:?}"
+            );
+        }
+        checked += found.len();
+    }
+    assert!(checked > 100, "only {checked} contacts checked");
+    let sphere = Shape::Sphere(Sphere::new(0.1).unwrap());
+    let mut out = Vec::new();
+    let none = std::iter::empty();
+    assert!(!contact_at_features(
+        &sphere,
+        &Pose::IDENTITY,
+        &ground,
+        &Pose::IDENTITY,
+        margin,
+        none,
+        &mut out
+    )
+    .unwrap());
+    let none = std::iter::empty();
+    assert!(contact_at_features(
+        &torus,
+        &Pose::IDENTITY,
+        &ground,
+        &Pose::IDENTITY,
+        f64::NAN,
+        none,
+        &mut out
+    )
+    .is_err());
+    assert!(out.is_empty());
+}

@@ -272,6 +272,8 @@ class StepReport:
     @property
     def recalled_mesh_pairs(self) -> int: ...
     @property
+    def revalidated_mesh_pairs(self) -> int: ...
+    @property
     def islands(self) -> int: ...
     @property
     def substeps(self) -> int: ...
@@ -310,6 +312,7 @@ class World:
         iterations: int | None = ...,
         push_out_iterations: int | None = ...,
         contact_margin: float | None = ...,
+        resting_motion: float | None = ...,
         allowed_penetration: float | None = ...,
         push_out_fraction: float | None = ...,
         max_push_out_speed: float | None = ...,

@@ -19,7 +19,7 @@
 //! patch's friction impulses are remembered under the collider pair and the
 //! patch normal.
 
-use tumble_collide::{DVec3, Feature};
+use tumble_collide::{DVec3, Feature, Pose};
 
 /// (body slot A, body slot B, collider index in A, collider index in B).
 pub(crate) type PairKey = (u32, u32, u16, u16);
@@ -52,6 +52,26 @@ pub(crate) struct CachedPatch {
     pub tangent_impulse: DVec3,
     /// Twist friction impulse about the normal (N m s).
     pub twist_impulse: f64,
+}
+
+/// Where a collider pair with a triangle mesh was when its contacts were
+/// last searched for (`step::narrow`: while it has barely moved since, the
+/// points it kept are re-evaluated instead of searched for again).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(crate) struct SearchedPair {
+    pub key: PairKey,
+    /// The mesh side's collider pose in the other collider's frame (for
+    /// two meshes, B's in A's).
+    pub rel: Pose,
+}
+
+/// The pose at the last search of collider pair `key` in `searches`
+/// (sorted by key), if it has one.
+pub(crate) fn searched_at(searches: &[SearchedPair], key: PairKey) -> Option<&Pose> {
+    searches
+        .binary_search_by_key(&key, |s| s.key)
+        .ok()
+        .map(|i| &searches[i].rel)
 }
 
 /// Contacts of one collider pair whose normals are within this cosine of a

@@ -65,7 +65,7 @@ pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MA
 pub use step::{FAST_FRACTION, RUNAWAY_SPEED};
 
 use crate::body::{BodyKind, Material, RigidBody};
-use manifold::{CachedContact, CachedPatch};
+use manifold::{CachedContact, CachedPatch, SearchedPair};
 use tumble_collide::broad::{ProxyId, SweepAndPrune};
 use tumble_collide::shape::Shape;
 use tumble_collide::{DQuat, DVec3, Pose};
@@ -132,6 +132,9 @@ pub struct World {
     unbounded: Vec<u32>,
     cache: Vec<CachedContact>,
     patch_cache: Vec<CachedPatch>,
+    /// Mesh collider pairs by where their contacts were last searched for,
+    /// sorted by key (`manifold::SearchedPair`).
+    searches: Vec<SearchedPair>,
     contacts: Vec<WorldContact>,
     touching: Vec<(BodyId, BodyId)>,
     time: f64,
@@ -207,6 +210,7 @@ fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
         });
     }
     non_negative("settings.contact_margin", s.contact_margin)?;
+    non_negative("settings.resting_motion", s.resting_motion)?;
     non_negative("settings.allowed_penetration", s.allowed_penetration)?;
     positive("settings.max_push_out_speed", s.max_push_out_speed)?;
     non_negative("settings.restitution_threshold", s.restitution_threshold)?;
@@ -239,6 +243,7 @@ impl World {
             unbounded: Vec::new(),
             cache: Vec::new(),
             patch_cache: Vec::new(),
+            searches: Vec::new(),
             contacts: Vec::new(),
             touching: Vec::new(),
             time: 0.0,
@@ -436,6 +441,8 @@ impl World {
         self.cache.retain(|c| c.key.0 != id.index && c.key.1 != id.index);
         self.patch_cache
             .retain(|c| c.key.0 != id.index && c.key.1 != id.index);
+        self.searches
+            .retain(|c| c.key.0 != id.index && c.key.1 != id.index);
         self.contacts.retain(|c| c.body_a != id && c.body_b != id);
         Ok(())
     }
@@ -605,6 +612,7 @@ impl World {
     pub fn clear_contact_cache(&mut self) {
         self.cache.clear();
         self.patch_cache.clear();
+        self.searches.clear();
     }
 
     /// Contact points of the last step with their impulses.

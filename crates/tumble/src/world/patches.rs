@@ -124,6 +124,8 @@ pub(crate) struct PatchScratch {
     kept: Vec<usize>,
     /// Where the last search of the point cache ended (see `manifold::points_of`).
     point_cursor: usize,
+    /// The same for the narrow phase's re-evaluation of kept points.
+    pub feature_cursor: usize,
     /// Where the last search of the patch cache ended.
     patch_cursor: usize,
 }

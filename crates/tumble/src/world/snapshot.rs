@@ -26,7 +26,7 @@
 
 use super::handles::{Arena, BodyId};
 use super::joints::JointEntry;
-use super::manifold::{self, CachedContact, CachedPatch};
+use super::manifold::{self, CachedContact, CachedPatch, SearchedPair};
 use super::{check_settings, BodyEntry, Collider, World, WorldSettings};
 use crate::body::{BodyKind, BodyState, Material, RigidBody};
 use crate::joint::JointDesc;
@@ -40,7 +40,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 5;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 6;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -109,6 +109,11 @@ pub struct Snapshot {
     cache: Vec<CachedContact>,
     /// Warm-start friction impulses of the last step's patches, sorted by key.
     patch_cache: Vec<CachedPatch>,
+    /// Where each mesh collider pair was at its last contact search, sorted
+    /// by key (a resting pair re-evaluates its kept points until it has
+    /// moved from there). Absent: every pair searches at the next step.
+    #[serde(default)]
+    searches: Vec<SearchedPair>,
     /// Body pairs touching at the last step, sorted.
     touching: Vec<(BodyId, BodyId)>,
     /// Live bodies in the order the owner wants them listed (e.g. the rows
@@ -516,6 +521,7 @@ impl World {
             unbounded: self.unbounded.clone(),
             cache: self.cache.clone(),
             patch_cache: self.patch_cache.clone(),
+            searches: self.searches.clone(),
             touching: self.touching.clone(),
             body_order: self.body_ids(),
             joint_slots: (0..self.joints.slot_count() as u32)
@@ -601,12 +607,13 @@ impl World {
                 e.proxy = Some(proxy);
             }
         }
+        // A cache key names two live bodies' colliders.
+        let live = |slot: u32, collider: u16| {
+            bodies
+                .at(slot)
+                .is_some_and(|e| (collider as usize) < e.colliders.len())
+        };
         for c in &snapshot.cache {
-            let live = |slot: u32, collider: u16| {
-                bodies
-                    .at(slot)
-                    .is_some_and(|e| (collider as usize) < e.colliders.len())
-            };
             let (a, b, ca, cb) = c.key;
             let finite = c.local_a.is_finite() && c.normal_impulse.is_finite();
             if a >= b || !live(a, ca) || !live(b, cb) || !finite {
@@ -618,11 +625,6 @@ impl World {
         }
         for c in &snapshot.patch_cache {
             let (a, b, ca, cb) = c.key;
-            let live = |slot: u32, collider: u16| {
-                bodies
-                    .at(slot)
-                    .is_some_and(|e| (collider as usize) < e.colliders.len())
-            };
             let finite = c.normal.is_finite() && c.tangent_impulse.is_finite() && c.twist_impulse.is_finite();
             if a >= b || !live(a, ca) || !live(b, cb) || !finite {
                 return Err(invalid(format!(
@@ -630,6 +632,19 @@ impl World {
                     c.key
                 )));
             }
+        }
+        for c in &snapshot.searches {
+            let (a, b, ca, cb) = c.key;
+            let pose = Pose::new(c.rel.position, c.rel.rotation);
+            if a >= b || !live(a, ca) || !live(b, cb) || pose.is_err() {
+                return Err(invalid(format!(
+                    "contact search entry {:?} is inconsistent",
+                    c.key
+                )));
+            }
+        }
+        if !snapshot.searches.windows(2).all(|w| w[0].key < w[1].key) {
+            return Err(invalid("contact search entries must be sorted and unique"));
         }
         let mut cache = snapshot.cache.clone();
         let mut patch_cache = snapshot.patch_cache.clone();
@@ -666,6 +681,7 @@ impl World {
             unbounded: snapshot.unbounded.clone(),
             cache,
             patch_cache,
+            searches: snapshot.searches.clone(),
             contacts: Vec::new(),
             touching: snapshot.touching.clone(),
             time: snapshot.time,

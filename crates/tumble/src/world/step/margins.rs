@@ -134,6 +134,31 @@ pub(crate) fn relative_motion_bound(
     (v_rel.length() + (wa - wb).length() * rho).min(coarse)
 }
 
+/// Per body slot, the largest [`relative_motion_bound`] of the body's
+/// broad-phase pairs (m/s): how fast anything near it moves against it,
+/// which bounds how hard it can be struck within the step. Zero for a body
+/// without pairs.
+pub(crate) fn neighbour_speeds(
+    bodies: &Arena<BodyEntry>,
+    velocity: &[(DVec3, DVec3)],
+    pairs: &[(u32, u32)],
+    swept: &[Option<Aabb>],
+) -> Vec<f64> {
+    let mut speed = vec![0.0f64; velocity.len()];
+    for &(a, b) in pairs {
+        let (ea, eb) = (bodies.at(a).expect("live"), bodies.at(b).expect("live"));
+        let s = relative_motion_bound(
+            (ea, velocity[a as usize]),
+            (eb, velocity[b as usize]),
+            swept[a as usize],
+            swept[b as usize],
+        );
+        speed[a as usize] = speed[a as usize].max(s);
+        speed[b as usize] = speed[b as usize].max(s);
+    }
+    speed
+}
+
 /// Per body slot, an estimate of how much the body's velocity can change in
 /// this step through its contacts (m/s): its largest closing speed towards
 /// a broad-phase neighbour along the line of their centres, times `1 + e`

@@ -15,13 +15,18 @@
 //! memory changes what a pair costs, never its contacts.
 
 use super::frame::MeshPairKey;
-use super::margins::{is_active, relative_motion_bound, slot_velocities, velocity_change_bounds};
+use super::margins::{
+    is_active, neighbour_speeds, relative_motion_bound, slot_velocities, velocity_change_bounds,
+};
 use super::StepFrame;
 use crate::body::BodyKind;
+use crate::world::manifold::{self, SearchedPair};
 use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
 use crate::world::{Collider, MaterialDesc, World};
-use tumble_collide::narrow::{contact_mesh_mesh_recalled, contact_shapes, MeshPairMemory, Recall};
-use tumble_collide::{Contact, DVec3, Drift, Shape};
+use tumble_collide::narrow::{
+    contact_at_features, contact_mesh_mesh_recalled, contact_shapes, moved_since, MeshPairMemory, Recall,
+};
+use tumble_collide::{Contact, DVec3, Drift, Pose, Shape};
 
 /// What one chunk of candidate pairs produced.
 #[derive(Default)]
@@ -35,12 +40,18 @@ struct ChunkContacts {
     error: Option<(usize, String)>,
     /// What each remembering mesh pair did with its memory, in pair order.
     recalls: Vec<(MeshPairKey, Recalled)>,
+    /// Where each mesh collider pair was last searched, in pair order.
+    searches: Vec<SearchedPair>,
+    /// Mesh collider pairs that re-evaluated their kept points.
+    revalidated: usize,
 }
 
 /// A mesh pair's memory after this step: the last step's (by its index in
-/// the kept list) or a new one.
+/// the kept list), used or only held (the pair was re-evaluated at its
+/// kept points), or a new one.
 enum Recalled {
     Kept(usize),
+    Held(usize),
     New(MeshPairMemory),
 }
 
@@ -69,6 +80,7 @@ impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
         let velocity = slot_velocities(&self.bodies, f.n_slots);
         let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs);
+        let stirred = neighbour_speeds(&self.bodies, &velocity, &f.pairs, &f.swept);
         let chunk = if f.meshes {
             MESH_PAIRS_PER_TASK
         } else {
@@ -90,7 +102,7 @@ impl World {
             for (k, &pair) in pairs.iter().enumerate() {
                 self.pair_contacts(
                     frame,
-                    (&velocity, &shock),
+                    (&velocity, &shock, &stirred),
                     memory_read,
                     first + k,
                     pair,
@@ -126,19 +138,28 @@ impl World {
         (f.points, f.patches) = (points, patches);
         let mut warned = false;
         let mut kept = Vec::new();
+        let mut searches = Vec::new();
         for chunk in &mut chunks {
+            searches.append(&mut chunk.searches);
+            f.report.revalidated_mesh_pairs += chunk.revalidated;
             for (key, recalled) in chunk.recalls.drain(..) {
                 let memory = match recalled {
                     Recalled::Kept(i) => {
                         f.report.recalled_mesh_pairs += 1;
                         memory[i].1.take()
                     }
+                    Recalled::Held(i) => memory[i].1.take(),
                     Recalled::New(m) => Some(m),
                 };
                 kept.push((key, memory));
             }
         }
         self.scratch.mesh_memory = kept;
+        // In pair order, which is key order; sorted if ever not.
+        if !searches.windows(2).all(|w| w[0].key < w[1].key) {
+            searches.sort_by_key(|s| s.key);
+        }
+        self.searches = searches;
         for chunk in chunks {
             if let (false, Some((k, err))) = (warned, &chunk.error) {
                 let (a, b) = f.pairs[*k];
@@ -171,7 +192,7 @@ impl World {
     fn pair_contacts(
         &self,
         f: &StepFrame,
-        (velocity, shock): (&[(DVec3, DVec3)], &[f64]),
+        (velocity, shock, stirred): (&[(DVec3, DVec3)], &[f64], &[f64]),
         memory: &[(MeshPairKey, Option<MeshPairMemory>)],
         k: usize,
         (a, b): (u32, u32),
@@ -221,7 +242,29 @@ impl World {
                 buffer.clear();
                 let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
                 let key = (a, b, ia as u16, ib as u16);
-                let found = if let (Shape::Mesh(ma), Shape::Mesh(mb)) = (&ca.shape, &cb.shape) {
+                // Struck by a neighbour within the look-ahead, either body
+                // can move by up to the neighbour's approach (twice, for a
+                // bounce) over it.
+                let struck = 2.0 * (stirred[a as usize] + stirred[b as usize]) * dt * LOOK_AHEAD_STEPS;
+                let resting = self.resting_pair(key, (ca, &wpa), (cb, &wpb), (&drift, motion, struck), out);
+                let found = if let Some(then) = resting {
+                    // Barely moved since the last search: last step's kept
+                    // points, re-evaluated where the bodies are now.
+                    let cached = manifold::points_of(&self.cache, key, &mut scratch.feature_cursor);
+                    let reach = then.ahead;
+                    let m = if is_mesh(ca) && is_mesh(cb) {
+                        mesh_margin + reach
+                    } else {
+                        margin
+                    };
+                    let features = cached.iter().map(|c| (c.feature_a, c.feature_b));
+                    let found = contact_at_features(&ca.shape, &wpa, &cb.shape, &wpb, m, features, buffer);
+                    if let Ok(i) = memory.binary_search_by_key(&key, |e| e.0) {
+                        out.recalls.push((key, Recalled::Held(i)));
+                    }
+                    out.revalidated += 1;
+                    found.map(|_| ())
+                } else if let (Shape::Mesh(ma), Shape::Mesh(mb)) = (&ca.shape, &cb.shape) {
                     // The last step's walk of this pair, if it kept one.
                     let index = memory.binary_search_by_key(&key, |e| e.0).ok();
                     let remembered = index.and_then(|i| memory[i].1.as_ref());
@@ -290,4 +333,56 @@ impl World {
 
 fn is_mesh(c: &Collider) -> bool {
     matches!(c.shape, Shape::Mesh(_))
+}
+
+/// A resting pair's look-ahead: how far its mesh side can move within it (m).
+struct Resting {
+    ahead: f64,
+}
+
+impl World {
+    /// Whether collider pair `key` (a triangle mesh against a mesh or a
+    /// half-space) has moved, together with its look-ahead (`drift` for two
+    /// meshes, `motion` otherwise, plus `struck`: how far a blow from a
+    /// neighbour can move it), less than `WorldSettings::resting_motion` since
+    /// its contacts were last searched for; records in `out` where that
+    /// search was (kept) or that this step searches (the poses now). Other
+    /// shape pairs are always searched and not recorded.
+    fn resting_pair(
+        &self,
+        key: MeshPairKey,
+        (ca, wpa): (&Collider, &Pose),
+        (cb, wpb): (&Collider, &Pose),
+        (drift, motion, struck): (&Drift, f64, f64),
+        out: &mut ChunkContacts,
+    ) -> Option<Resting> {
+        // The mesh side moves in the other's frame; its bounding sphere
+        // (own frame) bounds how far its points move.
+        let (rel, mesh, world) = match (&ca.shape, &cb.shape) {
+            (Shape::Mesh(_) | Shape::HalfSpace(_), Shape::Mesh(_)) => {
+                (wpa.inverse().mul_pose(wpb), &cb.shape, wpb)
+            }
+            (Shape::Mesh(_), Shape::HalfSpace(_)) => (wpb.inverse().mul_pose(wpa), &ca.shape, wpa),
+            _ => return None,
+        };
+        let bounds = mesh.aabb(&Pose::IDENTITY);
+        let (center, radius) = (
+            (bounds.min + bounds.max) * 0.5,
+            (bounds.max - bounds.min).length() * 0.5,
+        );
+        let ahead = struck
+            + if is_mesh(ca) && is_mesh(cb) {
+                drift.reach(world.transform_point(center), radius)
+            } else {
+                motion
+            };
+        let then = manifold::searched_at(&self.searches, key).copied();
+        let held = then
+            .filter(|then| moved_since(then, &rel, center, radius) + ahead <= self.settings.resting_motion);
+        out.searches.push(SearchedPair {
+            key,
+            rel: held.unwrap_or(rel),
+        });
+        held.map(|_| Resting { ahead })
+    }
 }

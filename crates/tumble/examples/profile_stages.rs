@@ -50,6 +50,8 @@ fn main() {
     // The last third of the steps alone: a pile's settled cost.
     let mut late = 0.0;
     let mut swept_back = 0;
+    // Mesh pairs re-evaluated and recalled over the last third.
+    let mut late_pairs = (0usize, 0usize);
     let trace = std::env::var("TRACE_DEPTH").is_ok();
     let mut window = 0.0f64;
     for step in 0..steps {
@@ -70,6 +72,8 @@ fn main() {
         total += r.total_time().as_secs_f64();
         if step >= steps - steps / 3 {
             late += r.total_time().as_secs_f64();
+            late_pairs.0 += r.revalidated_mesh_pairs;
+            late_pairs.1 += r.recalled_mesh_pairs;
         }
     }
     let ms = |t: f64| t / steps as f64 * 1e3;
@@ -87,6 +91,12 @@ fn main() {
         world.kinetic_energy()
     );
     println!("  bodies put back by continuous collision: {swept_back}");
+    let late_steps = (steps / 3).max(1) as f64;
+    println!(
+        "  mesh pairs per step over the last third: {:.1} re-evaluated their kept points, {:.1} recalled their walk",
+        late_pairs.0 as f64 / late_steps,
+        late_pairs.1 as f64 / late_steps
+    );
     for s in Stage::ALL {
         println!("  {:<10} {:.3} ms", s.name(), ms(sum[s as usize]));
     }

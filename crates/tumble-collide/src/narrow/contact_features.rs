@@ -8,8 +8,10 @@
 //!
 //! A named triangle pair goes through the same arithmetic as in the tree
 //! walk (`contact_mesh_mesh_moving`: A's triangle as stored, B's vertices
-//! moved into A's frame, the triangle test, then the common finish), so it
-//! gives the contacts a search would give for that pair, bit for bit.
+//! moved into A's frame, the triangle test, then the common finish), so at
+//! the same margin it gives the contacts a search would give for that pair
+//! (a vertex or edge shared with another named pair may come out named
+//! through the other triangle, to round-off).
 
 use super::contact_halfspace::push_vertex_on_plane;
 use super::contact_mesh::{finish_mesh_mesh, VERTEX_CACHE};

@@ -161,7 +161,8 @@ pub const KEEP_DEPTH_SLACK: f64 = 0.0002;
 /// [`KEEP_AREA_FRACTION`] of the fresh choice's; Bullet's persistent
 /// manifolds keep their points for the same reason. Every choice is
 /// geometric and the input order decides ties: the result is a function
-/// of the points and the prior flags.
+/// of the points and the prior flags. A support along a line (no area)
+/// is always chosen afresh.
 pub fn reduce_patch(
     n: usize,
     normal: DVec3,
@@ -217,7 +218,18 @@ pub fn reduce_patch(
         }
         grow_by_hull(&mut kept, &flat, max, &mut polygon);
         let area_kept = hull_area(kept.iter().map(|&k| flat[k]), &mut polygon);
-        if area_kept >= KEEP_AREA_FRACTION * hull_area(fresh.iter().map(|&k| flat[k]), &mut polygon) {
+        let area_fresh = hull_area(fresh.iter().map(|&k| flat[k]), &mut polygon);
+        // A support along a line (a cylinder on its side) has no area to
+        // compare, and the hull rule does not grow along the line: fresh.
+        let (lo, hi) = flat.iter().fold(
+            (
+                (f64::INFINITY, f64::INFINITY),
+                (f64::NEG_INFINITY, f64::NEG_INFINITY),
+            ),
+            |(lo, hi), p| ((lo.0.min(p.0), lo.1.min(p.1)), (hi.0.max(p.0), hi.1.max(p.1))),
+        );
+        let extent2 = (hi.0 - lo.0).powi(2) + (hi.1 - lo.1).powi(2);
+        if area_fresh > 1e-6 * extent2 && area_kept >= KEEP_AREA_FRACTION * area_fresh {
             kept
         } else {
             fresh
@@ -505,5 +517,18 @@ mod tests {
                 assert!(keep.contains(&i), "{i} dropped: {keep:?}");
             }
         }
+    }
+
+    #[test]
+    fn a_line_of_support_is_chosen_afresh_whatever_was_kept() {
+        // A cylinder on its side: 60 points along a line, all resting. The
+        // kept points (the middle of the line) span no area to compare, so
+        // the fresh choice, which reaches both ends, stands.
+        let points: Vec<(DVec3, f64)> = (0..60)
+            .map(|k| (DVec3::new(0.01 * k as f64, 0.0, 0.0), -0.0005))
+            .collect();
+        let fresh = reduce(&points);
+        assert!(fresh.contains(&0) && fresh.contains(&59), "{fresh:?}");
+        assert_eq!(reduce_after(&points, &[28, 29, 30, 31]), fresh);
     }
 }

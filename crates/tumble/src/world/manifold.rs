@@ -60,8 +60,9 @@ pub(crate) struct CachedPatch {
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct SearchedPair {
     pub key: PairKey,
-    /// The mesh side's collider pose in the other collider's frame (for
-    /// two meshes, B's in A's).
+    /// The moving side's collider pose in the other collider's frame: the
+    /// mesh against a half-space, the smaller of two meshes (by bounding
+    /// sphere; B when equal).
     pub rel: Pose,
 }
 

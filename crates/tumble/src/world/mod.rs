@@ -264,6 +264,8 @@ impl World {
             self.pool = crate::pool::WorkerPool::new(settings.threads);
         }
         self.settings = settings;
+        // A new margin or resting motion: every mesh pair searches again.
+        self.searches.clear();
         Ok(())
     }
 

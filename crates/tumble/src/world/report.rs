@@ -157,9 +157,10 @@ pub struct StepReport {
     /// they remembered from an earlier step (resting pairs; the contacts are
     /// the same bits as from a new walk, only cheaper).
     pub recalled_mesh_pairs: usize,
-    /// Collider pairs with a triangle mesh that had barely moved since
-    /// their last search and took their kept points again, re-evaluated
-    /// at the new poses (`WorldSettings::resting_motion`).
+    /// Collider pairs of a triangle mesh against a mesh or a half-space
+    /// that had barely moved since their last search and took their kept
+    /// points again, re-evaluated at the new poses
+    /// (`WorldSettings::resting_motion`).
     pub revalidated_mesh_pairs: usize,
     /// Islands of awake bodies.
     pub islands: usize,

@@ -55,15 +55,17 @@ pub struct WorldSettings {
     /// within the step): a few millimetres. On triangle meshes every
     /// millimetre adds triangle pairs to test. Default 0.005.
     pub contact_margin: f64,
-    /// Resting mesh contacts (m): a collider pair with a triangle mesh whose
-    /// mesh side has moved against the other, counting how far it can move
-    /// within its look-ahead and a blow from a neighbour, less than this
-    /// since its contacts were last searched for takes the points it kept
-    /// last step, re-evaluated exactly at the new poses, instead of searching
-    /// its trees again: a resting pair then costs what its few kept points
-    /// do, not what its tessellation does. A feature pair it does not hold
-    /// can have come at most this much closer than at the search. 0 searches
-    /// every step. Default 1e-5 (a fiftieth of the allowed penetration).
+    /// Resting mesh contacts (m): a triangle mesh against a mesh or a
+    /// half-space whose colliders have moved against each other less than
+    /// this since their contacts were last searched for, counting how far
+    /// they can move within the look-ahead and an estimate of a blow from a
+    /// neighbour (its approach speed), takes the points it kept last step,
+    /// re-evaluated exactly at the new poses, instead of searching its trees
+    /// again: a resting pair then costs what its few kept points do, not
+    /// what its tessellation does. A feature pair it does not hold can have
+    /// come at most this much closer than at the search. At most half the
+    /// contact margin is used; 0 searches every step. Default 1e-5 (a
+    /// fiftieth of the allowed penetration).
     pub resting_motion: f64,
     /// Penetration left uncorrected (m): resting contacts within it are held
     /// rigidly where they are (no push-out, so no jitter); deeper overlap is

@@ -134,10 +134,11 @@ pub(crate) fn relative_motion_bound(
     (v_rel.length() + (wa - wb).length() * rho).min(coarse)
 }
 
-/// Per body slot, the largest [`relative_motion_bound`] of the body's
-/// broad-phase pairs (m/s): how fast anything near it moves against it,
-/// which bounds how hard it can be struck within the step. Zero for a body
-/// without pairs.
+/// Per dynamic body slot, the largest [`relative_motion_bound`] of the
+/// body's broad-phase pairs (m/s): how fast anything near it moves against
+/// it, an estimate of how hard it can be struck within the step (static
+/// and kinematic bodies are not moved by blows: zero, as for a body
+/// without pairs).
 pub(crate) fn neighbour_speeds(
     bodies: &Arena<BodyEntry>,
     velocity: &[(DVec3, DVec3)],
@@ -153,8 +154,11 @@ pub(crate) fn neighbour_speeds(
             swept[a as usize],
             swept[b as usize],
         );
-        speed[a as usize] = speed[a as usize].max(s);
-        speed[b as usize] = speed[b as usize].max(s);
+        for (slot, entry) in [(a, ea), (b, eb)] {
+            if entry.body.kind() == BodyKind::Dynamic {
+                speed[slot as usize] = speed[slot as usize].max(s);
+            }
+        }
     }
     speed
 }

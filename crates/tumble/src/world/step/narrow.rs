@@ -80,7 +80,12 @@ impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
         let velocity = slot_velocities(&self.bodies, f.n_slots);
         let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs);
-        let stirred = neighbour_speeds(&self.bodies, &velocity, &f.pairs, &f.swept);
+        // Only mesh pairs re-evaluate (`resting_pair`).
+        let stirred = if f.meshes {
+            neighbour_speeds(&self.bodies, &velocity, &f.pairs, &f.swept)
+        } else {
+            vec![0.0; f.n_slots]
+        };
         let chunk = if f.meshes {
             MESH_PAIRS_PER_TASK
         } else {
@@ -243,8 +248,10 @@ impl World {
                 let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
                 let key = (a, b, ia as u16, ib as u16);
                 // Struck by a neighbour within the look-ahead, either body
-                // can move by up to the neighbour's approach (twice, for a
-                // bounce) over it.
+                // moves by about the neighbour's approach (twice, for a
+                // bounce) over it: an estimate, not a bound (a blow passed
+                // on through a stack is not counted); what is guaranteed
+                // rests on the motion measured since the search.
                 let struck = 2.0 * (stirred[a as usize] + stirred[b as usize]) * dt * LOOK_AHEAD_STEPS;
                 let resting = self.resting_pair(key, (ca, &wpa), (cb, &wpb), (&drift, motion, struck), out);
                 let found = if let Some(then) = resting {
@@ -280,6 +287,10 @@ impl World {
                 };
                 if let Err(err) = found {
                     out.error.get_or_insert_with(|| (k, err.to_string()));
+                    // A failed search is no search: the pair searches again.
+                    if out.searches.last().is_some_and(|s| s.key == key) {
+                        out.searches.pop();
+                    }
                     continue;
                 }
                 // Meshes rest a hair apart (see WorldSettings::allowed_penetration).
@@ -343,11 +354,12 @@ struct Resting {
 impl World {
     /// Whether collider pair `key` (a triangle mesh against a mesh or a
     /// half-space) has moved, together with its look-ahead (`drift` for two
-    /// meshes, `motion` otherwise, plus `struck`: how far a blow from a
-    /// neighbour can move it), less than `WorldSettings::resting_motion` since
-    /// its contacts were last searched for; records in `out` where that
-    /// search was (kept) or that this step searches (the poses now). Other
-    /// shape pairs are always searched and not recorded.
+    /// meshes, `motion` otherwise, plus `struck`: an estimate of how far a
+    /// blow from a neighbour can move it), less than
+    /// `WorldSettings::resting_motion` (at most half the contact margin)
+    /// since its contacts were last searched for; records in `out` where
+    /// that search was (kept) or that this step searches (the poses now).
+    /// Other shape pairs are always searched and not recorded.
     fn resting_pair(
         &self,
         key: MeshPairKey,
@@ -356,29 +368,42 @@ impl World {
         (drift, motion, struck): (&Drift, f64, f64),
         out: &mut ChunkContacts,
     ) -> Option<Resting> {
-        // The mesh side moves in the other's frame; its bounding sphere
-        // (own frame) bounds how far its points move.
-        let (rel, mesh, world) = match (&ca.shape, &cb.shape) {
-            (Shape::Mesh(_) | Shape::HalfSpace(_), Shape::Mesh(_)) => {
-                (wpa.inverse().mul_pose(wpb), &cb.shape, wpb)
-            }
-            (Shape::Mesh(_), Shape::HalfSpace(_)) => (wpb.inverse().mul_pose(wpa), &ca.shape, wpa),
+        // One side's collider pose in the other's frame; the smaller
+        // bounding sphere (own frame) of the two bounds how far its points
+        // move against the other. A half-space has none: the mesh moves.
+        let sphere = |shape: &Shape| {
+            let bounds = shape.aabb(&Pose::IDENTITY);
+            (
+                (bounds.min + bounds.max) * 0.5,
+                (bounds.max - bounds.min).length() * 0.5,
+            )
+        };
+        let a_moves = match (&ca.shape, &cb.shape) {
+            (Shape::Mesh(_), Shape::Mesh(_)) => sphere(&ca.shape).1 < sphere(&cb.shape).1,
+            (Shape::Mesh(_), Shape::HalfSpace(_)) => true,
+            (Shape::HalfSpace(_), Shape::Mesh(_)) => false,
             _ => return None,
         };
-        let bounds = mesh.aabb(&Pose::IDENTITY);
-        let (center, radius) = (
-            (bounds.min + bounds.max) * 0.5,
-            (bounds.max - bounds.min).length() * 0.5,
-        );
+        let (rel, (center, radius), world) = if a_moves {
+            (wpb.inverse().mul_pose(wpa), sphere(&ca.shape), wpa)
+        } else {
+            (wpa.inverse().mul_pose(wpb), sphere(&cb.shape), wpb)
+        };
+        // B's motion against A's is A's against B's, the same reach.
         let ahead = struck
             + if is_mesh(ca) && is_mesh(cb) {
                 drift.reach(world.transform_point(center), radius)
             } else {
                 motion
             };
+        // At most half the contact margin: a pair apart at its search
+        // (nothing kept) must not come into contact unseen.
+        let limit = self
+            .settings
+            .resting_motion
+            .min(0.5 * self.settings.contact_margin);
         let then = manifold::searched_at(&self.searches, key).copied();
-        let held = then
-            .filter(|then| moved_since(then, &rel, center, radius) + ahead <= self.settings.resting_motion);
+        let held = then.filter(|then| moved_since(then, &rel, center, radius) + ahead <= limit);
         out.searches.push(SearchedPair {
             key,
             rel: held.unwrap_or(rel),

@@ -257,11 +257,10 @@ impl World {
                 // rests on the motion measured since the search.
                 let struck = 2.0 * (stirred[a as usize] + stirred[b as usize]) * dt * LOOK_AHEAD_STEPS;
                 let resting = self.resting_pair(key, (ca, &wpa), (cb, &wpb), (&drift, motion, struck), out);
-                let found = if let Some(then) = resting {
+                let found = if let Some(reach) = resting {
                     // Barely moved since the last search: last step's kept
                     // points, re-evaluated where the bodies are now.
                     let cached = manifold::points_of(&self.cache, key, &mut scratch.feature_cursor);
-                    let reach = then.ahead;
                     let m = if is_mesh(ca) && is_mesh(cb) {
                         mesh_margin + reach
                     } else {
@@ -349,11 +348,6 @@ fn is_mesh(c: &Collider) -> bool {
     matches!(c.shape, Shape::Mesh(_))
 }
 
-/// A resting pair's look-ahead: how far its mesh side can move within it (m).
-struct Resting {
-    ahead: f64,
-}
-
 impl World {
     /// Whether collider pair `key` (a triangle mesh against a mesh or a
     /// half-space) has moved, together with its look-ahead (`drift` for two
@@ -362,7 +356,8 @@ impl World {
     /// `WorldSettings::resting_motion` (at most half the contact margin)
     /// since its contacts were last searched for; records in `out` where
     /// that search was (kept) or that this step searches (the poses now).
-    /// Other shape pairs are always searched and not recorded.
+    /// Other shape pairs are always searched and not recorded. Gives the
+    /// look-ahead's reach (m) of a pair that rests.
     fn resting_pair(
         &self,
         key: MeshPairKey,
@@ -370,7 +365,7 @@ impl World {
         (cb, wpb): (&Collider, &Pose),
         (drift, motion, struck): (&Drift, f64, f64),
         out: &mut ChunkContacts,
-    ) -> Option<Resting> {
+    ) -> Option<f64> {
         // One side's collider pose in the other's frame; the smaller
         // bounding sphere (own frame) of the two bounds how far its points
         // move against the other. A half-space has none: the mesh moves.
@@ -411,6 +406,6 @@ impl World {
             key,
             rel: held.unwrap_or(rel),
         });
-        held.map(|_| Resting { ahead })
+        held.map(|_| ahead)
     }
 }

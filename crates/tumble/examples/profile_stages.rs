@@ -3,7 +3,9 @@
 //! (scenes: pyramid, large_pyramid, pile100, pile1000, pile10000, chain, heavy_chain,
 //! ragdoll_pile, concave_pile[N]); also
 //! prints how far the last body moved and the deepest penetration seen
-//! (with `TRACE_DEPTH=1` in the environment, also the deepest of every 25 steps).
+//! (with `TRACE_DEPTH=N` in the environment, also the deepest of every N steps;
+//! with `JITTER=seed`, every body after the first starts up to 2 cm and 0.1 rad
+//! from its place, an independent sample of a chaotic scene for each seed).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 
@@ -29,6 +31,26 @@ fn main() {
         }
         other => panic!("unknown scene {other}"),
     };
+    if let Some(seed) = std::env::var("JITTER").ok().and_then(|s| s.parse::<u64>().ok()) {
+        // A small LCG (Knuth's MMIX constants): uniform in [-1, 1).
+        let mut state = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        };
+        for body in scene.bodies.iter_mut().skip(1) {
+            let shift = tumble_collide::DVec3::new(next(), next(), next()) * 0.02;
+            let turn = tumble_collide::DQuat::from_scaled_axis(
+                tumble_collide::DVec3::new(next(), next(), next()) * 0.1,
+            );
+            body.pose.position += shift;
+            body.pose.rotation = (turn * body.pose.rotation).normalize();
+        }
+    }
     scene.settings.sleeping = false;
     scene.settings.threads = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     if let Some(n) = args.get(4).and_then(|s| s.parse().ok()) {
@@ -52,14 +74,17 @@ fn main() {
     let mut swept_back = 0;
     // Mesh pairs re-evaluated and recalled over the last third.
     let mut late_pairs = (0usize, 0usize);
-    let trace = std::env::var("TRACE_DEPTH").is_ok();
+    let trace: usize = std::env::var("TRACE_DEPTH")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
     let mut window = 0.0f64;
     for step in 0..steps {
         let r = world.step();
         deepest = deepest.max(r.max_penetration);
         window = window.max(r.max_penetration);
-        if trace && (step + 1) % 25 == 0 {
-            eprintln!("steps {}..{}: deepest {window:.4} m", step - 24, step + 1);
+        if trace > 0 && (step + 1) % trace == 0 {
+            eprintln!("steps {}..{}: deepest {window:.4} m", step + 1 - trace, step + 1);
             window = 0.0;
         }
         swept_back += r.continuous;

@@ -6,15 +6,15 @@
 //! gets the points it kept, at their exact current distances, for the cost
 //! of a few triangle tests instead of every triangle pair near the contact.
 //!
-//! A named triangle pair goes through the same arithmetic as in the tree
-//! walk (`contact_mesh_mesh_moving`: A's triangle as stored, B's vertices
-//! moved into A's frame, the triangle test, then the common finish), so at
-//! the same margin it gives the contacts a search would give for that pair
-//! (a vertex or edge shared with another named pair may come out named
-//! through the other triangle, to round-off).
+//! A named triangle pair goes through the same arithmetic as a resting
+//! pair's search (`mesh_pair_memory`: A's triangle as stored, B's vertices
+//! moved into A's frame, the triangle test on the features each triangle
+//! owns, then the common finish), so at the same margin it gives the
+//! contacts a search would give for that pair, named the same way (a
+//! shared vertex or edge through its owner).
 
 use super::contact_halfspace::push_vertex_on_plane;
-use super::contact_mesh::{finish_mesh_mesh, VERTEX_CACHE};
+use super::contact_mesh::{finish_mesh_mesh, owned_pair_contacts, VERTEX_CACHE};
 use super::dispatch::{check_margin_and_drift, refuse_non_finite};
 use super::NarrowError;
 use crate::contact::{Contact, Feature, SubFeature};
@@ -22,7 +22,6 @@ use crate::drift::Drift;
 use crate::math::DMat3;
 use crate::pose::Pose;
 use crate::shape::{HalfSpace, MeshShape, Shape};
-use crate::triangle::triangle_contacts_unchecked;
 
 /// The contacts within `margin` of the triangle pairs (two meshes) or mesh
 /// vertices (a mesh and a half-space) that `features` name, `(feature of A,
@@ -84,17 +83,13 @@ fn triangle_pairs(
     let start = out.len();
     let rel = pose_a.inverse().mul_pose(pose_b);
     let rot = DMat3::from_quat(rel.rotation);
-    let (tris_a, tris_b) = (a.mesh().triangles(), b.mesh().triangles());
+    let (count_a, count_b) = (a.mesh().triangles().len(), b.mesh().triangles().len());
     VERTEX_CACHE.with_borrow_mut(|cache| {
         cache.begin(b.mesh().vertices().len());
         for &(ta, tb) in pairs {
-            let (Some(corners_a), Some(corners_b)) = (tris_a.get(ta as usize), tris_b.get(tb as usize))
-            else {
-                continue;
-            };
-            let wa = corners_a.map(|v| a.mesh().vertices()[v as usize]);
-            let wb = corners_b.map(|v| cache.get(v, &rot, rel.position, b.mesh().vertices()));
-            triangle_contacts_unchecked(&wa, ta, &wb, tb, margin, out);
+            if (ta as usize) < count_a && (tb as usize) < count_b {
+                owned_pair_contacts(a, b, (&rot, rel.position), cache, ta, tb, margin, out);
+            }
         }
     });
     finish_mesh_mesh(out, start, a, pose_a, b, pose_b);

@@ -18,7 +18,8 @@ use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
 use crate::triangle::{
-    closest_point_on_triangle, merge_contacts, triangle_contacts, triangle_contacts_unchecked, MergeParams,
+    closest_point_on_triangle, face_unit, merge_contacts, triangle_contacts, triangle_contacts_owned,
+    triangle_contacts_unchecked, MergeParams, Owned, Side,
 };
 use std::cell::RefCell;
 
@@ -125,6 +126,44 @@ impl VertexCache {
     }
 }
 
+/// Triangle `ta` of mesh A (as stored) against triangle `tb` of mesh B
+/// (moved into A's frame by `rot` and `trans` through `cache`): the contacts
+/// of the corners and edges each owns (`triangle::tri_contact`, "Shared
+/// features, once"), within `margin`. The resting narrow phase's triangle
+/// test: a walk's list and a re-evaluation of named pairs both go through
+/// it, so they agree to the bit.
+// The mesh pair and B's placement, then the pair and the test's own three.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn owned_pair_contacts(
+    a: &MeshShape,
+    b: &MeshShape,
+    (rot, trans): (&DMat3, DVec3),
+    cache: &mut VertexCache,
+    ta: u32,
+    tb: u32,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let (va, vb) = (a.mesh().vertices(), b.mesh().vertices());
+    let (tris_a, tris_b) = (a.mesh().triangles(), b.mesh().triangles());
+    let wa = tris_a[ta as usize].map(|v| va[v as usize]);
+    let wb = tris_b[tb as usize].map(|v| cache.get(v, rot, trans, vb));
+    let mut across = |side: Side, k: usize| match side {
+        Side::A => a
+            .across(ta, k)
+            .map(|t| face_unit(&tris_a[t as usize].map(|v| va[v as usize])).unwrap_or(DVec3::ZERO)),
+        Side::B => b.across(tb, k).map(|t| {
+            face_unit(&tris_b[t as usize].map(|v| cache.get(v, rot, trans, vb))).unwrap_or(DVec3::ZERO)
+        }),
+    };
+    let mut owned = Owned {
+        a: a.owned_features(ta),
+        b: b.owned_features(tb),
+        across: &mut across,
+    };
+    triangle_contacts_owned(&wa, ta, &wb, tb, margin, &mut owned, out);
+}
+
 thread_local! {
     pub(super) static VERTEX_CACHE: RefCell<VertexCache> = const {
         RefCell::new(VertexCache { points: Vec::new(), stamp: Vec::new(), generation: 0 })
@@ -196,7 +235,8 @@ pub fn contact_mesh_mesh_moving(
 
 /// The end of every mesh-mesh contact query: the contacts appended since
 /// `start` (A's frame) moved to the world, the ghosts of internal features
-/// dropped and the duplicates of shared features merged.
+/// dropped, the duplicates of shared features merged and the survivors
+/// named through the features' owners.
 pub(super) fn finish_mesh_mesh(
     out: &mut Vec<Contact>,
     start: usize,
@@ -211,6 +251,17 @@ pub(super) fn finish_mesh_mesh(
     }
     drop_internal_contacts(out, start, Some((a, pose_a)), Some((b, pose_b)));
     merge(out, start, a.mesh().triangles(), b.mesh().triangles());
+    // A vertex or edge contact is named through the feature's owner, so
+    // that every search and re-evaluation calls it the same (warm starts
+    // and kept points match by name). A push-out contact belongs to its
+    // intersecting triangle pair and keeps that pair's names.
+    for c in out[start..]
+        .iter_mut()
+        .filter(|c| c.kind != ContactKind::Penetrating)
+    {
+        c.feature_a = a.owner_name(c.feature_a);
+        c.feature_b = b.owner_name(c.feature_b);
+    }
 }
 
 /// Mesh A against half-space B: every mesh vertex within `margin` of the

@@ -24,16 +24,16 @@
 //! what keeps a step independent of the memory's history (thread counts,
 //! snapshots, sleeping).
 
-use super::contact_mesh::{finish_mesh_mesh, VertexCache, VERTEX_CACHE};
+use super::contact_mesh::{finish_mesh_mesh, owned_pair_contacts, VertexCache, VERTEX_CACHE};
 use super::dispatch::{check_margin_and_drift, refuse_non_finite};
 use super::NarrowError;
-use crate::bvh::{self, Node, ObbTree, Traverse};
+use crate::bvh::{self, ObbTree, Traverse};
 use crate::contact::Contact;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::pose::Pose;
 use crate::shape::MeshShape;
-use crate::triangle::{triangle_contacts_unchecked, triangle_distance};
+use crate::triangle::triangle_distance;
 use std::sync::Arc;
 
 /// A pair qualifies while no point of B can move farther than this (m)
@@ -98,9 +98,11 @@ pub enum Recall {
 /// walk along the drift as `contact_mesh_mesh_moving` does.
 ///
 /// The contacts of a remembered pair are those of every triangle pair of the
-/// two meshes under the triangle test with `margin` plus the reach of its B
-/// leaf's motion, whatever the memory: a memory changes the cost, never the
-/// answer (module docs). A margin that is not finite and `>= 0` is
+/// two meshes under the triangle test with `margin` plus the largest reach
+/// of any of B's leaves over the drift, each shared vertex and edge tested
+/// through the triangle that owns it (`triangle::tri_contact`, "Shared
+/// features, once"), whatever the memory: a memory changes the cost, never
+/// the answer (module docs). A margin that is not finite and `>= 0` is
 /// [`NarrowError::BadMargin`], a drift that is not finite
 /// [`NarrowError::BadDrift`], and contacts whose arithmetic overflowed
 /// [`NarrowError::NotFinite`]; nothing is appended then.
@@ -146,17 +148,6 @@ pub fn contact_mesh_mesh_recalled(
                 && Arc::ptr_eq(&m.trees.1, tree_b)
                 && margin + reach_max + moved_since(&m.rel, &rel, root_b, tree_b.leaf_reach()) <= m.reach
         });
-        // How far any point of B's leaf `y` can move over the drift (m).
-        let leaf_moves = |y: &Node| {
-            if drift.is_none() {
-                0.0
-            } else {
-                local_drift.reach(
-                    rot * y.center_f64() + rel.position,
-                    DVec3::from(y.half_f64()).length(),
-                )
-            }
-        };
         let recall = VERTEX_CACHE.with_borrow_mut(|cache| {
             cache.begin(b.mesh().vertices().len());
             let mut placer = Placer {
@@ -175,7 +166,7 @@ pub fn contact_mesh_mesh_recalled(
                         margin,
                         reach_max,
                     };
-                    listed.contacts(&mut placer, &leaf_moves, out);
+                    listed.contacts(&mut placer, out);
                     Recall::Reused
                 }
                 None => {
@@ -192,7 +183,7 @@ pub fn contact_mesh_mesh_recalled(
                         margin,
                         reach_max,
                     };
-                    listed.contacts(&mut placer, &leaf_moves, out);
+                    listed.contacts(&mut placer, out);
                     Recall::Found(memory)
                 }
             }
@@ -215,6 +206,7 @@ struct Placer<'a> {
 }
 
 impl Placer<'_> {
+    /// The triangles of the pair `(ta, tb)`.
     #[inline]
     fn place(&mut self, ta: u32, tb: u32) -> ([DVec3; 3], [DVec3; 3]) {
         let [i, j, k] = self.a.mesh().triangles()[ta as usize];
@@ -275,31 +267,37 @@ struct Listed<'m> {
 }
 
 impl Listed<'_> {
-    /// The triangle test on every listed pair that the motion since the
-    /// walk could have brought within its margin, in the list's order.
-    fn contacts(&self, placer: &mut Placer, leaf_moves: &dyn Fn(&Node) -> f64, out: &mut Vec<Contact>) {
+    /// The triangle test on the features each triangle owns, for every
+    /// listed pair that the motion since the walk could have brought within
+    /// the margin and the look-ahead, in the list's order. One margin for
+    /// the whole mesh pair (the margin plus the largest look-ahead of any
+    /// leaf of B, at most [`RECALL_MAX_REACH`]): a shared vertex or edge is
+    /// reported by its owner's pairs alone, so its margin must not depend
+    /// on which of its triangles' leaves the owner sits in.
+    fn contacts(&self, placer: &mut Placer, out: &mut Vec<Contact>) {
         let (tree_a, tree_b) = (placer.a.tree(), placer.b.tree());
         let (na, nb) = (tree_a.nodes(), tree_b.nodes());
+        let reach = self.margin + self.reach_max;
         let gaps = &self.memory.gaps;
         let mut k = 0;
         for &(x, y) in &self.memory.leaf_pairs {
             let (x, y) = (&na[x as usize], &nb[y as usize]);
-            // Each pair is measured first against the largest reach of any
-            // leaf, then against its own leaf's (computed once, if needed).
-            let mut moves = None;
             for &ta in tree_a.leaf_triangles(x) {
                 for &tb in tree_b.leaf_triangles(y) {
                     let gap = gaps[k] - self.moved - ROUND_OFF;
                     k += 1;
-                    if gap > self.margin + self.reach_max {
-                        continue;
+                    if gap <= reach {
+                        owned_pair_contacts(
+                            placer.a,
+                            placer.b,
+                            (placer.rot, placer.trans),
+                            placer.cache,
+                            ta,
+                            tb,
+                            reach,
+                            out,
+                        );
                     }
-                    let moves = *moves.get_or_insert_with(|| leaf_moves(y));
-                    if gap > self.margin + moves {
-                        continue;
-                    }
-                    let (wa, wb) = placer.place(ta, tb);
-                    triangle_contacts_unchecked(&wa, ta, &wb, tb, self.margin + moves, out);
                 }
             }
         }
@@ -409,8 +407,11 @@ mod tests {
     }
 
     /// Runs the poses with the memory carried from step to step, and
-    /// checks every step against no memory at all (and, without drift,
-    /// against the plain walk): the same contacts, bit for bit.
+    /// checks every step against no memory at all (the same contacts, bit
+    /// for bit) and, without drift, against the plain walk, which tests
+    /// every feature of every pair where the memory's list tests each
+    /// shared vertex and edge through its owner (the same contacts, in
+    /// another order, to round-off).
     fn carried_equals_fresh(drift: impl Fn(usize) -> Drift) -> (usize, usize) {
         let (a, b) = (torus(), ball());
         let pose_a = Pose::new(DVec3::new(0.01, -0.02, 0.0), DQuat::from_rotation_z(0.3)).unwrap();
@@ -450,7 +451,9 @@ mod tests {
             if drift.is_none() {
                 let mut walked = Vec::new();
                 contact_mesh_mesh(&a, &pose_a, &b, pose_b, margin, &mut walked);
-                assert_eq!(bits(&carried), bits(&walked), "step {k}: the plain walk differs");
+                if let Err(why) = crate::narrow::tests_mesh::same_contacts(&carried, &walked) {
+                    panic!("step {k}: the plain walk differs: {why}");
+                }
             }
         }
         // The comparison means something: the ball stays in contact.
@@ -459,7 +462,7 @@ mod tests {
     }
 
     #[test]
-    fn a_remembered_walk_gives_the_plain_walks_contacts_bit_for_bit_until_it_runs_out() {
+    fn a_remembered_walk_gives_a_fresh_walks_contacts_bit_for_bit_until_it_runs_out() {
         let (reused, found) = carried_equals_fresh(|_| Drift::NONE);
         // The list served most steps, and was found again when the ball had
         // wandered farther than the slack.

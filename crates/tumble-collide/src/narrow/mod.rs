@@ -41,7 +41,7 @@ mod oracle;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod tests_mesh;
+pub(crate) mod tests_mesh;
 
 pub use contact_capsule_capsule::contact_capsule_capsule;
 pub use contact_capsule_mesh::contact_capsule_mesh;

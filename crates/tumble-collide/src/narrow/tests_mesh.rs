@@ -499,10 +499,12 @@ fn a_flipped_face_is_a_crease_not_a_loop() {
 }
 
 /// Re-evaluating the features of a search's contacts at the same poses
-/// gives those contacts again (the same triangle test on the same
-/// coordinates; a shared vertex or edge may be named through another of
-/// its triangles, to round-off), for two meshes touching at random poses and for a
-/// mesh over a plane, in either order; other shape pairs are not
+/// gives those contacts again, vertex and edge contacts with the same names
+/// (the same triangle test
+/// on the same coordinates, to round-off: the search tests every feature of
+/// every pair and the re-evaluation each shared one through its owner, so
+/// an edge may run the other way), for two meshes touching at random poses
+/// and for a mesh over a plane, in either order; other shape pairs are not
 /// re-evaluated, and a bad margin is refused.
 #[test]
 fn contacts_re_evaluated_at_their_features_are_the_contacts_found() {
@@ -540,13 +542,12 @@ fn contacts_re_evaluated_at_their_features_are_the_contacts_found() {
         let features = found.iter().map(|c| (c.feature_a, c.feature_b));
         let mut again = Vec::new();
         assert!(contact_at_features(a, &pa, b, &pb, margin, features, &mut again).unwrap());
-        // The same points; a vertex or edge shared by several triangles
-        // may be named through another of them (merging keeps the first
-        // duplicate, and the order of the triangle pairs differs).
-        // Through another triangle an edge runs the other way, which can
-        // change the last bit of its closest points.
+        // A push-out contact keeps the names of whichever intersecting
+        // pair came first (the walk's order and the re-evaluation's differ).
         let same = |c: &Contact, d: &Contact| {
             c.kind == d.kind
+                && (c.kind == ContactKind::Penetrating
+                    || (c.feature_a, c.feature_b) == (d.feature_a, d.feature_b))
                 && (c.point - d.point).length() <= 1e-12
                 && (c.normal - d.normal).length() <= 1e-12
                 && (c.distance - d.distance).abs() <= 1e-12
@@ -585,4 +586,119 @@ fn contacts_re_evaluated_at_their_features_are_the_contacts_found() {
     )
     .is_err());
     assert!(out.is_empty());
+}
+
+/// `x` and `y` hold the same contacts, in any order, to round-off: the same
+/// kinds and features, points and distances within 1e-12 m, normals within
+/// 1e-12.
+pub(super) fn same_contacts(x: &[Contact], y: &[Contact]) -> Result<(), String> {
+    if x.len() != y.len() {
+        return Err(format!("{} contacts against {}", x.len(), y.len()));
+    }
+    match x.iter().find(|c| !y.iter().any(|d| twins(c, d))) {
+        Some(c) => Err(format!("no twin of {c:?}")),
+        None => Ok(()),
+    }
+}
+
+fn twins(c: &Contact, d: &Contact) -> bool {
+    d.kind == c.kind
+        && d.feature_a == c.feature_a
+        && d.feature_b == c.feature_b
+        && (d.point - c.point).length() <= 1e-12
+        && (d.distance - c.distance).abs() <= 1e-12
+        && (d.normal - c.normal).length() <= 1e-12
+}
+
+/// Testing each shared vertex and edge once, through the triangle that owns
+/// it (the resting search's list, `contact_mesh_mesh_recalled`), gives the
+/// contacts of testing every feature of every triangle pair (the plain
+/// walk): for a torus against a ball and against another torus, linked or
+/// side by side, at random poses near contact. Where triangles intersect,
+/// the owner also reports its vertices and edges beside the push-out
+/// contacts, which its neighbours may not have: every contact of the plain
+/// walk is still there, and what is added is a vertex/face or edge/edge
+/// contact within the margin.
+#[test]
+fn shared_features_tested_once_give_every_pairs_contacts() {
+    use crate::drift::Drift;
+    use crate::mesh::torus_mesh;
+    use tumble_testkit::{RandomSource, SplitMix64};
+    let torus = MeshShape::new(torus_mesh(0.3, 0.1, 32, 16).unwrap()).unwrap();
+    let ball = MeshShape::new(icosphere_mesh(0.15, 2).unwrap()).unwrap();
+    let mut rng = SplitMix64(5);
+    let margin = 0.004;
+    let (mut separated, mut intersecting, mut added) = (0, 0, 0);
+    for case in 0..90 {
+        let turn = DQuat::from_scaled_axis(DVec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+        ));
+        let pose_a = Pose::new(DVec3::new(0.01, -0.02, 0.1), DQuat::from_rotation_z(0.3)).unwrap();
+        let gap = rng.range(-0.004, 0.004);
+        let small = DQuat::from_scaled_axis(turn.to_scaled_axis() * 0.03);
+        let (b, pose_b) = match case % 3 {
+            // The ball on the tube.
+            0 => (
+                &ball,
+                Pose::new(pose_a.transform_point(DVec3::new(0.3, 0.0, 0.25 + gap)), turn),
+            ),
+            // A second torus linked through the first, its tube touching the
+            // inside of the first's.
+            1 => (
+                &torus,
+                Pose::new(
+                    pose_a.transform_point(DVec3::new(0.4 + gap, 0.0, 0.0)),
+                    pose_a.rotation * small * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2),
+                ),
+            ),
+            // A second torus beside the first, tubes touching.
+            _ => (
+                &torus,
+                Pose::new(
+                    pose_a.transform_point(DVec3::new(0.8 + gap, 0.0, 0.0)),
+                    pose_a.rotation * small,
+                ),
+            ),
+        };
+        let pose_b = pose_b.unwrap();
+        let mut every = Vec::new();
+        contact_mesh_mesh(&torus, &pose_a, b, &pose_b, margin, &mut every);
+        let mut owned = Vec::new();
+        contact_mesh_mesh_recalled(
+            &torus,
+            &pose_a,
+            b,
+            &pose_b,
+            margin,
+            &Drift::NONE,
+            None,
+            &mut owned,
+        )
+        .unwrap();
+        if every.iter().all(|c| c.kind != ContactKind::Penetrating) {
+            if let Err(why) = same_contacts(&owned, &every) {
+                panic!("case {case}: {why}");
+            }
+            separated += usize::from(!every.is_empty());
+        } else {
+            intersecting += 1;
+            for c in &every {
+                assert!(owned.iter().any(|d| twins(c, d)), "case {case}: {c:?} missing");
+            }
+            for d in owned.iter().filter(|d| !every.iter().any(|c| twins(c, d))) {
+                added += 1;
+                assert!(
+                    d.kind != ContactKind::Penetrating && (0.0..=margin).contains(&d.distance),
+                    "case {case}: {d:?} added"
+                );
+            }
+        }
+    }
+    // Both kinds of case were met, with contacts to compare.
+    assert!(
+        separated >= 30 && intersecting >= 30,
+        "{separated} separated, {intersecting} intersecting ({added} added)"
+    );
 }

@@ -6,6 +6,7 @@
 
 use super::{Aabb, ShapeError, SmoothSurface};
 use crate::bvh::ObbTree;
+use crate::contact::{Feature, SubFeature};
 use crate::math::DVec3;
 use crate::mesh::topology::NO_NEIGHBOR;
 use crate::mesh::{Topology, TriMesh};
@@ -30,6 +31,14 @@ pub struct MeshShape {
     /// that uses it, `t << 2 | k` (`u32::MAX` for a vertex no triangle
     /// uses): the one name a vertex contact gets, step after step.
     first_corner: Arc<Vec<u32>>,
+    /// Bit `k` of entry `t`: triangle `t` owns its corner `k` (the vertex's
+    /// first corner); bit `3 + k`: it owns its edge `k` (no triangle across
+    /// it, or one with a larger index). Every vertex and edge has one owner,
+    /// which alone reports its contacts in the resting narrow phase
+    /// (`triangle::tri_contact`, "Shared features, once").
+    owned: Arc<Vec<u8>>,
+    /// The triangle across each edge (`Topology::neighbors`).
+    neighbors: Arc<Vec<[u32; 3]>>,
     /// The smooth surface spheres and capsules touch, if asked for.
     smooth: Option<Arc<SmoothSurface>>,
     lo: DVec3,
@@ -90,11 +99,29 @@ impl MeshShape {
                 }
             }
         }
+        let owned = (0..mesh.triangles().len())
+            .map(|t| {
+                let mut bits = 0u8;
+                for k in 0..3 {
+                    let v = mesh.triangles()[t][k];
+                    if first_corner[v as usize] == (t as u32) << 2 | k as u32 {
+                        bits |= 1 << k;
+                    }
+                    let across = topology.neighbors[t][k];
+                    if across == NO_NEIGHBOR || (t as u32) < across {
+                        bits |= 1 << (3 + k);
+                    }
+                }
+                bits
+            })
+            .collect();
         Ok(MeshShape {
             mesh: Arc::new(mesh),
             tree: Arc::new(tree),
             flat: Arc::new(flat),
             first_corner: Arc::new(first_corner),
+            owned: Arc::new(owned),
+            neighbors: Arc::new(topology.neighbors),
             smooth: None,
             lo,
             hi,
@@ -156,6 +183,51 @@ impl MeshShape {
         (code != u32::MAX).then_some((code >> 2, (code & 3) as u8))
     }
 
+    /// The corners (bits 0-2) and edges (bits 3-5) that triangle `t` owns
+    /// (see the field).
+    #[inline]
+    pub(crate) fn owned_features(&self, t: u32) -> u8 {
+        self.owned[t as usize]
+    }
+
+    /// The triangle across edge `k` of triangle `t`, if there is one (none
+    /// at a boundary or non-manifold edge).
+    #[inline]
+    pub(crate) fn across(&self, t: u32, k: usize) -> Option<u32> {
+        let n = self.neighbors[t as usize][k];
+        (n != NO_NEIGHBOR).then_some(n)
+    }
+
+    /// The name of feature `f` through its owner: a corner through the
+    /// vertex's first corner, an edge through the triangle that owns it
+    /// (faces and anything else unchanged). One name per vertex and edge,
+    /// whichever triangle pair found the contact.
+    pub fn owner_name(&self, f: Feature) -> Feature {
+        let tris = self.mesh.triangles();
+        let Some(tri) = tris.get(f.index as usize) else {
+            return f;
+        };
+        match f.sub {
+            SubFeature::Vertex(k) if k < 3 => self
+                .first_corner(tri[k as usize])
+                .map_or(f, |(t, k)| Feature::vertex(t, k)),
+            SubFeature::Edge(k) if k < 3 && self.owned[f.index as usize] & (1 << (3 + k)) == 0 => {
+                let (u, v) = (tri[k as usize], tri[(k as usize + 1) % 3]);
+                let Some(t) = self.across(f.index, k as usize) else {
+                    return f;
+                };
+                let other = tris[t as usize];
+                (0..3u8)
+                    .find(|&j| {
+                        let (p, q) = (other[j as usize], other[(j as usize + 1) % 3]);
+                        (p, q) == (v, u) || (p, q) == (u, v)
+                    })
+                    .map_or(f, |j| Feature::edge(t, j))
+            }
+            _ => f,
+        }
+    }
+
     /// `true` when both shapes were built from the same [`MeshShape::new`]
     /// call (clones share their mesh and tree) and have the same smooth
     /// surface, or none: world snapshots store such a mesh once.
@@ -185,6 +257,8 @@ impl MeshShape {
             + self.tree.memory_bytes()
             + self.flat.len()
             + self.first_corner.len() * std::mem::size_of::<u32>()
+            + self.owned.len()
+            + self.neighbors.len() * std::mem::size_of::<[u32; 3]>()
             + self.smooth.as_ref().map_or(0, |s| s.memory_bytes())
     }
 

@@ -31,6 +31,24 @@
 //! the face and projects inside it (up to 3 contacts, same normal). Face axes win ties against
 //! edge axes unless an edge axis is clearly shallower (by
 //! [`FACE_PREFERENCE`]), which keeps resting contacts on face normals.
+//!
+//! Shared features, once: a mesh vertex belongs to about six triangles and
+//! an edge to two, so testing every triangle pair near a contact reports a
+//! vertex/face contact about six times and an edge/edge contact up to four
+//! times (thesis 5.4), and the duplicates are merged afterwards. Given which
+//! corners and edges each triangle owns (`Owned`: every vertex and edge of
+//! a mesh has exactly one owner), `triangle_contacts_owned` reports each
+//! feature's contacts from its owner's pairs only. The answer after merging
+//! is the same: a vertex or edge within the margin of a face or edge is
+//! within it for every triangle that holds it, and where the copies of an
+//! edge/edge contact disagree on the outward test (each triangle judges by
+//! its own face normal) the owner asks the faces across its edges too, so
+//! it keeps the contact whenever some copy would have. Two differences:
+//! an owned feature's contacts are also reported from an intersecting pair
+//! (beside the push-out contacts: a vertex above a face is held above it
+//! whatever its triangle's other corners do), and each contact is computed
+//! once, so the survivor of a group of copies that differed in round-off
+//! (an edge's copies run it in both directions) may differ in the last bits.
 
 use super::tri_distance::closest_points_segments;
 use super::tri_tri_overlap::tri_tri_overlap;
@@ -165,6 +183,64 @@ pub(crate) fn triangle_contacts_unchecked(
     margin: f64,
     out: &mut Vec<Contact>,
 ) -> usize {
+    contacts_of_pair(a, id_a, b, id_b, margin, None, out)
+}
+
+/// Which of the two triangles of a pair a triangle mesh is made of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Side {
+    A,
+    B,
+}
+
+/// The corners and edges each triangle of a pair owns (module docs, "Shared
+/// features, once"), and the faces across its edges.
+pub(crate) struct Owned<'f> {
+    /// Bit `k` (0-2): A's triangle owns its corner `k`; bit `3 + k`: its edge `k`.
+    pub a: u8,
+    /// The same for B's triangle.
+    pub b: u8,
+    /// The unit normal (in the pair's common frame) of the triangle across
+    /// edge `k` of A's or B's triangle ([`face_unit`], zero for a triangle
+    /// with no area), `None` where no triangle is across. Asked only for an
+    /// edge/edge contact that its owners' own faces would drop.
+    pub across: &'f mut dyn FnMut(Side, usize) -> Option<DVec3>,
+}
+
+/// [`triangle_contacts_unchecked`] reporting only the corners and edges the
+/// two triangles own (module docs, "Shared features, once"); push-out
+/// contacts of an intersecting pair are reported by every pair, as before.
+#[inline]
+pub(crate) fn triangle_contacts_owned(
+    a: &[DVec3; 3],
+    id_a: u32,
+    b: &[DVec3; 3],
+    id_b: u32,
+    margin: f64,
+    owned: &mut Owned,
+    out: &mut Vec<Contact>,
+) -> usize {
+    contacts_of_pair(a, id_a, b, id_b, margin, Some(owned), out)
+}
+
+/// The unit normal of a triangle, if it has an area (as the contact test
+/// computes it, to the bit).
+#[inline]
+pub(crate) fn face_unit(t: &[DVec3; 3]) -> Option<DVec3> {
+    face(t).map(|f| f.unit)
+}
+
+/// Every feature of both triangles, or (`owned`) the ones they own.
+#[inline]
+fn contacts_of_pair(
+    a: &[DVec3; 3],
+    id_a: u32,
+    b: &[DVec3; 3],
+    id_b: u32,
+    margin: f64,
+    owned: Option<&mut Owned>,
+    out: &mut Vec<Contact>,
+) -> usize {
     let fa = face(a);
     let fb = face(b);
     // Early outs: a face plane that separates by more than the margin.
@@ -187,14 +263,21 @@ pub(crate) fn triangle_contacts_unchecked(
             (d[0] > tol && d[1] > tol && d[2] > tol) || (d[0] < -tol && d[1] < -tol && d[2] < -tol)
         })
     };
-    if !clear(da) && !clear(db) && tri_tri_overlap(a, b) {
-        return penetrating_contacts(a, id_a, fa, b, id_b, fb, out);
-    }
     let start = out.len();
+    if !clear(da) && !clear(db) && tri_tri_overlap(a, b) {
+        penetrating_contacts(a, id_a, fa, b, id_b, fb, out);
+        // Every pair reports all of its features, and some pair around an
+        // intersecting one reports them; an owner is the only one, so it
+        // reports them here too (module docs).
+        if owned.is_none() {
+            return out.len() - start;
+        }
+    }
+    let (own_a, own_b) = owned.as_ref().map_or((ALL, ALL), |o| (o.a, o.b));
     if let (Some(f), Some(d)) = (fb, da) {
         for k in 0..3 {
             let h = d[k];
-            if (0.0..=margin).contains(&h) && inside(a[k] - f.unit * h, b, f) {
+            if own_a & (1 << k) != 0 && (0.0..=margin).contains(&h) && inside(a[k] - f.unit * h, b, f) {
                 out.push(Contact {
                     point: a[k] - f.unit * (0.5 * h),
                     normal: f.unit,
@@ -212,7 +295,7 @@ pub(crate) fn triangle_contacts_unchecked(
     if let (Some(f), Some(d)) = (fa, db) {
         for k in 0..3 {
             let h = d[k];
-            if (0.0..=margin).contains(&h) && inside(b[k] - f.unit * h, a, f) {
+            if own_b & (1 << k) != 0 && (0.0..=margin).contains(&h) && inside(b[k] - f.unit * h, a, f) {
                 out.push(Contact {
                     point: b[k] - f.unit * (0.5 * h),
                     normal: -f.unit,
@@ -224,11 +307,15 @@ pub(crate) fn triangle_contacts_unchecked(
             }
         }
     }
-    edge_edge_contacts(a, id_a, fa, b, id_b, fb, margin, out);
+    edge_edge_contacts(a, id_a, fa, b, id_b, fb, margin, owned, out);
     out.len() - start
 }
 
-/// Edge/edge contacts of a non-intersecting pair.
+/// Every corner and edge (bits 0-2 and 3-5 of [`Owned`]).
+const ALL: u8 = 0x3f;
+
+/// Edge/edge contacts of a non-intersecting pair (of an intersecting one
+/// too for owned edges), of every edge or of the owned ones.
 #[inline]
 #[allow(clippy::too_many_arguments)]
 fn edge_edge_contacts(
@@ -239,14 +326,22 @@ fn edge_edge_contacts(
     id_b: u32,
     fb: Option<Face>,
     margin: f64,
+    mut owned: Option<&mut Owned>,
     out: &mut Vec<Contact>,
 ) {
     let margin2 = margin * margin;
     let interior = |s: f64| s > PARAM_EPS && s < 1.0 - PARAM_EPS;
+    let (edges_a, edges_b) = owned.as_ref().map_or((ALL, ALL), |o| (o.a >> 3, o.b >> 3));
     for i in 0..3 {
+        if edges_a & (1 << i) == 0 {
+            continue;
+        }
         let (p1, q1) = (a[i], a[(i + 1) % 3]);
         let ea = q1 - p1;
         for j in 0..3 {
+            if edges_b & (1 << j) == 0 {
+                continue;
+            }
             let (p2, q2) = (b[j], b[(j + 1) % 3]);
             let eb = q2 - p2;
             let c = ea.cross(eb);
@@ -298,7 +393,11 @@ fn edge_edge_contacts(
             // intersecting triangle pairs nearby carry that overlap with
             // outward push-out normals instead.
             let outward = fb.map_or(DVec3::ZERO, |f| f.unit) - fa.map_or(DVec3::ZERO, |f| f.unit);
-            if n.dot(outward) < 0.0 {
+            if n.dot(outward) < 0.0
+                && !owned
+                    .as_deref_mut()
+                    .is_some_and(|o| outward_across(o, n, i, j, fa, fb))
+            {
                 continue;
             }
             out.push(Contact {
@@ -311,6 +410,24 @@ fn edge_edge_contacts(
             });
         }
     }
+}
+
+/// `true` when some pair of faces at the two edges (each edge's own face
+/// or the one across it) passes the outward test that the owners' own
+/// faces failed: the test a copy of the contact from a neighbouring
+/// triangle pair would have made (module docs, "Shared features, once").
+#[cold]
+fn outward_across(o: &mut Owned, n: DVec3, i: usize, j: usize, fa: Option<Face>, fb: Option<Face>) -> bool {
+    // A face with no area counts as zero, as in the test itself.
+    let along = |f: Option<Face>| n.dot(f.map_or(DVec3::ZERO, |f| f.unit));
+    let (mut b_most, mut a_least) = (along(fb), along(fa));
+    if let Some(f) = (o.across)(Side::B, j) {
+        b_most = b_most.max(n.dot(f));
+    }
+    if let Some(f) = (o.across)(Side::A, i) {
+        a_least = a_least.min(n.dot(f));
+    }
+    b_most - a_least >= 0.0
 }
 
 /// The parameters `(s, t)` of the closest points of the lines `p1 + s d1`

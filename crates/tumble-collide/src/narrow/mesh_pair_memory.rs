@@ -9,10 +9,12 @@
 //! applied to triangle pairs: the walk collects the leaf pairs within the
 //! margin plus a slack `s`; later, while every point of B has moved (in A's
 //! frame) less than what is left of `s`, no triangle pair outside the list
-//! can have come within the margin. Each listed triangle pair also keeps its
-//! distance at the walk, and is skipped while that distance, less the
-//! motion since, stays beyond its margin: in a settled pile most listed
-//! pairs are, and the tests left are about those that give contacts.
+//! can have come within the margin. The list holds the triangle pairs of
+//! those leaf pairs that are within the walk's reach, each with its
+//! distance at the walk, and a pair is skipped while that distance, less
+//! the motion since, stays beyond the margin: in a settled pile most listed
+//! pairs are, and the tests left are about those that give contacts (each
+//! shared vertex and edge tested once, through its owner).
 //!
 //! Both the skips and the list are exact in the sense that matters: a
 //! skipped or unlisted pair provably gives no contact, and the listed pairs
@@ -64,18 +66,18 @@ pub struct MeshPairMemory {
     /// The margin the walk used (m): the step's margin plus B's look-ahead
     /// reach plus [`RECALL_SLACK`].
     reach: f64,
-    /// Leaf pairs `(node of A, node of B)` within `reach`, in walk order.
-    leaf_pairs: Vec<(u32, u32)>,
-    /// For each triangle pair of `leaf_pairs` (in order, A's triangles
-    /// outer), its distance at the walk or a lower bound of it beyond
-    /// `reach` (m).
-    gaps: Vec<f64>,
+    /// The triangle pairs `(A's, B's)` of the leaf pairs within `reach`, in
+    /// walk order (A's triangles outer within a leaf pair), with their
+    /// distance at the walk (m): only those within `reach` (and round-off),
+    /// since the list is given up before B has moved far enough to bring a
+    /// farther one within the margin.
+    pairs: Vec<(u32, u32, f64)>,
 }
 
 impl MeshPairMemory {
-    /// How many leaf pairs the list holds.
-    pub fn leaf_pairs(&self) -> usize {
-        self.leaf_pairs.len()
+    /// How many triangle pairs the list holds.
+    pub fn triangle_pairs(&self) -> usize {
+        self.pairs.len()
     }
 }
 
@@ -228,21 +230,28 @@ fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64
         Traverse::Continue
     });
     let (na, nb) = (tree_a.nodes(), tree_b.nodes());
-    let mut gaps = Vec::with_capacity(2 * leaf_pairs.len());
+    let mut pairs = Vec::new();
     for &(x, y) in &leaf_pairs {
         for &ta in tree_a.leaf_triangles(&na[x as usize]) {
             for &tb in tree_b.leaf_triangles(&nb[y as usize]) {
                 let (wa, wb) = placer.place(ta, tb);
-                // A pair the cheap bound puts beyond the list's reach is
-                // skipped for as long as the list is valid; the others get
-                // their exact distance, which skips about half of those a
-                // cheap bound keeps (a settled pile of concave bodies).
+                // A pair beyond the list's reach is never tested while the
+                // list is valid (`Listed::contacts` tests a pair once its
+                // distance less the motion since is within the margin and
+                // the look-ahead, and the list is given up before those
+                // and the motion add up to more than `reach`). The cheap
+                // bound drops most; the exact distance about half of the
+                // rest (a settled pile of concave bodies).
+                // (With the tests' round-off allowance, so that a list
+                // drops exactly the pairs it would never test.)
                 let cheap = gap_lower_bound(&wa, &wb);
-                gaps.push(if cheap > reach {
-                    cheap
-                } else {
-                    triangle_distance(&wa, &wb).distance.max(cheap)
-                });
+                if cheap > reach + ROUND_OFF {
+                    continue;
+                }
+                let gap = triangle_distance(&wa, &wb).distance.max(cheap);
+                if gap <= reach + ROUND_OFF {
+                    pairs.push((ta, tb, gap));
+                }
             }
         }
     }
@@ -250,8 +259,7 @@ fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64
         trees: (tree_a.clone(), tree_b.clone()),
         rel,
         reach,
-        leaf_pairs,
-        gaps,
+        pairs,
     }
 }
 
@@ -275,30 +283,19 @@ impl Listed<'_> {
     /// reported by its owner's pairs alone, so its margin must not depend
     /// on which of its triangles' leaves the owner sits in.
     fn contacts(&self, placer: &mut Placer, out: &mut Vec<Contact>) {
-        let (tree_a, tree_b) = (placer.a.tree(), placer.b.tree());
-        let (na, nb) = (tree_a.nodes(), tree_b.nodes());
         let reach = self.margin + self.reach_max;
-        let gaps = &self.memory.gaps;
-        let mut k = 0;
-        for &(x, y) in &self.memory.leaf_pairs {
-            let (x, y) = (&na[x as usize], &nb[y as usize]);
-            for &ta in tree_a.leaf_triangles(x) {
-                for &tb in tree_b.leaf_triangles(y) {
-                    let gap = gaps[k] - self.moved - ROUND_OFF;
-                    k += 1;
-                    if gap <= reach {
-                        owned_pair_contacts(
-                            placer.a,
-                            placer.b,
-                            (placer.rot, placer.trans),
-                            placer.cache,
-                            ta,
-                            tb,
-                            reach,
-                            out,
-                        );
-                    }
-                }
+        for &(ta, tb, gap) in &self.memory.pairs {
+            if gap - self.moved - ROUND_OFF <= reach {
+                owned_pair_contacts(
+                    placer.a,
+                    placer.b,
+                    (placer.rot, placer.trans),
+                    placer.cache,
+                    ta,
+                    tb,
+                    reach,
+                    out,
+                );
             }
         }
     }
@@ -505,7 +502,7 @@ mod tests {
         else {
             panic!("a first walk is found");
         };
-        assert!(m.leaf_pairs() > 0);
+        assert!(m.triangle_pairs() > 0);
         let mut again = Vec::new();
         let got = contact_mesh_mesh_recalled(
             &a,

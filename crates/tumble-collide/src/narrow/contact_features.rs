@@ -88,7 +88,7 @@ fn triangle_pairs(
         cache.begin(b.mesh().vertices().len());
         for &(ta, tb) in pairs {
             if (ta as usize) < count_a && (tb as usize) < count_b {
-                owned_pair_contacts(a, b, (&rot, rel.position), cache, ta, tb, margin, out);
+                owned_pair_contacts(a, b, (&rot, rel.position), cache, ta, tb, (margin, margin), out);
             }
         }
     });

@@ -141,7 +141,7 @@ pub(super) fn owned_pair_contacts(
     cache: &mut VertexCache,
     ta: u32,
     tb: u32,
-    margin: f64,
+    (margin, corner_margin): (f64, f64),
     out: &mut Vec<Contact>,
 ) {
     let (va, vb) = (a.mesh().vertices(), b.mesh().vertices());
@@ -159,6 +159,7 @@ pub(super) fn owned_pair_contacts(
     let mut owned = Owned {
         a: a.owned_features(ta),
         b: b.owned_features(tb),
+        corner_margin,
         across: &mut across,
     };
     triangle_contacts_owned(&wa, ta, &wb, tb, margin, &mut owned, out);

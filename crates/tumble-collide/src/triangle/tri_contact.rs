@@ -200,6 +200,12 @@ pub(crate) struct Owned<'f> {
     pub a: u8,
     /// The same for B's triangle.
     pub b: u8,
+    /// The margin (m, at most the test's) for A's corners against B's face:
+    /// every triangle that holds a corner meets the same face of B, so the
+    /// caller may give these contacts the margin of B's triangle alone,
+    /// where B's corners and edges, held by triangles of B that may have
+    /// other margins, take the pair's largest.
+    pub corner_margin: f64,
     /// The unit normal (in the pair's common frame) of the triangle across
     /// edge `k` of A's or B's triangle ([`face_unit`], zero for a triangle
     /// with no area), `None` where no triangle is across. Asked only for an
@@ -273,11 +279,14 @@ fn contacts_of_pair(
             return out.len() - start;
         }
     }
-    let (own_a, own_b) = owned.as_ref().map_or((ALL, ALL), |o| (o.a, o.b));
+    let (own_a, own_b, corner_margin) = owned
+        .as_ref()
+        .map_or((ALL, ALL, margin), |o| (o.a, o.b, o.corner_margin));
     if let (Some(f), Some(d)) = (fb, da) {
         for k in 0..3 {
             let h = d[k];
-            if own_a & (1 << k) != 0 && (0.0..=margin).contains(&h) && inside(a[k] - f.unit * h, b, f) {
+            if own_a & (1 << k) != 0 && (0.0..=corner_margin).contains(&h) && inside(a[k] - f.unit * h, b, f)
+            {
                 out.push(Contact {
                     point: a[k] - f.unit * (0.5 * h),
                     normal: f.unit,

@@ -236,8 +236,9 @@ impl Placer<'_> {
     }
 }
 
-/// A new list: the leaf pairs of the two trees within `reach` (no drift:
-/// the reach covers it) and each triangle pair's distance bound.
+/// A new list: the triangle pairs of the leaf pairs of the two trees within
+/// `reach` (no drift: the reach covers it) that are themselves within it,
+/// each with B's leaf and its distance.
 fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64) -> MeshPairMemory {
     let (tree_a, tree_b) = (placer.a.tree_arc(), placer.b.tree_arc());
     let mut leaf_pairs = Vec::new();

@@ -33,9 +33,12 @@ pub struct MeshShape {
     first_corner: Arc<Vec<u32>>,
     /// Bit `k` of entry `t`: triangle `t` owns its corner `k` (the vertex's
     /// first corner); bit `3 + k`: it owns its edge `k` (no triangle across
-    /// it, or one with a larger index). Every vertex and edge has one owner,
-    /// which alone reports its contacts in the resting narrow phase
-    /// (`triangle::tri_contact`, "Shared features, once").
+    /// it, or one with a larger index, or itself: a degenerate triangle's
+    /// edge can run back along it). Every vertex and every edge between two
+    /// triangles has one owner, which alone reports its contacts in the
+    /// resting narrow phase (`triangle::tri_contact`, "Shared features,
+    /// once"); a boundary or non-manifold edge is owned by each triangle at
+    /// it, and its copies are merged as before.
     owned: Arc<Vec<u8>>,
     /// The triangle across each edge (`Topology::neighbors`).
     neighbors: Arc<Vec<[u32; 3]>>,
@@ -108,7 +111,7 @@ impl MeshShape {
                         bits |= 1 << k;
                     }
                     let across = topology.neighbors[t][k];
-                    if across == NO_NEIGHBOR || (t as u32) < across {
+                    if across == NO_NEIGHBOR || (t as u32) <= across {
                         bits |= 1 << (3 + k);
                     }
                 }
@@ -200,8 +203,9 @@ impl MeshShape {
 
     /// The name of feature `f` through its owner: a corner through the
     /// vertex's first corner, an edge through the triangle that owns it
-    /// (faces and anything else unchanged). One name per vertex and edge,
-    /// whichever triangle pair found the contact.
+    /// (faces and anything else unchanged). One name per vertex and per
+    /// edge between two triangles, whichever triangle pair found the
+    /// contact (a non-manifold edge keeps the name it came with).
     pub fn owner_name(&self, f: Feature) -> Feature {
         let tris = self.mesh.triangles();
         let Some(tri) = tris.get(f.index as usize) else {

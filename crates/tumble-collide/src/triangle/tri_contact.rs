@@ -36,17 +36,23 @@
 //! an edge to two, so testing every triangle pair near a contact reports a
 //! vertex/face contact about six times and an edge/edge contact up to four
 //! times (thesis 5.4), and the duplicates are merged afterwards. Given which
-//! corners and edges each triangle owns (`Owned`: every vertex and edge of
-//! a mesh has exactly one owner), `triangle_contacts_owned` reports each
-//! feature's contacts from its owner's pairs only. The answer after merging
-//! is the same: a vertex or edge within the margin of a face or edge is
-//! within it for every triangle that holds it, and where the copies of an
+//! corners and edges each triangle owns (`Owned`: every vertex of a mesh,
+//! and every edge between two triangles, has exactly one owner),
+//! `triangle_contacts_owned` reports each feature's contacts from its
+//! owner's pairs only. The answer after merging holds every contact of the
+//! old one: a vertex or edge within the margin of a face or edge is within
+//! it for every triangle that holds it, and where the copies of an
 //! edge/edge contact disagree on the outward test (each triangle judges by
 //! its own face normal) the owner asks the faces across its edges too, so
-//! it keeps the contact whenever some copy would have. Two differences:
-//! an owned feature's contacts are also reported from an intersecting pair
-//! (beside the push-out contacts: a vertex above a face is held above it
-//! whatever its triangle's other corners do), and each contact is computed
+//! it keeps the contact whenever some copy would pass that test. What
+//! differs: an owned feature's contacts are also reported from an
+//! intersecting pair (beside the push-out contacts: a vertex above a face
+//! is held above it whatever its triangle's other corners do), and so is an
+//! edge/edge contact whose only passing copy was an intersecting pair's;
+//! the ghost filter of flat regions (`narrow::contact_mesh`) judges a flat
+//! vertex or edge by its owner's face alone, where the copies were judged
+//! by each of theirs (coplanar within 0.03 degrees, so only contacts in a
+//! hair-thin band of normals can differ); and each contact is computed
 //! once, so the survivor of a group of copies that differed in round-off
 //! (an edge's copies run it in both directions) may differ in the last bits.
 

@@ -380,7 +380,8 @@ fn gap_lower_bound(a: &[DVec3; 3], b: &[DVec3; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{icosphere_mesh, torus_mesh};
+    use crate::contact::ContactKind;
+    use crate::mesh::{box_mesh, grid_mesh, icosphere_mesh, torus_mesh};
     use crate::narrow::{contact_mesh_mesh, contact_mesh_mesh_moving};
     use tumble_testkit::{RandomSource, SplitMix64};
 
@@ -598,5 +599,54 @@ mod tests {
                 assert!(moved <= bound, "{moved} > {bound}");
             }
         }
+    }
+
+    /// A corner of A over a face of B takes the margin plus the look-ahead
+    /// of that face's own leaf, not the largest of B's: a sheet of fine
+    /// triangles (B) turns about one end, by 1.8 mm at the far end and a
+    /// tenth of a millimetre near the pivot, and a small box (A) holds a
+    /// corner 1 mm beyond the margin above it. Near the far end the corner
+    /// is a contact; near the pivot it is not (it would be with one margin
+    /// for the pair: checked).
+    #[test]
+    fn a_corner_over_a_face_takes_the_look_ahead_of_the_faces_leaf() {
+        let sheet = MeshShape::new(grid_mesh(0.5, 0.05, 50, 5).unwrap()).unwrap();
+        let cube = MeshShape::new(box_mesh(DVec3::splat(0.01)).unwrap()).unwrap();
+        // The cube's corner (-h, -h, -h) turned to point straight down.
+        let down = DQuat::from_rotation_arc(DVec3::splat(-1.0).normalize(), -DVec3::Z);
+        let lowest = 0.01 * 3f64.sqrt();
+        let margin = 0.004;
+        let drift = Drift {
+            origin: DVec3::new(-0.5, 0.0, 0.0),
+            translation: DVec3::ZERO,
+            rotation: DVec3::new(0.0, 0.0, 0.0018),
+        };
+        let corner_contact = |x: f64| {
+            let pose_a = Pose::new(DVec3::new(x, 0.0, lowest + margin + 0.001), down).unwrap();
+            let mut out = Vec::new();
+            let recall = contact_mesh_mesh_recalled(
+                &cube,
+                &pose_a,
+                &sheet,
+                &Pose::IDENTITY,
+                margin,
+                &drift,
+                None,
+                &mut out,
+            )
+            .unwrap();
+            assert!(matches!(recall, Recall::Found(_)), "a slow pair lists its walk");
+            out.iter()
+                .filter(|c| c.kind == ContactKind::VertexFace)
+                .map(|c| c.distance)
+                .collect::<Vec<_>>()
+        };
+        let far = corner_contact(0.45);
+        assert!(
+            far.len() == 1 && (far[0] - (margin + 0.001)).abs() < 1e-9,
+            "far end: {far:?}"
+        );
+        let near = corner_contact(-0.45);
+        assert!(near.is_empty(), "near the pivot: {near:?}");
     }
 }

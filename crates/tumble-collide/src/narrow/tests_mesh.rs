@@ -517,12 +517,8 @@ fn contacts_re_evaluated_at_their_features_are_the_contacts_found() {
     let margin = 0.004;
     let mut checked = 0;
     for case in 0..40 {
-        let turn = DQuat::from_scaled_axis(DVec3::new(
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-        ));
-        let pose_a = Pose::new(DVec3::new(0.01, -0.02, 0.1), DQuat::from_rotation_z(0.3)).unwrap();
+        let turn = random_turn(&mut rng);
+        let pose_a = torus_pose();
         // The ball on the tube (a gap of -3 to 3 mm), or the torus over the ground.
         let (a, pa, b, pb) = if case % 2 == 0 {
             let on_tube = pose_a.transform_point(DVec3::new(0.3, 0.0, 0.25 + rng.range(-0.003, 0.003)));
@@ -630,12 +626,8 @@ fn shared_features_tested_once_give_every_pairs_contacts() {
     let margin = 0.004;
     let (mut separated, mut intersecting, mut added) = (0, 0, 0);
     for case in 0..90 {
-        let turn = DQuat::from_scaled_axis(DVec3::new(
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-            rng.range(-3.0, 3.0),
-        ));
-        let pose_a = Pose::new(DVec3::new(0.01, -0.02, 0.1), DQuat::from_rotation_z(0.3)).unwrap();
+        let turn = random_turn(&mut rng);
+        let pose_a = torus_pose();
         let gap = rng.range(-0.004, 0.004);
         let small = DQuat::from_scaled_axis(turn.to_scaled_axis() * 0.03);
         let (b, pose_b) = match case % 3 {
@@ -701,4 +693,19 @@ fn shared_features_tested_once_give_every_pairs_contacts() {
         separated >= 30 && intersecting >= 30,
         "{separated} separated, {intersecting} intersecting ({added} added)"
     );
+}
+
+/// A turn by a random rotation vector of up to 3 rad per component.
+fn random_turn(rng: &mut tumble_testkit::SplitMix64) -> DQuat {
+    use tumble_testkit::RandomSource;
+    DQuat::from_scaled_axis(DVec3::new(
+        rng.range(-3.0, 3.0),
+        rng.range(-3.0, 3.0),
+        rng.range(-3.0, 3.0),
+    ))
+}
+
+/// Where the random-pose tests put their torus (A).
+fn torus_pose() -> Pose {
+    Pose::new(DVec3::new(0.01, -0.02, 0.1), DQuat::from_rotation_z(0.3)).unwrap()
 }

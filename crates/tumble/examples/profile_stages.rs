@@ -116,6 +116,16 @@ fn main() {
         world.kinetic_energy()
     );
     println!("  bodies put back by continuous collision: {swept_back}");
+    if name.starts_with("concave_pile") {
+        let centres: Vec<_> = ids[1..]
+            .iter()
+            .map(|&id| world.center_of_mass(id).unwrap())
+            .collect();
+        println!(
+            "  bodies escaped from the bin: {}",
+            scenes::concave_pile_escaped(&centres)
+        );
+    }
     let late_steps = (steps / 3).max(1) as f64;
     println!(
         "  mesh pairs per step over the last third: {:.1} re-evaluated their kept points, {:.1} recalled their walk",

@@ -85,10 +85,10 @@ fn triangle_pairs(
     let rot = DMat3::from_quat(rel.rotation);
     let (count_a, count_b) = (a.mesh().triangles().len(), b.mesh().triangles().len());
     VERTEX_CACHE.with_borrow_mut(|cache| {
-        cache.begin(b.mesh().vertices().len());
+        cache.begin(b.mesh().vertices().len(), &Drift::NONE);
         for &(ta, tb) in pairs {
             if (ta as usize) < count_a && (tb as usize) < count_b {
-                owned_pair_contacts(a, b, (&rot, rel.position), cache, ta, tb, (margin, margin), out);
+                owned_pair_contacts(a, b, (&rot, rel.position), cache, (ta, tb), margin, out);
             }
         }
     });

@@ -1,9 +1,11 @@
 //! Contacts involving triangle meshes (thesis 5.2, 7.1): both OBBTrees are
-//! walked together with a tolerance (the boxes grown by the margin), every
-//! candidate triangle pair goes through the exact triangle contact routine
-//! (vertex/face, edge/edge, and push-out contacts where triangles already
-//! intersect), and the duplicates that shared vertices and edges produce are
-//! merged. Primitives against meshes: boxes and hulls as their faces'
+//! walked together with a tolerance (the boxes grown by the margin), and
+//! every candidate triangle pair goes through the exact triangle contact
+//! routine (vertex/face, edge/edge, and push-out contacts where triangles
+//! already intersect) on the corners and edges its triangles own, so that
+//! each shared vertex and edge is tested once (`triangle::tri_contact`,
+//! "Shared features, once"); what copies remain (push-out contacts of
+//! neighbouring intersecting pairs, boundary edges) are merged. Primitives against meshes: boxes and hulls as their faces'
 //! triangles against the tree, spheres by the closest point on each nearby
 //! triangle (or their centre's foot on the smooth surface the mesh stands
 //! for, when it has one: `shape::SmoothSurface`), half-spaces by the mesh
@@ -18,8 +20,8 @@ use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
 use crate::triangle::{
-    closest_point_on_triangle, face_unit, merge_contacts, triangle_contacts, triangle_contacts_owned,
-    triangle_contacts_unchecked, MergeParams, Owned, Side,
+    closest_point_on_triangle, merge_contacts, triangle_contacts, triangle_contacts_owned, Copies,
+    MergeParams, Owned, Side,
 };
 use std::cell::RefCell;
 
@@ -94,18 +96,25 @@ fn merge(out: &mut Vec<Contact>, start: usize, tris_a: &[[u32; 3]], tris_b: &[[u
 }
 
 /// Mesh B's vertices in mesh A's frame, each transformed once per query on
-/// first use. Kept per thread and reused, so the narrow phase does not
+/// first use, with how far each moves over the query's drift (its
+/// look-ahead). Kept per thread and reused, so the narrow phase does not
 /// allocate once warmed up; a generation stamp marks the valid entries.
 pub(super) struct VertexCache {
     points: Vec<DVec3>,
+    moves: Vec<f64>,
     stamp: Vec<u32>,
     generation: u32,
+    /// B's drift against A, in A's frame.
+    drift: Drift,
 }
 
 impl VertexCache {
-    pub(super) fn begin(&mut self, n: usize) {
+    /// Starts a query of a mesh B with `n` vertices drifting by `drift`
+    /// (A's frame) against A.
+    pub(super) fn begin(&mut self, n: usize, drift: &Drift) {
         if self.stamp.len() < n {
             self.points.resize(n, DVec3::ZERO);
+            self.moves.resize(n, 0.0);
             self.stamp.resize(n, 0);
         }
         self.generation = self.generation.wrapping_add(1);
@@ -113,61 +122,134 @@ impl VertexCache {
             self.stamp.fill(0);
             self.generation = 1;
         }
+        self.drift = *drift;
     }
 
+    /// Vertex `v` of B in A's frame.
     #[inline]
     pub(super) fn get(&mut self, v: u32, rot: &DMat3, trans: DVec3, vertices: &[DVec3]) -> DVec3 {
         let i = v as usize;
         if self.stamp[i] != self.generation {
             self.stamp[i] = self.generation;
-            self.points[i] = *rot * vertices[i] + trans;
+            let p = *rot * vertices[i] + trans;
+            self.points[i] = p;
+            self.moves[i] = if self.drift.is_none() {
+                0.0
+            } else {
+                self.drift.displacement(p).length()
+            };
         }
         self.points[i]
+    }
+
+    /// How far vertex `v` of B moves over the drift (m); `v` must have been
+    /// placed ([`Self::get`]) in this query.
+    #[inline]
+    pub(super) fn moves(&self, v: u32) -> f64 {
+        self.moves[v as usize]
     }
 }
 
 /// Triangle `ta` of mesh A (as stored) against triangle `tb` of mesh B
 /// (moved into A's frame by `rot` and `trans` through `cache`): the contacts
 /// of the corners and edges each owns (`triangle::tri_contact`, "Shared
-/// features, once"), within `margin`. The resting narrow phase's triangle
-/// test: a walk's list and a re-evaluation of named pairs both go through
-/// it, so they agree to the bit.
-// The mesh pair and B's placement, then the pair and the test's own three.
-#[allow(clippy::too_many_arguments)]
+/// features, once") within `margin` plus each feature's own look-ahead
+/// (how far it can move against the other mesh in the step: B's corner by
+/// its drift, B's edge by the larger of its ends', A's corner against B's
+/// face by the largest of the face's corners'; the drift is first order,
+/// so a point of an edge or face moves no farther than its farthest
+/// corner). Every mesh-mesh search and re-evaluation goes through it, so
+/// they agree to the bit.
 pub(super) fn owned_pair_contacts(
     a: &MeshShape,
     b: &MeshShape,
     (rot, trans): (&DMat3, DVec3),
     cache: &mut VertexCache,
-    ta: u32,
-    tb: u32,
-    (margin, corner_margin): (f64, f64),
+    (ta, tb): (u32, u32),
+    margin: f64,
     out: &mut Vec<Contact>,
 ) {
     let (va, vb) = (a.mesh().vertices(), b.mesh().vertices());
     let (tris_a, tris_b) = (a.mesh().triangles(), b.mesh().triangles());
     let wa = tris_a[ta as usize].map(|v| va[v as usize]);
-    let wb = tris_b[tb as usize].map(|v| cache.get(v, rot, trans, vb));
-    let mut across = |side: Side, k: usize| match side {
-        Side::A => a
-            .across(ta, k)
-            .map(|t| face_unit(&tris_a[t as usize].map(|v| va[v as usize])).unwrap_or(DVec3::ZERO)),
-        Side::B => b.across(tb, k).map(|t| {
-            face_unit(&tris_b[t as usize].map(|v| cache.get(v, rot, trans, vb))).unwrap_or(DVec3::ZERO)
-        }),
+    let corners_b = tris_b[tb as usize];
+    let wb = corners_b.map(|v| cache.get(v, rot, trans, vb));
+    let b_margins = corners_b.map(|v| margin + cache.moves(v));
+    let test_margin = b_margins[0].max(b_margins[1]).max(b_margins[2]);
+    let mut copies = PairCopies {
+        a,
+        b,
+        place: (rot, trans),
+        cache,
+        pair: (ta, tb),
     };
     let mut owned = Owned {
         a: a.owned_features(ta),
         b: b.owned_features(tb),
-        corner_margin,
-        across: &mut across,
+        b_margins,
+        copies: &mut copies,
     };
-    triangle_contacts_owned(&wa, ta, &wb, tb, margin, &mut owned, out);
+    triangle_contacts_owned(&wa, ta, &wb, tb, test_margin, &mut owned, out);
+}
+
+/// The triangles around a pair's features (`triangle::tri_contact::Copies`):
+/// A's as stored, B's moved into A's frame through the vertex cache.
+struct PairCopies<'m, 'c> {
+    a: &'m MeshShape,
+    b: &'m MeshShape,
+    place: (&'m DMat3, DVec3),
+    cache: &'c mut VertexCache,
+    pair: (u32, u32),
+}
+
+impl<'m> PairCopies<'m, '_> {
+    /// Triangle `t` of `side`'s mesh in A's frame.
+    fn triangle(&mut self, side: Side, t: u32) -> [DVec3; 3] {
+        match side {
+            Side::A => self.a.mesh().triangle(t as usize),
+            Side::B => {
+                let vb = self.b.mesh().vertices();
+                let (rot, trans) = self.place;
+                self.b.mesh().triangles()[t as usize].map(|v| self.cache.get(v, rot, trans, vb))
+            }
+        }
+    }
+
+    /// `side`'s mesh and the pair's triangle of it.
+    fn side(&self, side: Side) -> (&'m MeshShape, u32) {
+        match side {
+            Side::A => (self.a, self.pair.0),
+            Side::B => (self.b, self.pair.1),
+        }
+    }
+}
+
+impl Copies for PairCopies<'_, '_> {
+    fn any_around_corner(
+        &mut self,
+        side: Side,
+        k: usize,
+        visit: &mut dyn FnMut(&[DVec3; 3]) -> bool,
+    ) -> bool {
+        let (mesh, t) = self.side(side);
+        mesh.any_around_corner(t, k, |c| visit(&self.triangle(side, c)))
+    }
+
+    fn across(&mut self, side: Side, k: usize) -> Option<[DVec3; 3]> {
+        let (mesh, t) = self.side(side);
+        mesh.across(t, k).map(|c| self.triangle(side, c))
+    }
 }
 
 thread_local! {
     pub(super) static VERTEX_CACHE: RefCell<VertexCache> = const {
-        RefCell::new(VertexCache { points: Vec::new(), stamp: Vec::new(), generation: 0 })
+        RefCell::new(VertexCache {
+            points: Vec::new(),
+            moves: Vec::new(),
+            stamp: Vec::new(),
+            generation: 0,
+            drift: Drift::NONE,
+        })
     };
 }
 
@@ -194,11 +276,15 @@ pub fn contact_mesh_mesh(
 
 /// [`contact_mesh_mesh`] while B drifts by `drift` (world) relative to A,
 /// besides motions within `margin`: each triangle pair that comes within
-/// `margin` along the drift (`bvh::collide_moving`) gives its contacts
-/// within `margin` plus how far its triangle of B can move. A pair the
-/// drift cannot bring together is left out: no contact of it could close
-/// in the step, so the solver loses nothing, and the triangles tested
-/// follow each part's own motion instead of the body's fastest point.
+/// `margin` along the drift (`bvh::collide_moving`) gives the contacts of
+/// the features its triangles own within `margin` plus each feature's
+/// look-ahead ([`owned_pair_contacts`]). A pair the drift cannot bring
+/// together is left out: no contact of it could close in the step, so the
+/// solver loses nothing, and the triangles tested follow each part's own
+/// motion instead of the body's fastest point. A shared vertex or edge is
+/// tested in its owner's pairs alone, and loses nothing either: when it
+/// comes within `margin` of the other mesh along the drift, so does its
+/// owner triangle, whose leaf pair the walk then reaches.
 pub fn contact_mesh_mesh_moving(
     a: &MeshShape,
     pose_a: &Pose,
@@ -211,25 +297,12 @@ pub fn contact_mesh_mesh_moving(
     let start = out.len();
     let rel = pose_a.inverse().mul_pose(pose_b);
     let rot = DMat3::from_quat(rel.rotation);
-    let (verts_a, tris_a) = (a.mesh().vertices(), a.mesh().triangles());
-    let (verts_b, tris_b) = (b.mesh().vertices(), b.mesh().triangles());
     VERTEX_CACHE.with_borrow_mut(|cache| {
-        cache.begin(verts_b.len());
-        let _ = bvh::collide_moving(
-            a.tree(),
-            pose_a,
-            b.tree(),
-            pose_b,
-            margin,
-            drift,
-            |ta, tb, moves| {
-                let [i, j, k] = tris_a[ta as usize];
-                let wa = [verts_a[i as usize], verts_a[j as usize], verts_a[k as usize]];
-                let wb = tris_b[tb as usize].map(|v| cache.get(v, &rot, rel.position, verts_b));
-                triangle_contacts_unchecked(&wa, ta, &wb, tb, margin + moves, out);
-                Traverse::Continue
-            },
-        );
+        cache.begin(b.mesh().vertices().len(), &drift.in_frame_of(pose_a));
+        let _ = bvh::collide_moving(a.tree(), pose_a, b.tree(), pose_b, margin, drift, |ta, tb, _| {
+            owned_pair_contacts(a, b, (&rot, rel.position), cache, (ta, tb), margin, out);
+            Traverse::Continue
+        });
     });
     finish_mesh_mesh(out, start, a, pose_a, b, pose_b);
 }

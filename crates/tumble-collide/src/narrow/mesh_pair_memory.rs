@@ -29,7 +29,7 @@
 use super::contact_mesh::{finish_mesh_mesh, owned_pair_contacts, VertexCache, VERTEX_CACHE};
 use super::dispatch::{check_margin_and_drift, refuse_non_finite};
 use super::NarrowError;
-use crate::bvh::{self, Node, ObbTree, Traverse};
+use crate::bvh::{self, ObbTree, Traverse};
 use crate::contact::Contact;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
@@ -68,15 +68,15 @@ pub struct MeshPairMemory {
     reach: f64,
     /// The triangle pairs of the leaf pairs within `reach`, in walk order
     /// (A's triangles outer within a leaf pair), as A's triangle, B's
-    /// triangle, B's leaf node and their distance at the walk (m): only
+    /// triangle and their distance at the walk (m): only
     /// those within `reach` (and round-off), since the list is given up
     /// before B has moved far enough to bring a farther one within the
     /// margin.
     pairs: Vec<ListedPair>,
 }
 
-/// One triangle pair of a list: A's triangle, B's, B's leaf, the distance.
-type ListedPair = (u32, u32, u32, f64);
+/// One triangle pair of a list: A's triangle, B's, their distance.
+type ListedPair = (u32, u32, f64);
 
 impl MeshPairMemory {
     /// How many triangle pairs the list holds.
@@ -104,12 +104,11 @@ pub enum Recall {
 /// walk along the drift as `contact_mesh_mesh_moving` does.
 ///
 /// The contacts of a remembered pair are those of every triangle pair of the
-/// two meshes under the triangle test with `margin` plus the reach of B's
-/// leaf over the drift (A's corners against B's faces) or plus the largest
-/// reach of any of B's leaves (B's corners and the edges), each shared
-/// vertex and edge tested through the triangle that owns it
-/// (`triangle::tri_contact`, "Shared features, once"), whatever the memory: a memory changes the cost, never
-/// the answer (module docs). A margin that is not finite and `>= 0` is
+/// two meshes under the triangle test with `margin` plus each feature's
+/// look-ahead over the drift, each shared vertex and edge tested through
+/// the triangle that owns it (`contact_mesh::owned_pair_contacts`),
+/// whatever the memory: a memory changes the cost, never the answer
+/// (module docs). A margin that is not finite and `>= 0` is
 /// [`NarrowError::BadMargin`], a drift that is not finite
 /// [`NarrowError::BadDrift`], and contacts whose arithmetic overflowed
 /// [`NarrowError::NotFinite`]; nothing is appended then.
@@ -155,19 +154,8 @@ pub fn contact_mesh_mesh_recalled(
                 && Arc::ptr_eq(&m.trees.1, tree_b)
                 && margin + reach_max + moved_since(&m.rel, &rel, root_b, tree_b.leaf_reach()) <= m.reach
         });
-        // How far any point of B's leaf `y` can move over the drift (m).
-        let leaf_moves = |y: &Node| {
-            if drift.is_none() {
-                0.0
-            } else {
-                local_drift.reach(
-                    rot * y.center_f64() + rel.position,
-                    DVec3::from(y.half_f64()).length(),
-                )
-            }
-        };
         let recall = VERTEX_CACHE.with_borrow_mut(|cache| {
-            cache.begin(b.mesh().vertices().len());
+            cache.begin(b.mesh().vertices().len(), &local_drift);
             let mut placer = Placer {
                 a,
                 b,
@@ -184,7 +172,7 @@ pub fn contact_mesh_mesh_recalled(
                         margin,
                         reach_max,
                     };
-                    listed.contacts(&mut placer, &leaf_moves, out);
+                    listed.contacts(&mut placer, out);
                     Recall::Reused
                 }
                 None => {
@@ -201,7 +189,7 @@ pub fn contact_mesh_mesh_recalled(
                         margin,
                         reach_max,
                     };
-                    listed.contacts(&mut placer, &leaf_moves, out);
+                    listed.contacts(&mut placer, out);
                     Recall::Found(memory)
                 }
             }
@@ -238,7 +226,7 @@ impl Placer<'_> {
 
 /// A new list: the triangle pairs of the leaf pairs of the two trees within
 /// `reach` (no drift: the reach covers it) that are themselves within it,
-/// each with B's leaf and its distance.
+/// each with its distance.
 fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64) -> MeshPairMemory {
     let (tree_a, tree_b) = (placer.a.tree_arc(), placer.b.tree_arc());
     let mut leaf_pairs = Vec::new();
@@ -267,7 +255,7 @@ fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64
                 }
                 let gap = triangle_distance(&wa, &wb).distance.max(cheap);
                 if gap <= reach + ROUND_OFF {
-                    pairs.push((ta, tb, y, gap));
+                    pairs.push((ta, tb, gap));
                 }
             }
         }
@@ -292,37 +280,23 @@ struct Listed<'m> {
 }
 
 impl Listed<'_> {
-    /// The triangle test on the features each triangle owns, for every
+    /// The triangle test on the features each triangle owns, each within
+    /// the margin plus its own look-ahead (`owned_pair_contacts`), for every
     /// listed pair that the motion since the walk could have brought within
-    /// the margin and the look-ahead, in the list's order. A corner of A
-    /// against a face of B takes the margin plus the look-ahead of B's leaf
-    /// that holds the face, as when every pair was tested; B's corners and
-    /// edges, and A's edges against them, take the margin plus the largest
-    /// look-ahead of any leaf of B (at most [`RECALL_MAX_REACH`]): a shared
-    /// vertex or edge of B is reported by its owner's pairs alone, so its
-    /// margin must cover every leaf its triangles sit in.
-    fn contacts(&self, placer: &mut Placer, leaf_moves: &dyn Fn(&Node) -> f64, out: &mut Vec<Contact>) {
-        let nb = placer.b.tree().nodes();
+    /// the margin and the largest look-ahead, in the list's order.
+    fn contacts(&self, placer: &mut Placer, out: &mut Vec<Contact>) {
         let reach = self.margin + self.reach_max;
-        // The pairs of one leaf pair are consecutive: each leaf's look-ahead
-        // is computed once per run of it.
-        let mut leaf = (u32::MAX, 0.0);
-        for &(ta, tb, y, gap) in &self.memory.pairs {
+        for &(ta, tb, gap) in &self.memory.pairs {
             if gap - self.moved - ROUND_OFF > reach {
                 continue;
             }
-            if leaf.0 != y {
-                leaf = (y, leaf_moves(&nb[y as usize]));
-            }
-            let margins = (reach, (self.margin + leaf.1).min(reach));
             owned_pair_contacts(
                 placer.a,
                 placer.b,
                 (placer.rot, placer.trans),
                 placer.cache,
-                ta,
-                tb,
-                margins,
+                (ta, tb),
+                self.margin,
                 out,
             );
         }
@@ -434,9 +408,8 @@ mod tests {
 
     /// Runs the poses with the memory carried from step to step, and
     /// checks every step against no memory at all (the same contacts, bit
-    /// for bit) and, without drift, against the plain walk, which tests
-    /// every feature of every pair where the memory's list tests each
-    /// shared vertex and edge through its owner (the same contacts, in
+    /// for bit) and, without drift, against the plain walk, which finds
+    /// its triangle pairs anew from the trees (the same contacts, in
     /// another order, to round-off).
     fn carried_equals_fresh(drift: impl Fn(usize) -> Drift) -> (usize, usize) {
         let (a, b) = (torus(), ball());

@@ -201,6 +201,39 @@ impl MeshShape {
         (n != NO_NEIGHBOR).then_some(n)
     }
 
+    /// `true` when `visit` returns `true` for one of the triangles around
+    /// corner `k` of triangle `t` other than `t` itself: its fan, walked
+    /// across the edges at the corner, one way round and, at an edge with
+    /// no triangle across, the other (at a vertex where two fans meet only
+    /// in the point, the fan of `t`).
+    pub(crate) fn any_around_corner(&self, t: u32, k: usize, mut visit: impl FnMut(u32) -> bool) -> bool {
+        let tris = self.mesh.triangles();
+        let v = tris[t as usize][k];
+        // Corner k of a triangle touches its edges k and k + 2.
+        for edge in [k, (k + 2) % 3] {
+            let (mut prev, mut here) = (t, self.across(t, edge));
+            // A fan holds fewer triangles than the mesh; the bound only
+            // guards against a malformed neighbour table.
+            for _ in 0..tris.len() {
+                let Some(c) = here else { break };
+                if c == t {
+                    return false;
+                }
+                if visit(c) {
+                    return true;
+                }
+                let tri = tris[c as usize];
+                let Some(m) = (0..3).find(|&m| tri[m] == v) else {
+                    break;
+                };
+                let next = [m, (m + 2) % 3].map(|e| self.across(c, e));
+                here = next.into_iter().find(|&n| n != Some(prev)).flatten();
+                prev = c;
+            }
+        }
+        false
+    }
+
     /// The name of feature `f` through its owner: a corner through the
     /// vertex's first corner, an edge through the triangle that owns it
     /// (faces and anything else unchanged). One name per vertex and per

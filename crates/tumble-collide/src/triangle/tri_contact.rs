@@ -39,22 +39,30 @@
 //! corners and edges each triangle owns (`Owned`: every vertex of a mesh,
 //! and every edge between two triangles, has exactly one owner),
 //! `triangle_contacts_owned` reports each feature's contacts from its
-//! owner's pairs only. The answer after merging holds every contact of the
-//! old one: a vertex or edge within the margin of a face or edge is within
-//! it for every triangle that holds it, and where the copies of an
-//! edge/edge contact disagree on the outward test (each triangle judges by
-//! its own face normal) the owner asks the faces across its edges too, so
-//! it keeps the contact whenever some copy would pass that test. What
-//! differs: an owned feature's contacts are also reported from an
-//! intersecting pair (beside the push-out contacts: a vertex above a face
-//! is held above it whatever its triangle's other corners do), and so is an
-//! edge/edge contact whose only passing copy was an intersecting pair's;
-//! the ghost filter of flat regions (`narrow::contact_mesh`) judges a flat
-//! vertex or edge by its owner's face alone, where the copies were judged
-//! by each of theirs (coplanar within 0.03 degrees, so only contacts in a
-//! hair-thin band of normals can differ); and each contact is computed
-//! once, so the survivor of a group of copies that differed in round-off
-//! (an edge's copies run it in both directions) may differ in the last bits.
+//! owner's pairs only, and gives after merging the answer of testing every
+//! pair. A vertex or edge within the margin of a face or edge is within it
+//! for every triangle that holds it, so the owner sees what each copy would
+//! (with a margin per feature, `Owned::b_margins`, that is the same in
+//! every pair holding the feature). Where the copies' answers depend on
+//! their own triangles, the owner asks the triangles around the feature
+//! (`Copies`), on a cold path: a pair whose triangles intersect gives only
+//! push-out contacts, so an owner whose pair intersects reports a corner
+//! only if some other triangle at that corner does not intersect the other
+//! triangle, and an edge/edge contact only if some pair holding both edges
+//! does not intersect and passes the outward test; an edge/edge contact
+//! that its own faces reject is kept when the pair with a triangle across
+//! either edge passes that test and does not intersect. (An earlier rule
+//! reported an owner's features from an intersecting pair regardless, and
+//! kept an edge contact for a face across whatever that pair did: once the
+//! walk along a drift used it too, 8 of 12 jittered concave piles settled
+//! with two bodies 0.6-1 mm inside each other, held by those contacts, and
+//! pairs of brackets stayed 1-3 cm deep for tens of steps.) The ghost
+//! filter of flat regions (`narrow::contact_mesh`) judges a flat vertex or
+//! edge by its owner's face, where the copies were judged by each of theirs
+//! (coplanar within 0.03 degrees, so only contacts in a hair-thin band of
+//! normals can differ), and each contact is computed once, so the survivor
+//! of a group of copies that differed in round-off (an edge's copies run it
+//! in both directions) may differ in the last bits.
 
 use super::tri_distance::closest_points_segments;
 use super::tri_tri_overlap::tri_tri_overlap;
@@ -174,22 +182,7 @@ pub fn triangle_contacts(
     if !b.iter().all(|p| p.is_finite()) {
         return Err(TriContactError::NonFinite { shape: 'B', id: id_b });
     }
-    Ok(triangle_contacts_unchecked(a, id_a, b, id_b, margin, out))
-}
-
-/// [`triangle_contacts`] for callers that guarantee a finite margin `>= 0`
-/// and finite coordinates (meshes are validated when built, poses when set):
-/// the mesh narrow phase calls it for every candidate triangle pair.
-#[inline]
-pub(crate) fn triangle_contacts_unchecked(
-    a: &[DVec3; 3],
-    id_a: u32,
-    b: &[DVec3; 3],
-    id_b: u32,
-    margin: f64,
-    out: &mut Vec<Contact>,
-) -> usize {
-    contacts_of_pair(a, id_a, b, id_b, margin, None, out)
+    Ok(contacts_of_pair(a, id_a, b, id_b, margin, None, out))
 }
 
 /// Which of the two triangles of a pair a triangle mesh is made of.
@@ -206,22 +199,36 @@ pub(crate) struct Owned<'f> {
     pub a: u8,
     /// The same for B's triangle.
     pub b: u8,
-    /// The margin (m, at most the test's) for A's corners against B's face:
-    /// every triangle that holds a corner meets the same face of B, so the
-    /// caller may give these contacts the margin of B's triangle alone,
-    /// where B's corners and edges, held by triangles of B that may have
-    /// other margins, take the pair's largest.
-    pub corner_margin: f64,
-    /// The unit normal (in the pair's common frame) of the triangle across
-    /// edge `k` of A's or B's triangle ([`face_unit`], zero for a triangle
-    /// with no area), `None` where no triangle is across. Asked only for an
-    /// edge/edge contact that its owners' own faces would drop.
-    pub across: &'f mut dyn FnMut(Side, usize) -> Option<DVec3>,
+    /// The margin (m, at most the test's) of each corner of B's triangle,
+    /// for that corner against A's face; an edge of B takes the larger of
+    /// its two ends' (A's corners against B's face take the test's margin).
+    /// A margin that depends on the feature alone (its look-ahead: how far
+    /// it can move in the step) is the same in every pair that holds the
+    /// feature, so the owner's pair reports what every copy would have.
+    pub b_margins: [f64; 3],
+    /// The other triangles at the pair's corners and edges, for judging an
+    /// intersecting pair's features and an edge/edge contact its own faces
+    /// reject by the pairs that also hold them.
+    pub copies: &'f mut dyn Copies,
 }
 
-/// [`triangle_contacts_unchecked`] reporting only the corners and edges the
-/// two triangles own (module docs, "Shared features, once"); push-out
-/// contacts of an intersecting pair are reported by every pair, as before.
+/// The triangles of the two meshes around a pair's features, in the pair's
+/// common frame (module docs, "Shared features, once").
+pub(crate) trait Copies {
+    /// `true` when `visit` returns `true` for one of the triangles of
+    /// `side`'s mesh, other than the pair's own, around corner `k` of the
+    /// pair's triangle of that side.
+    fn any_around_corner(&mut self, side: Side, k: usize, visit: &mut dyn FnMut(&[DVec3; 3]) -> bool)
+        -> bool;
+    /// The triangle of `side`'s mesh across edge `k` of the pair's triangle
+    /// of that side, if there is one.
+    fn across(&mut self, side: Side, k: usize) -> Option<[DVec3; 3]>;
+}
+
+/// [`triangle_contacts`] (its checks left to the caller) reporting only the
+/// corners and edges the two triangles own (module docs, "Shared features,
+/// once"); push-out contacts of an intersecting pair are reported by every
+/// pair, as before.
 #[inline]
 pub(crate) fn triangle_contacts_owned(
     a: &[DVec3; 3],
@@ -233,13 +240,6 @@ pub(crate) fn triangle_contacts_owned(
     out: &mut Vec<Contact>,
 ) -> usize {
     contacts_of_pair(a, id_a, b, id_b, margin, Some(owned), out)
-}
-
-/// The unit normal of a triangle, if it has an area (as the contact test
-/// computes it, to the bit).
-#[inline]
-pub(crate) fn face_unit(t: &[DVec3; 3]) -> Option<DVec3> {
-    face(t).map(|f| f.unit)
 }
 
 /// Every feature of both triangles, or (`owned`) the ones they own.
@@ -264,34 +264,28 @@ fn contacts_of_pair(
     if db.is_some_and(|d| beyond(d, margin)) {
         return 0;
     }
-    // A triangle strictly on one side of the other's plane cannot meet it;
-    // only the rest need the exact intersection test. The tolerance covers
-    // the round-off of the heights, so the exact test decides every case
-    // that is close.
-    let scale = 1.0 + a[0].abs().max_element().max(b[0].abs().max_element());
-    let clear = |d: Option<[f64; 3]>| {
-        let tol = SIDE_EPS * scale;
-        d.is_some_and(|d| {
-            (d[0] > tol && d[1] > tol && d[2] > tol) || (d[0] < -tol && d[1] < -tol && d[2] < -tol)
-        })
-    };
     let start = out.len();
-    if !clear(da) && !clear(db) && tri_tri_overlap(a, b) {
+    let intersecting = crosses(a, b, da, db);
+    if intersecting {
         penetrating_contacts(a, id_a, fa, b, id_b, fb, out);
-        // Every pair reports all of its features, and some pair around an
-        // intersecting one reports them; an owner is the only one, so it
-        // reports them here too (module docs).
+        // Every pair reports all of its features, and the pairs around an
+        // intersecting one report them; an owner reports a feature from an
+        // intersecting pair only when one of those would have (module docs).
         if owned.is_none() {
             return out.len() - start;
         }
     }
-    let (own_a, own_b, corner_margin) = owned
+    let mut owned = owned;
+    let (own_a, own_b, b_margins) = owned
         .as_ref()
-        .map_or((ALL, ALL, margin), |o| (o.a, o.b, o.corner_margin));
+        .map_or((ALL, ALL, [margin; 3]), |o| (o.a, o.b, o.b_margins));
     if let (Some(f), Some(d)) = (fb, da) {
         for k in 0..3 {
             let h = d[k];
-            if own_a & (1 << k) != 0 && (0.0..=corner_margin).contains(&h) && inside(a[k] - f.unit * h, b, f)
+            if own_a & (1 << k) != 0
+                && (0.0..=margin).contains(&h)
+                && inside(a[k] - f.unit * h, b, f)
+                && (!intersecting || copy_at_corner(&mut owned, Side::A, k, &mut |x| !intersects(x, b)))
             {
                 out.push(Contact {
                     point: a[k] - f.unit * (0.5 * h),
@@ -310,7 +304,11 @@ fn contacts_of_pair(
     if let (Some(f), Some(d)) = (fa, db) {
         for k in 0..3 {
             let h = d[k];
-            if own_b & (1 << k) != 0 && (0.0..=margin).contains(&h) && inside(b[k] - f.unit * h, a, f) {
+            if own_b & (1 << k) != 0
+                && (0.0..=b_margins[k]).contains(&h)
+                && inside(b[k] - f.unit * h, a, f)
+                && (!intersecting || copy_at_corner(&mut owned, Side::B, k, &mut |y| !intersects(a, y)))
+            {
                 out.push(Contact {
                     point: b[k] - f.unit * (0.5 * h),
                     normal: -f.unit,
@@ -322,29 +320,76 @@ fn contacts_of_pair(
             }
         }
     }
-    edge_edge_contacts(a, id_a, fa, b, id_b, fb, margin, owned, out);
+    edge_edge_contacts((a, id_a, fa), (b, id_b, fb), b_margins, intersecting, owned, out);
     out.len() - start
+}
+
+/// `true` when the triangles meet (touching included): the test every
+/// pair makes, with the heights of each one's corners over the other's
+/// plane (`None` for a triangle with no area).
+#[inline]
+fn crosses(a: &[DVec3; 3], b: &[DVec3; 3], da: Option<[f64; 3]>, db: Option<[f64; 3]>) -> bool {
+    // A triangle strictly on one side of the other's plane cannot meet it;
+    // only the rest need the exact intersection test. The tolerance covers
+    // the round-off of the heights, so the exact test decides every case
+    // that is close.
+    let scale = 1.0 + a[0].abs().max_element().max(b[0].abs().max_element());
+    let tol = SIDE_EPS * scale;
+    let clear = |d: Option<[f64; 3]>| {
+        d.is_some_and(|d| {
+            (d[0] > tol && d[1] > tol && d[2] > tol) || (d[0] < -tol && d[1] < -tol && d[2] < -tol)
+        })
+    };
+    !clear(da) && !clear(db) && tri_tri_overlap(a, b)
+}
+
+/// [`crosses`] for a pair of A's and B's triangles, to the bit as the
+/// pair's own test decides it.
+#[cold]
+fn intersects(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    let (fa, fb) = (face(a), face(b));
+    crosses(
+        a,
+        b,
+        fb.map(|f| heights(a, f, b[0])),
+        fa.map(|f| heights(b, f, a[0])),
+    )
+}
+
+/// `true` when a triangle around corner `k` of `side`'s triangle passes
+/// `visit` (an owner always has `Some` copies).
+#[cold]
+fn copy_at_corner(
+    owned: &mut Option<&mut Owned>,
+    side: Side,
+    k: usize,
+    visit: &mut dyn FnMut(&[DVec3; 3]) -> bool,
+) -> bool {
+    owned
+        .as_deref_mut()
+        .is_some_and(|o| o.copies.any_around_corner(side, k, visit))
 }
 
 /// Every corner and edge (bits 0-2 and 3-5 of [`Owned`]).
 const ALL: u8 = 0x3f;
 
-/// Edge/edge contacts of a non-intersecting pair (of an intersecting one
-/// too for owned edges), of every edge or of the owned ones.
+/// Edge/edge contacts of a non-intersecting pair, of every edge or of the
+/// owned ones (of an intersecting owner's pair too, where a pair around
+/// the edges would report them); edge `j` of B within the larger margin of
+/// its two ends (`b_margins`).
 #[inline]
-#[allow(clippy::too_many_arguments)]
 fn edge_edge_contacts(
-    a: &[DVec3; 3],
-    id_a: u32,
-    fa: Option<Face>,
-    b: &[DVec3; 3],
-    id_b: u32,
-    fb: Option<Face>,
-    margin: f64,
+    (a, id_a, fa): (&[DVec3; 3], u32, Option<Face>),
+    (b, id_b, fb): (&[DVec3; 3], u32, Option<Face>),
+    b_margins: [f64; 3],
+    intersecting: bool,
     mut owned: Option<&mut Owned>,
     out: &mut Vec<Contact>,
 ) {
-    let margin2 = margin * margin;
+    let margins2 = [0, 1, 2].map(|j| {
+        let m = b_margins[j].max(b_margins[(j + 1) % 3]);
+        m * m
+    });
     let interior = |s: f64| s > PARAM_EPS && s < 1.0 - PARAM_EPS;
     let (edges_a, edges_b) = owned.as_ref().map_or((ALL, ALL), |o| (o.a >> 3, o.b >> 3));
     for i in 0..3 {
@@ -359,6 +404,7 @@ fn edge_edge_contacts(
             }
             let (p2, q2) = (b[j], b[(j + 1) % 3]);
             let eb = q2 - p2;
+            let margin2 = margins2[j];
             let c = ea.cross(eb);
             let c2 = c.length_squared();
             if c2 <= PARALLEL_EPS * ea.length_squared() * eb.length_squared() {
@@ -407,11 +453,15 @@ fn edge_edge_contacts(
             // surfaces, and a contact along it would hold A inside B. The
             // intersecting triangle pairs nearby carry that overlap with
             // outward push-out normals instead.
-            let outward = fb.map_or(DVec3::ZERO, |f| f.unit) - fa.map_or(DVec3::ZERO, |f| f.unit);
-            if n.dot(outward) < 0.0
+            // An owner keeps the contact when some pair holding both edges
+            // (its own, or one with the triangle across either edge) does
+            // not intersect and passes this test with its own faces: when a
+            // copy of it would have been reported.
+            let passes = !intersecting && outward(n, fa, fb);
+            if !passes
                 && !owned
                     .as_deref_mut()
-                    .is_some_and(|o| outward_across(o, n, i, j, fa, fb))
+                    .is_some_and(|o| passing_copy(o, n, (i, a), (j, b)))
             {
                 continue;
             }
@@ -427,22 +477,29 @@ fn edge_edge_contacts(
     }
 }
 
-/// `true` when some pair of faces at the two edges (each edge's own face
-/// or the one across it) passes the outward test that the owners' own
-/// faces failed: the test a copy of the contact from a neighbouring
-/// triangle pair would have made (module docs, "Shared features, once").
+/// The outward test of an edge/edge contact along `n` (from B to A)
+/// between triangles with faces `fa` and `fb` (a face with no area counts
+/// as zero): false when `n` points against B's outward normal and along
+/// A's, into both solids.
+#[inline]
+fn outward(n: DVec3, fa: Option<Face>, fb: Option<Face>) -> bool {
+    n.dot(fb.map_or(DVec3::ZERO, |f| f.unit) - fa.map_or(DVec3::ZERO, |f| f.unit)) >= 0.0
+}
+
+/// `true` when a pair holding edge `i` of A's triangle and edge `j` of B's
+/// other than the pair's own (the triangle across either edge in place of
+/// its own) does not intersect and passes the outward test along `n` with
+/// its own faces.
 #[cold]
-fn outward_across(o: &mut Owned, n: DVec3, i: usize, j: usize, fa: Option<Face>, fb: Option<Face>) -> bool {
-    // A face with no area counts as zero, as in the test itself.
-    let along = |f: Option<Face>| n.dot(f.map_or(DVec3::ZERO, |f| f.unit));
-    let (mut b_most, mut a_least) = (along(fb), along(fa));
-    if let Some(f) = (o.across)(Side::B, j) {
-        b_most = b_most.max(n.dot(f));
-    }
-    if let Some(f) = (o.across)(Side::A, i) {
-        a_least = a_least.min(n.dot(f));
-    }
-    b_most - a_least >= 0.0
+fn passing_copy(o: &mut Owned, n: DVec3, (i, a): (usize, &[DVec3; 3]), (j, b): (usize, &[DVec3; 3])) -> bool {
+    let (xa, yb) = (o.copies.across(Side::A, i), o.copies.across(Side::B, j));
+    let pair = |x: Option<&[DVec3; 3]>, y: Option<&[DVec3; 3]>| -> bool {
+        let (Some(x), Some(y)) = (x, y) else {
+            return false;
+        };
+        outward(n, face(x), face(y)) && !intersects(x, y)
+    };
+    pair(Some(a), yb.as_ref()) || pair(xa.as_ref(), Some(b)) || pair(xa.as_ref(), yb.as_ref())
 }
 
 /// The parameters `(s, t)` of the closest points of the lines `p1 + s d1`

@@ -278,7 +278,7 @@ pub fn contact_mesh_mesh(
 /// besides motions within `margin`: each triangle pair that comes within
 /// `margin` along the drift (`bvh::collide_moving`) gives the contacts of
 /// the features its triangles own within `margin` plus each feature's
-/// look-ahead ([`owned_pair_contacts`]). A pair the drift cannot bring
+/// look-ahead (`owned_pair_contacts`). A pair the drift cannot bring
 /// together is left out: no contact of it could close in the step, so the
 /// solver loses nothing, and the triangles tested follow each part's own
 /// motion instead of the body's fastest point. A shared vertex or edge is

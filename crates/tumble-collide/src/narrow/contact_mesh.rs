@@ -5,11 +5,13 @@
 //! already intersect) on the corners and edges its triangles own, so that
 //! each shared vertex and edge is tested once (`triangle::tri_contact`,
 //! "Shared features, once"); what copies remain (push-out contacts of
-//! neighbouring intersecting pairs, boundary edges) are merged. Primitives against meshes: boxes and hulls as their faces'
-//! triangles against the tree, spheres by the closest point on each nearby
-//! triangle (or their centre's foot on the smooth surface the mesh stands
-//! for, when it has one: `shape::SmoothSurface`), half-spaces by the mesh
-//! vertices within the margin.
+//! neighbouring intersecting pairs, boundary and non-manifold edges, a vertex
+//! over the edge between two faces) are merged. Primitives against meshes:
+//! boxes and hulls as their faces' triangles against the tree, spheres by the
+//! closest point on each nearby triangle (or their centre's foot on the
+//! smooth surface the mesh stands for, when it has one:
+//! `shape::SmoothSurface`), half-spaces by the mesh vertices within the
+//! margin.
 
 use super::contact_halfspace::push_vertex_on_plane;
 use super::smooth_foot::{push_foot_contact, smooth_foot, SmoothFoot};

@@ -850,7 +850,7 @@ fn torus_pose() -> Pose {
 /// its own, from its owner or any pair: every pair holding it intersects,
 /// and the push-out contacts carry the overlap. Beside it, a corner of the
 /// same cube 1 mm above the slab with its triangles clear of it (the cube
-/// turned the other way, resting on the corner) gets one.
+/// turned the other way, resting on the corner) gets one; either mesh as A.
 #[test]
 fn a_vertex_whose_every_triangle_crosses_the_face_has_no_contact_of_its_own() {
     use crate::drift::Drift;
@@ -873,6 +873,15 @@ fn a_vertex_whose_every_triangle_crosses_the_face_has_no_contact_of_its_own() {
         let mut owned = Vec::new();
         contact_mesh_mesh(&cube, &pose, &slab, &slab_pose, margin, &mut owned);
         same_but_push_out_names(&owned, &every).unwrap();
+        // The same with the roles swapped (the corner on B's side).
+        let every_swapped = every_feature_walk(&slab, &slab_pose, &cube, &pose, margin, &Drift::NONE);
+        let mut swapped = Vec::new();
+        contact_mesh_mesh(&slab, &slab_pose, &cube, &pose, margin, &mut swapped);
+        same_but_push_out_names(&swapped, &every_swapped).unwrap();
+        let tip_swapped = swapped
+            .iter()
+            .filter(|c| c.kind == ContactKind::FaceVertex && (c.distance - 0.001).abs() < 1e-9)
+            .count();
         let at_tip = owned
             .iter()
             .filter(|c| c.kind == ContactKind::VertexFace && (c.distance - 0.001).abs() < 1e-9)
@@ -886,11 +895,13 @@ fn a_vertex_whose_every_triangle_crosses_the_face_has_no_contact_of_its_own() {
                 at_tip == 0 && pushed > 0,
                 "poking: {at_tip} tip contacts, {pushed} push-outs"
             );
+            assert_eq!(tip_swapped, 0, "poking, swapped");
         } else {
             assert!(
                 at_tip == 1 && pushed == 0,
                 "resting: {at_tip} tip contacts, {pushed} push-outs"
             );
+            assert_eq!(tip_swapped, 1, "resting, swapped");
         }
     }
 }

@@ -35,10 +35,10 @@ pub struct MeshShape {
     /// first corner); bit `3 + k`: it owns its edge `k` (no triangle across
     /// it, or one with a larger index, or itself: a degenerate triangle's
     /// edge can run back along it). Every vertex and every edge between two
-    /// triangles has one owner, which alone reports its contacts in the
-    /// resting narrow phase (`triangle::tri_contact`, "Shared features,
-    /// once"); a boundary or non-manifold edge is owned by each triangle at
-    /// it, and its copies are merged as before.
+    /// triangles has one owner, which alone reports its contacts in every
+    /// mesh-mesh search (`triangle::tri_contact`, "Shared features, once");
+    /// a boundary or non-manifold edge is owned by each triangle at it, and
+    /// its copies are merged as before.
     owned: Arc<Vec<u8>>,
     /// The triangle across each edge (`Topology::neighbors`).
     neighbors: Arc<Vec<[u32; 3]>>,
@@ -204,8 +204,10 @@ impl MeshShape {
     /// `true` when `visit` returns `true` for one of the triangles around
     /// corner `k` of triangle `t` other than `t` itself: its fan, walked
     /// across the edges at the corner, one way round and, at an edge with
-    /// no triangle across, the other (at a vertex where two fans meet only
-    /// in the point, the fan of `t`).
+    /// no single triangle across (a boundary or non-manifold edge), the
+    /// other. At a vertex where two fans meet only in the point, or behind
+    /// a non-manifold edge, triangles are not reached: the walk sees the
+    /// fan of `t` alone.
     pub(crate) fn any_around_corner(&self, t: u32, k: usize, mut visit: impl FnMut(u32) -> bool) -> bool {
         let tris = self.mesh.triangles();
         let v = tris[t as usize][k];
@@ -214,9 +216,15 @@ impl MeshShape {
             let (mut prev, mut here) = (t, self.across(t, edge));
             // A fan holds fewer triangles than the mesh; the bound only
             // guards against a malformed neighbour table.
-            for _ in 0..tris.len() {
+            for step in 0..tris.len() {
                 let Some(c) = here else { break };
                 if c == t {
+                    // Round the fan and back: every triangle seen. (A
+                    // degenerate triangle can be its own neighbour: then
+                    // the other way round.)
+                    if step == 0 {
+                        break;
+                    }
                     return false;
                 }
                 if visit(c) {

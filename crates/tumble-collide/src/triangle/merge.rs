@@ -204,7 +204,11 @@ fn survivors_of_twinned(contacts: &[Contact], keys: &[FeatureKey], rule: &Rule) 
     by_name.sort_unstable_by_key(|&i| (keys[i], i));
     mark_runs(&by_name, &|i, j| keys[i] == keys[j]);
     // Points within `tol` are within `tol` in x: a run in x order holds
-    // every pair, and the full distance picks them (a NaN point has none).
+    // every pair, and the full distance picks them (a NaN point has none;
+    // the run ends by the rule's own squared test, which `tol = 0` and
+    // underflow keep exact). Many points sharing one x (a tessellated face
+    // square to the x axis) would make the runs quadratic: past 32 checks
+    // per contact, the maps take the whole set.
     let mut by_x: Vec<usize> = (0..n).collect();
     by_x.sort_unstable_by(|&i, &j| {
         contacts[i]
@@ -214,11 +218,16 @@ fn survivors_of_twinned(contacts: &[Contact], keys: &[FeatureKey], rule: &Rule) 
             .then(i.cmp(&j))
     });
     let tol2 = rule.tol * rule.tol;
+    let mut checks = 0usize;
     for (w, &i) in by_x.iter().enumerate() {
         for &j in &by_x[w + 1..] {
             let dx = contacts[j].point.x - contacts[i].point.x;
-            if dx.is_nan() || dx > rule.tol {
+            if dx.is_nan() || dx * dx > tol2 {
                 break;
+            }
+            checks += 1;
+            if checks > 32 * n {
+                return survivors_by_lookup(contacts, keys, rule);
             }
             if (contacts[i].point - contacts[j].point).length_squared() <= tol2 {
                 twinned[i] = true;
@@ -385,6 +394,34 @@ mod tests {
             removed += want.iter().filter(|&&k| !k).count();
             seen += contacts.len();
         }
+        // A grid of points in one plane square to x (a tessellated face),
+        // with a few pairs of twins: the x runs would be quadratic and the
+        // maps take over, with the same survivors.
+        let mut grid: Vec<Contact> = (0..400)
+            .map(|k| Contact {
+                point: DVec3::new(0.25, (k % 20) as f64 * 0.01, (k / 20) as f64 * 0.01),
+                normal: DVec3::X,
+                distance: (k % 7) as f64 * 1e-4,
+                kind: ContactKind::VertexFace,
+                feature_a: Feature::face(1000),
+                feature_b: Feature::face(1000),
+            })
+            .collect();
+        for k in 0..10 {
+            let twin = Contact {
+                point: grid[k * 37].point + DVec3::new(0.0, 0.3 * tol, 0.0),
+                ..grid[k * 37]
+            };
+            grid.push(twin);
+        }
+        let keys = vec![(None, None); grid.len()];
+        let rule = Rule {
+            min_cos: params.normal_angle.cos(),
+            tol,
+        };
+        let want = survivors_by_scan(&grid, &keys, &rule);
+        assert_eq!(want.iter().filter(|&&k| !k).count(), 10);
+        assert_eq!(survivors_of_twinned(&grid, &keys, &rule), want);
         // The rounds do merge, and keep: both outcomes are exercised, and
         // many contacts have no twin at all.
         assert!(

@@ -32,37 +32,41 @@
 //! edge axes unless an edge axis is clearly shallower (by
 //! [`FACE_PREFERENCE`]), which keeps resting contacts on face normals.
 //!
-//! Shared features, once: a mesh vertex belongs to about six triangles and
-//! an edge to two, so testing every triangle pair near a contact reports a
+//! Shared features, once: a mesh vertex belongs to about six triangles and an
+//! edge to two, so testing every triangle pair near a contact reports a
 //! vertex/face contact about six times and an edge/edge contact up to four
 //! times (thesis 5.4), and the duplicates are merged afterwards. Given which
-//! corners and edges each triangle owns (`Owned`: every vertex of a mesh,
-//! and every edge between two triangles, has exactly one owner),
-//! `triangle_contacts_owned` reports each feature's contacts from its
-//! owner's pairs only, and gives after merging the answer of testing every
-//! pair. A vertex or edge within the margin of a face or edge is within it
-//! for every triangle that holds it, so the owner sees what each copy would
-//! (with a margin per feature, `Owned::b_margins`, that is the same in
-//! every pair holding the feature). Where the copies' answers depend on
-//! their own triangles, the owner asks the triangles around the feature
-//! (`Copies`), on a cold path: a pair whose triangles intersect gives only
-//! push-out contacts, so an owner whose pair intersects reports a corner
+//! corners and edges each triangle owns (`Owned`: every vertex of a mesh, and
+//! every edge between two triangles, has exactly one owner),
+//! `triangle_contacts_owned` reports each feature's contacts from its owner's
+//! pairs only, and gives after merging the answer of testing every pair (for
+//! the same triangle pairs: a walk along a drift reaches the owner's pair
+//! whenever the feature comes within the margin, not always when a copy's
+//! pair is reached for its look-ahead alone; and on a mesh whose vertex has
+//! two fans, or behind a non-manifold edge, the triangles asked below are
+//! those of the owner's fan). A vertex or edge within the margin of a face or
+//! edge is within it for every triangle that holds it, so the owner sees what
+//! each copy would (with a margin per feature, `Owned::b_margins`, that is
+//! the same in every pair holding the feature). Where the copies' answers
+//! depend on their own triangles, the owner asks the triangles around the
+//! feature (`Copies`), on a cold path: a pair whose triangles intersect gives
+//! only push-out contacts, so an owner whose pair intersects reports a corner
 //! only if some other triangle at that corner does not intersect the other
 //! triangle, and an edge/edge contact only if some pair holding both edges
-//! does not intersect and passes the outward test; an edge/edge contact
-//! that its own faces reject is kept when the pair with a triangle across
-//! either edge passes that test and does not intersect. (An earlier rule
-//! reported an owner's features from an intersecting pair regardless, and
-//! kept an edge contact for a face across whatever that pair did: once the
-//! walk along a drift used it too, 8 of 12 jittered concave piles settled
-//! with two bodies 0.6-1 mm inside each other, held by those contacts, and
-//! pairs of brackets stayed 1-3 cm deep for tens of steps.) The ghost
-//! filter of flat regions (`narrow::contact_mesh`) judges a flat vertex or
-//! edge by its owner's face, where the copies were judged by each of theirs
-//! (coplanar within 0.03 degrees, so only contacts in a hair-thin band of
-//! normals can differ), and each contact is computed once, so the survivor
-//! of a group of copies that differed in round-off (an edge's copies run it
-//! in both directions) may differ in the last bits.
+//! does not intersect and passes the outward test; an edge/edge contact that
+//! its own faces reject is kept when the pair with a triangle across either
+//! edge passes that test and does not intersect. (An earlier rule reported an
+//! owner's features from an intersecting pair regardless, and kept an edge
+//! contact for a face across whatever that pair did: once the walk along a
+//! drift used it too, 8 of 12 jittered concave piles settled with two bodies
+//! 0.6-1 mm inside each other, held by those contacts, and pairs of brackets
+//! stayed 1-3 cm deep for tens of steps.) The ghost filter of flat regions
+//! (`narrow::contact_mesh`) judges a flat vertex or edge by its owner's face,
+//! where the copies were judged by each of theirs (coplanar within 0.03
+//! degrees, so only contacts in a hair-thin band of normals can differ), and
+//! each contact is computed once, so the survivor of a group of copies that
+//! differed in round-off (an edge's copies run it in both directions) may
+//! differ in the last bits.
 
 use super::tri_distance::closest_points_segments;
 use super::tri_tri_overlap::tri_tri_overlap;
@@ -193,7 +197,8 @@ pub(crate) enum Side {
 }
 
 /// The corners and edges each triangle of a pair owns (module docs, "Shared
-/// features, once"), and the faces across its edges.
+/// features, once"), the margins of B's corners, and the triangles around
+/// them.
 pub(crate) struct Owned<'f> {
     /// Bit `k` (0-2): A's triangle owns its corner `k`; bit `3 + k`: its edge `k`.
     pub a: u8,
@@ -265,7 +270,7 @@ fn contacts_of_pair(
         return 0;
     }
     let start = out.len();
-    let intersecting = crosses(a, b, da, db);
+    let intersecting = intersects_with_heights(a, b, da, db);
     if intersecting {
         penetrating_contacts(a, id_a, fa, b, id_b, fb, out);
         // Every pair reports all of its features, and the pairs around an
@@ -328,7 +333,12 @@ fn contacts_of_pair(
 /// pair makes, with the heights of each one's corners over the other's
 /// plane (`None` for a triangle with no area).
 #[inline]
-fn crosses(a: &[DVec3; 3], b: &[DVec3; 3], da: Option<[f64; 3]>, db: Option<[f64; 3]>) -> bool {
+fn intersects_with_heights(
+    a: &[DVec3; 3],
+    b: &[DVec3; 3],
+    da: Option<[f64; 3]>,
+    db: Option<[f64; 3]>,
+) -> bool {
     // A triangle strictly on one side of the other's plane cannot meet it;
     // only the rest need the exact intersection test. The tolerance covers
     // the round-off of the heights, so the exact test decides every case
@@ -343,12 +353,12 @@ fn crosses(a: &[DVec3; 3], b: &[DVec3; 3], da: Option<[f64; 3]>, db: Option<[f64
     !clear(da) && !clear(db) && tri_tri_overlap(a, b)
 }
 
-/// [`crosses`] for a pair of A's and B's triangles, to the bit as the
-/// pair's own test decides it.
+/// [`intersects_with_heights`] for a pair of A's and B's triangles, to the
+/// bit as the pair's own test decides it.
 #[cold]
 fn intersects(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     let (fa, fb) = (face(a), face(b));
-    crosses(
+    intersects_with_heights(
         a,
         b,
         fb.map(|f| heights(a, f, b[0])),

@@ -79,8 +79,18 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(0);
     let mut window = 0.0f64;
+    // Total energy (kinetic plus potential) step to step: contacts and
+    // friction may only take it away, so a gain is a defect to chase.
+    let mut energy = world.kinetic_energy() + world.potential_energy();
+    let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
     for step in 0..steps {
         let r = world.step();
+        let now = world.kinetic_energy() + world.potential_energy();
+        if now - energy > largest_gain {
+            (largest_gain, gain_step) = (now - energy, step);
+        }
+        gaining_steps += usize::from(now - energy > 1e-3);
+        energy = now;
         deepest = deepest.max(r.max_penetration);
         window = window.max(r.max_penetration);
         if trace > 0 && (step + 1) % trace == 0 {
@@ -116,6 +126,9 @@ fn main() {
         world.kinetic_energy()
     );
     println!("  bodies put back by continuous collision: {swept_back}");
+    println!(
+        "  total energy: largest change in one step {largest_gain:+.3e} J (step {gain_step}), {gaining_steps} steps gaining more than 1 mJ"
+    );
     if name.starts_with("concave_pile") {
         let centres: Vec<_> = ids[1..]
             .iter()

@@ -66,17 +66,13 @@ pub struct MeshPairMemory {
     /// The margin the walk used (m): the step's margin plus B's look-ahead
     /// reach plus [`RECALL_SLACK`].
     reach: f64,
-    /// The triangle pairs of the leaf pairs within `reach`, in walk order
-    /// (A's triangles outer within a leaf pair), as A's triangle, B's
-    /// triangle and their distance at the walk (m): only
-    /// those within `reach` (and round-off), since the list is given up
-    /// before B has moved far enough to bring a farther one within the
-    /// margin.
-    pairs: Vec<ListedPair>,
+    /// The triangle pairs `(A's, B's)` of the leaf pairs within `reach`, in
+    /// walk order (A's triangles outer within a leaf pair), with their
+    /// distance at the walk (m): only those within `reach` (and round-off),
+    /// since the list is given up before B has moved far enough to bring a
+    /// farther one within the margin.
+    pairs: Vec<(u32, u32, f64)>,
 }
-
-/// One triangle pair of a list: A's triangle, B's, their distance.
-type ListedPair = (u32, u32, f64);
 
 impl MeshPairMemory {
     /// How many triangle pairs the list holds.
@@ -575,7 +571,7 @@ mod tests {
     }
 
     /// A corner of A over a face of B takes the margin plus the look-ahead
-    /// of that face's own leaf, not the largest of B's: a sheet of fine
+    /// of that face's own corners, not the largest of B's: a sheet of fine
     /// triangles (B) turns about one end, by 1.8 mm at the far end and a
     /// tenth of a millimetre near the pivot, and a small box (A) holds a
     /// corner 1 mm beyond the margin above it. Near the far end the corner

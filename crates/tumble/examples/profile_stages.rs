@@ -5,7 +5,10 @@
 //! prints how far the last body moved and the deepest penetration seen
 //! (with `TRACE_DEPTH=N` in the environment, also the deepest of every N steps;
 //! with `JITTER=seed`, every body after the first starts up to 2 cm and 0.1 rad
-//! from its place, an independent sample of a chaotic scene for each seed).
+//! from its place, an independent sample of a chaotic scene for each seed;
+//! with `FRICTION=mu`, every body's friction set to `mu`; with `NO_CCD=1`,
+//! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
+//! total energy and deepest penetration).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 
@@ -52,6 +55,14 @@ fn main() {
         }
     }
     scene.settings.sleeping = false;
+    if std::env::var("NO_CCD").is_ok() {
+        scene.settings.continuous = false;
+    }
+    if let Some(mu) = std::env::var("FRICTION").ok().and_then(|s| s.parse::<f64>().ok()) {
+        for body in scene.bodies.iter_mut() {
+            body.material.friction = mu;
+        }
+    }
     scene.settings.threads = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     if let Some(n) = args.get(4).and_then(|s| s.parse().ok()) {
         scene.settings.substeps = n;
@@ -82,6 +93,7 @@ fn main() {
     // Total energy (kinetic plus potential) step to step: contacts and
     // friction may only take it away, so a gain is a defect to chase.
     let mut energy = world.kinetic_energy() + world.potential_energy();
+    let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
     for step in 0..steps {
         let r = world.step();
@@ -90,6 +102,13 @@ fn main() {
             (largest_gain, gain_step) = (now - energy, step);
         }
         gaining_steps += usize::from(now - energy > 1e-3);
+        if trace_energy {
+            eprintln!(
+                "step {step}: energy change {:+.4e} J, deepest {:.4} m",
+                now - energy,
+                r.max_penetration
+            );
+        }
         energy = now;
         deepest = deepest.max(r.max_penetration);
         window = window.max(r.max_penetration);

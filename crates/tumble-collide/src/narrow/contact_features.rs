@@ -14,7 +14,7 @@
 //! shared vertex or edge through its owner).
 
 use super::contact_halfspace::push_vertex_on_plane;
-use super::contact_mesh::{finish_mesh_mesh, owned_pair_contacts, VERTEX_CACHE};
+use super::contact_mesh::{finish_mesh_mesh, PlacedPair, VERTEX_CACHE};
 use super::dispatch::{check_margin_and_drift, refuse_non_finite};
 use super::NarrowError;
 use crate::contact::{Contact, Feature, SubFeature};
@@ -86,9 +86,16 @@ fn triangle_pairs(
     let (count_a, count_b) = (a.mesh().triangles().len(), b.mesh().triangles().len());
     VERTEX_CACHE.with_borrow_mut(|cache| {
         cache.begin(b.mesh().vertices().len(), &Drift::NONE);
+        let mut placed = PlacedPair {
+            a,
+            b,
+            rot: &rot,
+            trans: rel.position,
+            cache,
+        };
         for &(ta, tb) in pairs {
             if (ta as usize) < count_a && (tb as usize) < count_b {
-                owned_pair_contacts(a, b, (&rot, rel.position), cache, (ta, tb), margin, out);
+                placed.owned_contacts((ta, tb), margin, out);
             }
         }
     });

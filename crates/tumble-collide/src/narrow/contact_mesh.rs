@@ -152,81 +152,84 @@ impl VertexCache {
     }
 }
 
-/// Triangle `ta` of mesh A (as stored) against triangle `tb` of mesh B
-/// (moved into A's frame by `rot` and `trans` through `cache`): the contacts
-/// of the corners and edges each owns (`triangle::tri_contact`, "Shared
-/// features, once") within `margin` plus each feature's own look-ahead
-/// (how far it can move against the other mesh in the step: B's corner by
-/// its drift, B's edge by the larger of its ends', A's corner against B's
-/// face by the largest of the face's corners'; the drift is first order,
-/// so a point of an edge or face moves no farther than its farthest
-/// corner). Every mesh-mesh search and re-evaluation goes through it, so
-/// they agree to the bit.
-pub(super) fn owned_pair_contacts(
-    a: &MeshShape,
-    b: &MeshShape,
-    (rot, trans): (&DMat3, DVec3),
-    cache: &mut VertexCache,
-    (ta, tb): (u32, u32),
-    margin: f64,
-    out: &mut Vec<Contact>,
-) {
-    let (va, vb) = (a.mesh().vertices(), b.mesh().vertices());
-    let (tris_a, tris_b) = (a.mesh().triangles(), b.mesh().triangles());
-    let wa = tris_a[ta as usize].map(|v| va[v as usize]);
-    let corners_b = tris_b[tb as usize];
-    let wb = corners_b.map(|v| cache.get(v, rot, trans, vb));
-    let b_margins = corners_b.map(|v| margin + cache.moves(v));
-    let test_margin = b_margins[0].max(b_margins[1]).max(b_margins[2]);
-    let mut copies = PairCopies {
-        a,
-        b,
-        place: (rot, trans),
-        cache,
-        pair: (ta, tb),
-    };
-    let mut owned = Owned {
-        a: a.owned_features(ta),
-        b: b.owned_features(tb),
-        b_margins,
-        copies: &mut copies,
-    };
-    triangle_contacts_owned(&wa, ta, &wb, tb, test_margin, &mut owned, out);
+/// Two meshes placed for their triangle tests: A's triangles as stored,
+/// B's moved into A's frame by `rot` and `trans` through the per-thread
+/// vertex cache (each of B's vertices placed once per query). Every
+/// mesh-mesh search, list and re-evaluation places its triangles here.
+pub(super) struct PlacedPair<'m, 'c> {
+    pub a: &'m MeshShape,
+    pub b: &'m MeshShape,
+    pub rot: &'m DMat3,
+    pub trans: DVec3,
+    pub cache: &'c mut VertexCache,
 }
 
-/// The triangles around a pair's features (`triangle::tri_contact::Copies`):
-/// A's as stored, B's moved into A's frame through the vertex cache.
-struct PairCopies<'m, 'c> {
-    a: &'m MeshShape,
-    b: &'m MeshShape,
-    place: (&'m DMat3, DVec3),
-    cache: &'c mut VertexCache,
-    pair: (u32, u32),
-}
-
-impl<'m> PairCopies<'m, '_> {
+impl PlacedPair<'_, '_> {
     /// Triangle `t` of `side`'s mesh in A's frame.
+    #[inline]
     fn triangle(&mut self, side: Side, t: u32) -> [DVec3; 3] {
         match side {
             Side::A => self.a.mesh().triangle(t as usize),
             Side::B => {
                 let vb = self.b.mesh().vertices();
-                let (rot, trans) = self.place;
-                self.b.mesh().triangles()[t as usize].map(|v| self.cache.get(v, rot, trans, vb))
+                self.b.mesh().triangles()[t as usize].map(|v| self.cache.get(v, self.rot, self.trans, vb))
             }
         }
     }
 
+    /// The triangles of the pair `(ta, tb)` in A's frame.
+    #[inline]
+    pub(super) fn triangles(&mut self, ta: u32, tb: u32) -> ([DVec3; 3], [DVec3; 3]) {
+        (self.triangle(Side::A, ta), self.triangle(Side::B, tb))
+    }
+
+    /// Triangle `ta` of A against triangle `tb` of B: the contacts of the
+    /// corners and edges each owns (`triangle::tri_contact`, "Shared
+    /// features, once") within `margin` plus each feature's own look-ahead
+    /// (how far it can move against the other mesh in the step: B's corner
+    /// by its drift, B's edge by the larger of its ends', A's corner
+    /// against B's face by the largest of the face's corners'; the drift is
+    /// first order, so a point of an edge or face moves no farther than its
+    /// farthest corner). Every mesh-mesh search and re-evaluation goes
+    /// through it, so they agree to the bit.
+    pub(super) fn owned_contacts(&mut self, (ta, tb): (u32, u32), margin: f64, out: &mut Vec<Contact>) {
+        let (wa, wb) = self.triangles(ta, tb);
+        let corners_b = self.b.mesh().triangles()[tb as usize];
+        let b_margins = corners_b.map(|v| margin + self.cache.moves(v));
+        let test_margin = b_margins[0].max(b_margins[1]).max(b_margins[2]);
+        let (owned_a, owned_b) = (self.a.owned_features(ta), self.b.owned_features(tb));
+        let mut copies = PairCopies {
+            placed: self,
+            pair: (ta, tb),
+        };
+        let mut owned = Owned {
+            a: owned_a,
+            b: owned_b,
+            b_margins,
+            copies: &mut copies,
+        };
+        triangle_contacts_owned(&wa, ta, &wb, tb, test_margin, &mut owned, out);
+    }
+}
+
+/// The triangles around a pair's features (`triangle::tri_contact::Copies`),
+/// placed as the pair's own.
+struct PairCopies<'p, 'm, 'c> {
+    placed: &'p mut PlacedPair<'m, 'c>,
+    pair: (u32, u32),
+}
+
+impl<'m> PairCopies<'_, 'm, '_> {
     /// `side`'s mesh and the pair's triangle of it.
     fn side(&self, side: Side) -> (&'m MeshShape, u32) {
         match side {
-            Side::A => (self.a, self.pair.0),
-            Side::B => (self.b, self.pair.1),
+            Side::A => (self.placed.a, self.pair.0),
+            Side::B => (self.placed.b, self.pair.1),
         }
     }
 }
 
-impl Copies for PairCopies<'_, '_> {
+impl Copies for PairCopies<'_, '_, '_> {
     fn any_around_corner(
         &mut self,
         side: Side,
@@ -234,12 +237,12 @@ impl Copies for PairCopies<'_, '_> {
         visit: &mut dyn FnMut(&[DVec3; 3]) -> bool,
     ) -> bool {
         let (mesh, t) = self.side(side);
-        mesh.any_around_corner(t, k, |c| visit(&self.triangle(side, c)))
+        mesh.any_around_corner(t, k, |c| visit(&self.placed.triangle(side, c)))
     }
 
     fn across(&mut self, side: Side, k: usize) -> Option<[DVec3; 3]> {
         let (mesh, t) = self.side(side);
-        mesh.across(t, k).map(|c| self.triangle(side, c))
+        mesh.across(t, k).map(|c| self.placed.triangle(side, c))
     }
 }
 
@@ -280,7 +283,7 @@ pub fn contact_mesh_mesh(
 /// besides motions within `margin`: each triangle pair that comes within
 /// `margin` along the drift (`bvh::collide_moving`) gives the contacts of
 /// the features its triangles own within `margin` plus each feature's
-/// look-ahead (`owned_pair_contacts`). A pair the drift cannot bring
+/// look-ahead (`PlacedPair::owned_contacts`). A pair the drift cannot bring
 /// together is left out: no contact of it could close in the step, so the
 /// solver loses nothing, and the triangles tested follow each part's own
 /// motion instead of the body's fastest point. A shared vertex or edge is
@@ -301,8 +304,15 @@ pub fn contact_mesh_mesh_moving(
     let rot = DMat3::from_quat(rel.rotation);
     VERTEX_CACHE.with_borrow_mut(|cache| {
         cache.begin(b.mesh().vertices().len(), &drift.in_frame_of(pose_a));
+        let mut placed = PlacedPair {
+            a,
+            b,
+            rot: &rot,
+            trans: rel.position,
+            cache,
+        };
         let _ = bvh::collide_moving(a.tree(), pose_a, b.tree(), pose_b, margin, drift, |ta, tb, _| {
-            owned_pair_contacts(a, b, (&rot, rel.position), cache, (ta, tb), margin, out);
+            placed.owned_contacts((ta, tb), margin, out);
             Traverse::Continue
         });
     });

@@ -26,7 +26,7 @@
 //! what keeps a step independent of the memory's history (thread counts,
 //! snapshots, sleeping).
 
-use super::contact_mesh::{finish_mesh_mesh, owned_pair_contacts, VertexCache, VERTEX_CACHE};
+use super::contact_mesh::{finish_mesh_mesh, PlacedPair, VERTEX_CACHE};
 use super::dispatch::{check_margin_and_drift, refuse_non_finite};
 use super::NarrowError;
 use crate::bvh::{self, ObbTree, Traverse};
@@ -102,7 +102,7 @@ pub enum Recall {
 /// The contacts of a remembered pair are those of every triangle pair of the
 /// two meshes under the triangle test with `margin` plus each feature's
 /// look-ahead over the drift, each shared vertex and edge tested through
-/// the triangle that owns it (`contact_mesh::owned_pair_contacts`),
+/// the triangle that owns it (`contact_mesh::PlacedPair::owned_contacts`),
 /// whatever the memory: a memory changes the cost, never the answer
 /// (module docs). A margin that is not finite and `>= 0` is
 /// [`NarrowError::BadMargin`], a drift that is not finite
@@ -152,7 +152,7 @@ pub fn contact_mesh_mesh_recalled(
         });
         let recall = VERTEX_CACHE.with_borrow_mut(|cache| {
             cache.begin(b.mesh().vertices().len(), &local_drift);
-            let mut placer = Placer {
+            let mut placed = PlacedPair {
                 a,
                 b,
                 rot: &rot,
@@ -168,12 +168,12 @@ pub fn contact_mesh_mesh_recalled(
                         margin,
                         reach_max,
                     };
-                    listed.contacts(&mut placer, out);
+                    listed.contacts(&mut placed, out);
                     Recall::Reused
                 }
                 None => {
                     let memory = walk(
-                        &mut placer,
+                        &mut placed,
                         pose_a,
                         pose_b,
                         rel,
@@ -185,7 +185,7 @@ pub fn contact_mesh_mesh_recalled(
                         margin,
                         reach_max,
                     };
-                    listed.contacts(&mut placer, out);
+                    listed.contacts(&mut placed, out);
                     Recall::Found(memory)
                 }
             }
@@ -197,34 +197,11 @@ pub fn contact_mesh_mesh_recalled(
     Ok(recall)
 }
 
-/// Triangles of A (as stored) and of B (moved into A's frame through the
-/// per-thread vertex cache) for the triangle tests.
-struct Placer<'a> {
-    a: &'a MeshShape,
-    b: &'a MeshShape,
-    rot: &'a DMat3,
-    trans: DVec3,
-    cache: &'a mut VertexCache,
-}
-
-impl Placer<'_> {
-    /// The triangles of the pair `(ta, tb)`.
-    #[inline]
-    fn place(&mut self, ta: u32, tb: u32) -> ([DVec3; 3], [DVec3; 3]) {
-        let [i, j, k] = self.a.mesh().triangles()[ta as usize];
-        let va = self.a.mesh().vertices();
-        let wa = [va[i as usize], va[j as usize], va[k as usize]];
-        let vb = self.b.mesh().vertices();
-        let wb = self.b.mesh().triangles()[tb as usize].map(|v| self.cache.get(v, self.rot, self.trans, vb));
-        (wa, wb)
-    }
-}
-
 /// A new list: the triangle pairs of the leaf pairs of the two trees within
 /// `reach` (no drift: the reach covers it) that are themselves within it,
 /// each with its distance.
-fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64) -> MeshPairMemory {
-    let (tree_a, tree_b) = (placer.a.tree_arc(), placer.b.tree_arc());
+fn walk(placed: &mut PlacedPair, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64) -> MeshPairMemory {
+    let (tree_a, tree_b) = (placed.a.tree_arc(), placed.b.tree_arc());
     let mut leaf_pairs = Vec::new();
     let _ = bvh::traverse::collide_leaves(tree_a, pose_a, tree_b, pose_b, reach, &Drift::NONE, |x, y| {
         leaf_pairs.push((x, y));
@@ -235,7 +212,7 @@ fn walk(placer: &mut Placer, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64
     for &(x, y) in &leaf_pairs {
         for &ta in tree_a.leaf_triangles(&na[x as usize]) {
             for &tb in tree_b.leaf_triangles(&nb[y as usize]) {
-                let (wa, wb) = placer.place(ta, tb);
+                let (wa, wb) = placed.triangles(ta, tb);
                 // A pair beyond the list's reach is never tested while the
                 // list is valid (`Listed::contacts` tests a pair once its
                 // distance less the motion since is within the margin and
@@ -277,24 +254,16 @@ struct Listed<'m> {
 
 impl Listed<'_> {
     /// The triangle test on the features each triangle owns, each within
-    /// the margin plus its own look-ahead (`owned_pair_contacts`), for every
+    /// the margin plus its own look-ahead (`PlacedPair::owned_contacts`), for every
     /// listed pair that the motion since the walk could have brought within
     /// the margin and the largest look-ahead, in the list's order.
-    fn contacts(&self, placer: &mut Placer, out: &mut Vec<Contact>) {
+    fn contacts(&self, placed: &mut PlacedPair, out: &mut Vec<Contact>) {
         let reach = self.margin + self.reach_max;
         for &(ta, tb, gap) in &self.memory.pairs {
             if gap - self.moved - ROUND_OFF > reach {
                 continue;
             }
-            owned_pair_contacts(
-                placer.a,
-                placer.b,
-                (placer.rot, placer.trans),
-                placer.cache,
-                (ta, tb),
-                self.margin,
-                out,
-            );
+            placed.owned_contacts((ta, tb), self.margin, out);
         }
     }
 }

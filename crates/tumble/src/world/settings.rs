@@ -48,7 +48,7 @@ pub struct WorldSettings {
     /// Push-out (position correction) iterations per sub-step. Default 1. A
     /// step whose deepest overlap at its start is 5 mm or more gets one
     /// more per whole 5 mm, at most 3 more (load where it is deep: a pass
-    /// carries a correction one contact layer further).
+    /// carries a correction one contact layer further); 0 turns push-out off.
     pub push_out_iterations: u32,
     /// Speculative contact margin (m): feature pairs closer than this, plus
     /// the bodies' motion over the step, become contacts whose gap may close

@@ -80,7 +80,11 @@ impl World {
         let q0: Vec<DQuat> = sf.bodies.iter().map(|b| b.q).collect();
         let substeps = if semi_implicit { s.substeps } else { 1 };
         let iterations = s.iterations;
-        let push_out_iterations = s.push_out_iterations + deep_push_out_passes(report.max_penetration);
+        // A world without push-out (0 passes) stays without.
+        let push_out_iterations = match s.push_out_iterations {
+            0 => 0,
+            n => n + deep_push_out_passes(report.max_penetration),
+        };
         let h = dt / substeps as f64;
         let params = SolverParams {
             push_out_fraction: s.push_out_fraction,

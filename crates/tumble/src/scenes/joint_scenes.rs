@@ -110,9 +110,11 @@ pub fn ragdoll() -> (Vec<BodyDesc>, Vec<JointDesc<usize>>) {
 
 /// ragdoll_pile: 100 [`ragdoll`]s standing in a 10 x 10 grid 1 m apart on a
 /// static ground box (half extents 20 x 20 x 0.5, top at z = 0), each
-/// tipped by 0.3 rad about its feet (about x in even rows, y in odd ones) so
-/// that they topple onto each other; dt 1/60, 600 steps. The ground is
-/// body 0; ragdoll `k` is bodies `1 + 11 k ..`.
+/// tipped by 0.3 rad about the midpoint of its feet (about x in even rows, y
+/// in odd ones) so that they topple onto each other, and raised so that its
+/// lowest point is 1 mm above the ground (tipped about x, one shin would
+/// start 3 cm into it); dt 1/60, 600 steps. The ground is body 0; ragdoll
+/// `k` is bodies `1 + 11 k ..`.
 pub fn ragdoll_pile() -> Scene {
     let mut bodies = vec![BodyDesc::fixed(cuboid([20.0, 20.0, 0.5]))
         .at(DVec3::new(0.0, 0.0, -0.5))
@@ -121,12 +123,25 @@ pub fn ragdoll_pile() -> Scene {
     let (one, one_joints) = ragdoll();
     for row in 0..10 {
         for col in 0..10 {
-            let feet = DVec3::new(col as f64 - 4.5, row as f64 - 4.5, 0.001);
             let tilt = if row % 2 == 0 {
                 DQuat::from_rotation_x(0.3)
             } else {
                 DQuat::from_rotation_y(0.3)
             };
+            let tipped = Pose {
+                position: DVec3::ZERO,
+                rotation: tilt,
+            };
+            let lowest = one
+                .iter()
+                .flat_map(|b| {
+                    let pose = tipped.mul_pose(&b.pose);
+                    b.shapes
+                        .iter()
+                        .map(move |s| s.shape.aabb(&pose.mul_pose(&s.local_pose)).min.z)
+                })
+                .fold(f64::INFINITY, f64::min);
+            let feet = DVec3::new(col as f64 - 4.5, row as f64 - 4.5, 0.001 - lowest);
             let place = Pose {
                 position: feet,
                 rotation: tilt,
@@ -168,6 +183,25 @@ mod tests {
         assert_eq!(w.joint_count(), 1000);
         // Every joint starts closed (anchors coincide on both bodies).
         assert!(w.max_joint_error().0 < 1e-12);
+        // Every ragdoll starts on the ground, 1 mm above it, inside no one.
+        let ground = pile.bodies[0].shapes[0].shape.aabb(&pile.bodies[0].pose).max.z;
+        let lowest = |k: usize| {
+            pile.bodies[1 + 11 * k..12 + 11 * k]
+                .iter()
+                .flat_map(|b| {
+                    b.shapes
+                        .iter()
+                        .map(|s| s.shape.aabb(&b.pose.mul_pose(&s.local_pose)).min.z)
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        for k in 0..100 {
+            assert!(
+                (lowest(k) - ground - 0.001).abs() < 1e-9,
+                "ragdoll {k}: {}",
+                lowest(k)
+            );
+        }
         let mass: f64 = ragdoll()
             .0
             .iter()

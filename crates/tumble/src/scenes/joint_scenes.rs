@@ -183,7 +183,7 @@ mod tests {
         assert_eq!(w.joint_count(), 1000);
         // Every joint starts closed (anchors coincide on both bodies).
         assert!(w.max_joint_error().0 < 1e-12);
-        // Every ragdoll starts on the ground, 1 mm above it, inside no one.
+        // Every ragdoll's lowest point starts 1 mm above the ground.
         let ground = pile.bodies[0].shapes[0].shape.aabb(&pile.bodies[0].pose).max.z;
         let lowest = |k: usize| {
             pile.bodies[1 + 11 * k..12 + 11 * k]

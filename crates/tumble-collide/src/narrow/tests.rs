@@ -468,3 +468,68 @@ fn results_are_deterministic() {
         }
     }
 }
+
+/// Two boxes whose manifold is one point (edge against edge, or two apart
+/// boxes' closest points) also hold every corner of either box that lies
+/// within the margin of the other: a contact next to the corner, no farther
+/// apart than the corner is from the other box (brute force: the corner
+/// against the box's clamp). Why: a manifold holds for a whole step, and a
+/// turning box brings such a corner on while its edge still touches.
+#[test]
+fn a_one_point_box_manifold_holds_the_corners_within_the_margin() {
+    let (small, large) = (DVec3::new(0.5, 0.3, 0.2), DVec3::new(0.4, 0.6, 0.35));
+    let (a, b) = (Cuboid::new(small).unwrap(), Cuboid::new(large).unwrap());
+    let margin = 0.15;
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    let (mut one_point, mut corners_held) = (0, 0);
+    for _ in 0..4000 {
+        let pa = pose([0.0; 3], [3.2 * next(), 3.2 * next(), 3.2 * next()]);
+        let dir = DVec3::new(next(), next(), next()).normalize_or(DVec3::X);
+        let pb = pose(
+            (dir * (0.6 + 0.5 * next().abs())).to_array(),
+            [3.2 * next(), 3.2 * next(), 3.2 * next()],
+        );
+        let cs = contacts(&a.into(), &pa, &b.into(), &pb, margin);
+        let first_kind = match cs.first() {
+            Some(c) => c.kind,
+            None => continue,
+        };
+        if first_kind == ContactKind::FaceFace {
+            continue;
+        }
+        one_point += 1;
+        for (p, pose_p, q, pose_q) in [(&a, &pa, &b, &pb), (&b, &pb, &a, &pa)] {
+            for i in 0..8 {
+                let corner = pose_p.transform_point(p.corner(i));
+                let local = pose_q.inverse_transform_point(corner);
+                let on_q = local.clamp(-q.half_extents(), q.half_extents());
+                let distance = (local - on_q).length();
+                if distance <= 1e-9 || distance > margin {
+                    continue;
+                }
+                let mid = (corner + pose_q.transform_point(on_q)) * 0.5;
+                let near = 0.05 * large.max_element();
+                assert!(
+                    cs.iter()
+                        .any(|c| (c.point - mid).length() <= near + 1e-12 && c.distance <= distance + 1e-9),
+                    "corner {i} {distance} m from the other box is not held (mid {mid:?}): {:?}",
+                    cs.iter()
+                        .map(|c| (c.point, c.distance, c.kind))
+                        .collect::<Vec<_>>()
+                );
+                corners_held += 1;
+            }
+        }
+    }
+    // The draw reaches the case under test often enough to mean something.
+    assert!(
+        one_point > 200 && corners_held > 200,
+        "{one_point} one-point manifolds, {corners_held} corners"
+    );
+}

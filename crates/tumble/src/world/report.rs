@@ -166,7 +166,8 @@ pub struct StepReport {
     pub islands: usize,
     /// Sub-steps run.
     pub substeps: u32,
-    /// Velocity iterations per sub-step.
+    /// Velocity iterations per sub-step run: the settings' plus those a
+    /// deep overlap at the step's start added.
     pub iterations: u32,
     /// What the solver left unsolved (m/s): the largest violation of a
     /// non-penetration row, `max(0, -(v_n + s/h))`, after the last sub-step's

@@ -24,27 +24,48 @@ use std::sync::Mutex;
 use std::time::Instant;
 use tumble_collide::{DQuat, DVec3};
 
-/// Overlap (m) that earns a step one more push-out pass per sub-step, per
-/// whole multiple, up to [`MAX_DEEP_PASSES`] ([`deep_push_out_passes`]).
+/// Overlap (m) that earns a step one more velocity iteration and one more
+/// push-out pass per sub-step, per whole multiple, up to
+/// [`MAX_DEEP_ITERATIONS`] and [`MAX_DEEP_PASSES`] ([`deep_load`]).
 pub const DEEP_OVERLAP_UNIT: f64 = 0.005;
+
+/// Most velocity iterations per sub-step added for deep overlap.
+pub const MAX_DEEP_ITERATIONS: u32 = 2;
 
 /// Most push-out passes per sub-step added for deep overlap.
 pub const MAX_DEEP_PASSES: u32 = 3;
 
-/// Push-out passes per sub-step added to `WorldSettings::push_out_iterations`
-/// for a step whose deepest overlap at its start (the narrow phase's) is
-/// `deepest`: one per whole [`DEEP_OVERLAP_UNIT`], at most
-/// [`MAX_DEEP_PASSES`]. Load where it is deep (issue 13): one Gauss-Seidel
-/// pass of push-out per sub-step carries a correction one contact layer
-/// further, and a tall pile then kept overlaps it could not carry away. The
-/// 10,000-body pile, settled, held 17 cm overlaps for 300 steps with one
-/// pass; with these it settles to 5 mm (`profile_stages pile10000 400 2`,
-/// `TRACE_DEPTH=50`). A resting stack within the unit pays nothing.
-pub fn deep_push_out_passes(deepest: f64) -> u32 {
-    if deepest >= DEEP_OVERLAP_UNIT {
-        ((deepest / DEEP_OVERLAP_UNIT) as u32).min(MAX_DEEP_PASSES)
+/// What a step adds per sub-step for deep overlap ([`deep_load`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DeepLoad {
+    /// Velocity iterations added to `WorldSettings::iterations`.
+    pub iterations: u32,
+    /// Push-out passes added to `WorldSettings::push_out_iterations`.
+    pub push_out_passes: u32,
+}
+
+/// The load of a step whose deepest overlap at its start (the narrow
+/// phase's) is `deepest`: one more velocity iteration and one more push-out
+/// pass per sub-step per whole [`DEEP_OVERLAP_UNIT`], at most
+/// [`MAX_DEEP_ITERATIONS`] and [`MAX_DEEP_PASSES`]. Load where it is deep
+/// (issue 13): one Gauss-Seidel pass carries a correction one contact layer
+/// further. With one push-out pass the 10,000-body pile, settled, held
+/// 17 cm overlaps for 300 steps (with these it settles to 5 mm); with two
+/// velocity iterations its layers landing on each other sank 19-31 cm into
+/// one another (three jittered starts; 11-12 cm with the extra iterations,
+/// which also settle it sooner and so cost nothing:
+/// `JITTER=seed profile_stages pile10000 200 2`). More passes or more
+/// iterations than these did not go shallower. A resting stack within the
+/// unit pays nothing.
+pub fn deep_load(deepest: f64) -> DeepLoad {
+    let units = if deepest >= DEEP_OVERLAP_UNIT {
+        (deepest / DEEP_OVERLAP_UNIT).min(f64::from(u32::MAX)) as u32
     } else {
         0
+    };
+    DeepLoad {
+        iterations: units.min(MAX_DEEP_ITERATIONS),
+        push_out_passes: units.min(MAX_DEEP_PASSES),
     }
 }
 
@@ -79,11 +100,12 @@ impl World {
         report.joints = sf.joints.len();
         let q0: Vec<DQuat> = sf.bodies.iter().map(|b| b.q).collect();
         let substeps = if semi_implicit { s.substeps } else { 1 };
-        let iterations = s.iterations;
         // A world without push-out (0 passes) stays without.
+        let deep = deep_load(report.max_penetration);
+        let iterations = s.iterations + deep.iterations;
         let push_out_iterations = match s.push_out_iterations {
             0 => 0,
-            n => n + deep_push_out_passes(report.max_penetration),
+            n => n + deep.push_out_passes,
         };
         let h = dt / substeps as f64;
         let params = SolverParams {
@@ -258,7 +280,7 @@ impl World {
             self.scratch.wide = wide;
         }
         report.substeps = substeps;
-        report.iterations = s.iterations;
+        report.iterations = iterations;
         self.store_impulses(f, substeps);
         self.store_joint_impulses(f, h);
         clock.lap(&mut f.report, SolveStage::StoreImpulses);

@@ -631,7 +631,7 @@ fn a_deeply_overlapping_column_is_pushed_apart_in_proportion_to_its_depth() {
 /// while its boxes tumble. Two causes were found and fixed: a box touching
 /// another at an edge kept one contact point for the step while its
 /// turning brought a corner 10 cm into the other (narrow phase: corners
-/// within the margin are held too, `contact_cuboid_cuboid`; spheres alone
+/// within the margin are held too, `hold_near_vertices`; spheres alone
 /// sank 1 cm); and the landing load reached the layers below one contact
 /// per pass (solve stage, `deep_load`: more iterations where it is deep).
 /// Before both, the deepest overlap was 11 cm; after, 4 cm.

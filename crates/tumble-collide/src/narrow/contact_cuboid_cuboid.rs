@@ -9,10 +9,10 @@
 //! which is why their last lines read alike.
 
 use super::contact_polytope_polytope::{build_manifold, SatResult};
-use crate::contact::{Contact, ContactKind, Feature};
+use crate::contact::Contact;
 use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
-use crate::shape::{Cuboid, Polytope};
+use crate::shape::Cuboid;
 
 /// Contacts between box A and box B: up to 4 face contacts or one edge-edge.
 // The common narrow signature; why a box pair has its own SAT rather than
@@ -116,86 +116,5 @@ pub fn contact_cuboid_cuboid(
         edge,
         scale,
     };
-    let start = out.len();
     build_manifold(a, pose_a, b, pose_b, &sat, margin, out);
-    if out.len() == start + 1 && out[start].kind != ContactKind::FaceFace {
-        push_near_corners(a, pose_a, b, pose_b, true, margin, start, out);
-        push_near_corners(b, pose_b, a, pose_a, false, margin, start, out);
-    }
-}
-
-/// Every corner of box `p` within `margin` of box `q` (and outside it) as a
-/// contact with `q`'s closest point, for a pair whose manifold is one point
-/// (an edge-edge contact, or the closest points of two apart boxes).
-///
-/// Why: a manifold holds for the whole step, and one point bounds only
-/// how the two closest features approach. Two boxes side by side, one
-/// tilted against the other and turning, touch at an edge while a corner
-/// nearby comes on at the speed of the turn: layers of a pile landing on
-/// each other (boxes and spheres) sank 10 cm into each other at such
-/// corners within a step, spheres alone 1 cm. The margin already covers
-/// the pair's motion over the step, so a corner within it is one that may
-/// arrive; as a speculative point it may close its gap but not go past.
-#[allow(clippy::too_many_arguments)] // the narrow signature's boxes, poses and margin, twice
-fn push_near_corners(
-    p: &Cuboid,
-    pose_p: &Pose,
-    q: &Cuboid,
-    pose_q: &Pose,
-    p_is_a: bool,
-    margin: f64,
-    start: usize,
-    out: &mut Vec<Contact>,
-) {
-    let hq = q.half_extents();
-    let rq = DMat3::from_quat(pose_q.rotation);
-    // A point closer than this to one already made, and no nearer to
-    // touching, adds nothing.
-    let near = 0.05 * hq.max_element().max(p.half_extents().max_element());
-    for i in 0..8 {
-        let corner = pose_p.transform_point(p.corner(i));
-        let local = rq.transpose() * (corner - pose_q.position);
-        let on_q = local.clamp(-hq, hq);
-        let gap = local - on_q;
-        let distance = gap.length();
-        // Inside q: the separating axis manifold speaks for it.
-        if distance <= 1e-12 || distance > margin {
-            continue;
-        }
-        let closest = pose_q.position + rq * on_q;
-        let point = (corner + closest) * 0.5;
-        if out[start..]
-            .iter()
-            .any(|c| (c.point - point).length() < near && c.distance <= distance)
-        {
-            continue;
-        }
-        // q's face on the side the corner is most outside of.
-        let axis = (0..3)
-            .max_by(|&k, &l| gap[k].abs().total_cmp(&gap[l].abs()))
-            .unwrap_or(0);
-        let face = Feature::face((2 * axis + usize::from(gap[axis] < 0.0)) as u32);
-        let vertex = p.vertex_feature(i);
-        // From B towards A.
-        let outward = (corner - closest) / distance;
-        out.push(if p_is_a {
-            Contact {
-                point,
-                normal: outward,
-                distance,
-                kind: ContactKind::VertexFace,
-                feature_a: vertex,
-                feature_b: face,
-            }
-        } else {
-            Contact {
-                point,
-                normal: -outward,
-                distance,
-                kind: ContactKind::FaceVertex,
-                feature_a: face,
-                feature_b: vertex,
-            }
-        });
-    }
 }

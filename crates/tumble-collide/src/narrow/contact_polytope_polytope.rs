@@ -1,7 +1,8 @@
 //! Polytope vs polytope (convex hull vs hull or box) by the separating axis
 //! test over face normals and Gauss-map-pruned edge pairs (Gregorius, "The
 //! Separating Axis Test between Convex Polyhedra", GDC 2013), then a face
-//! clipping manifold (see `clip`) or a single edge-edge contact.
+//! clipping manifold (see `clip`) or a single edge-edge contact, which then
+//! holds every vertex within the margin too (`hold_near_vertices`).
 //!
 //! Why SAT and not GJK/EPA: resting stacks need multi-point manifolds with
 //! stable feature ids, which the winning face gives directly. The SAT value is
@@ -12,8 +13,8 @@
 use super::clip::face_manifold;
 use super::geometry::closest_points_segments;
 use super::gjk::{gjk_distance, PolytopeSupport};
-use crate::contact::{Contact, ContactKind};
-use crate::math::{DMat3, DVec3};
+use crate::contact::{Contact, ContactKind, Feature};
+use crate::math::{first_max, DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::Polytope;
 
@@ -163,6 +164,7 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         .max(sat.sep_b)
         .max(sat.edge.map_or(f64::NEG_INFINITY, |e| e.0));
     if max_sep <= 0.0 {
+        hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
         return;
     }
     let ra = DMat3::from_quat(pose_a.rotation);
@@ -181,6 +183,7 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         sat.scale,
     );
     if g.overlap {
+        hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
         return;
     }
     if g.distance > margin {
@@ -192,6 +195,7 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         .map(|c| c.distance)
         .fold(f64::INFINITY, f64::min);
     if got <= g.distance + 1e-9 * sat.scale {
+        hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
         return;
     }
     out.truncate(start);
@@ -205,6 +209,102 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         feature_a: a.vertex_feature(a.support_vertex(ra.transpose() * -n)),
         feature_b: b.vertex_feature(b.support_vertex(rb.transpose() * n)),
     });
+    hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
+}
+
+/// For a manifold of one point (an edge-edge contact, or the closest
+/// points of two apart polytopes) from `start` in `out`: adds every vertex
+/// of either polytope within `margin` of the other (and outside it) as a
+/// contact with the other's nearest point. Face manifolds are left as they
+/// are (their clipped points are the incident face's corners).
+///
+/// Why: a manifold holds for the whole step, and one point bounds only how
+/// the two nearest features approach. Two boxes side by side, one tilted
+/// against the other and turning, touch at an edge while a corner nearby
+/// comes on at the speed of the turn: layers of a pile landing on each
+/// other (boxes and spheres) sank 10 cm into each other at such corners
+/// within a step, spheres alone 1 cm. The margin already covers the pair's
+/// motion over the step, so a vertex within it is one that may arrive; as a
+/// speculative point it may close its gap but not go past.
+#[allow(clippy::too_many_arguments)] // the manifold's shapes, poses, margin and output
+fn hold_near_vertices<A: Polytope + ?Sized, B: Polytope + ?Sized>(
+    a: &A,
+    pose_a: &Pose,
+    b: &B,
+    pose_b: &Pose,
+    margin: f64,
+    scale: f64,
+    start: usize,
+    out: &mut Vec<Contact>,
+) {
+    if out.len() != start + 1 || out[start].kind == ContactKind::FaceFace {
+        return;
+    }
+    // A point closer than this to one already made, and no nearer to
+    // touching, adds nothing.
+    let near = 0.05 * scale;
+    let mut hold = |p_is_a: bool, vertex: usize, corner: DVec3, on_q: DVec3, face: usize| {
+        let distance = (corner - on_q).length();
+        let point = (corner + on_q) * 0.5;
+        if out[start..]
+            .iter()
+            .any(|c| (c.point - point).length() < near && c.distance <= distance)
+        {
+            return;
+        }
+        // From B towards A.
+        let outward = (corner - on_q) / distance;
+        out.push(if p_is_a {
+            Contact {
+                point,
+                normal: outward,
+                distance,
+                kind: ContactKind::VertexFace,
+                feature_a: a.vertex_feature(vertex),
+                feature_b: Feature::face(face as u32),
+            }
+        } else {
+            Contact {
+                point,
+                normal: -outward,
+                distance,
+                kind: ContactKind::FaceVertex,
+                feature_a: Feature::face(face as u32),
+                feature_b: b.vertex_feature(vertex),
+            }
+        });
+    };
+    for (p_is_a, count) in [(true, a.vertex_count()), (false, b.vertex_count())] {
+        for i in 0..count {
+            let (corner, pose_q) = if p_is_a {
+                (pose_a.transform_point(a.vertex(i)), pose_b)
+            } else {
+                (pose_b.transform_point(b.vertex(i)), pose_a)
+            };
+            let local = pose_q.inverse_transform_point(corner);
+            // The largest plane gap is a lower bound of the distance (and
+            // <= 0 inside): most vertices stop here.
+            let (face, gap) = if p_is_a {
+                first_max(b.face_count(), |f| b.face_normal(f).dot(local) - b.face_offset(f))
+            } else {
+                first_max(a.face_count(), |f| a.face_normal(f).dot(local) - a.face_offset(f))
+            };
+            if gap <= 1e-12 || gap > margin {
+                continue;
+            }
+            let on_q = if p_is_a {
+                b.closest_point(local)
+            } else {
+                a.closest_point(local)
+            };
+            let on_q = pose_q.transform_point(on_q);
+            let distance = (corner - on_q).length();
+            if distance <= 1e-12 || distance > margin {
+                continue;
+            }
+            hold(p_is_a, i, corner, on_q, face);
+        }
+    }
 }
 
 fn extent<P: Polytope + ?Sized>(p: &P) -> f64 {

@@ -96,6 +96,9 @@ impl Cuboid {
 }
 
 impl Polytope for Cuboid {
+    fn closest_point(&self, p: DVec3) -> DVec3 {
+        p.clamp(-self.half_extents, self.half_extents)
+    }
     fn vertex_count(&self) -> usize {
         8
     }

@@ -64,6 +64,26 @@ pub trait Polytope {
     fn best_face(&self, dir: DVec3) -> usize {
         first_max(self.face_count(), |f| self.face_normal(f).dot(dir)).0
     }
+
+    /// The point of the solid nearest to `p` (body frame); `p` itself when
+    /// inside. By GJK from the point; a box clamps instead.
+    fn closest_point(&self, p: DVec3) -> DVec3 {
+        use crate::narrow::gjk::{gjk_distance, PolytopeSupport, SegmentSupport};
+        let solid = PolytopeSupport {
+            poly: self,
+            rot: crate::math::DMat3::IDENTITY,
+            trans: DVec3::ZERO,
+        };
+        let scale = (0..self.face_count())
+            .map(|f| self.face_offset(f).abs())
+            .fold(0.0, f64::max);
+        let g = gjk_distance(&SegmentSupport([p, p]), &solid, scale);
+        if g.overlap {
+            p
+        } else {
+            g.point_b
+        }
+    }
 }
 
 impl Feature {

@@ -10,8 +10,8 @@
 //! with `FRICTION=mu`, every body's friction set to `mu`; with `NO_CCD=1`,
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
-//! the deepest contact: its depth, height, normal, impulse and the two
-//! bodies' speeds).
+//! the deepest contact: its depth, height, the two bodies' names, normal,
+//! impulse and the two bodies' speeds).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 
@@ -137,9 +137,11 @@ fn main() {
                 let speed = |id| world.linear_velocity(id).unwrap_or_default().length();
                 let deep = world.contacts().iter().filter(|k| depth(k) > 0.02).count();
                 eprintln!(
-                    "step {step}: deepest contact {:.4} m at height {:.2} m, normal {:.2?}, impulse {:.3} N s, speeds {:.2} / {:.2} m/s; {deep} contacts deeper than 2 cm",
+                    "step {step}: deepest contact {:.4} m at height {:.2} m between {} and {}, normal {:.2?}, impulse {:.3} N s, speeds {:.2} / {:.2} m/s; {deep} contacts deeper than 2 cm",
                     depth(c),
                     c.contact.point.z,
+                    world.name(c.body_a).unwrap_or("?"),
+                    world.name(c.body_b).unwrap_or("?"),
                     c.contact.normal.to_array(),
                     c.normal_impulse,
                     speed(c.body_a),

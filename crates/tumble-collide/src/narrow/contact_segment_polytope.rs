@@ -250,27 +250,51 @@ fn face_prism_manifold<P: Polytope + ?Sized>(
         return false;
     }
     let same = (hi - lo) * dir.length() <= 1e-12 * (1.0 + s0.length());
-    // Both clipped ends only when the core lies (nearly) along the face: for a
-    // slanted core the shallower end's point p - n r would sit inside the
-    // capsule (by r (1 - sqrt(1 - (n.u)^2))); then only the deeper end counts.
+    // Both clipped ends when the core lies (nearly) along the face. For a
+    // slanted core the deeper end, and the shallower one where the capsule
+    // is within the margin of the face beneath it but not touching
+    // (speculative): a manifold holds for the whole step, and a slanted limb
+    // turning down onto the ground brought its upper end 2 cm into it with
+    // the deeper end alone (a ragdoll's forearm). Beneath a slanted core the
+    // capsule's surface is its cylinder, r / sqrt(1 - (n.u)^2) below the
+    // core (the end sphere's lowest point p - n r lies inside the capsule).
     let len = dir.length();
-    let parallel = len > 0.0 && (n.dot(dir) / len).abs() <= PARALLEL_SIN;
-    let deeper = if n.dot(dir) >= 0.0 { lo } else { hi };
-    let both = [lo, hi];
-    let ts: &[f64] = if same || !parallel {
-        std::slice::from_ref(if same { &both[0] } else { &deeper })
-    } else {
-        &both
+    let slope = if len > 0.0 { n.dot(dir) / len } else { 0.0 };
+    let parallel = len > 0.0 && slope.abs() <= PARALLEL_SIN;
+    let (deeper, shallower) = if slope >= 0.0 { (lo, hi) } else { (hi, lo) };
+    let ends = match (same, parallel) {
+        (true, _) => [Some(lo), None],
+        (false, true) => [Some(lo), Some(hi)],
+        (false, false) => [Some(deeper), Some(shallower)],
     };
-    for &t in ts {
+    for (k, t) in ends.into_iter().enumerate() {
+        let Some(t) = t else { continue };
         let p = s0 + dir * t;
-        let dist = n.dot(p) - d - radius;
+        let (below, on_cylinder) = if k == 1 && !parallel {
+            // The cylinder's surface beneath p, if that part of the
+            // capsule is cylinder (its axis foot inside the core).
+            let sink = radius / (1.0 - slope * slope).sqrt();
+            // p - n s projects on the core at t - s slope / len.
+            let foot = t - sink * slope / len;
+            if !(foot > 0.0 && foot < 1.0) {
+                continue;
+            }
+            (sink, Some(foot))
+        } else {
+            (radius, None)
+        };
+        let dist = n.dot(p) - d - below;
+        if k == 1 && !parallel && dist <= 0.0 {
+            continue;
+        }
         if dist <= margin {
-            // Midpoint of the sphere's surface point p - n r and its
-            // projection on the face plane p - n (dist + r).
-            let point = p - n * (radius + 0.5 * dist);
+            // Midpoint of the capsule's surface point p - n below and its
+            // projection on the face plane p - n (dist + below).
+            let point = p - n * (below + 0.5 * dist);
             let t_feature = if same { 0.5 } else { t };
             let t_feature = if t <= 0.0 || t >= 1.0 { t } else { t_feature };
+            // A point on the cylinder belongs to the core's inside.
+            let t_feature = on_cylinder.unwrap_or(t_feature);
             out.push(Contact {
                 point: pose_b.transform_point(point),
                 normal: pose_b.transform_vector(n),

@@ -544,3 +544,51 @@ fn a_one_point_polytope_manifold_holds_the_vertices_within_the_margin() {
         );
     }
 }
+
+/// A capsule slanted over a box face, its lower end touching, gets a second,
+/// speculative point under its upper part: on the capsule's surface (the
+/// cylinder, r / cos(slant) below the core), with the gap of that surface
+/// point to the face, and none once the upper part is beyond the margin.
+/// Why: a manifold holds for the whole step, and a slanted limb turning
+/// down onto the ground sank its upper end 2 cm in with the lower end alone.
+#[test]
+fn a_slanted_capsule_holds_its_upper_end_within_the_margin() {
+    let ground: Shape = Cuboid::new(DVec3::new(1.0, 1.0, 0.5)).unwrap().into();
+    let (r, half) = (0.1, 0.3);
+    let capsule: Shape = Capsule::new(r, half).unwrap().into();
+    for (slant, margin, expect_two) in [(0.1, 0.1, true), (0.1, 0.05, false), (-0.15, 0.2, true)] {
+        // Core along x turned by `slant` about y, its lower end r above the top.
+        let rot = DQuat::from_rotation_y(std::f64::consts::FRAC_PI_2 + slant);
+        let axis = rot * DVec3::Z;
+        let lower_z = 0.5 + r;
+        let centre = DVec3::new(0.0, 0.0, lower_z + half * axis.z.abs());
+        let pc = Pose::new(centre, rot).unwrap();
+        let cs = contacts(&capsule, &pc, &ground, &Pose::IDENTITY, margin);
+        let [s0, s1] = match &capsule {
+            Shape::Capsule(c) => c.world_segment(&pc),
+            _ => unreachable!(),
+        };
+        let upper = if s0.z > s1.z { s0 } else { s1 };
+        let sink = r / (1.0 - axis.z * axis.z).sqrt();
+        let gap = upper.z - 0.5 - sink;
+        assert_eq!(
+            cs.len(),
+            if expect_two { 2 } else { 1 },
+            "slant {slant}, margin {margin}: {cs:#?}"
+        );
+        assert!(cs[0].distance.abs() < 1e-9, "the lower end touches: {cs:#?}");
+        if expect_two {
+            let c = &cs[1];
+            assert!((c.distance - gap).abs() < 1e-9, "{} against {gap}", c.distance);
+            // The capsule's surface point: the contact point raised by half
+            // the gap, at distance r from the core.
+            let surface = c.point + c.normal * (0.5 * c.distance);
+            let (_, _, on_core, _) = super::geometry::closest_points_segments(s0, s1, surface, surface);
+            assert!(
+                ((surface - on_core).length() - r).abs() < 1e-9,
+                "not on the capsule"
+            );
+            assert!((surface.z - (0.5 + gap)).abs() < 1e-9);
+        }
+    }
+}

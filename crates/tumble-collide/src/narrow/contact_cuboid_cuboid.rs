@@ -1,7 +1,7 @@
 //! Box vs box: separating axis test over the 15 axes (3 + 3 face normals, 9
 //! edge cross products; Gottschalk, Lin, Manocha 1996 and Ericson 4.4.1),
 //! then the reference-face clipping manifold (up to 4 points) or one
-//! edge-edge contact, sharing `clip` and the axis choice (face axes preferred
+//! edge-edge contact with the corners within the margin, sharing `clip` and the axis choice (face axes preferred
 //! within a tolerance) with the generic polytope routine. Why a routine of
 //! its own: a box's face normals are its axes, so the 15 axes come from one
 //! 3 x 3 rotation without walking faces and edges (several times faster
@@ -14,7 +14,8 @@ use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::Cuboid;
 
-/// Contacts between box A and box B: up to 4 face contacts or one edge-edge.
+/// Contacts between box A and box B: up to 4 face contacts, or one edge-edge
+/// contact and the corners of either box within the margin of the other.
 // The common narrow signature; why a box pair has its own SAT rather than
 // `contact_polytope_polytope`'s: see the module docs above.
 pub fn contact_cuboid_cuboid(

@@ -1,6 +1,9 @@
 //! Contact physics of the world against analytic results and conservation
 //! laws (issue: world and contact solver). Release mode: `cargo test --release`.
 
+mod common;
+
+use common::ground_world;
 use tumble::scenes;
 use tumble::world::{BodyDesc, ContactEvent, World, WorldSettings};
 use tumble_collide::shape::{Cuboid, HalfSpace, Shape, Sphere};
@@ -577,14 +580,7 @@ fn exact_and_iterative_solvers_agree_on_a_resting_stack() {
 /// 5 mm now gets as many more passes (solve stage, `deep_load`).
 #[test]
 fn a_deeply_overlapping_column_is_pushed_apart_in_proportion_to_its_depth() {
-    let mut world = World::new(WorldSettings {
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    world
-        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
-        .unwrap();
+    let mut world = ground_world();
     let cube = || Shape::Cuboid(Cuboid::new(DVec3::splat(0.25)).unwrap());
     let overlap = 0.02;
     let boxes: Vec<_> = (0..12)
@@ -637,14 +633,7 @@ fn a_deeply_overlapping_column_is_pushed_apart_in_proportion_to_its_depth() {
 /// Before both, the deepest overlap was 11 cm; after, 4 cm.
 #[test]
 fn layers_of_boxes_and_spheres_landing_on_each_other_sink_in_no_deeper_than_6_cm() {
-    let mut world = World::new(WorldSettings {
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    world
-        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
-        .unwrap();
+    let mut world = ground_world();
     let (n, layers) = (3, 100);
     let half = 0.3 * n as f64;
     let wall_half_height = 0.3 * layers as f64 + 1.0;

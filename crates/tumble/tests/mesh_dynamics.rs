@@ -2,23 +2,13 @@
 //! cases: a mesh body behaves like the primitive it tessellates, and a torus
 //! (concave) comes to rest on the ground.
 
+mod common;
+
+use common::ground_world;
 use tumble::world::{BodyDesc, World, WorldSettings};
 use tumble_collide::mesh::{box_mesh, torus_mesh};
 use tumble_collide::shape::{Cuboid, HalfSpace, MeshShape, Shape};
 use tumble_collide::DVec3;
-
-/// A world without sleeping holding only the ground plane z = 0.
-fn ground_world() -> World {
-    let mut world = World::new(WorldSettings {
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    world
-        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
-        .unwrap();
-    world
-}
 
 fn settle(desc: BodyDesc, steps: usize) -> (World, tumble::world::BodyId) {
     let mut world = ground_world();

@@ -87,3 +87,18 @@ pub fn observed_order(coarse: f64, fine: f64) -> f64 {
 pub fn state_of(b: &RigidBody) -> BodyState {
     *b.state()
 }
+
+/// A world without sleeping holding only the ground plane z = 0 (body 0).
+pub fn ground_world() -> tumble::world::World {
+    use tumble::world::{BodyDesc, World, WorldSettings};
+    use tumble_collide::shape::{HalfSpace, Shape};
+    let mut world = World::new(WorldSettings {
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    world
+        .add_body(&BodyDesc::fixed(Shape::HalfSpace(HalfSpace::ground())))
+        .unwrap();
+    world
+}

@@ -132,7 +132,11 @@ fn type_name(v: &Value) -> String {
             Some(extra) if extra.is_object() => format!("table of {}", type_name(extra)),
             _ => "table".into(),
         },
-        "integer" if v.get("minimum") == Some(&Value::from(0)) => "integer >= 0".into(),
+        "integer" => match (v.get("minimum"), v.get("maximum")) {
+            (Some(lo), Some(hi)) => format!("integer {lo}..={hi}"),
+            (Some(lo), None) => format!("integer >= {lo}"),
+            _ => "integer".into(),
+        },
         other => other.into(),
     }
 }

@@ -447,6 +447,41 @@ fn json_schema_file_is_in_sync() {
     }
 }
 
+/// The schema's integer bounds on the solver settings are the ones the
+/// world enforces: the bound itself is accepted, one past it refused.
+#[test]
+fn json_schema_integer_bounds_are_the_worlds() {
+    let v: serde_json::Value = serde_json::from_str(&json_schema()).unwrap();
+    let settings = &v["$defs"]["WorldSettings"]["properties"];
+    let accepted = |field: &str, value: u64| {
+        let mut s = crate::world::WorldSettings::default();
+        let n = value as u32;
+        match field {
+            "substeps" => s.substeps = n,
+            "iterations" => s.iterations = n,
+            "push_out_iterations" => s.push_out_iterations = n,
+            "threads" => s.threads = n,
+            _ => unreachable!(),
+        }
+        // The settings check of `World::new` (a world of 1,024 threads
+        // would start them).
+        crate::world::check_settings(&s).is_ok()
+    };
+    for field in ["substeps", "iterations", "push_out_iterations", "threads"] {
+        let bound = |key: &str| settings[field][key].as_u64();
+        let (lo, hi) = (bound("minimum").unwrap(), bound("maximum"));
+        let hi = hi.unwrap_or_else(|| panic!("{field}: no maximum in the schema"));
+        assert!(
+            accepted(field, lo) && accepted(field, hi),
+            "{field}: {lo}..={hi} refused"
+        );
+        if lo > 0 {
+            assert!(!accepted(field, lo - 1), "{field}: {} accepted", lo - 1);
+        }
+        assert!(!accepted(field, hi + 1), "{field}: {} accepted", hi + 1);
+    }
+}
+
 const PENDULUM: &str = r#"
 [[bodies]]
 name = "post"

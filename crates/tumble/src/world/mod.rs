@@ -156,7 +156,8 @@ fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
     }
 }
 
-fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
+/// The checks `World::new` makes of its settings.
+pub(crate) fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
     let positive = |field: &'static str, x: f64| {
         if x.is_finite() && x > 0.0 {
             Ok(())

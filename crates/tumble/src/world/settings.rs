@@ -35,6 +35,7 @@ pub struct WorldSettings {
     /// the contacts once and integrates positions, reusing the contact points
     /// of the step. More sub-steps stiffen stacks and chains far more cheaply
     /// than more iterations. Default 8.
+    #[schemars(range(min = 1, max = 64))]
     pub substeps: u32,
     /// ODE integrator for free motion. Default semi-implicit Euler, the only
     /// one that is sub-stepped with the contact solver; the explicit methods
@@ -46,11 +47,13 @@ pub struct WorldSettings {
     /// sub-steps). More converge stacks further each sub-step. A step whose
     /// deepest overlap at its start is 5 mm or more gets one more per whole
     /// 5 mm, at most 2 more (load where it is deep).
+    #[schemars(range(min = 1, max = 1000))]
     pub iterations: u32,
     /// Push-out (position correction) iterations per sub-step. Default 1. A
     /// step whose deepest overlap at its start is 5 mm or more gets one
     /// more per whole 5 mm, at most 3 more (load where it is deep: a pass
     /// carries a correction one contact layer further); 0 turns push-out off.
+    #[schemars(range(max = 1000))]
     pub push_out_iterations: u32,
     /// Speculative contact margin (m): feature pairs closer than this, plus
     /// the bodies' motion over the step, become contacts whose gap may close
@@ -111,6 +114,7 @@ pub struct WorldSettings {
     /// solver over colour batches on this many threads. 0 means every core
     /// of the machine, 1 runs serially. The result does not depend on it:
     /// trajectories are bit-identical for any thread count. Default 0.
+    #[schemars(range(max = 1024))] // pool::MAX_THREADS
     pub threads: u32,
 }
 

@@ -128,16 +128,36 @@ pub(crate) struct SatResult {
     pub scale: f64,
 }
 
-/// The manifold for the winning axis. When the shapes are apart, the SAT
-/// value is only a lower bound of the distance, so GJK supplies the exact
-/// distance: nothing is reported beyond the margin, and if the face or edge
-/// contacts miss the closest features (corner against corner), a single
-/// contact at the GJK closest points replaces them.
+/// The manifold for the winning axis (`axis_manifold`); one of a single
+/// point also holds the vertices within the margin (`hold_near_vertices`).
 // Takes the narrow routines' arguments plus the `SatResult` because both
 // `contact_polytope_polytope` and `contact_cuboid_cuboid` end here: their SATs
 // differ (faces and edges walked vs one 3 x 3 rotation), the manifold does not.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
+    a: &A,
+    pose_a: &Pose,
+    b: &B,
+    pose_b: &Pose,
+    sat: &SatResult,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
+    let start = out.len();
+    axis_manifold(a, pose_a, b, pose_b, sat, margin, out);
+    if out.len() == start + 1 && out[start].kind != ContactKind::FaceFace {
+        hold_near_vertices(a, pose_a, b, pose_b, true, margin, sat.scale, start, out);
+        hold_near_vertices(b, pose_b, a, pose_a, false, margin, sat.scale, start, out);
+    }
+}
+
+/// The manifold for the winning axis. When the shapes are apart, the SAT
+/// value is only a lower bound of the distance, so GJK supplies the exact
+/// distance: nothing is reported beyond the margin, and if the face or edge
+/// contacts miss the closest features (corner against corner), a single
+/// contact at the GJK closest points replaces them.
+#[allow(clippy::too_many_arguments)] // as `build_manifold`
+fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     a: &A,
     pose_a: &Pose,
     b: &B,
@@ -164,7 +184,6 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         .max(sat.sep_b)
         .max(sat.edge.map_or(f64::NEG_INFINITY, |e| e.0));
     if max_sep <= 0.0 {
-        hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
         return;
     }
     let ra = DMat3::from_quat(pose_a.rotation);
@@ -183,7 +202,6 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         sat.scale,
     );
     if g.overlap {
-        hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
         return;
     }
     if g.distance > margin {
@@ -195,7 +213,6 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         .map(|c| c.distance)
         .fold(f64::INFINITY, f64::min);
     if got <= g.distance + 1e-9 * sat.scale {
-        hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
         return;
     }
     out.truncate(start);
@@ -209,14 +226,13 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         feature_a: a.vertex_feature(a.support_vertex(ra.transpose() * -n)),
         feature_b: b.vertex_feature(b.support_vertex(rb.transpose() * n)),
     });
-    hold_near_vertices(a, pose_a, b, pose_b, margin, sat.scale, start, out);
 }
 
 /// For a manifold of one point (an edge-edge contact, or the closest
-/// points of two apart polytopes) from `start` in `out`: adds every vertex
-/// of either polytope within `margin` of the other (and outside it) as a
-/// contact with the other's nearest point. Face manifolds are left as they
-/// are (their clipped points are the incident face's corners).
+/// points of two apart polytopes), from `start` in `out`: adds every vertex
+/// of `p` within `margin` of `q` (and outside it) as a contact with `q`'s
+/// nearest point (`p` is body A when `p_is_a`). Face manifolds need none
+/// (their clipped points are the incident face's corners).
 ///
 /// Why: a manifold holds for the whole step, and one point bounds only how
 /// the two nearest features approach. Two boxes side by side, one tilted
@@ -226,42 +242,52 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
 /// within a step, spheres alone 1 cm. The margin already covers the pair's
 /// motion over the step, so a vertex within it is one that may arrive; as a
 /// speculative point it may close its gap but not go past.
-#[allow(clippy::too_many_arguments)] // the manifold's shapes, poses, margin and output
-fn hold_near_vertices<A: Polytope + ?Sized, B: Polytope + ?Sized>(
-    a: &A,
-    pose_a: &Pose,
-    b: &B,
-    pose_b: &Pose,
+#[allow(clippy::too_many_arguments)] // the two solids, their poses, which is A, and the manifold
+fn hold_near_vertices<P: Polytope + ?Sized, Q: Polytope + ?Sized>(
+    p: &P,
+    pose_p: &Pose,
+    q: &Q,
+    pose_q: &Pose,
+    p_is_a: bool,
     margin: f64,
     scale: f64,
     start: usize,
     out: &mut Vec<Contact>,
 ) {
-    if out.len() != start + 1 || out[start].kind == ContactKind::FaceFace {
-        return;
-    }
     // A point closer than this to one already made, and no nearer to
     // touching, adds nothing.
     let near = 0.05 * scale;
-    let mut hold = |p_is_a: bool, vertex: usize, corner: DVec3, on_q: DVec3, face: usize| {
+    for i in 0..p.vertex_count() {
+        let corner = pose_p.transform_point(p.vertex(i));
+        let local = pose_q.inverse_transform_point(corner);
+        // The largest plane gap is a lower bound of the distance (and <= 0
+        // inside): most vertices stop here.
+        let (face, gap) = first_max(q.face_count(), |f| q.face_normal(f).dot(local) - q.face_offset(f));
+        if gap <= 1e-12 || gap > margin {
+            continue;
+        }
+        let on_q = pose_q.transform_point(q.closest_point(local));
         let distance = (corner - on_q).length();
         let point = (corner + on_q) * 0.5;
-        if out[start..]
-            .iter()
-            .any(|c| (c.point - point).length() < near && c.distance <= distance)
+        if distance <= 1e-12
+            || distance > margin
+            || out[start..]
+                .iter()
+                .any(|c| (c.point - point).length() < near && c.distance <= distance)
         {
-            return;
+            continue;
         }
         // From B towards A.
         let outward = (corner - on_q) / distance;
+        let (vertex, face) = (p.vertex_feature(i), Feature::face(face as u32));
         out.push(if p_is_a {
             Contact {
                 point,
                 normal: outward,
                 distance,
                 kind: ContactKind::VertexFace,
-                feature_a: a.vertex_feature(vertex),
-                feature_b: Feature::face(face as u32),
+                feature_a: vertex,
+                feature_b: face,
             }
         } else {
             Contact {
@@ -269,41 +295,10 @@ fn hold_near_vertices<A: Polytope + ?Sized, B: Polytope + ?Sized>(
                 normal: -outward,
                 distance,
                 kind: ContactKind::FaceVertex,
-                feature_a: Feature::face(face as u32),
-                feature_b: b.vertex_feature(vertex),
+                feature_a: face,
+                feature_b: vertex,
             }
         });
-    };
-    for (p_is_a, count) in [(true, a.vertex_count()), (false, b.vertex_count())] {
-        for i in 0..count {
-            let (corner, pose_q) = if p_is_a {
-                (pose_a.transform_point(a.vertex(i)), pose_b)
-            } else {
-                (pose_b.transform_point(b.vertex(i)), pose_a)
-            };
-            let local = pose_q.inverse_transform_point(corner);
-            // The largest plane gap is a lower bound of the distance (and
-            // <= 0 inside): most vertices stop here.
-            let (face, gap) = if p_is_a {
-                first_max(b.face_count(), |f| b.face_normal(f).dot(local) - b.face_offset(f))
-            } else {
-                first_max(a.face_count(), |f| a.face_normal(f).dot(local) - a.face_offset(f))
-            };
-            if gap <= 1e-12 || gap > margin {
-                continue;
-            }
-            let on_q = if p_is_a {
-                b.closest_point(local)
-            } else {
-                a.closest_point(local)
-            };
-            let on_q = pose_q.transform_point(on_q);
-            let distance = (corner - on_q).length();
-            if distance <= 1e-12 || distance > margin {
-                continue;
-            }
-            hold(p_is_a, i, corner, on_q, face);
-        }
     }
 }
 

@@ -484,13 +484,9 @@ fn a_one_point_polytope_manifold_holds_the_vertices_within_the_margin() {
         .unwrap()
         .into();
     let margin = 0.15;
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    };
+    use tumble_testkit::{RandomSource, SplitMix64};
+    let mut rng = SplitMix64(0x2545_f491_4f6c_dd1d);
+    let mut next = move || rng.range(-1.0, 1.0);
     for (a, b) in [(&small, &large), (&small, &hull), (&hull, &large), (&hull, &hull)] {
         let (mut one_point, mut held) = (0, 0);
         for _ in 0..3000 {

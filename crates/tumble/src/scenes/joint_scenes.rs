@@ -108,6 +108,20 @@ pub fn ragdoll() -> (Vec<BodyDesc>, Vec<JointDesc<usize>>) {
     (bodies, joints)
 }
 
+/// The lowest z of any shape's bounding box of `bodies`, all placed by
+/// `frame` (m).
+fn lowest_z(bodies: &[BodyDesc], frame: &Pose) -> f64 {
+    bodies
+        .iter()
+        .flat_map(|b| {
+            let pose = frame.mul_pose(&b.pose);
+            b.shapes
+                .iter()
+                .map(move |s| s.shape.aabb(&pose.mul_pose(&s.local_pose)).min.z)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// ragdoll_pile: 100 [`ragdoll`]s standing in a 10 x 10 grid 1 m apart on a
 /// static ground box (half extents 20 x 20 x 0.5, top at z = 0), each
 /// tipped by 0.3 rad about the midpoint of its feet (about x in even rows, y
@@ -132,15 +146,7 @@ pub fn ragdoll_pile() -> Scene {
                 position: DVec3::ZERO,
                 rotation: tilt,
             };
-            let lowest = one
-                .iter()
-                .flat_map(|b| {
-                    let pose = tipped.mul_pose(&b.pose);
-                    b.shapes
-                        .iter()
-                        .map(move |s| s.shape.aabb(&pose.mul_pose(&s.local_pose)).min.z)
-                })
-                .fold(f64::INFINITY, f64::min);
+            let lowest = lowest_z(&one, &tipped);
             let feet = DVec3::new(col as f64 - 4.5, row as f64 - 4.5, 0.001 - lowest);
             let place = Pose {
                 position: feet,
@@ -185,16 +191,7 @@ mod tests {
         assert!(w.max_joint_error().0 < 1e-12);
         // Every ragdoll's lowest point starts 1 mm above the ground.
         let ground = pile.bodies[0].shapes[0].shape.aabb(&pile.bodies[0].pose).max.z;
-        let lowest = |k: usize| {
-            pile.bodies[1 + 11 * k..12 + 11 * k]
-                .iter()
-                .flat_map(|b| {
-                    b.shapes
-                        .iter()
-                        .map(|s| s.shape.aabb(&b.pose.mul_pose(&s.local_pose)).min.z)
-                })
-                .fold(f64::INFINITY, f64::min)
-        };
+        let lowest = |k: usize| lowest_z(&pile.bodies[1 + 11 * k..12 + 11 * k], &Pose::IDENTITY);
         for k in 0..100 {
             assert!(
                 (lowest(k) - ground - 0.001).abs() < 1e-9,

@@ -9,7 +9,7 @@
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
-use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint, JOINT_PUSH_FRACTION};
+use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
 use super::joint_island::JointIsland;
 use super::passes::{begin_patch, push_patch, solve_patch};
 use super::wide::{self, BundlePass, WideBatches, WidePatch};
@@ -247,11 +247,14 @@ impl SolverArrays<'_> {
     pub unsafe fn begin_substep(&self, team: &Team, h: f64, warm: bool) {
         // SAFETY: the caller's promise.
         unsafe {
+            // Joints in an island are begun with it.
             each(team, self.joint_coloring, &self.joints, |j| {
-                begin_joint(j, &self.bodies, h, warm)
+                if !j.direct {
+                    begin_joint(j, &self.bodies, h, warm)
+                }
             });
             self.each_island(team, |island| {
-                island.factor(&self.joints, &self.bodies);
+                island.begin(&self.joints, &self.bodies, h, warm);
                 false
             });
             self.each_patch(
@@ -271,9 +274,14 @@ impl SolverArrays<'_> {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
-            self.each_island(team, |island| island.relax(&self.joints, &self.bodies, None));
+            self.each_island(team, |island| {
+                island.solve(&self.joints, &self.bodies);
+                false
+            });
             each(team, self.joint_coloring, &self.joints, |j| {
-                solve_joint(j, &self.bodies)
+                if !j.direct {
+                    solve_joint(j, &self.bodies)
+                }
             });
             self.each_patch(
                 team,
@@ -302,12 +310,11 @@ impl SolverArrays<'_> {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
-            let push = Some((JOINT_PUSH_FRACTION, inv_h));
-            if self.each_island(team, |island| island.relax(&self.joints, &self.bodies, push)) {
+            if self.each_island(team, |island| island.push(&self.joints, &self.bodies, inv_h)) {
                 pushed.fetch_max(pass, Ordering::Relaxed);
             }
             each(team, self.joint_coloring, &self.joints, |j| {
-                if push_joint(j, &self.bodies, inv_h) {
+                if !j.direct && push_joint(j, &self.bodies, inv_h) {
                     pushed.fetch_max(pass, Ordering::Relaxed);
                 }
             });

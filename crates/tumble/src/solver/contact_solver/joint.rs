@@ -243,20 +243,17 @@ impl JointConstraint {
         (f / h, (t - ra.cross(f)) / h)
     }
 
-    /// Builds the rows for the bodies' current poses.
+    /// Builds the rows for the bodies' current poses (in place: a row
+    /// keeps its accumulated impulse; an unused slot's is forgotten).
     fn build(&mut self, pose: &JointPose) {
         self.lever_a = pose.ra;
-        let set = rows_for(&self.law, pose);
-        self.n_eq = set.n_eq;
-        self.active = 0;
-        for (i, (slot, row)) in self.rows.iter_mut().zip(set.rows).enumerate() {
-            match row {
-                Some(mut r) => {
-                    r.impulse = slot.impulse;
-                    *slot = r;
-                    self.active |= 1 << i;
-                }
-                None => *slot = JointRow::default(),
+        let (active, n_eq) = rows_for(&self.law, pose, &mut self.rows);
+        self.n_eq = n_eq;
+        self.active = active;
+        for (i, slot) in self.rows.iter_mut().enumerate() {
+            if active & (1 << i) == 0 {
+                slot.impulse = 0.0;
+                slot.push = 0.0;
             }
         }
     }
@@ -395,13 +392,14 @@ impl JointConstraint {
         };
         let (xa, qa) = advance(self.start[0], p.va, p.wa, self.a);
         let (xb, qb) = advance(self.start[1], p.vb, p.wb, self.b);
-        let ahead = rows_for(
+        let mut ahead = [JointRow::default(); JOINT_ROWS];
+        let (active, _) = rows_for(
             &self.law,
             &JointPose::new(xa, qa, &self.local[0], xb, qb, &self.local[1]),
+            &mut ahead,
         );
-        for e in 0..self.n_eq {
-            let r = &mut self.rows[e];
-            let end = ahead.rows[e].map_or(r.c, |x| x.c);
+        for (e, (r, a)) in self.rows.iter_mut().zip(&ahead).enumerate().take(self.n_eq) {
+            let end = if active & (1 << e) != 0 { a.c } else { r.c };
             let drift = end - r.c - h * r.velocity(p.va, p.wa, p.vb, p.wb);
             r.bias = if drift.is_finite() {
                 weight * drift / h
@@ -461,9 +459,15 @@ impl JointConstraint {
     }
 }
 
-/// The rows of a joint with law `law` at `pose`: Jacobians and errors.
-fn rows_for(law: &JointLaw, pose: &JointPose) -> RowSet {
-    let mut set = RowSet::default();
+/// The rows of a joint with law `law` at `pose`, Jacobians and errors,
+/// written into their slots of `rows` (each keeps its impulses); returns
+/// the slots in use (bit by slot) and the number of equality rows.
+fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS]) -> (u16, usize) {
+    let mut set = RowSet {
+        rows,
+        active: 0,
+        n_eq: 0,
+    };
     let d = pose.pa - pose.pb;
 
     // The twist axis: half-way between the two frames' axes (they agree
@@ -487,13 +491,13 @@ fn rows_for(law: &JointLaw, pose: &JointPose) -> RowSet {
                 // d(swing)/dt = (wA - wB) . s with s = (bx x ax) / |bx x ax|.
                 let s = pose.axis_b(0).cross(pose.axis_a(0));
                 if s.length_squared() > 1e-18 {
-                    set.rows[SWING] = Some(JointRow::angular(-s.normalize(), cone - pose.swing()));
+                    set.set(SWING, JointRow::angular(-s.normalize(), cone - pose.swing()));
                 }
             }
             if let Some([lo, hi]) = law.limits {
                 let twist = pose.twist();
-                set.rows[LOWER] = Some(JointRow::angular(twist_axis, twist - lo));
-                set.rows[UPPER] = Some(JointRow::angular(twist_axis, hi - twist).negated());
+                set.set(LOWER, JointRow::angular(twist_axis, twist - lo));
+                set.set(UPPER, JointRow::angular(twist_axis, hi - twist).negated());
             }
         }
         JointKind::Hinge => {
@@ -509,15 +513,15 @@ fn rows_for(law: &JointLaw, pose: &JointPose) -> RowSet {
             }
             let angle = pose.twist();
             if let Some([lo, hi]) = law.limits {
-                set.rows[LOWER] = Some(JointRow::angular(twist_axis, angle - lo));
-                set.rows[UPPER] = Some(JointRow::angular(twist_axis, hi - angle).negated());
+                set.set(LOWER, JointRow::angular(twist_axis, angle - lo));
+                set.set(UPPER, JointRow::angular(twist_axis, hi - angle).negated());
             }
             if let Some(m) = law.motor {
                 let c = match m {
                     Motor::Position { target, .. } => wrap_angle(angle - target),
                     Motor::Velocity { .. } => 0.0,
                 };
-                set.rows[MOTOR] = Some(JointRow::angular(twist_axis, c));
+                set.set(MOTOR, JointRow::angular(twist_axis, c));
             }
         }
         JointKind::Slider => {
@@ -532,15 +536,15 @@ fn rows_for(law: &JointLaw, pose: &JointPose) -> RowSet {
             let n = pose.axis_b(0);
             let offset = n.dot(d);
             if let Some([lo, hi]) = law.limits {
-                set.rows[LOWER] = Some(JointRow::linear(n, pose.ra, rb, offset - lo));
-                set.rows[UPPER] = Some(JointRow::linear(n, pose.ra, rb, hi - offset).negated());
+                set.set(LOWER, JointRow::linear(n, pose.ra, rb, offset - lo));
+                set.set(UPPER, JointRow::linear(n, pose.ra, rb, hi - offset).negated());
             }
             if let Some(m) = law.motor {
                 let c = match m {
                     Motor::Position { target, .. } => offset - target,
                     Motor::Velocity { .. } => 0.0,
                 };
-                set.rows[MOTOR] = Some(JointRow::linear(n, pose.ra, rb, c));
+                set.set(MOTOR, JointRow::linear(n, pose.ra, rb, c));
             }
         }
         JointKind::Distance => {
@@ -551,27 +555,38 @@ fn rows_for(law: &JointLaw, pose: &JointPose) -> RowSet {
                 set.eq(along(len - law.length));
             }
             if let Some([lo, hi]) = law.limits {
-                set.rows[LOWER] = Some(along(len - lo));
-                set.rows[UPPER] = Some(along(hi - len).negated());
+                set.set(LOWER, along(len - lo));
+                set.set(UPPER, along(hi - len).negated());
             }
             if law.spring.is_some() {
-                set.rows[SPRING] = Some(along(len - law.length));
+                set.set(SPRING, along(len - law.length));
             }
         }
     }
-    set
+    (set.active, set.n_eq)
 }
 
-/// The rows of a joint being built: equality rows fill slots from 0.
-#[derive(Default)]
-struct RowSet {
-    rows: [Option<JointRow>; JOINT_ROWS],
+/// The rows of a joint being built, in place: equality rows fill slots
+/// from 0.
+struct RowSet<'a> {
+    rows: &'a mut [JointRow; JOINT_ROWS],
+    active: u16,
     n_eq: usize,
 }
 
-impl RowSet {
+impl RowSet<'_> {
+    /// Row `slot` is `row`, with the slot's accumulated impulses.
+    fn set(&mut self, slot: usize, row: JointRow) {
+        let r = &mut self.rows[slot];
+        let (impulse, push) = (r.impulse, r.push);
+        *r = row;
+        r.impulse = impulse;
+        r.push = push;
+        self.active |= 1 << slot;
+    }
+
     fn eq(&mut self, row: JointRow) {
-        self.rows[self.n_eq] = Some(row);
+        self.set(self.n_eq, row);
         self.n_eq += 1;
     }
 
@@ -833,8 +848,8 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
     any
 }
 
-/// `begin_joint` over every joint, in order, then the islands factored
-/// (serial).
+/// The islands (`JointIsland::begin`), then `begin_joint` over every other
+/// joint, in order (serial).
 pub fn begin_joints(
     joints: &mut [JointConstraint],
     islands: &mut [super::JointIsland],
@@ -844,16 +859,21 @@ pub fn begin_joints(
 ) {
     let bodies = Shared::new(bodies);
     let joints = Shared::new(joints);
+    for island in islands {
+        // SAFETY: one thread.
+        unsafe { island.begin(&joints, &bodies, h, warm) };
+    }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
-        unsafe { begin_joint(joints.get_mut(k), &bodies, h, warm) };
-    }
-    for island in islands {
-        island.factor(&joints, &bodies);
+        let j = unsafe { joints.get_mut(k) };
+        if !j.direct {
+            unsafe { begin_joint(j, &bodies, h, warm) };
+        }
     }
 }
 
-/// The islands, then `solve_joint` over every joint, in order (serial).
+/// The islands (`JointIsland::solve`), then `solve_joint` over every other
+/// joint, in order (serial).
 pub fn solve_joints(
     joints: &mut [JointConstraint],
     islands: &mut [super::JointIsland],
@@ -863,16 +883,19 @@ pub fn solve_joints(
     let joints = Shared::new(joints);
     for island in islands {
         // SAFETY: one thread.
-        unsafe { island.relax(&joints, &bodies, None) };
+        unsafe { island.solve(&joints, &bodies) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
-        unsafe { solve_joint(joints.get_mut(k), &bodies) };
+        let j = unsafe { joints.get_mut(k) };
+        if !j.direct {
+            unsafe { solve_joint(j, &bodies) };
+        }
     }
 }
 
-/// The islands, then `push_joint` over every joint, in order (serial);
-/// whether any pushed.
+/// The islands (`JointIsland::push`), then `push_joint` over every other
+/// joint, in order (serial); whether any pushed.
 pub fn push_joints(
     joints: &mut [JointConstraint],
     islands: &mut [super::JointIsland],
@@ -884,11 +907,14 @@ pub fn push_joints(
     let mut any = false;
     for island in islands {
         // SAFETY: one thread.
-        any |= unsafe { island.relax(&joints, &bodies, Some((JOINT_PUSH_FRACTION, 1.0 / h))) };
+        any |= unsafe { island.push(&joints, &bodies, 1.0 / h) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
-        any |= unsafe { push_joint(joints.get_mut(k), &bodies, 1.0 / h) };
+        let j = unsafe { joints.get_mut(k) };
+        if !j.direct {
+            any |= unsafe { push_joint(j, &bodies, 1.0 / h) };
+        }
     }
     any
 }

@@ -20,11 +20,18 @@
 //! a row couples only with rows a few joints back, so `K` has a narrow
 //! *profile* (skyline) and its Cholesky factor keeps it: a chain costs
 //! O(rows x block^2), not O(rows^3). Islands whose profile would be too
-//! large for a sub-step budget stay with the joint-by-joint passes.
+//! large for a sub-step budget stay with the joint-by-joint passes. `K`
+//! is assembled only where it is not zero, block by block over the pairs of
+//! joints that share a dynamic body (found once per step), and an island's
+//! joints are begun, relaxed and pushed together (their limits after the
+//! system), so that a thread works through one island's rows at a time.
 
 use super::body::SolverBody;
 use super::coloring::Shared;
-use super::joint::{JointConstraint, Pair, LOWER, MOTOR, SWING, UPPER};
+use super::joint::{
+    begin_joint, push_joint, solve_joint, JointConstraint, Pair, JOINT_PUSH_FRACTION, LOWER, MOTOR, SWING,
+    UPPER,
+};
 use tumble_collide::DVec3;
 
 /// Largest ratio of the heaviest to the lightest body of an island whose
@@ -48,19 +55,39 @@ struct SideRow {
     gamma: f64,
 }
 
+/// Two joints of an island that share a dynamic body: the rows of joint
+/// `p` couple with those of joint `q` (`q <= p` in the island's order)
+/// through side `side_p` of `p` and side `side_q` of `q`. A joint couples
+/// with itself once per dynamic side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Coupling {
+    p: u32,
+    q: u32,
+    side_p: u8,
+    side_q: u8,
+}
+
 /// One island of joints whose equality rows are solved together.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct JointIsland {
     /// The joints (indices into the solver's joint array), breadth-first.
     pub joints: Vec<u32>,
-    /// First row of each joint in the island's system.
+    /// First row of each joint in the island's system (and the total last).
     offsets: Vec<usize>,
+    /// The blocks of `K` that are not zero, as pairs of joints.
+    couplings: Vec<Coupling>,
+    /// Whether a row of the system has bounds (a motor).
+    bounded: bool,
+    /// The right-hand side of the system (reused between passes).
+    rhs: Vec<f64>,
     /// Per row: the first column of its profile.
     first: Vec<usize>,
     /// Per row: where its profile starts in `factor`.
     start: Vec<usize>,
     /// The Cholesky factor, row by row over each row's profile.
     factor: Vec<f64>,
+    /// The reciprocals of the factor's diagonal.
+    inv_diagonal: Vec<f64>,
     /// Per row of the system, its Jacobian by side (reused between sub-steps).
     scratch: Vec<SideRow>,
     /// The equality rows are aimed at the end of the sub-step (see
@@ -75,10 +102,66 @@ impl JointIsland {
         self.first.len()
     }
 
+    /// The start of a sub-step for the island's joints (`begin_joint`,
+    /// joint by joint in the island's order), then `K` factored: while the
+    /// rows just built are still in the cache.
+    ///
+    /// # Safety
+    /// The island's joints and bodies are this thread's alone meanwhile.
+    pub unsafe fn begin(
+        &mut self,
+        joints: &Shared<JointConstraint>,
+        bodies: &Shared<SolverBody>,
+        h: f64,
+        warm: bool,
+    ) {
+        for &ji in &self.joints {
+            // SAFETY: the caller's promise.
+            unsafe { begin_joint(joints.get_mut(ji as usize), bodies, h, warm) };
+        }
+        self.factor(joints, bodies);
+    }
+
+    /// One velocity pass: the equality rows (and motors) together, then
+    /// each joint's limits (`solve_joint`) in the island's order.
+    ///
+    /// # Safety
+    /// As [`JointIsland::begin`].
+    pub unsafe fn solve(&mut self, joints: &Shared<JointConstraint>, bodies: &Shared<SolverBody>) {
+        // SAFETY: the caller's promise.
+        unsafe {
+            self.relax(joints, bodies, None);
+            for &ji in &self.joints {
+                solve_joint(joints.get_mut(ji as usize), bodies);
+            }
+        }
+    }
+
+    /// One push-out pass, as [`JointIsland::solve`] (`push_joint` for the
+    /// limits); whether any row had an error to remove.
+    ///
+    /// # Safety
+    /// As [`JointIsland::begin`].
+    pub unsafe fn push(
+        &mut self,
+        joints: &Shared<JointConstraint>,
+        bodies: &Shared<SolverBody>,
+        inv_h: f64,
+    ) -> bool {
+        // SAFETY: the caller's promise.
+        unsafe {
+            let mut any = self.relax(joints, bodies, Some((JOINT_PUSH_FRACTION, inv_h)));
+            for &ji in &self.joints {
+                any |= push_joint(joints.get_mut(ji as usize), bodies, inv_h);
+            }
+            any
+        }
+    }
+
     /// Factors `K` for the joints' rows of this sub-step (after their
     /// `begin_joint`).
     #[allow(clippy::needless_range_loop)] // profile indices (i, j) address K, rows and owners at once
-    pub fn factor(&mut self, joints: &Shared<JointConstraint>, bodies: &Shared<SolverBody>) {
+    fn factor(&mut self, joints: &Shared<JointConstraint>, bodies: &Shared<SolverBody>) {
         // Each row as its two sides: (body, linear and angular Jacobian,
         // the same times the body's inverse mass and inertia). Immovable
         // bodies have zero inverse mass and inertia, so they add nothing.
@@ -107,24 +190,26 @@ impl JointIsland {
                 });
             }
         }
-        for i in 0..n {
-            let ri = &rows[i];
-            let (fi, si) = (self.first[i], self.start[i]);
-            for j in fi..=i {
-                let rj = &rows[j];
-                let mut k = 0.0;
-                for s in 0..2 {
-                    for t in 0..2 {
-                        if ri.body[s] == rj.body[t] {
-                            k += ri.lin[s].dot(rj.m_lin[t]) + ri.ang[s].dot(rj.m_ang[t]);
-                        }
-                    }
+        // K block by block: only joints sharing a dynamic body couple
+        // (the profile holds zeros between them).
+        self.factor.fill(0.0);
+        for c in &self.couplings {
+            let (s, t) = (c.side_p as usize, c.side_q as usize);
+            let rows_q = self.offsets[c.q as usize]..self.offsets[c.q as usize + 1];
+            for i in self.offsets[c.p as usize]..self.offsets[c.p as usize + 1] {
+                let ri = &rows[i];
+                let (fi, si) = (self.first[i], self.start[i]);
+                // Within one joint, the lower triangle only.
+                let end = if c.p == c.q { i + 1 } else { rows_q.end };
+                for j in rows_q.start..end {
+                    let rj = &rows[j];
+                    self.factor[si + j - fi] += ri.lin[s].dot(rj.m_lin[t]) + ri.ang[s].dot(rj.m_ang[t]);
                 }
-                if i == j {
-                    k += ri.gamma + 1e-12 * k.abs() + 1e-300;
-                }
-                self.factor[si + j - fi] = k;
             }
+        }
+        for (i, r) in rows.iter().enumerate() {
+            let d = &mut self.factor[self.start[i] + i - self.first[i]];
+            *d += r.gamma + 1e-12 * d.abs() + 1e-300;
         }
         // Profile Cholesky, in place: entries before a row's first column
         // are zero and stay zero in the factor. Row i's entries p >= first[i]
@@ -141,9 +226,11 @@ impl JointIsland {
                     .sum();
                 let s = self.factor[si + j - fi] - dot;
                 self.factor[si + j - fi] = if i == j {
-                    s.max(1e-300).sqrt()
+                    let d = s.max(1e-300).sqrt();
+                    self.inv_diagonal[i] = 1.0 / d;
+                    d
                 } else {
-                    s / self.factor[sj + j - fj]
+                    s * self.inv_diagonal[j]
                 };
             }
         }
@@ -157,11 +244,11 @@ impl JointIsland {
             let (fi, si) = (self.first[i], self.start[i]);
             let row = &self.factor[si..si + i - fi];
             let dot: f64 = row.iter().zip(&x[fi..i]).map(|(l, v)| l * v).sum();
-            x[i] = (x[i] - dot) / self.factor[si + i - fi];
+            x[i] = (x[i] - dot) * self.inv_diagonal[i];
         }
         for i in (0..n).rev() {
             let (fi, si) = (self.first[i], self.start[i]);
-            x[i] /= self.factor[si + i - fi];
+            x[i] *= self.inv_diagonal[i];
             let xi = x[i];
             for (v, l) in x[fi..i].iter_mut().zip(&self.factor[si..si + i - fi]) {
                 *v -= l * xi;
@@ -182,13 +269,15 @@ impl JointIsland {
     ///
     /// # Safety
     /// The island's joints and bodies are this thread's alone meanwhile.
-    pub unsafe fn relax(
+    unsafe fn relax(
         &mut self,
         joints: &Shared<JointConstraint>,
         bodies: &Shared<SolverBody>,
         push: Option<(f64, f64)>,
     ) -> bool {
-        let mut rhs = vec![0.0; self.rows()];
+        let mut rhs = std::mem::take(&mut self.rhs);
+        rhs.clear();
+        rhs.resize(self.rows(), 0.0);
         let mut any = false;
         for (k, &ji) in self.joints.iter().enumerate() {
             // SAFETY: the caller's promise.
@@ -213,7 +302,9 @@ impl JointIsland {
             }
         }
         self.solve_in_place(&mut rhs);
-        self.hold_at_bounds(joints, &mut rhs, push.is_some());
+        if self.bounded {
+            self.hold_at_bounds(joints, &mut rhs, push.is_some());
+        }
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
         for (k, &ji) in self.joints.iter().enumerate() {
@@ -230,6 +321,7 @@ impl JointIsland {
             }
             unsafe { p.store(j, bodies, push.is_some()) };
         }
+        self.rhs = rhs;
         any
     }
 }
@@ -410,18 +502,43 @@ pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> V
         for (p, &k) in order.iter().enumerate() {
             position[k as usize] = p;
         }
-        let mut offsets = Vec::with_capacity(order.len());
+        let mut offsets = Vec::with_capacity(order.len() + 1);
         let mut total = 0;
         for &r in &rows {
             offsets.push(total);
             total += r;
         }
+        offsets.push(total);
         let mut first = Vec::with_capacity(total);
         let mut start = Vec::with_capacity(total);
         let mut size = 0usize;
+        let mut couplings = Vec::new();
         for (p, &k) in order.iter().enumerate() {
             let j = &joints[k as usize];
             let mut earliest = p;
+            for (side_p, b) in [j.a, j.b].into_iter().enumerate() {
+                if !bodies[b as usize].dynamic {
+                    continue;
+                }
+                for &other in &of_body[b as usize] {
+                    let q = position[other as usize];
+                    if q > p || (q == p && other != k) {
+                        continue;
+                    }
+                    let o = &joints[other as usize];
+                    let side_q = if o.a == b { 0 } else { 1 };
+                    // A joint meets itself on this side only.
+                    if q == p && side_q != side_p {
+                        continue;
+                    }
+                    couplings.push(Coupling {
+                        p: p as u32,
+                        q: q as u32,
+                        side_p: side_p as u8,
+                        side_q: side_q as u8,
+                    });
+                }
+            }
             for b in [j.a, j.b] {
                 if bodies[b as usize].dynamic {
                     for &other in &of_body[b as usize] {
@@ -463,6 +580,10 @@ pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> V
             first,
             start,
             factor: vec![0.0; size],
+            inv_diagonal: vec![0.0; total],
+            couplings,
+            bounded: masks.iter().any(|&m| m != 0),
+            rhs: Vec::new(),
             scratch: Vec::new(),
             aim,
         });

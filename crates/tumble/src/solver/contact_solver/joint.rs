@@ -308,6 +308,12 @@ impl JointConstraint {
             };
             r.push = 0.0;
         }
+        // A joint whose equality rows its island solves, and which has no
+        // limit, motor or spring row of its own, never uses its block.
+        let own_scalar_rows = self.active & !self.island_rows & !((1u16 << LOWER) - 1);
+        if self.direct && own_scalar_rows == 0 {
+            return;
+        }
         // K = J M^-1 J^T over the equality rows, a small regularization on
         // its diagonal (a degenerate pose makes rows dependent).
         let n = self.n_eq;

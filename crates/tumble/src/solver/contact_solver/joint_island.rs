@@ -25,14 +25,20 @@
 //! joints that share a dynamic body (found once per step), and an island's
 //! joints are begun, relaxed and pushed together (their limits after the
 //! system), so that a thread works through one island's rows at a time.
+//!
+//! Consecutive islands of the same shape (the same joints between the same
+//! kinds of bodies: a pile of ragdolls) without motors share one unit and
+//! are factored and solved four at a time, one per SIMD lane
+//! (`island_factor`), with the bits each would get alone.
 
 use super::body::SolverBody;
 use super::coloring::Shared;
+use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
     begin_joint, push_joint, solve_joint, JointConstraint, Pair, JOINT_PUSH_FRACTION, LOWER, MOTOR, SWING,
     UPPER,
 };
-use tumble_collide::DVec3;
+use super::lanes::{Lane, LANES};
 
 /// Largest ratio of the heaviest to the lightest body of an island whose
 /// equality rows are aimed at the end of the sub-step.
@@ -43,71 +49,52 @@ pub const AIM_MASS_RATIO: f64 = 4.0;
 /// millisecond per factorization on one core.
 pub const MAX_PROFILE: usize = 200_000;
 
-/// One row of an island's system by body side (A, B): the body, its
-/// Jacobian, and the Jacobian times the body's inverse mass and inertia.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct SideRow {
-    body: [u32; 2],
-    lin: [DVec3; 2],
-    ang: [DVec3; 2],
-    m_lin: [DVec3; 2],
-    m_ang: [DVec3; 2],
-    gamma: f64,
-}
-
-/// Two joints of an island that share a dynamic body: the rows of joint
-/// `p` couple with those of joint `q` (`q <= p` in the island's order)
-/// through side `side_p` of `p` and side `side_q` of `q`. A joint couples
-/// with itself once per dynamic side.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Coupling {
-    p: u32,
-    q: u32,
-    side_p: u8,
-    side_q: u8,
-}
-
-/// One island of joints whose equality rows are solved together.
+/// One to four islands of joints of the same shape whose equality rows are
+/// solved together, each island in its own lane.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct JointIsland {
-    /// The joints (indices into the solver's joint array), breadth-first.
-    pub joints: Vec<u32>,
-    /// First row of each joint in the island's system (and the total last).
-    offsets: Vec<usize>,
-    /// The blocks of `K` that are not zero, as pairs of joints.
-    couplings: Vec<Coupling>,
-    /// Whether a row of the system has bounds (a motor).
+    /// Per lane, the island's joints (indices into the solver's joint
+    /// array), in the order of the shape (breadth-first, leaves first).
+    lanes: Vec<Vec<u32>>,
+    /// The system's shape, which the lanes share.
+    profile: Profile,
+    /// Whether a row of the system has bounds (a motor; one lane only).
     bounded: bool,
-    /// The right-hand side of the system (reused between passes).
-    rhs: Vec<f64>,
-    /// Per row: the first column of its profile.
-    first: Vec<usize>,
-    /// Per row: where its profile starts in `factor`.
-    start: Vec<usize>,
-    /// The Cholesky factor, row by row over each row's profile.
-    factor: Vec<f64>,
-    /// The reciprocals of the factor's diagonal.
-    inv_diagonal: Vec<f64>,
-    /// Per row of the system, its Jacobian by side (reused between sub-steps).
-    scratch: Vec<SideRow>,
-    /// The equality rows are aimed at the end of the sub-step (see
-    /// `JointConstraint::aim_equality_rows`): only where the island's
+    /// Per lane: the equality rows are aimed at the end of the sub-step
+    /// (see `JointConstraint::aim_equality_rows`): only where the island's
     /// masses are within [`AIM_MASS_RATIO`] of each other.
-    aim: bool,
+    aim: Vec<bool>,
+    /// The factor of a unit of one lane.
+    factor: Factor<f64>,
+    /// The factors of a unit of more lanes.
+    factor_lanes: Factor<Lane>,
+    /// Per lane, the rows of the system by side (reused between sub-steps).
+    rows: Vec<SideRow<f64>>,
+    /// The same, a lane set per row.
+    rows_lanes: Vec<SideRow<Lane>>,
+    /// Per lane, the right-hand side of the system (reused between passes).
+    rhs: Vec<f64>,
+    /// The same, a lane set per row.
+    rhs_lanes: Vec<Lane>,
 }
 
 impl JointIsland {
-    /// Rows of the system.
+    /// Rows of one lane's system.
     pub fn rows(&self) -> usize {
-        self.first.len()
+        self.profile.rows()
     }
 
-    /// The start of a sub-step for the island's joints (`begin_joint`,
-    /// joint by joint in the island's order), then `K` factored: while the
+    /// Islands in this unit (lanes in use).
+    pub fn lanes(&self) -> usize {
+        self.lanes.len()
+    }
+
+    /// The start of a sub-step for the islands' joints (`begin_joint`,
+    /// joint by joint in the shape's order), then `K` factored: while the
     /// rows just built are still in the cache.
     ///
     /// # Safety
-    /// The island's joints and bodies are this thread's alone meanwhile.
+    /// The islands' joints and bodies are this thread's alone meanwhile.
     pub unsafe fn begin(
         &mut self,
         joints: &Shared<JointConstraint>,
@@ -115,15 +102,17 @@ impl JointIsland {
         h: f64,
         warm: bool,
     ) {
-        for &ji in &self.joints {
-            // SAFETY: the caller's promise.
-            unsafe { begin_joint(joints.get_mut(ji as usize), bodies, h, warm) };
+        for lane in &self.lanes {
+            for &ji in lane {
+                // SAFETY: the caller's promise.
+                unsafe { begin_joint(joints.get_mut(ji as usize), bodies, h, warm) };
+            }
         }
         self.factor(joints, bodies);
     }
 
     /// One velocity pass: the equality rows (and motors) together, then
-    /// each joint's limits (`solve_joint`) in the island's order.
+    /// each joint's limits (`solve_joint`) in the shape's order.
     ///
     /// # Safety
     /// As [`JointIsland::begin`].
@@ -131,8 +120,10 @@ impl JointIsland {
         // SAFETY: the caller's promise.
         unsafe {
             self.relax(joints, bodies, None);
-            for &ji in &self.joints {
-                solve_joint(joints.get_mut(ji as usize), bodies);
+            for lane in &self.lanes {
+                for &ji in lane {
+                    solve_joint(joints.get_mut(ji as usize), bodies);
+                }
             }
         }
     }
@@ -151,178 +142,151 @@ impl JointIsland {
         // SAFETY: the caller's promise.
         unsafe {
             let mut any = self.relax(joints, bodies, Some((JOINT_PUSH_FRACTION, inv_h)));
-            for &ji in &self.joints {
-                any |= push_joint(joints.get_mut(ji as usize), bodies, inv_h);
+            for lane in &self.lanes {
+                for &ji in lane {
+                    any |= push_joint(joints.get_mut(ji as usize), bodies, inv_h);
+                }
             }
             any
         }
     }
 
-    /// Factors `K` for the joints' rows of this sub-step (after their
-    /// `begin_joint`).
-    #[allow(clippy::needless_range_loop)] // profile indices (i, j) address K, rows and owners at once
+    /// Factors `K` of each lane for the joints' rows of this sub-step
+    /// (after their `begin_joint`).
     fn factor(&mut self, joints: &Shared<JointConstraint>, bodies: &Shared<SolverBody>) {
-        // Each row as its two sides: (body, linear and angular Jacobian,
-        // the same times the body's inverse mass and inertia). Immovable
-        // bodies have zero inverse mass and inertia, so they add nothing.
-        // SAFETY (all accesses): the island's joints and bodies are this
+        // Each row as its two sides. Immovable bodies have zero inverse
+        // mass and inertia, so they add nothing.
+        // SAFETY (all accesses): the islands' joints and bodies are this
         // thread's alone during the call (islands share no dynamic body).
-        let n = self.rows();
-        let rows = &mut self.scratch;
-        rows.clear();
-        for &ji in &self.joints {
-            let j = unsafe { joints.get(ji as usize) };
-            let (ma, mb) = unsafe {
-                (
-                    bodies.get(j.a as usize).inv_mass,
-                    bodies.get(j.b as usize).inv_mass,
-                )
-            };
-            for slot in island_slots(j) {
-                let r = &j.rows[slot];
-                rows.push(SideRow {
-                    body: [j.a, j.b],
-                    lin: [r.lin, -r.lin],
-                    ang: [r.ang_a, r.ang_b],
-                    m_lin: [r.lin * ma, -r.lin * mb],
-                    m_ang: [r.ia, r.ib],
-                    gamma: r.gamma,
-                });
-            }
-        }
-        // K block by block: only joints sharing a dynamic body couple
-        // (the profile holds zeros between them).
-        self.factor.fill(0.0);
-        for c in &self.couplings {
-            let (s, t) = (c.side_p as usize, c.side_q as usize);
-            let rows_q = self.offsets[c.q as usize]..self.offsets[c.q as usize + 1];
-            for i in self.offsets[c.p as usize]..self.offsets[c.p as usize + 1] {
-                let ri = &rows[i];
-                let (fi, si) = (self.first[i], self.start[i]);
-                // Within one joint, the lower triangle only.
-                let end = if c.p == c.q { i + 1 } else { rows_q.end };
-                for j in rows_q.start..end {
-                    let rj = &rows[j];
-                    self.factor[si + j - fi] += ri.lin[s].dot(rj.m_lin[t]) + ri.ang[s].dot(rj.m_ang[t]);
+        self.rows.clear();
+        for lane in &self.lanes {
+            for &ji in lane {
+                let j = unsafe { joints.get(ji as usize) };
+                let (ma, mb) = unsafe {
+                    (
+                        bodies.get(j.a as usize).inv_mass,
+                        bodies.get(j.b as usize).inv_mass,
+                    )
+                };
+                for slot in island_slots(j) {
+                    let r = &j.rows[slot];
+                    self.rows
+                        .push(SideRow::new(r.lin, r.ang_a, r.ang_b, ma, mb, r.ia, r.ib, r.gamma));
                 }
             }
         }
-        for (i, r) in rows.iter().enumerate() {
-            let d = &mut self.factor[self.start[i] + i - self.first[i]];
-            *d += r.gamma + 1e-12 * d.abs() + 1e-300;
-        }
-        // Profile Cholesky, in place: entries before a row's first column
-        // are zero and stay zero in the factor. Row i's entries p >= first[i]
-        // lie at start[i] + p - first[i].
-        for i in 0..n {
-            let (fi, si) = (self.first[i], self.start[i]);
-            for j in fi..=i {
-                let (fj, sj) = (self.first[j], self.start[j]);
-                let lo = fi.max(fj);
-                let dot: f64 = self.factor[si + lo - fi..si + j - fi]
-                    .iter()
-                    .zip(&self.factor[sj + lo - fj..sj + j - fj])
-                    .map(|(x, y)| x * y)
-                    .sum();
-                let s = self.factor[si + j - fi] - dot;
-                self.factor[si + j - fi] = if i == j {
-                    let d = s.max(1e-300).sqrt();
-                    self.inv_diagonal[i] = 1.0 / d;
-                    d
-                } else {
-                    s * self.inv_diagonal[j]
-                };
-            }
-        }
-    }
-
-    /// Solves `K x = rhs` in place with the factor.
-    #[allow(clippy::needless_range_loop)] // the profile's index form
-    fn solve_in_place(&self, x: &mut [f64]) {
         let n = self.rows();
-        for i in 0..n {
-            let (fi, si) = (self.first[i], self.start[i]);
-            let row = &self.factor[si..si + i - fi];
-            let dot: f64 = row.iter().zip(&x[fi..i]).map(|(l, v)| l * v).sum();
-            x[i] = (x[i] - dot) * self.inv_diagonal[i];
+        if self.lanes.len() == 1 {
+            self.factor.factor(&self.profile, &self.rows);
+            return;
         }
-        for i in (0..n).rev() {
-            let (fi, si) = (self.first[i], self.start[i]);
-            x[i] *= self.inv_diagonal[i];
-            let xi = x[i];
-            for (v, l) in x[fi..i].iter_mut().zip(&self.factor[si..si + i - fi]) {
-                *v -= l * xi;
-            }
-        }
-        for v in x.iter_mut() {
-            if !v.is_finite() {
-                *v = 0.0;
-            }
-        }
+        // Lanes beyond the islands repeat the first (and are never read).
+        let last = self.lanes.len() - 1;
+        self.rows_lanes.clear();
+        self.rows_lanes.extend(
+            (0..n).map(|i| SideRow::from_lanes(std::array::from_fn(|l| &self.rows[l.min(last) * n + i]))),
+        );
+        self.factor_lanes.factor(&self.profile, &self.rows_lanes);
     }
 
-    /// One pass over the island's equality rows: velocities (the rows
+    /// One pass over the islands' equality rows: velocities (the rows
     /// aimed as in `JointConstraint::aim_equality_rows`), or with `push`
     /// the push-out pseudo-velocities towards `fraction` of each row's
     /// position error over `h`. Returns whether any row had an error to
     /// push.
     ///
     /// # Safety
-    /// The island's joints and bodies are this thread's alone meanwhile.
+    /// The islands' joints and bodies are this thread's alone meanwhile.
     unsafe fn relax(
         &mut self,
         joints: &Shared<JointConstraint>,
         bodies: &Shared<SolverBody>,
         push: Option<(f64, f64)>,
     ) -> bool {
+        let n = self.rows();
         let mut rhs = std::mem::take(&mut self.rhs);
         rhs.clear();
-        rhs.resize(self.rows(), 0.0);
+        rhs.resize(n * self.lanes.len(), 0.0);
         let mut any = false;
-        for (k, &ji) in self.joints.iter().enumerate() {
-            // SAFETY: the caller's promise.
-            let j = unsafe { joints.get_mut(ji as usize) };
-            let p = unsafe { Pair::load(j, bodies, push.is_some()) };
-            if push.is_none() && self.aim {
-                j.aim_equality_rows(&p);
-            }
-            for (e, slot) in island_slots(j).enumerate() {
-                let r = &j.rows[slot];
-                let jv = r.lin.dot(p.va - p.vb) + r.ang_a.dot(p.wa) + r.ang_b.dot(p.wb);
-                rhs[self.offsets[k] + e] = match push {
-                    None => -jv - r.bias - r.gamma * r.impulse,
-                    // A motor does not push: its row only keeps the push-out
-                    // off the joint's free axis.
-                    Some(_) if slot == MOTOR => -jv - r.gamma * r.push,
-                    Some((fraction, inv_h)) => {
-                        any |= r.c.abs() > 1e-9;
-                        -fraction * r.c * inv_h - jv
-                    }
-                };
+        for (l, lane) in self.lanes.iter().enumerate() {
+            let offsets = self.profile.offsets.iter().map(|o| l * n + o);
+            for (&ji, at) in lane.iter().zip(offsets) {
+                // SAFETY: the caller's promise.
+                let j = unsafe { joints.get_mut(ji as usize) };
+                let p = unsafe { Pair::load(j, bodies, push.is_some()) };
+                if push.is_none() && self.aim[l] {
+                    j.aim_equality_rows(&p);
+                }
+                for (e, slot) in island_slots(j).enumerate() {
+                    let r = &j.rows[slot];
+                    let jv = r.lin.dot(p.va - p.vb) + r.ang_a.dot(p.wa) + r.ang_b.dot(p.wb);
+                    rhs[at + e] = match push {
+                        None => -jv - r.bias - r.gamma * r.impulse,
+                        // A motor does not push: its row only keeps the push-out
+                        // off the joint's free axis.
+                        Some(_) if slot == MOTOR => -jv - r.gamma * r.push,
+                        Some((fraction, inv_h)) => {
+                            any |= r.c.abs() > 1e-9;
+                            -fraction * r.c * inv_h - jv
+                        }
+                    };
+                }
             }
         }
-        self.solve_in_place(&mut rhs);
+        if self.lanes.len() == 1 {
+            self.factor.solve(&self.profile, &mut rhs);
+        } else {
+            let last = self.lanes.len() - 1;
+            self.rhs_lanes.clear();
+            self.rhs_lanes
+                .extend((0..n).map(|i| Lane::new(std::array::from_fn(|l| rhs[l.min(last) * n + i]))));
+            self.factor_lanes.solve(&self.profile, &mut self.rhs_lanes);
+            for (i, x) in self.rhs_lanes.iter().enumerate() {
+                for (l, &v) in x.to_array().iter().enumerate().take(self.lanes.len()) {
+                    rhs[l * n + i] = v;
+                }
+            }
+        }
+        for v in rhs.iter_mut() {
+            if !v.is_finite() {
+                *v = 0.0;
+            }
+        }
         if self.bounded {
             self.hold_at_bounds(joints, &mut rhs, push.is_some());
         }
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
-        for (k, &ji) in self.joints.iter().enumerate() {
-            // SAFETY: the caller's promise.
-            let j = unsafe { joints.get_mut(ji as usize) };
-            let mut p = unsafe { Pair::load(j, bodies, push.is_some()) };
-            for (e, slot) in island_slots(j).enumerate() {
-                // Within the bounds (re-solved above; a last clamp for what
-                // the re-solve could not hold).
-                let (acc, lo, hi) = bounds(j, slot, push.is_some());
-                let dl = crate::solver::clamp_impulse(acc + rhs[self.offsets[k] + e], lo, hi) - acc;
-                j.accumulate(slot, dl, push.is_some());
-                p.apply(&j.rows[slot], dl);
+        for (l, lane) in self.lanes.iter().enumerate() {
+            let offsets = self.profile.offsets.iter().map(|o| l * n + o);
+            for (&ji, at) in lane.iter().zip(offsets) {
+                // SAFETY: the caller's promise.
+                let j = unsafe { joints.get_mut(ji as usize) };
+                let mut p = unsafe { Pair::load(j, bodies, push.is_some()) };
+                for (e, slot) in island_slots(j).enumerate() {
+                    // Within the bounds (re-solved above; a last clamp for what
+                    // the re-solve could not hold).
+                    let (acc, lo, hi) = bounds(j, slot, push.is_some());
+                    let dl = crate::solver::clamp_impulse(acc + rhs[at + e], lo, hi) - acc;
+                    j.accumulate(slot, dl, push.is_some());
+                    p.apply(&j.rows[slot], dl);
+                }
+                unsafe { p.store(j, bodies, push.is_some()) };
             }
-            unsafe { p.store(j, bodies, push.is_some()) };
         }
         self.rhs = rhs;
         any
+    }
+
+    /// `K x = rhs` for a unit of one lane, entries that are not finite
+    /// cleared.
+    fn solve_one(&self, x: &mut [f64]) {
+        self.factor.solve(&self.profile, x);
+        for v in x.iter_mut() {
+            if !v.is_finite() {
+                *v = 0.0;
+            }
+        }
     }
 }
 
@@ -333,6 +297,7 @@ impl JointIsland {
     /// `mu` that puts each held row on its bound (a small dense system). A
     /// plain clamp would leave the other rows' impulses computed for the
     /// unclamped motor: an arm whose wrist motors saturated blew up.
+    /// (Units with bounds have one lane.)
     fn hold_at_bounds(&self, joints: &Shared<JointConstraint>, x: &mut [f64], push: bool) {
         const MAX_HELD: usize = 16;
         const ROUNDS: usize = 4;
@@ -343,18 +308,18 @@ impl JointIsland {
         // again for what the re-solve pushed past its bound.
         for _ in 0..ROUNDS {
             let before = held.len();
-            for (k, &ji) in self.joints.iter().enumerate() {
+            for (k, &ji) in self.lanes[0].iter().enumerate() {
                 // SAFETY: the island's joints are this thread's (caller of relax).
                 let j = unsafe { joints.get(ji as usize) };
                 for (e, slot) in island_slots(j).enumerate() {
-                    let i = self.offsets[k] + e;
+                    let i = self.profile.offsets[k] + e;
                     let (acc, lo, hi) = bounds(j, slot, push);
                     let total = acc + x[i];
                     if (total > hi || total < lo) && !held.iter().any(|&(h, _)| h == i) {
                         held.push((i, crate::solver::clamp_impulse(total, lo, hi) - acc));
                         let mut u = vec![0.0; self.rows()];
                         u[i] = 1.0;
-                        self.solve_in_place(&mut u);
+                        self.solve_one(&mut u);
                         columns.push(u);
                     }
                 }
@@ -446,8 +411,19 @@ fn island_mask(j: &JointConstraint) -> u16 {
 /// shared dynamic bodies, at least two per island with equality rows, a
 /// profile within [`MAX_PROFILE`]. Marks their joints `direct`. Joints in
 /// the returned islands are listed breadth-first from the island's first
-/// joint (in joint order), so the result is deterministic.
+/// joint (in joint order), so the result is deterministic; consecutive
+/// islands of the same shape without motors share a unit, up to one per
+/// lane of the solver's SIMD type.
 pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> Vec<JointIsland> {
+    joint_islands_in_lanes(joints, bodies, LANES)
+}
+
+/// [`joint_islands`], at most `max_lanes` islands to a unit.
+fn joint_islands_in_lanes(
+    joints: &mut [JointConstraint],
+    bodies: &[SolverBody],
+    max_lanes: usize,
+) -> Vec<JointIsland> {
     let n_bodies = bodies.len();
     // Joints of each dynamic body, in joint order.
     let mut of_body: Vec<Vec<u32>> = vec![Vec::new(); n_bodies];
@@ -574,19 +550,160 @@ pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> V
             joints[k as usize].direct = true;
             joints[k as usize].island_rows = mask;
         }
-        islands.push(JointIsland {
-            joints: order,
+        let profile = Profile {
             offsets,
+            couplings,
             first,
             start,
-            factor: vec![0.0; size],
-            inv_diagonal: vec![0.0; total],
-            couplings,
-            bounded: masks.iter().any(|&m| m != 0),
-            rhs: Vec::new(),
-            scratch: Vec::new(),
-            aim,
+            size,
+        };
+        let bounded = masks.iter().any(|&m| m != 0);
+        // The island joins the last unit where it is of the same shape,
+        // neither has a motor (the bounds are held one lane at a time) and
+        // a lane is free.
+        if let Some(unit) = islands.last_mut().filter(|u: &&mut JointIsland| {
+            !bounded && !u.bounded && u.lanes.len() < max_lanes && u.profile == profile
+        }) {
+            unit.lanes.push(order);
+            unit.aim.push(aim);
+            continue;
+        }
+        islands.push(JointIsland {
+            lanes: vec![order],
+            profile,
+            bounded,
+            aim: vec![aim],
+            ..JointIsland::default()
         });
     }
     islands
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::body::integrate_positions;
+    use super::super::joint::{begin_joints, push_joints, solve_joints, JointLaw, JOINT_ROWS};
+    use super::*;
+    use crate::joint::JointKind;
+    use tumble_collide::{DQuat, DVec3, Pose};
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    fn vector(rng: &mut SplitMix64, size: f64) -> DVec3 {
+        DVec3::new(
+            rng.range(-size, size),
+            rng.range(-size, size),
+            rng.range(-size, size),
+        )
+    }
+
+    fn rotation(rng: &mut SplitMix64) -> DQuat {
+        DQuat::from_scaled_axis(vector(rng, 2.0))
+    }
+
+    /// `count` trees of five bodies of random masses, poses and velocities
+    /// (body 0 is the immovable world): a ball joint to the world, a hinge
+    /// and a slider with limits, a ball joint with a swing cone, a weld and
+    /// a rod, each anchor placed at random in its body (so the joints start
+    /// apart and the push-out has work).
+    fn trees(rng: &mut SplitMix64, count: usize) -> (Vec<SolverBody>, Vec<JointConstraint>) {
+        let mut bodies = vec![SolverBody::fixed()];
+        let mut x0 = vec![DVec3::ZERO];
+        let mut joints = Vec::new();
+        let law = |kind, limits, swing_limit, length| JointLaw {
+            kind,
+            limits,
+            swing_limit,
+            motor: None,
+            spring: None,
+            length,
+        };
+        for t in 0..count {
+            let first = bodies.len() as u32;
+            for _ in 0..5 {
+                let inertia = DVec3::new(rng.range(0.2, 3.0), rng.range(0.2, 3.0), rng.range(0.2, 3.0));
+                bodies.push(SolverBody::new(
+                    vector(rng, 1.0),
+                    vector(rng, 3.0),
+                    1.0 / rng.range(0.5, 5.0),
+                    inertia,
+                    rotation(rng),
+                ));
+                x0.push(DVec3::new(3.0 * t as f64, 0.0, 0.0) + vector(rng, 0.5));
+            }
+            let links = [
+                (0, None, law(JointKind::Ball, None, None, 0.0)),
+                (1, Some(0), law(JointKind::Hinge, Some([-0.5, 0.5]), None, 0.0)),
+                (2, Some(0), law(JointKind::Ball, None, Some(0.4), 0.0)),
+                (3, Some(1), law(JointKind::Fixed, None, None, 0.0)),
+                (4, Some(2), law(JointKind::Distance, None, None, 0.3)),
+                (4, Some(3), law(JointKind::Slider, Some([-0.1, 0.1]), None, 0.0)),
+            ];
+            for (a, b, law) in links {
+                let a = first + a;
+                let b = b.map_or(0, |b| first + b);
+                let side = |i: u32| (x0[i as usize], bodies[i as usize].q);
+                let ((xa, qa), (xb, qb)) = (side(a), side(b));
+                let local = |rng: &mut SplitMix64| Pose {
+                    position: vector(rng, 0.3),
+                    rotation: rotation(rng),
+                };
+                joints.push(JointConstraint::new(
+                    (a, b),
+                    [xa, xb],
+                    [qa, qb],
+                    [local(rng), local(rng)],
+                    law,
+                    &[0.0; JOINT_ROWS],
+                ));
+            }
+        }
+        (bodies, joints)
+    }
+
+    /// Four islands of one shape solved in the lanes of one unit give the
+    /// bits each gets in a unit of its own: sub-steps of the joints' start,
+    /// two velocity passes, a push-out pass and the position update.
+    #[test]
+    fn islands_in_lanes_get_the_bits_they_get_alone() {
+        let (bodies, joints) = trees(&mut SplitMix64(5), 5);
+        let run = |max_lanes: usize| {
+            let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
+            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, max_lanes);
+            let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
+            let h = 1.0 / 480.0;
+            for _ in 0..6 {
+                begin_joints(&mut joints, &mut islands, &mut bodies, h, true);
+                solve_joints(&mut joints, &mut islands, &mut bodies);
+                solve_joints(&mut joints, &mut islands, &mut bodies);
+                push_joints(&mut joints, &mut islands, &mut bodies, h);
+                integrate_positions(&mut bodies, &q0, h);
+            }
+            let lanes: Vec<usize> = islands.iter().map(JointIsland::lanes).collect();
+            let state: Vec<[DVec3; 3]> = bodies.iter().map(|b| [b.v, b.w, b.dp]).collect();
+            let impulses: Vec<[f64; JOINT_ROWS]> = joints.iter().map(JointConstraint::impulses).collect();
+            (lanes, state, impulses)
+        };
+        let (lanes, state, impulses) = run(LANES);
+        let (alone, state_alone, impulses_alone) = run(1);
+        assert_eq!((lanes, alone), (vec![4, 1], vec![1; 5]));
+        // The passes moved the bodies and the joints pushed.
+        assert!(state
+            .iter()
+            .zip(&bodies)
+            .skip(1)
+            .all(|(s, b)| s[0] != b.v && s[2] != DVec3::ZERO));
+        assert!(impulses.iter().all(|i| i.iter().any(|&x| x != 0.0)));
+        for (k, (a, b)) in state.iter().zip(&state_alone).enumerate() {
+            for (u, v) in a.iter().zip(b) {
+                assert_eq!(
+                    u.to_array().map(f64::to_bits),
+                    v.to_array().map(f64::to_bits),
+                    "body {k}"
+                );
+            }
+        }
+        for (k, (a, b)) in impulses.iter().zip(&impulses_alone).enumerate() {
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "joint {k}");
+        }
+    }
 }

@@ -44,6 +44,7 @@ mod collisions;
 mod coloring;
 mod constraint;
 mod exact;
+mod island_factor;
 mod joint;
 mod joint_island;
 mod lanes;

@@ -222,19 +222,23 @@ fn push_turn(b: &mut SolverBody, h: f64) {
 /// Free rotation under the constant L by the symplectic principal-axis
 /// splitting, with w and the world inverse inertia updated to the new pose.
 fn turn_freely(b: &mut SolverBody, h: f64) {
-    let r_old = DMat3::from_quat(b.q);
     let inertia_body = DVec3::new(
         recip_or_zero(b.inv_inertia_body.x),
         recip_or_zero(b.inv_inertia_body.y),
         recip_or_zero(b.inv_inertia_body.z),
     );
-    let l = r_old * (inertia_body * (r_old.transpose() * b.w));
+    // L = R I R^T w and w = R I^-1 R^T L through the quaternion (two
+    // rotations each, no 3 x 3 matrices built).
+    let l = b.q * (inertia_body * (b.q.conjugate() * b.w));
     // Free rotation under the constant L by the symplectic principal-axis
     // splitting: no energy drift for tumbling bodies (a plain exponential
     // map with the step's w gains energy steadily on asymmetric bodies).
     b.q = crate::integrate::free_rotation(b.q, l, b.inv_inertia_body, h).normalize();
-    b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
-    b.w = b.inv_inertia * l;
+    b.w = b.q * (b.inv_inertia_body * (b.q.conjugate() * l));
+    // A push-out turn follows and sets the world inverse inertia itself.
+    if b.push_w == DVec3::ZERO {
+        b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
+    }
 }
 
 fn recip_or_zero(x: f64) -> f64 {

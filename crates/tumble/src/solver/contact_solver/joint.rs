@@ -76,9 +76,6 @@ pub struct JointRow {
     pub(super) bias: f64,
     pub(super) lo: f64,
     pub(super) hi: f64,
-    /// Scalar rows: `K_ee^-1 K_e,row`, the equality impulses that keep the
-    /// equality rows' velocities unchanged when this row acts.
-    coupling: [f64; 6],
     /// Accumulated impulse of the sub-step (N s or N m s).
     pub impulse: f64,
     pub(super) push: f64,
@@ -149,12 +146,32 @@ impl JointLaw {
 
 /// A joint in the solver: its two solver bodies, its frames, its law and
 /// its rows.
+///
+/// Laid out in this order (`repr(C)`): what every pass reads (the bodies,
+/// which rows are in use, then the rows from the equality rows on) first,
+/// so that a pass over a joint's first rows touches adjacent cache lines.
 #[derive(Debug, Clone, PartialEq)]
+#[repr(C)]
 pub struct JointConstraint {
     /// Solver body of A (0: immovable).
     pub a: u32,
     /// Solver body of B (0: immovable, or the world).
     pub b: u32,
+    /// Bit `i`: row slot `i` is in use this sub-step.
+    pub active: u16,
+    /// Scalar row slots (motor, limits) solved with the island too.
+    pub(super) island_rows: u16,
+    /// The equality rows are solved with the joint's island
+    /// (`joint_island`), not joint by joint.
+    pub direct: bool,
+    /// Equality rows in use (slots `0..n_eq`).
+    pub(super) n_eq: usize,
+    /// The rows, by slot.
+    pub(super) rows: [JointRow; JOINT_ROWS],
+    /// Per scalar row slot (from [`LOWER`]): `K_ee^-1 K_e,row`, the
+    /// equality impulses that keep the equality rows' velocities unchanged
+    /// when the row acts.
+    coupling: [[f64; 6]; JOINT_ROWS - LOWER],
     /// Centre of mass of each side at the step's start (the world: origin).
     pub x0: [DVec3; 2],
     /// Orientation of each side at the step's start.
@@ -163,17 +180,6 @@ pub struct JointConstraint {
     pub local: [Pose; 2],
     /// What is constrained.
     pub law: JointLaw,
-    /// The rows, by slot.
-    pub(super) rows: [JointRow; JOINT_ROWS],
-    /// Bit `i`: row slot `i` is in use this sub-step.
-    pub active: u16,
-    /// Equality rows in use (slots `0..n_eq`).
-    pub(super) n_eq: usize,
-    /// The equality rows are solved with the joint's island
-    /// (`joint_island`), not joint by joint.
-    pub direct: bool,
-    /// Scalar row slots (motor, limits) solved with the island too.
-    pub(super) island_rows: u16,
     /// Cholesky factor of the equality block (lower triangle).
     chol: [[f64; 6]; 6],
     /// Centre of mass and orientation of each side at the sub-step's start.
@@ -210,6 +216,7 @@ impl JointConstraint {
             active: 0,
             n_eq: 0,
             chol: [[0.0; 6]; 6],
+            coupling: [[0.0; 6]; JOINT_ROWS - LOWER],
             start: [(DVec3::ZERO, DQuat::IDENTITY); 2],
             h: 0.0,
             direct: false,
@@ -349,7 +356,7 @@ impl JointConstraint {
             let schur = k_rr - (0..n).map(|e| k_er[e] * coupling[e]).sum::<f64>();
             let denom = schur.max(1e-12 * k_rr) + r.gamma;
             let row = &mut self.rows[i];
-            row.coupling = coupling;
+            self.coupling[i - LOWER] = coupling;
             row.mass = if denom > 1e-300 && denom.is_finite() {
                 1.0 / denom
             } else {
@@ -432,7 +439,7 @@ impl JointConstraint {
     fn apply_scalar(&mut self, p: &mut Pair, i: usize, dl: f64, push: bool) {
         p.apply(&self.rows[i], dl);
         for e in 0..self.n_eq {
-            let de = -self.rows[i].coupling[e] * dl;
+            let de = -self.coupling[i - LOWER][e] * dl;
             if push {
                 self.rows[e].push += de;
             } else {

@@ -128,17 +128,22 @@ impl SideRow<f64> {
 
 impl SideRow<Lane> {
     /// One row per lane.
+    #[inline(always)]
     pub fn from_lanes(rows: [&SideRow<f64>; LANES]) -> SideRow<Lane> {
-        let p3 = |f: &dyn Fn(&SideRow<f64>) -> P3<f64>| P3 {
-            x: Lane::new(rows.map(|r| f(r).x)),
-            y: Lane::new(rows.map(|r| f(r).y)),
-            z: Lane::new(rows.map(|r| f(r).z)),
-        };
+        #[inline(always)]
+        fn pick<F: Fn(&SideRow<f64>) -> P3<f64>>(rows: &[&SideRow<f64>; LANES], f: F) -> P3<Lane> {
+            let v = rows.map(f);
+            P3 {
+                x: Lane::new(v.map(|p| p.x)),
+                y: Lane::new(v.map(|p| p.y)),
+                z: Lane::new(v.map(|p| p.z)),
+            }
+        }
         SideRow {
-            lin: [p3(&|r| r.lin[0]), p3(&|r| r.lin[1])],
-            ang: [p3(&|r| r.ang[0]), p3(&|r| r.ang[1])],
-            m_lin: [p3(&|r| r.m_lin[0]), p3(&|r| r.m_lin[1])],
-            m_ang: [p3(&|r| r.m_ang[0]), p3(&|r| r.m_ang[1])],
+            lin: [pick(&rows, |r| r.lin[0]), pick(&rows, |r| r.lin[1])],
+            ang: [pick(&rows, |r| r.ang[0]), pick(&rows, |r| r.ang[1])],
+            m_lin: [pick(&rows, |r| r.m_lin[0]), pick(&rows, |r| r.m_lin[1])],
+            m_ang: [pick(&rows, |r| r.m_ang[0]), pick(&rows, |r| r.m_ang[1])],
             gamma: Lane::new(rows.map(|r| r.gamma)),
         }
     }

@@ -180,12 +180,12 @@ impl JointIsland {
             self.factor.factor(&self.profile, &self.rows);
             return;
         }
-        // Lanes beyond the islands repeat the first (and are never read).
+        // Lanes beyond the islands repeat the last (and are never read).
         let last = self.lanes.len() - 1;
+        let rows = &self.rows;
         self.rows_lanes.clear();
-        self.rows_lanes.extend(
-            (0..n).map(|i| SideRow::from_lanes(std::array::from_fn(|l| &self.rows[l.min(last) * n + i]))),
-        );
+        self.rows_lanes
+            .extend((0..n).map(|i| SideRow::from_lanes(std::array::from_fn(|l| &rows[l.min(last) * n + i]))));
         self.factor_lanes.factor(&self.profile, &self.rows_lanes);
     }
 

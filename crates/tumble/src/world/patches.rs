@@ -23,7 +23,30 @@ pub(crate) struct PreparedPoint {
     pub contact: Contact,
     /// The contact point in A's body frame at the step start (m).
     pub local_a: DVec3,
-    pub point: PointConstraint,
+    /// Lever arms from A's and B's centres of mass to the point (m).
+    pub r_a: DVec3,
+    pub r_b: DVec3,
+    /// The row's separation (the contact's distance less the pair's skin, m).
+    pub separation: f64,
+    /// The normal impulse remembered from the last step (N s).
+    pub normal_impulse: f64,
+}
+
+impl PreparedPoint {
+    /// The point's solver row (its inputs only: kept this small, the
+    /// record is written and read once per point and step, and a whole
+    /// row was two thirds of it).
+    pub fn constraint(&self) -> PointConstraint {
+        let mut point = PointConstraint::new(
+            self.contact.normal,
+            self.r_a,
+            self.r_b,
+            self.separation,
+            self.normal_impulse,
+        );
+        point.half_gap = 0.5 * self.contact.distance;
+        point
+    }
 }
 
 /// A contact patch on its way to the solver: a run of prepared points.
@@ -204,14 +227,15 @@ pub(crate) fn add_pair(
                 None => 0.0,
             };
             sum += c.normal;
-            let mut point = PointConstraint::new(c.normal, r_a, r_b, c.distance - pair.skin, normal_impulse);
-            point.half_gap = 0.5 * c.distance;
             points.push(PreparedPoint {
                 ids: pair.ids,
                 key: pair.key,
                 contact: *c,
                 local_a,
-                point,
+                r_a,
+                r_b,
+                separation: c.distance - pair.skin,
+                normal_impulse,
             });
         }
         let normal = sum.try_normalize().unwrap_or(seed);

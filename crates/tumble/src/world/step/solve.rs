@@ -385,7 +385,8 @@ impl World {
             let p = &f.patches[i as usize];
             sf.position[i as usize] = k as u32;
             let first = sf.points.len() as u32;
-            sf.points.extend(f.points[p.range()].iter().map(|q| q.point));
+            sf.points
+                .extend(f.points[p.range()].iter().map(|q| q.constraint()));
             let (a, b) = pairs[i as usize];
             let mut m = ManifoldConstraint::new(
                 a,

@@ -183,7 +183,7 @@ impl<const N: usize> WidePatch<N> {
         WidePatch {
             a: [0; LANES],
             b: [0; LANES],
-            source: std::array::from_fn(|l| sources.get(l).copied().unwrap_or(EMPTY)),
+            source: lane_sources(sources),
             friction: Lane::ZERO,
             twist_radius: Lane::ZERO,
             roll: RollLanes::default(),
@@ -203,8 +203,13 @@ impl<const N: usize> WidePatch<N> {
         }
     }
 
-    /// Sets every lane from its patch's record (a planned bundle, once).
+    /// Sets every lane from its patch's record (a planned bundle, once):
+    /// first everything but the sources to zero (the empty lanes and the
+    /// unused points stay so), here rather than when planned, so that the
+    /// team clears the bundles it fills while they are in its cache.
     pub(super) fn fill(&mut self, manifolds: &[ManifoldConstraint], points: &[PointConstraint]) {
+        let source = self.source;
+        *self = WidePatch::planned(&source);
         let w = self;
         for (l, k) in w.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
             let m = &manifolds[k as usize];
@@ -405,9 +410,9 @@ impl WideBatches {
     /// [`filled`](WidePatch::fill) from the records, by the solver's team
     /// (`SolverArrays::fill`).
     pub fn plan(&mut self, coloring: &Coloring, manifolds: &[ManifoldConstraint]) {
-        self.ones.clear();
-        self.twos.clear();
-        self.fours.clear();
+        // The bundle arrays keep last step's bundles: only their sources are
+        // set here (`fill` clears the rest), sparing a serial pass that
+        // built every bundle on the stack and copied it into place.
         self.colors.clear();
         self.large.clear();
         // Sized first: bundles are large, and a vector that doubles its way
@@ -427,9 +432,10 @@ impl WideBatches {
                 *c += n.div_ceil(LANES);
             }
         }
-        self.ones.reserve(counts[0]);
-        self.twos.reserve(counts[1]);
-        self.fours.reserve(counts[2]);
+        self.ones.reserve(counts[0].saturating_sub(self.ones.len()));
+        self.twos.reserve(counts[1].saturating_sub(self.twos.len()));
+        self.fours.reserve(counts[2].saturating_sub(self.fours.len()));
+        let mut used = [0usize; 3];
         let mut by_size: [Vec<u32>; 3] = Default::default();
         for range in &coloring.colors {
             by_size.iter_mut().for_each(Vec::clear);
@@ -443,12 +449,15 @@ impl WideBatches {
                 }
             }
             self.colors.push(ColorBundles {
-                ones: bundle_run(&mut self.ones, &by_size[0]),
-                twos: bundle_run(&mut self.twos, &by_size[1]),
-                fours: bundle_run(&mut self.fours, &by_size[2]),
+                ones: bundle_run(&mut self.ones, &mut used[0], &by_size[0]),
+                twos: bundle_run(&mut self.twos, &mut used[1], &by_size[1]),
+                fours: bundle_run(&mut self.fours, &mut used[2], &by_size[2]),
                 large: first_large..self.large.len(),
             });
         }
+        self.ones.truncate(used[0]);
+        self.twos.truncate(used[1]);
+        self.fours.truncate(used[2]);
         self.split = self
             .colors
             .iter()
@@ -457,12 +466,28 @@ impl WideBatches {
     }
 }
 
-/// Appends planned bundles of four of the patches `sources` to `out`;
-/// their range.
-fn bundle_run<const N: usize>(out: &mut Vec<WidePatch<N>>, sources: &[u32]) -> Range<usize> {
-    let first = out.len();
-    out.extend(sources.chunks(LANES).map(WidePatch::planned));
-    first..out.len()
+/// Plans bundles of four of the patches `sources` in `out` from its
+/// entry `used` on (reusing the entries there, appending beyond); their
+/// range.
+fn bundle_run<const N: usize>(
+    out: &mut Vec<WidePatch<N>>,
+    used: &mut usize,
+    sources: &[u32],
+) -> Range<usize> {
+    let first = *used;
+    for chunk in sources.chunks(LANES) {
+        match out.get_mut(*used) {
+            Some(w) => w.source = lane_sources(chunk),
+            None => out.push(WidePatch::planned(chunk)),
+        }
+        *used += 1;
+    }
+    first..*used
+}
+
+/// The patch of each lane: `sources` in order, then [`EMPTY`].
+fn lane_sources(sources: &[u32]) -> [u32; LANES] {
+    std::array::from_fn(|l| sources.get(l).copied().unwrap_or(EMPTY))
 }
 
 /// The velocities of the lanes' body pairs while their rows are solved

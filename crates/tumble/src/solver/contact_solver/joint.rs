@@ -437,6 +437,11 @@ impl JointConstraint {
     /// accumulators and pseudo-velocities).
     #[inline]
     fn apply_scalar(&mut self, p: &mut Pair, i: usize, dl: f64, push: bool) {
+        // A limit away from its bound (most of them, most of the time)
+        // stays at zero: nothing to apply.
+        if dl == 0.0 {
+            return;
+        }
         p.apply(&self.rows[i], dl);
         for e in 0..self.n_eq {
             let de = -self.coupling[i - LOWER][e] * dl;

@@ -345,6 +345,16 @@ impl JointConstraint {
             if self.active & (1 << i) == 0 || n == 0 {
                 continue;
             }
+            if i == UPPER && self.active & (1 << LOWER) != 0 {
+                // Every kind builds its upper limit as the lower limit's row
+                // negated: the same effective mass and the coupling negated,
+                // bit for bit (IEEE arithmetic is symmetric in sign).
+                debug_assert!(self.rows[UPPER].ang_a == -self.rows[LOWER].ang_a);
+                debug_assert!(self.rows[UPPER].lin == -self.rows[LOWER].lin);
+                self.coupling[UPPER - LOWER] = self.coupling[0].map(|c| -c);
+                self.rows[UPPER].mass = self.rows[LOWER].mass;
+                continue;
+            }
             let r = self.rows[i];
             let mut k_er = [0.0; 6];
             for (e, x) in k_er.iter_mut().enumerate().take(n) {

@@ -47,10 +47,15 @@ where
     let k = T::from;
     let one = k(1.0);
     let x2 = x * x;
-    let s = x * (one - x2 / k(6.0) * (one - x2 / k(20.0) * (one - x2 / k(42.0) * (one - x2 / k(72.0)))));
+    let s = x
+        * (one
+            - x2 * k(1.0 / 6.0)
+                * (one - x2 * k(1.0 / 20.0) * (one - x2 * k(1.0 / 42.0) * (one - x2 * k(1.0 / 72.0)))));
     let c = one
-        - x2 / k(2.0)
-            * (one - x2 / k(12.0) * (one - x2 / k(30.0) * (one - x2 / k(56.0) * (one - x2 / k(90.0)))));
+        - x2 * k(0.5)
+            * (one
+                - x2 * k(1.0 / 12.0)
+                    * (one - x2 * k(1.0 / 30.0) * (one - x2 * k(1.0 / 56.0) * (one - x2 * k(1.0 / 90.0)))));
     (s, c)
 }
 

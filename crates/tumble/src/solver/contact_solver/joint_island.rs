@@ -72,7 +72,8 @@ pub struct JointIsland {
     rows: Vec<SideRow<f64>>,
     /// The same, a lane set per row.
     rows_lanes: Vec<SideRow<Lane>>,
-    /// Per lane, the right-hand side of the system (reused between passes).
+    /// The right-hand side of each lane's system, row by row with the
+    /// lanes of a row side by side (reused between passes).
     rhs: Vec<f64>,
     /// The same, a lane set per row.
     rhs_lanes: Vec<Lane>,
@@ -204,13 +205,15 @@ impl JointIsland {
         push: Option<(f64, f64)>,
     ) -> bool {
         let n = self.rows();
+        // Row i of lane l at i * stride + l: a unit of more lanes reads
+        // each row's lanes as one lane set (lanes without an island hold 0).
+        let stride = if self.lanes.len() == 1 { 1 } else { LANES };
         let mut rhs = std::mem::take(&mut self.rhs);
         rhs.clear();
-        rhs.resize(n * self.lanes.len(), 0.0);
+        rhs.resize(n * stride, 0.0);
         let mut any = false;
         for (l, lane) in self.lanes.iter().enumerate() {
-            let offsets = self.profile.offsets.iter().map(|o| l * n + o);
-            for (&ji, at) in lane.iter().zip(offsets) {
+            for (&ji, &at) in lane.iter().zip(&self.profile.offsets) {
                 // SAFETY: the caller's promise.
                 let j = unsafe { joints.get_mut(ji as usize) };
                 let p = unsafe { Pair::load(j, bodies, push.is_some()) };
@@ -220,7 +223,7 @@ impl JointIsland {
                 for (e, slot) in island_slots(j).enumerate() {
                     let r = &j.rows[slot];
                     let jv = r.lin.dot(p.va - p.vb) + r.ang_a.dot(p.wa) + r.ang_b.dot(p.wb);
-                    rhs[at + e] = match push {
+                    rhs[(at + e) * stride + l] = match push {
                         None => -jv - r.bias - r.gamma * r.impulse,
                         // A motor does not push: its row only keeps the push-out
                         // off the joint's free axis.
@@ -236,15 +239,14 @@ impl JointIsland {
         if self.lanes.len() == 1 {
             self.factor.solve(&self.profile, &mut rhs);
         } else {
-            let last = self.lanes.len() - 1;
             self.rhs_lanes.clear();
-            self.rhs_lanes
-                .extend((0..n).map(|i| Lane::new(std::array::from_fn(|l| rhs[l.min(last) * n + i]))));
+            self.rhs_lanes.extend(
+                rhs.chunks_exact(LANES)
+                    .map(|row| Lane::new([row[0], row[1], row[2], row[3]])),
+            );
             self.factor_lanes.solve(&self.profile, &mut self.rhs_lanes);
-            for (i, x) in self.rhs_lanes.iter().enumerate() {
-                for (l, &v) in x.to_array().iter().enumerate().take(self.lanes.len()) {
-                    rhs[l * n + i] = v;
-                }
+            for (row, x) in rhs.chunks_exact_mut(LANES).zip(&self.rhs_lanes) {
+                row.copy_from_slice(&x.to_array());
             }
         }
         for v in rhs.iter_mut() {
@@ -258,8 +260,7 @@ impl JointIsland {
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
         for (l, lane) in self.lanes.iter().enumerate() {
-            let offsets = self.profile.offsets.iter().map(|o| l * n + o);
-            for (&ji, at) in lane.iter().zip(offsets) {
+            for (&ji, &at) in lane.iter().zip(&self.profile.offsets) {
                 // SAFETY: the caller's promise.
                 let j = unsafe { joints.get_mut(ji as usize) };
                 let mut p = unsafe { Pair::load(j, bodies, push.is_some()) };
@@ -267,7 +268,7 @@ impl JointIsland {
                     // Within the bounds (re-solved above; a last clamp for what
                     // the re-solve could not hold).
                     let (acc, lo, hi) = bounds(j, slot, push.is_some());
-                    let dl = crate::solver::clamp_impulse(acc + rhs[at + e], lo, hi) - acc;
+                    let dl = crate::solver::clamp_impulse(acc + rhs[(at + e) * stride + l], lo, hi) - acc;
                     j.accumulate(slot, dl, push.is_some());
                     p.apply(&j.rows[slot], dl);
                 }

@@ -220,7 +220,8 @@ fn push_turn(b: &mut SolverBody, h: f64) {
 }
 
 /// Free rotation under the constant L by the symplectic principal-axis
-/// splitting, with w and the world inverse inertia updated to the new pose.
+/// splitting, with w updated to the new pose, and the world inverse inertia
+/// too unless a push-out turn follows (which sets it).
 fn turn_freely(b: &mut SolverBody, h: f64) {
     let inertia_body = DVec3::new(
         recip_or_zero(b.inv_inertia_body.x),

@@ -10,6 +10,7 @@
 //! order, nothing fused into a multiply-add, so an island factored in a
 //! lane gets the bits it gets alone.
 
+use super::joint::JointRow;
 use super::lanes::{Lane, LANES};
 use std::ops::{Add, Div, Mul, Sub};
 use tumble_collide::DVec3;
@@ -102,26 +103,15 @@ pub(super) struct SideRow<N> {
 }
 
 impl SideRow<f64> {
-    /// The sides of a row `lin . (vA - vB) + ang_a . wA + ang_b . wB` with
-    /// inverse masses `ma`, `mb` and inverse inertias times the angular
-    /// parts `ia`, `ib`.
-    #[allow(clippy::too_many_arguments)] // the row's parts, named as the joint row names them
-    pub fn new(
-        lin: DVec3,
-        ang_a: DVec3,
-        ang_b: DVec3,
-        ma: f64,
-        mb: f64,
-        ia: DVec3,
-        ib: DVec3,
-        gamma: f64,
-    ) -> SideRow<f64> {
+    /// The sides of joint row `r` (`lin . (vA - vB) + ang_a . wA + ang_b .
+    /// wB`) between bodies of inverse masses `ma` and `mb`.
+    pub fn new(r: &JointRow, ma: f64, mb: f64) -> SideRow<f64> {
         SideRow {
-            lin: [lin.into(), (-lin).into()],
-            ang: [ang_a.into(), ang_b.into()],
-            m_lin: [(lin * ma).into(), (-lin * mb).into()],
-            m_ang: [ia.into(), ib.into()],
-            gamma,
+            lin: [r.lin.into(), (-r.lin).into()],
+            ang: [r.ang_a.into(), r.ang_b.into()],
+            m_lin: [(r.lin * ma).into(), (-r.lin * mb).into()],
+            m_ang: [r.ia.into(), r.ib.into()],
+            gamma: r.gamma,
         }
     }
 }

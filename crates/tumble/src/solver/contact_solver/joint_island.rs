@@ -170,9 +170,7 @@ impl JointIsland {
                     )
                 };
                 for slot in island_slots(j) {
-                    let r = &j.rows[slot];
-                    self.rows
-                        .push(SideRow::new(r.lin, r.ang_a, r.ang_b, ma, mb, r.ia, r.ib, r.gamma));
+                    self.rows.push(SideRow::new(&j.rows[slot], ma, mb));
                 }
             }
         }
@@ -249,11 +247,7 @@ impl JointIsland {
                 row.copy_from_slice(&x.to_array());
             }
         }
-        for v in rhs.iter_mut() {
-            if !v.is_finite() {
-                *v = 0.0;
-            }
-        }
+        clear_non_finite(&mut rhs);
         if self.bounded {
             self.hold_at_bounds(joints, &mut rhs, push.is_some());
         }
@@ -283,11 +277,7 @@ impl JointIsland {
     /// cleared.
     fn solve_one(&self, x: &mut [f64]) {
         self.factor.solve(&self.profile, x);
-        for v in x.iter_mut() {
-            if !v.is_finite() {
-                *v = 0.0;
-            }
-        }
+        clear_non_finite(x);
     }
 }
 
@@ -373,6 +363,16 @@ fn solve_dense(held: &[(usize, f64)], columns: &[Vec<f64>], x0: &[f64]) -> Optio
         mu[a] = (g[a][m] - s) / g[a][a];
     }
     mu.iter().all(|v| v.is_finite()).then_some(mu)
+}
+
+/// Entries of a solution that are not finite (a degenerate system) set
+/// to zero: no impulse rather than a NaN one.
+fn clear_non_finite(x: &mut [f64]) {
+    for v in x.iter_mut() {
+        if !v.is_finite() {
+            *v = 0.0;
+        }
+    }
 }
 
 /// Row `slot`'s accumulated impulse (or push-out impulse) and its bounds.

@@ -11,7 +11,8 @@
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
-//! impulse and the two bodies' speeds).
+//! impulse and the two bodies' speeds; with `TRACE_JOINTS=N`, every N steps the
+//! largest joint error and which joint has it).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 
@@ -106,6 +107,10 @@ fn main() {
         .unwrap_or(0);
     // Largest joint error (m, rad) after any step.
     let mut joint_error = (0.0f64, 0.0f64);
+    let trace_joints: usize = std::env::var("TRACE_JOINTS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
     // Total energy (kinetic plus potential) step to step: contacts and
     // friction may only take it away, so a gain is a defect to chase.
     let mut energy = world.kinetic_energy() + world.potential_energy();
@@ -151,6 +156,22 @@ fn main() {
         }
         let (linear, angular) = world.max_joint_error();
         joint_error = (joint_error.0.max(linear), joint_error.1.max(angular));
+        if trace_joints > 0 && step % trace_joints == 0 {
+            let errors: Vec<f64> = world
+                .joint_ids()
+                .into_iter()
+                .map(|id| world.joint_state(id).map_or(f64::NAN, |s| s.linear_error))
+                .collect();
+            let (worst, _) = errors
+                .iter()
+                .enumerate()
+                .fold((0, 0.0f64), |(k, e), (i, &x)| if x > e { (i, x) } else { (k, e) });
+            eprintln!(
+                "step {step}: largest joint error {:.3} mm at joint {worst} of {}",
+                linear * 1e3,
+                errors.len()
+            );
+        }
         window = window.max(r.max_penetration);
         if trace > 0 && (step + 1) % trace == 0 {
             eprintln!("steps {}..{}: deepest {window:.4} m", step + 1 - trace, step + 1);

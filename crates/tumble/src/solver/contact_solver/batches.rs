@@ -9,6 +9,7 @@
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::island_contacts::PatchArrays;
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
 use super::joint_island::JointIsland;
 use super::passes::{begin_patch, push_patch, solve_patch};
@@ -103,6 +104,14 @@ unsafe fn bundles<const N: usize>(
 }
 
 impl SolverArrays<'_> {
+    /// The patch arrays, for the patches joint islands own.
+    fn patch_arrays(&self) -> PatchArrays<'_, '_> {
+        PatchArrays {
+            manifolds: &self.manifolds,
+            points: &self.points,
+        }
+    }
+
     /// The start of the solve, by the team: every patch prepared from the
     /// bodies at the step start (`constraint::prepare`; each thread its run
     /// of the patches), then, on thread 0, `serial` (restitution, which
@@ -254,7 +263,7 @@ impl SolverArrays<'_> {
                 }
             });
             self.each_island(team, |island| {
-                island.begin(&self.joints, &self.bodies, h, warm);
+                island.begin(&self.joints, &self.bodies, Some(&self.patch_arrays()), h, warm);
                 false
             });
             self.each_patch(
@@ -275,7 +284,7 @@ impl SolverArrays<'_> {
         // SAFETY: the caller's promise.
         unsafe {
             self.each_island(team, |island| {
-                island.solve(&self.joints, &self.bodies);
+                island.solve(&self.joints, &self.bodies, Some(&self.patch_arrays()));
                 false
             });
             each(team, self.joint_coloring, &self.joints, |j| {
@@ -310,7 +319,10 @@ impl SolverArrays<'_> {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
-            if self.each_island(team, |island| island.push(&self.joints, &self.bodies, inv_h)) {
+            let owned = (&self.patch_arrays(), params);
+            if self.each_island(team, |island| {
+                island.push(&self.joints, &self.bodies, Some(owned), inv_h)
+            }) {
                 pushed.fetch_max(pass, Ordering::Relaxed);
             }
             each(team, self.joint_coloring, &self.joints, |j| {

@@ -108,6 +108,28 @@ pub fn color_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, 
     (Coloring { colors, overflow }, order)
 }
 
+/// [`color_patches`] over the patches not `owned`; the owned ones (the
+/// patches joint islands solve with their joints) follow them in the
+/// order, in patch order, outside every batch.
+pub fn color_patches_except(
+    pairs: &[(u32, u32)],
+    bodies: &[SolverBody],
+    owned: &[bool],
+) -> (Coloring, Vec<u32>) {
+    if !owned.contains(&true) {
+        return color_patches(pairs, bodies);
+    }
+    let free: Vec<u32> = (0..pairs.len() as u32).filter(|&k| !owned[k as usize]).collect();
+    let free_pairs: Vec<(u32, u32)> = free.iter().map(|&k| pairs[k as usize]).collect();
+    let (coloring, order) = color_patches(&free_pairs, bodies);
+    let order = order
+        .iter()
+        .map(|&k| free[k as usize])
+        .chain((0..pairs.len() as u32).filter(|&k| owned[k as usize]))
+        .collect();
+    (coloring, order)
+}
+
 /// A slice that several threads update at once, each at indices no other
 /// thread touches in the same pass (the colouring's guarantee). A thin
 /// raw-pointer view: the safety of each access is the caller's.

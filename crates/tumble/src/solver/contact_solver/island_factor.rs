@@ -116,6 +116,20 @@ impl SideRow<f64> {
     }
 }
 
+impl SideRow<f64> {
+    /// The velocity a unit impulse of this row gives, on side `s`, to a
+    /// contact row of normal `n` and angular part `r_x_n` on that body
+    /// (`n . dv + (r x n) . dw`).
+    pub fn moves(&self, s: usize, n: DVec3, r_x_n: DVec3) -> f64 {
+        P3::from(n).dot(self.m_lin[s]) + P3::from(r_x_n).dot(self.m_ang[s])
+    }
+
+    /// This row's velocity from a change `dv`, `dw` of side `s`'s body.
+    pub fn measures(&self, s: usize, dv: DVec3, dw: DVec3) -> f64 {
+        self.lin[s].dot(dv.into()) + self.ang[s].dot(dw.into())
+    }
+}
+
 impl SideRow<Lane> {
     /// One row per lane.
     #[inline(always)]

@@ -889,7 +889,7 @@ pub fn begin_joints(
     let joints = Shared::new(joints);
     for island in islands {
         // SAFETY: one thread.
-        unsafe { island.begin(&joints, &bodies, h, warm) };
+        unsafe { island.begin(&joints, &bodies, None, h, warm) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
@@ -911,7 +911,7 @@ pub fn solve_joints(
     let joints = Shared::new(joints);
     for island in islands {
         // SAFETY: one thread.
-        unsafe { island.solve(&joints, &bodies) };
+        unsafe { island.solve(&joints, &bodies, None) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
@@ -935,7 +935,7 @@ pub fn push_joints(
     let mut any = false;
     for island in islands {
         // SAFETY: one thread.
-        any |= unsafe { island.push(&joints, &bodies, 1.0 / h) };
+        any |= unsafe { island.push(&joints, &bodies, None, 1.0 / h) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.

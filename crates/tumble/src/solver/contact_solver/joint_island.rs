@@ -30,15 +30,22 @@
 //! kinds of bodies: a pile of ragdolls) without motors share one unit and
 //! are factored and solved four at a time, one per SIMD lane
 //! (`island_factor`), with the bits each would get alone.
+//!
+//! A contact patch between two bodies of one island (a loop the contact
+//! closes) is the island's own: begun, relaxed and pushed with its system
+//! (`island_contacts`), in its island's lane.
 
 use super::body::SolverBody;
 use super::coloring::Shared;
+use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::island_contacts::{OwnedPatch, PatchArrays};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
     begin_joint, push_joint, solve_joint, JointConstraint, Pair, JOINT_PUSH_FRACTION, LOWER, MOTOR, SWING,
     UPPER,
 };
 use super::lanes::{Lane, LANES};
+use super::passes::{begin_patch, friction_patch, solve_owned_normals, OwnedPass};
 
 /// Largest ratio of the heaviest to the lightest body of an island whose
 /// equality rows are aimed at the end of the sub-step.
@@ -77,6 +84,13 @@ pub struct JointIsland {
     rhs: Vec<f64>,
     /// The same, a lane set per row.
     rhs_lanes: Vec<Lane>,
+    /// Contact patches between two bodies of one of the unit's islands,
+    /// solved with its system in its lane.
+    owned: Vec<OwnedPatch>,
+    /// With owned patches: each row's two solver bodies.
+    row_bodies: Vec<[u32; 2]>,
+    /// `1 / h` of the sub-step (the owned patches' speculative bias).
+    inv_h: f64,
 }
 
 impl JointIsland {
@@ -90,16 +104,32 @@ impl JointIsland {
         self.lanes.len()
     }
 
+    /// Patches owned by this unit (indices into the solver's patch array).
+    pub fn owned_patches(&self) -> impl Iterator<Item = u32> + '_ {
+        self.owned.iter().map(|o| o.patch)
+    }
+
+    /// Renumbers the owned patches (`new_index` of each old index), once
+    /// the patch array is laid out.
+    pub fn renumber_patches(&mut self, new_index: impl Fn(u32) -> u32) {
+        for o in &mut self.owned {
+            o.patch = new_index(o.patch);
+        }
+    }
+
     /// The start of a sub-step for the islands' joints (`begin_joint`,
-    /// joint by joint in the shape's order), then `K` factored: while the
-    /// rows just built are still in the cache.
+    /// joint by joint in the shape's order) and owned patches
+    /// (`begin_patch`), then `K` factored (while the rows just built are
+    /// still in the cache) and the owned patches coupled to it.
     ///
     /// # Safety
-    /// The islands' joints and bodies are this thread's alone meanwhile.
-    pub unsafe fn begin(
+    /// The islands' joints, owned patches and bodies are this thread's
+    /// alone meanwhile; `patches` is given when patches are owned.
+    pub(super) unsafe fn begin(
         &mut self,
         joints: &Shared<JointConstraint>,
         bodies: &Shared<SolverBody>,
+        patches: Option<&PatchArrays>,
         h: f64,
         warm: bool,
     ) {
@@ -109,18 +139,107 @@ impl JointIsland {
                 unsafe { begin_joint(joints.get_mut(ji as usize), bodies, h, warm) };
             }
         }
+        self.inv_h = 1.0 / h;
+        let patches = patches.filter(|_| !self.owned.is_empty());
+        if let Some(c) = patches {
+            for o in &self.owned {
+                // SAFETY: the caller's promise.
+                unsafe {
+                    let m = c.manifolds.get_mut(o.patch as usize);
+                    begin_patch(m, c.points.range_mut(m.range()), bodies, warm);
+                }
+            }
+        }
         self.factor(joints, bodies);
+        if let Some(c) = patches {
+            // SAFETY (all accesses): the caller's promise.
+            let patch = |o: &OwnedPatch| unsafe {
+                let m = c.manifolds.get(o.patch as usize);
+                (m, &*c.points.range_mut(m.range()))
+            };
+            let n = self.rows();
+            for o in &mut self.owned {
+                let (m, pts) = patch(o);
+                let rows = o.lane * n..(o.lane + 1) * n;
+                o.couple(m, pts, &self.rows[rows.clone()], &self.row_bodies[rows]);
+            }
+            self.solve_responses(patch);
+            for o in &mut self.owned {
+                let (m, pts) = patch(o);
+                o.finish(m, pts);
+            }
+        }
     }
 
-    /// One velocity pass: the equality rows (and motors) together, then
+    /// `U = K^-1 W` for the owned patches' points: one solve per point in
+    /// a unit of one lane; in a unit of more, the lanes' points taken side
+    /// by side, a lane set per solve (a lane with no point left solves
+    /// zeros), each lane getting the bits its island gets alone.
+    fn solve_responses<'p>(
+        &mut self,
+        patch: impl Fn(&OwnedPatch) -> (&'p ManifoldConstraint, &'p [PointConstraint]),
+    ) {
+        let n = self.rows();
+        if self.lanes.len() == 1 {
+            for o in &mut self.owned {
+                for i in 0..patch(o).1.len() {
+                    let x = o.response_mut(i);
+                    self.factor.solve(&self.profile, x);
+                    clear_non_finite(x);
+                }
+            }
+            return;
+        }
+        // Each lane's points in patch order: (owned patch, point).
+        let mut queue: [Vec<(usize, usize)>; LANES] = Default::default();
+        for (k, o) in self.owned.iter().enumerate() {
+            queue[o.lane].extend((0..patch(o).1.len()).map(|i| (k, i)));
+        }
+        let rounds = queue.iter().map(Vec::len).max().unwrap_or(0);
+        let mut x = std::mem::take(&mut self.rhs_lanes);
+        for round in 0..rounds {
+            let at = |l: usize| queue[l].get(round).copied();
+            x.clear();
+            x.extend((0..n).map(|r| {
+                Lane::new(std::array::from_fn(|l| {
+                    at(l).map_or(0.0, |(k, i)| self.owned[k].response(i)[r])
+                }))
+            }));
+            self.factor_lanes.solve(&self.profile, &mut x);
+            for l in 0..LANES {
+                if let Some((k, i)) = at(l) {
+                    let u = self.owned[k].response_mut(i);
+                    for (u, x) in u.iter_mut().zip(&x) {
+                        *u = x.to_array()[l];
+                    }
+                    clear_non_finite(u);
+                }
+            }
+        }
+        self.rhs_lanes = x;
+    }
+
+    /// One velocity pass: the owned patches' friction, the equality rows
+    /// (and motors) together with the owned patches' normal rows, then
     /// each joint's limits (`solve_joint`) in the shape's order.
     ///
     /// # Safety
     /// As [`JointIsland::begin`].
-    pub unsafe fn solve(&mut self, joints: &Shared<JointConstraint>, bodies: &Shared<SolverBody>) {
+    pub(super) unsafe fn solve(
+        &mut self,
+        joints: &Shared<JointConstraint>,
+        bodies: &Shared<SolverBody>,
+        patches: Option<&PatchArrays>,
+    ) {
         // SAFETY: the caller's promise.
         unsafe {
-            self.relax(joints, bodies, None);
+            if let Some(c) = patches {
+                for o in &self.owned {
+                    let m = c.manifolds.get_mut(o.patch as usize);
+                    friction_patch(m, c.points.range_mut(m.range()), bodies);
+                }
+            }
+            self.relax(joints, bodies, patches.map(|c| (c, None)), None);
             for lane in &self.lanes {
                 for &ji in lane {
                     solve_joint(joints.get_mut(ji as usize), bodies);
@@ -134,15 +253,21 @@ impl JointIsland {
     ///
     /// # Safety
     /// As [`JointIsland::begin`].
-    pub unsafe fn push(
+    pub(super) unsafe fn push(
         &mut self,
         joints: &Shared<JointConstraint>,
         bodies: &Shared<SolverBody>,
+        patches: Option<(&PatchArrays, &SolverParams)>,
         inv_h: f64,
     ) -> bool {
         // SAFETY: the caller's promise.
         unsafe {
-            let mut any = self.relax(joints, bodies, Some((JOINT_PUSH_FRACTION, inv_h)));
+            let mut any = self.relax(
+                joints,
+                bodies,
+                patches.map(|(c, params)| (c, Some(params))),
+                Some((JOINT_PUSH_FRACTION, inv_h)),
+            );
             for lane in &self.lanes {
                 for &ji in lane {
                     any |= push_joint(joints.get_mut(ji as usize), bodies, inv_h);
@@ -174,6 +299,15 @@ impl JointIsland {
                 }
             }
         }
+        if !self.owned.is_empty() {
+            self.row_bodies.clear();
+            for lane in &self.lanes {
+                for &ji in lane {
+                    let j = unsafe { joints.get(ji as usize) };
+                    self.row_bodies.extend(island_slots(j).map(|_| [j.a, j.b]));
+                }
+            }
+        }
         let n = self.rows();
         if self.lanes.len() == 1 {
             self.factor.factor(&self.profile, &self.rows);
@@ -191,15 +325,18 @@ impl JointIsland {
     /// One pass over the islands' equality rows: velocities (the rows
     /// aimed as in `JointConstraint::aim_equality_rows`), or with `push`
     /// the push-out pseudo-velocities towards `fraction` of each row's
-    /// position error over `h`. Returns whether any row had an error to
-    /// push.
+    /// position error over `h`; the owned patches' normal rows with them
+    /// (`island_contacts`; `patches` carries the push-out's settings in a
+    /// push). Returns whether any row had an error to push.
     ///
     /// # Safety
-    /// The islands' joints and bodies are this thread's alone meanwhile.
+    /// The islands' joints, owned patches and bodies are this thread's
+    /// alone meanwhile.
     unsafe fn relax(
         &mut self,
         joints: &Shared<JointConstraint>,
         bodies: &Shared<SolverBody>,
+        patches: Option<(&PatchArrays, Option<&SolverParams>)>,
         push: Option<(f64, f64)>,
     ) -> bool {
         let n = self.rows();
@@ -250,6 +387,29 @@ impl JointIsland {
         clear_non_finite(&mut rhs);
         if self.bounded {
             self.hold_at_bounds(joints, &mut rhs, push.is_some());
+        }
+        if let Some((c, params)) = patches {
+            let pass = match (push, params) {
+                (Some((_, inv_h)), Some(params)) => OwnedPass::Push { params, inv_h },
+                _ => OwnedPass::Velocity { inv_h: self.inv_h },
+            };
+            for o in &self.owned {
+                // SAFETY: the caller's promise.
+                let (d, pushed) = unsafe {
+                    let m = c.manifolds.get(o.patch as usize);
+                    let coupled = o.coupled(&rhs, stride);
+                    solve_owned_normals(
+                        m,
+                        c.points.range_mut(m.range()),
+                        bodies,
+                        o.block(),
+                        &coupled,
+                        pass,
+                    )
+                };
+                any |= pushed;
+                o.take_back(&d, &mut rhs, stride);
+            }
         }
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
@@ -415,17 +575,33 @@ fn island_mask(j: &JointConstraint) -> u16 {
 /// joint (in joint order), so the result is deterministic; consecutive
 /// islands of the same shape without motors share a unit, up to one per
 /// lane of the solver's SIMD type.
-pub fn joint_islands(joints: &mut [JointConstraint], bodies: &[SolverBody]) -> Vec<JointIsland> {
-    joint_islands_in_lanes(joints, bodies, LANES)
+///
+/// `contacts` lists the patches an island may own, as (patch, body A,
+/// body B): an island owns those whose two bodies are both its own (see
+/// `island_contacts`).
+pub fn joint_islands(
+    joints: &mut [JointConstraint],
+    bodies: &[SolverBody],
+    contacts: &[(u32, u32, u32)],
+) -> Vec<JointIsland> {
+    joint_islands_in_lanes(joints, bodies, contacts, LANES)
 }
 
 /// [`joint_islands`], at most `max_lanes` islands to a unit.
 fn joint_islands_in_lanes(
     joints: &mut [JointConstraint],
     bodies: &[SolverBody],
+    contacts: &[(u32, u32, u32)],
     max_lanes: usize,
 ) -> Vec<JointIsland> {
     let n_bodies = bodies.len();
+    // The candidate patches by their first body, and each body's island
+    // (its root joint) once the island is found.
+    let mut contacts_of: Vec<Vec<u32>> = vec![Vec::new(); if contacts.is_empty() { 0 } else { n_bodies }];
+    for (c, &(_, a, _)) in contacts.iter().enumerate() {
+        contacts_of[a as usize].push(c as u32);
+    }
+    let mut member = vec![usize::MAX; contacts_of.len()];
     // Joints of each dynamic body, in joint order.
     let mut of_body: Vec<Vec<u32>> = vec![Vec::new(); n_bodies];
     for (k, j) in joints.iter().enumerate() {
@@ -533,6 +709,27 @@ fn joint_islands_in_lanes(
         if size > MAX_PROFILE {
             continue;
         }
+        let mut owned = Vec::new();
+        if !contacts.is_empty() {
+            let dynamic_bodies = || {
+                order
+                    .iter()
+                    .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
+                    .filter(|&b| bodies[b as usize].dynamic)
+            };
+            dynamic_bodies().for_each(|b| member[b as usize] = root);
+            for b in dynamic_bodies() {
+                for &c in &contacts_of[b as usize] {
+                    let (patch, _, other) = contacts[c as usize];
+                    if member[other as usize] == root {
+                        owned.push(OwnedPatch::new(patch, 0));
+                    }
+                }
+                // A body is met once per joint: its patches are taken once.
+                contacts_of[b as usize].clear();
+            }
+            owned.sort_by_key(|o| o.patch);
+        }
         // The aim is a fixed-point iteration through the whole island; its
         // gain grows with the mass ratio across it: a 20-link rope of 0.1 kg
         // links holding 10 kg came apart with it (and holds without), while
@@ -565,6 +762,11 @@ fn joint_islands_in_lanes(
         if let Some(unit) = islands.last_mut().filter(|u: &&mut JointIsland| {
             !bounded && !u.bounded && u.lanes.len() < max_lanes && u.profile == profile
         }) {
+            let lane = unit.lanes.len();
+            unit.owned.extend(owned.into_iter().map(|mut o| {
+                o.lane = lane;
+                o
+            }));
             unit.lanes.push(order);
             unit.aim.push(aim);
             continue;
@@ -574,6 +776,7 @@ fn joint_islands_in_lanes(
             profile,
             bounded,
             aim: vec![aim],
+            owned,
             ..JointIsland::default()
         });
     }
@@ -669,7 +872,7 @@ mod tests {
         let (bodies, joints) = trees(&mut SplitMix64(5), 5);
         let run = |max_lanes: usize| {
             let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
-            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, max_lanes);
+            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, &[], max_lanes);
             let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
             let h = 1.0 / 480.0;
             for _ in 0..6 {
@@ -706,5 +909,212 @@ mod tests {
         for (k, (a, b)) in impulses.iter().zip(&impulses_alone).enumerate() {
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "joint {k}");
         }
+    }
+
+    /// `count` chains of three bodies on ball joints (world - A - B - C,
+    /// masses 1 : 0.1 : 10, random velocities) whose ends A and C touch:
+    /// a patch of two overlapping points closes the loop A - B - C. The
+    /// patches are the chains' candidates for ownership.
+    #[allow(clippy::type_complexity)]
+    fn looped_chains(
+        rng: &mut SplitMix64,
+        count: usize,
+    ) -> (
+        Vec<SolverBody>,
+        Vec<JointConstraint>,
+        Vec<ManifoldConstraint>,
+        Vec<PointConstraint>,
+        Vec<(u32, u32, u32)>,
+    ) {
+        let mut bodies = vec![SolverBody::fixed()];
+        let (mut joints, mut manifolds, mut points, mut contacts) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let law = JointLaw {
+            kind: JointKind::Ball,
+            limits: None,
+            swing_limit: None,
+            motor: None,
+            spring: None,
+            length: 0.0,
+        };
+        for t in 0..count {
+            let first = bodies.len() as u32;
+            let origin = DVec3::new(3.0 * t as f64, 0.0, 0.0);
+            // Folded: A along x, B back up towards the pivot, C beside A.
+            let centres = [
+                DVec3::new(0.1, 0.0, 0.0),
+                DVec3::new(0.15, 0.0, 0.1),
+                DVec3::new(0.1, 0.0, 0.2),
+            ];
+            for (k, mass) in [1.0, 0.1, 10.0].into_iter().enumerate() {
+                let inertia = DVec3::splat(1.0 / (0.4 * mass * 0.05 * 0.05));
+                bodies.push(SolverBody::new(
+                    vector(rng, 1.0),
+                    vector(rng, 3.0),
+                    1.0 / mass,
+                    inertia,
+                    rotation(rng),
+                ));
+                let _ = k;
+            }
+            let anchors = [
+                DVec3::ZERO,
+                DVec3::new(0.15, 0.0, 0.05),
+                DVec3::new(0.12, 0.0, 0.15),
+            ];
+            for k in 0..3u32 {
+                let (a, b) = (first + k, if k == 0 { 0 } else { first + k - 1 });
+                let place = |i: u32| {
+                    if i == 0 {
+                        (DVec3::ZERO, DQuat::IDENTITY)
+                    } else {
+                        (origin + centres[(i - first) as usize], bodies[i as usize].q)
+                    }
+                };
+                let ((xa, qa), (xb, qb)) = (place(a), place(b));
+                let anchor = origin + anchors[k as usize];
+                let local = |x: DVec3, q: DQuat| Pose {
+                    position: q.inverse() * (anchor - x),
+                    rotation: DQuat::IDENTITY,
+                };
+                joints.push(JointConstraint::new(
+                    (a, b),
+                    [xa, xb],
+                    [qa, qb],
+                    [local(xa, qa), local(xb, qb)],
+                    law,
+                    &[0.0; JOINT_ROWS],
+                ));
+            }
+            // A (first) below C (first + 2): the normal from C to A.
+            let (a, c) = (first, first + 2);
+            let normal = (DVec3::new(0.0, 0.0, -1.0) + vector(rng, 0.2)).normalize();
+            // C moves into A.
+            bodies[c as usize].v += normal * 2.0;
+            let at = points.len() as u32;
+            for _ in 0..2 {
+                let r_a = -normal * 0.05 + vector(rng, 0.02);
+                let r_b = normal * 0.05 + vector(rng, 0.02);
+                points.push(PointConstraint::new(normal, r_a, r_b, -0.002, 0.0));
+            }
+            let mut m = ManifoldConstraint::new(a, c, at, 2, normal, 0.0, 0.0, DVec3::ZERO, 0.0);
+            super::super::constraint::prepare(&mut m, &mut points, &bodies);
+            contacts.push((manifolds.len() as u32, a, c));
+            manifolds.push(m);
+        }
+        (bodies, joints, manifolds, points, contacts)
+    }
+
+    /// After one velocity pass of an island that owns the patch closing its
+    /// loop, the joints and the contact together satisfy the conditions
+    /// that define the exact answer: every joint row at its target, and at
+    /// every contact point `lambda >= 0`, `w = v_n >= 0`, `lambda w = 0`.
+    /// (Relaxed one after the other, the contact's last update leaves the
+    /// joint rows off by what it moved the light link.)
+    #[test]
+    fn an_owned_patch_and_its_islands_joints_are_solved_exactly() {
+        for seed in 0..20 {
+            let (mut bodies, mut joints, mut manifolds, mut points, contacts) =
+                looped_chains(&mut SplitMix64(seed), 1);
+            let mut islands = joint_islands(&mut joints, &bodies, &contacts);
+            assert_eq!(islands.len(), 1);
+            assert_eq!(islands[0].owned_patches().collect::<Vec<_>>(), vec![0]);
+            let h = 1.0 / 480.0;
+            {
+                let (js, bs) = (Shared::new(&mut joints), Shared::new(&mut bodies));
+                let (ms, ps) = (Shared::new(&mut manifolds), Shared::new(&mut points));
+                let patches = PatchArrays {
+                    manifolds: &ms,
+                    points: &ps,
+                };
+                // SAFETY: one thread.
+                unsafe {
+                    islands[0].begin(&js, &bs, Some(&patches), h, false);
+                    islands[0].solve(&js, &bs, Some(&patches));
+                }
+            }
+            let scale = bodies.iter().map(|b| b.v.length()).fold(1.0, f64::max);
+            for j in &joints {
+                let (a, b) = (&bodies[j.a as usize], &bodies[j.b as usize]);
+                for r in &j.rows[..j.n_eq] {
+                    let jv = r.lin.dot(a.v - b.v) + r.ang_a.dot(a.w) + r.ang_b.dot(b.w);
+                    assert!(
+                        (jv + r.bias).abs() < 1e-9 * scale,
+                        "seed {seed}: joint row off by {}",
+                        jv + r.bias
+                    );
+                }
+            }
+            let m = &manifolds[0];
+            let (a, c) = (&bodies[m.a as usize], &bodies[m.b as usize]);
+            let mut pressed = 0.0;
+            for p in &points {
+                let w = p.normal.dot(a.v - c.v) + p.row.ra_x_d.dot(a.w) - p.row.rb_x_d.dot(c.w);
+                assert!(
+                    p.normal_impulse >= 0.0 && w > -1e-9 * scale,
+                    "seed {seed}: {} {w}",
+                    p.normal_impulse
+                );
+                assert!((p.normal_impulse * w).abs() < 1e-9 * scale * scale, "seed {seed}");
+                pressed += p.normal_impulse;
+            }
+            assert!(pressed > 0.0, "seed {seed}: the contact did not act");
+        }
+    }
+
+    /// Islands that own patches get, in the lanes of one unit, the bits
+    /// they get alone (velocity passes and push-out, several sub-steps).
+    #[test]
+    fn islands_owning_patches_get_the_same_bits_in_lanes() {
+        let (bodies, joints, manifolds, points, contacts) = looped_chains(&mut SplitMix64(11), 5);
+        let params = SolverParams {
+            push_out_fraction: 0.2,
+            allowed_penetration: 0.0005,
+            max_push_out_speed: 3.0,
+            restitution_threshold: 1.0,
+        };
+        let run = |max_lanes: usize| {
+            let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
+            let (mut manifolds, mut points) = (manifolds.clone(), points.clone());
+            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, &contacts, max_lanes);
+            let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
+            let h = 1.0 / 480.0;
+            for sub in 0..6 {
+                {
+                    let (js, bs) = (Shared::new(&mut joints), Shared::new(&mut bodies));
+                    let (ms, ps) = (Shared::new(&mut manifolds), Shared::new(&mut points));
+                    let patches = PatchArrays {
+                        manifolds: &ms,
+                        points: &ps,
+                    };
+                    for island in &mut islands {
+                        // SAFETY: one thread.
+                        unsafe {
+                            island.begin(&js, &bs, Some(&patches), h, sub > 0);
+                            island.solve(&js, &bs, Some(&patches));
+                            island.solve(&js, &bs, Some(&patches));
+                            island.push(&js, &bs, Some((&patches, &params)), 1.0 / h);
+                        }
+                    }
+                }
+                integrate_positions(&mut bodies, &q0, h);
+            }
+            let lanes: Vec<usize> = islands.iter().map(JointIsland::lanes).collect();
+            let state: Vec<[u64; 9]> = bodies
+                .iter()
+                .map(|b| {
+                    let [v, w, dp] = [b.v, b.w, b.dp].map(|x| x.to_array().map(f64::to_bits));
+                    [v[0], v[1], v[2], w[0], w[1], w[2], dp[0], dp[1], dp[2]]
+                })
+                .collect();
+            let impulses: Vec<u64> = points.iter().map(|p| p.normal_impulse.to_bits()).collect();
+            (lanes, state, impulses)
+        };
+        let (lanes, state, impulses) = run(LANES);
+        let (alone, state_alone, impulses_alone) = run(1);
+        assert_eq!((lanes, alone), (vec![4, 1], vec![1; 5]));
+        assert!(impulses.iter().any(|&i| f64::from_bits(i) > 0.0));
+        assert_eq!(state, state_alone);
+        assert_eq!(impulses, impulses_alone);
     }
 }

@@ -44,6 +44,7 @@ mod collisions;
 mod coloring;
 mod constraint;
 mod exact;
+mod island_contacts;
 mod island_factor;
 mod joint;
 mod joint_island;
@@ -59,10 +60,10 @@ pub(crate) use batches::SolverArrays;
 pub use body::{integrate_positions, SolverBody};
 pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
 pub(crate) use coloring::Shared;
-pub use coloring::{color_patches, Coloring, MAX_COLORS};
+pub use coloring::{color_patches, color_patches_except, Coloring, MAX_COLORS};
 pub use constraint::{
     inverse_effective_mass, prepare, refresh_masses, tangent_basis, ManifoldConstraint, PointConstraint,
-    RowJacobian, SolverParams, BLOCK_REFRESH,
+    RowJacobian, SolverParams, BLOCK_POINTS, BLOCK_REFRESH,
 };
 pub use exact::{solve_normals_exactly, ExactSolveError, EXACT_MAX_CONTACTS};
 pub use joint::{

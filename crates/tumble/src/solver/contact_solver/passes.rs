@@ -21,6 +21,9 @@ use super::constraint::{
 use super::rolling::{turn_friction_plane, Rolling};
 use tumble_collide::{DMat3, DVec3};
 
+/// A patch's 4 x 4 block of normal rows (padded with zero rows).
+type Block = [[f64; BLOCK_POINTS]; BLOCK_POINTS];
+
 /// Velocities of a patch's two bodies while its rows are solved.
 #[derive(Clone, Copy)]
 struct PairVelocity {
@@ -409,7 +412,8 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
         lambda[i] = p.normal_impulse;
         mass[i] = p.normal_mass;
     }
-    let d = direct_block(m, &b, &lambda).unwrap_or_else(|| swept_block(m, &b, &lambda, &mass));
+    let d = direct_block(&m.block, &m.block_inverse, &b, &lambda)
+        .unwrap_or_else(|| swept_block(&m.block, &b, &lambda, &mass));
     for (i, p) in pts.iter_mut().enumerate() {
         let new_impulse = lambda[i] + d[i];
         p.normal_impulse = new_impulse;
@@ -425,18 +429,19 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
 /// lifts a corner, goes to the sweeps instead).
 #[inline(always)]
 fn direct_block(
-    m: &ManifoldConstraint,
+    block: &Block,
+    inverse: &Block,
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
 ) -> Option<[f64; BLOCK_POINTS]> {
     let w = |d: &[f64; BLOCK_POINTS]| {
-        let kd = mat4_mul(&m.block, d);
+        let kd = mat4_mul(block, d);
         std::array::from_fn::<f64, BLOCK_POINTS, _>(|i| b[i] + kd[i])
     };
-    let mut d = mat4_mul(&m.block_inverse, &b.map(|x| -x));
+    let mut d = mat4_mul(inverse, &b.map(|x| -x));
     // One step of iterative refinement takes the regularisation's relative
     // error from eps to eps^2 (a lone point then lands on its row exactly).
-    let fix = mat4_mul(&m.block_inverse, &w(&d).map(|x| -x));
+    let fix = mat4_mul(inverse, &w(&d).map(|x| -x));
     for i in 0..BLOCK_POINTS {
         d[i] += fix[i];
     }
@@ -449,12 +454,88 @@ fn direct_block(
     ok.then_some(d)
 }
 
+/// The block LCP of [`direct_block`] solved exactly by trying the sets of
+/// pressing points (Murty's enumeration; at most 15 for four points), the
+/// larger sets first: the points `taking_part` in a set press (`w = 0`),
+/// every other point is released (`lambda + d = 0`), and the first set
+/// whose impulses are not negative and whose released points are not
+/// approaching is the answer. `None` if none is (a block singular within
+/// rounding).
+///
+/// Why: the sweeps stop after [`BLOCK_SWEEPS`]; on a block whose two
+/// points see nearly the same motion (a loop through joints leaves a
+/// patch little freedom) they leave a point approaching.
+#[allow(clippy::needless_range_loop)] // elimination reads best indexed
+fn enumerated_block(
+    block: &Block,
+    b: &[f64; BLOCK_POINTS],
+    lambda: &[f64; BLOCK_POINTS],
+    taking_part: &[bool; BLOCK_POINTS],
+) -> Option<[f64; BLOCK_POINTS]> {
+    let tolerance = 1e-9 * (1.0 + b.iter().fold(0.0f64, |x, &y| x.max(y.abs())));
+    /// The sets of four points, larger sets first.
+    const BY_SIZE: [u32; 16] = [15, 7, 11, 13, 14, 3, 5, 6, 9, 10, 12, 1, 2, 4, 8, 0];
+    let all = taking_part
+        .iter()
+        .enumerate()
+        .fold(0u32, |m, (i, &t)| m | (u32::from(t) << i));
+    'sets: for set in BY_SIZE.into_iter().filter(|&s| s & !all == 0) {
+        let mut pressing = [0usize; BLOCK_POINTS];
+        let mut k = 0;
+        for i in (0..BLOCK_POINTS).filter(|&i| set & (1 << i) != 0) {
+            pressing[k] = i;
+            k += 1;
+        }
+        let pressing = &pressing[..k];
+        // Released points drop their impulse: d_i = -lambda_i.
+        let mut d = std::array::from_fn(|i| if set & (1 << i) != 0 { 0.0 } else { -lambda[i] });
+        // The pressing points: K_PP d_P = -(b_P + K_P,R d_R), by Gaussian
+        // elimination with partial pivoting.
+        let mut a = [[0.0; BLOCK_POINTS + 1]; BLOCK_POINTS];
+        for (r, &i) in pressing.iter().enumerate() {
+            for (c, &j) in pressing.iter().enumerate() {
+                a[r][c] = block[i][j];
+            }
+            a[r][k] = -(b[i] + (0..BLOCK_POINTS).map(|j| block[i][j] * d[j]).sum::<f64>());
+        }
+        for col in 0..k {
+            let pivot = (col..k).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+            if a[pivot][col].abs() <= 1e-12 * block[pressing[col]][pressing[col]].abs() {
+                continue 'sets;
+            }
+            a.swap(col, pivot);
+            for r in col + 1..k {
+                let f = a[r][col] / a[col][col];
+                for c in col..=k {
+                    a[r][c] -= f * a[col][c];
+                }
+            }
+        }
+        for r in (0..k).rev() {
+            let rest: f64 = (r + 1..k).map(|c| a[r][c] * d[pressing[c]]).sum();
+            d[pressing[r]] = (a[r][k] - rest) / a[r][r];
+        }
+        let w = |i: usize| b[i] + (0..BLOCK_POINTS).map(|j| block[i][j] * d[j]).sum::<f64>();
+        let holds = (0..BLOCK_POINTS).all(|i| {
+            if set & (1 << i) != 0 {
+                lambda[i] + d[i] >= 0.0
+            } else {
+                !taking_part[i] || w(i) >= -tolerance
+            }
+        });
+        if holds {
+            return Some(d);
+        }
+    }
+    None
+}
+
 /// Symmetric projected Gauss-Seidel sweeps (forward, then backward: no
 /// corner of a face is favoured by its place in the list) on the block LCP,
 /// stopping once a sweep changes nothing that matters.
 #[inline(always)]
 fn swept_block(
-    m: &ManifoldConstraint,
+    block: &Block,
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
     mass: &[f64; BLOCK_POINTS],
@@ -469,7 +550,7 @@ fn swept_block(
             } else {
                 BLOCK_POINTS - 1 - step
             };
-            let k = &m.block[i];
+            let k = &block[i];
             let w = b[i] + k[0] * d[0] + k[1] * d[1] + k[2] * d[2] + k[3] * d[3];
             let new = (lambda[i] + d[i] - mass[i] * w).max(0.0) - lambda[i];
             change = change.max((new - d[i]).abs());
@@ -645,4 +726,127 @@ pub(super) unsafe fn push_patch(
         }
     }
     any
+}
+
+/// One friction pass over one patch ([`solve_friction`]'s kernel), with the
+/// normal impulses as they stand.
+///
+/// # Safety
+/// The patch's dynamic bodies are this thread's alone meanwhile.
+pub(super) unsafe fn friction_patch(
+    m: &mut ManifoldConstraint,
+    pts: &[PointConstraint],
+    bodies: &Shared<SolverBody>,
+) {
+    let total: f64 = pts.iter().map(|p| p.normal_impulse).sum();
+    // SAFETY: the caller's promise.
+    unsafe {
+        let mut vel = PairVelocity::load(bodies, m);
+        solve_patch_friction(m, total, &mut vel);
+        vel.store(bodies, m);
+    }
+}
+
+/// The pass an island-owned patch's normal rows are solved in.
+#[derive(Clone, Copy)]
+pub(super) enum OwnedPass<'a> {
+    /// The velocity rows (speculative bias `s / h` for points with a gap).
+    Velocity { inv_h: f64 },
+    /// The push-out pseudo-velocities, as [`push_patch`] aims them.
+    Push { params: &'a SolverParams, inv_h: f64 },
+}
+
+/// The normal rows of a patch whose bodies belong to one joint island, solved
+/// with the island's joints (`island_contacts`): `block` is the patch's
+/// normal block as the island's joints let it act (`S = D - W^T K^-1 W`),
+/// and `coupled[i]` the velocity that the island's joint impulses of this
+/// pass, not yet applied, add to point `i`. The same block LCP as
+/// [`solve_block`] (and, for the push-out, the same targets as
+/// [`push_patch`]) on `S`; the impulse changes are applied to the bodies and
+/// accumulated, and returned so that the island can take them back out of
+/// its joints (`-K^-1 W d`). The second value says whether a push-out point
+/// had work.
+///
+/// # Safety
+/// The patch's dynamic bodies are this thread's alone meanwhile.
+pub(super) unsafe fn solve_owned_normals(
+    m: &ManifoldConstraint,
+    pts: &mut [PointConstraint],
+    bodies: &Shared<SolverBody>,
+    block: &(Block, Block, [f64; BLOCK_POINTS]),
+    coupled: &[f64; BLOCK_POINTS],
+    pass: OwnedPass,
+) -> ([f64; BLOCK_POINTS], bool) {
+    let (block, inverse, mass) = block;
+    let mut b = [0.0; BLOCK_POINTS];
+    let mut lambda = [0.0; BLOCK_POINTS];
+    // A push-out point within the allowance that has not pushed in this
+    // sub-step takes no part (as in `push_patch`): held at zero by a zero
+    // mass in the sweeps.
+    let mut mass = *mass;
+    let mut any = false;
+    // SAFETY: the caller's promise; dynamic bodies only are written.
+    unsafe {
+        let (a, bb) = (bodies.get(m.a as usize), bodies.get(m.b as usize));
+        let vel = match pass {
+            OwnedPass::Velocity { .. } => PairVelocity::of(a, bb),
+            OwnedPass::Push { .. } => PairVelocity {
+                va: a.push_v,
+                wa: a.push_w,
+                vb: bb.push_v,
+                wb: bb.push_w,
+            },
+        };
+        for (i, p) in pts.iter().enumerate() {
+            let vn = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) + coupled[i];
+            let s = p.separation_now;
+            (b[i], lambda[i]) = match pass {
+                OwnedPass::Velocity { inv_h } => {
+                    (vn + if s > 0.0 { s * inv_h } else { 0.0 }, p.normal_impulse)
+                }
+                OwnedPass::Push { params, inv_h } => {
+                    let excess = s + params.allowed_penetration;
+                    if excess >= 0.0 && p.push_impulse == 0.0 {
+                        mass[i] = 0.0;
+                    }
+                    any |= excess < 0.0 || p.push_impulse != 0.0;
+                    let target = if excess < 0.0 {
+                        (-params.push_out_fraction * excess * inv_h).min(params.max_push_out_speed)
+                    } else {
+                        0.0
+                    };
+                    (vn - target, p.push_impulse)
+                }
+            };
+        }
+        let taking_part = std::array::from_fn(|i| mass[i] > 0.0);
+        let d = match taking_part.iter().filter(|&&t| t).count() {
+            0 => return ([0.0; BLOCK_POINTS], any),
+            k if k == pts.len() => direct_block(block, inverse, &b, &lambda),
+            _ => None,
+        }
+        .or_else(|| enumerated_block(block, &b, &lambda, &taking_part))
+        .unwrap_or_else(|| swept_block(block, &b, &lambda, &mass));
+        let mut vel = vel;
+        for (i, p) in pts.iter_mut().enumerate() {
+            vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, m.inv_mass, d[i]);
+            match pass {
+                OwnedPass::Velocity { .. } => {
+                    p.normal_impulse = lambda[i] + d[i];
+                    p.max_normal_impulse = p.max_normal_impulse.max(p.normal_impulse);
+                }
+                OwnedPass::Push { .. } => p.push_impulse = lambda[i] + d[i],
+            }
+        }
+        for (k, (v, w)) in [(m.a, (vel.va, vel.wa)), (m.b, (vel.vb, vel.wb))] {
+            if bodies.get(k as usize).dynamic {
+                let body = bodies.get_mut(k as usize);
+                match pass {
+                    OwnedPass::Velocity { .. } => (body.v, body.w) = (v, w),
+                    OwnedPass::Push { .. } => (body.push_v, body.push_w) = (v, w),
+                }
+            }
+        }
+        (d, any)
+    }
 }

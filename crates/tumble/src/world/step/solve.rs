@@ -367,15 +367,37 @@ impl World {
                 sf.bodies[k].freeze();
             }
         }
-        // The patches coloured (frozen bodies count as static), their rows
-        // built in colour order with each patch's points together.
+        // The joints, and the patches their islands own: those between two
+        // bodies of one island, of a block's points at most (the exact
+        // solver runs every patch itself).
         let slot_to_solver = &sf.slot_to_solver;
         let pairs: Vec<(u32, u32)> = f
             .patches
             .iter()
             .map(|p| (slot_to_solver[p.key.0 as usize], slot_to_solver[p.key.1 as usize]))
             .collect();
-        let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
+        let candidates: Vec<(u32, u32, u32)> = if f.settings.solver == SolverKind::Lemke
+            || self.joints.is_empty()
+        {
+            Vec::new()
+        } else {
+            let dynamic = |b: u32| sf.bodies[b as usize].dynamic;
+            (0..pairs.len())
+                .filter(|&k| {
+                    let (a, b) = pairs[k];
+                    dynamic(a) && dynamic(b) && f.patches[k].count as usize <= contact_solver::BLOCK_POINTS
+                })
+                .map(|k| (k as u32, pairs[k].0, pairs[k].1))
+                .collect()
+        };
+        self.prepare_joints(sf, &candidates);
+        let mut owned = vec![false; pairs.len()];
+        for island in &sf.joint_islands {
+            island.owned_patches().for_each(|k| owned[k as usize] = true);
+        }
+        // The other patches coloured (frozen bodies count as static), their
+        // rows built in colour order with each patch's points together.
+        let (coloring, order) = contact_solver::color_patches_except(&pairs, &sf.bodies, &owned);
         sf.points.clear();
         sf.points.reserve(f.points.len());
         sf.manifolds.clear();
@@ -403,14 +425,17 @@ impl World {
             m.curvature = p.curvature;
             sf.manifolds.push(m);
         }
-        self.prepare_joints(sf);
+        let position = &sf.position;
+        for island in &mut sf.joint_islands {
+            island.renumber_patches(|k| position[k as usize]);
+        }
         (drive, coloring)
     }
 
     /// The joint rows: one record per joint that has a body the solver
     /// moves (a joint between two resting bodies waits), with the sides'
     /// step-start poses, coloured like the patches.
-    fn prepare_joints(&self, sf: &mut SolverFrame) {
+    fn prepare_joints(&self, sf: &mut SolverFrame, contacts: &[(u32, u32, u32)]) {
         // Coloured first, from the body pairs alone, so that each record is
         // built once, in colour order, into the kept array (a joint record
         // is large: built and then copied into place, they cost a ragdoll
@@ -455,7 +480,7 @@ impl World {
             sf.joint_slots.push(slot);
         }
         sf.joint_coloring = coloring;
-        sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &sf.bodies);
+        sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &sf.bodies, contacts);
         self.geometric_stiffness(sf);
     }
 

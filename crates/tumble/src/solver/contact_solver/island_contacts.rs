@@ -1,0 +1,201 @@
+//! Contact patches inside a joint island: a patch whose two bodies belong
+//! to the same island (a chain folding onto its own weight, a ragdoll's arm
+//! on its chest) closes a loop through the island's joints, and is solved
+//! with the island's system instead of beside it.
+//!
+//! Why: relaxed one after the other, the island's direct solve and such a
+//! contact undo each other. The heavy chain's last light link struck the
+//! 10 kg weight it hangs from: the contact pushed the 0.1 kg link away
+//! (25 m/s in one pass), the joints pulled it back, and what the last pass
+//! left stretched the joints by 7 mm; forty passes still left 2 mm.
+//!
+//! How (the Schur complement of the island's system, as in Baraff's
+//! "Linear-time dynamics using Lagrange multipliers", 1996, for loops):
+//! with `K = J M^-1 J^T` the island's factored system, `G` the patch's
+//! normal rows, `W = J M^-1 G^T` (a joint row's velocity per unit impulse
+//! at each contact point) and `U = K^-1 W`, an impulse `d` at the points
+//! with the joint impulse change `-U d` leaves every joint row's velocity
+//! as it was and changes the points' normal velocities by `S d`,
+//! `S = G M^-1 G^T - W^T U`: the patch's block as the joints let it act.
+//! Each pass the island solves its joint rows (`x`), then the patch's block
+//! LCP on `S` with the velocities that `x` will bring (`W^T x`), then takes
+//! `U d` back out of `x`. Joints and contact are then solved together
+//! exactly (one patch; several are taken one after the other). Friction
+//! stays a plain pass before the island's system, which takes up what it
+//! disturbs.
+
+use super::coloring::Shared;
+use super::constraint::{regularised_inverse, ManifoldConstraint, PointConstraint, BLOCK_POINTS};
+use super::island_factor::SideRow;
+
+/// A patch's 4 x 4 block (padded with zero rows).
+type Block = [[f64; BLOCK_POINTS]; BLOCK_POINTS];
+
+/// Smallest share of a point's own inverse mass that its articulated
+/// inverse mass keeps. A loop the joints lock along the normal would leave
+/// the point almost no freedom (`S_ii` near rounding): held at a thousandth,
+/// its impulse is at most a thousand times what the point alone would take.
+const MIN_SHARE: f64 = 1e-3;
+
+/// One island-owned patch and its coupling to the island's rows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(super) struct OwnedPatch {
+    /// The patch (index into the solver's patch array).
+    pub patch: u32,
+    /// The lane of the island whose bodies it touches (in a unit of more
+    /// islands).
+    pub lane: usize,
+    /// Rows of the island's system.
+    rows: usize,
+    /// Per point, `rows` entries: the point's normal velocity per unit
+    /// impulse of each island row (`W` as the contact sees the joints).
+    coupling: Vec<f64>,
+    /// Per point, `rows` entries: `K^-1` times the island rows' velocities
+    /// per unit impulse at the point (`U`).
+    response: Vec<f64>,
+    /// `S`, its regularised inverse, and each point's `1 / S_ii`.
+    block: (Block, Block, [f64; BLOCK_POINTS]),
+}
+
+impl OwnedPatch {
+    /// The patch at index `patch` of the island in `lane`, to be coupled
+    /// to it each sub-step ([`OwnedPatch::couple`], then `K^-1` applied to
+    /// each [`OwnedPatch::response_mut`], then [`OwnedPatch::finish`]).
+    pub fn new(patch: u32, lane: usize) -> OwnedPatch {
+        OwnedPatch {
+            patch,
+            lane,
+            ..OwnedPatch::default()
+        }
+    }
+
+    /// Builds `W` for this sub-step, after the island's rows are begun:
+    /// `rows` and `bodies` are the island's rows by side and each row's two
+    /// solver bodies. Each point's response holds its column of `W` until
+    /// the island solves it in place (`U = K^-1 W`).
+    pub fn couple(
+        &mut self,
+        m: &ManifoldConstraint,
+        pts: &[PointConstraint],
+        rows: &[SideRow<f64>],
+        bodies: &[[u32; 2]],
+    ) {
+        let n = rows.len();
+        self.rows = n;
+        let [ima, imb] = m.inv_mass;
+        self.coupling.clear();
+        self.coupling.resize(n * pts.len(), 0.0);
+        self.response.clear();
+        self.response.resize(n * pts.len(), 0.0);
+        // Only the rows of joints on the patch's two bodies are not zero.
+        for (r, (row, pair)) in rows.iter().zip(bodies).enumerate() {
+            for (s, &joint_body) in pair.iter().enumerate() {
+                let (sign, ima, a) = match joint_body {
+                    b if b == m.a => (1.0, ima, true),
+                    b if b == m.b => (-1.0, imb, false),
+                    _ => continue,
+                };
+                for (i, p) in pts.iter().enumerate() {
+                    // The contact's unit impulse: +n on A, -n on B.
+                    let (r_x_n, dw) = if a {
+                        (p.row.ra_x_d, p.row.ia_ra_x_d)
+                    } else {
+                        (p.row.rb_x_d, p.row.ib_rb_x_d)
+                    };
+                    self.coupling[i * n + r] += sign * row.moves(s, p.normal, r_x_n);
+                    self.response[i * n + r] += sign * row.measures(s, p.normal * ima, dw);
+                }
+            }
+        }
+    }
+
+    /// Point `i`'s column of `W` (or of `U`, once solved).
+    pub fn response(&self, i: usize) -> &[f64] {
+        let n = self.rows;
+        &self.response[i * n..(i + 1) * n]
+    }
+
+    /// Point `i`'s column of `W`, to be replaced by `K^-1` times it.
+    pub fn response_mut(&mut self, i: usize) -> &mut [f64] {
+        let n = self.rows;
+        &mut self.response[i * n..(i + 1) * n]
+    }
+
+    /// `S`, its inverse and the points' masses, once `U` is in place.
+    #[allow(clippy::needless_range_loop)] // a symmetric matrix reads best indexed
+    pub fn finish(&mut self, m: &ManifoldConstraint, pts: &[PointConstraint]) {
+        let n = self.rows;
+        let [ima, imb] = m.inv_mass;
+        let mut s = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
+        for (i, pi) in pts.iter().enumerate() {
+            for (j, pj) in pts.iter().enumerate() {
+                let plain = pi.normal.dot(pj.normal) * (ima + imb)
+                    + pi.row.ra_x_d.dot(pj.row.ia_ra_x_d)
+                    + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
+                let through_joints: f64 = self.coupling[i * n..(i + 1) * n]
+                    .iter()
+                    .zip(&self.response[j * n..(j + 1) * n])
+                    .map(|(w, u)| w * u)
+                    .sum();
+                s[i][j] = plain - through_joints;
+            }
+        }
+        // Symmetric (the two sides of `W` differ only by rounding and a
+        // block the contact refreshed less often), each diagonal kept.
+        for i in 0..pts.len() {
+            for j in 0..i {
+                let mean = 0.5 * (s[i][j] + s[j][i]);
+                (s[i][j], s[j][i]) = (mean, mean);
+            }
+            let own = pts[i].row.inverse_mass(pts[i].normal, ima, imb);
+            s[i][i] = s[i][i].max(MIN_SHARE * own);
+        }
+        let mass = std::array::from_fn(|i| {
+            if i < pts.len() && s[i][i] > 0.0 {
+                1.0 / s[i][i]
+            } else {
+                0.0
+            }
+        });
+        self.block = (s, regularised_inverse(&s), mass);
+    }
+
+    /// `S`, its inverse and the points' masses, for
+    /// `passes::solve_owned_normals`.
+    pub fn block(&self) -> &(Block, Block, [f64; BLOCK_POINTS]) {
+        &self.block
+    }
+
+    /// The normal velocity each point gains from the island's row impulses
+    /// `x` (row `r` of this patch's lane at `x[r * stride + lane]`).
+    pub fn coupled(&self, x: &[f64], stride: usize) -> [f64; BLOCK_POINTS] {
+        let n = self.rows;
+        let mut v = [0.0; BLOCK_POINTS];
+        for (i, w) in self.coupling.chunks_exact(n.max(1)).enumerate() {
+            for (r, w) in w.iter().enumerate() {
+                v[i] += w * x[r * stride + self.lane];
+            }
+        }
+        v
+    }
+
+    /// Takes the joints' share of the points' impulses `d` out of the
+    /// island's row impulses (laid out as for [`OwnedPatch::coupled`]):
+    /// `x -= U d`.
+    pub fn take_back(&self, d: &[f64; BLOCK_POINTS], x: &mut [f64], stride: usize) {
+        for (u, &di) in self.response.chunks_exact(self.rows.max(1)).zip(d) {
+            if di == 0.0 {
+                continue;
+            }
+            for (r, u) in u.iter().enumerate() {
+                x[r * stride + self.lane] -= u * di;
+            }
+        }
+    }
+}
+
+/// The contact arrays an island reads its owned patches from.
+pub(super) struct PatchArrays<'s, 'a> {
+    pub manifolds: &'s Shared<'a, ManifoldConstraint>,
+    pub points: &'s Shared<'a, PointConstraint>,
+}

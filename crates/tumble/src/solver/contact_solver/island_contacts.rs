@@ -9,8 +9,9 @@
 //! (25 m/s in one pass), the joints pulled it back, and what the last pass
 //! left stretched the joints by 7 mm; forty passes still left 2 mm.
 //!
-//! How (the Schur complement of the island's system, as in Baraff's
-//! "Linear-time dynamics using Lagrange multipliers", 1996, for loops):
+//! How (the Schur complement of the island's system, the way Baraff's
+//! "Linear-time dynamics using Lagrange multipliers", 1996, treats the
+//! constraints that close loops):
 //! with `K = J M^-1 J^T` the island's factored system, `G` the patch's
 //! normal rows, `W = J M^-1 G^T` (a joint row's velocity per unit impulse
 //! at each contact point) and `U = K^-1 W`, an impulse `d` at the points
@@ -30,6 +31,18 @@ use super::island_factor::SideRow;
 
 /// A patch's 4 x 4 block (padded with zero rows).
 type Block = [[f64; BLOCK_POINTS]; BLOCK_POINTS];
+
+/// A patch's normal block as the island's joints let it act, what
+/// `passes::solve_owned_normals` solves on.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct ArticulatedBlock {
+    /// `S = G M^-1 G^T - W^T U`.
+    pub block: Block,
+    /// Its regularised inverse (`constraint::regularised_inverse`).
+    pub inverse: Block,
+    /// Each point's `1 / S_ii` (0 for padding).
+    pub mass: [f64; BLOCK_POINTS],
+}
 
 /// Smallest share of a point's own inverse mass that its articulated
 /// inverse mass keeps. A loop the joints lock along the normal would leave
@@ -53,8 +66,8 @@ pub(super) struct OwnedPatch {
     /// Per point, `rows` entries: `K^-1` times the island rows' velocities
     /// per unit impulse at the point (`U`).
     response: Vec<f64>,
-    /// `S`, its regularised inverse, and each point's `1 / S_ii`.
-    block: (Block, Block, [f64; BLOCK_POINTS]),
+    /// `S`, its inverse and masses.
+    block: ArticulatedBlock,
 }
 
 impl OwnedPatch {
@@ -157,12 +170,16 @@ impl OwnedPatch {
                 0.0
             }
         });
-        self.block = (s, regularised_inverse(&s), mass);
+        self.block = ArticulatedBlock {
+            block: s,
+            inverse: regularised_inverse(&s),
+            mass,
+        };
     }
 
     /// `S`, its inverse and the points' masses, for
     /// `passes::solve_owned_normals`.
-    pub fn block(&self) -> &(Block, Block, [f64; BLOCK_POINTS]) {
+    pub fn block(&self) -> &ArticulatedBlock {
         &self.block
     }
 

@@ -18,6 +18,7 @@ use super::coloring::Shared;
 use super::constraint::{
     mat4_mul, refresh_masses, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS,
 };
+use super::island_contacts::ArticulatedBlock;
 use super::rolling::{turn_friction_plane, Rolling};
 use tumble_collide::{DMat3, DVec3};
 
@@ -757,8 +758,8 @@ pub(super) enum OwnedPass<'a> {
 }
 
 /// The normal rows of a patch whose bodies belong to one joint island, solved
-/// with the island's joints (`island_contacts`): `block` is the patch's
-/// normal block as the island's joints let it act (`S = D - W^T K^-1 W`),
+/// with the island's joints (`island_contacts`): `articulated` is the patch's
+/// normal block as the island's joints let it act (`S = G M^-1 G^T - W^T K^-1 W`),
 /// and `coupled[i]` the velocity that the island's joint impulses of this
 /// pass, not yet applied, add to point `i`. The same block LCP as
 /// [`solve_block`] (and, for the push-out, the same targets as
@@ -773,11 +774,11 @@ pub(super) unsafe fn solve_owned_normals(
     m: &ManifoldConstraint,
     pts: &mut [PointConstraint],
     bodies: &Shared<SolverBody>,
-    block: &(Block, Block, [f64; BLOCK_POINTS]),
+    articulated: &ArticulatedBlock,
     coupled: &[f64; BLOCK_POINTS],
     pass: OwnedPass,
 ) -> ([f64; BLOCK_POINTS], bool) {
-    let (block, inverse, mass) = block;
+    let ArticulatedBlock { block, inverse, mass } = articulated;
     let mut b = [0.0; BLOCK_POINTS];
     let mut lambda = [0.0; BLOCK_POINTS];
     // A push-out point within the allowance that has not pushed in this
@@ -787,14 +788,14 @@ pub(super) unsafe fn solve_owned_normals(
     let mut any = false;
     // SAFETY: the caller's promise; dynamic bodies only are written.
     unsafe {
-        let (a, bb) = (bodies.get(m.a as usize), bodies.get(m.b as usize));
+        let (body_a, body_b) = (bodies.get(m.a as usize), bodies.get(m.b as usize));
         let vel = match pass {
-            OwnedPass::Velocity { .. } => PairVelocity::of(a, bb),
+            OwnedPass::Velocity { .. } => PairVelocity::of(body_a, body_b),
             OwnedPass::Push { .. } => PairVelocity {
-                va: a.push_v,
-                wa: a.push_w,
-                vb: bb.push_v,
-                wb: bb.push_w,
+                va: body_a.push_v,
+                wa: body_a.push_w,
+                vb: body_b.push_v,
+                wb: body_b.push_w,
             },
         };
         for (i, p) in pts.iter().enumerate() {

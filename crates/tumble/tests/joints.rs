@@ -979,3 +979,63 @@ fn the_heavy_chain_folds_onto_its_weight_without_stretching() {
     assert!(worst < 1e-3, "the chain stretched by {worst} m at a joint");
     assert!(deepest < 2e-3, "a link sank {deepest} m into the weight");
 }
+
+#[test]
+fn chains_folding_onto_their_weights_give_the_same_bits_on_every_thread_count() {
+    // Four heavy chains side by side (islands dealt over the threads), each
+    // striking its own weight: the contacts their islands own are solved on
+    // whichever thread has the island, with the same bits.
+    let run = |threads: u32| {
+        let mut w = World::new(WorldSettings {
+            threads,
+            sleeping: false,
+            ..WorldSettings::default()
+        })
+        .unwrap();
+        let mut strikes = 0;
+        let mut weights = Vec::new();
+        for c in 0..4 {
+            let y = 1.0 * c as f64;
+            let mut prev = None;
+            let mut links = Vec::new();
+            for i in 0..21 {
+                let x = 0.1 * i as f64 + 0.05;
+                let (r, mass) = if i < 20 { (0.03, 0.1) } else { (0.1, 10.0) };
+                let body = w
+                    .add_body(
+                        &BodyDesc::dynamic(Sphere::new(r).unwrap())
+                            .at(DVec3::new(x, y, 2.0))
+                            .with_mass(mass),
+                    )
+                    .unwrap();
+                w.add_joint(&JointDesc::ball(body, prev, DVec3::new(x - 0.05, y, 2.0)))
+                    .unwrap();
+                links.push(body);
+                prev = Some(body);
+            }
+            weights.push((links[20], links[..19].to_vec()));
+        }
+        let hashes: Vec<u64> = (0..330)
+            .map(|_| {
+                w.step();
+                strikes += w
+                    .contacts()
+                    .iter()
+                    .filter(|c| {
+                        weights.iter().any(|(weight, links)| {
+                            let pair = [c.body_a, c.body_b];
+                            pair.contains(weight) && links.iter().any(|l| pair.contains(l))
+                        })
+                    })
+                    .count();
+                w.state_hash()
+            })
+            .collect();
+        (hashes, strikes)
+    };
+    let (one, strikes) = run(1);
+    assert!(strikes > 50, "the links met their weights {strikes} times only");
+    for threads in [2, 3, 8] {
+        assert_eq!(run(threads).0, one, "{threads} threads");
+    }
+}

@@ -264,6 +264,33 @@ mod tests {
         }
     }
 
+    /// Owned patches follow every batch, in patch order; the batches hold
+    /// exactly the others, coloured as `color_patches` colours them alone.
+    #[test]
+    fn owned_patches_follow_every_batch() {
+        let n = 200;
+        let b = bodies(n);
+        let pairs: Vec<(u32, u32)> = (1..n as u32)
+            .map(|i| (i, 0))
+            .chain((2..n as u32).map(|i| (i - 1, i)))
+            .collect();
+        let owned: Vec<bool> = (0..pairs.len()).map(|k| k % 7 == 3).collect();
+        let (coloring, order) = color_patches_except(&pairs, &b, &owned);
+        let free: Vec<u32> = (0..pairs.len() as u32).filter(|&k| !owned[k as usize]).collect();
+        let free_pairs: Vec<(u32, u32)> = free.iter().map(|&k| pairs[k as usize]).collect();
+        let (alone, alone_order) = color_patches(&free_pairs, &b);
+        assert_eq!(coloring, alone);
+        assert!(!coloring.colors.is_empty());
+        let batched: usize = coloring.batches().map(|(r, _)| r.len()).sum();
+        assert_eq!(batched, free.len());
+        assert_eq!(
+            &order[..free.len()],
+            &alone_order.iter().map(|&k| free[k as usize]).collect::<Vec<_>>()[..]
+        );
+        let owned_in_order: Vec<u32> = (0..pairs.len() as u32).filter(|&k| owned[k as usize]).collect();
+        assert_eq!(&order[free.len()..], &owned_in_order[..]);
+    }
+
     #[test]
     fn few_patches_stay_in_patch_order_in_one_serial_batch() {
         let b = bodies(10);

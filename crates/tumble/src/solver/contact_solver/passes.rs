@@ -851,3 +851,51 @@ pub(super) unsafe fn solve_owned_normals(
         (d, any)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// The enumerated block LCP meets the conditions that define its
+    /// answer on random positive definite blocks of one to four points,
+    /// nearly singular ones included (points that see nearly the same
+    /// motion): `lambda + d >= 0`, `w = b + K d >= 0`, `(lambda + d) w = 0`.
+    #[test]
+    fn the_enumerated_block_solves_the_block_lcp() {
+        let mut rng = SplitMix64(7);
+        for case in 0..2000 {
+            let points = 1 + case % BLOCK_POINTS;
+            // K = A A^T + small I from random rows; every other case has
+            // rows that differ by a little only.
+            let base: [f64; 6] = std::array::from_fn(|_| rng.range(-1.0, 1.0));
+            let rows: Vec<[f64; 6]> = (0..points)
+                .map(|_| {
+                    let spread = if case % 2 == 0 { 1.0 } else { 1e-3 };
+                    std::array::from_fn(|c| base[c] + spread * rng.range(-1.0, 1.0))
+                })
+                .collect();
+            let mut k = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
+            for i in 0..points {
+                for j in 0..points {
+                    k[i][j] = rows[i].iter().zip(&rows[j]).map(|(x, y)| x * y).sum::<f64>()
+                        + if i == j { 1e-6 } else { 0.0 };
+                }
+            }
+            let b: [f64; BLOCK_POINTS] =
+                std::array::from_fn(|i| if i < points { rng.range(-1.0, 1.0) } else { 0.0 });
+            let lambda: [f64; BLOCK_POINTS] =
+                std::array::from_fn(|i| if i < points { rng.range(0.0, 1.0) } else { 0.0 });
+            let taking_part = std::array::from_fn(|i| i < points);
+            let d = enumerated_block(&k, &b, &lambda, &taking_part)
+                .unwrap_or_else(|| panic!("case {case}: no set of pressing points"));
+            for i in 0..points {
+                let z = lambda[i] + d[i];
+                let w = b[i] + (0..BLOCK_POINTS).map(|j| k[i][j] * d[j]).sum::<f64>();
+                assert!(z >= 0.0, "case {case}: impulse {z}");
+                assert!(w >= -1e-8, "case {case}: point {i} approaching at {w}");
+                assert!((z * w).abs() < 1e-8, "case {case}: {z} x {w}");
+            }
+        }
+    }
+}

@@ -940,13 +940,13 @@ mod tests {
         for t in 0..count {
             let first = bodies.len() as u32;
             let origin = DVec3::new(3.0 * t as f64, 0.0, 0.0);
-            // Folded: A along x, B back up towards the pivot, C beside A.
+            // Folded: A beside the pivot, B beyond and above it, C back over A.
             let centres = [
                 DVec3::new(0.1, 0.0, 0.0),
                 DVec3::new(0.15, 0.0, 0.1),
                 DVec3::new(0.1, 0.0, 0.2),
             ];
-            for (k, mass) in [1.0, 0.1, 10.0].into_iter().enumerate() {
+            for mass in [1.0, 0.1, 10.0] {
                 let inertia = DVec3::splat(1.0 / (0.4 * mass * 0.05 * 0.05));
                 bodies.push(SolverBody::new(
                     vector(rng, 1.0),
@@ -955,7 +955,6 @@ mod tests {
                     inertia,
                     rotation(rng),
                 ));
-                let _ = k;
             }
             let anchors = [
                 DVec3::ZERO,

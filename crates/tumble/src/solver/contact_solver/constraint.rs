@@ -197,6 +197,10 @@ pub struct ManifoldConstraint {
 /// block (a box face has four).
 pub const BLOCK_POINTS: usize = 4;
 
+/// A patch's block of normal rows, padded with zero rows to
+/// [`BLOCK_POINTS`].
+pub type PatchBlock = [[f64; BLOCK_POINTS]; BLOCK_POINTS];
+
 impl ManifoldConstraint {
     /// A patch of `point_count` points from `first_point` between solver
     /// bodies `a` and `b`, with the pair's material, its friction plane

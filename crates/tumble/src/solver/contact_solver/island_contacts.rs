@@ -26,20 +26,17 @@
 //! disturbs.
 
 use super::coloring::Shared;
-use super::constraint::{regularised_inverse, ManifoldConstraint, PointConstraint, BLOCK_POINTS};
+use super::constraint::{regularised_inverse, ManifoldConstraint, PatchBlock, PointConstraint, BLOCK_POINTS};
 use super::island_factor::SideRow;
-
-/// A patch's 4 x 4 block (padded with zero rows).
-type Block = [[f64; BLOCK_POINTS]; BLOCK_POINTS];
 
 /// A patch's normal block as the island's joints let it act, what
 /// `passes::solve_owned_normals` solves on.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct ArticulatedBlock {
     /// `S = G M^-1 G^T - W^T U`.
-    pub block: Block,
+    pub block: PatchBlock,
     /// Its regularised inverse (`constraint::regularised_inverse`).
-    pub inverse: Block,
+    pub inverse: PatchBlock,
     /// Each point's `1 / S_ii` (0 for padding).
     pub mass: [f64; BLOCK_POINTS],
 }

@@ -16,14 +16,12 @@
 use super::body::SolverBody;
 use super::coloring::Shared;
 use super::constraint::{
-    mat4_mul, refresh_masses, ManifoldConstraint, PointConstraint, RowJacobian, SolverParams, BLOCK_POINTS,
+    mat4_mul, refresh_masses, ManifoldConstraint, PatchBlock, PointConstraint, RowJacobian, SolverParams,
+    BLOCK_POINTS,
 };
 use super::island_contacts::ArticulatedBlock;
 use super::rolling::{turn_friction_plane, Rolling};
 use tumble_collide::{DMat3, DVec3};
-
-/// A patch's 4 x 4 block of normal rows (padded with zero rows).
-type Block = [[f64; BLOCK_POINTS]; BLOCK_POINTS];
 
 /// Velocities of a patch's two bodies while its rows are solved.
 #[derive(Clone, Copy)]
@@ -430,8 +428,8 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
 /// lifts a corner, goes to the sweeps instead).
 #[inline(always)]
 fn direct_block(
-    block: &Block,
-    inverse: &Block,
+    block: &PatchBlock,
+    inverse: &PatchBlock,
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
 ) -> Option<[f64; BLOCK_POINTS]> {
@@ -468,7 +466,7 @@ fn direct_block(
 /// patch little freedom) they leave a point approaching.
 #[allow(clippy::needless_range_loop)] // elimination reads best indexed
 fn enumerated_block(
-    block: &Block,
+    block: &PatchBlock,
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
     taking_part: &[bool; BLOCK_POINTS],
@@ -536,7 +534,7 @@ fn enumerated_block(
 /// stopping once a sweep changes nothing that matters.
 #[inline(always)]
 fn swept_block(
-    block: &Block,
+    block: &PatchBlock,
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
     mass: &[f64; BLOCK_POINTS],

@@ -119,6 +119,11 @@ impl OwnedPatch {
         }
     }
 
+    /// The patch's points, as last coupled.
+    pub fn points(&self) -> usize {
+        self.response.len() / self.rows.max(1)
+    }
+
     /// Point `i`'s column of `W` (or of `U`, once solved).
     pub fn response(&self, i: usize) -> &[f64] {
         let n = self.rows;

@@ -37,7 +37,7 @@
 
 use super::body::SolverBody;
 use super::coloring::Shared;
-use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::constraint::SolverParams;
 use super::island_contacts::{OwnedPatch, PatchArrays};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
@@ -163,7 +163,7 @@ impl JointIsland {
                 let rows = o.lane * n..(o.lane + 1) * n;
                 o.couple(m, pts, &self.rows[rows.clone()], &self.row_bodies[rows]);
             }
-            self.solve_responses(patch);
+            self.solve_responses();
             for o in &mut self.owned {
                 let (m, pts) = patch(o);
                 o.finish(m, pts);
@@ -175,14 +175,11 @@ impl JointIsland {
     /// a unit of one lane; in a unit of more, the lanes' points taken side
     /// by side, a lane set per solve (a lane with no point left solves
     /// zeros), each lane getting the bits its island gets alone.
-    fn solve_responses<'p>(
-        &mut self,
-        patch: impl Fn(&OwnedPatch) -> (&'p ManifoldConstraint, &'p [PointConstraint]),
-    ) {
+    fn solve_responses(&mut self) {
         let n = self.rows();
         if self.lanes.len() == 1 {
             for o in &mut self.owned {
-                for i in 0..patch(o).1.len() {
+                for i in 0..o.points() {
                     let x = o.response_mut(i);
                     self.factor.solve(&self.profile, x);
                     clear_non_finite(x);
@@ -193,7 +190,7 @@ impl JointIsland {
         // Each lane's points in patch order: (owned patch, point).
         let mut queue: [Vec<(usize, usize)>; LANES] = Default::default();
         for (k, o) in self.owned.iter().enumerate() {
-            queue[o.lane].extend((0..patch(o).1.len()).map(|i| (k, i)));
+            queue[o.lane].extend((0..o.points()).map(|i| (k, i)));
         }
         let rounds = queue.iter().map(Vec::len).max().unwrap_or(0);
         let mut x = std::mem::take(&mut self.rhs_lanes);
@@ -239,7 +236,8 @@ impl JointIsland {
                     friction_patch(m, c.points.range_mut(m.range()), bodies);
                 }
             }
-            self.relax(joints, bodies, patches.map(|c| (c, None)), None);
+            let pass = OwnedPass::Velocity { inv_h: self.inv_h };
+            self.relax(joints, bodies, patches.map(|c| (c, pass)), None);
             for lane in &self.lanes {
                 for &ji in lane {
                     solve_joint(joints.get_mut(ji as usize), bodies);
@@ -265,7 +263,7 @@ impl JointIsland {
             let mut any = self.relax(
                 joints,
                 bodies,
-                patches.map(|(c, params)| (c, Some(params))),
+                patches.map(|(c, params)| (c, OwnedPass::Push { params, inv_h })),
                 Some((JOINT_PUSH_FRACTION, inv_h)),
             );
             for lane in &self.lanes {
@@ -326,8 +324,8 @@ impl JointIsland {
     /// aimed as in `JointConstraint::aim_equality_rows`), or with `push`
     /// the push-out pseudo-velocities towards `fraction` of each row's
     /// position error over `h`; the owned patches' normal rows with them
-    /// (`island_contacts`; `patches` carries the push-out's settings in a
-    /// push). Returns whether any row had an error to push.
+    /// (`island_contacts`; `patches` carries the pass they are solved in,
+    /// which matches `push`). Returns whether any row had an error to push.
     ///
     /// # Safety
     /// The islands' joints, owned patches and bodies are this thread's
@@ -336,7 +334,7 @@ impl JointIsland {
         &mut self,
         joints: &Shared<JointConstraint>,
         bodies: &Shared<SolverBody>,
-        patches: Option<(&PatchArrays, Option<&SolverParams>)>,
+        patches: Option<(&PatchArrays, OwnedPass)>,
         push: Option<(f64, f64)>,
     ) -> bool {
         let n = self.rows();
@@ -388,11 +386,7 @@ impl JointIsland {
         if self.bounded {
             self.hold_at_bounds(joints, &mut rhs, push.is_some());
         }
-        if let Some((c, params)) = patches {
-            let pass = match (push, params) {
-                (Some((_, inv_h)), Some(params)) => OwnedPass::Push { params, inv_h },
-                _ => OwnedPass::Velocity { inv_h: self.inv_h },
-            };
+        if let Some((c, pass)) = patches {
             for o in &self.owned {
                 // SAFETY: the caller's promise.
                 let (d, pushed) = unsafe {
@@ -786,6 +780,7 @@ fn joint_islands_in_lanes(
 #[cfg(test)]
 mod tests {
     use super::super::body::integrate_positions;
+    use super::super::constraint::{ManifoldConstraint, PointConstraint};
     use super::super::joint::{begin_joints, push_joints, solve_joints, JointLaw, JOINT_ROWS};
     use super::*;
     use crate::joint::JointKind;

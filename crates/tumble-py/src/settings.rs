@@ -10,7 +10,7 @@ use tumble::world::{SolverKind, WorldSettings};
 use tumble::Integrator;
 
 /// Every keyword accepted, in the order of `WorldSettings`.
-pub const NAMES: [&str; 19] = [
+pub const NAMES: [&str; 20] = [
     "gravity",
     "dt",
     "substeps",
@@ -19,6 +19,7 @@ pub const NAMES: [&str; 19] = [
     "iterations",
     "push_out_iterations",
     "contact_margin",
+    "mesh_contact_margin",
     "resting_motion",
     "allowed_penetration",
     "push_out_fraction",
@@ -113,6 +114,7 @@ pub fn apply(s: &mut WorldSettings, kwargs: Option<&Bound<'_, PyDict>>) -> PyRes
             "iterations" => s.iterations = count(&v, name)?,
             "push_out_iterations" => s.push_out_iterations = count(&v, name)?,
             "contact_margin" => s.contact_margin = float(&v, name)?,
+            "mesh_contact_margin" => s.mesh_contact_margin = float(&v, name)?,
             "resting_motion" => s.resting_motion = float(&v, name)?,
             "allowed_penetration" => s.allowed_penetration = float(&v, name)?,
             "push_out_fraction" => s.push_out_fraction = float(&v, name)?,
@@ -159,6 +161,7 @@ pub fn to_dict<'py>(py: Python<'py>, s: &WorldSettings) -> PyResult<Bound<'py, P
     d.set_item("iterations", s.iterations)?;
     d.set_item("push_out_iterations", s.push_out_iterations)?;
     d.set_item("contact_margin", s.contact_margin)?;
+    d.set_item("mesh_contact_margin", s.mesh_contact_margin)?;
     d.set_item("resting_motion", s.resting_motion)?;
     d.set_item("allowed_penetration", s.allowed_penetration)?;
     d.set_item("push_out_fraction", s.push_out_fraction)?;

@@ -41,6 +41,10 @@ def world_with_ball() -> tuple[tumble.World, tumble.Body]:
         ({"substeps": 0}, "settings.substeps: must be in 1..=64, got 0"),
         ({"gravity": (0, 0, INF)}, "settings.gravity: must be finite"),
         ({"contact_margin": -1.0}, "settings.contact_margin: must be finite and >= 0, got -1"),
+        (
+            {"mesh_contact_margin": -1.0},
+            "settings.mesh_contact_margin: must be finite and >= 0, got -1",
+        ),
         ({"integrator": "leapfrog"}, "integrator: expected one of"),
         ({"solver": "magic"}, 'solver: expected "pgs" or "lemke", got "magic"'),
         ({"substeps": -1}, "substeps: expected a non-negative integer"),

@@ -7,7 +7,9 @@
 //! (with `TRACE_DEPTH=N` in the environment, also the deepest of every N steps;
 //! with `JITTER=seed`, every moving body after the first starts up to 2 cm and 0.1 rad
 //! from its place, an independent sample of a chaotic scene for each seed;
-//! with `FRICTION=mu`, every body's friction set to `mu`; with `NO_CCD=1`,
+//! with `FRICTION=mu`, every body's friction set to `mu`; with
+//! `RESTING_MOTION=m`, `CONTACT_MARGIN=m` or `MESH_CONTACT_MARGIN=m`, that
+//! `WorldSettings` field set to `m`; with `NO_CCD=1`,
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
@@ -73,6 +75,24 @@ fn main() {
         for body in scene.bodies.iter_mut() {
             body.material.friction = mu;
         }
+    }
+    if let Some(m) = std::env::var("CONTACT_MARGIN")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        scene.settings.contact_margin = m;
+    }
+    if let Some(m) = std::env::var("MESH_CONTACT_MARGIN")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        scene.settings.mesh_contact_margin = m;
+    }
+    if let Some(m) = std::env::var("RESTING_MOTION")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        scene.settings.resting_motion = m;
     }
     scene.settings.threads = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     if let Some(n) = args.get(4).and_then(|s| s.parse().ok()) {

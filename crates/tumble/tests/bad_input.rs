@@ -205,6 +205,13 @@ fn world_calls_reject_bad_input_and_leave_the_world_unchanged() {
             },
         ),
         (
+            "mesh_contact_margin NaN",
+            WorldSettings {
+                mesh_contact_margin: NAN,
+                ..Default::default()
+            },
+        ),
+        (
             "allowed_penetration NaN",
             WorldSettings {
                 allowed_penetration: NAN,

@@ -597,3 +597,44 @@ fn a_resting_stack_struck_from_above_searches_again_and_holds() {
         "deepest overlap {resting} m re-evaluating, {always} m searching every step"
     );
 }
+
+#[test]
+fn two_meshes_meet_within_the_mesh_margin_and_other_pairs_within_the_contact_margin() {
+    // A mesh cube held 3 mm above a static mesh slab and a primitive cube 3
+    // mm above a primitive slab, nothing moving: the mesh pair's contacts
+    // come from `mesh_contact_margin` alone, the primitive pair's from
+    // `contact_margin` alone, each whatever the other setting says.
+    let gap = 0.003;
+    let contacts = |as_meshes: bool, contact_margin: f64, mesh_contact_margin: f64| {
+        let mut world = World::new(WorldSettings {
+            gravity: DVec3::ZERO,
+            sleeping: false,
+            contact_margin,
+            mesh_contact_margin,
+            ..WorldSettings::default()
+        })
+        .unwrap();
+        let shape = |half: DVec3| {
+            if as_meshes {
+                mesh(box_mesh(half).unwrap())
+            } else {
+                Shape::Cuboid(Cuboid::new(half).unwrap())
+            }
+        };
+        world
+            .add_body(&BodyDesc::fixed(shape(DVec3::new(1.0, 1.0, 0.05))))
+            .unwrap();
+        world
+            .add_body(
+                &BodyDesc::dynamic(shape(DVec3::splat(0.1)))
+                    .at(DVec3::new(0.0, 0.0, 0.05 + gap + 0.1))
+                    .with_mass(1.0),
+            )
+            .unwrap();
+        world.step().contacts
+    };
+    assert!(contacts(true, 0.001, 0.005) > 0, "mesh pair within its 5 mm margin");
+    assert_eq!(contacts(true, 0.01, 0.002), 0, "mesh pair beyond its 2 mm margin");
+    assert!(contacts(false, 0.005, 0.001) > 0, "primitive pair within its 5 mm margin");
+    assert_eq!(contacts(false, 0.002, 0.01), 0, "primitive pair beyond its 2 mm margin");
+}

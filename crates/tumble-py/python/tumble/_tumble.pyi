@@ -312,6 +312,7 @@ class World:
         iterations: int | None = ...,
         push_out_iterations: int | None = ...,
         contact_margin: float | None = ...,
+        mesh_contact_margin: float | None = ...,
         resting_motion: float | None = ...,
         allowed_penetration: float | None = ...,
         push_out_fraction: float | None = ...,

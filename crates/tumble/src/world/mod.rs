@@ -211,6 +211,7 @@ pub(crate) fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
         });
     }
     non_negative("settings.contact_margin", s.contact_margin)?;
+    non_negative("settings.mesh_contact_margin", s.mesh_contact_margin)?;
     non_negative("settings.resting_motion", s.resting_motion)?;
     non_negative("settings.allowed_penetration", s.allowed_penetration)?;
     positive("settings.max_push_out_speed", s.max_push_out_speed)?;

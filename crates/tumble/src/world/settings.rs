@@ -61,8 +61,19 @@ pub struct WorldSettings {
     /// contacts. The bodies' own motion is always added, so the margin only
     /// needs to cover what that bound misses (velocity changed by impulses
     /// within the step): a few millimetres. On triangle meshes every
-    /// millimetre adds triangle pairs to test. Default 0.005.
+    /// millimetre adds triangle pairs to test (two meshes use
+    /// `mesh_contact_margin` instead). Default 0.005.
     pub contact_margin: f64,
+    /// Speculative contact margin of two triangle meshes (m): their feature
+    /// pairs closer than this, plus each feature's own travel over the
+    /// look-ahead (two steps of the pair's motion) and an estimate of how
+    /// much a neighbour's blow changes either body's velocity in the step,
+    /// become contacts. Smaller than `contact_margin` because a mesh pair's
+    /// look-ahead already follows each feature's own motion; every
+    /// millimetre adds triangle pairs to test (a settled pile of concave
+    /// bodies tests about twice as many at 5 mm as at 2 mm, with the same
+    /// depths over an ensemble of starts). Default 0.002.
+    pub mesh_contact_margin: f64,
     /// Resting mesh contacts (m): a triangle mesh against a mesh or a
     /// half-space whose colliders have moved against each other less than
     /// this since their contacts were last searched for, counting how far
@@ -72,7 +83,7 @@ pub struct WorldSettings {
     /// again: a resting pair then costs what its few kept points do, not
     /// what its tessellation does. A feature pair it does not hold can have
     /// come at most this much closer than at the search. At most half the
-    /// contact margin is used; 0 searches every step. Default 1e-5 (a
+    /// contact margin (of the pair's kind) is used; 0 searches every step. Default 1e-5 (a
     /// fiftieth of the allowed penetration).
     pub resting_motion: f64,
     /// Penetration left uncorrected (m): resting contacts within it are held
@@ -129,6 +140,7 @@ impl Default for WorldSettings {
             iterations: 2,
             push_out_iterations: 1,
             contact_margin: 0.005,
+            mesh_contact_margin: 0.002,
             resting_motion: 1e-5,
             allowed_penetration: 0.0005,
             push_out_fraction: 0.2,

@@ -13,6 +13,8 @@ impl World {
     pub(super) fn broad_stage(&mut self, f: &mut StepFrame) {
         let (n_slots, dt) = (f.n_slots, f.settings.dt);
         let mut events = Vec::new();
+        // Wide enough for either kind of pair's margin.
+        let margin = f.settings.contact_margin.max(f.settings.mesh_contact_margin);
         // Swept boxes: where each bounded body can be during the step
         // (`None` for unbounded shapes, which are everywhere).
         f.swept = vec![None; n_slots];
@@ -20,7 +22,7 @@ impl World {
             let Some(e) = self.bodies.at(i) else { continue };
             let Some(proxy) = e.proxy else { continue };
             let (v, w) = velocities(e);
-            let fatten = f.settings.contact_margin + (v.length() + w.length() * e.radius) * dt;
+            let fatten = margin + (v.length() + w.length() * e.radius) * dt;
             let aabb: Aabb = body_aabb(e, fatten);
             f.swept[i as usize] = Some(aabb);
             if !is_active(e) {

@@ -234,7 +234,7 @@ impl World {
             translation: (vb + wb.cross(pa.position - pb.position) - va) * dt * LOOK_AHEAD_STEPS,
             rotation: (wb - wa) * dt * LOOK_AHEAD_STEPS,
         };
-        let mesh_margin = f.settings.contact_margin + (shock[a as usize] + shock[b as usize]) * dt;
+        let mesh_margin = f.settings.mesh_contact_margin + (shock[a as usize] + shock[b as usize]) * dt;
         let ids = (
             self.bodies.id_at(a).expect("live"),
             self.bodies.id_at(b).expect("live"),
@@ -394,12 +394,14 @@ impl World {
             } else {
                 motion
             };
-        // At most half the contact margin: a pair apart at its search
-        // (nothing kept) must not come into contact unseen.
-        let limit = self
-            .settings
-            .resting_motion
-            .min(0.5 * self.settings.contact_margin);
+        // At most half the pair's contact margin: a pair apart at its
+        // search (nothing kept) must not come into contact unseen.
+        let pair_margin = if is_mesh(ca) && is_mesh(cb) {
+            self.settings.mesh_contact_margin
+        } else {
+            self.settings.contact_margin
+        };
+        let limit = self.settings.resting_motion.min(0.5 * pair_margin);
         let then = manifold::searched_at(&self.searches, key).copied();
         let held = then.filter(|then| moved_since(then, &rel, center, radius) + ahead <= limit);
         out.searches.push(SearchedPair {

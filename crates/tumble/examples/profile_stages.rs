@@ -116,6 +116,8 @@ fn main() {
     let mut swept_back = 0;
     // Mesh pairs re-evaluated and recalled over the last third.
     let mut late_pairs = (0usize, 0usize);
+    // Contact colours per step over the last third.
+    let mut late_colors = 0usize;
     let trace: usize = std::env::var("TRACE_DEPTH")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -209,6 +211,7 @@ fn main() {
             late += r.total_time().as_secs_f64();
             late_pairs.0 += r.revalidated_mesh_pairs;
             late_pairs.1 += r.recalled_mesh_pairs;
+            late_colors += r.colors;
         }
     }
     let ms = |t: f64| t / steps as f64 * 1e3;
@@ -251,6 +254,10 @@ fn main() {
         "  mesh pairs per step over the last third: {:.1} re-evaluated their kept points, {:.1} recalled their walk",
         late_pairs.0 as f64 / late_steps,
         late_pairs.1 as f64 / late_steps
+    );
+    println!(
+        "  contact colours per step over the last third: {:.1}",
+        late_colors as f64 / late_steps
     );
     for s in Stage::ALL {
         println!("  {:<10} {:.3} ms", s.name(), ms(sum[s as usize]));

@@ -633,8 +633,18 @@ fn two_meshes_meet_within_the_mesh_margin_and_other_pairs_within_the_contact_mar
             .unwrap();
         world.step().contacts
     };
-    assert!(contacts(true, 0.001, 0.005) > 0, "mesh pair within its 5 mm margin");
+    assert!(
+        contacts(true, 0.001, 0.005) > 0,
+        "mesh pair within its 5 mm margin"
+    );
     assert_eq!(contacts(true, 0.01, 0.002), 0, "mesh pair beyond its 2 mm margin");
-    assert!(contacts(false, 0.005, 0.001) > 0, "primitive pair within its 5 mm margin");
-    assert_eq!(contacts(false, 0.002, 0.01), 0, "primitive pair beyond its 2 mm margin");
+    assert!(
+        contacts(false, 0.005, 0.001) > 0,
+        "primitive pair within its 5 mm margin"
+    );
+    assert_eq!(
+        contacts(false, 0.002, 0.01),
+        0,
+        "primitive pair beyond its 2 mm margin"
+    );
 }

@@ -2,7 +2,7 @@
 //! motion accumulated over the step, in one contiguous array (static and
 //! sleeping bodies share the immovable entry 0).
 
-use super::lanes::{self, Lane, LANES, Q4, V3};
+use super::lanes::{self, Lane, LANES, M3, Q4, V3};
 use crate::integrate::{sin_cos_series, SERIES_LIMIT};
 use tumble_collide::{DMat3, DQuat, DVec3};
 
@@ -121,28 +121,49 @@ pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
     integrate_each(&mut bodies[done..], &q0[done..], h);
 }
 
-/// [`integrate_positions`] for four dynamic bodies of equal principal
-/// moments (spheres, cubes), one per SIMD lane: the scalar path's
-/// operations in the same order (the same bits); the push-out's turn, where
-/// a body has one, body by body in between. Returns `false`, having changed
-/// nothing, when one of the four is not such a body or turns by more than
-/// the series of `sin_cos` covers.
+/// [`integrate_positions`] for four dynamic bodies, one per SIMD lane: the
+/// scalar path's operations in the same order (the same bits), bodies of
+/// equal principal moments (spheres, cubes) turning by the exact flow and
+/// the others by the splitting of [`turn_freely`], each lane computing both
+/// and keeping its own; the push-out's turn, where a body has one, body by
+/// body in between. Returns `false`, having changed nothing, when one of
+/// the four is not a dynamic body or turns by more than the series of
+/// `sin_cos` covers.
 #[inline(always)]
 fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
-    let simple = |b: &SolverBody| {
-        let i = b.inv_inertia_body;
-        b.dynamic && !b.kinematic && i.x == i.y && i.y == i.z
-    };
-    if !b.iter().all(simple) {
+    if !b.iter().all(|b| b.dynamic && !b.kinematic) {
         return false;
     }
+    let equal_flags: [bool; LANES] = std::array::from_fn(|l| {
+        let i = b[l].inv_inertia_body;
+        i.x == i.y && i.y == i.z
+    });
+    let equal = lanes::mask(equal_flags);
+    let any_free = equal_flags.contains(&false);
     let h_lane = Lane::splat(h);
-    let angle = V3::from_lanes(std::array::from_fn(|l| b[l].w)).scale(h_lane);
+    let w = V3::from_lanes(std::array::from_fn(|l| b[l].w));
+    let angle = w.scale(h_lane);
     let theta = angle.dot(angle).sqrt();
     let half = Lane::splat(0.5) * theta;
-    if half.abs().to_array().iter().any(|&x| x > SERIES_LIMIT) {
+    let limit = |x: Lane, lanes: Lane| {
+        lanes::select(lanes, x.abs(), Lane::ZERO)
+            .to_array()
+            .iter()
+            .any(|&x| x > SERIES_LIMIT)
+    };
+    if limit(half, equal) {
         return false;
     }
+    let q_start = Q4::from_lanes(std::array::from_fn(|l| b[l].q));
+    let inv = V3::from_lanes(std::array::from_fn(|l| b[l].inv_inertia_body));
+    let free = if any_free {
+        let Some(turned) = turn_freely_four(q_start, w, inv, h, equal, &limit) else {
+            return false;
+        };
+        Some(turned)
+    } else {
+        None
+    };
     let v = V3::from_lanes(std::array::from_fn(|l| b[l].v + b[l].push_v)).scale(h_lane);
     let dp = (V3::from_lanes(std::array::from_fn(|l| b[l].dp)) + v).to_lanes();
     // turn_by: identity for no turn, else (axis sin, cos) of half the angle.
@@ -155,13 +176,36 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
         z: lanes::select(still, Lane::ZERO, axis.z),
         w: lanes::select(still, Lane::ONE, c),
     };
-    let q = turn
-        .mul(Q4::from_lanes(std::array::from_fn(|l| b[l].q)))
-        .normalize()
-        .to_lanes();
+    let q_equal = turn.mul(q_start).normalize();
+    let (q, w_free, inv_world) = match free {
+        Some((q_free, w_free)) => {
+            let q = Q4 {
+                x: lanes::select(equal, q_equal.x, q_free.x),
+                y: lanes::select(equal, q_equal.y, q_free.y),
+                z: lanes::select(equal, q_equal.z, q_free.z),
+                w: lanes::select(equal, q_equal.w, q_free.w),
+            };
+            // `SolverBody::world_inverse_inertia`: R diag(I^-1) R^T.
+            let r = q_free.to_mat3();
+            let world = r.mul(&M3::diagonal(inv)).mul(&r.transpose());
+            (q, Some(w_free.to_lanes()), Some(world.to_lanes()))
+        }
+        None => (q_equal, None, None),
+    };
+    let q = q.to_lanes();
     for l in 0..LANES {
         b[l].dp = dp[l];
         b[l].q = q[l];
+        if !equal_flags[l] {
+            // `turn_freely`: w follows L to the new pose, and the world
+            // inverse inertia too unless a push-out turn follows.
+            if let (Some(w), Some(world)) = (&w_free, &inv_world) {
+                b[l].w = w[l];
+                if b[l].push_w == DVec3::ZERO {
+                    b[l].inv_inertia = world[l];
+                }
+            }
+        }
         push_turn(&mut b[l], h);
     }
     let q = Q4::from_lanes(std::array::from_fn(|l| b[l].q));
@@ -173,6 +217,65 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
         b[l].push_w = DVec3::ZERO;
     }
     true
+}
+
+/// [`turn_freely`]'s orientation and angular velocity on four lanes (every
+/// lane computed; those in `skip` are not checked against the series'
+/// limit, their answer is not used): `None` when a checked lane turns by
+/// more than the series covers in one of the splitting's five flows.
+#[inline(always)]
+fn turn_freely_four(
+    q: Q4,
+    w: V3,
+    inv: V3,
+    h: f64,
+    skip: Lane,
+    limit: &impl Fn(Lane, Lane) -> bool,
+) -> Option<(Q4, V3)> {
+    let inertia = V3 {
+        x: lanes::recip_or_zero(inv.x),
+        y: lanes::recip_or_zero(inv.y),
+        z: lanes::recip_or_zero(inv.z),
+    };
+    let checked = lanes::eq(skip, Lane::ZERO);
+    let l = q.rotate(inertia.mul_each(q.conjugate().rotate(w)));
+    // `integrate::free_rotation`: 1(h/2) 2(h/2) 3(h) 2(h/2) 1(h/2).
+    let half = 0.5 * h;
+    let mut q = q;
+    for (axis, t) in [(0, half), (1, half), (2, h), (1, half), (0, half)] {
+        // `splitting::principal_flow`, lane by lane.
+        let pi = q.conjugate().rotate(l);
+        let angle = Lane::splat(t) * pi.component(axis) * inv.component(axis);
+        let x = Lane::splat(0.5) * angle;
+        if limit(x, checked) {
+            return None;
+        }
+        let (s, c) = sin_cos_series(x);
+        let (qx, qy, qz, qw) = (q.x, q.y, q.z, q.w);
+        q = match axis {
+            0 => Q4 {
+                x: qx * c + qw * s,
+                y: qy * c + qz * s,
+                z: qz * c - qy * s,
+                w: qw * c - qx * s,
+            },
+            1 => Q4 {
+                x: qx * c - qz * s,
+                y: qy * c + qw * s,
+                z: qz * c + qx * s,
+                w: qw * c - qy * s,
+            },
+            _ => Q4 {
+                x: qx * c + qy * s,
+                y: qy * c - qx * s,
+                z: qz * c + qw * s,
+                w: qw * c - qz * s,
+            },
+        };
+    }
+    let q = q.normalize();
+    let w = q.rotate(inv.mul_each(q.conjugate().rotate(l)));
+    Some((q, w))
 }
 
 /// [`integrate_positions`], body by body.
@@ -256,18 +359,20 @@ mod tests {
     use tumble_testkit::{RandomSource, SplitMix64};
 
     /// Four bodies at a time give the body-by-body path's bits: spheres and
-    /// cubes spinning slow and fast (the series' limit), at rest, with and
-    /// without a push-out turn, among bodies of unequal moments and
-    /// kinematic ones (which send their group of four to the scalar path).
+    /// cubes (equal moments, the exact flow) and bodies of unequal moments
+    /// (the splitting), alone and mixed in one group of four, spinning slow
+    /// and fast (the series' limit), at rest, with and without a push-out
+    /// turn, among kinematic ones (which send their group of four to the
+    /// scalar path).
     #[test]
     fn four_at_a_time_is_body_by_body() {
         let mut rng = SplitMix64(11);
         let mut bodies = vec![SolverBody::fixed()];
-        for i in 0..203 {
-            let inv = if i % 37 == 0 {
-                DVec3::new(1.0, 2.0, 3.0)
-            } else {
-                DVec3::splat(rng.range(0.5, 3.0))
+        for i in 0..403 {
+            let inv = match i % 5 {
+                0 | 1 => DVec3::new(rng.range(0.5, 3.0), rng.range(0.5, 3.0), rng.range(0.5, 3.0)),
+                2 if i % 3 == 0 => DVec3::new(1.0, 2.0, 2.0),
+                _ => DVec3::splat(rng.range(0.5, 3.0)),
             };
             let spin = match i % 23 {
                 0 => 0.0,
@@ -288,13 +393,21 @@ mod tests {
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         let mut each = bodies.clone();
         let mut probe = bodies.clone();
-        let mut wide = 0;
+        let (mut wide, mut mixed) = (0, 0);
         for (b, q) in probe.chunks_exact_mut(LANES).zip(q0.chunks_exact(LANES)) {
-            wide += usize::from(turn_four(b, q, 1.0 / 480.0));
+            let equal = |b: &SolverBody| {
+                let i = b.inv_inertia_body;
+                i.x == i.y && i.y == i.z
+            };
+            let kinds = b.iter().filter(|b| equal(b)).count();
+            if turn_four(b, q, 1.0 / 480.0) {
+                wide += 1;
+                mixed += usize::from(kinds > 0 && kinds < LANES);
+            }
         }
         assert!(
-            wide > 20 && wide < 50,
-            "both paths run: {wide} groups of four wide"
+            wide > 40 && wide < 100 && mixed > 20,
+            "both paths run: {wide} groups of four wide, {mixed} of them mixed"
         );
         let h = 1.0 / 480.0;
         for _ in 0..3 {

@@ -136,6 +136,26 @@ impl V3 {
         }
     }
 
+    /// Component by component, as glam's `DVec3 * DVec3`.
+    #[inline(always)]
+    pub fn mul_each(self, o: V3) -> V3 {
+        V3 {
+            x: self.x * o.x,
+            y: self.y * o.y,
+            z: self.z * o.z,
+        }
+    }
+
+    /// Component `axis` (0, 1, 2).
+    #[inline(always)]
+    pub fn component(self, axis: usize) -> Lane {
+        match axis {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+
     /// Lanewise `if mask { yes } else { no }`.
     #[inline(always)]
     pub fn select(mask: Lane, yes: V3, no: V3) -> V3 {
@@ -212,6 +232,63 @@ impl M3 {
     pub fn mul_vec(&self, v: V3) -> V3 {
         self.x_axis.scale(v.x) + self.y_axis.scale(v.y) + self.z_axis.scale(v.z)
     }
+
+    /// `M N`, column by column, as glam's `DMat3 * DMat3`.
+    #[inline(always)]
+    pub fn mul(&self, n: &M3) -> M3 {
+        M3 {
+            x_axis: self.mul_vec(n.x_axis),
+            y_axis: self.mul_vec(n.y_axis),
+            z_axis: self.mul_vec(n.z_axis),
+        }
+    }
+
+    /// As glam's `transpose`.
+    #[inline(always)]
+    pub fn transpose(&self) -> M3 {
+        let (x, y, z) = (self.x_axis, self.y_axis, self.z_axis);
+        M3 {
+            x_axis: V3 {
+                x: x.x,
+                y: y.x,
+                z: z.x,
+            },
+            y_axis: V3 {
+                x: x.y,
+                y: y.y,
+                z: z.y,
+            },
+            z_axis: V3 {
+                x: x.z,
+                y: y.z,
+                z: z.z,
+            },
+        }
+    }
+
+    /// As glam's `DMat3::from_diagonal` (explicit zeros off the diagonal,
+    /// so that products sum the same terms).
+    #[inline(always)]
+    pub fn diagonal(d: V3) -> M3 {
+        let zero = Lane::ZERO;
+        M3 {
+            x_axis: V3 {
+                x: d.x,
+                y: zero,
+                z: zero,
+            },
+            y_axis: V3 {
+                x: zero,
+                y: d.y,
+                z: zero,
+            },
+            z_axis: V3 {
+                x: zero,
+                y: zero,
+                z: d.z,
+            },
+        }
+    }
 }
 
 /// A quaternion per lane (x, y, z, w), with glam's `DQuat` arithmetic.
@@ -262,6 +339,20 @@ impl Q4 {
             z: w0 * z1 + x0 * y1 - y0 * x1 + z0 * w1,
             w: w0 * w1 - x0 * x1 - y0 * y1 - z0 * z1,
         }
+    }
+
+    /// `self * v`, the vector turned, as glam's `DQuat::mul_vec3`.
+    #[inline(always)]
+    pub fn rotate(self, v: V3) -> V3 {
+        let w = self.w;
+        let b = V3 {
+            x: self.x,
+            y: self.y,
+            z: self.z,
+        };
+        let b2 = b.dot(b);
+        let two = Lane::splat(2.0);
+        v.scale(w * w - b2) + b.scale(v.dot(b) * two) + b.cross(v).scale(w * two)
     }
 
     /// As glam's `conjugate`.

@@ -83,8 +83,9 @@ pub struct WorldSettings {
     /// again: a resting pair then costs what its few kept points do, not
     /// what its tessellation does. A feature pair it does not hold can have
     /// come at most this much closer than at the search. At most half the
-    /// contact margin (of the pair's kind) is used; 0 searches every step. Default 1e-5 (a
-    /// fiftieth of the allowed penetration).
+    /// pair's contact margin (`mesh_contact_margin` for two meshes) is used;
+    /// 0 searches every step. Default 1e-5 (a fiftieth of the allowed
+    /// penetration).
     pub resting_motion: f64,
     /// Penetration left uncorrected (m): resting contacts within it are held
     /// rigidly where they are (no push-out, so no jitter); deeper overlap is

@@ -157,7 +157,8 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
     let q_start = Q4::from_lanes(std::array::from_fn(|l| b[l].q));
     let inv = V3::from_lanes(std::array::from_fn(|l| b[l].inv_inertia_body));
     let free = if any_free {
-        let Some(turned) = turn_freely_four(q_start, w, inv, h, equal, &limit) else {
+        let unequal = lanes::mask(equal_flags.map(|e| !e));
+        let Some(turned) = turn_freely_four(q_start, w, inv, h, unequal, &limit) else {
             return false;
         };
         Some(turned)
@@ -220,8 +221,8 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
 }
 
 /// [`turn_freely`]'s orientation and angular velocity on four lanes (every
-/// lane computed; those in `skip` are not checked against the series'
-/// limit, their answer is not used): `None` when a checked lane turns by
+/// lane computed; only those in the mask `checked`, whose answer is used,
+/// are held to the series' limit): `None` when a checked lane turns by
 /// more than the series covers in one of the splitting's five flows.
 #[inline(always)]
 fn turn_freely_four(
@@ -229,7 +230,7 @@ fn turn_freely_four(
     w: V3,
     inv: V3,
     h: f64,
-    skip: Lane,
+    checked: Lane,
     limit: &impl Fn(Lane, Lane) -> bool,
 ) -> Option<(Q4, V3)> {
     let inertia = V3 {
@@ -237,7 +238,6 @@ fn turn_freely_four(
         y: lanes::recip_or_zero(inv.y),
         z: lanes::recip_or_zero(inv.z),
     };
-    let checked = lanes::eq(skip, Lane::ZERO);
     let l = q.rotate(inertia.mul_each(q.conjugate().rotate(w)));
     // `integrate::free_rotation`: 1(h/2) 2(h/2) 3(h) 2(h/2) 1(h/2).
     let half = 0.5 * h;

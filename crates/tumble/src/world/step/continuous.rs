@@ -257,9 +257,9 @@ impl World {
                         // within the contact margin is the push-out's to
                         // lift. Deeper (or out on the far side, or
                         // through most of a thin partner), they did not:
-                        // a mesh ball spinning at 200 rad/s turns its
-                        // contacts' corners away within the step and sank
-                        // 9 mm into a 20 mm slab, then stuck in it.
+                        // a mesh ball spinning at 200 rad/s turned its
+                        // contacts' corners away within the step, sank 9
+                        // mm into a 20 mm slab and stuck in it.
                         None
                     } else {
                         back_from_contact(

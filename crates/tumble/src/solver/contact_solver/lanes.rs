@@ -447,7 +447,23 @@ mod tests {
                 wq.normalize().to_lanes(),
             );
             let mats = wr.to_mat3().to_lanes();
+            let turned = wr.rotate(wa).to_lanes();
+            let each = wa.mul_each(wb).to_lanes();
+            let n = M3::from_lanes(std::array::from_fn(|l| DMat3::from_quat(r[l])));
+            let (mm, tr, diag) = (
+                wm.mul(&n).to_lanes(),
+                wm.transpose().to_lanes(),
+                wm.mul(&M3::diagonal(wb)).to_lanes(),
+            );
             for l in 0..LANES {
+                assert_eq!(turned[l], r[l] * a[l]);
+                assert_eq!(each[l], a[l] * b[l]);
+                assert_eq!(mm[l], m[l] * DMat3::from_quat(r[l]));
+                assert_eq!(tr[l], m[l].transpose());
+                assert_eq!(diag[l], m[l] * DMat3::from_diagonal(b[l]));
+                for (k, x) in a[l].to_array().into_iter().enumerate() {
+                    assert_eq!(wa.component(k).to_array()[l].to_bits(), x.to_bits());
+                }
                 assert_eq!(dot[l].to_bits(), a[l].dot(b[l]).to_bits());
                 assert_eq!(cross[l], a[l].cross(b[l]));
                 assert_eq!(product[l], m[l] * a[l]);

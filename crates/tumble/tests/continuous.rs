@@ -278,3 +278,60 @@ fn a_bullet_flagged_ccd_stops_at_a_free_plate_and_pushes_it() {
         "an unflagged body is not swept against a dynamic one"
     );
 }
+
+#[test]
+fn a_box_squeezed_into_a_thick_wall_as_it_slides_down_keeps_falling() {
+    // A box falls at 16 m/s down the face of a thick frictionless wall
+    // while a kinematic plate presses it 3 cm into the wall (nothing can
+    // hold it out: the plate cannot move). Fast, it is swept against both;
+    // it began each step touching them and ends deeper than the contact
+    // margin. Such an overlap with a thick partner is the push-out's
+    // business: put back where it began the step, it would hang on the wall
+    // (the 10,000-body pile's boxes squeezed into its walls by the landing
+    // layers were, and the layer above crashed into them).
+    let mut world = World::new(WorldSettings {
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let slab = || Shape::Cuboid(Cuboid::new(DVec3::new(0.25, 2.0, 50.0)).unwrap());
+    world
+        .add_body(
+            &BodyDesc::fixed(slab())
+                .at(DVec3::new(0.25, 0.0, 50.0))
+                .with_material(0.0, 0.0),
+        )
+        .unwrap();
+    let plate = world
+        .add_body(
+            &BodyDesc::kinematic(slab())
+                .at(DVec3::new(-0.75, 0.0, 50.0))
+                .with_material(0.0, 0.0)
+                .with_velocity(DVec3::new(0.6, 0.0, 0.0), DVec3::ZERO),
+        )
+        .unwrap();
+    let (z0, v0) = (80.0, 16.0);
+    let body = world
+        .add_body(
+            &BodyDesc::dynamic(Shape::Cuboid(Cuboid::new(DVec3::splat(0.25)).unwrap()))
+                .at(DVec3::new(-0.25, 0.0, z0))
+                .with_material(0.0, 0.0)
+                .with_velocity(DVec3::new(0.0, 0.0, -v0), DVec3::ZERO),
+        )
+        .unwrap();
+    let steps = 30;
+    for step in 0..steps {
+        if step == 3 {
+            world.set_velocity(plate, DVec3::ZERO, DVec3::ZERO).unwrap();
+        }
+        world.step();
+    }
+    // Frictionless: the fall of a free body, z0 - v0 t - g t^2 / 2.
+    let t = steps as f64 / 60.0;
+    let expected = z0 - v0 * t - 0.5 * 9.81 * t * t;
+    let z = world.center_of_mass(body).unwrap().z;
+    assert!(
+        (z - expected).abs() < 0.05,
+        "the box is at z = {z} m after {t} s; a free fall puts it at {expected} m"
+    );
+}

@@ -13,7 +13,10 @@
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
-//! impulse and the two bodies' speeds; with `TRACE_JOINTS=N`, every N steps the
+//! impulse and the two bodies' speeds; with `TRACE_PAIR` set, after every
+//! step whose deepest contact is over 1 cm, that pair's contacts then and at
+//! the step before (a pair with none before met features its speculative
+//! contacts never saw) and the two bodies' velocities; with `TRACE_JOINTS=N`, every N steps the
 //! largest joint error and which joint has it).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
@@ -138,6 +141,7 @@ fn main() {
     let mut energy = world.kinetic_energy() + world.potential_energy();
     let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
+    let mut prev: Vec<tumble::world::WorldContact> = Vec::new();
     for step in 0..steps {
         let r = world.step();
         let now = world.kinetic_energy() + world.potential_energy();
@@ -154,6 +158,53 @@ fn main() {
         }
         energy = now;
         deepest = deepest.max(r.max_penetration);
+        if std::env::var("TRACE_PAIR").is_ok() {
+            let depth = |c: &tumble::world::WorldContact| c.contact.depth();
+            if let Some(c) = world
+                .contacts()
+                .iter()
+                .max_by(|a, b| depth(a).total_cmp(&depth(b)))
+            {
+                if depth(c) > 0.01 {
+                    let (a, b) = (c.body_a, c.body_b);
+                    eprintln!(
+                        "step {step}: deep pair {a:?} {b:?} depth {:.4}; its contacts now:",
+                        depth(c)
+                    );
+                    for k in world.contacts().iter().filter(|k| (k.body_a, k.body_b) == (a, b)) {
+                        eprintln!(
+                            "   now  d {:+.4} n {:.3?} p {:.3?} imp {:.4} kind {:?}",
+                            k.contact.distance,
+                            k.contact.normal.to_array(),
+                            k.contact.point.to_array(),
+                            k.normal_impulse,
+                            k.contact.kind
+                        );
+                    }
+                    for k in prev
+                        .iter()
+                        .filter(|k| (k.body_a, k.body_b) == (a, b) || (k.body_a, k.body_b) == (b, a))
+                    {
+                        eprintln!(
+                            "   prev d {:+.4} n {:.3?} p {:.3?} imp {:.4} kind {:?}",
+                            k.contact.distance,
+                            k.contact.normal.to_array(),
+                            k.contact.point.to_array(),
+                            k.normal_impulse,
+                            k.contact.kind
+                        );
+                    }
+                    eprintln!(
+                        "   v {:.3?} {:.3?} w {:.3?} {:.3?}",
+                        world.linear_velocity(a).unwrap().to_array(),
+                        world.linear_velocity(b).unwrap().to_array(),
+                        world.angular_velocity(a).unwrap().to_array(),
+                        world.angular_velocity(b).unwrap().to_array()
+                    );
+                }
+            }
+            prev = world.contacts().to_vec();
+        }
         if trace_deepest > 0 && step % trace_deepest == 0 {
             let depth = |c: &tumble::world::WorldContact| c.contact.depth();
             if let Some(c) = world

@@ -3,7 +3,10 @@
 //! bin holds, and a small version of the pile settles in it.
 
 use tumble::scenes::{self, concave_pile_escaped, CONCAVE_KINDS};
+use tumble::world::{BodyDesc, World, WorldSettings};
+use tumble_collide::mesh::box_mesh;
 use tumble_collide::shape::ConvexHull;
+use tumble_collide::shape::{MeshShape, Shape};
 use tumble_collide::DVec3;
 
 #[test]
@@ -171,4 +174,46 @@ fn landing_bodies_are_pushed_out_of_what_their_speculative_contacts_missed() {
         without > 2.0 * margin,
         "deepest overlap {without} m without it: the scene no longer tests the stage"
     );
+}
+
+#[test]
+fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
+    // Three mesh cubes (0.2 m) in a row without gravity: A and B at rest 4 mm
+    // apart (a broad-phase pair), C coming at B at 6 m/s from 1 cm away.
+    // Within the first step C strikes B, and B crosses the gap to A at about
+    // 3 m/s: A and B had no contact (B was at rest, 4 mm is beyond the mesh
+    // margin), so nothing stops B until the step ends. Their closing over the step, not their
+    // velocities at its start, is what tells the end-overlap stage to
+    // collide them again and push them apart; without that B ended the step
+    // 4.2 cm inside A.
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let half = 0.1;
+    let cube = || Shape::Mesh(MeshShape::new(box_mesh(DVec3::splat(half)).unwrap()).unwrap());
+    let at = |x: f64, v: f64| {
+        BodyDesc::dynamic(cube())
+            .at(DVec3::new(x, 0.0, 0.0))
+            .with_density(1000.0)
+            .with_material(0.0, 0.0)
+            .with_velocity(DVec3::new(v, 0.0, 0.0), DVec3::ZERO)
+    };
+    let a = world.add_body(&at(0.0, 0.0)).unwrap();
+    let b = world.add_body(&at(2.0 * half + 0.004, 0.0)).unwrap();
+    world.add_body(&at(4.0 * half + 0.014, -6.0)).unwrap();
+    world.step();
+    let (xa, xb) = (
+        world.center_of_mass(a).unwrap().x,
+        world.center_of_mass(b).unwrap().x,
+    );
+    assert!(
+        world.linear_velocity(b).unwrap().x < -1.0,
+        "B was not knocked towards A: the test no longer tests the stage"
+    );
+    let overlap = 2.0 * half - (xb - xa);
+    let margin = world.settings().contact_margin;
+    assert!(overlap <= margin, "B ended the step {overlap} m inside A");
 }

@@ -415,14 +415,11 @@ impl JointConstraint {
         };
         let (xa, qa) = advance(self.start[0], p.va, p.wa, self.a);
         let (xb, qb) = advance(self.start[1], p.vb, p.wb, self.b);
-        let mut ahead = [JointRow::default(); JOINT_ROWS];
-        let (active, _) = rows_for(
+        let ahead = equality_errors(
             &self.law,
             &JointPose::new(xa, qa, &self.local[0], xb, qb, &self.local[1]),
-            &mut ahead,
         );
-        for (e, (r, a)) in self.rows.iter_mut().zip(&ahead).enumerate().take(self.n_eq) {
-            let end = if active & (1 << e) != 0 { a.c } else { r.c };
+        for (r, &end) in self.rows.iter_mut().zip(&ahead).take(self.n_eq) {
             let drift = end - r.c - h * r.velocity(p.va, p.wa, p.vb, p.wb);
             r.bias = if drift.is_finite() {
                 weight * drift / h
@@ -490,6 +487,58 @@ impl JointConstraint {
 /// The rows of a joint with law `law` at `pose`, Jacobians and errors,
 /// written into their slots of `rows` (each keeps its impulses); returns
 /// the slots in use (bit by slot) and the number of equality rows.
+/// The position errors of a joint's equality rows (slots `0..n_eq`, in
+/// [`rows_for`]'s order) at `pose`, without the rows: what each relax pass
+/// re-aims them by (`JointConstraint::aim_equality_rows`), which needs no
+/// Jacobian, limit or twist axis. [`rows_for`] takes its equality rows'
+/// errors from here.
+fn equality_errors(law: &JointLaw, pose: &JointPose) -> [f64; 6] {
+    let mut c = [0.0; 6];
+    let d = pose.pa - pose.pb;
+    // Slots `at..at + 3`: the anchors coincide, along the world axes.
+    let point = |c: &mut [f64; 6], at: usize| {
+        for (k, e) in DVec3::AXES.into_iter().enumerate() {
+            c[at + k] = d.dot(e);
+        }
+    };
+    // Slots `at..at + 3`: the frames keep their relative rotation, about
+    // the world axes.
+    let locked = |c: &mut [f64; 6], at: usize| {
+        let err = pose.rotation_error();
+        for (k, e) in DVec3::AXES.into_iter().enumerate() {
+            c[at + k] = err.dot(e);
+        }
+    };
+    match law.kind {
+        JointKind::Fixed => {
+            point(&mut c, 0);
+            locked(&mut c, 3);
+        }
+        JointKind::Ball => point(&mut c, 0),
+        JointKind::Hinge => {
+            point(&mut c, 0);
+            // A's axis keeps perpendicular to B's two other axes.
+            let ax = pose.axis_a(0);
+            for (k, i) in [1, 2].into_iter().enumerate() {
+                c[3 + k] = ax.dot(pose.axis_b(i));
+            }
+        }
+        JointKind::Slider => {
+            locked(&mut c, 0);
+            // No offset across B's two other axes.
+            for (k, i) in [1, 2].into_iter().enumerate() {
+                c[3 + k] = pose.axis_b(i).dot(d);
+            }
+        }
+        JointKind::Distance => {
+            if law.spring.is_none() && law.limits.is_none() {
+                c[0] = d.length() - law.length;
+            }
+        }
+    }
+    c
+}
+
 fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS]) -> (u16, usize) {
     let mut set = RowSet {
         rows,
@@ -497,6 +546,7 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
         n_eq: 0,
     };
     let d = pose.pa - pose.pb;
+    let c = equality_errors(law, pose);
 
     // The twist axis: half-way between the two frames' axes (they agree
     // where the joint holds).
@@ -510,11 +560,11 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
     };
     match law.kind {
         JointKind::Fixed => {
-            set.point(pose);
-            set.locked(pose);
+            set.point(pose, &c[..3]);
+            set.locked(&c[3..]);
         }
         JointKind::Ball => {
-            set.point(pose);
+            set.point(pose, &c[..3]);
             if let Some(cone) = law.swing_limit {
                 // d(swing)/dt = (wA - wB) . s with s = (bx x ax) / |bx x ax|.
                 let s = pose.axis_b(0).cross(pose.axis_a(0));
@@ -529,13 +579,13 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
             }
         }
         JointKind::Hinge => {
-            set.point(pose);
+            set.point(pose, &c[..3]);
             // The axes stay aligned: A's axis keeps perpendicular to
             // B's two other axes; d(ax . by)/dt = (wA - wB) . (ax x by).
             let ax = pose.axis_a(0);
-            for i in [1, 2] {
+            for (k, i) in [1, 2].into_iter().enumerate() {
                 let bi = pose.axis_b(i);
-                let mut row = JointRow::angular(ax.cross(bi), ax.dot(bi));
+                let mut row = JointRow::angular(ax.cross(bi), c[3 + k]);
                 row.ang_b = -row.ang_a;
                 set.eq(row);
             }
@@ -553,13 +603,12 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
             }
         }
         JointKind::Slider => {
-            set.locked(pose);
+            set.locked(&c[..3]);
             // B's axes turn with B: the lever of B's rows reaches A's
             // anchor (d/dt (n . d) with n fixed in B).
             let rb = pose.rb + d;
-            for i in [1, 2] {
-                let n = pose.axis_b(i);
-                set.eq(JointRow::linear(n, pose.ra, rb, n.dot(d)));
+            for (k, i) in [1, 2].into_iter().enumerate() {
+                set.eq(JointRow::linear(pose.axis_b(i), pose.ra, rb, c[3 + k]));
             }
             let n = pose.axis_b(0);
             let offset = n.dot(d);
@@ -580,7 +629,7 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
             let n = if len > 1e-9 { d / len } else { pose.axis_b(0) };
             let along = |c: f64| JointRow::linear(n, pose.ra, pose.rb, c);
             if law.spring.is_none() && law.limits.is_none() {
-                set.eq(along(len - law.length));
+                set.eq(along(c[0]));
             }
             if let Some([lo, hi]) = law.limits {
                 set.set(LOWER, along(len - lo));
@@ -618,19 +667,19 @@ impl RowSet<'_> {
         self.n_eq += 1;
     }
 
-    /// The anchors coincide: three linear rows along the world axes.
-    fn point(&mut self, pose: &JointPose) {
-        let d = pose.pa - pose.pb;
-        for e in DVec3::AXES {
-            self.eq(JointRow::linear(e, pose.ra, pose.rb, d.dot(e)));
+    /// The anchors coincide: three linear rows along the world axes, with
+    /// their errors `c` (`equality_errors`).
+    fn point(&mut self, pose: &JointPose, c: &[f64]) {
+        for (e, &c) in DVec3::AXES.into_iter().zip(c) {
+            self.eq(JointRow::linear(e, pose.ra, pose.rb, c));
         }
     }
 
-    /// The frames keep their relative rotation: three angular rows.
-    fn locked(&mut self, pose: &JointPose) {
-        let err = pose.rotation_error();
-        for e in DVec3::AXES {
-            self.eq(JointRow::angular(e, err.dot(e)));
+    /// The frames keep their relative rotation: three angular rows, with
+    /// their errors `c` (`equality_errors`).
+    fn locked(&mut self, c: &[f64]) {
+        for (e, &c) in DVec3::AXES.into_iter().zip(c) {
+            self.eq(JointRow::angular(e, c));
         }
     }
 }

@@ -180,12 +180,14 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                 for t in threads:
                     print(f"[bench] {threaded('tumble', t)} {hint}", file=sys.stderr, flush=True)
                     results += run_tumble(scene, scene_steps, n, threads=t)
-            # The Python peers have no large pyramid yet (tumble and Rapier run it).
-            for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene not in ("large_pyramid", "concave_pile")
+            # The Python peers have no large pyramid yet (tumble and Rapier run it); they run the
+            # concave pile as CoACD's convex pieces (common.decomposed).
+            for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene != "large_pyramid"
                         and not (e == "mujoco" and scene in NO_MUJOCO)]:
-                print(f"[bench] {eng} {hint}", file=sys.stderr, flush=True)
+                peer_hint = "concave_pile-coacd" if scene == "concave_pile" else hint
+                print(f"[bench] {eng} {peer_hint}", file=sys.stderr, flush=True)
                 results += python_peer(eng, f"{eng}_peer.py", ["--scene", scene] + step_args(n, scene), timeout,
-                                       hint)
+                                       peer_hint)
             if scene in JOINTED and on("mujoco"):
                 print(f"[bench] mujoco {scene}-substeps8", file=sys.stderr, flush=True)
                 results += python_peer("mujoco", "mujoco_peer.py", ["--scene", scene, "--substeps", "8"]
@@ -204,8 +206,10 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
             if on("rapier3d"):
                 # The heavy chain also on Rapier's multibody (reduced-coordinate) joints.
                 # The bowl also on Rapier's plain TriMesh (default flags), as tumble reports its bare facets.
+                # The concave pile also as Rapier's own convex decomposition of each body (V-HACD).
                 variants = ([scene] + (["heavy_chain-multibody"] if scene == "heavy_chain" else [])
-                            + (["bowl-facets"] if scene == "bowl" else []))
+                            + (["bowl-facets"] if scene == "bowl" else [])
+                            + (["concave_pile-vhacd"] if scene == "concave_pile" else []))
                 for t in threads:
                     label = threaded("rapier3d", t)
                     for variant in variants:

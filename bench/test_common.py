@@ -62,6 +62,40 @@ class SceneData(unittest.TestCase):
         self.assertEqual([len(b["shapes"]) for b in cut["bodies"]], [32] * 21)
         self.assertTrue(all(p["type"] == "convex_hull" for p in cut["bodies"][1]["shapes"]))
 
+    def test_concave_pile_starts_in_its_bin_and_its_meshes_become_convex_pieces(self):
+        s = C.load_scene("concave_pile")
+        self.assertEqual(s["limits"]["inside_half_width"], 0.8)
+        dyn = [s["bodies"][i] for i in C.dynamic_indices(s)]
+        self.assertEqual(len(dyn), 200)
+        self.assertEqual(C.pile_outside(s, [b["position"] for b in dyn]), 0)
+        # Each mesh shape becomes its pieces at the mesh's pose (here one box per mesh, so that
+        # the test needs no CoACD), and the meshes are no longer named.
+        poses = [(b["shapes"][0]["mesh"], b["shapes"][0]["position"]) for b in s["bodies"]]
+
+        def corners(mesh):
+            lo = [min(v[k] for v in mesh["vertices"]) for k in range(3)]
+            hi = [max(v[k] for v in mesh["vertices"]) for k in range(3)]
+            return [[[(lo, hi)[(c >> k) & 1][k] for k in range(3)] for c in range(8)]]
+
+        real = C.convex_pieces
+        C.convex_pieces = corners
+        try:
+            cut, pieces = C.decomposed(s)
+        finally:
+            C.convex_pieces = real
+        self.assertEqual(cut["meshes"], [])
+        self.assertEqual(sorted(pieces), list(range(6)))
+        for b, (mesh, at) in zip(cut["bodies"], poses):
+            self.assertEqual([p["type"] for p in b["shapes"]], ["convex_hull"])
+            self.assertEqual(b["shapes"][0]["vertices"], pieces[mesh][0])
+            self.assertEqual(b["shapes"][0]["position"], at)
+        # A body beside the bin or below its floor has escaped.
+        ends = [b["position"] for b in dyn]
+        ends[0], ends[1] = [0.9, 0.0, 0.5], [0.0, 0.0, -0.1]
+        figures = C.concave_pile_figures(s, ends, 1.0, [([0.0] * 3, [0.0] * 3, [0, 0, 0, 1])] * 200)
+        self.assertEqual(figures["bodies_escaped"], 2)
+        self.assertEqual(figures["final_kinetic_energy_j"], 0.0)
+
     def test_ideal_cradle_has_no_errors(self):
         s = C.load_scene("cradle")
         self.assertEqual(s["gravity"], [0.0, 0.0, 0.0])

@@ -9,7 +9,8 @@ no torsional/rolling friction; condim 1 where the friction is 0). Its contacts a
 cradle) uses the documented direct form solref = (-stiffness, 0) (zero damping = elastic); other
 restitutions have no translation. Default Euler integrator; the default Newton solver, CG for
 the piles (Newton's dense factorisation does not scale to 6000+ dofs). Sleeping (mjENBL_SLEEP)
-is off. Mesh geoms collide as their convex hull (MuJoCo has no concave mesh collision).
+is off. Mesh geoms collide as their convex hull (MuJoCo has no concave mesh collision); the
+concave pile's meshes are CoACD's convex pieces (common.decomposed), a hull geom each.
 
 Jointed scenes (heavy_chain, ragdoll_pile) become kinematic trees (common.joint_trees): MuJoCo's
 joints are reduced coordinates, so a joint cannot open and its error is round-off; ball and hinge
@@ -25,7 +26,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
 import mujoco  # noqa: E402
 
-SCENES = ["pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile"]
+SCENES = ["pyramid", "pile", "chain", "cradle", "heavy_chain", "ragdoll_pile", "concave_pile"]
 ELASTIC = 'solref="-10000 0"'
 
 
@@ -145,7 +146,8 @@ def mjcf(scene):
 
     top = [i for i in range(len(scene["bodies"])) if parent.get(i, (None,))[0] is None]
     bodies = "".join(body_xml(i, 2) for i in top)
-    solver = "CG" if scene["name"].startswith("pile") else "Newton"
+    piles = scene["name"].startswith("pile") or scene["name"] == "concave_pile"
+    solver = "CG" if piles else "Newton"
     return f"""<mujoco model="{scene["name"]}">
   <compiler angle="radian"/>
   <option timestep="{scene["dt"]!r}" gravity="{fmt(scene["gravity"])}" solver="{solver}"/>
@@ -249,8 +251,12 @@ def run(scene, steps, variant, substeps=1):
         for _ in range(substeps):
             mujoco.mj_step(m, d)
 
+    concave = variant.startswith("concave_pile")
+    five_seconds, at_five = round(5.0 / scene["dt"]), None
     for s in range(steps):
         t.time(frame)
+        if concave and s + 1 == five_seconds:
+            at_five = C.kinetic_energy(scene, motions(m, d, dyn))
         if blew_up_at is None and d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
             blew_up_at = (s + 1) * scene["dt"]
         if s % 10 == 9 or s == steps - 1:
@@ -267,6 +273,16 @@ def run(scene, steps, variant, substeps=1):
     elif variant.startswith("pile"):
         figures.update(C.pile_figures(scene, ends, int(d.ncon), motions(m, d, dyn)))
         extra["n"] = len(dyn)
+    elif concave:
+        figures.update(C.concave_pile_figures(scene, ends, at_five, motions(m, d, dyn)))
+        figures["contact_points"] = int(d.ncon)
+        figures["simulation_unstable_at_s"] = blew_up_at
+        figures["capability"] = "no concave mesh collision: needs a convex decomposition"
+        extra["collision"] = (
+            f"CoACD convex pieces (threshold {C.COACD_THRESHOLD}), the bin's too: "
+            f"{min(len(b['shapes']) for b in scene['bodies'])}-"
+            f"{max(len(b['shapes']) for b in scene['bodies'])} hull geoms per body"
+        )
     elif chain:
         decomposed = variant == "chain-decomposed"
         figures.update(
@@ -319,6 +335,8 @@ def main():
         variant = f"pile{a.n}"
     elif a.scene == "chain" and a.decomposed:
         variant = "chain-decomposed"
+    elif a.scene == "concave_pile":
+        variant = "concave_pile-coacd"
     else:
         variant = a.scene
     if a.substeps is not None:

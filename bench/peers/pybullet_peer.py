@@ -9,7 +9,8 @@ friction (a pair of equal bodies then has tumble's geometric mean) and its resti
 would otherwise bleed energy that the other engines keep). Concave meshes are
 GEOM_FORCE_CONCAVE_TRIMESH shapes (Bullet collides them on static bodies only); a body made of
 several convex hulls is one compound shape (an OBJ file with one `o` object per hull, the
-format of Bullet's own V-HACD output).
+format of Bullet's own V-HACD output); the concave pile's meshes are CoACD's convex pieces
+(common.decomposed), its bodies such compounds.
 
 Jointed scenes (heavy_chain, ragdoll_pile) become one URDF per kinematic tree
 (common.joint_trees), loaded as Featherstone multibodies (reduced coordinates: a joint cannot
@@ -27,7 +28,16 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common as C  # noqa: E402
 import pybullet as p  # noqa: E402
 
-SCENES = ["pyramid", "pile", "chain", "cradle", "bowl", "heavy_chain", "ragdoll_pile"]
+SCENES = [
+    "pyramid",
+    "pile",
+    "chain",
+    "cradle",
+    "bowl",
+    "heavy_chain",
+    "ragdoll_pile",
+    "concave_pile",
+]
 
 
 def version():
@@ -358,10 +368,18 @@ def run(scene, steps, variant, iterations=None):
     deepest, contacts_seen = 0.0, 0
     ball_angle = lambda: C.swing_angle(centres([ids[1]])[0])  # noqa: E731 (the bowl's ball)
     meter = C.SwingMeter(scene["dt"], ball_angle()) if variant == "bowl" else None
+    concave = variant.startswith("concave_pile")
+    five_seconds, at_five = round(5.0 / scene["dt"]), None
+
+    def motions():
+        return [(*p.getBaseVelocity(b), p.getBasePositionAndOrientation(b)[1]) for b in dyn]
+
     for s in range(steps):
         t.time(p.stepSimulation)
         if meter:
             meter.observe(ball_angle())
+        if concave and s + 1 == five_seconds:
+            at_five = C.kinetic_energy(scene, motions())
         if s % 10 == 9 or s == steps - 1:
             deepest = max(deepest, deepest_penetration(ids if chain else None))
             if chain:
@@ -375,9 +393,17 @@ def run(scene, steps, variant, iterations=None):
     if variant.startswith("pyramid"):
         figures.update(C.pyramid_figures(starts, ends))
     elif variant.startswith("pile"):
-        motions = [(*p.getBaseVelocity(b), p.getBasePositionAndOrientation(b)[1]) for b in dyn]
-        figures.update(C.pile_figures(scene, ends, len(p.getContactPoints()), motions))
+        figures.update(C.pile_figures(scene, ends, len(p.getContactPoints()), motions()))
         extra["n"] = len(dyn)
+    elif concave:
+        figures.update(C.concave_pile_figures(scene, ends, at_five, motions()))
+        figures["contact_points"] = len(p.getContactPoints())
+        figures["capability"] = "no dynamic concave-concave collision: needs a convex decomposition"
+        extra["collision"] = (
+            f"CoACD convex pieces (threshold {C.COACD_THRESHOLD}), the bin's too: a compound of "
+            f"{min(len(b['shapes']) for b in scene['bodies'])}-"
+            f"{max(len(b['shapes']) for b in scene['bodies'])} hulls per body"
+        )
     elif chain:
         decomposed = variant == "chain-decomposed"
         all_ends = centres(ids)
@@ -425,6 +451,8 @@ def main():
         variant = f"pile{a.n}"
     elif a.scene == "chain" and a.decomposed:
         variant = "chain-decomposed"
+    elif a.scene == "concave_pile":
+        variant = "concave_pile-coacd"
     elif a.scene == "pyramid" and a.iterations is not None:
         variant = f"pyramid-it{a.iterations}"
     else:

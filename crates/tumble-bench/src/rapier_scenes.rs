@@ -95,12 +95,22 @@ pub struct SceneWorld {
 /// in tumble). `multibody`: the joints as Rapier's reduced-coordinate
 /// multibody joints instead of impulse joints.
 pub fn build(scene: &Scene, multibody: bool) -> Result<SceneWorld, String> {
+    build_with(scene, multibody, false)
+}
+
+/// [`build`], with `decompose` the triangle meshes of dynamic bodies as
+/// Rapier's own convex decomposition (`ColliderBuilder::convex_decomposition`,
+/// parry's V-HACD with its default parameters) instead of `TriMesh`es;
+/// static meshes stay `TriMesh`es (Rapier collides convex shapes with them).
+pub fn build_with(scene: &Scene, multibody: bool, decompose: bool) -> Result<SceneWorld, String> {
     let plain = scene.plain().map_err(|e| format!("{}: {e}", scene.name))?;
     let mut w = world();
     w.gravity = v(plain.gravity.to_array());
     w.integration_parameters.dt = plain.dt as f32;
     let mut bodies = Vec::with_capacity(plain.bodies.len());
     let mut frames = Vec::with_capacity(plain.bodies.len());
+    // Each distinct mesh's convex decomposition (`decompose`).
+    let mut pieces: Vec<(Vec<tumble::collide::DVec3>, Vec<[u32; 3]>, SharedShape)> = Vec::new();
     for b in &plain.bodies {
         let linvel = v(b.linear_velocity.to_array());
         let angvel = v(b.angular_velocity.to_array());
@@ -120,14 +130,36 @@ pub fn build(scene: &Scene, multibody: bool) -> Result<SceneWorld, String> {
             .insert(builder.pose(pose(&b.pose)).linvel(linvel).angvel(angvel));
         for s in &b.shapes {
             // The body's mass properties are tumble's (above): colliders add none.
-            let c = collider(&s.shape)
-                .map_err(|e| format!("{}: {e}", b.name))?
-                .position(pose(&s.local))
-                .density(0.0)
-                .friction(b.friction as f32)
-                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                .restitution(b.restitution as f32)
-                .restitution_combine_rule(CoefficientCombineRule::Max);
+            let c = match &s.shape {
+                tumble::collide::shape::Shape::Mesh(m)
+                    if decompose && b.kind == tumble::BodyKind::Dynamic =>
+                {
+                    // Decomposed once per distinct mesh (V-HACD takes a
+                    // quarter of a second per body of the concave pile).
+                    let mesh = m.mesh();
+                    let known = pieces
+                        .iter()
+                        .find(|(v, t, _)| v == mesh.vertices() && t == mesh.triangles());
+                    let shape = match known {
+                        Some((_, _, shape)) => shape.clone(),
+                        None => {
+                            let vertices: Vec<Vector> =
+                                mesh.vertices().iter().map(|p| v(p.to_array())).collect();
+                            let shape = SharedShape::convex_decomposition(&vertices, mesh.triangles());
+                            pieces.push((mesh.vertices().to_vec(), mesh.triangles().to_vec(), shape.clone()));
+                            shape
+                        }
+                    };
+                    ColliderBuilder::new(shape)
+                }
+                shape => collider(shape).map_err(|e| format!("{}: {e}", b.name))?,
+            }
+            .position(pose(&s.local))
+            .density(0.0)
+            .friction(b.friction as f32)
+            .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+            .restitution(b.restitution as f32)
+            .restitution_combine_rule(CoefficientCombineRule::Max);
             w.colliders.insert_with_parent(c, handle, &mut w.bodies);
         }
         bodies.push(handle);

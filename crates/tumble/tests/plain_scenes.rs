@@ -224,4 +224,10 @@ fn json_form_says_what_the_plain_form_says() {
     );
     assert_eq!(pile["bodies"][0]["shapes"][0]["type"], "box");
     assert_eq!(pile["bodies"][5]["shapes"][0]["type"], "sphere");
+    // The concave pile's bin, which the peers count escapes from.
+    let concave = scenes::concave_pile(10).to_plain_json().unwrap();
+    assert_eq!(
+        concave["limits"]["inside_half_width"],
+        scenes::CONCAVE_BIN_INNER_HALF_WIDTH
+    );
 }

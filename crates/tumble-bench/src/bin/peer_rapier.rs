@@ -8,9 +8,11 @@
 //! materials combined as tumble combines them (friction: geometric mean; restitution:
 //! maximum), sleeping off, Rapier's default solver iterations and sub-steps. The chain's links
 //! are the plain 768-triangle mesh (`TriMesh`, default flags): no convex decomposition.
-//! `heavy_chain-multibody` runs the heavy chain on Rapier's multibody joints.
+//! `heavy_chain-multibody` runs the heavy chain on Rapier's multibody joints;
+//! `concave_pile-vhacd` the concave pile with each body's mesh as Rapier's own convex
+//! decomposition (`concave_pile`: plain `TriMesh`es).
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile [--steps K] [--n N] [--threads T]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile|concave_pile|concave_pile-vhacd [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -70,11 +72,11 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
         "bowl-facets" => scenes::bowl_swing(false),
         "heavy_chain" | "heavy_chain-multibody" => scenes::heavy_chain(),
         "ragdoll_pile" => scenes::ragdoll_pile(),
-        "concave_pile" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
+        "concave_pile" | "concave_pile-vhacd" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
         other => {
             return Err(format!(
             "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, bowl-facets, heavy_chain, \
-                 heavy_chain-multibody, ragdoll_pile or concave_pile, got {other:?}"
+                 heavy_chain-multibody, ragdoll_pile, concave_pile or concave_pile-vhacd, got {other:?}"
         ))
         }
     })
@@ -86,7 +88,8 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
 fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
     let scene = scene(name, n)?;
     let multibody = name.ends_with("-multibody");
-    let mut sw = rs::build(&scene, multibody)?;
+    let decomposed = name.ends_with("-vhacd");
+    let mut sw = rs::build_with(&scene, multibody, decomposed)?;
     let steps = steps.unwrap_or(scene.steps);
     let dynamic: Vec<usize> = (0..scene.bodies.len())
         .filter(|&i| scene.bodies[i].kind == tumble::BodyKind::Dynamic)
@@ -149,13 +152,18 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
             figures["final_kinetic_energy_j"] = json!(kinetic_energy(&sw));
             set["n"] = json!(n);
         }
-        "concave_pile" => {
+        "concave_pile" | "concave_pile-vhacd" => {
             let centres: Vec<DVec3> = dynamic.iter().map(|&i| DVec3::from_array(ends[i])).collect();
             figures["bodies_escaped"] = json!(scenes::concave_pile_escaped(&centres));
             figures["final_kinetic_energy_j"] = json!(kinetic_energy(&sw));
             figures["kinetic_energy_at_5s_j"] = json!(energy_at_five);
             figures["contact_points"] = json!(contacts(&sw.world).0);
-            set["collision"] = json!("plain TriMesh colliders, default flags");
+            set["collision"] = json!(if decomposed {
+                "Rapier's own convex decomposition of each body's mesh (V-HACD, default parameters); \
+                 the bin a TriMesh"
+            } else {
+                "plain TriMesh colliders, default flags"
+            });
         }
         "chain" => {
             let reach = scenes::CHAIN_MAX_CENTRE_DISTANCE;

@@ -223,6 +223,12 @@ impl Scene {
         if self.name.starts_with("pile") {
             limits.insert("inside_half_width".into(), json!(PILE_INSIDE_HALF_WIDTH));
         }
+        if self.name == "concave_pile" {
+            limits.insert(
+                "inside_half_width".into(),
+                json!(super::CONCAVE_BIN_INNER_HALF_WIDTH),
+            );
+        }
         if self.name.starts_with("chain") {
             limits.insert(
                 "max_adjacent_centre_distance".into(),

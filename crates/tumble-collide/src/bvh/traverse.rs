@@ -134,6 +134,13 @@ struct Placed {
 }
 
 impl Placed {
+    /// A placeholder (an empty cache slot).
+    const EMPTY: Placed = Placed {
+        q: DQuat::IDENTITY,
+        c: DVec3::ZERO,
+        h: [0.0; 3],
+    };
+
     /// Box `na` of mesh A (already in A's frame), grown by `grow` (m).
     #[inline]
     fn a(na: &Node, grow: f64) -> Placed {
@@ -265,42 +272,94 @@ pub fn collide_leaves(
     {
         return Ok(stats);
     }
-    let mut stack = SmallStack::<(u32, u32)>::new();
-    stack.push((0, 0));
-    while let Some((ia, ib)) = stack.pop() {
-        let (x, y) = (&na[ia as usize], &nb[ib as usize]);
-        if x.is_leaf() && y.is_leaf() {
-            stats.leaf_pairs += 1;
-            stats.triangle_pairs += (a.leaf_triangles(x).len() * b.leaf_triangles(y).len()) as u64;
-            if on_leaves(ia, ib) == Traverse::Stop {
-                stats.stopped = true;
-                return Ok(stats);
+    // B's boxes placed in A's frame, each once per walk (a box of B meets
+    // many of A's as the walk descends A under it): the same bits as placing
+    // it at every meeting. A callback that walks again on this thread finds
+    // the cache taken and places its boxes afresh.
+    PLACED_B.with(|cell| {
+        let mut taken = cell.try_borrow_mut().ok();
+        let mut fresh = PlacedBoxes::default();
+        let placed = taken.as_deref_mut().unwrap_or(&mut fresh);
+        placed.begin(nb.len());
+        let mut place_b = |i: u32| placed.get(i, || rel.place_b_drifting(&nb[i as usize], grow, &drift));
+        let mut stack = SmallStack::<(u32, u32)>::new();
+        stack.push((0, 0));
+        while let Some((ia, ib)) = stack.pop() {
+            let (x, y) = (&na[ia as usize], &nb[ib as usize]);
+            if x.is_leaf() && y.is_leaf() {
+                stats.leaf_pairs += 1;
+                stats.triangle_pairs += (a.leaf_triangles(x).len() * b.leaf_triangles(y).len()) as u64;
+                if on_leaves(ia, ib) == Traverse::Stop {
+                    stats.stopped = true;
+                    return;
+                }
+                continue;
             }
-            continue;
+            // Test the children before pushing; push the second child first so
+            // the first is visited first (depth-first, left to right).
+            if descend_a(x, y) {
+                let pb = place_b(ib);
+                let c = x.first_child();
+                for child in [c + 1, c] {
+                    stats.bv_tests += 1;
+                    if Placed::a(&na[child as usize], grow).overlaps(&pb) {
+                        stack.push((child, ib));
+                    }
+                }
+            } else {
+                let pa = Placed::a(x, grow);
+                let c = y.first_child();
+                for child in [c + 1, c] {
+                    stats.bv_tests += 1;
+                    if pa.overlaps(&place_b(child)) {
+                        stack.push((ia, child));
+                    }
+                }
+            }
         }
-        // Test the children before pushing; push the second child first so
-        // the first is visited first (depth-first, left to right).
-        if descend_a(x, y) {
-            let pb = rel.place_b_drifting(y, grow, &drift);
-            let c = x.first_child();
-            for child in [c + 1, c] {
-                stats.bv_tests += 1;
-                if Placed::a(&na[child as usize], grow).overlaps(&pb) {
-                    stack.push((child, ib));
-                }
-            }
-        } else {
-            let pa = Placed::a(x, grow);
-            let c = y.first_child();
-            for child in [c + 1, c] {
-                stats.bv_tests += 1;
-                if pa.overlaps(&rel.place_b_drifting(&nb[child as usize], grow, &drift)) {
-                    stack.push((ia, child));
-                }
-            }
+    });
+    Ok(stats)
+}
+
+/// Boxes of one walk's tree B placed in A's frame, by node (valid where
+/// `stamp` holds the walk's `generation`): kept per thread so that a walk
+/// neither allocates nor clears them.
+#[derive(Default)]
+struct PlacedBoxes {
+    boxes: Vec<Placed>,
+    stamp: Vec<u32>,
+    generation: u32,
+}
+
+impl PlacedBoxes {
+    /// Starts a walk of a tree of `nodes` nodes: nothing placed yet.
+    fn begin(&mut self, nodes: usize) {
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            // Wrapped: old stamps could read as current.
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+        if self.stamp.len() < nodes {
+            self.stamp.resize(nodes, 0);
+            self.boxes.resize(nodes, Placed::EMPTY);
         }
     }
-    Ok(stats)
+
+    /// Node `i`'s box, placed by `place` the first time it is asked for.
+    #[inline]
+    fn get(&mut self, i: u32, place: impl FnOnce() -> Placed) -> Placed {
+        let i = i as usize;
+        if self.stamp[i] != self.generation {
+            self.boxes[i] = place();
+            self.stamp[i] = self.generation;
+        }
+        self.boxes[i]
+    }
+}
+
+thread_local! {
+    static PLACED_B: std::cell::RefCell<PlacedBoxes> = std::cell::RefCell::new(PlacedBoxes::default());
 }
 
 /// Result of a [`distance`] traversal.
@@ -693,6 +752,55 @@ pub(crate) mod tests {
             checked > 100,
             "only {checked} close pairs: the cases test nothing"
         );
+    }
+
+    #[test]
+    fn a_walk_inside_another_walks_callback_reports_what_it_reports_alone() {
+        // Each walk keeps its placed boxes of B per thread; a callback that
+        // walks other trees meanwhile must neither see nor spoil them.
+        let (_, _, ta, tb) = sphere_and_ring();
+        let (_, _, tc, td) = {
+            let mc = torus_mesh(1.0, 0.35, 16, 10).unwrap();
+            let md = icosphere_mesh(0.6, 2).unwrap();
+            let (tc, td) = (ObbTree::build(&mc).unwrap(), ObbTree::build(&md).unwrap());
+            (mc, md, tc, td)
+        };
+        let mut r = rng(41);
+        let drift = Drift {
+            origin: DVec3::ZERO,
+            translation: DVec3::new(0.1, -0.05, 0.2),
+            rotation: DVec3::new(0.0, 0.2, 0.1),
+        };
+        let mut nested_walks = 0;
+        for _ in 0..10 {
+            let (pa, pb) = (random_pose(&mut r, 0.2), random_pose(&mut r, 1.0));
+            let (pc, pd) = (random_pose(&mut r, 0.2), random_pose(&mut r, 1.0));
+            let leaves = |t1, p1, t2, p2| {
+                let mut out = Vec::new();
+                collide_leaves(t1, p1, t2, p2, 0.05, &drift, |x, y| {
+                    out.push((x, y));
+                    Traverse::Continue
+                })
+                .unwrap();
+                out
+            };
+            let (outer_alone, inner_alone) = (leaves(&ta, &pa, &tb, &pb), leaves(&tc, &pc, &td, &pd));
+            let mut outer = Vec::new();
+            collide_leaves(&ta, &pa, &tb, &pb, 0.05, &drift, |x, y| {
+                outer.push((x, y));
+                // (A few per walk: the inner walk is the costly part.)
+                if outer.len() <= 4 {
+                    assert_eq!(leaves(&tc, &pc, &td, &pd), inner_alone);
+                    nested_walks += 1;
+                }
+                Traverse::Continue
+            })
+            .unwrap();
+            assert_eq!(outer, outer_alone);
+            // And the cache is whole again for the next walk.
+            assert_eq!(leaves(&ta, &pa, &tb, &pb), outer_alone);
+        }
+        assert!(nested_walks > 10, "the walks met too rarely: {nested_walks}");
     }
 
     #[test]

@@ -16,10 +16,12 @@
 //! impulse and the two bodies' speeds; with `TRACE_PAIR` set, after every
 //! step whose deepest contact is over 1 cm, that pair's contacts then and at
 //! the step before (a pair with none before met features its speculative
-//! contacts never saw) and the two bodies' velocities; with `TRACE_JOINTS=N`, every N steps the
+//! contacts never saw) and the two bodies' velocities; with `TRACE_MOVING` set, the
+//! six fastest bodies at the end (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
 //! largest joint error and which joint has it).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
+use tumble_collide::DVec3;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -274,6 +276,36 @@ fn main() {
         world.settings().substeps,
         world.settings().iterations
     );
+    if std::env::var("TRACE_MOVING").is_ok() {
+        let mut v: Vec<(f64, String, DVec3, DVec3, DVec3)> = world
+            .body_ids()
+            .into_iter()
+            .map(|id| {
+                let (lv, av) = (
+                    world.linear_velocity(id).unwrap(),
+                    world.angular_velocity(id).unwrap(),
+                );
+                // Ranked by the speed of a point 0.1 m from the centre.
+                let at = world.center_of_mass(id).unwrap();
+                (
+                    lv.length() + av.length() * 0.1,
+                    world.name(id).unwrap_or("?").to_string(),
+                    lv,
+                    av,
+                    at,
+                )
+            })
+            .collect();
+        v.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, name, v, w, at) in v.iter().take(6) {
+            eprintln!(
+                "moving {name} at {:.3?}: v {:.4?} m/s, w {:.4?} rad/s",
+                at.to_array(),
+                v.to_array(),
+                w.to_array()
+            );
+        }
+    }
     println!(
         "  last third of the steps: {:.3} ms/step; kinetic energy at the end {:.3e} J",
         late / (steps / 3).max(1) as f64 * 1e3,

@@ -275,11 +275,9 @@ pub fn collide_leaves(
     // B's boxes placed in A's frame, each once per walk (a box of B meets
     // many of A's as the walk descends A under it): the same bits as placing
     // it at every meeting. A callback that walks again on this thread finds
-    // the cache taken and places its boxes afresh.
-    PLACED_B.with(|cell| {
-        let mut taken = cell.try_borrow_mut().ok();
-        let mut fresh = PlacedBoxes::default();
-        let placed = taken.as_deref_mut().unwrap_or(&mut fresh);
+    // the cache taken and places its boxes afresh (so does a walk while the
+    // thread's storage is being torn down).
+    let mut walk = |placed: &mut PlacedBoxes| {
         placed.begin(nb.len());
         let mut place_b = |i: u32| placed.get(i, || rel.place_b_drifting(&nb[i as usize], grow, &drift));
         let mut stack = SmallStack::<(u32, u32)>::new();
@@ -317,7 +315,11 @@ pub fn collide_leaves(
                 }
             }
         }
-    });
+    };
+    let cached = PLACED_B.try_with(|cell| cell.try_borrow_mut().map(|mut placed| walk(&mut placed)).is_ok());
+    if cached != Ok(true) {
+        walk(&mut PlacedBoxes::default());
+    }
     Ok(stats)
 }
 

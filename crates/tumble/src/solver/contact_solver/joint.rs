@@ -484,9 +484,6 @@ impl JointConstraint {
     }
 }
 
-/// The rows of a joint with law `law` at `pose`, Jacobians and errors,
-/// written into their slots of `rows` (each keeps its impulses); returns
-/// the slots in use (bit by slot) and the number of equality rows.
 /// The position errors of a joint's equality rows (slots `0..n_eq`, in
 /// [`rows_for`]'s order) at `pose`, without the rows: what each relax pass
 /// re-aims them by (`JointConstraint::aim_equality_rows`), which needs no
@@ -539,6 +536,9 @@ fn equality_errors(law: &JointLaw, pose: &JointPose) -> [f64; 6] {
     c
 }
 
+/// The rows of a joint with law `law` at `pose`, Jacobians and errors,
+/// written into their slots of `rows` (each keeps its impulses); returns
+/// the slots in use (bit by slot) and the number of equality rows.
 fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS]) -> (u16, usize) {
     let mut set = RowSet {
         rows,

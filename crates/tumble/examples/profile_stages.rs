@@ -173,29 +173,25 @@ fn main() {
                         "step {step}: deep pair {a:?} {b:?} depth {:.4}; its contacts now:",
                         depth(c)
                     );
-                    for k in world.contacts().iter().filter(|k| (k.body_a, k.body_b) == (a, b)) {
+                    let show = |when: &str, k: &tumble::world::WorldContact| {
                         eprintln!(
-                            "   now  d {:+.4} n {:.3?} p {:.3?} imp {:.4} kind {:?}",
+                            "   {when} d {:+.4} n {:.3?} p {:.3?} imp {:.4} kind {:?}",
                             k.contact.distance,
                             k.contact.normal.to_array(),
                             k.contact.point.to_array(),
                             k.normal_impulse,
                             k.contact.kind
-                        );
-                    }
-                    for k in prev
+                        )
+                    };
+                    let of_pair = |k: &&tumble::world::WorldContact| {
+                        (k.body_a, k.body_b) == (a, b) || (k.body_a, k.body_b) == (b, a)
+                    };
+                    world
+                        .contacts()
                         .iter()
-                        .filter(|k| (k.body_a, k.body_b) == (a, b) || (k.body_a, k.body_b) == (b, a))
-                    {
-                        eprintln!(
-                            "   prev d {:+.4} n {:.3?} p {:.3?} imp {:.4} kind {:?}",
-                            k.contact.distance,
-                            k.contact.normal.to_array(),
-                            k.contact.point.to_array(),
-                            k.normal_impulse,
-                            k.contact.kind
-                        );
-                    }
+                        .filter(of_pair)
+                        .for_each(|k| show("now ", k));
+                    prev.iter().filter(of_pair).for_each(|k| show("prev", k));
                     eprintln!(
                         "   v {:.3?} {:.3?} w {:.3?} {:.3?}",
                         world.linear_velocity(a).unwrap().to_array(),

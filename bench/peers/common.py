@@ -128,6 +128,16 @@ def decomposed(scene):
     return scene, pieces
 
 
+def pieces_note(scene, unit):
+    """What a decomposed scene's bodies are made of (its `collision` setting), `unit` naming an
+    engine's pieces: CoACD's threshold and the fewest and most pieces of a body."""
+    counts = [len(b["shapes"]) for b in scene["bodies"]]
+    return (
+        f"CoACD convex pieces (threshold {COACD_THRESHOLD}), the bin's too: "
+        f"{min(counts)}-{max(counts)} {unit} per body"
+    )
+
+
 def concave_pile_figures(scene, ends, at_five, motions):
     """The concave pile's figures besides time and depth: bodies escaped from the bin (centre
     outside its inside or below its floor), kinetic energy 5 s in (`at_five`, J) and at the end

@@ -278,11 +278,7 @@ def run(scene, steps, variant, substeps=1):
         figures["contact_points"] = int(d.ncon)
         figures["simulation_unstable_at_s"] = blew_up_at
         figures["capability"] = "no concave mesh collision: needs a convex decomposition"
-        extra["collision"] = (
-            f"CoACD convex pieces (threshold {C.COACD_THRESHOLD}), the bin's too: "
-            f"{min(len(b['shapes']) for b in scene['bodies'])}-"
-            f"{max(len(b['shapes']) for b in scene['bodies'])} hull geoms per body"
-        )
+        extra["collision"] = C.pieces_note(scene, "hull geoms")
     elif chain:
         decomposed = variant == "chain-decomposed"
         figures.update(

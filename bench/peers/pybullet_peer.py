@@ -399,11 +399,7 @@ def run(scene, steps, variant, iterations=None):
         figures.update(C.concave_pile_figures(scene, ends, at_five, motions()))
         figures["contact_points"] = len(p.getContactPoints())
         figures["capability"] = "no dynamic concave-concave collision: needs a convex decomposition"
-        extra["collision"] = (
-            f"CoACD convex pieces (threshold {C.COACD_THRESHOLD}), the bin's too: a compound of "
-            f"{min(len(b['shapes']) for b in scene['bodies'])}-"
-            f"{max(len(b['shapes']) for b in scene['bodies'])} hulls per body"
-        )
+        extra["collision"] = C.pieces_note(scene, "hulls (one compound)")
     elif chain:
         decomposed = variant == "chain-decomposed"
         all_ends = centres(ids)

@@ -1,7 +1,7 @@
 //! Prints the mean time per step and per stage of a standard scene:
 //! `cargo run --release -p tumble --example profile_stages -- pyramid 300 [threads [substeps iterations [push_out_iterations]]]`
 //! (scenes: pyramid, large_pyramid, pile100, pile1000, pile10000, chain, heavy_chain,
-//! ragdoll_pile, concave_pile[N]); also
+//! ragdoll_pile, concave_pile[N], tower[N]: a column of N unit cubes); also
 //! prints how far the last body moved, the deepest penetration seen and, with
 //! joints, the largest joint error after any step
 //! (with `TRACE_DEPTH=N` in the environment, also the deepest of every N steps;
@@ -18,7 +18,13 @@
 //! the step before (a pair with none before met features its speculative
 //! contacts never saw) and the two bodies' velocities; with `TRACE_MOVING` set, the
 //! six fastest bodies at the end (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
-//! largest joint error and which joint has it).
+//! largest joint error and which joint has it; with `TRACE_SINK=N`, every N
+//! steps how far a pyramid's layers sank and its flanks moved in; with
+//! `TRACE_TOWER=N`, every N steps a tower's interface loads against the
+//! weight they carry and its boxes' vertical speeds; with
+//! `EARLY_ITERATIONS=steps:iterations`, that many iterations for the first
+//! steps only; with `PUSH_FRACTION=f` or `PUSH_SPEED=v`, the push-out's
+//! fraction or speed limit).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 use tumble_collide::DVec3;
@@ -27,6 +33,14 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let name = args.get(1).map(String::as_str).unwrap_or("pyramid");
     let steps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(300);
+    let trace_sink: usize = std::env::var("TRACE_SINK")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    let trace_tower: usize = std::env::var("TRACE_TOWER")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
     let mut scene = match name {
         "pyramid" => scenes::pyramid(),
         "pile100" => scenes::pile(1),
@@ -40,6 +54,7 @@ fn main() {
         other if other.starts_with("concave_pile") => {
             scenes::concave_pile(other[12..].parse().expect("concave_pileN"))
         }
+        other if other.starts_with("tower") => scenes::tower(other[5..].parse().expect("towerN")),
         other if other.starts_with("pyramid") => {
             scenes::pyramid_of_base(other[7..].parse().expect("pyramidN"))
         }
@@ -144,7 +159,32 @@ fn main() {
     let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
     let mut prev: Vec<tumble::world::WorldContact> = Vec::new();
+    // EARLY_ITERATIONS=steps:iterations: that many solver iterations for the
+    // first steps (what a cold start, without warm-start impulses, needs).
+    let early: Option<(usize, u32)> = std::env::var("EARLY_ITERATIONS").ok().and_then(|v| {
+        v.split_once(':')
+            .map(|(a, b)| (a.parse().unwrap(), b.parse().unwrap()))
+    });
+    // PUSH_FRACTION / PUSH_SPEED: the push-out's fraction and speed limit.
+    {
+        let mut s = world.settings().clone();
+        if let Some(f) = std::env::var("PUSH_FRACTION").ok().and_then(|v| v.parse().ok()) {
+            s.push_out_fraction = f;
+        }
+        if let Some(v) = std::env::var("PUSH_SPEED").ok().and_then(|v| v.parse().ok()) {
+            s.max_push_out_speed = v;
+        }
+        world.set_settings(s).unwrap();
+    }
+    let usual = world.settings().clone();
     for step in 0..steps {
+        if let Some((until, iterations)) = early {
+            let mut s = usual.clone();
+            if step < until {
+                s.iterations = iterations;
+            }
+            world.set_settings(s).unwrap();
+        }
         let r = world.step();
         let now = world.kinetic_energy() + world.potential_energy();
         if now - energy > largest_gain {
@@ -224,6 +264,12 @@ fn main() {
                     speed(c.body_b)
                 );
             }
+        }
+        if trace_sink > 0 && (step + 1) % trace_sink == 0 {
+            trace_sink_line(&world, step + 1, r.warm_started);
+        }
+        if trace_tower > 0 && (step + 1) % trace_tower == 0 {
+            trace_tower_line(&world, step + 1);
         }
         let (linear, angular) = world.max_joint_error();
         joint_error = (joint_error.0.max(linear), joint_error.1.max(angular));
@@ -344,4 +390,72 @@ fn main() {
     for p in SolveStage::ALL {
         println!("    {:<20} {:.3} ms", p.name(), ms(parts[p as usize]));
     }
+}
+
+/// `TRACE_SINK`: for every tenth layer of a pyramid (bodies named
+/// `box_{layer}_{k}`), how far its middle and end boxes sank below where they
+/// began (mm), how far its end box moved towards the middle (mm) and its tilt
+/// about y (mrad); and how many contact points were warm-started.
+fn trace_sink_line(world: &tumble::world::World, step: usize, warm_started: usize) {
+    let mut layers: std::collections::BTreeMap<usize, Vec<(usize, DVec3, f64)>> = Default::default();
+    for id in world.body_ids() {
+        let name = world.name(id).unwrap_or("");
+        let Some((layer, k)) = name.strip_prefix("box_").and_then(|r| r.split_once('_')) else {
+            continue;
+        };
+        let (Ok(layer), Ok(k)) = (layer.parse::<usize>(), k.parse::<usize>()) else {
+            continue;
+        };
+        let x = world.center_of_mass(id).unwrap();
+        let tilt = world.orientation(id).unwrap().to_scaled_axis().y;
+        layers.entry(layer).or_default().push((k, x, tilt));
+    }
+    let line: Vec<String> = layers
+        .iter()
+        .filter(|(l, _)| *l % 10 == 0)
+        .map(|(&l, boxes)| {
+            let n = boxes.len();
+            let at = |k: usize| boxes.iter().find(|b| b.0 == k).copied().unwrap();
+            let (mid, end) = (at(n / 2), at(n - 1));
+            let sink = |x: DVec3| (0.5 + l as f64 - x.z) * 1e3;
+            let end_x0 = (n as f64 - 1.0) / 2.0 * 1.05;
+            format!(
+                "{l}: {:.1}/{:.1}/{:+.1} tilt {:+.1}",
+                sink(mid.1),
+                sink(end.1),
+                (end_x0 - end.1.x) * 1e3,
+                end.2 * 1e3
+            )
+        })
+        .collect();
+    eprintln!(
+        "step {step}: {warm_started} of {} points warm-started; sink mid/end/inwards (mm), end tilt about y (mrad) {}",
+        world.contacts().len(),
+        line.join("  ")
+    );
+}
+
+/// `TRACE_TOWER`: for a tower of boxes (ground first, then the boxes from
+/// the bottom), each of five interfaces' normal impulse over the step
+/// against the weight above it times dt, and the vertical speed of the box
+/// resting on it.
+fn trace_tower_line(world: &tumble::world::World, step: usize) {
+    let ids = world.body_ids();
+    let n = ids.len() - 1;
+    let dt = world.settings().dt;
+    let gravity = world.settings().gravity.length();
+    let mut line = String::new();
+    for k in [0, n / 4, n / 2, 3 * n / 4, n - 1] {
+        let (lower, upper) = (ids[k], ids[k + 1]);
+        let load: f64 = world
+            .contacts()
+            .iter()
+            .filter(|c| (c.body_a, c.body_b) == (lower, upper) || (c.body_a, c.body_b) == (upper, lower))
+            .map(|c| c.normal_impulse)
+            .sum();
+        let weight = (n - k) as f64 * gravity * dt;
+        let vz = world.linear_velocity(upper).unwrap().z;
+        line += &format!("  {k}: {:.3} vz {:+.4}", load / weight, vz);
+    }
+    eprintln!("step {step}: load / weight above and speed at interfaces{line}");
 }

@@ -156,6 +156,12 @@ impl V3 {
         }
     }
 
+    /// Lanewise `self == other` (`DVec3`'s `==`: every component equal) as a mask.
+    #[inline(always)]
+    pub fn eq_mask(&self, other: &V3) -> Lane {
+        eq(self.x, other.x) & eq(self.y, other.y) & eq(self.z, other.z)
+    }
+
     /// Lanewise `if mask { yes } else { no }`.
     #[inline(always)]
     pub fn select(mask: Lane, yes: V3, no: V3) -> V3 {

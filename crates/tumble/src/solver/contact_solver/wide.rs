@@ -1074,7 +1074,9 @@ fn swept_block<const N: usize>(
     d
 }
 
-/// `passes::push_patch` on four patches; whether any lane pushed.
+/// `passes::push_patch` on four patches (its `push_block`, lane by lane:
+/// directly where every point takes part, else point after point);
+/// whether any lane pushed.
 ///
 /// # Safety
 /// The lanes' dynamic bodies are this thread's alone meanwhile.
@@ -1085,48 +1087,80 @@ pub(super) unsafe fn push<const N: usize>(
     inv_h: f64,
 ) -> bool {
     let allowed = Lane::splat(params.allowed_penetration);
+    // `passes::push_target`: a real point takes part where it overlaps
+    // beyond the allowance or has pushed in this sub-step.
+    let mut taking_part = [Lane::ZERO; N];
     let mut pushing = Lane::ZERO;
-    for p in &w.points {
+    for (t, p) in taking_part.iter_mut().zip(&w.points) {
         let excess = p.separation_now + allowed;
-        pushing |= p.real & !(le(Lane::ZERO, excess) & eq(p.push_impulse, Lane::ZERO));
+        *t = p.real & !(le(Lane::ZERO, excess) & eq(p.push_impulse, Lane::ZERO));
+        pushing |= *t;
     }
     if !pushing.any() {
         return false;
     }
     // SAFETY: the caller's promise.
     let (a, b) = unsafe { lane_bodies(bodies, w) };
-    let mut pav = V3::from_lanes(a.map(|b| b.push_v));
-    let mut paw = V3::from_lanes(a.map(|b| b.push_w));
-    let mut pbv = V3::from_lanes(b.map(|b| b.push_v));
-    let mut pbw = V3::from_lanes(b.map(|b| b.push_w));
+    let mut vel = PairLanes {
+        va: V3::from_lanes(a.map(|b| b.push_v)),
+        wa: V3::from_lanes(a.map(|b| b.push_w)),
+        vb: V3::from_lanes(b.map(|b| b.push_v)),
+        wb: V3::from_lanes(b.map(|b| b.push_w)),
+    };
     let (fraction, max_speed, inv_h) = (
         Lane::splat(-params.push_out_fraction),
         Lane::splat(params.max_push_out_speed),
         Lane::splat(inv_h),
     );
-    for p in w.points.iter_mut() {
+    let target = |p: &WidePoint| {
         let excess = p.separation_now + allowed;
-        let act = p.real & !(le(Lane::ZERO, excess) & eq(p.push_impulse, Lane::ZERO));
-        if !act.any() {
-            continue;
-        }
-        let target = select(
+        select(
             lt(excess, Lane::ZERO),
             (fraction * excess * inv_h).min(max_speed),
             Lane::ZERO,
+        )
+    };
+    let mut b = [Lane::ZERO; N];
+    let mut lambda = [Lane::ZERO; N];
+    // Lanes where every real point takes part (and lanes without a patch,
+    // whose padding takes none: all their rows are zero).
+    let mut all = lanes::mask([true; LANES]);
+    for (i, p) in w.points.iter().enumerate() {
+        lambda[i] = p.push_impulse;
+        b[i] = select(
+            taking_part[i],
+            vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) - target(p),
+            Lane::ZERO,
         );
-        let vn = p.normal.dot(pav - pbv) + p.row.ra_x_d.dot(paw) - p.row.rb_x_d.dot(pbw);
-        let new_impulse = (p.push_impulse + p.normal_mass * (target - vn)).max(Lane::ZERO);
-        let applied = select(act, new_impulse - p.push_impulse, Lane::ZERO);
-        p.push_impulse = select(act, new_impulse, p.push_impulse);
-        pav += p.normal.scale(applied * w.inv_mass[0]);
-        paw += p.row.ia_ra_x_d.scale(applied);
-        pbv -= p.normal.scale(applied * w.inv_mass[1]);
-        pbw -= p.row.ib_rb_x_d.scale(applied);
+        all &= (taking_part[i] & p.normal.eq_mask(&w.points[0].normal)) | !p.real;
+    }
+    let (direct, ok) = direct_block(w, &b, &lambda);
+    let ok = ok & all & pushing;
+    if ok.any() {
+        let mut solved = vel;
+        for (i, p) in w.points.iter_mut().enumerate() {
+            p.push_impulse = select(ok, lambda[i] + direct[i], p.push_impulse);
+            solved.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, w.inv_mass, direct[i]);
+        }
+        vel = PairLanes::select(ok, &solved, &vel);
+    }
+    // The other lanes point after another (`passes::push_points`).
+    if !ok.all() {
+        for (i, p) in w.points.iter_mut().enumerate() {
+            let act = taking_part[i] & !ok;
+            if !act.any() {
+                continue;
+            }
+            let vn = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d);
+            let new_impulse = (p.push_impulse + p.normal_mass * (target(p) - vn)).max(Lane::ZERO);
+            let applied = select(act, new_impulse - p.push_impulse, Lane::ZERO);
+            p.push_impulse = select(act, new_impulse, p.push_impulse);
+            vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, w.inv_mass, applied);
+        }
     }
     // SAFETY: the caller's promise.
     unsafe {
-        scatter(bodies, w, [pav, paw, pbv, pbw], |body, v, omega| {
+        scatter(bodies, w, [vel.va, vel.wa, vel.vb, vel.wb], |body, v, omega| {
             body.push_v = v;
             body.push_w = omega;
         })
@@ -1569,6 +1603,20 @@ mod tests {
         let lifted = points.iter().filter(|p| p.normal_impulse == 0.0).count();
         assert!(lifted > 10 && lifted < points.len() - 10);
         assert!(points.iter().any(|p| p.push_impulse > 0.0));
+        // Flat push-out blocks where every point takes part (the direct
+        // solve) and blocks where some do not (point after point).
+        let allowed = params().allowed_penetration;
+        let takes_part = |p: &PointConstraint| p.push_impulse != 0.0 || p.separation_now + allowed < 0.0;
+        let (mut whole, mut mixed) = (0, 0);
+        for m in &manifolds {
+            let pts = &points[m.range()];
+            if pts.iter().all(|p| takes_part(p) && p.normal == pts[0].normal) {
+                whole += 1;
+            } else if pts.iter().any(takes_part) {
+                mixed += 1;
+            }
+        }
+        assert!(whole > 10 && mixed > 10, "{whole} whole, {mixed} mixed");
         let rebuilt = manifolds.iter().zip(&before).filter(|(m, b)| m.block != b.block);
         assert!(rebuilt.count() > 10);
     }

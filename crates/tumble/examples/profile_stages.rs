@@ -193,9 +193,10 @@ fn main() {
         gaining_steps += usize::from(now - energy > 1e-3);
         if trace_energy {
             eprintln!(
-                "step {step}: energy change {:+.4e} J, deepest {:.4} m",
+                "step {step}: energy change {:+.4e} J, deepest {:.4} m, solver residual {:.2e} m/s",
                 now - energy,
-                r.max_penetration
+                r.max_penetration,
+                r.solver_residual
             );
         }
         energy = now;

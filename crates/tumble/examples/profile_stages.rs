@@ -24,7 +24,8 @@
 //! weight they carry and its boxes' vertical speeds; with
 //! `EARLY_ITERATIONS=steps:iterations`, that many iterations for the first
 //! steps only; with `PUSH_FRACTION=f` or `PUSH_SPEED=v`, the push-out's
-//! fraction or speed limit).
+//! fraction or speed limit; with `TRACE_BODY=name`, after every step that
+//! body's motion and the contacts on it).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 use tumble_collide::DVec3;
@@ -37,6 +38,7 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(0);
+    let trace_body: Option<String> = std::env::var("TRACE_BODY").ok();
     let trace_tower: usize = std::env::var("TRACE_TOWER")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -269,6 +271,9 @@ fn main() {
         if trace_sink > 0 && (step + 1) % trace_sink == 0 {
             trace_sink_line(&world, step + 1, r.warm_started);
         }
+        if let Some(name) = &trace_body {
+            trace_body_line(&world, step + 1, name);
+        }
         if trace_tower > 0 && (step + 1) % trace_tower == 0 {
             trace_tower_line(&world, step + 1);
         }
@@ -459,4 +464,48 @@ fn trace_tower_line(world: &tumble::world::World, step: usize) {
         line += &format!("  {k}: {:.3} vz {:+.4}", load / weight, vz);
     }
     eprintln!("step {step}: load / weight above and speed at interfaces{line}");
+}
+
+/// `TRACE_BODY=name`: after every step, that body's position, velocity and
+/// turn, and each contact point on it: the other body, the point's height
+/// and gap, its normal and the friction it carries against its normal
+/// impulse (what slides: `|t| / n` at the friction coefficient).
+fn trace_body_line(world: &tumble::world::World, step: usize, name: &str) {
+    let Some(id) = world
+        .body_ids()
+        .into_iter()
+        .find(|&id| world.name(id) == Ok(name))
+    else {
+        return;
+    };
+    let (x, v) = (
+        world.center_of_mass(id).unwrap(),
+        world.linear_velocity(id).unwrap(),
+    );
+    let turn = world.orientation(id).unwrap().to_scaled_axis();
+    eprintln!(
+        "step {step}: {name} at {:.4?} v {:.4?} m/s turned {:.2?} mrad",
+        x.to_array(),
+        v.to_array(),
+        (turn * 1e3).to_array()
+    );
+    for c in world
+        .contacts()
+        .iter()
+        .filter(|c| c.body_a == id || c.body_b == id)
+    {
+        let other = if c.body_a == id { c.body_b } else { c.body_a };
+        let n = c.normal_impulse;
+        let t = c.tangent_impulse.length();
+        eprintln!(
+            "    with {} at z {:.3} x {:.3}: gap {:+.2} mm, normal {:.3?}, n {:.4} N s, |t| / n {:.3}",
+            world.name(other).unwrap_or("?"),
+            c.contact.point.z,
+            c.contact.point.x,
+            c.contact.distance * 1e3,
+            c.contact.normal.to_array(),
+            n,
+            if n > 0.0 { t / n } else { 0.0 }
+        );
+    }
 }

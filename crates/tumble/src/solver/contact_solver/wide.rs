@@ -1075,8 +1075,8 @@ fn swept_block<const N: usize>(
 }
 
 /// `passes::push_patch` on four patches (its `push_block`, lane by lane:
-/// directly where every point takes part, else point after point);
-/// whether any lane pushed.
+/// directly where the patch is flat and every point takes part, else point
+/// after point); whether any lane pushed.
 ///
 /// # Safety
 /// The lanes' dynamic bodies are this thread's alone meanwhile.

@@ -1,6 +1,7 @@
 //! Unit tests of the contact solver against closed-form answers: the thesis'
 //! impulse, momentum conservation, Newton's cradle, speculative gaps, the
-//! Coulomb limit, patch friction and free rotation.
+//! Coulomb limit, patch friction, free rotation and a face pushed out of
+//! overlap without turning.
 
 use super::*;
 use tumble_collide::{DMat3, DQuat, DVec3};
@@ -378,4 +379,47 @@ fn free_rotation_conserves_angular_momentum() {
     assert!((l1 - l0).length() < 1e-12 * l0.length().max(1.0));
     let turn = DMat3::from_quat(bodies[0].q * q0[0].conjugate());
     assert!((bodies[0].turn.x_axis - turn.x_axis).length() < 1e-15);
+}
+
+#[test]
+fn push_out_lifts_a_sunken_box_face_without_turning_it() {
+    // A box sunk 2 mm into static ground along its whole face: one push-out
+    // pass must lift it at `push_out_fraction` of the overlap per sub-step
+    // and not turn it. Pushed corner after corner, the first corner took the
+    // push the four should share and the box turned (columns of boxes
+    // leaned over from that); the face's four rows are solved as one block.
+    let h = 1.0 / 480.0;
+    let depth = 0.002;
+    let mut bodies = vec![body(1.0, DVec3::ZERO), body(0.0, DVec3::ZERO)];
+    let mut c = Contacts::default();
+    let sunk: Vec<_> = square(-0.5)
+        .into_iter()
+        .map(|(ra, rb, _)| (ra, rb, -depth))
+        .collect();
+    c.patch(0, 1, DVec3::Z, &sunk, 0.5, 0.0);
+    c.prepare(&bodies);
+    begin_substep(&mut c.manifolds, &mut c.points, &mut bodies, false);
+    assert!(push_out(&c.manifolds, &mut c.points, &mut bodies, &params(), h));
+    let lift = params().push_out_fraction * depth / h;
+    assert!(
+        (bodies[0].push_v - DVec3::Z * lift).length() < 1e-12 * lift,
+        "{:?}",
+        bodies[0].push_v
+    );
+    assert!(
+        bodies[0].push_w.length() < 1e-12,
+        "turned: {:?}",
+        bodies[0].push_w
+    );
+    // The corners' pushes sum to the lift of a unit mass and have no torque
+    // about the centre (how the four share it is not unique: the rows of
+    // four coplanar points are dependent).
+    let total: f64 = c.points.iter().map(|p| p.push_impulse).sum();
+    assert!((total - lift).abs() < 1e-12 * lift, "{total}");
+    let torque: DVec3 = c
+        .points
+        .iter()
+        .map(|p| p.r_a.cross(DVec3::Z * p.push_impulse))
+        .sum();
+    assert!(torque.length() < 1e-12 * lift, "{torque:?}");
 }

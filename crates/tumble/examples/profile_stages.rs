@@ -165,7 +165,7 @@ fn main() {
     // first steps (what a cold start, without warm-start impulses, needs).
     let early: Option<(usize, u32)> = std::env::var("EARLY_ITERATIONS").ok().and_then(|v| {
         v.split_once(':')
-            .map(|(a, b)| (a.parse().unwrap(), b.parse().unwrap()))
+            .and_then(|(a, b)| Some((a.parse().ok()?, b.parse().ok()?)))
     });
     // PUSH_FRACTION / PUSH_SPEED: the push-out's fraction and speed limit.
     {

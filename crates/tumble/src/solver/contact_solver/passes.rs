@@ -700,7 +700,10 @@ pub(super) unsafe fn push_patch(
         vb: b.push_v,
         wb: b.push_w,
     };
-    let any = if m.point_count as usize <= BLOCK_POINTS {
+    // A flat patch: one normal for all its points (a polytope's face, edge
+    // or corner).
+    let flat = pts.iter().all(|p| p.normal == pts[0].normal);
+    let any = if m.point_count as usize <= BLOCK_POINTS && flat {
         push_block(m, pts, &mut vel, params, inv_h)
     } else {
         push_points(m, pts, &mut vel, params, inv_h)
@@ -762,10 +765,11 @@ fn push_target(p: &PointConstraint, params: &SolverParams, inv_h: f64) -> Option
 }
 
 /// The push-out rows of a flat patch (one normal for all its points: a
-/// polytope's face, edge or corner) solved together, directly, as
-/// [`direct_block`] solves the velocity rows, when every point takes part
-/// and the answer pushes at none of them with a negative impulse; otherwise
-/// point after point ([`push_points`]). `true` if any point took part.
+/// polytope's face, edge or corner) of at most [`BLOCK_POINTS`] points
+/// solved together, directly, as [`direct_block`] solves the velocity rows,
+/// when every point takes part and the answer pushes at none of them with a
+/// negative impulse; otherwise point after point ([`push_points`]). `true`
+/// if any point took part.
 ///
 /// Why: pushed one point after another, the first point of a face takes
 /// the push the others should share, and the box turns a little about the
@@ -775,7 +779,7 @@ fn push_target(p: &PointConstraint, params: &SolverParams, inv_h: f64) -> Option
 /// their own normal and lie close together: solved together, their nearly
 /// dependent rows pushed two overlapping tori apart askew (1.7 mm across
 /// in 0.6 m) and let the torus chain's links sink 2.4 mm (0.7 mm point
-/// after point), so they stay point after point.
+/// after point), so [`push_patch`] keeps them point after point.
 #[inline(always)]
 fn push_block(
     m: &ManifoldConstraint,
@@ -786,27 +790,15 @@ fn push_block(
 ) -> bool {
     let mut b = [0.0; BLOCK_POINTS];
     let mut lambda = [0.0; BLOCK_POINTS];
-    let (mut any, mut all) = (false, true);
     for (i, p) in pts.iter().enumerate() {
+        let Some(target) = push_target(p, params, inv_h) else {
+            return push_points(m, pts, vel, params, inv_h);
+        };
+        b[i] = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) - target;
         lambda[i] = p.push_impulse;
-        match push_target(p, params, inv_h) {
-            Some(target) => {
-                any = true;
-                b[i] = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) - target;
-            }
-            None => all = false,
-        }
-        all &= p.normal == pts[0].normal;
     }
-    if !any {
-        return false;
-    }
-    let Some(d) = all
-        .then(|| direct_block(&m.block, &m.block_inverse, &b, &lambda))
-        .flatten()
-    else {
-        push_points(m, pts, vel, params, inv_h);
-        return true;
+    let Some(d) = direct_block(&m.block, &m.block_inverse, &b, &lambda) else {
+        return push_points(m, pts, vel, params, inv_h);
     };
     for (i, p) in pts.iter_mut().enumerate() {
         p.push_impulse = lambda[i] + d[i];

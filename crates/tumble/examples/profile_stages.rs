@@ -13,8 +13,8 @@
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
-//! impulse and the two bodies' speeds; with `TRACE_PAIR` set, after every
-//! step whose deepest contact is over 1 cm, that pair's contacts then and at
+//! impulse and the two bodies' speeds; with `TRACE_PAIR=depth` (m; any other
+//! value: 1 cm), after every step whose deepest contact is over it, that pair's contacts then and at
 //! the step before (a pair with none before met features its speculative
 //! contacts never saw) and the two bodies' velocities; with `TRACE_MOVING` set, the
 //! six fastest bodies at the end (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
@@ -39,6 +39,10 @@ fn main() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(0);
     let trace_body: Option<String> = std::env::var("TRACE_BODY").ok();
+    // A depth (m) to trace beyond; 1 cm when the value is not a number.
+    let trace_pair: Option<f64> = std::env::var("TRACE_PAIR")
+        .ok()
+        .map(|v| v.parse().unwrap_or(0.01));
     let trace_tower: usize = std::env::var("TRACE_TOWER")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -203,14 +207,14 @@ fn main() {
         }
         energy = now;
         deepest = deepest.max(r.max_penetration);
-        if std::env::var("TRACE_PAIR").is_ok() {
+        if let Some(threshold) = trace_pair {
             let depth = |c: &tumble::world::WorldContact| c.contact.depth();
             if let Some(c) = world
                 .contacts()
                 .iter()
                 .max_by(|a, b| depth(a).total_cmp(&depth(b)))
             {
-                if depth(c) > 0.01 {
+                if depth(c) > threshold {
                     let (a, b) = (c.body_a, c.body_b);
                     eprintln!(
                         "step {step}: deep pair {a:?} {b:?} depth {:.4}; its contacts now:",

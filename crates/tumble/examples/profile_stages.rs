@@ -8,7 +8,8 @@
 //! with `JITTER=seed`, every moving body after the first starts up to 2 cm and 0.1 rad
 //! from its place, an independent sample of a chaotic scene for each seed;
 //! with `FRICTION=mu`, every body's friction set to `mu`; with
-//! `RESTING_MOTION=m`, `CONTACT_MARGIN=m` or `MESH_CONTACT_MARGIN=m`, that
+//! `RESTING_MOTION=m`, `CONTACT_MARGIN=m`, `MESH_CONTACT_MARGIN=m` or
+//! `ALLOWED_PENETRATION=m`, that
 //! `WorldSettings` field set to `m`; with `NO_CCD=1`,
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
@@ -20,6 +21,7 @@
 //! six fastest bodies at the end (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
 //! largest joint error and which joint has it; with `TRACE_SINK=N`, every N
 //! steps how far a pyramid's layers sank and its flanks moved in; with
+//! `TRACE_LEAN=N`, every N steps how far they leaned out of its plane; with
 //! `TRACE_TOWER=N`, every N steps a tower's interface loads against the
 //! weight they carry and its boxes' vertical speeds; with
 //! `EARLY_ITERATIONS=steps:iterations`, that many iterations for the first
@@ -39,6 +41,10 @@ fn main() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(0);
     let trace_body: Option<String> = std::env::var("TRACE_BODY").ok();
+    let trace_lean: usize = std::env::var("TRACE_LEAN")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
     // A depth (m) to trace beyond; 1 cm when the value is not a number.
     let trace_pair: Option<f64> = std::env::var("TRACE_PAIR")
         .ok()
@@ -119,6 +125,12 @@ fn main() {
         .and_then(|s| s.parse::<f64>().ok())
     {
         scene.settings.resting_motion = m;
+    }
+    if let Some(m) = std::env::var("ALLOWED_PENETRATION")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        scene.settings.allowed_penetration = m;
     }
     scene.settings.threads = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     if let Some(n) = args.get(4).and_then(|s| s.parse().ok()) {
@@ -275,6 +287,9 @@ fn main() {
         if trace_sink > 0 && (step + 1) % trace_sink == 0 {
             trace_sink_line(&world, step + 1, r.warm_started);
         }
+        if trace_lean > 0 && (step + 1) % trace_lean == 0 {
+            trace_lean_line(&world, step + 1);
+        }
         if let Some(name) = &trace_body {
             trace_body_line(&world, step + 1, name);
         }
@@ -402,6 +417,44 @@ fn main() {
     }
 }
 
+/// `TRACE_LEAN`: for every tenth layer of a pyramid (bodies named
+/// `box_{layer}_{k}`), how far its middle box has moved out of the
+/// pyramid's plane (y, mm) and its turn about the pyramid's long axis
+/// (x, mrad): a one-box-thick wall leaning over sideways.
+fn trace_lean_line(world: &tumble::world::World, step: usize) {
+    let mut layers: std::collections::BTreeMap<usize, Vec<(usize, tumble::world::BodyId)>> =
+        Default::default();
+    for id in world.body_ids() {
+        let Ok(name) = world.name(id) else { continue };
+        let mut parts = name.strip_prefix("box_").map(|rest| rest.split('_'));
+        let (Some(layer), Some(k)) = (
+            parts
+                .as_mut()
+                .and_then(|p| p.next())
+                .and_then(|x| x.parse::<usize>().ok()),
+            parts
+                .as_mut()
+                .and_then(|p| p.next())
+                .and_then(|x| x.parse::<usize>().ok()),
+        ) else {
+            continue;
+        };
+        layers.entry(layer).or_default().push((k, id));
+    }
+    let top = layers.keys().next_back().copied().unwrap_or(0);
+    let mut line = String::new();
+    for (&layer, boxes) in &layers {
+        if layer % 10 != 0 && layer != top {
+            continue;
+        }
+        let &(_, id) = &boxes[boxes.len() / 2];
+        let y = world.center_of_mass(id).unwrap().y;
+        let turn = world.orientation(id).unwrap().to_scaled_axis().x;
+        line += &format!("  {layer}: {:+.1} mm {:+.2} mrad", y * 1e3, turn * 1e3);
+    }
+    eprintln!("step {step}: out of plane (y) and turn about x of each tenth layer's middle box{line}");
+}
+
 /// `TRACE_SINK`: for every tenth layer of a pyramid (bodies named
 /// `box_{layer}_{k}`), how far its middle and end boxes sank below where they
 /// began (mm), how far its end box moved towards the middle (mm) and its tilt
@@ -465,7 +518,15 @@ fn trace_tower_line(world: &tumble::world::World, step: usize) {
             .sum();
         let weight = (n - k) as f64 * gravity * dt;
         let vz = world.linear_velocity(upper).unwrap().z;
-        line += &format!("  {k}: {:.3} vz {:+.4}", load / weight, vz);
+        // The gap between the two boxes' faces (mm; negative: overlap).
+        // Body 0 is the ground, whose top face is at z = 0.
+        let z = |id| world.center_of_mass(id).unwrap().z;
+        let gap = if k == 0 {
+            z(upper) - 0.5
+        } else {
+            z(upper) - z(lower) - 1.0
+        };
+        line += &format!("  {k}: {:.3} vz {:+.4} gap {:+.2}", load / weight, vz, gap * 1e3);
     }
     eprintln!("step {step}: load / weight above and speed at interfaces{line}");
 }

@@ -18,7 +18,7 @@
 
 use super::build::ObbTree;
 use super::node::Node;
-use super::sat::{obb_disjoint, obb_distance_lower_bound, RelFrame};
+use super::sat::{obb_disjoint_axes, obb_distance_lower_bound, RelFrame};
 use super::stack::SmallStack;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
@@ -86,8 +86,10 @@ impl Relative {
     /// Box `nb` of mesh B placed in mesh A's frame, grown by `grow` (m).
     #[inline]
     fn place_b(&self, nb: &Node, grow: f64) -> Placed {
+        let q = self.rot * nb.quat_f64();
         Placed {
-            q: self.rot * nb.quat_f64(),
+            q,
+            axes: DMat3::from_quat(q),
             c: self.rot * nb.center_f64() + self.trans,
             h: nb.half_f64().map(|h| h + grow),
         }
@@ -106,10 +108,9 @@ impl Relative {
         }
         let turn = drift.rotation.length() * DVec3::from(nb.half_f64()).length();
         let shift = drift.displacement(placed.c);
-        let axes = DMat3::from_quat(placed.q);
         placed.c += 0.5 * shift;
         for k in 0..3 {
-            placed.h[k] += 0.5 * axes.col(k).dot(shift).abs() + turn;
+            placed.h[k] += 0.5 * placed.axes.col(k).dot(shift).abs() + turn;
         }
         placed
     }
@@ -129,6 +130,8 @@ impl Relative {
 #[derive(Clone, Copy)]
 struct Placed {
     q: DQuat,
+    /// The box's axes (columns), from `q`.
+    axes: DMat3,
     c: DVec3,
     h: [f64; 3],
 }
@@ -137,6 +140,7 @@ impl Placed {
     /// A placeholder (an empty cache slot).
     const EMPTY: Placed = Placed {
         q: DQuat::IDENTITY,
+        axes: DMat3::IDENTITY,
         c: DVec3::ZERO,
         h: [0.0; 3],
     };
@@ -144,8 +148,10 @@ impl Placed {
     /// Box `na` of mesh A (already in A's frame), grown by `grow` (m).
     #[inline]
     fn a(na: &Node, grow: f64) -> Placed {
+        let q = na.quat_f64();
         Placed {
-            q: na.quat_f64(),
+            q,
+            axes: DMat3::from_quat(q),
             c: na.center_f64(),
             h: na.half_f64().map(|h| h + grow),
         }
@@ -160,7 +166,7 @@ impl Placed {
 
     #[inline]
     fn overlaps(&self, b: &Placed) -> bool {
-        !obb_disjoint(self.h, b.h, &self.frame_of(b))
+        !obb_disjoint_axes(&self.axes, self.c, self.h, &b.axes, b.c, b.h)
     }
 
     #[inline]
@@ -272,14 +278,17 @@ pub fn collide_leaves(
     {
         return Ok(stats);
     }
-    // B's boxes placed in A's frame, each once per walk (a box of B meets
-    // many of A's as the walk descends A under it): the same bits as placing
-    // it at every meeting. A callback that walks again on this thread finds
-    // the cache taken and places its boxes afresh (so does a walk while the
-    // thread's storage is being torn down).
-    let mut walk = |placed: &mut PlacedBoxes| {
+    // B's boxes placed in A's frame, and A's with their axes as matrices,
+    // each once per walk (a box meets many of the other tree's as the walk
+    // descends under it): the same bits as placing it at every meeting. A
+    // callback that walks again on this thread finds the caches taken and
+    // places its boxes afresh (so does a walk while the thread's storage is
+    // being torn down).
+    let mut walk = |placed: &mut PlacedBoxes, placed_a: &mut PlacedBoxes| {
         placed.begin(nb.len());
+        placed_a.begin(na.len());
         let mut place_b = |i: u32| placed.get(i, || rel.place_b_drifting(&nb[i as usize], grow, &drift));
+        let mut place_a = |i: u32| placed_a.get(i, || Placed::a(&na[i as usize], grow));
         let mut stack = SmallStack::<(u32, u32)>::new();
         stack.push((0, 0));
         while let Some((ia, ib)) = stack.pop() {
@@ -300,12 +309,12 @@ pub fn collide_leaves(
                 let c = x.first_child();
                 for child in [c + 1, c] {
                     stats.bv_tests += 1;
-                    if Placed::a(&na[child as usize], grow).overlaps(&pb) {
+                    if place_a(child).overlaps(&pb) {
                         stack.push((child, ib));
                     }
                 }
             } else {
-                let pa = Placed::a(x, grow);
+                let pa = place_a(ia);
                 let c = y.first_child();
                 for child in [c + 1, c] {
                     stats.bv_tests += 1;
@@ -316,9 +325,19 @@ pub fn collide_leaves(
             }
         }
     };
-    let cached = PLACED_B.try_with(|cell| cell.try_borrow_mut().map(|mut placed| walk(&mut placed)).is_ok());
+    let cached = PLACED_B.try_with(|cell_b| {
+        PLACED_A.with(
+            |cell_a| match (cell_b.try_borrow_mut(), cell_a.try_borrow_mut()) {
+                (Ok(mut placed_b), Ok(mut placed_a)) => {
+                    walk(&mut placed_b, &mut placed_a);
+                    true
+                }
+                _ => false,
+            },
+        )
+    });
     if cached != Ok(true) {
-        walk(&mut PlacedBoxes::default());
+        walk(&mut PlacedBoxes::default(), &mut PlacedBoxes::default());
     }
     Ok(stats)
 }
@@ -362,6 +381,7 @@ impl PlacedBoxes {
 
 thread_local! {
     static PLACED_B: std::cell::RefCell<PlacedBoxes> = std::cell::RefCell::new(PlacedBoxes::default());
+    static PLACED_A: std::cell::RefCell<PlacedBoxes> = std::cell::RefCell::new(PlacedBoxes::default());
 }
 
 /// Result of a [`distance`] traversal.

@@ -86,10 +86,8 @@ impl Relative {
     /// Box `nb` of mesh B placed in mesh A's frame, grown by `grow` (m).
     #[inline]
     fn place_b(&self, nb: &Node, grow: f64) -> Placed {
-        let q = self.rot * nb.quat_f64();
         Placed {
-            q,
-            axes: DMat3::from_quat(q),
+            axes: DMat3::from_quat(self.rot * nb.quat_f64()),
             c: self.rot * nb.center_f64() + self.trans,
             h: nb.half_f64().map(|h| h + grow),
         }
@@ -129,8 +127,7 @@ impl Relative {
 /// once and shared by the two child tests.
 #[derive(Clone, Copy)]
 struct Placed {
-    q: DQuat,
-    /// The box's axes (columns), from `q`.
+    /// The box's axes (columns).
     axes: DMat3,
     c: DVec3,
     h: [f64; 3],
@@ -139,7 +136,6 @@ struct Placed {
 impl Placed {
     /// A placeholder (an empty cache slot).
     const EMPTY: Placed = Placed {
-        q: DQuat::IDENTITY,
         axes: DMat3::IDENTITY,
         c: DVec3::ZERO,
         h: [0.0; 3],
@@ -148,10 +144,8 @@ impl Placed {
     /// Box `na` of mesh A (already in A's frame), grown by `grow` (m).
     #[inline]
     fn a(na: &Node, grow: f64) -> Placed {
-        let q = na.quat_f64();
         Placed {
-            q,
-            axes: DMat3::from_quat(q),
+            axes: DMat3::from_quat(na.quat_f64()),
             c: na.center_f64(),
             h: na.half_f64().map(|h| h + grow),
         }
@@ -160,8 +154,8 @@ impl Placed {
     /// Box `b` in this box's frame.
     #[inline]
     fn frame_of(&self, b: &Placed) -> RelFrame {
-        let q_inv = self.q.conjugate();
-        RelFrame::new(&DMat3::from_quat(q_inv * b.q), q_inv * (b.c - self.c))
+        let to_self = self.axes.transpose();
+        RelFrame::new(&(to_self * b.axes), to_self * (b.c - self.c))
     }
 
     #[inline]
@@ -287,8 +281,7 @@ pub fn collide_leaves(
     let mut walk = |placed: &mut PlacedBoxes, placed_a: &mut PlacedBoxes| {
         placed.begin(nb.len());
         placed_a.begin(na.len());
-        let mut place_b = |i: u32| placed.get(i, || rel.place_b_drifting(&nb[i as usize], grow, &drift));
-        let mut place_a = |i: u32| placed_a.get(i, || Placed::a(&na[i as usize], grow));
+
         let mut stack = SmallStack::<(u32, u32)>::new();
         stack.push((0, 0));
         while let Some((ia, ib)) = stack.pop() {
@@ -304,21 +297,23 @@ pub fn collide_leaves(
             }
             // Test the children before pushing; push the second child first so
             // the first is visited first (depth-first, left to right).
+            let place_b = |i: u32| rel.place_b_drifting(&nb[i as usize], grow, &drift);
+            let place_a = |i: u32| Placed::a(&na[i as usize], grow);
             if descend_a(x, y) {
-                let pb = place_b(ib);
+                let pb = placed.get(ib, || place_b(ib));
                 let c = x.first_child();
                 for child in [c + 1, c] {
                     stats.bv_tests += 1;
-                    if place_a(child).overlaps(&pb) {
+                    if placed_a.get(child, || place_a(child)).overlaps(pb) {
                         stack.push((child, ib));
                     }
                 }
             } else {
-                let pa = place_a(ia);
+                let pa = placed_a.get(ia, || place_a(ia));
                 let c = y.first_child();
                 for child in [c + 1, c] {
                     stats.bv_tests += 1;
-                    if pa.overlaps(&place_b(child)) {
+                    if pa.overlaps(placed.get(child, || place_b(child))) {
                         stack.push((ia, child));
                     }
                 }
@@ -369,13 +364,13 @@ impl PlacedBoxes {
 
     /// Node `i`'s box, placed by `place` the first time it is asked for.
     #[inline]
-    fn get(&mut self, i: u32, place: impl FnOnce() -> Placed) -> Placed {
+    fn get(&mut self, i: u32, place: impl FnOnce() -> Placed) -> &Placed {
         let i = i as usize;
         if self.stamp[i] != self.generation {
             self.boxes[i] = place();
             self.stamp[i] = self.generation;
         }
-        self.boxes[i]
+        &self.boxes[i]
     }
 }
 

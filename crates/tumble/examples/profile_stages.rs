@@ -23,7 +23,7 @@
 //! steps how far a pyramid's layers sank and its flanks moved in; with
 //! `TRACE_LEAN=N`, every N steps how far they leaned out of its plane; with
 //! `TRACE_TOWER=N`, every N steps a tower's interface loads against the
-//! weight they carry and its boxes' vertical speeds; with
+//! weight they carry, its boxes' vertical speeds and the gaps between them; with
 //! `EARLY_ITERATIONS=steps:iterations`, that many iterations for the first
 //! steps only; with `PUSH_FRACTION=f` or `PUSH_SPEED=v`, the push-out's
 //! fraction or speed limit; with `TRACE_BODY=name`, after every step that
@@ -443,7 +443,8 @@ fn trace_lean_line(world: &tumble::world::World, step: usize) {
     }
     let top = layers.keys().next_back().copied().unwrap_or(0);
     let mut line = String::new();
-    for (&layer, boxes) in &layers {
+    for (&layer, boxes) in layers.iter_mut() {
+        boxes.sort_unstable_by_key(|&(k, _)| k);
         if layer % 10 != 0 && layer != top {
             continue;
         }

@@ -73,8 +73,9 @@ pub fn obb_disjoint(a: [f64; 3], b: [f64; 3], f: &RelFrame) -> bool {
 /// frame built a row at a time (`r[i][j] = A_i . B_j`, `t[i] = A_i . (cB -
 /// cA)`): A's three face axes, which reject most pairs of a tree walk that
 /// are apart, need one row each, so a pair separated along A's first axis
-/// costs a row instead of the whole frame (the torus chain's step 11 %
-/// faster than with the frame built from quaternions first).
+/// costs a row instead of the whole frame. With the boxes' axes kept from
+/// their placement (`traverse`), the torus chain's step took 2.36 ms
+/// instead of 2.65 (the frame built whole from the boxes' quaternions).
 #[inline]
 pub fn obb_disjoint_axes(
     axes_a: &DMat3,

@@ -281,7 +281,6 @@ pub fn collide_leaves(
     let mut walk = |placed: &mut PlacedBoxes, placed_a: &mut PlacedBoxes| {
         placed.begin(nb.len());
         placed_a.begin(na.len());
-
         let mut stack = SmallStack::<(u32, u32)>::new();
         stack.push((0, 0));
         while let Some((ia, ib)) = stack.pop() {

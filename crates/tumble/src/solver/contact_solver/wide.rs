@@ -335,7 +335,7 @@ fn get_row(w: &WideRow, l: usize) -> super::constraint::RowJacobian {
 /// item timed over the run, a sub-step being one start, two velocity
 /// passes and a push-out pass): a bundle of two-point patches costs 1.5
 /// bundles of lone points, a bundle of faces 2.65, a large patch 1.2.
-pub const WEIGHTS: [usize; 4] = [4, 6, 11, 5];
+const WEIGHTS: [usize; 4] = [4, 6, 11, 5];
 
 /// Colours lighter than this (in [`WEIGHTS`] units: sixteen bundles of
 /// lone points) are not worth a second thread; a run of them at the end of

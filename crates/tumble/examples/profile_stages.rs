@@ -417,38 +417,45 @@ fn main() {
     }
 }
 
+/// A pyramid's boxes (bodies named `box_{layer}_{k}`) by layer, each
+/// layer's in order of `k`.
+fn pyramid_layers(
+    world: &tumble::world::World,
+) -> std::collections::BTreeMap<usize, Vec<tumble::world::BodyId>> {
+    let mut layers: std::collections::BTreeMap<usize, Vec<(usize, tumble::world::BodyId)>> =
+        Default::default();
+    for id in world.body_ids() {
+        let name = world.name(id).unwrap_or("");
+        let Some((layer, k)) = name.strip_prefix("box_").and_then(|r| r.split_once('_')) else {
+            continue;
+        };
+        let (Ok(layer), Ok(k)) = (layer.parse::<usize>(), k.parse::<usize>()) else {
+            continue;
+        };
+        layers.entry(layer).or_default().push((k, id));
+    }
+    layers
+        .into_iter()
+        .map(|(layer, mut boxes)| {
+            boxes.sort_unstable_by_key(|&(k, _)| k);
+            (layer, boxes.into_iter().map(|(_, id)| id).collect())
+        })
+        .collect()
+}
+
 /// `TRACE_LEAN`: for every tenth layer of a pyramid (bodies named
 /// `box_{layer}_{k}`), how far its middle box has moved out of the
 /// pyramid's plane (y, mm) and its turn about the pyramid's long axis
 /// (x, mrad): a one-box-thick wall leaning over sideways.
 fn trace_lean_line(world: &tumble::world::World, step: usize) {
-    let mut layers: std::collections::BTreeMap<usize, Vec<(usize, tumble::world::BodyId)>> =
-        Default::default();
-    for id in world.body_ids() {
-        let Ok(name) = world.name(id) else { continue };
-        let mut parts = name.strip_prefix("box_").map(|rest| rest.split('_'));
-        let (Some(layer), Some(k)) = (
-            parts
-                .as_mut()
-                .and_then(|p| p.next())
-                .and_then(|x| x.parse::<usize>().ok()),
-            parts
-                .as_mut()
-                .and_then(|p| p.next())
-                .and_then(|x| x.parse::<usize>().ok()),
-        ) else {
-            continue;
-        };
-        layers.entry(layer).or_default().push((k, id));
-    }
+    let layers = pyramid_layers(world);
     let top = layers.keys().next_back().copied().unwrap_or(0);
     let mut line = String::new();
-    for (&layer, boxes) in layers.iter_mut() {
-        boxes.sort_unstable_by_key(|&(k, _)| k);
+    for (&layer, boxes) in &layers {
         if layer % 10 != 0 && layer != top {
             continue;
         }
-        let &(_, id) = &boxes[boxes.len() / 2];
+        let id = boxes[boxes.len() / 2];
         let y = world.center_of_mass(id).unwrap().y;
         let turn = world.orientation(id).unwrap().to_scaled_axis().x;
         line += &format!("  {layer}: {:+.1} mm {:+.2} mrad", y * 1e3, turn * 1e3);
@@ -461,19 +468,21 @@ fn trace_lean_line(world: &tumble::world::World, step: usize) {
 /// began (mm), how far its end box moved towards the middle (mm) and its tilt
 /// about y (mrad); and how many contact points were warm-started.
 fn trace_sink_line(world: &tumble::world::World, step: usize, warm_started: usize) {
-    let mut layers: std::collections::BTreeMap<usize, Vec<(usize, DVec3, f64)>> = Default::default();
-    for id in world.body_ids() {
-        let name = world.name(id).unwrap_or("");
-        let Some((layer, k)) = name.strip_prefix("box_").and_then(|r| r.split_once('_')) else {
-            continue;
-        };
-        let (Ok(layer), Ok(k)) = (layer.parse::<usize>(), k.parse::<usize>()) else {
-            continue;
-        };
-        let x = world.center_of_mass(id).unwrap();
-        let tilt = world.orientation(id).unwrap().to_scaled_axis().y;
-        layers.entry(layer).or_default().push((k, x, tilt));
-    }
+    let layers: std::collections::BTreeMap<usize, Vec<(usize, DVec3, f64)>> = pyramid_layers(world)
+        .into_iter()
+        .map(|(layer, ids)| {
+            let boxes = ids
+                .into_iter()
+                .enumerate()
+                .map(|(k, id)| {
+                    let x = world.center_of_mass(id).unwrap();
+                    let tilt = world.orientation(id).unwrap().to_scaled_axis().y;
+                    (k, x, tilt)
+                })
+                .collect();
+            (layer, boxes)
+        })
+        .collect();
     let line: Vec<String> = layers
         .iter()
         .filter(|(l, _)| *l % 10 == 0)

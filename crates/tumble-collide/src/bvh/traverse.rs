@@ -281,6 +281,8 @@ pub fn collide_leaves(
     let mut walk = |placed: &mut PlacedBoxes, placed_a: &mut PlacedBoxes| {
         placed.begin(nb.len());
         placed_a.begin(na.len());
+        let place_b = |i: u32| rel.place_b_drifting(&nb[i as usize], grow, &drift);
+        let place_a = |i: u32| Placed::a(&na[i as usize], grow);
         let mut stack = SmallStack::<(u32, u32)>::new();
         stack.push((0, 0));
         while let Some((ia, ib)) = stack.pop() {
@@ -296,8 +298,6 @@ pub fn collide_leaves(
             }
             // Test the children before pushing; push the second child first so
             // the first is visited first (depth-first, left to right).
-            let place_b = |i: u32| rel.place_b_drifting(&nb[i as usize], grow, &drift);
-            let place_a = |i: u32| Placed::a(&na[i as usize], grow);
             if descend_a(x, y) {
                 let pb = placed.get(ib, || place_b(ib));
                 let c = x.first_child();

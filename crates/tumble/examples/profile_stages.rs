@@ -17,7 +17,10 @@
 //! impulse and the two bodies' speeds; with `TRACE_PAIR=depth` (m; any other
 //! value: 1 cm), after every step whose deepest contact is over it, that pair's contacts then and at
 //! the step before (a pair with none before met features its speculative
-//! contacts never saw) and the two bodies' velocities; with `TRACE_MOVING` set, the
+//! contacts never saw), the contacts either body had with a third at the
+//! step before, the two bodies' centres and velocities before the step
+//! before and before this step (a spin taken on within the step) and
+//! after it; with `TRACE_MOVING` set, the
 //! six fastest bodies at the end (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
 //! largest joint error and which joint has it; with `TRACE_SINK=N`, every N
 //! steps how far a pyramid's layers sank and its flanks moved in; with
@@ -177,6 +180,7 @@ fn main() {
     let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
     let mut prev: Vec<tumble::world::WorldContact> = Vec::new();
+    let mut motion_before_prev = Vec::new();
     // EARLY_ITERATIONS=steps:iterations: that many solver iterations for the
     // first steps (what a cold start, without warm-start impulses, needs).
     let early: Option<(usize, u32)> = std::env::var("EARLY_ITERATIONS").ok().and_then(|v| {
@@ -203,6 +207,23 @@ fn main() {
             }
             world.set_settings(s).unwrap();
         }
+        // For TRACE_PAIR: every body's centre and velocities before the step.
+        let motion_before: Vec<_> = if trace_pair.is_some() {
+            world
+                .body_ids()
+                .into_iter()
+                .map(|id| {
+                    let (x, v, w) = (
+                        world.center_of_mass(id).unwrap(),
+                        world.linear_velocity(id).unwrap(),
+                        world.angular_velocity(id).unwrap(),
+                    );
+                    (id, x, v, w)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let r = world.step();
         let now = world.kinetic_energy() + world.potential_energy();
         if now - energy > largest_gain {
@@ -251,6 +272,38 @@ fn main() {
                         .filter(of_pair)
                         .for_each(|k| show("now ", k));
                     prev.iter().filter(of_pair).for_each(|k| show("prev", k));
+                    // What else touched the two at the step before (a third
+                    // body that struck one of them within the step).
+                    let with_third = |k: &&tumble::world::WorldContact| {
+                        !of_pair(k) && [a, b].into_iter().any(|x| x == k.body_a || x == k.body_b)
+                    };
+                    for k in prev.iter().filter(with_third) {
+                        eprintln!(
+                            "   prev, third body: {}-{} d {:+.4} n {:.3?} imp {:.4} kind {:?}",
+                            k.body_a.index,
+                            k.body_b.index,
+                            k.contact.distance,
+                            k.contact.normal.to_array(),
+                            k.normal_impulse,
+                            k.contact.kind
+                        );
+                    }
+                    // How the two moved into it: their motion before the
+                    // step before and before this one.
+                    for (when, motion) in [
+                        ("before the step before", &motion_before_prev),
+                        ("before this step", &motion_before),
+                    ] {
+                        for (id, x, v, w) in motion.iter().filter(|m| m.0 == a || m.0 == b) {
+                            eprintln!(
+                                "   {when}: body {} x {:.4?} v {:.3?} w {:.3?}",
+                                id.index,
+                                x.to_array(),
+                                v.to_array(),
+                                w.to_array()
+                            );
+                        }
+                    }
                     eprintln!(
                         "   v {:.3?} {:.3?} w {:.3?} {:.3?}",
                         world.linear_velocity(a).unwrap().to_array(),
@@ -261,6 +314,7 @@ fn main() {
                 }
             }
             prev = world.contacts().to_vec();
+            motion_before_prev = motion_before;
         }
         if trace_deepest > 0 && step % trace_deepest == 0 {
             let depth = |c: &tumble::world::WorldContact| c.contact.depth();

@@ -7,7 +7,7 @@ use tumble::world::{BodyDesc, World, WorldSettings};
 use tumble_collide::mesh::box_mesh;
 use tumble_collide::shape::ConvexHull;
 use tumble_collide::shape::{MeshShape, Shape};
-use tumble_collide::DVec3;
+use tumble_collide::{DQuat, DVec3, Pose};
 
 #[test]
 fn every_kind_is_a_closed_concave_solid_of_the_stated_size() {
@@ -216,4 +216,91 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     let overlap = 2.0 * half - (xb - xa);
     let margin = world.settings().contact_margin;
     assert!(overlap <= margin, "B ended the step {overlap} m inside A");
+}
+
+#[test]
+fn a_mesh_spun_against_a_wall_it_touches_is_pushed_back_out() {
+    // A thin mesh bar (0.04 x 0.6 x 0.04 m) leans against a thick static
+    // wall (the plane x = 0): one end touches it (1 mm away), the other
+    // stands 8 cm out. A mesh cube strikes that far end towards the wall,
+    // mostly across the line of the two centres (which is how the narrow
+    // phase's margins read a coming blow), and swings the far end into the
+    // wall within the step, where the bar's speculative contacts with the
+    // wall were only at its near end. The bar is fast (it moves more than
+    // half its thickness in a step), and the sweeps leave an overlap
+    // shallower than half a thick wall to the push-out; it began the step
+    // touching the wall, so the end-overlap stage takes it out (before it
+    // did so, the bar ended 27-30 mm inside). Without the continuous stage
+    // the bar ends centimetres deep.
+    let mesh = |half: DVec3| Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap());
+    let bar_half = DVec3::new(0.02, 0.3, 0.02);
+    // Deepest corner of the bar behind the wall's face over three steps (m),
+    // and the bar's spin about z after the first (rad/s).
+    let wall_depth = |speed: f64, continuous: bool| {
+        let mut world = World::new(WorldSettings {
+            gravity: DVec3::ZERO,
+            sleeping: false,
+            continuous,
+            ..WorldSettings::default()
+        })
+        .unwrap();
+        world
+            .add_body(&BodyDesc::fixed(mesh(DVec3::new(0.1, 1.0, 1.0))).at(DVec3::new(-0.1, 0.0, 0.0)))
+            .unwrap();
+        // Turned about z so that the end at +y stands 8 cm further out.
+        let theta = (0.08f64 / 0.6).asin();
+        let centre_x = 0.001 + bar_half.x * theta.cos() + bar_half.y * theta.sin();
+        let bar = world
+            .add_body(
+                &BodyDesc::dynamic(mesh(bar_half))
+                    .with_pose(Pose {
+                        position: DVec3::new(centre_x, 0.0, 0.0),
+                        rotation: DQuat::from_rotation_z(-theta),
+                    })
+                    .with_density(1000.0)
+                    .with_material(0.0, 0.0),
+            )
+            .unwrap();
+        let far_end_x = centre_x + bar_half.x * theta.cos() + bar_half.y * theta.sin();
+        world
+            .add_body(
+                &BodyDesc::dynamic(mesh(DVec3::splat(0.05)))
+                    .at(DVec3::new(far_end_x + 0.055, 0.26, 0.0))
+                    .with_density(1000.0)
+                    .with_material(0.0, 0.0)
+                    .with_velocity(DVec3::new(-speed, 0.0, 0.0), DVec3::ZERO),
+            )
+            .unwrap();
+        let mut deepest = f64::NEG_INFINITY;
+        let mut spin = 0.0;
+        for step in 0..3 {
+            world.step();
+            let pose = world.pose(bar).unwrap();
+            for k in 0..8 {
+                let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
+                let corner = DVec3::new(sign(1), sign(2), sign(4)) * bar_half;
+                deepest = deepest.max(-pose.transform_point(corner).x);
+            }
+            if step == 0 {
+                spin = world.angular_velocity(bar).unwrap().z;
+            }
+        }
+        (deepest, spin, world.settings().contact_margin)
+    };
+    for speed in [12.0, 15.0, 20.0] {
+        let (with, _, margin) = wall_depth(speed, true);
+        let (without, spin, _) = wall_depth(speed, false);
+        assert!(
+            spin > 1.0,
+            "{speed} m/s: the bar was not swung towards the wall ({spin} rad/s about z)"
+        );
+        assert!(
+            without > 2.0 * margin,
+            "{speed} m/s: {without} m deep without the continuous stage: the test no longer tests it"
+        );
+        assert!(
+            with <= margin,
+            "{speed} m/s: the bar ended {with} m inside the wall"
+        );
+    }
 }

@@ -218,78 +218,78 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     assert!(overlap <= margin, "B ended the step {overlap} m inside A");
 }
 
-#[test]
-fn a_mesh_spun_against_a_wall_it_touches_is_pushed_back_out() {
-    // A thin mesh bar (0.04 x 0.6 x 0.04 m) leans against a thick static
-    // wall (the plane x = 0): one end touches it (1 mm away), the other
-    // stands 8 cm out. A mesh cube strikes that far end towards the wall,
-    // mostly across the line of the two centres (which is how the narrow
-    // phase's margins read a coming blow), and swings the far end into the
-    // wall within the step, where the bar's speculative contacts with the
-    // wall were only at its near end. The bar is fast (it moves more than
-    // half its thickness in a step), and the sweeps leave an overlap
-    // shallower than half a thick wall to the push-out; it began the step
-    // touching the wall, so the end-overlap stage takes it out (before it
-    // did so, the bar ended 27-30 mm inside). Without the continuous stage
-    // the bar ends centimetres deep.
+/// A thin mesh bar (0.04 x 0.6 x 0.04 m) leaning against a thick static
+/// wall (its face the plane x = 0): one end touches it (1 mm away), the
+/// other stands 8 cm out. A mesh cube at `speed` strikes that far end
+/// towards the wall, mostly across the line of the two centres (which is
+/// how the narrow phase's margins read a coming blow), and swings it into
+/// the wall within the step, where the bar's speculative contacts with the
+/// wall were only at its near end. Gives the bar's deepest corner behind
+/// the wall's face over three steps (m), its spin about z after the first
+/// (rad/s) and the contact margin (m).
+fn bar_swung_into_a_wall(speed: f64, continuous: bool) -> (f64, f64, f64) {
     let mesh = |half: DVec3| Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap());
     let bar_half = DVec3::new(0.02, 0.3, 0.02);
-    // Deepest corner of the bar behind the wall's face over three steps (m),
-    // and the bar's spin about z after the first (rad/s).
-    let wall_depth = |speed: f64, continuous: bool| {
-        let mut world = World::new(WorldSettings {
-            gravity: DVec3::ZERO,
-            sleeping: false,
-            continuous,
-            ..WorldSettings::default()
-        })
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        continuous,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    world
+        .add_body(&BodyDesc::fixed(mesh(DVec3::new(0.1, 1.0, 1.0))).at(DVec3::new(-0.1, 0.0, 0.0)))
         .unwrap();
-        world
-            .add_body(&BodyDesc::fixed(mesh(DVec3::new(0.1, 1.0, 1.0))).at(DVec3::new(-0.1, 0.0, 0.0)))
-            .unwrap();
-        // Turned about z so that the end at +y stands 8 cm further out.
-        let theta = (0.08f64 / 0.6).asin();
-        let centre_x = 0.001 + bar_half.x * theta.cos() + bar_half.y * theta.sin();
-        let bar = world
-            .add_body(
-                &BodyDesc::dynamic(mesh(bar_half))
-                    .with_pose(Pose {
-                        position: DVec3::new(centre_x, 0.0, 0.0),
-                        rotation: DQuat::from_rotation_z(-theta),
-                    })
-                    .with_density(1000.0)
-                    .with_material(0.0, 0.0),
-            )
-            .unwrap();
-        let far_end_x = centre_x + bar_half.x * theta.cos() + bar_half.y * theta.sin();
-        world
-            .add_body(
-                &BodyDesc::dynamic(mesh(DVec3::splat(0.05)))
-                    .at(DVec3::new(far_end_x + 0.055, 0.26, 0.0))
-                    .with_density(1000.0)
-                    .with_material(0.0, 0.0)
-                    .with_velocity(DVec3::new(-speed, 0.0, 0.0), DVec3::ZERO),
-            )
-            .unwrap();
-        let mut deepest = f64::NEG_INFINITY;
-        let mut spin = 0.0;
-        for step in 0..3 {
-            world.step();
-            let pose = world.pose(bar).unwrap();
-            for k in 0..8 {
-                let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
-                let corner = DVec3::new(sign(1), sign(2), sign(4)) * bar_half;
-                deepest = deepest.max(-pose.transform_point(corner).x);
-            }
-            if step == 0 {
-                spin = world.angular_velocity(bar).unwrap().z;
-            }
+    // Turned about z so that the end at +y stands 8 cm further out.
+    let theta = (0.08f64 / 0.6).asin();
+    let centre_x = 0.001 + bar_half.x * theta.cos() + bar_half.y * theta.sin();
+    let bar = world
+        .add_body(
+            &BodyDesc::dynamic(mesh(bar_half))
+                .with_pose(Pose {
+                    position: DVec3::new(centre_x, 0.0, 0.0),
+                    rotation: DQuat::from_rotation_z(-theta),
+                })
+                .with_density(1000.0)
+                .with_material(0.0, 0.0),
+        )
+        .unwrap();
+    let far_end_x = centre_x + bar_half.x * theta.cos() + bar_half.y * theta.sin();
+    world
+        .add_body(
+            &BodyDesc::dynamic(mesh(DVec3::splat(0.05)))
+                .at(DVec3::new(far_end_x + 0.055, 0.26, 0.0))
+                .with_density(1000.0)
+                .with_material(0.0, 0.0)
+                .with_velocity(DVec3::new(-speed, 0.0, 0.0), DVec3::ZERO),
+        )
+        .unwrap();
+    let mut deepest = f64::NEG_INFINITY;
+    let mut spin = 0.0;
+    for step in 0..3 {
+        world.step();
+        let pose = world.pose(bar).unwrap();
+        for k in 0..8 {
+            let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
+            let corner = DVec3::new(sign(1), sign(2), sign(4)) * bar_half;
+            deepest = deepest.max(-pose.transform_point(corner).x);
         }
-        (deepest, spin, world.settings().contact_margin)
-    };
+        if step == 0 {
+            spin = world.angular_velocity(bar).unwrap().z;
+        }
+    }
+    (deepest, spin, world.settings().contact_margin)
+}
+
+#[test]
+fn a_mesh_spun_against_a_wall_it_touches_is_pushed_back_out() {
+    // The bar is fast (it moves more than half its thickness in a step),
+    // and the sweeps leave an overlap shallower than half a thick wall to
+    // the push-out; it began the step touching the wall, so the end-overlap
+    // stage takes it out (before it did so, the bar ended 27-30 mm inside).
     for speed in [12.0, 15.0, 20.0] {
-        let (with, _, margin) = wall_depth(speed, true);
-        let (without, spin, _) = wall_depth(speed, false);
+        let (with, _, margin) = bar_swung_into_a_wall(speed, true);
+        let (without, spin, _) = bar_swung_into_a_wall(speed, false);
         assert!(
             spin > 1.0,
             "{speed} m/s: the bar was not swung towards the wall ({spin} rad/s about z)"
@@ -301,6 +301,90 @@ fn a_mesh_spun_against_a_wall_it_touches_is_pushed_back_out() {
         assert!(
             with <= margin,
             "{speed} m/s: the bar ended {with} m inside the wall"
+        );
+    }
+}
+
+#[test]
+fn a_mesh_spun_round_within_the_step_into_a_body_whose_centre_it_does_not_close_in_on_is_pushed_back_out() {
+    // The bar of `bar_swung_into_a_wall`, leaning with its near end 1 mm
+    // from a heavy dynamic slab, is spun about its own centre by a torque
+    // during one step (the speculative contacts are found with the
+    // velocities the step starts with, zero): its far end swings into the
+    // slab within the step while the two centres stay where they were, so
+    // the pair is no landing. Its velocities changed by far more than four
+    // contact margins' worth over the step, so the end-overlap stage
+    // collides the pair again and takes the overlap out (before, it left
+    // the pair alone: 20-70 mm deep at these spins, as without the stage).
+    let run = |spin: f64, continuous: bool| {
+        let mesh = |half: DVec3| Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap());
+        let bar_half = DVec3::new(0.02, 0.3, 0.02);
+        let mut world = World::new(WorldSettings {
+            gravity: DVec3::ZERO,
+            sleeping: false,
+            continuous,
+            ..WorldSettings::default()
+        })
+        .unwrap();
+        world
+            .add_body(
+                &BodyDesc::dynamic(mesh(DVec3::new(0.1, 1.0, 1.0)))
+                    .at(DVec3::new(-0.1, 0.0, 0.0))
+                    .with_density(20000.0)
+                    .with_material(0.0, 0.0),
+            )
+            .unwrap();
+        let theta = (0.08f64 / 0.6).asin();
+        let centre = DVec3::new(
+            0.001 + bar_half.x * theta.cos() + bar_half.y * theta.sin(),
+            0.0,
+            0.0,
+        );
+        let bar = world
+            .add_body(
+                &BodyDesc::dynamic(mesh(bar_half))
+                    .with_pose(Pose {
+                        position: centre,
+                        rotation: DQuat::from_rotation_z(-theta),
+                    })
+                    .with_density(1000.0)
+                    .with_material(0.0, 0.0),
+            )
+            .unwrap();
+        // The torque that spins the free bar up to `spin` about z in a step.
+        let inertia_z = world.body(bar).unwrap().mass()
+            * (4.0 * bar_half.y * bar_half.y + 4.0 * bar_half.x * bar_half.x)
+            / 12.0;
+        world
+            .apply_torque(bar, DVec3::Z * (inertia_z * spin / world.settings().dt))
+            .unwrap();
+        world.step();
+        let pose = world.pose(bar).unwrap();
+        let deepest = (0..8)
+            .map(|k| {
+                let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
+                -pose
+                    .transform_point(DVec3::new(sign(1), sign(2), sign(4)) * bar_half)
+                    .x
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        let moved = (world.center_of_mass(bar).unwrap() - centre).length();
+        (deepest, moved, world.settings().contact_margin)
+    };
+    for spin in [36.0, 45.0, 55.0] {
+        let (with, _, margin) = run(spin, true);
+        let (without, moved, _) = run(spin, false);
+        assert!(
+            moved < 0.5 * margin,
+            "{spin} rad/s: the bar's centre moved {moved} m: the pair would be a landing"
+        );
+        assert!(
+            without > 2.0 * margin,
+            "{spin} rad/s: {without} m deep without the continuous stage: the test no longer tests it"
+        );
+        assert!(
+            with <= margin,
+            "{spin} rad/s: the bar ended {with} m inside the slab"
         );
     }
 }

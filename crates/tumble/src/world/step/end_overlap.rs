@@ -14,8 +14,10 @@
 //! its end poses (two dynamic bodies only if they were closing in on each
 //! other along the line of their centres by [`LANDING_CLOSING`] of the
 //! margin per step or more at the step's start, or closed in by that much
-//! over the step: bodies that slide and roll on each other, as a chain's
-//! links, keep speculative contacts to the features that meet), and
+//! over the step, or one of them was struck within the step, its velocities
+//! changed by [`STRUCK_MARGINS`] margins a step: bodies that slide and roll
+//! on each other, as a chain's links, keep speculative contacts to the
+//! features that meet), and
 //! where it ends deeper than it began (at least the allowed penetration) by
 //! more than [`END_OVERLAP_SLACK`] allowed penetrations, the step's
 //! addition is taken out. Left out: a pair that
@@ -32,12 +34,14 @@
 //! a body landing on it swung an arm 15 mm in, and took it out here only
 //! once such pairs were let in; a pair that a push of this stage moves a
 //! body into is held at the depth it began the step with, however deep
-//! that was (over the concave pile's standard start and 15 jittered ones,
-//! `JITTER=seed TRACE_DEPTH=1 profile_stages concave_pile 600 1 |
-//! scripts/deepest_stats.sh`: steps deeper than 5 mm 136 -> 91, deeper
-//! than 10 mm 25 -> 15, the worst overlap of a run 6-26 mm, median 11,
-//! against 8-20 mm, median 12; the worst are now two jacks spun into each
-//! other by the landing, whose centres do not close in).
+//! that was. Over the concave pile's standard start and 15 jittered ones
+//! (`JITTER=seed TRACE_DEPTH=1 profile_stages concave_pile 600 1 |
+//! scripts/deepest_stats.sh`): steps deeper than 5 mm 136 -> 91, deeper
+//! than 10 mm 25 -> 15 with these two; the worst overlaps left were two
+//! jacks spun into each other by the landing, whose centres did not close
+//! in, and with the struck bodies too 39 and 6 steps, the worst overlap of
+//! a run 4-11 mm (median 7) but for one 27 mm, against 8-20 mm (median 12)
+//! before all three.
 //!
 //! The overlapping points are pushed back by a non-linear Gauss-Seidel
 //! position step (Box2D v2's position solver, Catto 2009): a positional
@@ -90,6 +94,16 @@ pub const END_OVERLAP_SLACK: f64 = 2.0;
 /// other along the line of their centres by at least this fraction of the
 /// contact margin per step at the step's start.
 pub const LANDING_CLOSING: f64 = 0.5;
+
+/// Two dynamic bodies that did not close in on each other are collided
+/// again when one of them was struck within the step: its velocities
+/// changed by enough to move its surface this many contact margins over
+/// the step (change of linear velocity plus change of angular velocity
+/// times its radius). Four: on the concave pile's jittered starts 9, 13
+/// and 14 it took out what two did, and it costs the torus chain, whose
+/// links are jerked by their neighbours every step, 0.08 ms a step (2.15
+/// -> 2.23 ms on one thread) where two cost 0.27.
+pub const STRUCK_MARGINS: f64 = 4.0;
 
 /// Passes of collision and separation per step.
 const PASSES: usize = 3;
@@ -242,6 +256,26 @@ impl World {
         // along their own push-out normals, and the points that separation
         // crosses are no landing).
         let touching = |a: u32, b: u32| start_gap(a, b) <= margin;
+        // Per body slot: struck within the step (its velocities changed by
+        // enough to move its surface STRUCK_MARGINS contact margins in a
+        // step), which the speculative contacts, found with the velocities
+        // the step began with, did not foresee: two jacks spun round by a
+        // landing swept their arms through each other while their centres
+        // stayed apart.
+        let struck: Vec<bool> = (0..f.n_slots as u32)
+            .map(|slot| {
+                let (Some(Some(state)), Some(e)) = (f.before.get(slot as usize), self.bodies.at(slot)) else {
+                    return false;
+                };
+                if e.body.kind() != BodyKind::Dynamic {
+                    return false;
+                }
+                let (v0, w0) = state_velocities(state, &e.body);
+                let change =
+                    (e.body.velocity() - v0).length() + (e.body.angular_velocity() - w0).length() * e.radius;
+                change * dt > STRUCK_MARGINS * margin
+            })
+            .collect();
         let may_take_part = |a: u32, b: u32| {
             (movable(a) || movable(b))
                 && (movable(a) || slow[b as usize] || touching(a, b))
@@ -256,7 +290,11 @@ impl World {
             .filter(|&(a, b)| {
                 eligible(a, b)
                     && relative_travel(a, b) > margin
-                    && (!movable(a) || !movable(b) || closing(a, b) >= LANDING_CLOSING * margin)
+                    && (!movable(a)
+                        || !movable(b)
+                        || closing(a, b) >= LANDING_CLOSING * margin
+                        || struck[a as usize]
+                        || struck[b as usize])
             })
             .collect();
         let mut moved = vec![false; f.n_slots];

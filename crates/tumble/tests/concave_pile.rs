@@ -3,7 +3,7 @@
 //! bin holds, and a small version of the pile settles in it.
 
 use tumble::scenes::{self, concave_pile_escaped, CONCAVE_KINDS};
-use tumble::world::{BodyDesc, World, WorldSettings};
+use tumble::world::{BodyDesc, BodyId, World, WorldSettings};
 use tumble_collide::mesh::box_mesh;
 use tumble_collide::shape::ConvexHull;
 use tumble_collide::shape::{MeshShape, Shape};
@@ -218,18 +218,19 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     assert!(overlap <= margin, "B ended the step {overlap} m inside A");
 }
 
-/// A thin mesh bar (0.04 x 0.6 x 0.04 m) leaning against a thick static
-/// wall (its face the plane x = 0): one end touches it (1 mm away), the
-/// other stands 8 cm out. A mesh cube at `speed` strikes that far end
-/// towards the wall, mostly across the line of the two centres (which is
-/// how the narrow phase's margins read a coming blow), and swings it into
-/// the wall within the step, where the bar's speculative contacts with the
-/// wall were only at its near end. Gives the bar's deepest corner behind
-/// the wall's face over three steps (m), its spin about z after the first
-/// (rad/s) and the contact margin (m).
-fn bar_swung_into_a_wall(speed: f64, continuous: bool) -> (f64, f64, f64) {
-    let mesh = |half: DVec3| Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap());
-    let bar_half = DVec3::new(0.02, 0.3, 0.02);
+/// Half extents of the bar of [`leaning_bar`] (m).
+const BAR_HALF: DVec3 = DVec3::new(0.02, 0.3, 0.02);
+
+fn box_shape(half: DVec3) -> Shape {
+    Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap())
+}
+
+/// A world without gravity holding `wall` (a mesh body whose face is the
+/// plane x = 0, the body behind it) and a thin mesh bar ([`BAR_HALF`])
+/// leaning on it: turned about z, one end touches the wall (1 mm away),
+/// the other stands 8 cm out. Gives the world, the bar, the bar's centre
+/// and the x of its far end's outer face.
+fn leaning_bar(wall: &BodyDesc, continuous: bool) -> (World, BodyId, DVec3, f64) {
     let mut world = World::new(WorldSettings {
         gravity: DVec3::ZERO,
         sleeping: false,
@@ -237,27 +238,50 @@ fn bar_swung_into_a_wall(speed: f64, continuous: bool) -> (f64, f64, f64) {
         ..WorldSettings::default()
     })
     .unwrap();
-    world
-        .add_body(&BodyDesc::fixed(mesh(DVec3::new(0.1, 1.0, 1.0))).at(DVec3::new(-0.1, 0.0, 0.0)))
-        .unwrap();
-    // Turned about z so that the end at +y stands 8 cm further out.
+    world.add_body(wall).unwrap();
     let theta = (0.08f64 / 0.6).asin();
-    let centre_x = 0.001 + bar_half.x * theta.cos() + bar_half.y * theta.sin();
+    let lean = BAR_HALF.x * theta.cos() + BAR_HALF.y * theta.sin();
+    let centre = DVec3::new(0.001 + lean, 0.0, 0.0);
     let bar = world
         .add_body(
-            &BodyDesc::dynamic(mesh(bar_half))
+            &BodyDesc::dynamic(box_shape(BAR_HALF))
                 .with_pose(Pose {
-                    position: DVec3::new(centre_x, 0.0, 0.0),
+                    position: centre,
                     rotation: DQuat::from_rotation_z(-theta),
                 })
                 .with_density(1000.0)
                 .with_material(0.0, 0.0),
         )
         .unwrap();
-    let far_end_x = centre_x + bar_half.x * theta.cos() + bar_half.y * theta.sin();
+    (world, bar, centre, centre.x + lean)
+}
+
+/// How deep the bar's deepest corner lies behind the plane x = 0 (m).
+fn bar_depth(world: &World, bar: BodyId) -> f64 {
+    let pose = world.pose(bar).unwrap();
+    (0..8)
+        .map(|k| {
+            let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
+            -pose
+                .transform_point(DVec3::new(sign(1), sign(2), sign(4)) * BAR_HALF)
+                .x
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The bar of [`leaning_bar`] against a thick static wall, its far end
+/// struck towards the wall by a mesh cube at `speed`, mostly across the
+/// line of the two centres (which is how the narrow phase's margins read a
+/// coming blow): the far end swings into the wall within the step, where
+/// the bar's speculative contacts with the wall were only at its near end.
+/// Gives the bar's deepest corner behind the wall's face over three steps
+/// (m), its spin about z after the first (rad/s) and the contact margin (m).
+fn bar_swung_into_a_wall(speed: f64, continuous: bool) -> (f64, f64, f64) {
+    let wall = BodyDesc::fixed(box_shape(DVec3::new(0.1, 1.0, 1.0))).at(DVec3::new(-0.1, 0.0, 0.0));
+    let (mut world, bar, _, far_end_x) = leaning_bar(&wall, continuous);
     world
         .add_body(
-            &BodyDesc::dynamic(mesh(DVec3::splat(0.05)))
+            &BodyDesc::dynamic(box_shape(DVec3::splat(0.05)))
                 .at(DVec3::new(far_end_x + 0.055, 0.26, 0.0))
                 .with_density(1000.0)
                 .with_material(0.0, 0.0)
@@ -268,12 +292,7 @@ fn bar_swung_into_a_wall(speed: f64, continuous: bool) -> (f64, f64, f64) {
     let mut spin = 0.0;
     for step in 0..3 {
         world.step();
-        let pose = world.pose(bar).unwrap();
-        for k in 0..8 {
-            let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
-            let corner = DVec3::new(sign(1), sign(2), sign(4)) * bar_half;
-            deepest = deepest.max(-pose.transform_point(corner).x);
-        }
+        deepest = deepest.max(bar_depth(&world, bar));
         if step == 0 {
             spin = world.angular_velocity(bar).unwrap().z;
         }
@@ -307,7 +326,7 @@ fn a_mesh_spun_against_a_wall_it_touches_is_pushed_back_out() {
 
 #[test]
 fn a_mesh_spun_round_within_the_step_into_a_body_whose_centre_it_does_not_close_in_on_is_pushed_back_out() {
-    // The bar of `bar_swung_into_a_wall`, leaning with its near end 1 mm
+    // The bar of `leaning_bar`, leaning with its near end 1 mm
     // from a heavy dynamic slab, is spun about its own centre by a torque
     // during one step (the speculative contacts are found with the
     // velocities the step starts with, zero): its far end swings into the
@@ -317,59 +336,21 @@ fn a_mesh_spun_round_within_the_step_into_a_body_whose_centre_it_does_not_close_
     // collides the pair again and takes the overlap out (before, it left
     // the pair alone: 20-70 mm deep at these spins, as without the stage).
     let run = |spin: f64, continuous: bool| {
-        let mesh = |half: DVec3| Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap());
-        let bar_half = DVec3::new(0.02, 0.3, 0.02);
-        let mut world = World::new(WorldSettings {
-            gravity: DVec3::ZERO,
-            sleeping: false,
-            continuous,
-            ..WorldSettings::default()
-        })
-        .unwrap();
-        world
-            .add_body(
-                &BodyDesc::dynamic(mesh(DVec3::new(0.1, 1.0, 1.0)))
-                    .at(DVec3::new(-0.1, 0.0, 0.0))
-                    .with_density(20000.0)
-                    .with_material(0.0, 0.0),
-            )
-            .unwrap();
-        let theta = (0.08f64 / 0.6).asin();
-        let centre = DVec3::new(
-            0.001 + bar_half.x * theta.cos() + bar_half.y * theta.sin(),
-            0.0,
-            0.0,
-        );
-        let bar = world
-            .add_body(
-                &BodyDesc::dynamic(mesh(bar_half))
-                    .with_pose(Pose {
-                        position: centre,
-                        rotation: DQuat::from_rotation_z(-theta),
-                    })
-                    .with_density(1000.0)
-                    .with_material(0.0, 0.0),
-            )
-            .unwrap();
+        let slab = BodyDesc::dynamic(box_shape(DVec3::new(0.1, 1.0, 1.0)))
+            .at(DVec3::new(-0.1, 0.0, 0.0))
+            .with_density(20000.0)
+            .with_material(0.0, 0.0);
+        let (mut world, bar, centre, _) = leaning_bar(&slab, continuous);
         // The torque that spins the free bar up to `spin` about z in a step.
-        let inertia_z = world.body(bar).unwrap().mass()
-            * (4.0 * bar_half.y * bar_half.y + 4.0 * bar_half.x * bar_half.x)
-            / 12.0;
+        let inertia_z =
+            world.body(bar).unwrap().mass() * 4.0 * (BAR_HALF.y * BAR_HALF.y + BAR_HALF.x * BAR_HALF.x)
+                / 12.0;
         world
             .apply_torque(bar, DVec3::Z * (inertia_z * spin / world.settings().dt))
             .unwrap();
         world.step();
-        let pose = world.pose(bar).unwrap();
-        let deepest = (0..8)
-            .map(|k| {
-                let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
-                -pose
-                    .transform_point(DVec3::new(sign(1), sign(2), sign(4)) * bar_half)
-                    .x
-            })
-            .fold(f64::NEG_INFINITY, f64::max);
         let moved = (world.center_of_mass(bar).unwrap() - centre).length();
-        (deepest, moved, world.settings().contact_margin)
+        (bar_depth(&world, bar), moved, world.settings().contact_margin)
     };
     for spin in [36.0, 45.0, 55.0] {
         let (with, _, margin) = run(spin, true);

@@ -251,10 +251,7 @@ impl World {
                 })
             })
             .collect();
-        // A pair that began the step deeper than the contact margin is the
-        // push-out's alone (two bodies spawned inside each other separate
-        // along their own push-out normals, and the points that separation
-        // crosses are no landing).
+        // Began the step within the contact margin of each other.
         let touching = |a: u32, b: u32| start_gap(a, b) <= margin;
         // Per body slot: struck within the step (its velocities changed by
         // enough to move its surface STRUCK_MARGINS contact margins in a
@@ -282,6 +279,11 @@ impl World {
                 && (movable(b) || slow[a as usize] || touching(a, b))
                 && (has_mesh(a) || has_mesh(b))
         };
+        // A pair that began the step deeper than the contact margin is the
+        // push-out's alone (two bodies spawned inside each other separate
+        // along their own push-out normals, and the points that separation
+        // crosses are no landing), unless this stage pushes a body into it
+        // (below).
         let eligible = |a: u32, b: u32| may_take_part(a, b) && floor(a, b) <= margin;
         let mut active: Vec<(u32, u32)> = f
             .pairs
@@ -354,12 +356,11 @@ impl World {
             // may not push it deeper than it began (a jack pushed out of the
             // bin's wall sank 9 mm into a neighbour it already overlapped,
             // and two bodies tangled beside it ended 29 mm deep).
-            let again = |a: u32, b: u32| may_take_part(a, b);
             active = f
                 .pairs
                 .iter()
                 .copied()
-                .filter(|&(a, b)| (moved[a as usize] || moved[b as usize]) && again(a, b))
+                .filter(|&(a, b)| (moved[a as usize] || moved[b as usize]) && may_take_part(a, b))
                 .collect();
         }
     }

@@ -193,7 +193,7 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     })
     .unwrap();
     let half = 0.1;
-    let cube = || Shape::Mesh(MeshShape::new(box_mesh(DVec3::splat(half)).unwrap()).unwrap());
+    let cube = || box_shape(DVec3::splat(half));
     let at = |x: f64, v: f64| {
         BodyDesc::dynamic(cube())
             .at(DVec3::new(x, 0.0, 0.0))
@@ -221,6 +221,7 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
 /// Half extents of the bar of [`leaning_bar`] (m).
 const BAR_HALF: DVec3 = DVec3::new(0.02, 0.3, 0.02);
 
+/// A closed triangle-mesh box of half extents `half` (m).
 fn box_shape(half: DVec3) -> Shape {
     Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap())
 }

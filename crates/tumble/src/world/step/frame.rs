@@ -109,7 +109,11 @@ impl StepFrame {
         frame
     }
 
-    /// The frame's largest arrays, emptied, for the next step's frame.
+    /// The frame's largest arrays for the next step's frame: emptied, but
+    /// for the solver's point and patch records, which keep their length
+    /// (`World::prepare_solver` cuts or grows them to the step's and
+    /// overwrites every record before one is read, so that it writes each
+    /// record once instead of clearing and pushing).
     pub fn recycle(&mut self) -> FrameBuffers {
         let mut take = FrameBuffers {
             points: std::mem::take(&mut self.points),
@@ -121,8 +125,6 @@ impl StepFrame {
         };
         take.points.clear();
         take.patches.clear();
-        take.solver_points.clear();
-        take.manifolds.clear();
         take.bodies.clear();
         take.joints.clear();
         take
@@ -159,7 +161,8 @@ pub(crate) struct StepScratch {
 /// A collider pair: body slots and collider indices `(a, b, ia, ib)`.
 pub(crate) type MeshPairKey = (u32, u32, u16, u16);
 
-/// The frame's largest arrays, kept empty between steps.
+/// The frame's largest arrays, kept between steps (empty, or of stale
+/// records that are overwritten: see [`StepFrame::recycle`]).
 #[derive(Default)]
 pub(crate) struct FrameBuffers {
     points: Vec<PreparedPoint>,

@@ -401,33 +401,67 @@ impl World {
         // The other patches coloured (frozen bodies count as static), their
         // rows built in colour order with each patch's points together.
         let (coloring, order) = contact_solver::color_patches_except(&pairs, &sf.bodies, &owned);
-        sf.points.clear();
-        sf.points.reserve(f.points.len());
-        sf.manifolds.clear();
-        sf.manifolds.reserve(f.patches.len());
+        // Each patch's first point in colour order.
         sf.position = vec![0; f.patches.len()];
+        let mut firsts = Vec::with_capacity(order.len() + 1);
+        let mut total = 0u32;
         for (k, &i) in order.iter().enumerate() {
-            let p = &f.patches[i as usize];
             sf.position[i as usize] = k as u32;
-            let first = sf.points.len() as u32;
-            sf.points
-                .extend(f.points[p.range()].iter().map(|q| q.constraint()));
-            let (a, b) = pairs[i as usize];
-            let mut m = ManifoldConstraint::new(
-                a,
-                b,
-                first,
-                p.count,
-                p.normal,
-                p.friction,
-                p.restitution,
-                p.warm_tangent,
-                p.warm_twist,
-            );
-            m.rolling = p.rolling;
-            m.curvature = p.curvature;
-            sf.manifolds.push(m);
+            firsts.push(total);
+            total += f.patches[i as usize].count;
         }
+        firsts.push(total);
+        // The records, written by the pool a run of patches at a time (each
+        // run its own stretch of both arrays; a record depends on its patch
+        // alone, so the arrays are the same bits however they are cut). The
+        // arrays keep their length from the last step (`StepFrame::recycle`)
+        // and are only cut or grown to this step's, so that each record is
+        // written once: cleared and extended, this copy was the largest
+        // serial part of the pile of 1,000 on two threads (0.58 ms a step;
+        // now 0.35 on one thread and 0.29 on two, timed inside the step).
+        let (placeholder_point, placeholder_patch) = placeholders();
+        sf.points.resize(total as usize, placeholder_point);
+        sf.manifolds.resize(order.len(), placeholder_patch);
+        let run = (order.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
+        let mut runs = Vec::with_capacity(order.len().div_ceil(run));
+        let (mut points, mut manifolds) = (&mut sf.points[..], &mut sf.manifolds[..]);
+        for (c, patches) in order.chunks(run).enumerate() {
+            let start = c * run;
+            let count = (firsts[start + patches.len()] - firsts[start]) as usize;
+            let (run_points, rest) = std::mem::take(&mut points).split_at_mut(count);
+            points = rest;
+            let (run_patches, rest) = std::mem::take(&mut manifolds).split_at_mut(patches.len());
+            manifolds = rest;
+            runs.push((start, run_points, run_patches));
+        }
+        let (patches, prepared) = (&f.patches, &f.points);
+        f.pool
+            .for_each_mut(&mut runs, |_, (start, run_points, run_patches)| {
+                let mut at = 0;
+                for (j, m) in run_patches.iter_mut().enumerate() {
+                    let i = order[*start + j] as usize;
+                    let p = &patches[i];
+                    let n = p.count as usize;
+                    for (dst, q) in run_points[at..at + n].iter_mut().zip(&prepared[p.range()]) {
+                        *dst = q.constraint();
+                    }
+                    at += n;
+                    let (a, b) = pairs[i];
+                    *m = ManifoldConstraint::new(
+                        a,
+                        b,
+                        firsts[*start + j],
+                        p.count,
+                        p.normal,
+                        p.friction,
+                        p.restitution,
+                        p.warm_tangent,
+                        p.warm_twist,
+                    );
+                    m.rolling = p.rolling;
+                    m.curvature = p.curvature;
+                }
+            });
         let position = &sf.position;
         for island in &mut sf.joint_islands {
             island.renumber_patches(|k| position[k as usize]);
@@ -664,4 +698,23 @@ fn apply_geometric_stiffness(bodies: &mut [SolverBody], geometric: &[f64]) {
             b.inv_inertia = SolverBody::world_inverse_inertia(b.q, b.inv_inertia_body);
         }
     }
+}
+
+/// Runs of patches per thread the solver's records are written in
+/// (`World::prepare_solver`): a few, so that a thread slowed by another
+/// process leaves its last run to the others.
+const LAYOUT_RUNS_PER_THREAD: usize = 4;
+
+/// Fewest patches in one run of the records' layout (below it a run costs
+/// more to hand over than to write).
+const LAYOUT_MIN_RUN: usize = 64;
+
+/// Records that fill the solver's arrays where they grow, each overwritten
+/// before it is read.
+fn placeholders() -> (PointConstraint, ManifoldConstraint) {
+    let z = DVec3::Z;
+    (
+        PointConstraint::new(z, DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
+        ManifoldConstraint::new(0, 0, 0, 0, z, 0.0, 0.0, DVec3::ZERO, 0.0),
+    )
 }

@@ -17,7 +17,9 @@
 //! over the step, or one of them was struck within the step, its velocities
 //! changed by [`STRUCK_MARGINS`] margins a step: bodies that slide and roll
 //! on each other, as a chain's links, keep speculative contacts to the
-//! features that meet), and
+//! features that meet), and so is a pair of primitive shapes (no mesh) one
+//! of whose bodies was struck by [`STRUCK_MARGINS_PRIMITIVES`] margins (a
+//! cube spun by a corner's landing swings its other corners round), and
 //! where it ends deeper than it began (at least the allowed penetration) by
 //! more than [`END_OVERLAP_SLACK`] allowed penetrations, the step's
 //! addition is taken out. Left out: a pair that
@@ -105,6 +107,22 @@ pub const LANDING_CLOSING: f64 = 0.5;
 /// -> 2.23 ms on one thread) where two cost 0.27.
 pub const STRUCK_MARGINS: f64 = 4.0;
 
+/// [`STRUCK_MARGINS`] for a pair without a triangle mesh (boxes, spheres,
+/// capsules, hulls), which takes part only when one of its bodies was
+/// struck: a cube of the 10,000-body pile struck on a corner as it lands
+/// spins, and swings another corner into a neighbour that no speculative
+/// contact held. Two: on the pile's standard start (`TRACE_DEPTH=1
+/// profile_stages pile10000 200 2`) the deepest overlap after the spawn's
+/// 5 cm was 9.6 cm without these pairs, 6.3 cm at eight margins, 5.5 at
+/// four and 4.5 at two; over jittered starts 1-4 (`JITTER=seed`, after step
+/// 3) 11.3 / 9.5 / 8.2 / 9.6 cm without, 4.5 / 6.0 / 4.2 / 6.2 with. It
+/// costs the landing: this stage took 41 ms a step on one thread over the
+/// first 150 steps instead of 5 (about 7,000 pairs collided again in the
+/// first pass, fewer in each later one), and nothing once the pile rests:
+/// a body at rest is struck by nothing, and a world with no mesh and no
+/// struck body leaves the stage at once.
+pub const STRUCK_MARGINS_PRIMITIVES: f64 = 2.0;
+
 /// Most passes of collision and separation per step (a pass runs only
 /// while a pair is still deep). Six with [`SWEEPS`] sixteen, not three with
 /// four: a body squeezed between two others was pushed out of one into the
@@ -139,13 +157,38 @@ impl World {
     /// moving against each other by more than the contact margin (module
     /// docs).
     pub(super) fn separate_end_overlaps(&mut self, f: &mut StepFrame) {
-        // Only mesh pairs take part: a world without meshes has nothing here
-        // (and need not index its contact patches every step for it).
-        if !f.meshes {
-            return;
-        }
         let margin = f.settings.contact_margin;
         let allowed = f.settings.allowed_penetration;
+        let dt = f.settings.dt;
+        // Per body slot: how far its velocity change over the step moved its
+        // surface (m; change of linear velocity plus change of angular
+        // velocity times its radius, over dt): a body struck
+        // within the step, which the speculative contacts, found with the
+        // velocities the step began with, did not foresee. Two jacks spun
+        // round by a landing swept their arms through each other while
+        // their centres stayed apart; a cube of the 10,000-body pile struck
+        // on a corner as it landed swung another corner 9 cm into a
+        // neighbour.
+        let struck_by: Vec<f64> = (0..f.n_slots as u32)
+            .map(|slot| {
+                let (Some(Some(state)), Some(e)) = (f.before.get(slot as usize), self.bodies.at(slot)) else {
+                    return 0.0;
+                };
+                if e.body.kind() != BodyKind::Dynamic {
+                    return 0.0;
+                }
+                let (v0, w0) = state_velocities(state, &e.body);
+                let change =
+                    (e.body.velocity() - v0).length() + (e.body.angular_velocity() - w0).length() * e.radius;
+                change * dt
+            })
+            .collect();
+        // Without meshes only the pairs of struck bodies take part: a world
+        // with neither has nothing here (and need not index its contact
+        // patches every step for it).
+        if !f.meshes && !struck_by.iter().any(|&s| s > STRUCK_MARGINS_PRIMITIVES * margin) {
+            return;
+        }
         // How far any point of `b` moved against `a` over the step: the
         // relative pose's travel plus its turn times b's radius.
         let relative_travel = |a: u32, b: u32| -> f64 {
@@ -250,7 +293,6 @@ impl World {
         // tumbling against the bin's wall, spun round by a body landing on
         // it within the step, swung an arm 15 mm into the wall, and no
         // stage took it out.
-        let dt = f.settings.dt;
         let slow: Vec<bool> = (0..f.n_slots as u32)
             .map(|slot| {
                 self.bodies.at(slot).is_some_and(|e| {
@@ -262,31 +304,21 @@ impl World {
             .collect();
         // Began the step within the contact margin of each other.
         let touching = |a: u32, b: u32| start_gap(a, b) <= margin;
-        // Per body slot: struck within the step (its velocities changed by
-        // enough to move its surface STRUCK_MARGINS contact margins in a
-        // step), which the speculative contacts, found with the velocities
-        // the step began with, did not foresee: two jacks spun round by a
-        // landing swept their arms through each other while their centres
-        // stayed apart.
-        let struck: Vec<bool> = (0..f.n_slots as u32)
-            .map(|slot| {
-                let (Some(Some(state)), Some(e)) = (f.before.get(slot as usize), self.bodies.at(slot)) else {
-                    return false;
-                };
-                if e.body.kind() != BodyKind::Dynamic {
-                    return false;
-                }
-                let (v0, w0) = state_velocities(state, &e.body);
-                let change =
-                    (e.body.velocity() - v0).length() + (e.body.angular_velocity() - w0).length() * e.radius;
-                change * dt > STRUCK_MARGINS * margin
-            })
-            .collect();
+        // Struck within the step: by STRUCK_MARGINS margins for a pair with
+        // a mesh, STRUCK_MARGINS_PRIMITIVES for one without.
+        let struck = |a: u32, b: u32| {
+            let by = struck_by[a as usize].max(struck_by[b as usize]);
+            if has_mesh(a) || has_mesh(b) {
+                by > STRUCK_MARGINS * margin
+            } else {
+                by > STRUCK_MARGINS_PRIMITIVES * margin
+            }
+        };
         let may_take_part = |a: u32, b: u32| {
             (movable(a) || movable(b))
                 && (movable(a) || slow[b as usize] || touching(a, b))
                 && (movable(b) || slow[a as usize] || touching(a, b))
-                && (has_mesh(a) || has_mesh(b))
+                && (has_mesh(a) || has_mesh(b) || struck(a, b))
         };
         // A pair that began the step deeper than the contact margin is the
         // push-out's alone (two bodies spawned inside each other separate
@@ -304,8 +336,7 @@ impl World {
                     && (!movable(a)
                         || !movable(b)
                         || closing(a, b) >= LANDING_CLOSING * margin
-                        || struck[a as usize]
-                        || struck[b as usize])
+                        || struck(a, b))
             })
             .collect();
         let mut moved = vec![false; f.n_slots];
@@ -316,7 +347,9 @@ impl World {
             let frame: &StepFrame = f;
             let overlaps: Vec<(f64, Vec<Contact>)> = frame
                 .pool
-                .map_chunks(&active, 1, |_, chunk| {
+                // A mesh pair can cost as much as a thousand box pairs: one
+                // pair a task where there are meshes, else runs of them.
+                .map_chunks(&active, if frame.meshes { 1 } else { 32 }, |_, chunk| {
                     chunk
                         .iter()
                         .map(|&(a, b)| {

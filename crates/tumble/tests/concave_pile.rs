@@ -2,12 +2,15 @@
 //! docs/scenes.md says (closed, concave, the blob's triangle count), the
 //! bin holds, and a small version of the pile settles in it.
 
+mod common;
+
+use common::leaning_bar::{assert_spun_bar_is_pushed_back_out, bar_depth, leaning_bar};
 use tumble::scenes::{self, concave_pile_escaped, CONCAVE_KINDS};
-use tumble::world::{BodyDesc, BodyId, World, WorldSettings};
+use tumble::world::{BodyDesc, World, WorldSettings};
 use tumble_collide::mesh::box_mesh;
 use tumble_collide::shape::ConvexHull;
 use tumble_collide::shape::{MeshShape, Shape};
-use tumble_collide::{DQuat, DVec3, Pose};
+use tumble_collide::DVec3;
 
 #[test]
 fn every_kind_is_a_closed_concave_solid_of_the_stated_size() {
@@ -218,56 +221,9 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     assert!(overlap <= margin, "B ended the step {overlap} m inside A");
 }
 
-/// Half extents of the bar of [`leaning_bar`] (m).
-const BAR_HALF: DVec3 = DVec3::new(0.02, 0.3, 0.02);
-
 /// A closed triangle-mesh box of half extents `half` (m).
 fn box_shape(half: DVec3) -> Shape {
     Shape::Mesh(MeshShape::new(box_mesh(half).unwrap()).unwrap())
-}
-
-/// A world without gravity holding `wall` (a mesh body whose face is the
-/// plane x = 0, the body behind it) and a thin mesh bar ([`BAR_HALF`])
-/// leaning on it: turned about z, one end touches the wall (1 mm away),
-/// the other stands 8 cm out. Gives the world, the bar, the bar's centre
-/// and the x of its far end's outer face.
-fn leaning_bar(wall: &BodyDesc, continuous: bool) -> (World, BodyId, DVec3, f64) {
-    let mut world = World::new(WorldSettings {
-        gravity: DVec3::ZERO,
-        sleeping: false,
-        continuous,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    world.add_body(wall).unwrap();
-    let theta = (0.08f64 / 0.6).asin();
-    let lean = BAR_HALF.x * theta.cos() + BAR_HALF.y * theta.sin();
-    let centre = DVec3::new(0.001 + lean, 0.0, 0.0);
-    let bar = world
-        .add_body(
-            &BodyDesc::dynamic(box_shape(BAR_HALF))
-                .with_pose(Pose {
-                    position: centre,
-                    rotation: DQuat::from_rotation_z(-theta),
-                })
-                .with_density(1000.0)
-                .with_material(0.0, 0.0),
-        )
-        .unwrap();
-    (world, bar, centre, centre.x + lean)
-}
-
-/// How deep the bar's deepest corner lies behind the plane x = 0 (m).
-fn bar_depth(world: &World, bar: BodyId) -> f64 {
-    let pose = world.pose(bar).unwrap();
-    (0..8)
-        .map(|k| {
-            let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
-            -pose
-                .transform_point(DVec3::new(sign(1), sign(2), sign(4)) * BAR_HALF)
-                .x
-        })
-        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// The bar of [`leaning_bar`] against a thick static wall, its far end
@@ -279,7 +235,7 @@ fn bar_depth(world: &World, bar: BodyId) -> f64 {
 /// (m), its spin about z after the first (rad/s) and the contact margin (m).
 fn bar_swung_into_a_wall(speed: f64, continuous: bool) -> (f64, f64, f64) {
     let wall = BodyDesc::fixed(box_shape(DVec3::new(0.1, 1.0, 1.0))).at(DVec3::new(-0.1, 0.0, 0.0));
-    let (mut world, bar, _, far_end_x) = leaning_bar(&wall, continuous);
+    let (mut world, bar, _, far_end_x) = leaning_bar(&wall, &box_shape, continuous);
     world
         .add_body(
             &BodyDesc::dynamic(box_shape(DVec3::splat(0.05)))
@@ -327,46 +283,10 @@ fn a_mesh_spun_against_a_wall_it_touches_is_pushed_back_out() {
 
 #[test]
 fn a_mesh_spun_round_within_the_step_into_a_body_whose_centre_it_does_not_close_in_on_is_pushed_back_out() {
-    // The bar of `leaning_bar`, leaning with its near end 1 mm
-    // from a heavy dynamic slab, is spun about its own centre by a torque
-    // during one step (the speculative contacts are found with the
-    // velocities the step starts with, zero): its far end swings into the
-    // slab within the step while the two centres stay where they were, so
-    // the pair is no landing. Its velocities changed by far more than four
-    // contact margins' worth over the step, so the end-overlap stage
-    // collides the pair again and takes the overlap out (before, it left
-    // the pair alone: 20-70 mm deep at these spins, as without the stage).
-    let run = |spin: f64, continuous: bool| {
-        let slab = BodyDesc::dynamic(box_shape(DVec3::new(0.1, 1.0, 1.0)))
-            .at(DVec3::new(-0.1, 0.0, 0.0))
-            .with_density(20000.0)
-            .with_material(0.0, 0.0);
-        let (mut world, bar, centre, _) = leaning_bar(&slab, continuous);
-        // The torque that spins the free bar up to `spin` about z in a step.
-        let inertia_z =
-            world.body(bar).unwrap().mass() * 4.0 * (BAR_HALF.y * BAR_HALF.y + BAR_HALF.x * BAR_HALF.x)
-                / 12.0;
-        world
-            .apply_torque(bar, DVec3::Z * (inertia_z * spin / world.settings().dt))
-            .unwrap();
-        world.step();
-        let moved = (world.center_of_mass(bar).unwrap() - centre).length();
-        (bar_depth(&world, bar), moved, world.settings().contact_margin)
-    };
-    for spin in [36.0, 45.0, 55.0] {
-        let (with, _, margin) = run(spin, true);
-        let (without, moved, _) = run(spin, false);
-        assert!(
-            moved < 0.5 * margin,
-            "{spin} rad/s: the bar's centre moved {moved} m: the pair would be a landing"
-        );
-        assert!(
-            without > 2.0 * margin,
-            "{spin} rad/s: {without} m deep without the continuous stage: the test no longer tests it"
-        );
-        assert!(
-            with <= margin,
-            "{spin} rad/s: the bar ended {with} m inside the slab"
-        );
-    }
+    // The bar of `leaning_bar` as a mesh, spun round into a mesh slab within
+    // one step. Its velocities changed by far more than four contact
+    // margins' worth over the step, so the end-overlap stage collides the
+    // pair again and takes the overlap out (before, it left the pair alone:
+    // 20-70 mm deep at these spins, as without the stage).
+    assert_spun_bar_is_pushed_back_out(&box_shape);
 }

@@ -1,6 +1,8 @@
 //! Analytic oracles and small helpers shared by the integration tests.
 #![allow(dead_code)] // each test binary uses a different subset
 
+pub mod leaning_bar;
+
 use tumble::collide::math::{DQuat, DVec3};
 use tumble::collide::Pose;
 use tumble::integrate::{integrate_with_field, ForceField, Integrator, NoField};

@@ -18,6 +18,18 @@ use crate::shape::{Polytope, MAX_FACE_VERTICES};
 
 const CAP: usize = 2 * MAX_FACE_VERTICES + 2;
 
+/// Distance from a reference side plane, relative to the side's length,
+/// within which an incident point counts as on the plane (kept, and no cut
+/// made next to it).
+///
+/// Why: where an incident edge lies along a reference side (two boxes of
+/// one width stacked, their side faces flush), rounding puts its ends a
+/// few 1e-16 m either side of the plane, and a cut made between them lands
+/// anywhere along the edge: a box on two boxes got a corner point 16 cm
+/// inside its face on one side and none on the other, so that a pyramid
+/// one box thick turned out of its plane (`narrow/tests_flush.rs`).
+const ON_SIDE_PLANE: f64 = 1e-9;
+
 /// Which line the polygon edge leaving a point lies on.
 #[derive(Clone, Copy, PartialEq)]
 enum Label {
@@ -125,18 +137,28 @@ fn clip<const N: usize, R: Polytope + ?Sized, I: Polytope + ?Sized>(
         // so its interior is to the left of each edge and (v1 - v0) x n points out.
         let s = (v1 - v0).cross(n_ref);
         let c = s.dot(v0);
+        // Points within ON_SIDE_PLANE of the side plane (relative to the
+        // reference edge's length; `s` is as long as the edge) lie on it.
+        let on = ON_SIDE_PLANE * s.length_squared();
         let mut m = 0;
         for i in 0..len {
             let pt = src[i];
             let q = src[(i + 1) % len];
             let dp = s.dot(pt.p) - c;
             let dq = s.dot(q.p) - c;
-            let p_in = dp <= 0.0;
+            let p_in = dp <= on;
             if p_in {
                 dst[m] = pt;
+                if dp >= -on && dq > on {
+                    // On the plane and leaving: the polygon's edge from here
+                    // runs along the reference side.
+                    dst[m].label = Label::Side(j as u8);
+                }
                 m += 1;
             }
-            if p_in != (dq <= 0.0) {
+            // Cut only where the edge passes from one side of the plane to
+            // the other; a point on the plane is its own cut.
+            if (dp < -on && dq > on) || (dp > on && dq < -on) {
                 let t = dp / (dp - dq);
                 let (f_ref, f_inc) = match pt.label {
                     Label::Incident(e) => (

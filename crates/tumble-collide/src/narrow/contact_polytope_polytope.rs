@@ -146,8 +146,31 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     let start = out.len();
     axis_manifold(a, pose_a, b, pose_b, sat, margin, out);
     if out.len() == start + 1 && out[start].kind != ContactKind::FaceFace {
-        hold_near_vertices(a, pose_a, b, pose_b, true, margin, sat.scale, start, out);
-        hold_near_vertices(b, pose_b, a, pose_a, false, margin, sat.scale, start, out);
+        let mut replaced = false;
+        hold_near_vertices(
+            a,
+            pose_a,
+            b,
+            pose_b,
+            true,
+            margin,
+            sat.scale,
+            start,
+            &mut replaced,
+            out,
+        );
+        hold_near_vertices(
+            b,
+            pose_b,
+            a,
+            pose_a,
+            false,
+            margin,
+            sat.scale,
+            start,
+            &mut replaced,
+            out,
+        );
     }
 }
 
@@ -228,10 +251,16 @@ fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     });
 }
 
+/// Distances within this (times the shapes' size) are the same: GJK's
+/// closest points carry its tolerance.
+const SAME_DISTANCE: f64 = 1e-6;
+
 /// For a manifold of one point (an edge-edge contact, or the closest
 /// points of two apart polytopes), from `start` in `out`: adds every vertex
 /// of `p` within `margin` of `q` (and outside it) as a contact with `q`'s
-/// nearest point (`p` is body A when `p_is_a`). Face manifolds need none
+/// nearest point (`p` is body A when `p_is_a`); the first vertex as near to
+/// touching as the one point, and next to it, takes its place instead
+/// (`replaced` then; see the body). Face manifolds need none
 /// (their clipped points are the incident face's corners).
 ///
 /// Why: a manifold holds for the whole step, and one point bounds only how
@@ -252,11 +281,22 @@ fn hold_near_vertices<P: Polytope + ?Sized, Q: Polytope + ?Sized>(
     margin: f64,
     scale: f64,
     start: usize,
+    replaced: &mut bool,
     out: &mut Vec<Contact>,
 ) {
-    // A point closer than this to one already made, and no nearer to
-    // touching, adds nothing.
+    // One point per neighbourhood of `near`: a corner next to a point
+    // already made replaces it when nearer to touching by more than `same`
+    // (else adds nothing), and replaces the manifold's own point when as
+    // near. Why: between two parallel edges the closest points are a
+    // segment, and GJK's lands anywhere on it; at one end it stood a few
+    // 1e-5 m off the corner there while the corner at the other end joined
+    // as a point of its own, and where two boxes side by side meet corner
+    // to corner both corners were kept: patches of more points than the
+    // block solve takes, solved point after point, off the middle of their
+    // edges. Two boxes side by side turned about the axis between them, and
+    // a pyramid one box thick leaned out of its plane (`narrow/tests_flush.rs`).
     let near = 0.05 * scale;
+    let same = SAME_DISTANCE * scale;
     for i in 0..p.vertex_count() {
         let corner = pose_p.transform_point(p.vertex(i));
         let local = pose_q.inverse_transform_point(corner);
@@ -269,18 +309,26 @@ fn hold_near_vertices<P: Polytope + ?Sized, Q: Polytope + ?Sized>(
         let on_q = pose_q.transform_point(q.closest_point(local));
         let distance = (corner - on_q).length();
         let point = (corner + on_q) * 0.5;
-        if distance <= 1e-12
-            || distance > margin
-            || out[start..]
-                .iter()
-                .any(|c| (c.point - point).length() < near && c.distance <= distance)
-        {
+        if distance <= 1e-12 || distance > margin {
             continue;
         }
+        // The point already made next to this one, if any: the manifold's
+        // own point gives way to a corner as near to touching; any point to
+        // one nearer by more than `same`; else the corner adds nothing.
+        let close = out[start..]
+            .iter()
+            .position(|c| (c.point - point).length() < near)
+            .map(|k| start + k);
+        let slot = match close {
+            Some(k) if k == start && !*replaced && distance <= out[k].distance + same => Some(k),
+            Some(k) if distance < out[k].distance - same => Some(k),
+            Some(_) => continue,
+            None => None,
+        };
         // From B towards A.
         let outward = (corner - on_q) / distance;
         let (vertex, face) = (p.vertex_feature(i), Feature::face(face as u32));
-        out.push(if p_is_a {
+        let contact = if p_is_a {
             Contact {
                 point,
                 normal: outward,
@@ -298,7 +346,14 @@ fn hold_near_vertices<P: Polytope + ?Sized, Q: Polytope + ?Sized>(
                 feature_a: face,
                 feature_b: vertex,
             }
-        });
+        };
+        match slot {
+            Some(k) => {
+                out[k] = contact;
+                *replaced |= k == start;
+            }
+            None => out.push(contact),
+        }
     }
 }
 

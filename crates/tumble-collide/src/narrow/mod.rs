@@ -41,6 +41,8 @@ mod oracle;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_flush;
+#[cfg(test)]
 pub(crate) mod tests_mesh;
 
 pub use contact_capsule_capsule::contact_capsule_capsule;

@@ -33,7 +33,7 @@ fn pose(p: [f64; 3], r: [f64; 3]) -> Pose {
     .unwrap()
 }
 
-fn contacts(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose, margin: f64) -> Vec<Contact> {
+pub(super) fn contacts(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose, margin: f64) -> Vec<Contact> {
     let mut out = Vec::new();
     contact_shapes(a, pa, b, pb, margin, &mut out).unwrap();
     out
@@ -207,7 +207,7 @@ proptest! {
     }
 }
 
-fn unit_box() -> Shape {
+pub(super) fn unit_box() -> Shape {
     Cuboid::new(DVec3::splat(0.5)).unwrap().into()
 }
 

@@ -7,19 +7,14 @@
 //! the clipping and the corner points went wrong (see `clip::ON_SIDE_PLANE`
 //! and `contact_polytope_polytope::hold_near_vertices`).
 
+use super::tests::unit_box;
 use super::*;
 use crate::math::{DQuat, DVec3};
 use crate::pose::Pose;
-use crate::shape::{Cuboid, Shape};
 
-fn unit_box() -> Shape {
-    Cuboid::new(DVec3::splat(0.5)).unwrap().into()
-}
-
+/// The contacts between two unit boxes (`tests::contacts`).
 fn contacts(pa: &Pose, pb: &Pose, margin: f64) -> Vec<Contact> {
-    let mut out = Vec::new();
-    contact_shapes(&unit_box(), pa, &unit_box(), pb, margin, &mut out).unwrap();
-    out
+    super::tests::contacts(&unit_box(), pa, &unit_box(), pb, margin)
 }
 
 /// A body of the pyramid: centre `x, z` on the plane (plus the rounding

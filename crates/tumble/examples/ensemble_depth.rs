@@ -3,7 +3,9 @@
 //! STEPS`, scenes chain and concave_pileN). The chain and the piles are
 //! chaotic: one run's worst step says little, and a change that moves the
 //! trajectory moves it at random; compare medians over an ensemble. With
-//! `DIAG=1`, every step deeper than 1 mm names the pair and its point.
+//! `DIAG=1`, every step deeper than 1 mm names the pair and its point; with
+//! `FIRST_RUN=k`, the ensemble starts at run k (profile_stages traces run k
+//! with `ENSEMBLE_RUN=k`).
 use tumble::scenes;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -12,7 +14,12 @@ fn main() {
     let steps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(600);
     let mut all = Vec::new();
     let mut total = 0.0;
-    for k in 0..runs {
+    // FIRST_RUN=k starts the ensemble at run k (to look again at one run).
+    let first: usize = std::env::var("FIRST_RUN")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    for k in first..runs {
         let mut scene = match name {
             "chain" => scenes::chain(),
             n if n.starts_with("concave_pile") => scenes::concave_pile(n[12..].parse().unwrap()),

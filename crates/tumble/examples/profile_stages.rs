@@ -7,6 +7,7 @@
 //! (with `TRACE_DEPTH=N` in the environment, also the deepest of every N steps;
 //! with `JITTER=seed`, every moving body after the first starts up to 2 cm and 0.1 rad
 //! from its place, an independent sample of a chaotic scene for each seed;
+//! with `ENSEMBLE_RUN=k`, the start of run k of `ensemble_depth` (to trace it);
 //! with `FRICTION=mu`, every body's friction set to `mu`; with
 //! `RESTING_MOTION=m`, `CONTACT_MARGIN=m`, `MESH_CONTACT_MARGIN=m` or
 //! `ALLOWED_PENETRATION=m`, that
@@ -75,6 +76,16 @@ fn main() {
         }
         other => panic!("unknown scene {other}"),
     };
+    // ENSEMBLE_RUN=k: the start of run k of `ensemble_depth` (x moved by
+    // 1e-5 k ((i mod 3) - 1) m for body i).
+    if let Some(k) = std::env::var("ENSEMBLE_RUN")
+        .ok()
+        .and_then(|s| s.parse::<u32>().ok())
+    {
+        for (i, b) in scene.bodies.iter_mut().enumerate() {
+            b.pose.position.x += 1e-5 * k as f64 * ((i % 3) as f64 - 1.0);
+        }
+    }
     if let Some(seed) = std::env::var("JITTER").ok().and_then(|s| s.parse::<u64>().ok()) {
         // A small LCG (Knuth's MMIX constants): uniform in [-1, 1).
         let mut state = seed

@@ -5,12 +5,17 @@
 mod common;
 
 use common::leaning_bar::{assert_spun_bar_is_pushed_back_out, bar_depth, leaning_bar};
+use std::f64::consts::FRAC_PI_2;
 use tumble::scenes::{self, concave_pile_escaped, CONCAVE_KINDS};
 use tumble::world::{BodyDesc, World, WorldSettings};
+use tumble::world::{END_OVERLAP_SLACK, STRUCK_MARGINS};
 use tumble_collide::mesh::box_mesh;
+use tumble_collide::mesh::torus_mesh;
+use tumble_collide::narrow::contact_shapes;
 use tumble_collide::shape::ConvexHull;
+use tumble_collide::shape::Sphere;
 use tumble_collide::shape::{MeshShape, Shape};
-use tumble_collide::DVec3;
+use tumble_collide::{DQuat, DVec3, Pose};
 
 #[test]
 fn every_kind_is_a_closed_concave_solid_of_the_stated_size() {
@@ -219,6 +224,77 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     let overlap = 2.0 * half - (xb - xa);
     let margin = world.settings().contact_margin;
     assert!(overlap <= margin, "B ended the step {overlap} m inside A");
+}
+
+#[test]
+fn a_ring_jerked_into_a_ring_it_was_not_touching_is_pushed_back_out() {
+    // Two interlocked rings as two links of the torus chain, without
+    // gravity: A above, its lower tube through B's hole, 4 mm above B's
+    // upper tube (beyond the mesh margin, so the pair has no speculative
+    // contact). Two kinematic balls under A's lower flanks lift it at
+    // 0.9 m/s from the first sub-step on, which the velocities at the
+    // step's start (all zero but the balls') do not announce: A's tube
+    // rises about 15 mm into B's within the step. The centres move apart
+    // (no landing along their line), and A's velocity changes by 3 contact
+    // margins a step, fewer than the four that make a body with speculative
+    // contacts "struck"; what tells the end-overlap stage to collide the
+    // pair again is that it had no contact at all (STRUCK_MARGINS_UNSEEN).
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let ring = Shape::Mesh(MeshShape::new(torus_mesh(1.0, 0.2, 32, 12).unwrap()).unwrap());
+    let ring_a = Pose::new(DVec3::ZERO, DQuat::from_rotation_x(FRAC_PI_2)).unwrap();
+    let ring_b_at = |z: f64| Pose::new(DVec3::new(0.0, 0.0, z), DQuat::from_rotation_y(FRAC_PI_2)).unwrap();
+    // The meshes' gap with B's centre at z (m): their closest contact.
+    let gap = |pose_a: &Pose, pose_b: &Pose| {
+        let mut out = Vec::new();
+        contact_shapes(&ring, pose_a, &ring, pose_b, 0.1, &mut out).unwrap();
+        out.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min)
+    };
+    // Tube centre lines 0.4 m apart touch; B placed so the meshes are 4 mm apart.
+    let z0 = -1.6;
+    let z = z0 + (0.004 - gap(&ring_a, &ring_b_at(z0)));
+    let start_gap = gap(&ring_a, &ring_b_at(z));
+    assert!((start_gap - 0.004).abs() < 1e-4, "start gap {start_gap}");
+    let ring_desc = |pose: Pose| {
+        BodyDesc::dynamic(ring.clone())
+            .with_pose(pose)
+            .with_mass(1.0)
+            .with_material(0.0, 0.0)
+    };
+    let a = world.add_body(&ring_desc(ring_a)).unwrap();
+    let b = world.add_body(&ring_desc(ring_b_at(z))).unwrap();
+    // Each ball touches A's outer surface below its flank at 45 degrees.
+    for side in [-1.0, 1.0] {
+        let flank = DVec3::new(side, 0.0, -1.0).normalize();
+        let ball = BodyDesc::kinematic(Shape::Sphere(Sphere::new(0.1).unwrap()))
+            .at(flank * (1.2 + 0.1))
+            .with_material(0.0, 0.0)
+            .with_velocity(DVec3::new(0.0, 0.0, 0.9), DVec3::ZERO);
+        world.add_body(&ball).unwrap();
+    }
+    let margin = world.settings().contact_margin;
+    assert!(
+        start_gap > world.settings().mesh_contact_margin,
+        "the rings start within the mesh margin: the test no longer tests an unseen pair"
+    );
+    world.step();
+    let dt = world.settings().dt;
+    let lift = world.linear_velocity(a).unwrap().z * dt;
+    assert!(
+        lift > 2.0 * margin && lift < STRUCK_MARGINS * margin,
+        "A was lifted {lift} m a step: the test no longer tests the band of the unseen pairs' rule"
+    );
+    let (pose_a, pose_b) = (world.pose(a).unwrap(), world.pose(b).unwrap());
+    let overlap = -gap(&pose_a, &pose_b);
+    let allowed = world.settings().allowed_penetration;
+    assert!(
+        overlap <= (1.0 + END_OVERLAP_SLACK) * allowed,
+        "A ended the step {overlap} m inside B"
+    );
 }
 
 /// A closed triangle-mesh box of half extents `half` (m).

@@ -5,7 +5,8 @@
 //! trajectory moves it at random; compare medians over an ensemble. With
 //! `DIAG=1`, every step deeper than 1 mm names the pair and its point; with
 //! `FIRST_RUN=k`, the ensemble starts at run k (profile_stages traces run k
-//! with `ENSEMBLE_RUN=k`).
+//! with `ENSEMBLE_RUN=k`); `PUSH_FRACTION=f` and `SUBSTEPS=n` set those
+//! `WorldSettings` fields for every run.
 use tumble::scenes;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -26,6 +27,12 @@ fn main() {
             other => panic!("unknown scene {other}: chain or concave_pileN"),
         };
         scene.settings.sleeping = false;
+        if let Some(f) = std::env::var("PUSH_FRACTION").ok().and_then(|v| v.parse().ok()) {
+            scene.settings.push_out_fraction = f;
+        }
+        if let Some(n) = std::env::var("SUBSTEPS").ok().and_then(|v| v.parse().ok()) {
+            scene.settings.substeps = n;
+        }
         for (i, b) in scene.bodies.iter_mut().enumerate() {
             b.pose.position.x += 1e-5 * k as f64 * ((i % 3) as f64 - 1.0);
         }

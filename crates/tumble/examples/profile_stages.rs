@@ -611,11 +611,15 @@ fn trace_tower_line(world: &tumble::world::World, step: usize) {
 /// and gap, its normal and the friction it carries against its normal
 /// impulse (what slides: `|t| / n` at the friction coefficient).
 fn trace_body_line(world: &tumble::world::World, step: usize, name: &str) {
-    let Some(id) = world
-        .body_ids()
-        .into_iter()
-        .find(|&id| world.name(id) == Ok(name))
-    else {
+    // `#k`: the k-th body (names repeat in the ragdoll pile).
+    let found = match name.strip_prefix('#').and_then(|k| k.parse::<usize>().ok()) {
+        Some(k) => world.body_ids().get(k).copied(),
+        None => world
+            .body_ids()
+            .into_iter()
+            .find(|&id| world.name(id) == Ok(name)),
+    };
+    let Some(id) = found else {
         return;
     };
     let (x, v) = (
@@ -624,9 +628,10 @@ fn trace_body_line(world: &tumble::world::World, step: usize, name: &str) {
     );
     let turn = world.orientation(id).unwrap().to_scaled_axis();
     eprintln!(
-        "step {step}: {name} at {:.4?} v {:.4?} m/s turned {:.2?} mrad",
+        "step {step}: {name} at {:.4?} v {:.4?} m/s w {:.3?} rad/s turned {:.2?} mrad",
         x.to_array(),
         v.to_array(),
+        world.angular_velocity(id).unwrap().to_array(),
         (turn * 1e3).to_array()
     );
     for c in world

@@ -198,9 +198,13 @@ fn main() {
         v.split_once(':')
             .and_then(|(a, b)| Some((a.parse().ok()?, b.parse().ok()?)))
     });
-    // PUSH_FRACTION / PUSH_SPEED: the push-out's fraction and speed limit.
+    // PUSH_FRACTION / PUSH_SPEED: the push-out's fraction and speed limit;
+    // DT: the step (s).
     {
         let mut s = world.settings().clone();
+        if let Some(dt) = std::env::var("DT").ok().and_then(|v| v.parse().ok()) {
+            s.dt = dt;
+        }
         if let Some(f) = std::env::var("PUSH_FRACTION").ok().and_then(|v| v.parse().ok()) {
             s.push_out_fraction = f;
         }

@@ -90,6 +90,9 @@ def markdown(doc):
         f"Machine: {m['cpu_model']}, {m['nproc']} cores, kernel {m['kernel']}, "
         f"load average at start {_fmt_load(m.get('load_average_at_start'))}. Started {doc['started_utc']}.",
         "",
+        "tumble built from: " + (f"commit {doc['source_commit']}" if doc.get("source_commit")
+                                 else "binaries as found (--no-build)"),
+        "",
         "Versions: " + ", ".join(f"{k} {v}" for k, v in sorted(doc["versions"].items())),
         "",
         "## Dynamics (ms per step: median, p10-p90; ratio = tumble / peer median, on the same thread count)",

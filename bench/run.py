@@ -2,7 +2,7 @@
 """Benchmark harness: runs every scene of scenes.md in tumble and in each peer engine.
 
     python3 bench/run.py --quick          # a few steps per scene; CI smoke test: fails when tumble errs
-    python3 bench/run.py --full [--setup] # full scenes; --setup installs peers (pip + cargo) first
+    python3 bench/run.py --full [--setup] # full scenes; --setup installs the Python peers first
 
 Each peer is a separate process (bench/peers/*.py in bench/.venv, target/release/peer-*)
 that prints one JSON object per line: engine, version, scene, status, settings, figures.
@@ -248,9 +248,28 @@ def merge(old, new):
 
 def setup_peers():
     subprocess.run(["bash", os.path.join(BENCH, "setup.sh")], check=False)
-    if shutil.which("cargo"):
-        subprocess.run(["cargo", "build", "--release", "-p", "tumble-bench"], cwd=ROOT, check=False)
-        subprocess.run(["cargo", "build", "--release", "-p", "tumble-cli"], cwd=ROOT, check=False)
+
+
+def build_engines():
+    """tumble and the Rust peers built from the tree as it is (cargo does nothing when they are
+    fresh): a binary left from an older commit would be timed and reported as this one. Returns
+    an error message, or None."""
+    if not shutil.which("cargo"):
+        return "cargo not found: cannot build tumble-cli and tumble-bench (or pass --no-build)"
+    done = subprocess.run(["cargo", "build", "--release", "-q", "-p", "tumble-cli", "-p", "tumble-bench"], cwd=ROOT)
+    return None if done.returncode == 0 else "cargo build --release -p tumble-cli -p tumble-bench failed"
+
+
+def source_commit():
+    """The commit the tree is at, with "-dirty" when it has uncommitted changes (None outside git)."""
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                              text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT,
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return head + ("-dirty" if dirty else "")
 
 
 def reexec_in_venv():
@@ -265,7 +284,10 @@ def main():
     mode = ap.add_mutually_exclusive_group(required=True)
     mode.add_argument("--quick", action="store_true", help="a few steps per scene (CI)")
     mode.add_argument("--full", action="store_true", help="full-length scenes")
-    ap.add_argument("--setup", action="store_true", help="install peers (bench/setup.sh, cargo build) first")
+    ap.add_argument("--setup", action="store_true", help="install the Python peers (bench/setup.sh) first")
+    ap.add_argument("--no-build", action="store_true",
+                    help="time the binaries in target/release as they are (by default tumble-cli and "
+                         "tumble-bench are built from the tree first)")
     ap.add_argument("--only", nargs="*",
                     help="subset of: pyramid large_pyramid pile chain cradle bowl heavy_chain ragdoll_pile tori; "
                          "concave_pile only when named")
@@ -284,6 +306,11 @@ def main():
     a = ap.parse_args()
     if a.setup:
         setup_peers()
+    if not a.no_build:
+        failed = build_engines()
+        if failed:
+            print(f"[bench] {failed}", file=sys.stderr)
+            return 2
     out = a.out or (os.path.join(ROOT, "target", "bench-quick") if a.quick else os.path.join(ROOT, "docs", "benchmarks"))
     os.makedirs(out, exist_ok=True)
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
@@ -308,6 +335,7 @@ def main():
         "date": date,
         "started_utc": started,
         "mode": "quick" if a.quick else "full",
+        "source_commit": source_commit() if not a.no_build else None,
         "machine": machine(),
         "versions": versions,
         "results": results,

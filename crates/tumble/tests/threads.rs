@@ -1,8 +1,8 @@
 //! Threads change the speed of a step, never its result: the pile, the
-//! torus chain and a volley of swept projectiles stepped on 1, 2, 3 and 8
-//! threads follow bit-identical
-//! trajectories (hashes compared every few steps, so a divergence is caught
-//! where it starts), and the report says how many threads ran.
+//! ragdoll pile, the torus chain and a volley of swept projectiles stepped
+//! on 1, 2, 3 and 8 threads follow bit-identical trajectories (hashes
+//! compared every few steps, so a divergence is caught where it starts), and
+//! the report says how many threads ran.
 
 use tumble::scenes::{self, Scene};
 use tumble::world::{World, WorldSettings};
@@ -63,6 +63,14 @@ fn several_push_out_passes_end_together_on_every_thread_count() {
     finished
         .recv_timeout(std::time::Duration::from_secs(120))
         .expect("the threads did not finish their push-out passes together (or a trajectory differed)");
+}
+
+#[test]
+fn ragdoll_pile_is_bit_identical_on_1_2_3_and_8_threads() {
+    // Joint islands four to a unit of SIMD lanes, the contacts they own
+    // (limbs on their own chests) and the colour batches around them, on
+    // the pool: 100 ragdolls toppling onto each other.
+    same_for_every_thread_count(scenes::ragdoll_pile(), 60, 10);
 }
 
 #[test]

@@ -48,11 +48,10 @@ viewer-test:
 	bash viewer/scripts/test.sh
 
 # The side-by-side benchmark harness in its quick mode (a few steps per scene),
-# so that it cannot rot; peers that are not installed are recorded, not failed;
+# so that it cannot rot (bench/run.py builds tumble and the Rust peers first); peers that are not installed are recorded, not failed;
 # it fails when tumble errs or gives a wrong answer (tori pairs against the
 # truth file, pyramid standing, pile contained).
 bench-quick:
-	$(CARGO) build --release -p tumble-cli
 	python3 -m unittest bench/test_common.py
 	python3 bench/run.py --quick
 

@@ -143,7 +143,8 @@ fn check_pair(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> Result<(), String> 
             let d3 = signed_distance(&oshape(a, &out_pose), &ob);
             // The reported deepest point may be up to 1e-5 x size shallower
             // than the true one (clip.rs's depth tie rule, as above).
-            if d3 < -TOL - 2e-5 || d3 > slack + 1e-6 {
+            let touches = |d: f64| (-TOL - 2e-5..=slack + 1e-6).contains(&d);
+            if !touches(d3) {
                 return Err(format!(
                     "push-out by the depth does not touch (d3 = {d3}): {}",
                     ctx()
@@ -154,7 +155,7 @@ fn check_pair(a: &Shape, pa: &Pose, b: &Shape, pb: &Pose) -> Result<(), String> 
             // size shallower than the deepest, which is now that much in).
             let touching = contacts(a, &out_pose, b, pb, slack + 1e-6);
             match min_distance(&touching) {
-                Some(t) if t.distance >= -TOL - 2e-5 && t.distance <= slack + 1e-6 => {}
+                Some(t) if touches(t.distance) => {}
                 _ => {
                     let wide = contacts(a, &out_pose, b, pb, 0.1);
                     return Err(format!(

@@ -4,12 +4,17 @@
 //! insertions, and when incoherent motion (teleports) would make the insertion
 //! sort quadratic. O(n log n + n * a + k) with `a` the mean active-list length on
 //! the sweep axis, which is chosen as the axis of largest spread of box centres
-//! to keep `a` small.
+//! to keep `a` small. The active list is tested four boxes to a SIMD compare
+//! (the `wide` crate): a branch per box test mispredicted about as often as
+//! not, and the sweep of the 10,000-body pile took 5.5-7 ms a step where it
+//! now takes 1.8-2.2 (`profile_stages pile10000 80 1`, the broad stage 8.2 ->
+//! 5.2 ms with the skipped wake pass of the world's broad stage).
 
 use super::aabb::Aabb;
 use super::endpoint::Endpoint;
 use super::pairs::pair_key;
 use super::proxy::EndIndex;
+use wide::f64x4;
 
 /// Sorts `list` by the total endpoint order and refreshes `ends[..][axis]`.
 pub(crate) fn sort_full(list: &mut [Endpoint], axis: usize, ends: &mut [EndIndex]) {
@@ -47,62 +52,174 @@ pub(crate) fn widest_axis(list: &[Endpoint], boxes: &[Aabb]) -> usize {
     best
 }
 
-/// An entry of the active list: the slot and its box on the two axes other than
-/// the sweep axis, stored inline so that the inner loop scans memory in order.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Active {
-    slot: u32,
-    lo: [f64; 2],
-    hi: [f64; 2],
+/// The active list of the sweep: the boxes open at the sweep's position,
+/// each with its slot and its interval on the two axes other than the sweep
+/// axis, stored axis by axis so that a new box is tested against four open
+/// ones in one SIMD compare. Padded to a multiple of four with empty
+/// intervals (`lo = +inf`, `hi = -inf`), which overlap nothing.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ActiveList {
+    slots: Vec<u32>,
+    /// `lo[k][i]`, `hi[k][i]`: box `i`'s interval on the `k`-th other axis.
+    lo: [Vec<f64>; 2],
+    hi: [Vec<f64>; 2],
+    /// Position of each slot's entry (valid only while the slot is open).
+    pos: Vec<u32>,
+}
+
+impl ActiveList {
+    /// Empties the list, for sweeps over slots `0..slots`.
+    fn reset(&mut self, slots: usize) {
+        self.slots.clear();
+        for k in 0..2 {
+            self.lo[k].clear();
+            self.hi[k].clear();
+        }
+        self.pos.resize(slots, 0);
+    }
+
+    fn len(&self) -> usize {
+        self.slots.len()
+    }
+
+    fn push(&mut self, slot: u32, lo: [f64; 2], hi: [f64; 2]) {
+        let at = self.len();
+        self.pos[slot as usize] = at as u32;
+        self.slots.push(slot);
+        for k in 0..2 {
+            // Keep the padding after the last entry: overwrite its first
+            // padding lane, or open a new group of four.
+            if self.lo[k].len() == at {
+                self.lo[k].extend([f64::INFINITY; 4]);
+                self.hi[k].extend([f64::NEG_INFINITY; 4]);
+            }
+            self.lo[k][at] = lo[k];
+            self.hi[k][at] = hi[k];
+        }
+    }
+
+    /// Removes `slot` in O(1): the last entry takes its place.
+    fn remove(&mut self, slot: u32) {
+        let at = self.pos[slot as usize] as usize;
+        let last = self.len() - 1;
+        self.slots.swap_remove(at);
+        for k in 0..2 {
+            self.lo[k][at] = self.lo[k][last];
+            self.hi[k][at] = self.hi[k][last];
+            self.lo[k][last] = f64::INFINITY;
+            self.hi[k][last] = f64::NEG_INFINITY;
+        }
+        if let Some(&moved) = self.slots.get(at) {
+            self.pos[moved as usize] = at as u32;
+        }
+        // Drop a group of four left all padding.
+        if last.is_multiple_of(4) {
+            for k in 0..2 {
+                self.lo[k].truncate(last);
+                self.hi[k].truncate(last);
+            }
+        }
+    }
+
+    /// Appends the key of every open box overlapping `[lo, hi]` on the two
+    /// other axes (touching included) to `out`, pairs with `slot`.
+    fn overlaps(&self, slot: u32, lo: [f64; 2], hi: [f64; 2], out: &mut Vec<u64>) {
+        let (lo0, lo1) = (f64x4::splat(lo[0]), f64x4::splat(lo[1]));
+        let (hi0, hi1) = (f64x4::splat(hi[0]), f64x4::splat(hi[1]));
+        let lanes = |v: &[f64]| f64x4::from([v[0], v[1], v[2], v[3]]);
+        for (group, at) in (0..self.lo[0].len()).step_by(4).enumerate() {
+            let hit = lo0.simd_le(lanes(&self.hi[0][at..]))
+                & lanes(&self.lo[0][at..]).simd_le(hi0)
+                & lo1.simd_le(lanes(&self.hi[1][at..]))
+                & lanes(&self.lo[1][at..]).simd_le(hi1);
+            let mut bits = hit.to_bitmask();
+            while bits != 0 {
+                let i = group * 4 + bits.trailing_zeros() as usize;
+                out.push(pair_key(slot, self.slots[i]));
+                bits &= bits - 1;
+            }
+        }
+    }
 }
 
 /// Appends the key of every overlapping pair to `out` (unsorted, each once) by
 /// sweeping the sorted `list` of axis `axis`; returns the number of box tests
-/// done (the sweep's cost). `active` and `active_pos` are scratch buffers;
-/// `active_pos` must have one entry per slot.
+/// done (the sweep's cost). `active` is scratch, reset for `slots` slots.
 pub(crate) fn sweep_pairs(
     list: &[Endpoint],
     axis: usize,
     boxes: &[Aabb],
-    active: &mut Vec<Active>,
-    active_pos: &mut [u32],
+    slots: usize,
+    active: &mut ActiveList,
     out: &mut Vec<u64>,
 ) -> u64 {
     let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
     let mut tests = 0u64;
-    active.clear();
+    active.reset(slots);
     for e in list {
         let s = e.slot();
         if e.is_max() {
-            // Swap-remove `s` from the active list in O(1).
-            let pos = active_pos[s as usize] as usize;
-            active.swap_remove(pos);
-            if let Some(moved) = active.get(pos) {
-                active_pos[moved.slot as usize] = pos as u32;
-            }
+            active.remove(s);
         } else {
             // Every active box starts at or before this one and has not ended,
             // so they overlap on the sweep axis (touching included, as min
             // endpoints sort before max endpoints); test the other two axes.
             let b = &boxes[s as usize];
-            let me = Active {
-                slot: s,
-                lo: [b.min()[u], b.min()[v]],
-                hi: [b.max()[u], b.max()[v]],
-            };
+            let (lo, hi) = ([b.min()[u], b.min()[v]], [b.max()[u], b.max()[v]]);
             tests += active.len() as u64;
-            for other in active.iter() {
-                if me.lo[0] <= other.hi[0]
-                    && other.lo[0] <= me.hi[0]
-                    && me.lo[1] <= other.hi[1]
-                    && other.lo[1] <= me.hi[1]
-                {
-                    out.push(pair_key(s, other.slot));
-                }
-            }
-            active_pos[s as usize] = active.len() as u32;
-            active.push(me);
+            active.overlaps(s, lo, hi, out);
+            active.push(s, lo, hi);
         }
     }
     tests
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The SIMD active list against a plain list of open boxes, through
+    /// pushes and removals that cross every padding boundary: the same
+    /// overlapping slots for every query (touching included).
+    #[test]
+    fn active_list_reports_what_a_plain_list_does() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = |k: u64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) % k
+        };
+        let mut list = ActiveList::default();
+        list.reset(64);
+        let mut open: Vec<(u32, [f64; 2], [f64; 2])> = Vec::new();
+        let mut checked = 0;
+        for _ in 0..2000 {
+            let slot = next(64) as u32;
+            if let Some(i) = open.iter().position(|o| o.0 == slot) {
+                open.swap_remove(i);
+                list.remove(slot);
+            } else {
+                // Integer coordinates: many boxes touch exactly.
+                let lo = [next(8) as f64, next(8) as f64];
+                let hi = [lo[0] + next(3) as f64, lo[1] + next(3) as f64];
+                let mut got = Vec::new();
+                list.overlaps(slot, lo, hi, &mut got);
+                let mut want: Vec<u64> = open
+                    .iter()
+                    .filter(|o| lo[0] <= o.2[0] && o.1[0] <= hi[0] && lo[1] <= o.2[1] && o.1[1] <= hi[1])
+                    .map(|o| pair_key(slot, o.0))
+                    .collect();
+                got.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(got, want, "query {slot} against {} open boxes", open.len());
+                checked += want.len();
+                open.push((slot, lo, hi));
+                list.push(slot, lo, hi);
+            }
+            assert_eq!(list.len(), open.len());
+            assert_eq!(list.lo[0].len(), open.len().div_ceil(4) * 4);
+        }
+        assert!(checked > 1000, "the queries found overlaps ({checked})");
+    }
 }

@@ -72,8 +72,7 @@ pub struct SweepAndPrune {
     /// Scratch: the next pair set.
     next_pairs: Vec<u64>,
     /// Scratch for the rebuild sweep.
-    active: Vec<rebuild::Active>,
-    active_pos: Vec<u32>,
+    active: rebuild::ActiveList,
     /// Box tests done by the last rebuild sweep, a measure of what a rebuild costs.
     last_sweep_tests: u64,
     swap_budget_factor: u32,
@@ -114,8 +113,7 @@ impl SweepAndPrune {
             pair_counts: Vec::new(),
             changes: Changes::default(),
             next_pairs: Vec::new(),
-            active: Vec::new(),
-            active_pos: Vec::new(),
+            active: rebuild::ActiveList::default(),
             last_sweep_tests: 0,
             swap_budget_factor: factor,
         }
@@ -372,14 +370,13 @@ impl SweepAndPrune {
             rebuild::sort_full(&mut self.lists[axis], axis, &mut self.ends);
         }
         let axis = rebuild::widest_axis(&self.lists[0], &self.boxes);
-        self.active_pos.resize(self.slots.len(), 0);
         self.next_pairs.clear();
         self.last_sweep_tests = rebuild::sweep_pairs(
             &self.lists[axis],
             axis,
             &self.boxes,
+            self.slots.len(),
             &mut self.active,
-            &mut self.active_pos,
             &mut self.next_pairs,
         );
         self.next_pairs.sort_unstable();

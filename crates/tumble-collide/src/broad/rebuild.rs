@@ -18,7 +18,7 @@ use wide::f64x4;
 
 /// Sorts `list` by the total endpoint order and refreshes `ends[..][axis]`.
 pub(crate) fn sort_full(list: &mut [Endpoint], axis: usize, ends: &mut [EndIndex]) {
-    list.sort_unstable_by(Endpoint::total_cmp);
+    list.sort_unstable_by_key(Endpoint::sort_key);
     reindex(list, axis, ends);
 }
 

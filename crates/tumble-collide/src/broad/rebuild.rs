@@ -86,10 +86,11 @@ impl ActiveList {
         let at = self.len();
         self.pos[slot as usize] = at as u32;
         self.slots.push(slot);
+        // The entry takes the first padding lane, or opens a new group of
+        // four (every axis's arrays have the same length).
+        let open_group = self.lo[0].len() == at;
         for k in 0..2 {
-            // Keep the padding after the last entry: overwrite its first
-            // padding lane, or open a new group of four.
-            if self.lo[k].len() == at {
+            if open_group {
                 self.lo[k].extend([f64::INFINITY; 4]);
                 self.hi[k].extend([f64::NEG_INFINITY; 4]);
             }

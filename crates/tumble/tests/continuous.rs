@@ -346,7 +346,7 @@ fn a_box_spun_round_within_the_step_into_a_neighbour_is_pushed_back_out() {
     // into the slab, which its speculative contacts, found with the
     // velocities the step starts with (zero), did not hold. A pair without
     // a mesh takes part in the end-overlap stage when one of its bodies was
-    // struck (its velocities changed by STRUCK_MARGINS_PRIMITIVES margins'
+    // struck (its velocities changed by STRUCK_MARGINS margins'
     // worth in the step), as a cube of the 10,000-body pile spun by its
     // corner's landing is; without the stage the bar ends centimetres inside
     // (about 19 mm at 36 rad/s).

@@ -62,7 +62,7 @@ pub use islands::{label_islands, UnionFind};
 pub use report::{ContactEvent, Quarantined, SolveStage, Stage, StepReport};
 pub use settings::{SolverKind, WorldSettings};
 pub use snapshot::{Snapshot, SnapshotError, SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC};
-pub use step::{END_OVERLAP_SLACK, FAST_FRACTION, RUNAWAY_SPEED, STRUCK_MARGINS, STRUCK_MARGINS_UNSEEN};
+pub use step::{END_OVERLAP_SLACK, FAST_FRACTION, RUNAWAY_SPEED, STRUCK_MARGINS};
 
 use crate::body::{BodyKind, Material, RigidBody};
 use manifold::{CachedContact, CachedPatch, SearchedPair};

@@ -15,12 +15,11 @@
 //! other along the line of their centres by [`LANDING_CLOSING`] of the
 //! margin per step or more at the step's start, or closed in by that much
 //! over the step, or one of them was struck within the step, its velocities
-//! changed by [`STRUCK_MARGINS`] margins a step, [`STRUCK_MARGINS_UNSEEN`]
-//! for a pair that had no speculative contact at all: bodies that slide and roll
+//! changed by [`STRUCK_MARGINS`] margins a step: bodies that slide and roll
 //! on each other, as a chain's links, keep speculative contacts to the
 //! features that meet), and so is a pair of primitive shapes (no mesh) one
-//! of whose bodies was struck by [`STRUCK_MARGINS_PRIMITIVES`] margins (a
-//! cube spun by a corner's landing swings its other corners round), and
+//! of whose bodies was struck (a cube spun by a corner's landing swings its
+//! other corners round), and
 //! where it ends deeper than it began (at least the allowed penetration) by
 //! more than [`END_OVERLAP_SLACK`] allowed penetrations, the step's
 //! addition is taken out. Left out: a pair that began deeper than two
@@ -104,41 +103,33 @@ pub const LANDING_CLOSING: f64 = 0.5;
 /// again when one of them was struck within the step: its velocities
 /// changed by enough to move its surface this many contact margins over
 /// the step (change of linear velocity plus change of angular velocity
-/// times its radius). Four: on the concave pile's jittered starts 9, 13
-/// and 14 it took out what two did, and it costs the torus chain, whose
-/// links are jerked by their neighbours every step, 0.08 ms a step (2.15
-/// -> 2.23 ms on one thread) where two cost 0.27.
-pub const STRUCK_MARGINS: f64 = 4.0;
-
-/// [`STRUCK_MARGINS`] for a pair with a triangle mesh that had no
-/// speculative contact at the step's start: nothing held its features
-/// apart, and a jerk smaller than four margins is enough to bring them
-/// together unseen. In the torus chain, link 17 yanked up by link 16 at
-/// 1.06 m/s within a step (3.5 margins) sank its lower tube 11 mm into link
-/// 18, which it had not been touching, and the jerk went on down the chain
-/// (18 mm between links 18 and 19). Over the twelve starts of
-/// `ensemble_depth chain 12 600` the worst run's deepest overlap went from
-/// 18.2 to 3.9 mm (the others' 6.8 -> 2.4 and 5.3 -> 2.2 mm; the median
-/// 2.9 mm unchanged), and the chain's step took no measurable time more
-/// (builds alternated: its links touch most of the time, so the pairs this
-/// adds are few; two margins for every mesh pair cost it 0.33 ms a step).
-pub const STRUCK_MARGINS_UNSEEN: f64 = 2.0;
-
-/// [`STRUCK_MARGINS`] for a pair without a triangle mesh (boxes, spheres,
-/// capsules, hulls), which takes part only when one of its bodies was
-/// struck: a cube of the 10,000-body pile struck on a corner as it lands
-/// spins, and swings another corner into a neighbour that no speculative
-/// contact held. Two: on the pile's standard start (`TRACE_DEPTH=1
-/// profile_stages pile10000 200 2`) the deepest overlap after the spawn's
-/// 5 cm was 9.6 cm without these pairs, 6.3 cm at eight margins, 5.5 at
-/// four and 4.5 at two; over jittered starts 1-4 (`JITTER=seed`, after step
-/// 3) 11.3 / 9.5 / 8.2 / 9.6 cm without, 4.5 / 6.0 / 4.2 / 6.2 with. It
-/// costs the landing: this stage took 41 ms a step on one thread over the
-/// first 150 steps instead of 5 (about 7,000 pairs collided again in the
-/// first pass, fewer in each later one), and nothing once the pile rests:
-/// a body at rest is struck by nothing, and a world with no mesh and no
-/// struck body leaves the stage at once.
-pub const STRUCK_MARGINS_PRIMITIVES: f64 = 2.0;
+/// times its radius). One threshold for every pair, two margins:
+///
+/// - Mesh pairs: over the concave pile's 16 starts of `ensemble_depth
+///   concave_pile200 16 600` the worst overlap of a run was 3.1-7.1 mm
+///   (median 4.7) with two margins against 3.8-26 mm (median 5.7) with
+///   four and 3.1-11 mm (median 4.9) with three (two cups, one knocked
+///   down 0.6 m/s within the step by a third body, met 3.8 mm deep at
+///   features 20 cm from their speculative contacts: 3.4 margins). It
+///   costs the torus chain, whose links are jerked by their neighbours
+///   every step, 0.12 ms a step on one thread (1.23 -> 1.35 ms, builds
+///   alternated; two threads 0.77 -> 0.83), its trajectory unchanged. A
+///   pair without a speculative contact needs it most: chain link 17
+///   yanked up by link 16 at 1.06 m/s within a step (3.5 margins) sank its
+///   lower tube 11 mm into link 18, which it had not been touching.
+/// - Pairs without a triangle mesh (boxes, spheres, capsules, hulls) take
+///   part only when one of their bodies was struck: a cube of the
+///   10,000-body pile struck on a corner as it lands spins, and swings
+///   another corner into a neighbour that no speculative contact held. On
+///   the pile's standard start (`TRACE_DEPTH=1 profile_stages pile10000
+///   200 2`) the deepest overlap after the spawn's 5 cm was 9.6 cm without
+///   these pairs, 6.3 cm at eight margins, 5.5 at four and 4.5 at two. It
+///   costs the landing (this stage took 41 ms a step on one thread over
+///   the first 150 steps instead of 5: about 7,000 pairs collided again in
+///   the first pass), and nothing once the pile rests: a body at rest is
+///   struck by nothing, and a world with no mesh and no struck body leaves
+///   the stage at once.
+pub const STRUCK_MARGINS: f64 = 2.0;
 
 /// Most passes of collision and separation per step (a pass runs only
 /// while a pair is still deep). Six with [`SWEEPS`] sixteen, not three with
@@ -215,7 +206,7 @@ impl World {
         // Without meshes only the pairs of struck bodies take part: a world
         // with neither has nothing here (and need not index its contact
         // patches every step for it).
-        if !f.meshes && !struck_by.iter().any(|&s| s > STRUCK_MARGINS_PRIMITIVES * margin) {
+        if !f.meshes && !struck_by.iter().any(|&s| s > STRUCK_MARGINS * margin) {
             return;
         }
         // How far any point of `b` moved against `a` over the step: the
@@ -333,23 +324,9 @@ impl World {
             .collect();
         // Began the step within the contact margin of each other.
         let touching = |a: u32, b: u32| start_gap(a, b) <= margin;
-        // Struck within the step: by STRUCK_MARGINS margins for a pair with
-        // a mesh, STRUCK_MARGINS_UNSEEN for one with a mesh and no
-        // speculative contact at the step's start (no patch: `start_gap`
-        // infinite), STRUCK_MARGINS_PRIMITIVES for one without a mesh.
-        let struck = |a: u32, b: u32| {
-            let by = struck_by[a as usize].max(struck_by[b as usize]);
-            if has_mesh(a) || has_mesh(b) {
-                let unseen = start_gap(a, b) == f64::INFINITY;
-                by > if unseen {
-                    STRUCK_MARGINS_UNSEEN
-                } else {
-                    STRUCK_MARGINS
-                } * margin
-            } else {
-                by > STRUCK_MARGINS_PRIMITIVES * margin
-            }
-        };
+        // Struck within the step, by STRUCK_MARGINS margins.
+        let struck =
+            |a: u32, b: u32| struck_by[a as usize].max(struck_by[b as usize]) > STRUCK_MARGINS * margin;
         let may_take_part = |a: u32, b: u32| {
             (movable(a) || movable(b))
                 && (movable(a) || slow[b as usize] || touching(a, b))

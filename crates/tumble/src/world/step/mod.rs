@@ -21,7 +21,7 @@ mod solve;
 mod writeback;
 
 pub use continuous::FAST_FRACTION;
-pub use end_overlap::{END_OVERLAP_SLACK, STRUCK_MARGINS, STRUCK_MARGINS_UNSEEN};
+pub use end_overlap::{END_OVERLAP_SLACK, STRUCK_MARGINS};
 pub(crate) use frame::{StepFrame, StepScratch};
 pub(crate) use margins::{body_aabb, bounding_radius, core_radius, thickness, velocities};
 pub use quarantine::RUNAWAY_SPEED;

@@ -19,10 +19,9 @@
 //! on each other, as a chain's links, keep speculative contacts to the
 //! features that meet), and so is a pair of primitive shapes (no mesh) one
 //! of whose bodies was struck (a cube spun by a corner's landing swings its
-//! other corners round), and
-//! where it ends deeper than it began (at least the allowed penetration) by
-//! more than [`END_OVERLAP_SLACK`] allowed penetrations, the step's
-//! addition is taken out. Left out: a pair that began deeper than two
+//! other corners round), and where it ends deeper than it began (at least
+//! the allowed penetration) by more than [`END_OVERLAP_SLACK`] allowed
+//! penetrations, the step's addition is taken out. Left out: a pair that began deeper than two
 //! margins ([`DEEP_START_MARGINS`]; two bodies spawned inside each other are
 //! the push-out's to separate, along its own normals), and a fast body
 //! against a static or kinematic one that it did not touch at the step's
@@ -56,12 +55,13 @@
 //! pair deeper than a thin wall can point through the wall (a cup sunk in a
 //! cup), and pushing along it sank such a pair deeper pass after pass. Two
 //! convex shapes have no thin wall, and their normal is the shortest way out
-//! however they came in: all their deep points are pushed. Each pair's approach at its deepest point is then
-//! stopped by a plastic impulse (removes kinetic energy, never adds it; no
-//! bounce, no friction). Up to six passes, each colliding again the mesh pairs
-//! of the bodies the last one moved (a body pushed out of one may be in
-//! another). Moving positions adds no kinetic energy; the potential energy
-//! of a lift is the weight times the overlap taken out.
+//! however they came in: all their deep points are pushed. Each pair's
+//! approach at its deepest point is then stopped by a plastic impulse
+//! (removes kinetic energy, never adds it; no bounce, no friction). Up to
+//! six passes, each colliding again the mesh pairs of the bodies the last
+//! one moved (a body pushed out of one may be in another). Moving positions
+//! adds no kinetic energy; the potential energy of a lift is the weight
+//! times the overlap taken out.
 //!
 //! Measured on the concave pile (600 steps of 160 to 240 bodies): the
 //! deepest overlap of any step 10-14 mm instead of 35-39 mm, 22-34 steps
@@ -108,9 +108,10 @@ pub const LANDING_CLOSING: f64 = 0.5;
 /// - Mesh pairs: over the concave pile's 16 starts of `ensemble_depth
 ///   concave_pile200 16 600` the worst overlap of a run was 3.1-7.1 mm
 ///   (median 4.7) with two margins against 3.8-26 mm (median 5.7) with
-///   four and 3.1-11 mm (median 4.9) with three (two cups, one knocked
-///   down 0.6 m/s within the step by a third body, met 3.8 mm deep at
-///   features 20 cm from their speculative contacts: 3.4 margins). It
+///   four and 3.1-11 mm (median 4.9) with three (on the standard start two
+///   bodies, one knocked down 0.6 m/s within the step by a third, met 3.8
+///   mm deep at features 15-20 cm from their speculative contacts: struck
+///   by 3.4 margins). It
 ///   costs the torus chain, whose links are jerked by their neighbours
 ///   every step, 0.12 ms a step on one thread (1.23 -> 1.35 ms, builds
 ///   alternated; two threads 0.77 -> 0.83), its trajectory unchanged. A

@@ -162,6 +162,7 @@ fn main() {
     let mut deepest = 0.0f64;
     let mut sum = [0.0f64; Stage::ALL.len()];
     let mut parts = [0.0f64; 8];
+    let (mut late_sum, mut late_parts) = ([0.0f64; Stage::ALL.len()], [0.0f64; 8]);
     let mut total = 0.0;
     // The last third of the steps alone: a pile's settled cost.
     let mut late = 0.0;
@@ -389,11 +390,18 @@ fn main() {
             window = 0.0;
         }
         swept_back += r.continuous;
+        let late_step = step >= steps - steps / 3;
         for s in Stage::ALL {
             sum[s as usize] += r.time(s).as_secs_f64();
+            if late_step {
+                late_sum[s as usize] += r.time(s).as_secs_f64();
+            }
         }
         for p in SolveStage::ALL {
             parts[p as usize] += r.solve_time(p).as_secs_f64();
+            if late_step {
+                late_parts[p as usize] += r.solve_time(p).as_secs_f64();
+            }
         }
         total += r.total_time().as_secs_f64();
         if step >= steps - steps / 3 {
@@ -478,11 +486,24 @@ fn main() {
         "  contact colours per step over the last third: {:.1}",
         late_colors as f64 / late_steps
     );
+    // Per stage: the mean over all steps, then over the last third.
+    let late_ms = |t: f64| t / late_steps * 1e3;
+    println!("  stage mean ms over all steps / the last third:");
     for s in Stage::ALL {
-        println!("  {:<10} {:.3} ms", s.name(), ms(sum[s as usize]));
+        println!(
+            "  {:<10} {:.3} / {:.3} ms",
+            s.name(),
+            ms(sum[s as usize]),
+            late_ms(late_sum[s as usize])
+        );
     }
     for p in SolveStage::ALL {
-        println!("    {:<20} {:.3} ms", p.name(), ms(parts[p as usize]));
+        println!(
+            "    {:<20} {:.3} / {:.3} ms",
+            p.name(),
+            ms(parts[p as usize]),
+            late_ms(late_parts[p as usize])
+        );
     }
 }
 

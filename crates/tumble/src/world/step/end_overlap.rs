@@ -251,6 +251,22 @@ impl World {
         let movable_slots = movable;
         let movable = |slot: u32| movable_slots[slot as usize];
         let has_mesh = |slot: u32| meshy[slot as usize];
+        // Struck within the step, by STRUCK_MARGINS margins.
+        let struck =
+            |a: u32, b: u32| struck_by[a as usize].max(struck_by[b as usize]) > STRUCK_MARGINS * margin;
+        // The tests of `may_take_part` (below) that need no contact patch:
+        // a pile of boxes at rest passes none, and skips the rest.
+        let mesh_or_struck =
+            |a: u32, b: u32| (movable(a) || movable(b)) && (has_mesh(a) || has_mesh(b) || struck(a, b));
+        let candidates: Vec<(u32, u32)> = f
+            .pairs
+            .iter()
+            .copied()
+            .filter(|&(a, b)| mesh_or_struck(a, b))
+            .collect();
+        if candidates.is_empty() {
+            return;
+        }
         // How deep each pair was at the step's start: an overlap that was
         // already there is the solver's push-out's to lift (it moves bodies
         // apart without giving them speed); this stage takes out only what
@@ -325,14 +341,10 @@ impl World {
             .collect();
         // Began the step within the contact margin of each other.
         let touching = |a: u32, b: u32| start_gap(a, b) <= margin;
-        // Struck within the step, by STRUCK_MARGINS margins.
-        let struck =
-            |a: u32, b: u32| struck_by[a as usize].max(struck_by[b as usize]) > STRUCK_MARGINS * margin;
         let may_take_part = |a: u32, b: u32| {
-            (movable(a) || movable(b))
+            mesh_or_struck(a, b)
                 && (movable(a) || slow[b as usize] || touching(a, b))
                 && (movable(b) || slow[a as usize] || touching(a, b))
-                && (has_mesh(a) || has_mesh(b) || struck(a, b))
         };
         // A pair that began the step deeper than DEEP_START_MARGINS is the
         // push-out's alone (two bodies spawned inside each other separate
@@ -340,10 +352,8 @@ impl World {
         // crosses are no landing), unless this stage pushes a body into it
         // (below).
         let eligible = |a: u32, b: u32| may_take_part(a, b) && floor(a, b) <= DEEP_START_MARGINS * margin;
-        let mut active: Vec<(u32, u32)> = f
-            .pairs
-            .iter()
-            .copied()
+        let mut active: Vec<(u32, u32)> = candidates
+            .into_iter()
             .filter(|&(a, b)| {
                 eligible(a, b)
                     && relative_travel(a, b) > margin

@@ -2,12 +2,14 @@
 //! process and shared by every world that asks for that count (a test suite
 //! or a batch of worlds does not spawn threads per world).
 //!
-//! Two ways to use the threads: `map_chunks` (fork-join over chunks, for
-//! the narrow phase: one hand-over per step) and `team` (every worker runs
-//! the same loop, meeting at spin barriers: the solver's sub-steps, whose
-//! hundreds of small colour batches per step would each cost a wake-up of
-//! the sleeping workers under fork-join; Box2D v3's solver works the same
-//! way).
+//! Two ways to use the threads: `map_chunks` / `for_each_mut` (fork-join
+//! over chunks: the narrow phase, the step's smaller shared stages) and
+//! `team` (every worker runs the same loop, meeting at spin barriers: the
+//! solver's sub-steps, whose hundreds of small colour batches per step
+//! would each cost a wake-up of the sleeping workers under fork-join; Box2D
+//! v3's solver works the same way). Inside `run` (a world's step) both go
+//! to the run's crew (`crew`): the other workers, held on a spin loop for
+//! the run, so that no section waits for a sleeping worker to wake.
 //!
 //! Determinism is the callers' part and rests on two rules: work is split
 //! by index, and every result is merged in index order (`map_chunks`
@@ -15,6 +17,9 @@
 //! One thread never enters rayon at all, so `threads = 1` is the plain
 //! serial code.
 
+mod crew;
+
+use crew::Crew;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
@@ -27,6 +32,9 @@ pub(crate) const MAX_THREADS: u32 = 1024;
 pub(crate) struct WorkerPool {
     threads: usize,
     pool: Option<Arc<SharedPool>>,
+    /// Inside [`WorkerPool::run`]: the other workers, held for the run
+    /// (`crew`); the parallel sections go to them instead of to rayon.
+    crew: Option<Arc<Crew>>,
 }
 
 /// A rayon pool and the lock that lets one team at a time use it (worlds
@@ -60,16 +68,14 @@ impl WorkerPool {
             n => n as usize,
         };
         if threads <= 1 {
-            return WorkerPool {
-                threads: 1,
-                pool: None,
-            };
+            return WorkerPool::serial();
         }
         let mut pools = registry().lock().unwrap_or_else(|e| e.into_inner());
         if let Some((_, pool)) = pools.iter().find(|(n, _)| *n == threads) {
             return WorkerPool {
                 threads,
                 pool: Some(pool.clone()),
+                crew: None,
             };
         }
         match rayon::ThreadPoolBuilder::new()
@@ -86,12 +92,10 @@ impl WorkerPool {
                 WorkerPool {
                     threads,
                     pool: Some(pool),
+                    crew: None,
                 }
             }
-            Err(_) => WorkerPool {
-                threads: 1,
-                pool: None,
-            },
+            Err(_) => WorkerPool::serial(),
         }
     }
 
@@ -100,6 +104,7 @@ impl WorkerPool {
         WorkerPool {
             threads: 1,
             pool: None,
+            crew: None,
         }
     }
 
@@ -120,6 +125,33 @@ impl WorkerPool {
         f: impl Fn(usize, &[T]) -> R + Sync + Send,
     ) -> Vec<R> {
         let chunk = chunk.max(1);
+        if let Some(crew) = &self.crew {
+            if items.len() <= chunk {
+                return vec![f(0, items)];
+            }
+            // Chunks taken from a counter by whoever is free; each result
+            // kept in its chunk's place.
+            let n = items.len().div_ceil(chunk);
+            let results: Vec<Mutex<Option<R>>> = (0..n).map(|_| Mutex::new(None)).collect();
+            let next = AtomicUsize::new(0);
+            crew.run_job(usize::MAX, &|_| loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                if k >= n {
+                    break;
+                }
+                let start = k * chunk;
+                let r = f(start, &items[start..(start + chunk).min(items.len())]);
+                *results[k].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+            });
+            return results
+                .into_iter()
+                .map(|r| {
+                    r.into_inner()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .expect("every chunk is taken before the job ends")
+                })
+                .collect();
+        }
         match &self.pool {
             Some(shared) if items.len() > chunk => shared.pool.install(|| {
                 items
@@ -132,9 +164,41 @@ impl WorkerPool {
         }
     }
 
+    /// [`WorkerPool::map_chunks`] for chunks that each make a list: the
+    /// lists joined in chunk order (one chunk's list is returned as it is,
+    /// so that one thread pays no copy).
+    pub fn flat_map_chunks<T: Sync, R: Send>(
+        &self,
+        items: &[T],
+        chunk: usize,
+        f: impl Fn(usize, &[T]) -> Vec<R> + Sync + Send,
+    ) -> Vec<R> {
+        let mut lists = self.map_chunks(items, chunk, f);
+        if lists.len() == 1 {
+            return lists.pop().unwrap_or_default();
+        }
+        let mut joined = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+        for list in lists {
+            joined.extend(list);
+        }
+        joined
+    }
+
     /// `f` on every item, each item on one thread (items are independent,
     /// so where each runs never changes a result); on one thread in order.
     pub fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+        if let Some(crew) = &self.crew {
+            if items.len() > 1 {
+                let items: Vec<Mutex<&mut T>> = items.iter_mut().map(Mutex::new).collect();
+                let next = AtomicUsize::new(0);
+                crew.run_job(usize::MAX, &|_| loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(item) = items.get(k) else { break };
+                    f(k, &mut item.lock().unwrap_or_else(|e| e.into_inner()));
+                });
+                return;
+            }
+        }
         match &self.pool {
             Some(shared) if items.len() > 1 => shared.pool.install(|| {
                 items
@@ -147,14 +211,41 @@ impl WorkerPool {
         }
     }
 
-    /// Runs `f` on a worker of the pool (or here, serially). A step runs
-    /// whole inside one `run`, so the hand-over to the pool is paid once
-    /// per step and the parallel sections inside start from a worker.
-    pub fn run<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
-        match &self.pool {
-            Some(shared) => shared.pool.install(f),
-            None => f(),
+    /// Runs `f` on a worker of the pool (or here, serially), with the
+    /// pool's other workers held as its crew until `f` returns (see
+    /// `crew`): `f` gets this pool with the crew, whose parallel sections
+    /// start within a microsecond. A step runs whole inside one `run`, so
+    /// the hand-over to the pool is paid once per step.
+    pub fn run<R: Send>(&self, f: impl FnOnce(&WorkerPool) -> R + Send) -> R {
+        let Some(shared) = &self.pool else {
+            return f(self);
+        };
+        if self.crew.is_some() {
+            return f(self);
         }
+        shared.pool.install(|| {
+            let crew = Arc::new(Crew::new());
+            let crewed = WorkerPool {
+                threads: self.threads,
+                pool: self.pool.clone(),
+                crew: Some(crew.clone()),
+            };
+            /// Dismisses the crew when `f` returns or unwinds.
+            struct Dismiss(Arc<Crew>);
+            impl Drop for Dismiss {
+                fn drop(&mut self) {
+                    self.0.dismiss();
+                }
+            }
+            rayon::in_place_scope(|scope| {
+                for _ in 1..self.threads {
+                    let crew = crew.clone();
+                    scope.spawn(move |_| crew.serve());
+                }
+                let _dismiss = Dismiss(crew);
+                f(&crewed)
+            })
+        })
     }
 
     /// Runs `f` on every thread of the pool at once, each with a [`Team`]
@@ -163,6 +254,31 @@ impl WorkerPool {
     /// runs here alone as a team of one: callers split work by
     /// [`Team::blocks`], so the result is the same.
     pub fn team<R: Send>(&self, f: impl Fn(&Team) -> R + Sync) -> R {
+        if let Some(crew) = &self.crew {
+            // The helpers that have joined by now (all, unless a worker
+            // was busy elsewhere when the run began).
+            let size = (1 + crew.joined()).min(self.threads);
+            if size == 1 {
+                return f(&Team::alone());
+            }
+            let sync = Arc::new(BarrierState::default());
+            let lead = Mutex::new(None);
+            crew.run_job(size, &|index| {
+                let me = Team {
+                    size,
+                    index,
+                    sync: sync.clone(),
+                };
+                let r = f(&me);
+                if index == 0 {
+                    *lead.lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+                }
+            });
+            return lead
+                .into_inner()
+                .unwrap_or_else(|e| e.into_inner())
+                .expect("the leader ran its part");
+        }
         let Some(shared) = &self.pool else {
             return f(&Team::alone());
         };
@@ -282,3 +398,6 @@ impl Team {
             .map(move |s| s..(s + block).min(n))
     }
 }
+
+#[cfg(test)]
+mod tests;

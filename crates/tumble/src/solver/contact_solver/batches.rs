@@ -15,7 +15,7 @@ use super::joint_island::JointIsland;
 use super::passes::{begin_patch, push_patch, solve_patch};
 use super::wide::{self, BundlePass, WideBatches, WidePatch};
 use crate::pool::Team;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 /// Fewest patches (or joints) of a colour worth splitting over the team:
 /// a pass over a patch costs a fraction of a microsecond, and a smaller
@@ -346,34 +346,55 @@ impl SolverArrays<'_> {
     }
 
     /// The largest violation of the non-penetration rows by the current
-    /// velocities (m/s), over every patch (`super::residual`).
+    /// velocities (m/s), over every patch (`super::residual`), by the team:
+    /// each thread takes its share of the bundles and large patches (thread
+    /// 0 the overflow batch too), and the largest is met in `largest` (f64
+    /// bits of a non-negative number: their order is the numbers' order, so
+    /// the maximum does not depend on which thread got there first). Every
+    /// thread returns the whole maximum.
     ///
     /// # Safety
-    /// No thread touches the arrays meanwhile.
-    pub unsafe fn residual(&self, h: f64) -> f64 {
-        // SAFETY: the caller's promise.
+    /// Every thread of `team` calls this; nothing writes the arrays meanwhile.
+    pub unsafe fn residual(&self, team: &Team, h: f64, largest: &AtomicU64) -> f64 {
+        // SAFETY: the caller's promise: the arrays are only read.
         let (manifolds, points, bodies, ones, twos, fours) = unsafe {
             (
-                self.manifolds.range_mut(0..self.manifolds.len()),
-                self.points.range_mut(0..self.points.len()),
-                self.bodies.range_mut(0..self.bodies.len()),
-                self.ones.range_mut(0..self.ones.len()),
-                self.twos.range_mut(0..self.twos.len()),
-                self.fours.range_mut(0..self.fours.len()),
+                self.manifolds.as_slice(),
+                self.points.as_slice(),
+                self.bodies.as_slice(),
+                self.ones.as_slice(),
+                self.twos.as_slice(),
+                self.fours.as_slice(),
             )
         };
         let inv_h = 1.0 / h;
-        let bundled = ones.iter().map(|w| wide::residual(w, bodies, inv_h));
-        let bundled = bundled.chain(twos.iter().map(|w| wide::residual(w, bodies, inv_h)));
-        let bundled = bundled.chain(fours.iter().map(|w| wide::residual(w, bodies, inv_h)));
+        let part = |n: usize| team.share(n, MIN_PATCHES_TO_SPLIT);
+        let bundled = ones[part(ones.len())]
+            .iter()
+            .map(|w| wide::residual(w, bodies, inv_h));
+        let bundled = bundled.chain(
+            twos[part(twos.len())]
+                .iter()
+                .map(|w| wide::residual(w, bodies, inv_h)),
+        );
+        let bundled = bundled.chain(
+            fours[part(fours.len())]
+                .iter()
+                .map(|w| wide::residual(w, bodies, inv_h)),
+        );
         let bundled = bundled.fold(0.0f64, f64::max);
-        let loose = |k: &u32| {
-            let m = &manifolds[*k as usize];
+        let loose = |k: u32| {
+            let m = &manifolds[k as usize];
             super::residual(std::slice::from_ref(m), points, bodies, h)
         };
-        let large = self.wide.large.iter().map(loose).fold(0.0f64, f64::max);
-        let overflow = self.coloring.overflow.clone().map(|k| k as u32);
-        let overflow = overflow.map(|k| loose(&k)).fold(0.0f64, f64::max);
-        bundled.max(large).max(overflow)
+        let large = &self.wide.large[part(self.wide.large.len())];
+        let mut mine = bundled.max(large.iter().map(|&k| loose(k)).fold(0.0f64, f64::max));
+        if team.index() == 0 {
+            let overflow = self.coloring.overflow.clone().map(|k| loose(k as u32));
+            mine = mine.max(overflow.fold(0.0f64, f64::max));
+        }
+        largest.fetch_max(mine.to_bits(), Ordering::Relaxed);
+        team.barrier();
+        f64::from_bits(largest.load(Ordering::Relaxed))
     }
 }

@@ -9,6 +9,10 @@ use crate::body::BodyKind;
 use crate::world::World;
 use tumble_collide::broad::Aabb;
 
+/// Body slots per task of the swept boxes on the pool (a box costs about
+/// 50 ns: fewer would cost more to hand over than to compute).
+const SWEPT_BOXES_PER_TASK: usize = 512;
+
 impl World {
     pub(super) fn broad_stage(&mut self, f: &mut StepFrame) {
         let (n_slots, dt) = (f.n_slots, f.settings.dt);
@@ -16,15 +20,26 @@ impl World {
         // Wide enough for either kind of pair's margin.
         let margin = f.settings.contact_margin.max(f.settings.mesh_contact_margin);
         // Swept boxes: where each bounded body can be during the step
-        // (`None` for unbounded shapes, which are everywhere).
-        f.swept = vec![None; n_slots];
+        // (`None` for unbounded shapes, which are everywhere), computed on
+        // the pool a run of slots at a time (a box depends on its body alone).
+        let slots: Vec<u32> = (0..n_slots as u32).collect();
+        let world: &World = self;
+        f.swept = f.pool.flat_map_chunks(&slots, SWEPT_BOXES_PER_TASK, |_, run| {
+            run.iter()
+                .map(|&i| {
+                    let e = world.bodies.at(i)?;
+                    e.proxy?;
+                    let (v, w) = velocities(e);
+                    let fatten = margin + (v.length() + w.length() * e.radius) * dt;
+                    Some(body_aabb(e, fatten))
+                })
+                .collect::<Vec<Option<Aabb>>>()
+        });
         for i in 0..n_slots as u32 {
-            let Some(e) = self.bodies.at(i) else { continue };
+            let (Some(e), Some(aabb)) = (self.bodies.at(i), f.swept[i as usize]) else {
+                continue;
+            };
             let Some(proxy) = e.proxy else { continue };
-            let (v, w) = velocities(e);
-            let fatten = margin + (v.length() + w.length() * e.radius) * dt;
-            let aabb: Aabb = body_aabb(e, fatten);
-            f.swept[i as usize] = Some(aabb);
             if !is_active(e) {
                 continue;
             }

@@ -9,18 +9,31 @@ use crate::body::BodyKind;
 use crate::world::report::ContactEvent;
 use crate::world::{BodyId, World};
 
+/// Contact patches per task of the touching pairs on the pool.
+const PATCHES_PER_TASK: usize = 1024;
+
+/// Body slots per task of quarantine's last check on the pool.
+const SLOTS_PER_TASK: usize = 512;
+
 impl World {
     pub(super) fn events_stage(&mut self, f: &mut StepFrame) {
-        let mut touching: Vec<(BodyId, BodyId)> = Vec::with_capacity(self.touching.len() + 16);
+        // The pairs touching now, found on the pool a run of patches at a
+        // time and joined in patch order.
         let sf = &f.solver;
-        for (patch, &k) in f.patches.iter().zip(&sf.position) {
-            let m = &sf.manifolds[k as usize];
-            for (p, c) in f.points[patch.range()].iter().zip(&sf.points[m.range()]) {
-                if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
-                    touching.push(p.ids);
-                }
-            }
-        }
+        let mut touching: Vec<(BodyId, BodyId)> =
+            f.pool
+                .flat_map_chunks(&sf.position, PATCHES_PER_TASK, |first, run| {
+                    let mut found = Vec::with_capacity(4 * run.len());
+                    for (patch, &k) in f.patches[first..first + run.len()].iter().zip(run) {
+                        let m = &sf.manifolds[k as usize];
+                        for (p, c) in f.points[patch.range()].iter().zip(&sf.points[m.range()]) {
+                            if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
+                                found.push(p.ids);
+                            }
+                        }
+                    }
+                    found
+                });
         touching.sort_unstable();
         touching.dedup();
         let report = &mut f.report;
@@ -52,17 +65,23 @@ impl World {
         // Quarantine's last check: bodies advanced by an explicit integrator
         // (which refuses non-finite states already), and the backstop for
         // runaways that solver impulses made.
-        for i in 0..f.n_slots {
-            let Some(e) = self.bodies.at(i as u32) else {
-                continue;
-            };
-            let dynamic = e.body.kind() == BodyKind::Dynamic;
-            if e.body.state().is_finite()
-                && !(dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
-            {
-                continue;
-            }
-            self.quarantine(f, i as u32);
+        // The bodies to restore, found on the pool a run of slots at a time.
+        let slots: Vec<u32> = (0..f.n_slots as u32).collect();
+        let world: &World = self;
+        let restore: Vec<u32> = f.pool.flat_map_chunks(&slots, SLOTS_PER_TASK, |_, run| {
+            run.iter()
+                .copied()
+                .filter(|&i| {
+                    world.bodies.at(i).is_some_and(|e| {
+                        let dynamic = e.body.kind() == BodyKind::Dynamic;
+                        !e.body.state().is_finite()
+                            || (dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
+                    })
+                })
+                .collect::<Vec<u32>>()
+        });
+        for i in restore {
+            self.quarantine(f, i);
         }
         if f.settings.sleeping {
             self.update_sleep(&f.labels, f.settings.dt);

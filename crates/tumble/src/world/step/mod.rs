@@ -34,10 +34,12 @@ use std::time::Instant;
 impl World {
     /// Advances the world by `settings.dt` and reports what happened.
     pub fn step(&mut self) -> StepReport {
-        // The whole step runs on a worker of the pool: the parallel stages
-        // inside then wake the other workers within microseconds. (Entered
-        // from outside the pool for each parallel section instead, the
-        // other workers of a 2-core VM took about a millisecond to join.)
+        // The whole step runs on a worker of the pool, the other workers
+        // held as its crew (`pool::crew`): each parallel section inside
+        // starts within a microsecond. (Entered from outside the pool for
+        // each parallel section instead, the other workers of a 2-core VM
+        // took about a millisecond to join; left to sleep between sections,
+        // about 9 us each time.)
         // A small step stays on this thread: the hand-over to the pool
         // costs more than its parallel parts would save. Where the work is
         // done never changes the result.
@@ -47,7 +49,7 @@ impl World {
         } else {
             WorkerPool::serial()
         };
-        pool.clone().run(|| self.run_stages(pool, meshes))
+        pool.run(|crewed| self.run_stages(crewed.clone(), meshes))
     }
 
     /// Whether this step has work enough for the threads, judged from the

@@ -19,7 +19,7 @@ use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::report::{SolveStage, StepReport};
 use crate::world::step::frame::SolverFrame;
 use crate::world::{SolverKind, World, WorldContact};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 use tumble_collide::{DQuat, DVec3};
@@ -183,6 +183,7 @@ impl World {
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
+            let largest_residual = AtomicU64::new(0);
             // Nothing to split (no colour batch, few bodies): one thread.
             let pool = if coloring.colors.is_empty()
                 && joint_coloring.colors.is_empty()
@@ -241,16 +242,15 @@ impl World {
                         unsafe { arrays.solve(team, h) };
                     }
                     if sub + 1 == substeps {
+                        // SAFETY: the whole team reads; nothing writes.
+                        let residual = unsafe { arrays.residual(team, h, &largest_residual) };
                         if lead {
-                            // SAFETY: the others wait at the barrier below.
-                            let residual = unsafe { arrays.residual(h) };
                             lead_only
                                 .lock()
                                 .unwrap_or_else(|e| e.into_inner())
                                 .1
                                 .solver_residual = residual;
                         }
-                        team.barrier();
                     }
                     lap(SolveStage::Iterate);
                     for pass in 1..=push_out_iterations {
@@ -577,46 +577,77 @@ impl World {
     /// [`SolveStage::StoreImpulses`]: every point's normal impulse and every
     /// patch's friction go to the warm-start cache (sorted by pair), and the
     /// step's contacts are reported with the impulses of the whole step.
+    /// Written by the pool a run of patches at a time, each run its own
+    /// stretch of the three arrays (a record depends on its patch alone);
+    /// the arrays keep their length from the last step and are only cut or
+    /// grown, so that each record is written once.
     fn store_impulses(&mut self, f: &StepFrame, substeps: u32) {
-        self.cache.clear();
-        self.patch_cache.clear();
-        self.contacts.clear();
         let sf = &f.solver;
-        // In patch order (the cache is sorted by pair key that way).
-        for (patch, &k) in f.patches.iter().zip(&sf.position) {
-            let m = &sf.manifolds[k as usize];
-            let tangent = m.tangent_impulse();
-            self.patch_cache.push(CachedPatch {
-                key: patch.key,
-                normal: patch.normal,
-                tangent_impulse: tangent,
-                twist_impulse: m.impulses[2],
-            });
-            // The patch's friction is reported on its points in proportion
-            // to their normal impulses.
-            let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
-            for (p, c) in f.points[patch.range()].iter().zip(&sf.points[m.range()]) {
-                let share = if total > 0.0 {
-                    c.normal_impulse / total
-                } else {
-                    0.0
-                };
-                self.cache.push(CachedContact {
-                    key: p.key,
-                    feature_a: p.contact.feature_a,
-                    feature_b: p.contact.feature_b,
-                    local_a: p.local_a,
-                    normal_impulse: c.normal_impulse,
-                });
-                self.contacts.push(WorldContact {
-                    body_a: p.ids.0,
-                    body_b: p.ids.1,
-                    contact: p.contact,
-                    normal_impulse: c.normal_impulse * substeps as f64,
-                    tangent_impulse: tangent * (share * substeps as f64),
-                });
-            }
+        let n_points: usize = f.patches.iter().map(|p| p.count as usize).sum();
+        let (point, patch, contact) = cache_placeholders();
+        self.cache.resize(n_points, point);
+        self.patch_cache.resize(f.patches.len(), patch);
+        self.contacts.resize(n_points, contact);
+        // The runs: (first patch, its patches' cache and contact records).
+        let run = (f.patches.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
+        let mut runs = Vec::with_capacity(f.patches.len().div_ceil(run));
+        let (mut cache, mut patch_cache, mut contacts) = (
+            &mut self.cache[..],
+            &mut self.patch_cache[..],
+            &mut self.contacts[..],
+        );
+        for (c, patches) in f.patches.chunks(run).enumerate() {
+            let count: usize = patches.iter().map(|p| p.count as usize).sum();
+            let (run_cache, rest) = std::mem::take(&mut cache).split_at_mut(count);
+            cache = rest;
+            let (run_contacts, rest) = std::mem::take(&mut contacts).split_at_mut(count);
+            contacts = rest;
+            let (run_patches, rest) = std::mem::take(&mut patch_cache).split_at_mut(patches.len());
+            patch_cache = rest;
+            runs.push((c * run, run_patches, run_cache, run_contacts));
         }
+        let scale = substeps as f64;
+        f.pool
+            .for_each_mut(&mut runs, |_, (first, run_patches, run_cache, run_contacts)| {
+                let mut at = 0;
+                for (j, cached) in run_patches.iter_mut().enumerate() {
+                    let patch = &f.patches[*first + j];
+                    let m = &sf.manifolds[sf.position[*first + j] as usize];
+                    let tangent = m.tangent_impulse();
+                    *cached = CachedPatch {
+                        key: patch.key,
+                        normal: patch.normal,
+                        tangent_impulse: tangent,
+                        twist_impulse: m.impulses[2],
+                    };
+                    // The patch's friction is reported on its points in
+                    // proportion to their normal impulses.
+                    let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
+                    let points = f.points[patch.range()].iter().zip(&sf.points[m.range()]);
+                    for (k, (p, c)) in points.enumerate() {
+                        let share = if total > 0.0 {
+                            c.normal_impulse / total
+                        } else {
+                            0.0
+                        };
+                        run_cache[at + k] = CachedContact {
+                            key: p.key,
+                            feature_a: p.contact.feature_a,
+                            feature_b: p.contact.feature_b,
+                            local_a: p.local_a,
+                            normal_impulse: c.normal_impulse,
+                        };
+                        run_contacts[at + k] = WorldContact {
+                            body_a: p.ids.0,
+                            body_b: p.ids.1,
+                            contact: p.contact,
+                            normal_impulse: c.normal_impulse * scale,
+                            tangent_impulse: tangent * (share * scale),
+                        };
+                    }
+                    at += patch.count as usize;
+                }
+            });
         manifold::finish(&mut self.cache, &mut self.patch_cache);
     }
 }
@@ -717,6 +748,45 @@ const LAYOUT_RUNS_PER_THREAD: usize = 4;
 /// Fewest patches in one run of the records' layout (below it a run costs
 /// more to hand over than to write).
 const LAYOUT_MIN_RUN: usize = 64;
+
+/// Records that fill the warm-start cache and the reported contacts where
+/// they grow (`World::store_impulses`), each overwritten before it is read.
+fn cache_placeholders() -> (CachedContact, CachedPatch, WorldContact) {
+    let contact = tumble_collide::Contact {
+        point: DVec3::ZERO,
+        normal: DVec3::Z,
+        distance: 0.0,
+        kind: tumble_collide::ContactKind::Smooth,
+        feature_a: tumble_collide::Feature::WHOLE,
+        feature_b: tumble_collide::Feature::WHOLE,
+    };
+    let nobody = crate::world::BodyId {
+        index: u32::MAX,
+        generation: 0,
+    };
+    (
+        CachedContact {
+            key: (0, 0, 0, 0),
+            feature_a: contact.feature_a,
+            feature_b: contact.feature_b,
+            local_a: DVec3::ZERO,
+            normal_impulse: 0.0,
+        },
+        CachedPatch {
+            key: (0, 0, 0, 0),
+            normal: DVec3::Z,
+            tangent_impulse: DVec3::ZERO,
+            twist_impulse: 0.0,
+        },
+        WorldContact {
+            body_a: nobody,
+            body_b: nobody,
+            contact,
+            normal_impulse: 0.0,
+            tangent_impulse: DVec3::ZERO,
+        },
+    )
+}
 
 /// Records that fill the solver's arrays where they grow, each overwritten
 /// before it is read.

@@ -1,0 +1,135 @@
+//! The pool's ways of sharing work give the serial answer, in order, with
+//! and without a crew, for any thread count, and never deadlock: not with
+//! thousands of sections in a run, not with more threads than cores, not
+//! with two runs on one shared pool at once, not with a run inside a run.
+
+use super::{Team, WorkerPool};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// Sum of squares of each chunk, with the chunk's first index: what a
+/// caller of `map_chunks` sees, cut in chunks of `chunk`.
+fn chunk_sums(pool: &WorkerPool, items: &[u64], chunk: usize) -> Vec<(usize, u64)> {
+    pool.map_chunks(items, chunk, |first, run| {
+        (first, run.iter().map(|x| x * x).sum::<u64>())
+    })
+}
+
+#[test]
+fn map_chunks_in_a_run_keeps_every_chunk_in_its_place() {
+    let items: Vec<u64> = (0..1000).collect();
+    let total: u64 = items.iter().map(|x| x * x).sum();
+    for threads in [1, 2, 3, 8] {
+        let pool = WorkerPool::new(threads);
+        for chunk in [1, 7, 64, 999, 1000, 5000] {
+            let sums = pool.run(|crewed| chunk_sums(crewed, &items, chunk));
+            let expected = if threads == 1 || chunk >= items.len() {
+                vec![(0, total)]
+            } else {
+                (0..items.len())
+                    .step_by(chunk)
+                    .map(|s| {
+                        (
+                            s,
+                            items[s..(s + chunk).min(items.len())].iter().map(|x| x * x).sum(),
+                        )
+                    })
+                    .collect()
+            };
+            assert_eq!(sums, expected, "{threads} threads, chunks of {chunk}");
+        }
+    }
+}
+
+#[test]
+fn for_each_mut_in_a_run_visits_every_item_once() {
+    for threads in [1, 2, 4] {
+        let pool = WorkerPool::new(threads);
+        let mut items = vec![0u32; 257];
+        pool.run(|crewed| {
+            for _ in 0..3 {
+                crewed.for_each_mut(&mut items, |k, item| *item += k as u32 + 1);
+            }
+        });
+        let expected: Vec<u32> = (0..257).map(|k| 3 * (k + 1)).collect();
+        assert_eq!(items, expected, "{threads} threads");
+    }
+}
+
+#[test]
+fn a_team_in_a_run_has_each_member_once_and_meets_at_barriers() {
+    for threads in [2, 3, 8] {
+        let pool = WorkerPool::new(threads);
+        pool.run(|crewed| {
+            for round in 0..50 {
+                let seen = Mutex::new(Vec::new());
+                let phase = AtomicUsize::new(0);
+                let lead = crewed.team(|team: &Team| {
+                    seen.lock().unwrap().push(team.index());
+                    // Everyone arrives before anyone reads the count.
+                    phase.fetch_add(1, Ordering::SeqCst);
+                    team.barrier();
+                    let arrived = phase.load(Ordering::SeqCst);
+                    team.barrier();
+                    (team.size(), arrived)
+                });
+                let mut seen = seen.into_inner().unwrap();
+                seen.sort_unstable();
+                let (size, arrived) = lead;
+                assert_eq!(seen, (0..size).collect::<Vec<_>>(), "round {round}");
+                assert_eq!(arrived, size, "round {round}: the barrier let one through early");
+                assert!(size >= 1 && size <= threads as usize);
+            }
+        });
+    }
+}
+
+#[test]
+fn thousands_of_sections_in_one_run_all_finish() {
+    let pool = WorkerPool::new(2);
+    let items: Vec<u64> = (0..64).collect();
+    let done = pool.run(|crewed| {
+        let mut done = 0;
+        for _ in 0..5000 {
+            done += chunk_sums(crewed, &items, 8).len();
+        }
+        done
+    });
+    assert_eq!(done, 5000 * 8);
+}
+
+#[test]
+fn two_runs_on_one_shared_pool_at_once_both_finish_right() {
+    let items: Vec<u64> = (0..500).collect();
+    let serial = chunk_sums(&WorkerPool::serial(), &items, 10);
+    let total = serial[0].1;
+    std::thread::scope(|s| {
+        let runs: Vec<_> = (0..2)
+            .map(|_| {
+                s.spawn(|| {
+                    let pool = WorkerPool::new(2);
+                    pool.run(|crewed| {
+                        (0..200)
+                            .map(|_| chunk_sums(crewed, &items, 10).iter().map(|c| c.1).sum::<u64>())
+                            .collect::<Vec<_>>()
+                    })
+                })
+            })
+            .collect();
+        for run in runs {
+            assert!(run.join().unwrap().iter().all(|&t| t == total));
+        }
+    });
+}
+
+#[test]
+fn a_run_inside_a_run_runs_on_the_same_crew() {
+    let pool = WorkerPool::new(2);
+    let items: Vec<u64> = (0..100).collect();
+    let sums = pool.run(|outer| outer.run(|inner| chunk_sums(inner, &items, 10)));
+    assert_eq!(sums.len(), 10);
+    assert_eq!(
+        sums.iter().map(|c| c.1).sum::<u64>(),
+        items.iter().map(|x| x * x).sum::<u64>()
+    );
+}

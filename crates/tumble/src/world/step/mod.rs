@@ -55,13 +55,16 @@ impl World {
     /// Whether this step has work enough for the threads, judged from the
     /// last step: many bodies, many contact patches, or mesh bodies (each
     /// mesh pair costs as much as hundreds of box pairs). Measured with
-    /// `profile_stages` on this project's 2-core VM: the 210-box pyramid
-    /// (420 patches) is slower on two threads than on one (1.04 against
-    /// 0.97 ms), a 465-box one (900 patches) 1.1x faster, a 1,035-box one
-    /// 1.3x.
+    /// `profile_stages` on this project's 2-core VM (last third of 600
+    /// steps), with the step's crew: the 210-box pyramid (420 patches) is
+    /// 1.3x faster on two threads than on one (0.53-0.58 against 0.72 ms),
+    /// the pile of 100 and the 21-link heavy chain as fast (0.22 and 0.09
+    /// ms). Before the crew, when each parallel section woke a sleeping
+    /// worker, the pyramid was slower on two threads (1.04 against 0.97 ms)
+    /// and these limits were 256 bodies or 1,024 patches.
     fn worth_threads(&self, meshes: bool) -> bool {
-        const BODIES: usize = 256;
-        const PATCHES: usize = 1024;
+        const BODIES: usize = 160;
+        const PATCHES: usize = 320;
         self.pool.threads() > 1
             && (self.bodies.len() >= BODIES || self.patch_cache.len() >= PATCHES || meshes)
     }

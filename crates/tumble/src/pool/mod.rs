@@ -184,6 +184,13 @@ impl WorkerPool {
         joined
     }
 
+    /// `f` of every index below `n` (a body slot, say), in order, runs of
+    /// `chunk` indices a task.
+    pub fn map_indices<R: Send>(&self, n: usize, chunk: usize, f: impl Fn(u32) -> R + Sync + Send) -> Vec<R> {
+        let indices: Vec<u32> = (0..n as u32).collect();
+        self.flat_map_chunks(&indices, chunk, |_, run| run.iter().map(|&i| f(i)).collect())
+    }
+
     /// `f` on every item, each item on one thread (items are independent,
     /// so where each runs never changes a result); on one thread in order.
     pub fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {

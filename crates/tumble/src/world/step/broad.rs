@@ -7,7 +7,6 @@ use super::margins::{body_aabb, is_active, velocities};
 use super::StepFrame;
 use crate::body::BodyKind;
 use crate::world::World;
-use tumble_collide::broad::Aabb;
 
 /// Body slots per task of the swept boxes on the pool (a box costs about
 /// 50 ns: fewer would cost more to hand over than to compute).
@@ -22,18 +21,13 @@ impl World {
         // Swept boxes: where each bounded body can be during the step
         // (`None` for unbounded shapes, which are everywhere), computed on
         // the pool a run of slots at a time (a box depends on its body alone).
-        let slots: Vec<u32> = (0..n_slots as u32).collect();
         let world: &World = self;
-        f.swept = f.pool.flat_map_chunks(&slots, SWEPT_BOXES_PER_TASK, |_, run| {
-            run.iter()
-                .map(|&i| {
-                    let e = world.bodies.at(i)?;
-                    e.proxy?;
-                    let (v, w) = velocities(e);
-                    let fatten = margin + (v.length() + w.length() * e.radius) * dt;
-                    Some(body_aabb(e, fatten))
-                })
-                .collect::<Vec<Option<Aabb>>>()
+        f.swept = f.pool.map_indices(n_slots, SWEPT_BOXES_PER_TASK, |i| {
+            let e = world.bodies.at(i)?;
+            e.proxy?;
+            let (v, w) = velocities(e);
+            let fatten = margin + (v.length() + w.length() * e.radius) * dt;
+            Some(body_aabb(e, fatten))
         });
         for i in 0..n_slots as u32 {
             let (Some(e), Some(aabb)) = (self.bodies.at(i), f.swept[i as usize]) else {

@@ -39,6 +39,9 @@ use tumble_collide::{DMat3, DVec3, Pose, Shape};
 /// its centre within one step.
 pub const FAST_FRACTION: f64 = 0.5;
 
+/// Body slots per task of the test for fast bodies on the pool.
+const SLOTS_PER_TASK: usize = 512;
+
 /// Most advancement steps of one sweep; a sweep that runs out stops the
 /// body early (still in front of the surface), never late.
 const MAX_ITERATIONS: u32 = 64;
@@ -58,19 +61,19 @@ impl World {
         // Jointed bodies are swept only when asked: putting one back along
         // its path would pull it away from the bodies it is jointed to.
         let jointed = self.jointed_flags(f.n_slots);
+        let is_fast = f.pool.map_indices(f.n_slots, SLOTS_PER_TASK, |slot| {
+            let (Some(e), Some(Some(before))) = (self.bodies.at(slot), f.before.get(slot as usize)) else {
+                return false;
+            };
+            if e.body.kind() != BodyKind::Dynamic || e.sleeping {
+                return false;
+            }
+            let motion = body_motion(&before.pose(), &e.body.pose());
+            let travel = motion.travel().length() + motion.turn() * e.radius;
+            e.ccd || (!jointed[slot as usize] && travel > FAST_FRACTION * e.thickness)
+        });
         let fast: Vec<u32> = (0..f.n_slots as u32)
-            .filter(|&slot| {
-                let (Some(e), Some(Some(before))) = (self.bodies.at(slot), f.before.get(slot as usize))
-                else {
-                    return false;
-                };
-                if e.body.kind() != BodyKind::Dynamic || e.sleeping {
-                    return false;
-                }
-                let motion = body_motion(&before.pose(), &e.body.pose());
-                let travel = motion.travel().length() + motion.turn() * e.radius;
-                e.ccd || (!jointed[slot as usize] && travel > FAST_FRACTION * e.thickness)
-            })
+            .filter(|&slot| is_fast[slot as usize])
             .collect();
         if fast.is_empty() {
             return;

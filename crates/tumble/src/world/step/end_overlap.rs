@@ -173,6 +173,9 @@ struct Overlap {
     contacts: Vec<Contact>,
 }
 
+/// Body slots per task of the per-body tests on the pool.
+const SLOTS_PER_TASK: usize = 512;
+
 impl World {
     /// Separates the pairs that ended the step deep in each other after
     /// moving against each other by more than the contact margin (module
@@ -190,20 +193,18 @@ impl World {
         // their centres stayed apart; a cube of the 10,000-body pile struck
         // on a corner as it landed swung another corner 9 cm into a
         // neighbour.
-        let struck_by: Vec<f64> = (0..f.n_slots as u32)
-            .map(|slot| {
-                let (Some(Some(state)), Some(e)) = (f.before.get(slot as usize), self.bodies.at(slot)) else {
-                    return 0.0;
-                };
-                if e.body.kind() != BodyKind::Dynamic {
-                    return 0.0;
-                }
-                let (v0, w0) = state_velocities(state, &e.body);
-                let change =
-                    (e.body.velocity() - v0).length() + (e.body.angular_velocity() - w0).length() * e.radius;
-                change * dt
-            })
-            .collect();
+        let struck_by: Vec<f64> = f.pool.map_indices(f.n_slots, SLOTS_PER_TASK, |slot| {
+            let (Some(Some(state)), Some(e)) = (f.before.get(slot as usize), self.bodies.at(slot)) else {
+                return 0.0;
+            };
+            if e.body.kind() != BodyKind::Dynamic {
+                return 0.0;
+            }
+            let (v0, w0) = state_velocities(state, &e.body);
+            let change =
+                (e.body.velocity() - v0).length() + (e.body.angular_velocity() - w0).length() * e.radius;
+            change * dt
+        });
         // Without meshes only the pairs of struck bodies take part: a world
         // with neither has nothing here (and need not index its contact
         // patches every step for it).

@@ -64,22 +64,17 @@ impl World {
 
         // Quarantine's last check: bodies advanced by an explicit integrator
         // (which refuses non-finite states already), and the backstop for
-        // runaways that solver impulses made.
-        // The bodies to restore, found on the pool a run of slots at a time.
-        let slots: Vec<u32> = (0..f.n_slots as u32).collect();
+        // runaways that solver impulses made. The bodies to restore are
+        // found on the pool a run of slots at a time.
         let world: &World = self;
-        let restore: Vec<u32> = f.pool.flat_map_chunks(&slots, SLOTS_PER_TASK, |_, run| {
-            run.iter()
-                .copied()
-                .filter(|&i| {
-                    world.bodies.at(i).is_some_and(|e| {
-                        let dynamic = e.body.kind() == BodyKind::Dynamic;
-                        !e.body.state().is_finite()
-                            || (dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
-                    })
-                })
-                .collect::<Vec<u32>>()
+        let restore = f.pool.map_indices(f.n_slots, SLOTS_PER_TASK, |i| {
+            world.bodies.at(i).is_some_and(|e| {
+                let dynamic = e.body.kind() == BodyKind::Dynamic;
+                !e.body.state().is_finite()
+                    || (dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
+            })
         });
+        let restore: Vec<u32> = (0..f.n_slots as u32).filter(|&i| restore[i as usize]).collect();
         for i in restore {
             self.quarantine(f, i);
         }

@@ -288,6 +288,7 @@ impl WorkerPool {
                     index,
                     sync: sync.clone(),
                 };
+                let _poison = PoisonOnUnwind(&me.sync);
                 let r = f(&me);
                 if index == 0 {
                     *lead.lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
@@ -314,6 +315,7 @@ impl WorkerPool {
                 index: ctx.index(),
                 ..team.clone()
             };
+            let _poison = PoisonOnUnwind(&me.sync);
             Some(f(&me))
         });
         results.swap_remove(0).expect("thread 0 ran")
@@ -325,6 +327,20 @@ impl WorkerPool {
 struct BarrierState {
     arrived: AtomicUsize,
     generation: AtomicUsize,
+    /// A member panicked: the others leave their barriers by panicking
+    /// too, instead of waiting for it forever.
+    poisoned: std::sync::atomic::AtomicBool,
+}
+
+/// Poisons a team's barriers when the member holding it unwinds.
+struct PoisonOnUnwind<'a>(&'a BarrierState);
+
+impl Drop for PoisonOnUnwind<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.poisoned.store(true, Ordering::Release);
+        }
+    }
 }
 
 /// One thread's handle on a team (see [`WorkerPool::team`]).
@@ -373,6 +389,9 @@ impl Team {
         }
         let mut spins = 0u32;
         while s.generation.load(Ordering::Acquire) == generation {
+            if s.poisoned.load(Ordering::Acquire) {
+                panic!("another member of the thread team panicked");
+            }
             if spins < SPINS_BEFORE_YIELD {
                 std::hint::spin_loop();
                 spins += 1;

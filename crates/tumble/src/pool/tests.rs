@@ -1,7 +1,8 @@
 //! The pool's ways of sharing work give the serial answer, in order, with
 //! and without a crew, for any thread count, and never deadlock: not with
 //! thousands of sections in a run, not with more threads than cores, not
-//! with two runs on one shared pool at once, not with a run inside a run.
+//! with two runs on one shared pool at once, not with a run inside a run,
+//! not when a member of a team panics (the panic reaches the caller).
 
 use super::{Team, WorkerPool};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -132,4 +133,54 @@ fn a_run_inside_a_run_runs_on_the_same_crew() {
         sums.iter().map(|c| c.1).sum::<u64>(),
         items.iter().map(|x| x * x).sum::<u64>()
     );
+}
+
+/// Runs `job` on a thread of its own and says whether it panicked, failing
+/// the test if it has not finished within a minute (a hang).
+fn fails_in_time(job: impl FnOnce() + Send + 'static) -> bool {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job));
+        let _ = tx.send(outcome.is_err());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(60))
+        .expect("the team hung after a member panicked")
+}
+
+/// A team of two in which member `panicking` panics before two barriers.
+fn team_with_a_panic(team: &Team, panicking: usize) {
+    assert_eq!(team.size(), 2, "a team of two");
+    if team.index() == panicking {
+        panic!("member {} fails on purpose", team.index());
+    }
+    team.barrier();
+    team.barrier();
+}
+
+#[test]
+fn a_member_that_panics_fails_the_team_instead_of_hanging_it() {
+    for panicking in [0usize, 1] {
+        // A team of the pool's threads.
+        let failed =
+            fails_in_time(move || WorkerPool::new(2).team(|team| team_with_a_panic(team, panicking)));
+        assert!(failed, "member {panicking}'s panic did not reach the caller");
+        // A team of a run's crew (a helper needs a second core).
+        if super::cores() < 2 {
+            continue;
+        }
+        let failed = fails_in_time(move || {
+            WorkerPool::new(2).run(|crewed| {
+                let crew = crewed.crew.as_ref().expect("a run has a crew");
+                let start = std::time::Instant::now();
+                while crew.joined() == 0 && start.elapsed().as_secs() < 10 {
+                    std::thread::yield_now();
+                }
+                crewed.team(|team| team_with_a_panic(team, panicking))
+            })
+        });
+        assert!(
+            failed,
+            "member {panicking}'s panic did not reach the caller of the run"
+        );
+    }
 }

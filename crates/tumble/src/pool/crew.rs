@@ -3,10 +3,11 @@
 //! instead of going to sleep. A rayon worker that finds no work sleeps
 //! after some 20 us; waking it again costs about 9 us on this project's
 //! 2-core VM (a parallel section of two 2 us tasks took 2.7 us after a
-//! short serial stretch and 11-12 us after one of 20 us or more), and a
-//! step of the pile of 1,000 bodies has half a dozen parallel sections
-//! between serial stages. Held, a worker starts a section within a
-//! microsecond, and stages too small to pay a wake-up can be shared.
+//! short serial stretch and 11-12 us after one of 20 us or more:
+//! `examples/pool_wake.rs`), and a step of the pile of 1,000 bodies has
+//! half a dozen parallel sections between serial stages. Held, a worker
+//! starts a section within a microsecond, and stages too small to pay a
+//! wake-up can be shared.
 //!
 //! The protocol (one leader, thread 0 of the run, posts jobs; helpers take
 //! part): the leader writes the job, then raises `posted`; a helper that

@@ -154,7 +154,7 @@ impl WorkerPool {
                 .map(|r| {
                     r.into_inner()
                         .unwrap_or_else(|e| e.into_inner())
-                        .expect("every chunk is taken before the job ends")
+                        .expect("every chunk ran (a chunk left empty is a task that panicked)")
                 })
                 .collect();
         }

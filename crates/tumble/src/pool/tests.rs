@@ -86,6 +86,30 @@ fn a_team_in_a_run_has_each_member_once_and_meets_at_barriers() {
 }
 
 #[test]
+fn a_run_takes_no_more_helpers_than_the_machine_has_cores() {
+    // Eight threads asked for: the pool has eight, a run's teams at most
+    // as many members as cores (a helper without a core spins on one that
+    // another member needs), and the answer is the serial one.
+    let pool = WorkerPool::new(8);
+    assert_eq!(pool.threads(), 8);
+    let items: Vec<u64> = (0..1000).collect();
+    let (largest, sums) = pool.run(|crewed| {
+        let largest = (0..200).map(|_| crewed.team(|team: &Team| team.size())).max();
+        (largest.unwrap_or(0), chunk_sums(crewed, &items, 100))
+    });
+    assert!(
+        (1..=super::cores()).contains(&largest),
+        "a team of {largest} on {} cores",
+        super::cores()
+    );
+    let expected: Vec<(usize, u64)> = (0..1000)
+        .step_by(100)
+        .map(|s| (s, items[s..s + 100].iter().map(|x| x * x).sum()))
+        .collect();
+    assert_eq!(sums, expected);
+}
+
+#[test]
 fn thousands_of_sections_in_one_run_all_finish() {
     let pool = WorkerPool::new(2);
     let items: Vec<u64> = (0..64).collect();

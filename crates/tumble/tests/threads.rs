@@ -1,14 +1,16 @@
 //! Threads change the speed of a step, never its result: the pile, the
 //! ragdoll pile, the torus chain and a volley of swept projectiles stepped
 //! on 1, 2, 3 and 8 threads follow bit-identical trajectories (hashes
-//! compared every few steps, so a divergence is caught where it starts), and
-//! the report says how many threads ran.
+//! compared every few steps, so a divergence is caught where it starts, with
+//! the report's solver residual, a maximum met across the threads), and the
+//! report says how many threads ran.
 
 use tumble::scenes::{self, Scene};
 use tumble::world::{World, WorldSettings};
 
-/// The state hash every `every` steps over `steps` steps on `threads` threads.
-fn trajectory(scene: &Scene, threads: u32, steps: usize, every: usize) -> Vec<u64> {
+/// The state hash and the bits of the solver's residual every `every`
+/// steps over `steps` steps on `threads` threads.
+fn trajectory(scene: &Scene, threads: u32, steps: usize, every: usize) -> Vec<(u64, u64)> {
     let mut scene = scene.clone();
     scene.settings.threads = threads;
     let (mut world, _) = scene.build().unwrap();
@@ -19,8 +21,13 @@ fn trajectory(scene: &Scene, threads: u32, steps: usize, every: usize) -> Vec<u6
         // A step small enough runs on one thread; none runs on more than asked.
         assert!(report.threads == threads as usize || report.threads == 1);
         assert!(report.quarantined.is_empty());
+        assert!(
+            report.solver_residual >= 0.0 && report.solver_residual.is_sign_positive(),
+            "residual {:e}",
+            report.solver_residual
+        );
         if k % every == every - 1 {
-            hashes.push(world.state_hash());
+            hashes.push((world.state_hash(), report.solver_residual.to_bits()));
         }
     }
     hashes

@@ -349,9 +349,9 @@ impl SolverArrays<'_> {
     /// velocities (m/s), over every patch (`super::residual`), by the team:
     /// each thread takes its share of the bundles and large patches (thread
     /// 0 the overflow batch too), and the largest is met in `largest` (f64
-    /// bits of a non-negative number: their order is the numbers' order, so
-    /// the maximum does not depend on which thread got there first). Every
-    /// thread returns the whole maximum.
+    /// bits of a positive number or zero: their order is the numbers'
+    /// order, so the maximum does not depend on which thread got there
+    /// first). Every thread returns the whole maximum.
     ///
     /// # Safety
     /// Every thread of `team` calls this; nothing writes the arrays meanwhile.
@@ -393,7 +393,10 @@ impl SolverArrays<'_> {
             let overflow = self.coloring.overflow.clone().map(|k| loose(k as u32));
             mine = mine.max(overflow.fold(0.0f64, f64::max));
         }
-        largest.fetch_max(mine.to_bits(), Ordering::Relaxed);
+        // Zero for -0.0 (whose bits would outrank every positive number),
+        // and for no violation at all.
+        let bits = if mine > 0.0 { mine.to_bits() } else { 0 };
+        largest.fetch_max(bits, Ordering::Relaxed);
         team.barrier();
         f64::from_bits(largest.load(Ordering::Relaxed))
     }

@@ -197,6 +197,20 @@ impl WorkerPool {
         self.flat_map_chunks(&indices, chunk, |_, run| run.iter().map(|&i| f(i)).collect())
     }
 
+    /// The indices below `n` for which `keep` holds, in order, runs of
+    /// `chunk` indices a task.
+    pub fn filter_indices(
+        &self,
+        n: usize,
+        chunk: usize,
+        keep: impl Fn(u32) -> bool + Sync + Send,
+    ) -> Vec<u32> {
+        let indices: Vec<u32> = (0..n as u32).collect();
+        self.flat_map_chunks(&indices, chunk, |_, run| {
+            run.iter().copied().filter(|&i| keep(i)).collect()
+        })
+    }
+
     /// `f` on every item, each item on one thread (items are independent,
     /// so where each runs never changes a result); on one thread in order.
     pub fn for_each_mut<T: Send>(&self, items: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {

@@ -51,17 +51,18 @@ impl World {
         if !f.settings.continuous {
             return;
         }
-        self.sweep_fast_bodies(f);
-        self.separate_end_overlaps(f);
+        // Jointed bodies stay where the solver left them (both parts).
+        let jointed = self.jointed_flags(f.n_slots);
+        self.sweep_fast_bodies(f, &jointed);
+        self.separate_end_overlaps(f, &jointed);
     }
 
     /// Sweeps the fast bodies (module docs) and puts each back at its
     /// first impact that the step did not resolve.
-    fn sweep_fast_bodies(&mut self, f: &mut StepFrame) {
+    fn sweep_fast_bodies(&mut self, f: &mut StepFrame, jointed: &[bool]) {
         // Jointed bodies are swept only when asked: putting one back along
         // its path would pull it away from the bodies it is jointed to.
-        let jointed = self.jointed_flags(f.n_slots);
-        let is_fast = f.pool.map_indices(f.n_slots, SLOTS_PER_TASK, |slot| {
+        let fast = f.pool.filter_indices(f.n_slots, SLOTS_PER_TASK, |slot| {
             let (Some(e), Some(Some(before))) = (self.bodies.at(slot), f.before.get(slot as usize)) else {
                 return false;
             };
@@ -72,9 +73,6 @@ impl World {
             let travel = motion.travel().length() + motion.turn() * e.radius;
             e.ccd || (!jointed[slot as usize] && travel > FAST_FRACTION * e.thickness)
         });
-        let fast: Vec<u32> = (0..f.n_slots as u32)
-            .filter(|&slot| is_fast[slot as usize])
-            .collect();
         if fast.is_empty() {
             return;
         }

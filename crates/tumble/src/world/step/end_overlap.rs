@@ -180,7 +180,7 @@ impl World {
     /// Separates the pairs that ended the step deep in each other after
     /// moving against each other by more than the contact margin (module
     /// docs).
-    pub(super) fn separate_end_overlaps(&mut self, f: &mut StepFrame) {
+    pub(super) fn separate_end_overlaps(&mut self, f: &mut StepFrame, jointed: &[bool]) {
         let margin = f.settings.contact_margin;
         let allowed = f.settings.allowed_penetration;
         let dt = f.settings.dt;
@@ -232,7 +232,6 @@ impl World {
         };
         // Per body slot: dynamic, awake and not jointed (jointed bodies stay
         // where the solver left them, as in the sweeps); has a triangle mesh.
-        let jointed = self.jointed_flags(f.n_slots);
         let movable: Vec<bool> = (0..f.n_slots as u32)
             .map(|slot| {
                 !jointed[slot as usize]

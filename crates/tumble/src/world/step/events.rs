@@ -67,14 +67,13 @@ impl World {
         // runaways that solver impulses made. The bodies to restore are
         // found on the pool a run of slots at a time.
         let world: &World = self;
-        let restore = f.pool.map_indices(f.n_slots, SLOTS_PER_TASK, |i| {
+        let restore = f.pool.filter_indices(f.n_slots, SLOTS_PER_TASK, |i| {
             world.bodies.at(i).is_some_and(|e| {
                 let dynamic = e.body.kind() == BodyKind::Dynamic;
                 !e.body.state().is_finite()
                     || (dynamic && runaway(e.body.velocity(), e.body.angular_velocity(), e.radius))
             })
         });
-        let restore: Vec<u32> = (0..f.n_slots as u32).filter(|&i| restore[i as usize]).collect();
         for i in restore {
             self.quarantine(f, i);
         }

@@ -124,6 +124,17 @@ fn random_walk(seed: u64, sap: &mut SweepAndPrune, frames: usize) -> Vec<UpdateR
         let pairs: Vec<_> = sap.pairs().collect();
         let oracle_pairs: Vec<_> = oracle.pairs.iter().copied().collect();
         assert_eq!(pairs, oracle_pairs, "pairs differ at frame {frame}");
+        // The same pairs by user id, in the same order.
+        let mut by_user = Vec::new();
+        sap.user_pairs(&mut by_user);
+        let oracle_by_user: Vec<(u32, u32)> = oracle_pairs
+            .iter()
+            .map(|&(a, b)| {
+                let (a, b) = (sap.user_id(a).unwrap(), sap.user_id(b).unwrap());
+                (a.min(b), a.max(b))
+            })
+            .collect();
+        assert_eq!(by_user, oracle_by_user, "user pairs differ at frame {frame}");
         assert_eq!(sap.len(), oracle.boxes.len());
         assert_eq!(report.pairs, pairs.len());
         reports.push(report);

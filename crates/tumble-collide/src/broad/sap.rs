@@ -225,6 +225,23 @@ impl SweepAndPrune {
         self.pairs.iter().map(move |&key| self.ids(key))
     }
 
+    /// The overlapping pairs as of the last update by the `user_id`s of
+    /// their proxies, each as (smaller, larger), appended to `out` in the
+    /// order of [`Self::pairs`] (sorted when user ids grow with slots, as a
+    /// world's body slots do).
+    pub fn user_pairs(&self, out: &mut Vec<(u32, u32)>) {
+        out.reserve(self.pairs.len());
+        out.extend(self.pairs.iter().map(|&key| {
+            let (a, b) = split_key(key);
+            let (a, b) = (self.slots[a as usize].user_id, self.slots[b as usize].user_id);
+            if a < b {
+                (a, b)
+            } else {
+                (b, a)
+            }
+        }));
+    }
+
     /// Number of overlapping pairs as of the last update.
     pub fn pair_count(&self) -> usize {
         self.pairs.len()

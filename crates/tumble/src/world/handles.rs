@@ -73,6 +73,28 @@ impl<T, I> Default for Arena<T, I> {
     }
 }
 
+/// A run of consecutive slots of an [`Arena`] ([`Arena::runs_mut`]).
+pub struct SlotRun<'a, T> {
+    slots: &'a mut [Slot<T>],
+}
+
+impl<T> SlotRun<'_, T> {
+    /// Slots in the run.
+    pub fn len(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// `true` for a run of no slots.
+    pub fn is_empty(&self) -> bool {
+        self.slots.is_empty()
+    }
+
+    /// The live value in the run's slot `k` (counted from the run's first).
+    pub fn at_mut(&mut self, k: usize) -> Option<&mut T> {
+        self.slots.get_mut(k)?.value.as_mut()
+    }
+}
+
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct Slot<T> {
     generation: u32,
@@ -160,6 +182,18 @@ impl<T, I: Handle> Arena<T, I> {
     /// Mutable access to the live value in slot `index`, if any.
     pub fn at_mut(&mut self, index: u32) -> Option<&mut T> {
         self.slots.get_mut(index as usize)?.value.as_mut()
+    }
+
+    /// The slots in runs of `run` (the last may be shorter), each with the
+    /// index of its first slot: disjoint mutable access for parallel
+    /// passes over the live values (`None` for a free slot).
+    pub fn runs_mut(&mut self, run: usize) -> Vec<(u32, SlotRun<'_, T>)> {
+        let run = run.max(1);
+        self.slots
+            .chunks_mut(run)
+            .enumerate()
+            .map(|(k, slots)| ((k * run) as u32, SlotRun { slots }))
+            .collect()
     }
 
     /// Generation of slot `index` (live or free), if the slot exists.

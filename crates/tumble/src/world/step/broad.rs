@@ -44,12 +44,8 @@ impl World {
             }
         }
         self.broad.update(&mut events);
-        let broad = &self.broad;
-        let mut pairs: Vec<(u32, u32)> = broad
-            .pairs()
-            .filter_map(|(a, b)| Some((broad.user_id(a).ok()?, broad.user_id(b).ok()?)))
-            .map(|(a, b)| if a < b { (a, b) } else { (b, a) })
-            .collect();
+        let mut pairs = Vec::new();
+        self.broad.user_pairs(&mut pairs);
         for &u in &self.unbounded {
             for i in 0..n_slots as u32 {
                 if i != u

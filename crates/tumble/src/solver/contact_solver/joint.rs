@@ -180,7 +180,8 @@ pub struct JointConstraint {
     pub local: [Pose; 2],
     /// What is constrained.
     pub law: JointLaw,
-    /// Cholesky factor of the equality block (lower triangle).
+    /// Cholesky factor of the equality block (lower triangle), with the
+    /// reciprocal of each pivot on the diagonal.
     chol: [[f64; 6]; 6],
     /// Centre of mass and orientation of each side at the sub-step's start.
     start: [(DVec3, DQuat); 2],
@@ -470,7 +471,7 @@ impl JointConstraint {
             for j in 0..i {
                 s -= l[i][j] * y[j];
             }
-            y[i] = s / l[i][i];
+            y[i] = s * l[i][i];
         }
         let mut x = [0.0; 6];
         for i in (0..n).rev() {
@@ -478,7 +479,7 @@ impl JointConstraint {
             for j in i + 1..n {
                 s -= l[j][i] * x[j];
             }
-            x[i] = s / l[i][i];
+            x[i] = s * l[i][i];
         }
         x.map(|v| if v.is_finite() { v } else { 0.0 })
     }
@@ -549,8 +550,8 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
     let c = equality_errors(law, pose);
 
     // The twist axis: half-way between the two frames' axes (they agree
-    // where the joint holds).
-    let twist_axis = {
+    // where the joint holds). Only rows about the joint axis need it.
+    let twist_axis = || {
         let s = pose.axis_a(0) + pose.axis_b(0);
         if s.length_squared() > 1e-12 {
             s.normalize()
@@ -573,9 +574,9 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                 }
             }
             if let Some([lo, hi]) = law.limits {
-                let twist = pose.twist();
-                set.set(LOWER, JointRow::angular(twist_axis, twist - lo));
-                set.set(UPPER, JointRow::angular(twist_axis, hi - twist).negated());
+                let (twist, axis) = (pose.twist(), twist_axis());
+                set.set(LOWER, JointRow::angular(axis, twist - lo));
+                set.set(UPPER, JointRow::angular(axis, hi - twist).negated());
             }
         }
         JointKind::Hinge => {
@@ -589,17 +590,19 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                 row.ang_b = -row.ang_a;
                 set.eq(row);
             }
-            let angle = pose.twist();
-            if let Some([lo, hi]) = law.limits {
-                set.set(LOWER, JointRow::angular(twist_axis, angle - lo));
-                set.set(UPPER, JointRow::angular(twist_axis, hi - angle).negated());
-            }
-            if let Some(m) = law.motor {
-                let c = match m {
-                    Motor::Position { target, .. } => wrap_angle(angle - target),
-                    Motor::Velocity { .. } => 0.0,
-                };
-                set.set(MOTOR, JointRow::angular(twist_axis, c));
+            if law.limits.is_some() || law.motor.is_some() {
+                let (angle, axis) = (pose.twist(), twist_axis());
+                if let Some([lo, hi]) = law.limits {
+                    set.set(LOWER, JointRow::angular(axis, angle - lo));
+                    set.set(UPPER, JointRow::angular(axis, hi - angle).negated());
+                }
+                if let Some(m) = law.motor {
+                    let c = match m {
+                        Motor::Position { target, .. } => wrap_angle(angle - target),
+                        Motor::Velocity { .. } => 0.0,
+                    };
+                    set.set(MOTOR, JointRow::angular(axis, c));
+                }
             }
         }
         JointKind::Slider => {
@@ -694,7 +697,9 @@ fn soft(k: f64, c: f64, err: f64, h: f64) -> (f64, f64) {
     (1.0 / (h * denom), k * err / denom)
 }
 
-/// Cholesky factor (lower) of the leading `n x n` block of `k`.
+/// Cholesky factor (lower) of the leading `n x n` block of `k`, each pivot
+/// stored as its reciprocal (the solves then multiply: a division has
+/// several times the latency, and the pivots chain).
 #[allow(clippy::needless_range_loop)] // the textbook index form reads best here
 fn cholesky(k: &[[f64; 6]; 6], n: usize) -> [[f64; 6]; 6] {
     let mut l = [[0.0; 6]; 6];
@@ -705,9 +710,9 @@ fn cholesky(k: &[[f64; 6]; 6], n: usize) -> [[f64; 6]; 6] {
                 s -= l[i][p] * l[j][p];
             }
             if i == j {
-                l[i][i] = s.max(1e-300).sqrt();
+                l[i][i] = 1.0 / s.max(1e-300).sqrt();
             } else {
-                l[i][j] = s / l[j][j];
+                l[i][j] = s * l[j][j];
             }
         }
     }

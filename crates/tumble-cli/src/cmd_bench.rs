@@ -52,6 +52,11 @@ pub(crate) fn peak_rss_bytes() -> u64 {
         .unwrap_or(0)
 }
 
+thread_local! {
+    /// Steps of this run that ran on more than one thread (`run_timed`).
+    static STEPS_ON_THREADS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// Steps the world, timing each step call (s); `each` sees the world after every step.
 fn run_timed(world: &mut World, steps: usize, mut each: impl FnMut(usize, &World, f64)) -> Vec<f64> {
     let mut times = Vec::with_capacity(steps);
@@ -59,6 +64,9 @@ fn run_timed(world: &mut World, steps: usize, mut each: impl FnMut(usize, &World
         let t = Instant::now();
         let report = world.step();
         times.push(t.elapsed().as_secs_f64());
+        if report.threads > 1 {
+            STEPS_ON_THREADS.with(|n| n.set(n.get() + 1));
+        }
         each(i, world, report.max_penetration);
     }
     times
@@ -334,13 +342,20 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     };
     figures.insert("deepest_penetration_m".into(), json!(deepest));
     figures.insert("step_time".into(), json!(scenes::TimingStats::ms(&times)));
+    // With `adaptive_threads` a step runs on one thread while the threads
+    // are measured slower: how many ran on the threads.
+    figures.insert(
+        "steps_on_threads".into(),
+        json!(STEPS_ON_THREADS.with(|n| n.get())),
+    );
     let out = json!({
         "engine": "tumble",
         "version": env!("CARGO_PKG_VERSION"),
         "scene": name,
         "status": "ok",
         "settings": {"dt": settings.dt, "steps": steps, "n": ids.len(), "substeps": settings.substeps,
-                     "iterations": settings.iterations, "threads": world.threads()},
+                     "iterations": settings.iterations, "threads": world.threads(),
+                     "adaptive_threads": settings.adaptive_threads},
         "figures": figures,
         "peak_rss_bytes": peak_rss_bytes(),
     });

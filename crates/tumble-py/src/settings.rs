@@ -10,7 +10,7 @@ use tumble::world::{SolverKind, WorldSettings};
 use tumble::Integrator;
 
 /// Every keyword accepted, in the order of `WorldSettings`.
-pub const NAMES: [&str; 20] = [
+pub const NAMES: [&str; 21] = [
     "gravity",
     "dt",
     "substeps",
@@ -31,6 +31,7 @@ pub const NAMES: [&str; 20] = [
     "sleep_angular_speed",
     "time_to_sleep",
     "threads",
+    "adaptive_threads",
 ];
 
 /// Integrator names, as in shared/DESIGN.md.
@@ -137,6 +138,14 @@ pub fn apply(s: &mut WorldSettings, kwargs: Option<&Bound<'_, PyDict>>) -> PyRes
             "sleep_angular_speed" => s.sleep_angular_speed = float(&v, name)?,
             "time_to_sleep" => s.time_to_sleep = float(&v, name)?,
             "threads" => s.threads = count(&v, name)?,
+            "adaptive_threads" => {
+                s.adaptive_threads = v.extract().map_err(|_| {
+                    invalid(format!(
+                        "adaptive_threads: expected True or False, got {}",
+                        describe(&v)
+                    ))
+                })?
+            }
             other => {
                 return Err(invalid(format!(
                     "unknown world setting {other:?}; the settings are: {}",
@@ -173,5 +182,6 @@ pub fn to_dict<'py>(py: Python<'py>, s: &WorldSettings) -> PyResult<Bound<'py, P
     d.set_item("sleep_angular_speed", s.sleep_angular_speed)?;
     d.set_item("time_to_sleep", s.time_to_sleep)?;
     d.set_item("threads", s.threads)?;
+    d.set_item("adaptive_threads", s.adaptive_threads)?;
     Ok(d)
 }

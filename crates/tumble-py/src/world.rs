@@ -65,6 +65,9 @@ use tumble_collide::{DVec3, Pose};
 ///     threads=0                  worker threads of step(); 0 = every core,
 ///                                1 = serial; results are bit-identical
 ///                                for any count
+///     adaptive_threads=True      a step runs on one thread while the
+///                                threads are measured slower (a busy or
+///                                shared machine); same results
 ///
 /// Arrays returned by the world (positions, contacts, ...) have one row per
 /// live body in the order the bodies were added.
@@ -230,7 +233,7 @@ impl World {
             solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.005, \
             mesh_contact_margin=0.002, resting_motion=1e-05, allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
             restitution_threshold=0.5, continuous=True, sleeping=True, sleep_linear_speed=0.05, \
-            sleep_angular_speed=0.05, time_to_sleep=0.5, threads=0)"
+            sleep_angular_speed=0.05, time_to_sleep=0.5, threads=0, adaptive_threads=True)"
     )]
     fn new(settings: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
         guard(|| {

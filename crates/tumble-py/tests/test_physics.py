@@ -251,3 +251,34 @@ def test_continuous_collision_stops_a_fast_box_at_a_turned_slab() -> None:
         tumble.World(continuous="yes")
     with pytest.raises(TypeError):
         tumble.World().add_body(tumble.Sphere(0.1), ccd="yes")
+
+
+def _grid_drop(**settings) -> tuple[np.ndarray, set[int]]:
+    """200 spheres dropped in a 10 x 10 x 2 grid onto a ground box (enough
+    bodies for the step's threads): positions after 40 steps, and the thread
+    counts the steps reported."""
+    world = tumble.World(sleeping=False, **settings)
+    world.add_body(tumble.Box((8, 8, 0.5)), kind="static", position=(0, 0, -0.5))
+    for k in range(200):
+        i, j, layer = k % 10, (k // 10) % 10, k // 100
+        at = (0.45 * i - 2.0, 0.45 * j - 2.0, 0.3 + 0.45 * layer + 0.01 * i)
+        world.add_body(tumble.Sphere(0.2), position=at)
+    used = set()
+    for _ in range(40):
+        world.step()
+        used.add(world.step_report.threads)
+    return np.array(world.positions), used
+
+
+def test_adaptive_threads_is_a_setting_and_never_changes_the_result() -> None:
+    assert tumble.World().settings["adaptive_threads"] is True
+    assert tumble.World(adaptive_threads=False).settings["adaptive_threads"] is False
+    serial, used = _grid_drop(threads=1)
+    assert used == {1}
+    pinned, used = _grid_drop(threads=2, adaptive_threads=False)
+    assert used == {2}
+    adaptive, used = _grid_drop(threads=2)
+    assert used <= {1, 2}
+    assert serial.tobytes() == pinned.tobytes() == adaptive.tobytes()
+    with pytest.raises(tumble.InvalidArgument):
+        tumble.World(adaptive_threads="yes")

@@ -132,6 +132,7 @@ fn a_small_concave_pile_with_remembered_walks_is_the_same_bits_on_1_2_3_and_8_th
     for threads in [1, 2, 3, 8] {
         let mut scene = scenes::concave_pile(10);
         scene.settings.threads = threads;
+        scene.settings.adaptive_threads = false;
         let (mut world, _) = scene.build().unwrap();
         let mut recalled = 0;
         for _ in 0..180 {

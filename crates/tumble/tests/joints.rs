@@ -485,6 +485,7 @@ fn joint_chains_give_the_same_bits_on_every_thread_count() {
     let run = |threads: u32| {
         let mut w = World::new(WorldSettings {
             threads,
+            adaptive_threads: false,
             ..WorldSettings::default()
         })
         .unwrap();
@@ -988,6 +989,7 @@ fn chains_folding_onto_their_weights_give_the_same_bits_on_every_thread_count() 
     let run = |threads: u32| {
         let mut w = World::new(WorldSettings {
             threads,
+            adaptive_threads: false,
             sleeping: false,
             ..WorldSettings::default()
         })

@@ -531,6 +531,7 @@ fn resting_mesh_pairs_give_the_same_bits_after_a_snapshot_and_on_any_thread_coun
     });
     let (mut threaded, _) = stacked_fine_tori(WorldSettings {
         threads: 3,
+        adaptive_threads: false,
         ..WorldSettings::default()
     });
     for _ in 0..160 {

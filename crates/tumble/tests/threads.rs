@@ -3,7 +3,8 @@
 //! on 1, 2, 3 and 8 threads follow bit-identical trajectories (hashes
 //! compared every few steps, so a divergence is caught where it starts, with
 //! the report's solver residual, a maximum met across the threads), and the
-//! report says how many threads ran.
+//! report says how many threads ran; with `adaptive_threads` (steps moved
+//! to one thread while the threads are slower) the trajectory is the same.
 
 use tumble::scenes::{self, Scene};
 use tumble::world::{World, WorldSettings};
@@ -13,13 +14,17 @@ use tumble::world::{World, WorldSettings};
 fn trajectory(scene: &Scene, threads: u32, steps: usize, every: usize) -> Vec<(u64, u64)> {
     let mut scene = scene.clone();
     scene.settings.threads = threads;
+    // The threads always, never one thread because they seemed slower.
+    scene.settings.adaptive_threads = false;
     let (mut world, _) = scene.build().unwrap();
     let mut hashes = Vec::new();
     assert_eq!(world.threads(), threads as usize);
+    let mut threaded = 0;
     for k in 0..steps {
         let report = world.step();
         // A step small enough runs on one thread; none runs on more than asked.
         assert!(report.threads == threads as usize || report.threads == 1);
+        threaded += usize::from(report.threads > 1);
         assert!(report.quarantined.is_empty());
         assert!(
             report.solver_residual >= 0.0 && report.solver_residual.is_sign_positive(),
@@ -30,6 +35,11 @@ fn trajectory(scene: &Scene, threads: u32, steps: usize, every: usize) -> Vec<(u
             hashes.push((world.state_hash(), report.solver_residual.to_bits()));
         }
     }
+    assert!(
+        threads == 1 || threaded > 0,
+        "{}: no step ran on the threads",
+        scene.name
+    );
     hashes
 }
 
@@ -115,6 +125,28 @@ fn volley_of_swept_projectiles_is_bit_identical_on_1_2_3_and_8_threads() {
     let swept: usize = (0..40).map(|_| world.step().continuous).sum();
     assert!(swept > 0, "the volley never needed continuous collision");
     same_for_every_thread_count(scene, 40, 4);
+}
+
+#[test]
+fn adaptive_threads_give_the_bits_of_one_thread_whatever_they_choose() {
+    // With `adaptive_threads` a step runs on the threads or on one thread,
+    // whichever was measured faster lately: the trajectory is the serial
+    // one either way, and each report says where its step ran.
+    let scene = scenes::pile(10);
+    let serial = trajectory(&scene, 1, 60, 10);
+    let mut adaptive = scene.clone();
+    adaptive.settings.threads = 2;
+    assert!(adaptive.settings.adaptive_threads, "on by default");
+    let (mut world, _) = adaptive.build().unwrap();
+    let mut hashes = Vec::new();
+    for k in 0..60 {
+        let report = world.step();
+        assert!(report.threads == 2 || report.threads == 1);
+        if k % 10 == 9 {
+            hashes.push((world.state_hash(), report.solver_residual.to_bits()));
+        }
+    }
+    assert_eq!(hashes, serial);
 }
 
 #[test]

@@ -324,6 +324,7 @@ class World:
         sleep_angular_speed: float | None = ...,
         time_to_sleep: float | None = ...,
         threads: int | None = ...,
+        adaptive_threads: bool | None = ...,
     ) -> None: ...
     def add_body(
         self,

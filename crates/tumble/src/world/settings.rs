@@ -128,6 +128,13 @@ pub struct WorldSettings {
     /// trajectories are bit-identical for any thread count. Default 0.
     #[schemars(range(max = 1024))] // pool::MAX_THREADS
     pub threads: u32,
+    /// With more than one thread: a step that has work for the threads
+    /// runs on one thread instead while the threads are measured to be
+    /// slower (on a busy or shared machine every hand-over between cores
+    /// can turn slow for minutes). Each step's report says how many threads
+    /// it ran on; the result is the same either way. `false` always uses
+    /// the threads. Default true.
+    pub adaptive_threads: bool,
 }
 
 impl Default for WorldSettings {
@@ -153,6 +160,7 @@ impl Default for WorldSettings {
             sleep_angular_speed: 0.05,
             time_to_sleep: 0.5,
             threads: 0,
+            adaptive_threads: true,
         }
     }
 }

@@ -156,6 +156,9 @@ pub(crate) struct StepScratch {
     /// by collider pair, in the step's pair order. They change the narrow
     /// phase's cost, never its contacts.
     pub mesh_memory: Vec<(MeshPairKey, Option<MeshPairMemory>)>,
+    /// Whether steps run on the threads or on one (`thread_choice`): where
+    /// the work is done, never what it gives.
+    pub thread_choice: super::ThreadChoice,
 }
 
 /// A collider pair: body slots and collider indices `(a, b, ia, ib)`.

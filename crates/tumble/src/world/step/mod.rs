@@ -18,6 +18,7 @@ mod margins;
 mod narrow;
 mod quarantine;
 mod solve;
+mod thread_choice;
 mod writeback;
 
 pub use continuous::FAST_FRACTION;
@@ -25,6 +26,7 @@ pub use end_overlap::{END_OVERLAP_SLACK, STRUCK_MARGINS};
 pub(crate) use frame::{StepFrame, StepScratch};
 pub(crate) use margins::{body_aabb, bounding_radius, core_radius, thickness, velocities};
 pub use quarantine::RUNAWAY_SPEED;
+pub(crate) use thread_choice::ThreadChoice;
 
 use super::report::{Stage, StepReport};
 use super::World;
@@ -43,13 +45,22 @@ impl World {
         // A small step stays on this thread: the hand-over to the pool
         // costs more than its parallel parts would save. Where the work is
         // done never changes the result.
+        // And while the threads are measured to be slower than one thread
+        // (`thread_choice`), the step stays here too.
         let meshes = self.bodies.iter().any(|(_, e)| margins::has_mesh(e));
-        let pool = if self.worth_threads(meshes) {
+        let worth = self.worth_threads(meshes);
+        let adaptive = worth && self.settings.adaptive_threads;
+        let pool = if worth && (!adaptive || self.scratch.thread_choice.next_threaded()) {
             self.pool.clone()
         } else {
             WorkerPool::serial()
         };
-        pool.run(|crewed| self.run_stages(crewed.clone(), meshes))
+        let start = Instant::now();
+        let report = pool.run(|crewed| self.run_stages(crewed.clone(), meshes));
+        if adaptive {
+            self.scratch.thread_choice.record(start.elapsed().as_secs_f64());
+        }
+        report
     }
 
     /// Whether this step has work enough for the threads, judged from the

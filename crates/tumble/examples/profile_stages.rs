@@ -11,7 +11,8 @@
 //! with `FRICTION=mu`, every body's friction set to `mu`; with
 //! `RESTING_MOTION=m`, `CONTACT_MARGIN=m`, `MESH_CONTACT_MARGIN=m` or
 //! `ALLOWED_PENETRATION=m`, that
-//! `WorldSettings` field set to `m`; with `NO_CCD=1`,
+//! `WorldSettings` field set to `m`; with `PIN_THREADS=1`, `adaptive_threads`
+//! off (every step with work for the threads on them); with `NO_CCD=1`,
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
@@ -117,6 +118,9 @@ fn main() {
     if std::env::var("NO_CCD").is_ok() {
         scene.settings.continuous = false;
     }
+    if std::env::var("PIN_THREADS").is_ok() {
+        scene.settings.adaptive_threads = false;
+    }
     if let Some(mu) = std::env::var("FRICTION").ok().and_then(|s| s.parse::<f64>().ok()) {
         for body in scene.bodies.iter_mut() {
             body.material.friction = mu;
@@ -191,6 +195,7 @@ fn main() {
     let mut energy = world.kinetic_energy() + world.potential_energy();
     let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
+    let mut threaded_steps = 0usize;
     let mut prev: Vec<tumble::world::WorldContact> = Vec::new();
     let mut motion_before_prev = Vec::new();
     // EARLY_ITERATIONS=steps:iterations: that many solver iterations for the
@@ -241,6 +246,7 @@ fn main() {
             Vec::new()
         };
         let r = world.step();
+        threaded_steps += usize::from(r.threads > 1);
         let now = world.kinetic_energy() + world.potential_energy();
         if now - energy > largest_gain {
             (largest_gain, gain_step) = (now - energy, step);
@@ -414,7 +420,7 @@ fn main() {
     let ms = |t: f64| t / steps as f64 * 1e3;
     let moved = (world.center_of_mass(last).unwrap() - start).length();
     println!(
-        "{name}: {:.3} ms/step on {} threads, {} substeps x {} iterations; last body moved {moved:.4} m, deepest {deepest:.4} m",
+        "{name}: {:.3} ms/step on {} threads ({threaded_steps} steps on more than one), {} substeps x {} iterations; last body moved {moved:.4} m, deepest {deepest:.4} m",
         ms(total),
         world.threads(),
         world.settings().substeps,

@@ -58,7 +58,11 @@ impl World {
         let start = Instant::now();
         let report = pool.run(|crewed| self.run_stages(crewed.clone(), meshes));
         if adaptive {
-            self.scratch.thread_choice.record(start.elapsed().as_secs_f64());
+            // The step's work: its bodies, candidate pairs and contacts.
+            let work = report.awake_bodies + report.broad_pairs + 2 * report.contacts;
+            self.scratch
+                .thread_choice
+                .record(start.elapsed().as_secs_f64(), work);
         }
         report
     }

@@ -10,54 +10,74 @@
 //! is done (the same bits for any thread count), so the step is free to
 //! run where it is fastest now.
 //!
-//! How: a smoothed time per step is kept for the mode in use; every so
-//! often one step runs in the other mode (a probe) and the world moves to
-//! it if it was clearly faster. A probe that loses doubles the wait for the
-//! next one (to [`MAX_INTERVAL`] steps: a serial probe on a machine where
-//! two threads are 1.7x faster costs 0.3 % of the time); a mode that gets
-//! slower than the other's last probe is probed against at once, so a
-//! spell is left within a few steps of its start and of its end.
+//! How: the median time of the last few steps on the side in use is kept;
+//! every so often two steps run on the other side (a probe; the faster of
+//! the two counts, so that neither a hiccup of the machine nor the first
+//! step's moving of the bodies between the cores' caches decides) and the
+//! world moves there if the probe was clearly faster. Times are per unit of
+//! the step's work (bodies, candidate pairs, contacts), so that a scene whose
+//! steps grow dearer (a pile landing) compares like with like. A probe that
+//! loses makes the wait for the next one four times longer (to
+//! [`MAX_INTERVAL`] steps: the probes of a machine where two threads are
+//! 1.7x faster than one cost about 0.3 % of the time); a side whose median
+//! gets slower than the other's last probe by the switching margin is
+//! probed against at once, so a spell is left within a few steps of its
+//! start, and within the longest wait of its end. (A smoothed mean
+//! instead of the median switched to one thread on a single step of 18 ms
+//! among steps of 2, a helper thread having lost its core for a moment.)
 
 /// Steps before the first probe, and between probes after a switch.
-pub const MIN_INTERVAL: u32 = 8;
+pub const MIN_INTERVAL: u32 = 32;
+
+/// How much longer the wait for the next probe grows after a probe lost.
+pub const BACK_OFF: u32 = 4;
 
 /// Longest wait between probes (steps).
-pub const MAX_INTERVAL: u32 = 256;
+pub const MAX_INTERVAL: u32 = 512;
 
-/// A probe must be this much faster (as a fraction of the mode in use)
-/// for the world to switch: a single step is a noisy sample, and a probe
-/// on one thread runs with caches the threads left behind.
+/// Steps of a probe.
+pub const PROBE_STEPS: u32 = 2;
+
+/// A probe must be this much faster (as a fraction of the side in use)
+/// for the world to switch: a step is a noisy sample.
 pub const SWITCH_MARGIN: f64 = 0.1;
 
-/// Weight of the newest step in the smoothed time of the mode in use.
-const SMOOTHING: f64 = 0.25;
+/// Steps of the side in use whose median is its time.
+const RECENT: usize = 5;
 
 /// The choice between the threads and one thread, and what it is based on.
 #[derive(Debug, Clone)]
 pub(crate) struct ThreadChoice {
-    /// The mode the steps use: `true` on the threads.
+    /// The side the steps use: `true` on the threads.
     threaded: bool,
-    /// Smoothed time of a step in the mode in use (s).
-    current: Option<f64>,
-    /// Time of the last probe of the other mode (s).
+    /// The last steps' times on the side in use (s), a ring of `filled`.
+    recent: [f64; RECENT],
+    filled: usize,
+    at: usize,
+    /// The time of the last probe of the other side (s).
     other: Option<f64>,
-    /// Steps since the last probe (or switch).
+    /// Steps on the side in use since the last probe (or switch).
     since_probe: u32,
     /// Steps to wait before the next probe.
     interval: u32,
-    /// The step being run is a probe.
-    probing: bool,
+    /// Steps of the running probe still to run (0: no probe).
+    probe_left: u32,
+    /// The fastest step of the running probe (s).
+    probe_best: f64,
 }
 
 impl Default for ThreadChoice {
     fn default() -> Self {
         ThreadChoice {
             threaded: true,
-            current: None,
+            recent: [0.0; RECENT],
+            filled: 0,
+            at: 0,
             other: None,
             since_probe: 0,
             interval: MIN_INTERVAL,
-            probing: false,
+            probe_left: 0,
+            probe_best: f64::INFINITY,
         }
     }
 }
@@ -65,49 +85,85 @@ impl Default for ThreadChoice {
 impl ThreadChoice {
     /// Whether the next step (one with work for the threads) runs on them.
     pub fn next_threaded(&mut self) -> bool {
-        self.probing = self.since_probe >= self.interval;
-        self.threaded != self.probing
+        if self.probe_left == 0 && self.since_probe >= self.interval {
+            self.probe_left = PROBE_STEPS;
+            self.probe_best = f64::INFINITY;
+        }
+        self.threaded != (self.probe_left > 0)
     }
 
     /// Records the time of the step [`ThreadChoice::next_threaded`] chose
-    /// for (s).
-    pub fn record(&mut self, seconds: f64) {
+    /// for (s) and how much work it had (any measure that grows with the
+    /// step's cost: the steps of a landing pile grow ten times dearer within
+    /// a second, and times compared across such a change, raw, chose one
+    /// thread while the threads were faster).
+    pub fn record(&mut self, seconds: f64, work: usize) {
+        let seconds = seconds / work.max(1) as f64;
         if !seconds.is_finite() {
             return;
         }
-        if self.probing {
-            self.probing = false;
-            self.since_probe = 0;
-            let faster = self
-                .current
-                .is_none_or(|now| seconds < now * (1.0 - SWITCH_MARGIN));
-            if faster {
-                // The probe's mode becomes the one in use; the mode left
-                // keeps its last smoothed time as the one to beat.
-                self.threaded = !self.threaded;
-                self.other = self.current;
-                self.current = Some(seconds);
-                self.interval = MIN_INTERVAL;
-            } else {
-                self.other = Some(seconds);
-                self.interval = (self.interval * 2).min(MAX_INTERVAL);
+        if self.probe_left > 0 {
+            self.probe_best = self.probe_best.min(seconds);
+            self.probe_left -= 1;
+            if self.probe_left == 0 {
+                self.decide();
             }
             return;
         }
-        let now = match self.current {
-            Some(t) => t + SMOOTHING * (seconds - t),
-            None => seconds,
-        };
-        self.current = Some(now);
+        self.push(seconds);
         self.since_probe += 1;
-        // Slower now than the other mode was at its last probe: probe it
-        // at the next step rather than at the end of a long wait.
-        if self.other.is_some_and(|other| now > other) && self.since_probe < self.interval {
+        // Slower now than the other side was at its last probe, by the
+        // margin a probe must win by: probe it at the next step rather than
+        // at the end of a long wait. (Without the margin, sides about as
+        // fast as each other were probed every few steps.)
+        if self.other.is_some_and(|other| {
+            self.median()
+                .is_some_and(|now| now * (1.0 - SWITCH_MARGIN) > other)
+        }) && self.since_probe < self.interval
+        {
             self.interval = self.since_probe;
         }
     }
 
-    /// The mode the steps use now: `true` on the threads.
+    /// After a probe: move to the probed side if it was clearly faster.
+    fn decide(&mut self) {
+        let probe = self.probe_best;
+        let now = self.median();
+        self.since_probe = 0;
+        if now.is_none_or(|now| probe < now * (1.0 - SWITCH_MARGIN)) {
+            // The side left keeps its median as the time to beat.
+            self.threaded = !self.threaded;
+            self.other = now;
+            self.filled = 0;
+            self.push(probe);
+            self.interval = MIN_INTERVAL;
+        } else {
+            self.other = Some(probe);
+            self.interval = (self.interval * BACK_OFF).min(MAX_INTERVAL);
+        }
+    }
+
+    fn push(&mut self, seconds: f64) {
+        if self.filled == 0 {
+            self.at = 0;
+        }
+        self.recent[self.at] = seconds;
+        self.at = (self.at + 1) % RECENT;
+        self.filled = (self.filled + 1).min(RECENT);
+    }
+
+    /// The median of the recent steps on the side in use.
+    fn median(&self) -> Option<f64> {
+        if self.filled == 0 {
+            return None;
+        }
+        let mut times = self.recent;
+        let times = &mut times[..self.filled];
+        times.sort_unstable_by(f64::total_cmp);
+        Some(times[self.filled / 2])
+    }
+
+    /// The side the steps use now: `true` on the threads.
     #[cfg(test)]
     fn threaded(&self) -> bool {
         self.threaded
@@ -119,17 +175,17 @@ mod tests {
     use super::*;
 
     /// Runs `steps` steps whose time in each mode is given by `time(step,
-    /// threaded)`; returns how many ran on the threads and the mode at the end.
+    /// threaded)`; returns how many ran on the threads.
     fn run(
         choice: &mut ThreadChoice,
         steps: std::ops::Range<usize>,
-        time: impl Fn(usize, bool) -> f64,
+        mut time: impl FnMut(usize, bool) -> f64,
     ) -> usize {
         let mut threaded = 0;
         for step in steps {
             let on_threads = choice.next_threaded();
             threaded += usize::from(on_threads);
-            choice.record(time(step, on_threads));
+            choice.record(time(step, on_threads), 1);
         }
         threaded
     }
@@ -140,31 +196,63 @@ mod tests {
         // Two threads 1.7x faster than one.
         let on_threads = run(&mut choice, 0..2000, |_, t| if t { 2.0e-3 } else { 3.4e-3 });
         assert!(choice.threaded());
-        // Probes at 8, 16, 32, ... then every MAX_INTERVAL steps.
-        let probes = 2000 - on_threads;
-        assert!((5..=14).contains(&probes), "{probes} probes");
+        // Probes of two steps at 16, 48, 112, ... then every MAX_INTERVAL steps.
+        let probe_steps = 2000 - on_threads;
+        assert!(
+            (10..=20).contains(&probe_steps),
+            "{probe_steps} steps on one thread"
+        );
+    }
+
+    #[test]
+    fn a_hiccup_of_one_step_moves_nothing() {
+        let mut choice = ThreadChoice::default();
+        // A helper loses its core for a moment every 50 steps: 18 ms.
+        let time = |step: usize, t: bool| match (t, step % 50 == 49) {
+            (true, true) => 18.0e-3,
+            (true, false) => 2.0e-3,
+            (false, _) => 3.4e-3,
+        };
+        let on_threads = run(&mut choice, 0..2000, time);
+        assert!(
+            2000 - on_threads <= 20,
+            "{} steps on one thread",
+            2000 - on_threads
+        );
     }
 
     #[test]
     fn a_slow_spell_moves_the_steps_to_one_thread_and_its_end_moves_them_back() {
         let mut choice = ThreadChoice::default();
         // Quiet: threads 2.1 ms, one thread 3.5 ms; from step 1000 to 3000
-        // the threads take 4.7 ms.
-        let time = |step: usize, threads: bool| match (threads, (1000..3000).contains(&step)) {
-            (true, true) => 4.7e-3,
-            (true, false) => 2.1e-3,
-            (false, _) => 3.5e-3,
+        // the threads take 4.7 ms. The first step on the threads after steps
+        // on one thread moves the bodies between the caches: 4 ms.
+        let mut last = true;
+        let mut time = move |step: usize, threads: bool| {
+            let first = threads && !last;
+            last = threads;
+            match (threads, (1000..3000).contains(&step)) {
+                (true, true) => 4.7e-3,
+                (true, false) if first => 4.0e-3,
+                (true, false) => 2.1e-3,
+                (false, _) => 3.5e-3,
+            }
         };
-        run(&mut choice, 0..1000, time);
+        run(&mut choice, 0..1000, &mut time);
         assert!(choice.threaded());
         // Within a few steps of the spell's start, on one thread.
-        run(&mut choice, 1000..1010, time);
+        run(&mut choice, 1000..1010, &mut time);
         assert!(!choice.threaded(), "still on the threads 10 steps into the spell");
-        let threaded = run(&mut choice, 1010..3000, time);
+        let threaded = run(&mut choice, 1010..3000, &mut time);
         // During the spell only probes run on the threads, fewer and fewer.
-        assert!(threaded <= 14, "{threaded} steps on the threads during the spell");
-        // After the spell, back on the threads within the longest wait.
-        run(&mut choice, 3000..3000 + MAX_INTERVAL as usize + 1, time);
+        assert!(threaded <= 20, "{threaded} steps on the threads during the spell");
+        // After the spell, back on the threads within the longest wait,
+        // though a probe's first step is slow.
+        run(
+            &mut choice,
+            3000..3000 + (MAX_INTERVAL + PROBE_STEPS) as usize,
+            &mut time,
+        );
         assert!(choice.threaded());
     }
 
@@ -176,9 +264,7 @@ mod tests {
         assert!(choice.threaded());
         // A non-finite time changes nothing.
         let before = format!("{choice:?}");
-        choice.next_threaded();
-        choice.record(f64::NAN);
-        choice.probing = false;
+        choice.record(f64::NAN, 1);
         assert_eq!(format!("{choice:?}"), before);
     }
 }

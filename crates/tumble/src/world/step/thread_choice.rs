@@ -5,26 +5,29 @@
 //! are spells of minutes in which every hand-over between cores is slow (a
 //! value bounced between two spinning threads takes 0.5 us instead of
 //! 0.05-0.14; docs/benchmarks.md, "Reading the ratios"), while one thread
-//! runs at full speed: the pile of 1,000 then takes 4.3-4.8 ms a step on
-//! two threads against 3.5 on one. Results never depend on where the work
+//! runs at full speed: the pile of 1,000 then takes 4.2-5.0 ms a step on
+//! two threads against 3.5-3.9 on one. Results never depend on where the work
 //! is done (the same bits for any thread count), so the step is free to
 //! run where it is fastest now.
 //!
-//! How: the median time of the last few steps on the side in use is kept;
-//! every so often two steps run on the other side (a probe; the faster of
-//! the two counts, so that neither a hiccup of the machine nor the first
-//! step's moving of the bodies between the cores' caches decides) and the
-//! world moves there if the probe was clearly faster. Times are per unit of
-//! the step's work (bodies, candidate pairs, contacts), so that a scene whose
-//! steps grow dearer (a pile landing) compares like with like. A probe that
-//! loses makes the wait for the next one four times longer (to
-//! [`MAX_INTERVAL`] steps: the probes of a machine where two threads are
-//! 1.7x faster than one cost about 0.3 % of the time); a side whose median
-//! gets slower than the other's last probe by the switching margin is
-//! probed against at once, so a spell is left within a few steps of its
-//! start, and within the longest wait of its end. (A smoothed mean
-//! instead of the median switched to one thread on a single step of 18 ms
-//! among steps of 2, a helper thread having lost its core for a moment.)
+//! How: the median time of the last five steps on the side in use is kept,
+//! per unit of the step's work (bodies, candidate pairs, contacts: a landing
+//! pile's steps grow ten times dearer within a second); every so often two
+//! steps run on the other side (a probe; the faster of the two counts, so
+//! that neither a hiccup of the machine nor the first step's moving of the
+//! bodies between the cores' caches decides) and the world moves there if
+//! the probe was clearly faster. A probe that loses makes the wait for the
+//! next one four times longer (to [`MAX_INTERVAL`] steps: the probes of a
+//! machine where two threads are 1.7x faster than one cost about 0.5 % of
+//! the time); a side whose median rises by 60 % above its lowest since the
+//! last probe is probed against at the next step (from [`MIN_INTERVAL`]
+//! steps after the last), so a spell is left within a few dozen steps of its
+//! start, and within the longest wait of its end. Tried and not kept: a
+//! smoothed mean judged by one-step probes (it moved to one thread on a
+//! single step of 18 ms among steps of 2, a helper having lost its core for
+//! a moment, and then lost every probe back, each paying for the caches),
+//! and a trigger that compared with the other side's last probe (it missed
+//! a spell that began after the pile had settled).
 
 /// Steps before the first probe, and between probes after a switch.
 pub const MIN_INTERVAL: u32 = 32;
@@ -33,7 +36,7 @@ pub const MIN_INTERVAL: u32 = 32;
 pub const BACK_OFF: u32 = 4;
 
 /// Longest wait between probes (steps).
-pub const MAX_INTERVAL: u32 = 512;
+pub const MAX_INTERVAL: u32 = 256;
 
 /// Steps of a probe.
 pub const PROBE_STEPS: u32 = 2;
@@ -41,6 +44,14 @@ pub const PROBE_STEPS: u32 = 2;
 /// A probe must be this much faster (as a fraction of the side in use)
 /// for the world to switch: a step is a noisy sample.
 pub const SWITCH_MARGIN: f64 = 0.1;
+
+/// A rise of the side's median over its lowest since the last probe (as
+/// a fraction) that calls for a probe at once (at least [`MIN_INTERVAL`]
+/// steps after the last): a spell doubles the threads' time, while the
+/// lowest of many medians of five noisy steps lies well below their usual
+/// (with a third, a quiet pile was probed every few dozen steps; with a
+/// half, steps 25 % noisy were probed twice as often as scheduled).
+pub const JUMP: f64 = 0.6;
 
 /// Steps of the side in use whose median is its time.
 const RECENT: usize = 5;
@@ -54,8 +65,8 @@ pub(crate) struct ThreadChoice {
     recent: [f64; RECENT],
     filled: usize,
     at: usize,
-    /// The time of the last probe of the other side (s).
-    other: Option<f64>,
+    /// The lowest median of the side in use since the last probe (s).
+    lowest: f64,
     /// Steps on the side in use since the last probe (or switch).
     since_probe: u32,
     /// Steps to wait before the next probe.
@@ -73,7 +84,7 @@ impl Default for ThreadChoice {
             recent: [0.0; RECENT],
             filled: 0,
             at: 0,
-            other: None,
+            lowest: f64::INFINITY,
             since_probe: 0,
             interval: MIN_INTERVAL,
             probe_left: 0,
@@ -112,16 +123,14 @@ impl ThreadChoice {
         }
         self.push(seconds);
         self.since_probe += 1;
-        // Slower now than the other side was at its last probe, by the
-        // margin a probe must win by: probe it at the next step rather than
-        // at the end of a long wait. (Without the margin, sides about as
-        // fast as each other were probed every few steps.)
-        if self.other.is_some_and(|other| {
-            self.median()
-                .is_some_and(|now| now * (1.0 - SWITCH_MARGIN) > other)
-        }) && self.since_probe < self.interval
-        {
-            self.interval = self.since_probe;
+        // A third slower than lately: the machine may have turned slow for
+        // this side (or the scene dearer); probe the other side at the next
+        // step rather than at the end of a long wait.
+        if let Some(now) = self.median() {
+            self.lowest = self.lowest.min(now);
+            if now > self.lowest * (1.0 + JUMP) && (MIN_INTERVAL..self.interval).contains(&self.since_probe) {
+                self.interval = self.since_probe;
+            }
         }
     }
 
@@ -131,14 +140,13 @@ impl ThreadChoice {
         let now = self.median();
         self.since_probe = 0;
         if now.is_none_or(|now| probe < now * (1.0 - SWITCH_MARGIN)) {
-            // The side left keeps its median as the time to beat.
             self.threaded = !self.threaded;
-            self.other = now;
             self.filled = 0;
             self.push(probe);
+            self.lowest = probe;
             self.interval = MIN_INTERVAL;
         } else {
-            self.other = Some(probe);
+            self.lowest = now.unwrap_or(f64::INFINITY);
             self.interval = (self.interval * BACK_OFF).min(MAX_INTERVAL);
         }
     }
@@ -196,11 +204,28 @@ mod tests {
         // Two threads 1.7x faster than one.
         let on_threads = run(&mut choice, 0..2000, |_, t| if t { 2.0e-3 } else { 3.4e-3 });
         assert!(choice.threaded());
-        // Probes of two steps at 16, 48, 112, ... then every MAX_INTERVAL steps.
-        let probe_steps = 2000 - on_threads;
+        // Probes of two steps at 32, 162, 420, then every MAX_INTERVAL + 2
+        // steps: nine in 2,000 steps.
+        assert_eq!(2000 - on_threads, 18);
+    }
+
+    #[test]
+    fn a_noisy_quiet_machine_is_not_probed_more_often() {
+        let mut choice = ThreadChoice::default();
+        // Each step's time off by up to 25 % either way (a fixed sequence).
+        let mut seed = 12345u64;
+        let on_threads = run(&mut choice, 0..2000, |_, t| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = 0.75 + 0.5 * (seed >> 11) as f64 / (1u64 << 53) as f64;
+            noise * if t { 2.0e-3 } else { 3.4e-3 }
+        });
+        // The nine scheduled probes, and at most two more.
         assert!(
-            (10..=20).contains(&probe_steps),
-            "{probe_steps} steps on one thread"
+            2000 - on_threads <= 22,
+            "{} steps on one thread",
+            2000 - on_threads
         );
     }
 
@@ -241,9 +266,9 @@ mod tests {
         run(&mut choice, 0..1000, &mut time);
         assert!(choice.threaded());
         // Within a few steps of the spell's start, on one thread.
-        run(&mut choice, 1000..1010, &mut time);
-        assert!(!choice.threaded(), "still on the threads 10 steps into the spell");
-        let threaded = run(&mut choice, 1010..3000, &mut time);
+        run(&mut choice, 1000..1040, &mut time);
+        assert!(!choice.threaded(), "still on the threads 40 steps into the spell");
+        let threaded = run(&mut choice, 1040..3000, &mut time);
         // During the spell only probes run on the threads, fewer and fewer.
         assert!(threaded <= 20, "{threaded} steps on the threads during the spell");
         // After the spell, back on the threads within the longest wait,
@@ -254,6 +279,29 @@ mod tests {
             &mut time,
         );
         assert!(choice.threaded());
+    }
+
+    #[test]
+    fn a_spell_after_a_scene_grew_cheaper_is_seen() {
+        let mut choice = ThreadChoice::default();
+        // A landing pile: for 300 steps each unit of work costs three times
+        // what it costs at rest (threads 1.7x faster throughout); the spell
+        // begins at step 400, its last probes (at 32 and 162) taken while
+        // the pile was landing and the next one due at 420.
+        let time = |step: usize, threads: bool| {
+            let landing = if step < 300 { 3.0 } else { 1.0 };
+            let spell = (400..1400).contains(&step);
+            landing
+                * match (threads, spell) {
+                    (true, true) => 4.7e-3,
+                    (true, false) => 2.0e-3,
+                    (false, _) => 3.4e-3,
+                }
+        };
+        run(&mut choice, 0..400, time);
+        assert!(choice.threaded());
+        run(&mut choice, 400..440, time);
+        assert!(!choice.threaded(), "still on the threads 40 steps into the spell");
     }
 
     #[test]

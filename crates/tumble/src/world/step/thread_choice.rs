@@ -123,9 +123,10 @@ impl ThreadChoice {
         }
         self.push(seconds);
         self.since_probe += 1;
-        // A third slower than lately: the machine may have turned slow for
-        // this side (or the scene dearer); probe the other side at the next
-        // step rather than at the end of a long wait.
+        // Well slower than lately (by `JUMP`): the machine may have turned
+        // slow for this side (or the scene dearer per unit of work); probe
+        // the other side at the next step rather than at the end of a long
+        // wait.
         if let Some(now) = self.median() {
             self.lowest = self.lowest.min(now);
             if now > self.lowest * (1.0 + JUMP) && (MIN_INTERVAL..self.interval).contains(&self.since_probe) {

@@ -52,21 +52,20 @@ pub(crate) fn peak_rss_bytes() -> u64 {
         .unwrap_or(0)
 }
 
-thread_local! {
-    /// Steps of this run that ran on more than one thread (`run_timed`).
-    static STEPS_ON_THREADS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
-}
-
-/// Steps the world, timing each step call (s); `each` sees the world after every step.
-fn run_timed(world: &mut World, steps: usize, mut each: impl FnMut(usize, &World, f64)) -> Vec<f64> {
+/// Steps the world, timing each step call (s); `each` sees the world after every step;
+/// `on_threads` counts the steps that ran on more than one thread.
+fn run_timed(
+    world: &mut World,
+    steps: usize,
+    on_threads: &mut usize,
+    mut each: impl FnMut(usize, &World, f64),
+) -> Vec<f64> {
     let mut times = Vec::with_capacity(steps);
     for i in 0..steps {
         let t = Instant::now();
         let report = world.step();
         times.push(t.elapsed().as_secs_f64());
-        if report.threads > 1 {
-            STEPS_ON_THREADS.with(|n| n.set(n.get() + 1));
-        }
+        *on_threads += usize::from(report.threads > 1);
         each(i, world, report.max_penetration);
     }
     times
@@ -158,9 +157,12 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let start: Vec<_> = ids.iter().map(|&id| centre(&world, id)).collect();
     let mut deepest: f64 = 0.0;
     let mut figures = serde_json::Map::new();
+    let mut on_threads = 0;
     let times = match name.as_str() {
         "pyramid" | "large_pyramid" => {
-            let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
+            let t = run_timed(&mut world, steps, &mut on_threads, |_, _, p| {
+                deepest = deepest.max(p)
+            });
             let moved: Vec<f64> = ids
                 .iter()
                 .zip(&start)
@@ -181,7 +183,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             // The goal is "at rest within 5 s": the energy then.
             let five_seconds = (5.0 / settings.dt).round() as usize;
             let mut at_five = None;
-            let t = run_timed(&mut world, steps, |i, w, p| {
+            let t = run_timed(&mut world, steps, &mut on_threads, |i, w, p| {
                 deepest = deepest.max(p);
                 if i + 1 == five_seconds {
                     at_five = Some(w.kinetic_energy());
@@ -209,7 +211,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "chain" | "chain_decomposed" => {
             let reach = scenes::CHAIN_MAX_CENTRE_DISTANCE;
             let mut widest: f64 = 0.0;
-            let t = run_timed(&mut world, steps, |i, w, p| {
+            let t = run_timed(&mut world, steps, &mut on_threads, |i, w, p| {
                 deepest = deepest.max(p);
                 if i % 10 == 0 {
                     for pair in ids.windows(2) {
@@ -232,7 +234,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "heavy_chain" | "ragdoll_pile" => {
             // The largest joint gap (m) and misalignment (rad), every 10 steps.
             let mut worst = (0.0f64, 0.0f64);
-            let t = run_timed(&mut world, steps, |i, w, p| {
+            let t = run_timed(&mut world, steps, &mut on_threads, |i, w, p| {
                 deepest = deepest.max(p);
                 if i % 10 == 9 || i + 1 == steps {
                     let (l, a) = w.max_joint_error();
@@ -265,7 +267,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             // facets (a second, untimed run of the same scene without it).
             let swing = |w: &World| scenes::swing_angle(centre(w, ids[1]), false);
             let mut meter = scenes::SwingMeter::new(settings.dt, swing(&world));
-            let t = run_timed(&mut world, steps, |_, w, p| {
+            let t = run_timed(&mut world, steps, &mut on_threads, |_, w, p| {
                 deepest = deepest.max(p);
                 meter.observe(swing(w));
             });
@@ -307,7 +309,9 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 .map(|&id| mass(&world, id) * world.linear_velocity(id).unwrap_or_default().x)
                 .sum();
             let e0 = world.kinetic_energy();
-            let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
+            let t = run_timed(&mut world, steps, &mut on_threads, |_, _, p| {
+                deepest = deepest.max(p)
+            });
             let vx: Vec<f64> = ids
                 .iter()
                 .map(|&id| world.linear_velocity(id).unwrap_or_default().x)
@@ -326,7 +330,9 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             t
         }
         _ => {
-            let t = run_timed(&mut world, steps, |_, _, p| deepest = deepest.max(p));
+            let t = run_timed(&mut world, steps, &mut on_threads, |_, _, p| {
+                deepest = deepest.max(p)
+            });
             let dynamic: Vec<_> = ids.iter().skip(5).map(|&id| centre(&world, id)).collect();
             figures.insert("bodies_outside".into(), json!(scenes::pile_outside(&dynamic)));
             figures.insert(
@@ -344,10 +350,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     figures.insert("step_time".into(), json!(scenes::TimingStats::ms(&times)));
     // With `adaptive_threads` a step runs on one thread while the threads
     // are measured slower: how many ran on the threads.
-    figures.insert(
-        "steps_on_threads".into(),
-        json!(STEPS_ON_THREADS.with(|n| n.get())),
-    );
+    figures.insert("steps_on_threads".into(), json!(on_threads));
     let out = json!({
         "engine": "tumble",
         "version": env!("CARGO_PKG_VERSION"),

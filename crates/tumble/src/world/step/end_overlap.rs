@@ -228,15 +228,20 @@ struct PerPair(Vec<((u32, u32), f64)>);
 
 impl PerPair {
     fn smallest(values: impl Iterator<Item = ((u32, u32), f64)>) -> PerPair {
-        let mut v: Vec<_> = values.collect();
-        v.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-        v.dedup_by_key(|e| e.0);
-        PerPair(v)
+        PerPair::first_by(values, f64::total_cmp)
     }
 
     fn largest(values: impl Iterator<Item = ((u32, u32), f64)>) -> PerPair {
+        PerPair::first_by(values, |x, y| y.total_cmp(x))
+    }
+
+    /// Each pair's value that comes first in `order`.
+    fn first_by(
+        values: impl Iterator<Item = ((u32, u32), f64)>,
+        order: impl Fn(&f64, &f64) -> std::cmp::Ordering,
+    ) -> PerPair {
         let mut v: Vec<_> = values.collect();
-        v.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(y.1.total_cmp(&x.1)));
+        v.sort_unstable_by(|x, y| x.0.cmp(&y.0).then(order(&x.1, &y.1)));
         v.dedup_by_key(|e| e.0);
         PerPair(v)
     }

@@ -18,11 +18,12 @@
 
 use super::build::ObbTree;
 use super::node::Node;
-use super::sat::{obb_disjoint_axes, obb_distance_lower_bound, RelFrame};
+use super::sat::{axis_lanes, obb_disjoint_axes, obb_distance_lower_bound, AxisLanes, RelFrame};
 use super::stack::SmallStack;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
 use crate::pose::Pose;
+use wide::f64x4;
 
 /// What a callback asks the traversal to do next.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,8 +87,10 @@ impl Relative {
     /// Box `nb` of mesh B placed in mesh A's frame, grown by `grow` (m).
     #[inline]
     fn place_b(&self, nb: &Node, grow: f64) -> Placed {
+        let axes = DMat3::from_quat(self.rot * nb.quat_f64());
         Placed {
-            axes: DMat3::from_quat(self.rot * nb.quat_f64()),
+            axes,
+            lanes: axis_lanes(&axes),
             c: self.rot * nb.center_f64() + self.trans,
             h: nb.half_f64().map(|h| h + grow),
         }
@@ -129,6 +132,8 @@ impl Relative {
 struct Placed {
     /// The box's axes (columns).
     axes: DMat3,
+    /// The same by component (`sat::axis_lanes`).
+    lanes: AxisLanes,
     c: DVec3,
     h: [f64; 3],
 }
@@ -137,6 +142,7 @@ impl Placed {
     /// A placeholder (an empty cache slot).
     const EMPTY: Placed = Placed {
         axes: DMat3::IDENTITY,
+        lanes: [f64x4::ZERO; 3],
         c: DVec3::ZERO,
         h: [0.0; 3],
     };
@@ -144,8 +150,10 @@ impl Placed {
     /// Box `na` of mesh A (already in A's frame), grown by `grow` (m).
     #[inline]
     fn a(na: &Node, grow: f64) -> Placed {
+        let axes = DMat3::from_quat(na.quat_f64());
         Placed {
-            axes: DMat3::from_quat(na.quat_f64()),
+            axes,
+            lanes: axis_lanes(&axes),
             c: na.center_f64(),
             h: na.half_f64().map(|h| h + grow),
         }
@@ -160,7 +168,14 @@ impl Placed {
 
     #[inline]
     fn overlaps(&self, b: &Placed) -> bool {
-        !obb_disjoint_axes(&self.axes, self.c, self.h, &b.axes, b.c, b.h)
+        !obb_disjoint_axes(
+            (&self.axes, &self.lanes),
+            self.c,
+            self.h,
+            (&b.axes, &b.lanes),
+            b.c,
+            b.h,
+        )
     }
 
     #[inline]

@@ -110,49 +110,119 @@ pub fn obb_disjoint_axes(
     center_b: DVec3,
     b: [f64; 3],
 ) -> bool {
-    let d = center_b - center_a;
-    let eps = f64x4::splat(PARALLEL_EPS);
-    let [ax, ay, az] = *lanes_a;
-    // Lane i of column j: A_i . B_j as glam's dot orders it (A_i.x B_j.x +
-    // A_i.y B_j.y + A_i.z B_j.z; a product is the same either way round).
-    let column = |v: DVec3| ax * f64x4::splat(v.x) + ay * f64x4::splat(v.y) + az * f64x4::splat(v.z);
-    let t = column(d);
-    let ar_columns = [axes_b.x_axis, axes_b.y_axis, axes_b.z_axis].map(|bj| column(bj).abs() + eps);
+    let (t, ar_columns) = columns(lanes_a, axes_b, center_b - center_a);
     let rb = f64x4::splat(b[0]) * ar_columns[0]
         + f64x4::splat(b[1]) * ar_columns[1]
         + f64x4::splat(b[2]) * ar_columns[2];
-    let half_a = f64x4::new([a[0], a[1], a[2], 0.0]);
-    if t.abs().simd_gt(half_a + rb).any() {
+    if t.abs().simd_gt(lanes_of(a) + rb).any() {
         return true;
     }
-    // Lane j of row i: the same products again (A_i . B_j).
-    let [bx, by, bz] = *lanes_b;
-    let row = |ai: DVec3| bx * f64x4::splat(ai.x) + by * f64x4::splat(ai.y) + bz * f64x4::splat(ai.z);
-    let r = [row(axes_a.x_axis), row(axes_a.y_axis), row(axes_a.z_axis)];
-    let ar = r.map(|row| row.abs() + eps);
+    let (r, ar) = rows(lanes_b, axes_a);
     let t = t.to_array();
     let ra = f64x4::splat(a[0]) * ar[0] + f64x4::splat(a[1]) * ar[1] + f64x4::splat(a[2]) * ar[2];
     let tl = f64x4::splat(t[0]) * r[0] + f64x4::splat(t[1]) * r[1] + f64x4::splat(t[2]) * r[2];
-    let half_b = f64x4::new([b[0], b[1], b[2], 0.0]);
-    if tl.abs().simd_gt(ra + half_b).any() {
+    if tl.abs().simd_gt(ra + lanes_of(b)).any() {
         return true;
     }
-    // The edge axes A_i x B_j, lane j: B's entries j + 1 and j + 2 (mod 3)
-    // turned into lane j.
+    (0..3).any(|i| {
+        let (ra, rb, tl) = edge_terms(i, a, b, &r, &ar, t);
+        tl.abs().simd_gt(ra + rb).any()
+    })
+}
+
+/// [`obb_distance_lower_bound`] for boxes given as to [`obb_disjoint_axes`],
+/// each group of axes in SIMD lanes with that function's numbers in its
+/// order (the same bound; a test holds the two together).
+pub fn obb_distance_lower_bound_axes(
+    (axes_a, lanes_a): (&DMat3, &AxisLanes),
+    center_a: DVec3,
+    a: [f64; 3],
+    (axes_b, lanes_b): (&DMat3, &AxisLanes),
+    center_b: DVec3,
+    b: [f64; 3],
+) -> f64 {
+    let (t, ar_columns) = columns(lanes_a, axes_b, center_b - center_a);
+    let rb = f64x4::splat(b[0]) * ar_columns[0]
+        + f64x4::splat(b[1]) * ar_columns[1]
+        + f64x4::splat(b[2]) * ar_columns[2];
+    let faces_a = (t.abs() - lanes_of(a)) - rb;
+    let (r, ar) = rows(lanes_b, axes_a);
+    let t = t.to_array();
+    let ra = f64x4::splat(a[0]) * ar[0] + f64x4::splat(a[1]) * ar[1] + f64x4::splat(a[2]) * ar[2];
+    let tl = f64x4::splat(t[0]) * r[0] + f64x4::splat(t[1]) * r[1] + f64x4::splat(t[2]) * r[2];
+    let faces_b = (tl.abs() - ra) - lanes_of(b);
+    // The largest gap, at least 0, over the three lanes of each group (lane
+    // 3 pads).
+    let mut best = 0.0f64;
+    let mut fold = |gaps: f64x4| {
+        for x in &gaps.to_array()[..3] {
+            best = best.max(*x);
+        }
+    };
+    fold(faces_a);
+    fold(faces_b);
+    for (i, r_i) in r.iter().enumerate() {
+        // |A_i x B_j| = sin(angle); nearly parallel axes carry no reliable
+        // information and are left out (0 never raises the bound).
+        let len2 = f64x4::ONE - *r_i * *r_i;
+        let (ra, rb, tl) = edge_terms(i, a, b, &r, &ar, t);
+        let gap = ((tl.abs() - ra) - rb) / len2.sqrt();
+        fold(len2.simd_ge(f64x4::splat(1e-6)).select(gap, f64x4::ZERO));
+    }
+    best
+}
+
+/// Lane i: `A_i . (cB - cA)` and `|A_i . B_j| + PARALLEL_EPS` for each j
+/// (`A_i . x` as glam's dot orders it, `A_i.x x.x + A_i.y x.y + A_i.z x.z`;
+/// a product is the same either way round).
+#[inline(always)]
+fn columns(lanes_a: &AxisLanes, axes_b: &DMat3, d: DVec3) -> (f64x4, [f64x4; 3]) {
+    let [ax, ay, az] = *lanes_a;
+    let column = |v: DVec3| ax * f64x4::splat(v.x) + ay * f64x4::splat(v.y) + az * f64x4::splat(v.z);
+    let eps = f64x4::splat(PARALLEL_EPS);
+    (
+        column(d),
+        [axes_b.x_axis, axes_b.y_axis, axes_b.z_axis].map(|bj| column(bj).abs() + eps),
+    )
+}
+
+/// Lane j of row i: `A_i . B_j` (the same products as [`columns`]), and
+/// the same padded as `|r| + PARALLEL_EPS`.
+#[inline(always)]
+fn rows(lanes_b: &AxisLanes, axes_a: &DMat3) -> ([f64x4; 3], [f64x4; 3]) {
+    let [bx, by, bz] = *lanes_b;
+    let row = |ai: DVec3| bx * f64x4::splat(ai.x) + by * f64x4::splat(ai.y) + bz * f64x4::splat(ai.z);
+    let r = [row(axes_a.x_axis), row(axes_a.y_axis), row(axes_a.z_axis)];
+    let eps = f64x4::splat(PARALLEL_EPS);
+    (r, r.map(|row| row.abs() + eps))
+}
+
+/// The edge axes `A_i x B_j`, lane j: the projected half extents of A and
+/// of B and of B's centre, as the scalar tests compute them (B's entries
+/// j + 1 and j + 2, mod 3, turned into lane j).
+#[inline(always)]
+fn edge_terms(
+    i: usize,
+    a: [f64; 3],
+    b: [f64; 3],
+    r: &[f64x4; 3],
+    ar: &[f64x4; 3],
+    t: [f64; 4],
+) -> (f64x4, f64x4, f64x4) {
     let turn = |v: [f64; 4], k: usize| f64x4::new([v[k], v[(k + 1) % 3], v[(k + 2) % 3], v[3]]);
     let b4 = [b[0], b[1], b[2], 0.0];
-    let (b1, b2) = (turn(b4, 1), turn(b4, 2));
-    for i in 0..3 {
-        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-        let ra = f64x4::splat(a[i1]) * ar[i2] + f64x4::splat(a[i2]) * ar[i1];
-        let row = ar[i].to_array();
-        let rb = b1 * turn(row, 2) + b2 * turn(row, 1);
-        let tl = f64x4::splat(t[i2]) * r[i1] - f64x4::splat(t[i1]) * r[i2];
-        if tl.abs().simd_gt(ra + rb).any() {
-            return true;
-        }
-    }
-    false
+    let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+    let ra = f64x4::splat(a[i1]) * ar[i2] + f64x4::splat(a[i2]) * ar[i1];
+    let row = ar[i].to_array();
+    let rb = turn(b4, 1) * turn(row, 2) + turn(b4, 2) * turn(row, 1);
+    let tl = f64x4::splat(t[i2]) * r[i1] - f64x4::splat(t[i1]) * r[i2];
+    (ra, rb, tl)
+}
+
+/// Half extents in lanes 0-2.
+#[inline(always)]
+fn lanes_of(h: [f64; 3]) -> f64x4 {
+    f64x4::new([h[0], h[1], h[2], 0.0])
 }
 
 /// Whether A's face axis `i` separates the boxes, given row `i` of the
@@ -345,6 +415,20 @@ mod tests {
             );
             // The lanes compute the frame's numbers in the frame's order.
             assert_eq!(by_axes, fast);
+            let bound = obb_distance_lower_bound(
+                a.half_extents.to_array(),
+                b.half_extents.to_array(),
+                &RelFrame::between(&a, &b),
+            );
+            let bound_by_axes = obb_distance_lower_bound_axes(
+                (&a.axes, &axis_lanes(&a.axes)),
+                a.center,
+                a.half_extents.to_array(),
+                (&b.axes, &axis_lanes(&b.axes)),
+                b.center,
+                b.half_extents.to_array(),
+            );
+            assert_eq!(bound_by_axes, bound);
             let gap = reference_gap(&a, &b);
             // Identical answers except within a tiny band around touching
             // (the parallel epsilon widens the boxes by ~1e-6 * size), for

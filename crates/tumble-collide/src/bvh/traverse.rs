@@ -18,7 +18,7 @@
 
 use super::build::ObbTree;
 use super::node::Node;
-use super::sat::{axis_lanes, obb_disjoint_axes, obb_distance_lower_bound, AxisLanes, RelFrame};
+use super::sat::{axis_lanes, obb_disjoint_axes, obb_distance_lower_bound_axes, AxisLanes};
 use super::stack::SmallStack;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
@@ -159,13 +159,6 @@ impl Placed {
         }
     }
 
-    /// Box `b` in this box's frame.
-    #[inline]
-    fn frame_of(&self, b: &Placed) -> RelFrame {
-        let to_self = self.axes.transpose();
-        RelFrame::new(&(to_self * b.axes), to_self * (b.c - self.c))
-    }
-
     #[inline]
     fn overlaps(&self, b: &Placed) -> bool {
         !obb_disjoint_axes(
@@ -180,7 +173,14 @@ impl Placed {
 
     #[inline]
     fn lower_bound(&self, b: &Placed) -> f64 {
-        obb_distance_lower_bound(self.h, b.h, &self.frame_of(b))
+        obb_distance_lower_bound_axes(
+            (&self.axes, &self.lanes),
+            self.c,
+            self.h,
+            (&b.axes, &b.lanes),
+            b.c,
+            b.h,
+        )
     }
 }
 

@@ -13,9 +13,11 @@
 //! never report separation (the face axes still do) and also absorbs the
 //! slight non-orthonormality of f32-stored axes.
 //!
-//! The tree walks' test, [`obb_disjoint_axes`], runs each group of three
-//! axes in SIMD lanes (`wide::f64x4`) with the numbers [`obb_disjoint`]
-//! computes, in its order: the same answers, faster.
+//! The tree walks' test, [`obb_disjoint_axes`], and the distance walk's
+//! bound, [`obb_distance_lower_bound_axes`], run each group of three axes
+//! in SIMD lanes (`wide::f64x4`) with the numbers of their scalar twins
+//! ([`obb_disjoint`], [`obb_distance_lower_bound`]) in their order: the same
+//! answers, faster.
 
 use super::obb::Obb;
 use crate::math::{DMat3, DVec3};

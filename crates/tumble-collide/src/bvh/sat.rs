@@ -90,44 +90,43 @@ pub fn axis_lanes(axes: &DMat3) -> AxisLanes {
     ]
 }
 
-/// [`obb_disjoint`] for boxes given by their axes (the columns of `axes_a`,
-/// `axes_b`, and the same by component, [`axis_lanes`]), centres and half
-/// extents in one frame, each group of axes tested in SIMD lanes: A's three
-/// faces, then B's three, then the three edges of each of A's axes. Every
-/// lane computes what [`obb_disjoint`] computes for its axis, in the same
-/// order (`r[i][j] = A_i . B_j` and `t[i] = A_i . (cB - cA)` as glam's dot
-/// orders them; a product is the same either way round), so the answer is
-/// the same bit for bit in every intermediate (a test holds the two
-/// together). A's faces, which reject most pairs of a tree walk that are
-/// apart, need only the columns `A^T B_j` and `A^T (cB - cA)`. Why lanes:
-/// a tree walk spends its time here (the torus chain's step, 45 % of it in
-/// this test scalar, took 1.20 ms instead of 1.43 on one thread, the same
-/// trajectory).
+/// A box for the lane tests: its axes as columns and by component
+/// ([`axis_lanes`]), centre and half extents, in the frame of the test.
+#[derive(Clone, Copy)]
+pub struct LaneBox<'a> {
+    /// The box's axes (columns).
+    pub axes: &'a DMat3,
+    /// The same by component.
+    pub lanes: &'a AxisLanes,
+    /// Centre (m).
+    pub center: DVec3,
+    /// Half extents along the axes (m).
+    pub half: [f64; 3],
+}
+
+/// [`obb_disjoint`] for boxes `a` and `b` given in one frame, each group of
+/// axes tested in SIMD lanes: A's three faces, then B's three, then the
+/// three edges of each of A's axes. Every lane computes what
+/// [`obb_disjoint`] computes for its axis, in the same order (`r[i][j] =
+/// A_i . B_j` and `t[i] = A_i . (cB - cA)` as glam's dot orders them; a
+/// product is the same either way round), so the answer is the same bit for
+/// bit in every intermediate (a test holds the two together). A's faces,
+/// which reject most pairs of a tree walk that are apart, need only the
+/// columns `A^T B_j` and `A^T (cB - cA)`. Why lanes: a tree walk spends its
+/// time here (the torus chain's step, 45 % of it in this test scalar, took
+/// 1.20 ms instead of 1.43 on one thread, the same trajectory).
 #[inline]
-pub fn obb_disjoint_axes(
-    (axes_a, lanes_a): (&DMat3, &AxisLanes),
-    center_a: DVec3,
-    a: [f64; 3],
-    (axes_b, lanes_b): (&DMat3, &AxisLanes),
-    center_b: DVec3,
-    b: [f64; 3],
-) -> bool {
-    let (t, ar_columns) = columns(lanes_a, axes_b, center_b - center_a);
-    let rb = f64x4::splat(b[0]) * ar_columns[0]
-        + f64x4::splat(b[1]) * ar_columns[1]
-        + f64x4::splat(b[2]) * ar_columns[2];
-    if t.abs().simd_gt(lanes_of(a) + rb).any() {
+pub fn obb_disjoint_axes(a: LaneBox, b: LaneBox) -> bool {
+    let (t, rb) = a_face_terms(a, b);
+    if t.abs().simd_gt(lanes_of(a.half) + rb).any() {
         return true;
     }
-    let (r, ar) = rows(lanes_b, axes_a);
-    let t = t.to_array();
-    let ra = f64x4::splat(a[0]) * ar[0] + f64x4::splat(a[1]) * ar[1] + f64x4::splat(a[2]) * ar[2];
-    let tl = f64x4::splat(t[0]) * r[0] + f64x4::splat(t[1]) * r[1] + f64x4::splat(t[2]) * r[2];
-    if tl.abs().simd_gt(ra + lanes_of(b)).any() {
+    let (r, ar, ra, tl) = b_face_terms(a, b, t);
+    if tl.abs().simd_gt(ra + lanes_of(b.half)).any() {
         return true;
     }
     (0..3).any(|i| {
-        let (ra, rb, tl) = edge_terms(i, a, b, &r, &ar, t);
+        let (ra, rb, tl) = edge_terms(i, a.half, b.half, &r, &ar, t.to_array());
         tl.abs().simd_gt(ra + rb).any()
     })
 }
@@ -135,24 +134,11 @@ pub fn obb_disjoint_axes(
 /// [`obb_distance_lower_bound`] for boxes given as to [`obb_disjoint_axes`],
 /// each group of axes in SIMD lanes with that function's numbers in its
 /// order (the same bound; a test holds the two together).
-pub fn obb_distance_lower_bound_axes(
-    (axes_a, lanes_a): (&DMat3, &AxisLanes),
-    center_a: DVec3,
-    a: [f64; 3],
-    (axes_b, lanes_b): (&DMat3, &AxisLanes),
-    center_b: DVec3,
-    b: [f64; 3],
-) -> f64 {
-    let (t, ar_columns) = columns(lanes_a, axes_b, center_b - center_a);
-    let rb = f64x4::splat(b[0]) * ar_columns[0]
-        + f64x4::splat(b[1]) * ar_columns[1]
-        + f64x4::splat(b[2]) * ar_columns[2];
-    let faces_a = (t.abs() - lanes_of(a)) - rb;
-    let (r, ar) = rows(lanes_b, axes_a);
-    let t = t.to_array();
-    let ra = f64x4::splat(a[0]) * ar[0] + f64x4::splat(a[1]) * ar[1] + f64x4::splat(a[2]) * ar[2];
-    let tl = f64x4::splat(t[0]) * r[0] + f64x4::splat(t[1]) * r[1] + f64x4::splat(t[2]) * r[2];
-    let faces_b = (tl.abs() - ra) - lanes_of(b);
+pub fn obb_distance_lower_bound_axes(a: LaneBox, b: LaneBox) -> f64 {
+    let (t, rb) = a_face_terms(a, b);
+    let faces_a = (t.abs() - lanes_of(a.half)) - rb;
+    let (r, ar, ra, tl) = b_face_terms(a, b, t);
+    let faces_b = (tl.abs() - ra) - lanes_of(b.half);
     // The largest gap, at least 0, over the three lanes of each group (lane
     // 3 pads).
     let mut best = 0.0f64;
@@ -167,36 +153,42 @@ pub fn obb_distance_lower_bound_axes(
         // |A_i x B_j| = sin(angle); nearly parallel axes carry no reliable
         // information and are left out (0 never raises the bound).
         let len2 = f64x4::ONE - *r_i * *r_i;
-        let (ra, rb, tl) = edge_terms(i, a, b, &r, &ar, t);
+        let (ra, rb, tl) = edge_terms(i, a.half, b.half, &r, &ar, t.to_array());
         let gap = ((tl.abs() - ra) - rb) / len2.sqrt();
         fold(len2.simd_ge(f64x4::splat(1e-6)).select(gap, f64x4::ZERO));
     }
     best
 }
 
-/// Lane i: `A_i . (cB - cA)` and `|A_i . B_j| + PARALLEL_EPS` for each j
-/// (`A_i . x` as glam's dot orders it, `A_i.x x.x + A_i.y x.y + A_i.z x.z`;
-/// a product is the same either way round).
+/// A's face axes, lane i: `t[i] = A_i . (cB - cA)` and B's projected half
+/// extent `sum_j b_j (|A_i . B_j| + PARALLEL_EPS)` (`A_i . x` as glam's dot
+/// orders it, `A_i.x x.x + A_i.y x.y + A_i.z x.z`; a product is the same
+/// either way round).
 #[inline(always)]
-fn columns(lanes_a: &AxisLanes, axes_b: &DMat3, d: DVec3) -> (f64x4, [f64x4; 3]) {
-    let [ax, ay, az] = *lanes_a;
+fn a_face_terms(a: LaneBox, b: LaneBox) -> (f64x4, f64x4) {
+    let [ax, ay, az] = *a.lanes;
     let column = |v: DVec3| ax * f64x4::splat(v.x) + ay * f64x4::splat(v.y) + az * f64x4::splat(v.z);
     let eps = f64x4::splat(PARALLEL_EPS);
-    (
-        column(d),
-        [axes_b.x_axis, axes_b.y_axis, axes_b.z_axis].map(|bj| column(bj).abs() + eps),
-    )
+    let ar = [b.axes.x_axis, b.axes.y_axis, b.axes.z_axis].map(|bj| column(bj).abs() + eps);
+    let h = b.half;
+    let rb = f64x4::splat(h[0]) * ar[0] + f64x4::splat(h[1]) * ar[1] + f64x4::splat(h[2]) * ar[2];
+    (column(b.center - a.center), rb)
 }
 
-/// Lane j of row i: `A_i . B_j` (the same products as [`columns`]), and
-/// the same padded as `|r| + PARALLEL_EPS`.
+/// B's face axes, lane j: the rows `r[i] = A_i . B_j` (the same products as
+/// [`a_face_terms`]) and the same padded (`|r| + PARALLEL_EPS`), A's
+/// projected half extent and B's centre along `B_j` (from `t`).
 #[inline(always)]
-fn rows(lanes_b: &AxisLanes, axes_a: &DMat3) -> ([f64x4; 3], [f64x4; 3]) {
-    let [bx, by, bz] = *lanes_b;
+fn b_face_terms(a: LaneBox, b: LaneBox, t: f64x4) -> ([f64x4; 3], [f64x4; 3], f64x4, f64x4) {
+    let [bx, by, bz] = *b.lanes;
     let row = |ai: DVec3| bx * f64x4::splat(ai.x) + by * f64x4::splat(ai.y) + bz * f64x4::splat(ai.z);
-    let r = [row(axes_a.x_axis), row(axes_a.y_axis), row(axes_a.z_axis)];
+    let r = [row(a.axes.x_axis), row(a.axes.y_axis), row(a.axes.z_axis)];
     let eps = f64x4::splat(PARALLEL_EPS);
-    (r, r.map(|row| row.abs() + eps))
+    let ar = r.map(|row| row.abs() + eps);
+    let (h, t) = (a.half, t.to_array());
+    let ra = f64x4::splat(h[0]) * ar[0] + f64x4::splat(h[1]) * ar[1] + f64x4::splat(h[2]) * ar[2];
+    let tl = f64x4::splat(t[0]) * r[0] + f64x4::splat(t[1]) * r[1] + f64x4::splat(t[2]) * r[2];
+    (r, ar, ra, tl)
 }
 
 /// The edge axes `A_i x B_j`, lane j: the projected half extents of A and
@@ -407,14 +399,20 @@ mod tests {
                 b.half_extents.to_array(),
                 &RelFrame::between(&a, &b),
             );
-            let by_axes = obb_disjoint_axes(
-                (&a.axes, &axis_lanes(&a.axes)),
-                a.center,
-                a.half_extents.to_array(),
-                (&b.axes, &axis_lanes(&b.axes)),
-                b.center,
-                b.half_extents.to_array(),
-            );
+            let (lanes_a, lanes_b) = (axis_lanes(&a.axes), axis_lanes(&b.axes));
+            let box_a = LaneBox {
+                axes: &a.axes,
+                lanes: &lanes_a,
+                center: a.center,
+                half: a.half_extents.to_array(),
+            };
+            let box_b = LaneBox {
+                axes: &b.axes,
+                lanes: &lanes_b,
+                center: b.center,
+                half: b.half_extents.to_array(),
+            };
+            let by_axes = obb_disjoint_axes(box_a, box_b);
             // The lanes compute the frame's numbers in the frame's order.
             assert_eq!(by_axes, fast);
             let bound = obb_distance_lower_bound(
@@ -422,14 +420,7 @@ mod tests {
                 b.half_extents.to_array(),
                 &RelFrame::between(&a, &b),
             );
-            let bound_by_axes = obb_distance_lower_bound_axes(
-                (&a.axes, &axis_lanes(&a.axes)),
-                a.center,
-                a.half_extents.to_array(),
-                (&b.axes, &axis_lanes(&b.axes)),
-                b.center,
-                b.half_extents.to_array(),
-            );
+            let bound_by_axes = obb_distance_lower_bound_axes(box_a, box_b);
             assert_eq!(bound_by_axes, bound);
             let gap = reference_gap(&a, &b);
             // Identical answers except within a tiny band around touching

@@ -18,7 +18,7 @@
 
 use super::build::ObbTree;
 use super::node::Node;
-use super::sat::{axis_lanes, obb_disjoint_axes, obb_distance_lower_bound_axes, AxisLanes};
+use super::sat::{axis_lanes, obb_disjoint_axes, obb_distance_lower_bound_axes, AxisLanes, LaneBox};
 use super::stack::SmallStack;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
@@ -159,28 +159,25 @@ impl Placed {
         }
     }
 
+    /// This box for the lane tests.
+    #[inline]
+    fn lane_box(&self) -> LaneBox<'_> {
+        LaneBox {
+            axes: &self.axes,
+            lanes: &self.lanes,
+            center: self.c,
+            half: self.h,
+        }
+    }
+
     #[inline]
     fn overlaps(&self, b: &Placed) -> bool {
-        !obb_disjoint_axes(
-            (&self.axes, &self.lanes),
-            self.c,
-            self.h,
-            (&b.axes, &b.lanes),
-            b.c,
-            b.h,
-        )
+        !obb_disjoint_axes(self.lane_box(), b.lane_box())
     }
 
     #[inline]
     fn lower_bound(&self, b: &Placed) -> f64 {
-        obb_distance_lower_bound_axes(
-            (&self.axes, &self.lanes),
-            self.c,
-            self.h,
-            (&b.axes, &b.lanes),
-            b.c,
-            b.h,
-        )
+        obb_distance_lower_bound_axes(self.lane_box(), b.lane_box())
     }
 }
 

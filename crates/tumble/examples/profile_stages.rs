@@ -8,6 +8,7 @@
 //! with `JITTER=seed`, every moving body after the first starts up to 2 cm and 0.1 rad
 //! from its place, an independent sample of a chaotic scene for each seed;
 //! with `ENSEMBLE_RUN=k`, the start of run k of `ensemble_depth` (to trace it);
+//! with `RAGDOLLS=k`, the ragdoll pile's first k ragdolls only;
 //! with `FRICTION=mu`, every body's friction set to `mu`; with
 //! `RESTING_MOTION=m`, `CONTACT_MARGIN=m`, `MESH_CONTACT_MARGIN=m` or
 //! `ALLOWED_PENETRATION=m`, that
@@ -77,6 +78,16 @@ fn main() {
         }
         other => panic!("unknown scene {other}"),
     };
+    // RAGDOLLS=k: the ragdoll pile's first k ragdolls only (how its cost
+    // scales with the pile's size).
+    if let Some(k) = std::env::var("RAGDOLLS")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+    {
+        assert_eq!(name, "ragdoll_pile", "RAGDOLLS is for the ragdoll pile");
+        scene.bodies.truncate(1 + 11 * k);
+        scene.joints.truncate(10 * k);
+    }
     // ENSEMBLE_RUN=k: the start of run k of `ensemble_depth` (x moved by
     // 1e-5 k ((i mod 3) - 1) m for body i).
     if let Some(k) = std::env::var("ENSEMBLE_RUN")

@@ -216,13 +216,12 @@ impl<N: Num> Factor<N> {
             let (s, t) = (c.side_p as usize, c.side_q as usize);
             let (q0, q1) = (profile.offsets[c.q as usize], profile.offsets[c.q as usize + 1]);
             for i in profile.offsets[c.p as usize]..profile.offsets[c.p as usize + 1] {
-                let ri = &rows[i];
+                let (ri_lin, ri_ang) = (rows[i].lin[s], rows[i].ang[s]);
                 let at = start[i] - first[i];
                 // Within one joint, the lower triangle only.
                 let end = if c.p == c.q { i + 1 } else { q1 };
-                for j in q0..end {
-                    let rj = &rows[j];
-                    k[at + j] = k[at + j] + (ri.lin[s].dot(rj.m_lin[t]) + ri.ang[s].dot(rj.m_ang[t]));
+                for (kij, rj) in k[at + q0..at + end].iter_mut().zip(&rows[q0..end]) {
+                    *kij = *kij + (ri_lin.dot(rj.m_lin[t]) + ri_ang.dot(rj.m_ang[t]));
                 }
             }
         }
@@ -232,25 +231,30 @@ impl<N: Num> Factor<N> {
         }
         // Profile Cholesky, in place: entries before a row's first column
         // are zero and stay zero in the factor. Row i's entry p >= first[i]
-        // lies at start[i] + p - first[i].
+        // lies at start[i] + p - first[i]; the rows before i lie before
+        // start[i] (`done`).
         for i in 0..n {
             let (fi, si) = (first[i], start[i]);
-            for j in fi..=i {
+            let (done, row_i) = k.split_at_mut(si);
+            let row_i = &mut row_i[..i + 1 - fi];
+            for j in fi..i {
                 let (fj, sj) = (first[j], start[j]);
                 let lo = fi.max(fj);
+                let (ours, theirs) = row_i.split_at_mut(j - fi);
                 let mut dot = N::default();
-                for p in lo..j {
-                    dot = dot + k[si + p - fi] * k[sj + p - fj];
+                for (a, b) in ours[lo - fi..].iter().zip(&done[sj + lo - fj..sj + j - fj]) {
+                    dot = dot + *a * *b;
                 }
-                let s = k[si + j - fi] - dot;
-                k[si + j - fi] = if i == j {
-                    let d = s.max(N::splat(1e-300)).sqrt();
-                    self.inv_diagonal[i] = N::splat(1.0) / d;
-                    d
-                } else {
-                    s * self.inv_diagonal[j]
-                };
+                theirs[0] = (theirs[0] - dot) * self.inv_diagonal[j];
             }
+            let (ours, diagonal) = row_i.split_at_mut(i - fi);
+            let mut dot = N::default();
+            for a in ours.iter() {
+                dot = dot + *a * *a;
+            }
+            let d = (diagonal[0] - dot).max(N::splat(1e-300)).sqrt();
+            self.inv_diagonal[i] = N::splat(1.0) / d;
+            diagonal[0] = d;
         }
     }
 

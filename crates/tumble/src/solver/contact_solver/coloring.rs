@@ -5,13 +5,23 @@
 //! writes them).
 //!
 //! Greedy, in patch order: each patch takes the lowest colour that neither
-//! of its dynamic bodies has yet (a bit mask per body). Small problems
-//! (fewer than [`MIN_PATCHES_TO_COLOR`] patches) are not coloured at all. Patches that find
+//! of its dynamic bodies has yet (a bit mask per body). Patches that find
 //! none of the [`MAX_COLORS`] free go to an overflow batch, solved serially
 //! after the colours (a body touching more than that many others). The
 //! patch rows are then built sorted by colour, stably, and their points
 //! with them (a colour's rows lie together in memory), so that every pass
 //! walks the colours in a fixed order whatever the thread count.
+//!
+//! Small problems (fewer than [`MIN_PATCHES_TO_COLOR`] patches) keep the
+//! patch order instead, cut into *levels* (`level_patches`): a patch's
+//! level is one past the last level of either of its dynamic bodies, so
+//! two patches that share a body keep their order and the patches of one
+//! level share none. A pass over the levels one after the other then makes
+//! the serial pass's updates, those of patches on different bodies merely
+//! interleaved (they commute: the same bits), and a level's small patches
+//! go four at a time into the SIMD bundles like a colour's. A problem
+//! whose levels would hold fewer than [`MIN_PATCHES_PER_LEVEL`] patches on
+//! average (a column of boxes: one patch a level) stays one serial batch.
 
 use super::body::SolverBody;
 use std::ops::Range;
@@ -19,14 +29,21 @@ use std::ops::Range;
 /// Colours before the overflow batch (one bit each in a body's mask).
 pub const MAX_COLORS: usize = 64;
 
-/// Fewer patches than this are not coloured: they form one serial batch in
-/// patch order. Splitting them over threads would not pay, and the patch
-/// order (pairs in body order) carries a push or a pull along a chain or up
-/// a stack in one pass, where colours (every other link, then the rest)
-/// carry it one link per colour: the torus chain's deepest penetration grew
-/// from 1.6 mm to 2.0 mm coloured. Above it (the 210-box pyramid's 400
-/// patches) the colour order did as well as the patch order or better.
+/// Fewer patches than this are not coloured: they keep the patch order, in
+/// levels (module docs) or one serial batch, on one thread. Splitting them
+/// over threads would not pay, and the patch order (pairs in body order)
+/// carries a push or a pull along a chain or up a stack in one pass, where
+/// colours (every other link, then the rest) carry it one link per colour:
+/// the torus chain's deepest penetration grew from 1.6 mm to 2.0 mm
+/// coloured, a column of 20 boxes sank 1.1 mm instead of 0.7. Above it (the
+/// 210-box pyramid's 400 patches) the colour order did as well as the
+/// patch order or better.
 pub const MIN_PATCHES_TO_COLOR: usize = 128;
+
+/// Fewest patches a level of a small problem must hold on average for
+/// the levels to be used (below, one serial batch): a bundle of four lanes
+/// with one patch in it costs more than the scalar kernel.
+pub const MIN_PATCHES_PER_LEVEL: usize = 2;
 
 /// The patches in colour order: `colors[c]` is the range of colour `c` in
 /// the sorted patch array, `overflow` the range solved serially last.
@@ -36,6 +53,9 @@ pub struct Coloring {
     pub colors: Vec<Range<usize>>,
     /// Patches that found no free colour.
     pub overflow: Range<usize>,
+    /// The colours are levels of the patch order (a small problem,
+    /// `level_patches`): run one after the other on one thread.
+    pub levels: bool,
 }
 
 impl Coloring {
@@ -55,11 +75,7 @@ impl Coloring {
 /// in that order, each patch's points together.
 pub fn color_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<u32>) {
     if pairs.len() < MIN_PATCHES_TO_COLOR {
-        let coloring = Coloring {
-            colors: Vec::new(),
-            overflow: 0..pairs.len(),
-        };
-        return (coloring, (0..pairs.len() as u32).collect());
+        return level_patches(pairs, bodies);
     }
     let mut used = vec![0u64; bodies.len()];
     let mut color_of = Vec::with_capacity(pairs.len());
@@ -105,7 +121,70 @@ pub fn color_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, 
         .map(|c| start[c]..start[c + 1])
         .collect();
     let overflow = start[MAX_COLORS]..start[MAX_COLORS + 1];
-    (Coloring { colors, overflow }, order)
+    let coloring = Coloring {
+        colors,
+        overflow,
+        levels: false,
+    };
+    (coloring, order)
+}
+
+/// The levels of a small problem (module docs): each patch one level past
+/// the last of either of its dynamic bodies, the patch order sorted by
+/// level, stably. One serial batch in patch order instead when the levels
+/// would hold fewer than [`MIN_PATCHES_PER_LEVEL`] patches on average.
+fn level_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<u32>) {
+    let n = pairs.len();
+    // The first level each body is free in.
+    let mut free = vec![0usize; bodies.len()];
+    let mut level_of = Vec::with_capacity(n);
+    for &(a, b) in pairs {
+        let dynamic = [a, b].map(|i| bodies[i as usize].dynamic);
+        let level = [a, b]
+            .iter()
+            .zip(dynamic)
+            .filter(|&(_, d)| d)
+            .map(|(&i, _)| free[i as usize])
+            .max()
+            .unwrap_or(0);
+        for (&i, d) in [a, b].iter().zip(dynamic) {
+            if d {
+                free[i as usize] = level + 1;
+            }
+        }
+        level_of.push(level);
+    }
+    // Every level up to the highest holds a patch: a patch of level l > 0
+    // follows one of level l - 1 on the same body.
+    let levels = level_of.iter().max().map_or(0, |&l| l + 1);
+    if n == 0 || n < MIN_PATCHES_PER_LEVEL * levels {
+        let coloring = Coloring {
+            colors: Vec::new(),
+            overflow: 0..n,
+            levels: false,
+        };
+        return (coloring, (0..n as u32).collect());
+    }
+    let mut start = vec![0usize; levels + 1];
+    for &l in &level_of {
+        start[l + 1] += 1;
+    }
+    for l in 0..levels {
+        start[l + 1] += start[l];
+    }
+    let colors = (0..levels).map(|l| start[l]..start[l + 1]).collect();
+    let mut next = start;
+    let mut order = vec![0u32; n];
+    for (k, &l) in level_of.iter().enumerate() {
+        order[next[l]] = k as u32;
+        next[l] += 1;
+    }
+    let coloring = Coloring {
+        colors,
+        overflow: n..n,
+        levels: true,
+    };
+    (coloring, order)
 }
 
 /// [`color_patches`] over the patches not `owned`; the owned ones (the
@@ -211,6 +290,7 @@ impl<'a, T> Shared<'a, T> {
 mod tests {
     use super::*;
     use tumble_collide::{DQuat, DVec3};
+    use tumble_testkit::RandomSource;
 
     fn bodies(n: usize) -> Vec<SolverBody> {
         // Body 0 is static; the rest dynamic.
@@ -289,6 +369,63 @@ mod tests {
         );
         let owned_in_order: Vec<u32> = (0..pairs.len() as u32).filter(|&k| owned[k as usize]).collect();
         assert_eq!(&order[free.len()..], &owned_in_order[..]);
+    }
+
+    /// A small problem's levels: every patch once; no dynamic body twice
+    /// in a level; two patches on one dynamic body in patch order; each
+    /// level in patch order.
+    #[test]
+    fn small_problems_run_in_levels_that_keep_each_bodys_patch_order() {
+        let n = 40;
+        let b = bodies(n);
+        let mut rng = tumble_testkit::SplitMix64(777);
+        let mut pairs = Vec::new();
+        for _ in 0..100 {
+            let i = 1 + rng.below(n - 1) as u32;
+            let j = rng.below(n) as u32; // 0: the static body
+            if i != j {
+                pairs.push((i, j));
+            }
+        }
+        assert!(pairs.len() < MIN_PATCHES_TO_COLOR);
+        let (coloring, order) = color_patches(&pairs, &b);
+        assert!(coloring.levels && coloring.overflow.is_empty() && coloring.colors.len() > 2);
+        let mut seen = order.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..pairs.len() as u32).collect::<Vec<_>>());
+        assert_eq!(
+            coloring.colors.iter().map(|r| r.len()).sum::<usize>(),
+            pairs.len()
+        );
+        let mut place = vec![0usize; pairs.len()];
+        for (at, &k) in order.iter().enumerate() {
+            place[k as usize] = at;
+        }
+        for r in &coloring.colors {
+            let level = &order[r.clone()];
+            assert!(
+                level.windows(2).all(|w| w[0] < w[1]),
+                "patch order within a level"
+            );
+            let mut used = std::collections::BTreeSet::new();
+            for &k in level {
+                let (a, c) = pairs[k as usize];
+                for body in [a, c].into_iter().filter(|&i| b[i as usize].dynamic) {
+                    assert!(used.insert(body), "body {body} twice in one level");
+                }
+            }
+        }
+        for p in 0..pairs.len() {
+            for q in p + 1..pairs.len() {
+                let shares = |(a, c): (u32, u32), i: u32| b[i as usize].dynamic && (a == i || c == i);
+                if [pairs[p].0, pairs[p].1].into_iter().any(|i| shares(pairs[q], i)) {
+                    assert!(
+                        place[p] < place[q],
+                        "patches {p} and {q} share a body: order kept"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

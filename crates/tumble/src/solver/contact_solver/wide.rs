@@ -464,11 +464,15 @@ impl WideBatches {
         self.ones.truncate(used[0]);
         self.twos.truncate(used[1]);
         self.fours.truncate(used[2]);
-        self.split = self
-            .colors
-            .iter()
-            .rposition(|c| c.weight() >= MIN_WEIGHT_TO_SPLIT)
-            .map_or(0, |c| c + 1);
+        // Levels of a small problem run on one thread (`coloring`).
+        self.split = if coloring.levels {
+            0
+        } else {
+            self.colors
+                .iter()
+                .rposition(|c| c.weight() >= MIN_WEIGHT_TO_SPLIT)
+                .map_or(0, |c| c + 1)
+        };
     }
 }
 
@@ -1268,6 +1272,13 @@ mod tests {
     /// inertia, moving and spinning) and ~400 patches of one to six points
     /// between random pairs, with gaps and overlaps, friction, warm starts.
     fn problem(seed: u64) -> Problem {
+        problem_with(seed, 400, false).0
+    }
+
+    /// [`problem`] with `tries` patches tried, the records in colour order
+    /// or (`in_patch_order`) in the patches' own order; with the colour
+    /// order (patch indices in the records' order).
+    fn problem_with(seed: u64, tries: usize, in_patch_order: bool) -> (Problem, Vec<u32>) {
         let mut rng = SplitMix64(seed);
         let n = 120;
         let mut bodies = vec![SolverBody::fixed()];
@@ -1291,7 +1302,7 @@ mod tests {
         }
         let mut pairs = Vec::new();
         let mut patches = Vec::new();
-        for _ in 0..400 {
+        for _ in 0..tries {
             let a = 1 + rng.below(n - 1) as u32;
             let b = if rng.next_f64() < 0.3 {
                 0
@@ -1308,8 +1319,13 @@ mod tests {
         }
         let (coloring, order) = color_patches(&pairs, &bodies);
         assert!(coloring.colors.len() > 3, "the test needs colours");
+        let layout: Vec<u32> = if in_patch_order {
+            (0..pairs.len() as u32).collect()
+        } else {
+            order.clone()
+        };
         let (mut manifolds, mut points) = (Vec::new(), Vec::new());
-        for &k in &order {
+        for &k in &layout {
             let mut rng = SplitMix64(patches[k as usize]);
             // Normals mostly up, against the pull of `pull`: most points press.
             let normal = (rng.vec3(0.6) + DVec3::Z).normalize();
@@ -1354,8 +1370,8 @@ mod tests {
             prepare(&mut m, &mut points, &bodies);
             manifolds.push(m);
         }
-        let sorted_pairs = order.iter().map(|&k| pairs[k as usize]).collect();
-        (bodies, sorted_pairs, manifolds, points)
+        let sorted_pairs = layout.iter().map(|&k| pairs[k as usize]).collect();
+        ((bodies, sorted_pairs, manifolds, points), order)
     }
 
     fn params() -> SolverParams {
@@ -1583,6 +1599,53 @@ mod tests {
                     threads,
                 );
                 first_difference(&p1, &p0, "point", seed, threads);
+            }
+        }
+    }
+
+    /// A small problem (under `MIN_PATCHES_TO_COLOR` patches) keeps its
+    /// patch order, cut into levels whose small patches go into bundles:
+    /// on any thread count, the bodies and every patch's impulses come out
+    /// as the scalar kernels leave them in one serial pass in patch order.
+    #[test]
+    fn a_small_problem_in_levels_gives_the_serial_patch_orders_bits() {
+        for seed in 1..4 {
+            let ((bodies, pairs, manifolds, points), _) = problem_with(seed, 90, true);
+            assert!(pairs.len() < super::super::coloring::MIN_PATCHES_TO_COLOR);
+            let (b0, mut m0, mut p0) = (bodies.clone(), manifolds, points);
+            let mut b0 = b0;
+            scalar(&mut b0, &mut m0, &mut p0);
+            let ((_, pairs, manifolds, points), order) = problem_with(seed, 90, false);
+            let (coloring, _) = color_patches(&pairs, &bodies);
+            assert!(
+                coloring.levels && coloring.colors.len() > 2,
+                "levels: {coloring:?}"
+            );
+            assert!(
+                order.iter().enumerate().any(|(i, &k)| i != k as usize),
+                "levels reorder"
+            );
+            for threads in [1, 2, 3] {
+                let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
+                let wide = bundled(threads, &mut b1, &pairs, &mut m1, &mut p1);
+                assert!(!wide.ones.is_empty() || !wide.twos.is_empty() || !wide.fours.is_empty());
+                first_difference(&b1, &b0, "body", seed, threads);
+                // Patch k of the levels is patch order[k] of the patch order.
+                for (k, &original) in order.iter().enumerate() {
+                    let (m, r) = (&m1[k], &m0[original as usize]);
+                    assert_eq!(
+                        m.impulses, r.impulses,
+                        "patch {original} (seed {seed}, {threads} threads)"
+                    );
+                    let (ours, theirs) = (&p1[m.range()], &p0[r.range()]);
+                    for (x, y) in ours.iter().zip(theirs) {
+                        assert_eq!(
+                            (x.normal_impulse, x.push_impulse),
+                            (y.normal_impulse, y.push_impulse),
+                            "a point of patch {original} (seed {seed}, {threads} threads)"
+                        );
+                    }
+                }
             }
         }
     }

@@ -184,8 +184,9 @@ impl World {
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
             let largest_residual = AtomicU64::new(0);
-            // Nothing to split (no colour batch, few bodies): one thread.
-            let pool = if coloring.colors.is_empty()
+            // Nothing to split (no colour batch or only a small problem's
+            // levels, few bodies): one thread.
+            let pool = if (coloring.colors.is_empty() || coloring.levels)
                 && joint_coloring.colors.is_empty()
                 && arrays.joint_islands.len() < 2
                 && arrays.bodies.len() < 2 * BODIES_PER_BLOCK

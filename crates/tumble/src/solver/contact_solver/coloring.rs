@@ -71,12 +71,38 @@ impl Coloring {
 
 /// Colours patches given as the solver-body pairs they link, in patch
 /// order; returns the colouring and the patch order sorted by colour
-/// (stable: patch indices ascending within a colour). Build the patch rows
-/// in that order, each patch's points together.
+/// (stable: patch indices ascending within a colour; a small problem's
+/// levels, module docs). Build the patch rows in that order, each patch's
+/// points together.
 pub fn color_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<u32>) {
     if pairs.len() < MIN_PATCHES_TO_COLOR {
         return level_patches(pairs, bodies);
     }
+    color_greedy(pairs, bodies)
+}
+
+/// [`color_patches`] for joint rows: the same colours, but a small problem
+/// stays one serial batch in joint order (joints have no SIMD bundles for
+/// levels to fill, only barriers to add).
+pub fn color_joints(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<u32>) {
+    if pairs.len() < MIN_PATCHES_TO_COLOR {
+        return serial_batch(pairs.len());
+    }
+    color_greedy(pairs, bodies)
+}
+
+/// `n` rows in one serial batch, in their order.
+fn serial_batch(n: usize) -> (Coloring, Vec<u32>) {
+    let coloring = Coloring {
+        colors: Vec::new(),
+        overflow: 0..n,
+        levels: false,
+    };
+    (coloring, (0..n as u32).collect())
+}
+
+/// The greedy colouring (module docs).
+fn color_greedy(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<u32>) {
     let mut used = vec![0u64; bodies.len()];
     let mut color_of = Vec::with_capacity(pairs.len());
     for &(a, b) in pairs {
@@ -158,12 +184,7 @@ fn level_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<
     // follows one of level l - 1 on the same body.
     let levels = level_of.iter().max().map_or(0, |&l| l + 1);
     if n == 0 || n < MIN_PATCHES_PER_LEVEL * levels {
-        let coloring = Coloring {
-            colors: Vec::new(),
-            overflow: 0..n,
-            levels: false,
-        };
-        return (coloring, (0..n as u32).collect());
+        return serial_batch(n);
     }
     let mut start = vec![0usize; levels + 1];
     for &l in &level_of {
@@ -325,6 +346,7 @@ mod tests {
             }
         }
         let (coloring, order) = color_patches(&pairs, &b);
+        assert_eq!(color_joints(&pairs, &b), (coloring.clone(), order.clone()));
         let mut seen = order.clone();
         seen.sort_unstable();
         assert_eq!(seen, (0..pairs.len() as u32).collect::<Vec<_>>());
@@ -390,6 +412,8 @@ mod tests {
         assert!(pairs.len() < MIN_PATCHES_TO_COLOR);
         let (coloring, order) = color_patches(&pairs, &b);
         assert!(coloring.levels && coloring.overflow.is_empty() && coloring.colors.len() > 2);
+        // Joints of a small problem stay one serial batch.
+        assert_eq!(color_joints(&pairs, &b), serial_batch(pairs.len()));
         let mut seen = order.clone();
         seen.sort_unstable();
         assert_eq!(seen, (0..pairs.len() as u32).collect::<Vec<_>>());

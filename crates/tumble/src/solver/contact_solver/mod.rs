@@ -60,7 +60,7 @@ pub(crate) use batches::SolverArrays;
 pub use body::{integrate_positions, SolverBody};
 pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
 pub(crate) use coloring::Shared;
-pub use coloring::{color_patches, color_patches_except, Coloring, MAX_COLORS};
+pub use coloring::{color_joints, color_patches, color_patches_except, Coloring, MAX_COLORS};
 pub use constraint::{
     inverse_effective_mass, prepare, refresh_masses, tangent_basis, ManifoldConstraint, PointConstraint,
     RowJacobian, SolverParams, BLOCK_POINTS, BLOCK_REFRESH,

@@ -498,7 +498,7 @@ impl World {
             pairs.push((ia, ib));
             sides.push((id.index, [xa, xb], [qa, qb]));
         }
-        let (coloring, order) = contact_solver::color_patches(&pairs, &sf.bodies);
+        let (coloring, order) = contact_solver::color_joints(&pairs, &sf.bodies);
         sf.joints.clear();
         sf.joints.reserve(order.len());
         sf.joint_slots.clear();

@@ -35,8 +35,9 @@ pub const MAX_COLORS: usize = 64;
 /// carries a push or a pull along a chain or up a stack in one pass, where
 /// colours (every other link, then the rest) carry it one link per colour:
 /// the torus chain's deepest penetration grew from 1.6 mm to 2.0 mm
-/// coloured, a column of 20 boxes sank 1.1 mm instead of 0.7. Above it (the
-/// 210-box pyramid's 400 patches) the colour order did as well as the
+/// coloured, and a column of 20 boxes' top box moved 6.9 mm in 10 s
+/// instead of 4.0 (its deepest overlap 1.1 mm instead of 0.7). Above it
+/// (the 210-box pyramid's 400 patches) the colour order did as well as the
 /// patch order or better.
 pub const MIN_PATCHES_TO_COLOR: usize = 128;
 

@@ -1612,8 +1612,7 @@ mod tests {
         for seed in 1..4 {
             let ((bodies, pairs, manifolds, points), _) = problem_with(seed, 90, true);
             assert!(pairs.len() < super::super::coloring::MIN_PATCHES_TO_COLOR);
-            let (b0, mut m0, mut p0) = (bodies.clone(), manifolds, points);
-            let mut b0 = b0;
+            let (mut b0, mut m0, mut p0) = (bodies.clone(), manifolds, points);
             scalar(&mut b0, &mut m0, &mut p0);
             let ((_, pairs, manifolds, points), order) = problem_with(seed, 90, false);
             let (coloring, _) = color_patches(&pairs, &bodies);

@@ -31,9 +31,11 @@
 //! index runs of points ([`PointConstraint`]: normal rows) in one flat array;
 //! every pass keeps the pair's velocities in registers across the patch's
 //! rows. In the world, patches are coloured ([`color_patches`]: no two
-//! patches of a colour share a dynamic body) and sorted by colour, and each
-//! pass walks the colours in order, the patches of a colour split over the
-//! world's threads: the same bits for any thread count. Within a colour the
+//! patches of a colour share a dynamic body; a problem of fewer than 128
+//! patches keeps its patch order, cut into levels that share no body) and
+//! sorted by colour, and each pass walks the colours in order, the patches
+//! of a colour split over the world's threads: the same bits for any thread
+//! count. Within a colour the
 //! patches of up to four points travel four at a time, one per SIMD lane
 //! (`wide`, over the portable lane type of `lanes`), grouped by point count
 //! (lone points, edges, faces); each lane computes the scalar kernel's bits.

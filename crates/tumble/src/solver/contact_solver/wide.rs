@@ -11,9 +11,10 @@
 //! lane selects, a lane's early exit into a frozen lane): the wide kernels
 //! are a faster layout of the same solver, not a second one, and a test holds
 //! them to the scalar kernels' bits. Patches of up to four points (the
-//! block-solved ones: box faces, edges, lone points) travel in bundles;
-//! larger patches, the overflow batch and problems too small to colour stay
-//! on the scalar kernels.
+//! block-solved ones: box faces, edges, lone points) travel in bundles,
+//! a small problem's too, by the levels of its patch order (`coloring`);
+//! larger patches, the overflow batch and a small problem too thin for
+//! levels (a column of boxes) stay on the scalar kernels.
 //!
 //! Why: scalar, the velocity passes were bound by f64 arithmetic on one
 //! patch at a time (a 3-vector fills no register); four patches per lane set

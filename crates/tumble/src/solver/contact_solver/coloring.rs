@@ -126,25 +126,12 @@ fn color_greedy(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<u
                 used[b] |= bit;
             }
         }
-        color_of.push(color.min(MAX_COLORS) as u8);
+        color_of.push(color.min(MAX_COLORS));
     }
-    // Counting sort by colour (stable), the overflow (colour MAX_COLORS) last.
-    let mut count = [0usize; MAX_COLORS + 1];
-    for &c in &color_of {
-        count[c as usize] += 1;
-    }
-    let mut start = [0usize; MAX_COLORS + 2];
-    for c in 0..=MAX_COLORS {
-        start[c + 1] = start[c] + count[c];
-    }
-    let mut next = start;
-    let mut order = vec![0u32; pairs.len()];
-    for (i, &c) in color_of.iter().enumerate() {
-        order[next[c as usize]] = i as u32;
-        next[c as usize] += 1;
-    }
+    // The overflow (colour MAX_COLORS) last.
+    let (start, order) = sorted_by_label(&color_of, MAX_COLORS + 1);
     let colors = (0..MAX_COLORS)
-        .filter(|&c| count[c] > 0)
+        .filter(|&c| start[c + 1] > start[c])
         .map(|c| start[c]..start[c + 1])
         .collect();
     let overflow = start[MAX_COLORS]..start[MAX_COLORS + 1];
@@ -166,18 +153,10 @@ fn level_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<
     let mut free = vec![0usize; bodies.len()];
     let mut level_of = Vec::with_capacity(n);
     for &(a, b) in pairs {
-        let dynamic = [a, b].map(|i| bodies[i as usize].dynamic);
-        let level = [a, b]
-            .iter()
-            .zip(dynamic)
-            .filter(|&(_, d)| d)
-            .map(|(&i, _)| free[i as usize])
-            .max()
-            .unwrap_or(0);
-        for (&i, d) in [a, b].iter().zip(dynamic) {
-            if d {
-                free[i as usize] = level + 1;
-            }
+        let movers = [a, b].map(|i| bodies[i as usize].dynamic.then_some(i as usize));
+        let level = movers.iter().flatten().map(|&i| free[i]).max().unwrap_or(0);
+        for &i in movers.iter().flatten() {
+            free[i] = level + 1;
         }
         level_of.push(level);
     }
@@ -187,26 +166,33 @@ fn level_patches(pairs: &[(u32, u32)], bodies: &[SolverBody]) -> (Coloring, Vec<
     if n == 0 || n < MIN_PATCHES_PER_LEVEL * levels {
         return serial_batch(n);
     }
-    let mut start = vec![0usize; levels + 1];
-    for &l in &level_of {
-        start[l + 1] += 1;
-    }
-    for l in 0..levels {
-        start[l + 1] += start[l];
-    }
+    let (start, order) = sorted_by_label(&level_of, levels);
     let colors = (0..levels).map(|l| start[l]..start[l + 1]).collect();
-    let mut next = start;
-    let mut order = vec![0u32; n];
-    for (k, &l) in level_of.iter().enumerate() {
-        order[next[l]] = k as u32;
-        next[l] += 1;
-    }
     let coloring = Coloring {
         colors,
         overflow: n..n,
         levels: true,
     };
     (coloring, order)
+}
+
+/// Indices `0..labels.len()` sorted by their label (`< count`), stably (a
+/// counting sort), and where each label's run starts (`count + 1` entries).
+fn sorted_by_label(labels: &[usize], count: usize) -> (Vec<usize>, Vec<u32>) {
+    let mut start = vec![0usize; count + 1];
+    for &l in labels {
+        start[l + 1] += 1;
+    }
+    for l in 0..count {
+        start[l + 1] += start[l];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0u32; labels.len()];
+    for (k, &l) in labels.iter().enumerate() {
+        order[next[l]] = k as u32;
+        next[l] += 1;
+    }
+    (start, order)
 }
 
 /// [`color_patches`] over the patches not `owned`; the owned ones (the

@@ -195,24 +195,7 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
     // velocities at its start, is what tells the end-overlap stage to
     // collide them again and push them apart; without that B ended the step
     // 4.2 cm inside A.
-    let mut world = World::new(WorldSettings {
-        gravity: DVec3::ZERO,
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    let half = 0.1;
-    let cube = || box_shape(DVec3::splat(half));
-    let at = |x: f64, v: f64| {
-        BodyDesc::dynamic(cube())
-            .at(DVec3::new(x, 0.0, 0.0))
-            .with_density(1000.0)
-            .with_material(0.0, 0.0)
-            .with_velocity(DVec3::new(v, 0.0, 0.0), DVec3::ZERO)
-    };
-    let a = world.add_body(&at(0.0, 0.0)).unwrap();
-    let b = world.add_body(&at(2.0 * half + 0.004, 0.0)).unwrap();
-    world.add_body(&at(4.0 * half + 0.014, -6.0)).unwrap();
+    let (mut world, _, [a, b]) = knocked_row(false);
     world.step();
     let (xa, xb) = (
         world.center_of_mass(a).unwrap().x,
@@ -222,7 +205,7 @@ fn a_mesh_knocked_into_another_by_a_third_within_the_step_is_pushed_back_out() {
         world.linear_velocity(b).unwrap().x < -1.0,
         "B was not knocked towards A: the test no longer tests the stage"
     );
-    let overlap = 2.0 * half - (xb - xa);
+    let overlap = 2.0 * KNOCKED_HALF - (xb - xa);
     let margin = world.settings().contact_margin;
     assert!(overlap <= margin, "B ended the step {overlap} m inside A");
 }
@@ -240,27 +223,8 @@ fn a_body_knocked_against_a_wall_is_pushed_out_of_both_its_neighbours() {
     // B against C, whose points are within the contact margin), so that
     // the push moves B and C instead. With guards that only held pairs
     // already touching, A ended 4.7 mm inside the wall.
-    let mut world = World::new(WorldSettings {
-        gravity: DVec3::ZERO,
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
-    let half = 0.1;
-    let cube = || box_shape(DVec3::splat(half));
-    let at = |x: f64, v: f64| {
-        BodyDesc::dynamic(cube())
-            .at(DVec3::new(x, 0.0, 0.0))
-            .with_density(1000.0)
-            .with_material(0.0, 0.0)
-            .with_velocity(DVec3::new(v, 0.0, 0.0), DVec3::ZERO)
-    };
-    let wall = world
-        .add_body(&BodyDesc::fixed(box_shape(DVec3::new(0.2, 0.5, 0.5))).at(DVec3::new(-0.3, 0.0, 0.0)))
-        .unwrap();
-    let a = world.add_body(&at(0.0, 0.0)).unwrap();
-    let b = world.add_body(&at(2.0 * half + 0.004, 0.0)).unwrap();
-    world.add_body(&at(4.0 * half + 0.014, -6.0)).unwrap();
+    let (mut world, wall, [a, b]) = knocked_row(true);
+    let wall = wall.unwrap();
     let allowed = world.settings().allowed_penetration;
     // Their closest contact at the world's poses (m).
     let gap = |world: &World, p: BodyId, q: BodyId| {
@@ -364,6 +328,35 @@ fn a_ring_jerked_into_a_ring_it_was_not_touching_is_pushed_back_out() {
     );
     let (_, overlap) = step(true);
     assert!(overlap <= bound, "A ended the step {overlap} m inside B");
+}
+
+/// Half the edge of [`knocked_row`]'s cubes (m).
+const KNOCKED_HALF: f64 = 0.1;
+
+/// Three mesh cubes in a row along x without gravity: A at the origin and
+/// B 4 mm from it at rest, C coming at B at 6 m/s from 1 cm away; with
+/// `wall`, a static mesh slab touching A's far side. The wall, A and B.
+fn knocked_row(wall: bool) -> (World, Option<BodyId>, [BodyId; 2]) {
+    let mut world = World::new(WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        ..WorldSettings::default()
+    })
+    .unwrap();
+    let half = KNOCKED_HALF;
+    let slab = BodyDesc::fixed(box_shape(DVec3::new(0.2, 0.5, 0.5))).at(DVec3::new(-half - 0.2, 0.0, 0.0));
+    let wall = wall.then(|| world.add_body(&slab).unwrap());
+    let at = |x: f64, v: f64| {
+        BodyDesc::dynamic(box_shape(DVec3::splat(half)))
+            .at(DVec3::new(x, 0.0, 0.0))
+            .with_density(1000.0)
+            .with_material(0.0, 0.0)
+            .with_velocity(DVec3::new(v, 0.0, 0.0), DVec3::ZERO)
+    };
+    let a = world.add_body(&at(0.0, 0.0)).unwrap();
+    let b = world.add_body(&at(2.0 * half + 0.004, 0.0)).unwrap();
+    world.add_body(&at(4.0 * half + 0.014, -6.0)).unwrap();
+    (world, wall, [a, b])
 }
 
 /// A closed triangle-mesh box of half extents `half` (m).

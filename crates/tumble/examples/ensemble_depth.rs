@@ -6,7 +6,8 @@
 //! `DIAG=1`, every step deeper than 1 mm names the pair and its point; with
 //! `FIRST_RUN=k`, the ensemble starts at run k (profile_stages traces run k
 //! with `ENSEMBLE_RUN=k`); `PUSH_FRACTION=f` and `SUBSTEPS=n` set those
-//! `WorldSettings` fields for every run.
+//! `WorldSettings` fields for every run. For the concave pile each run
+//! also counts the bodies out of the bin at its end.
 use tumble::scenes;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -15,6 +16,7 @@ fn main() {
     let steps: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(600);
     let mut all = Vec::new();
     let mut total = 0.0;
+    let mut escapes = 0;
     // FIRST_RUN=k starts the ensemble at run k (to look again at one run).
     let first: usize = std::env::var("FIRST_RUN")
         .ok()
@@ -36,7 +38,7 @@ fn main() {
         for (i, b) in scene.bodies.iter_mut().enumerate() {
             b.pose.position.x += 1e-5 * k as f64 * ((i % 3) as f64 - 1.0);
         }
-        let (mut world, _) = scene.build().unwrap();
+        let (mut world, ids) = scene.build().unwrap();
         let mut deepest = 0.0f64;
         let mut over1 = 0;
         for _ in 0..steps {
@@ -71,14 +73,25 @@ fn main() {
             total += r.total_time().as_secs_f64();
         }
         all.push(deepest);
+        // The concave pile's bodies out of the bin (its first body).
+        let escaped = if name.starts_with("concave_pile") {
+            let centres: Vec<_> = ids[1..]
+                .iter()
+                .map(|&id| world.center_of_mass(id).unwrap())
+                .collect();
+            scenes::concave_pile_escaped(&centres)
+        } else {
+            0
+        };
+        escapes += escaped;
         eprintln!(
-            "run {k}: deepest {:.4} mm, steps over 1 mm {over1}",
+            "run {k}: deepest {:.4} mm, steps over 1 mm {over1}, escaped {escaped}",
             deepest * 1e3
         );
     }
     all.sort_by(f64::total_cmp);
     println!(
-        "{name}: median deepest {:.3} mm, max {:.3} mm, {:.2} ms/step",
+        "{name}: median deepest {:.3} mm, max {:.3} mm, {:.2} ms/step, {escapes} escaped",
         all[all.len() / 2] * 1e3,
         all[all.len() - 1] * 1e3,
         total / (runs * steps) as f64 * 1e3

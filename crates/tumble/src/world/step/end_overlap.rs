@@ -647,11 +647,13 @@ impl World {
     }
 
     /// Whether bodies `a` and `b` at their current poses overlap deeper
-    /// than `trigger` at a point the pair's approach over the step made
-    /// (`a` and `b` come with their poses before the step), and their
-    /// points within `reach` of touching (normals from `b` to `a`): those
-    /// deeper than `floor` that the approach made, and all shallower ones
-    /// (a shallow point's normal is the way out, whichever way it came).
+    /// than `trigger` at one of the points below, and those points within
+    /// `reach` of touching (`a` and `b` come with their poses before the
+    /// step; normals from `b` to `a`): the ones deeper than `floor` that
+    /// the pair's approach over the step made, or that came in from a
+    /// wall's far side (their normal turned to the way they came), and all
+    /// shallower ones (a shallow point's normal is the way out, whichever
+    /// way it came). Where no triangle mesh takes part, every point.
     fn end_overlaps(
         &self,
         (a, before_a): (u32, Option<Pose>),
@@ -708,11 +710,10 @@ impl World {
                             // deeper at the start than the pair began by
                             // more than a landing could make: it came in
                             // from the far side of a wall thinner than its
-                            // travel. Out
-                            // the way it came, by its depth, but not by
-                            // more than the thinner body is thick (its
-                            // depth along its normal ran through the wall;
-                            // the next pass collides again).
+                            // travel. Out the way it came, by its depth,
+                            // but not by more than the thinner body is
+                            // thick (its depth along its normal ran through
+                            // the wall; the next pass collides again).
                             c.normal = came.normalize();
                             c.distance = c.distance.max(-through);
                         } else if c.distance < -floor && approach <= 0.0 {

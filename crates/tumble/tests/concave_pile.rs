@@ -5,6 +5,7 @@
 mod common;
 
 use common::leaning_bar::{assert_spun_bar_is_pushed_back_out, bar_depth, leaning_bar};
+use common::weightless_world;
 use std::f64::consts::FRAC_PI_2;
 use tumble::scenes::{self, concave_pile_escaped, CONCAVE_KINDS};
 use tumble::world::{BodyDesc, BodyId, World, WorldSettings};
@@ -279,13 +280,7 @@ fn a_ring_jerked_into_a_ring_it_was_not_touching_is_pushed_back_out() {
     // end-overlap stage in it) on or off: A's lift over the step at its
     // end velocity (m), and how deep A ends in B (m).
     let step = |continuous: bool| {
-        let mut world = World::new(WorldSettings {
-            gravity: DVec3::ZERO,
-            sleeping: false,
-            continuous,
-            ..WorldSettings::default()
-        })
-        .unwrap();
+        let mut world = weightless_world(continuous);
         let ring_desc = |pose: Pose| {
             BodyDesc::dynamic(ring.clone())
                 .with_pose(pose)
@@ -337,12 +332,7 @@ const KNOCKED_HALF: f64 = 0.1;
 /// B 4 mm from it at rest, C coming at B at 6 m/s from 1 cm away; with
 /// `wall`, a static mesh slab touching A's far side. The wall, A and B.
 fn knocked_row(wall: bool) -> (World, Option<BodyId>, [BodyId; 2]) {
-    let mut world = World::new(WorldSettings {
-        gravity: DVec3::ZERO,
-        sleeping: false,
-        ..WorldSettings::default()
-    })
-    .unwrap();
+    let mut world = weightless_world(true);
     let half = KNOCKED_HALF;
     let slab = BodyDesc::fixed(box_shape(DVec3::new(0.2, 0.5, 0.5))).at(DVec3::new(-half - 0.2, 0.0, 0.0));
     let wall = wall.then(|| world.add_body(&slab).unwrap());

@@ -4,7 +4,7 @@
 //! into it within one step, where its speculative contacts held only the
 //! near end.
 
-use tumble::world::{BodyDesc, BodyId, World, WorldSettings};
+use tumble::world::{BodyDesc, BodyId, World};
 use tumble_collide::shape::Shape;
 use tumble_collide::{DQuat, DVec3, Pose};
 
@@ -21,13 +21,7 @@ pub fn leaning_bar(
     shape: &dyn Fn(DVec3) -> Shape,
     continuous: bool,
 ) -> (World, BodyId, DVec3, f64) {
-    let mut world = World::new(WorldSettings {
-        gravity: DVec3::ZERO,
-        sleeping: false,
-        continuous,
-        ..WorldSettings::default()
-    })
-    .unwrap();
+    let mut world = super::weightless_world(continuous);
     world.add_body(wall).unwrap();
     let theta = (0.08f64 / 0.6).asin();
     let lean = BAR_HALF.x * theta.cos() + BAR_HALF.y * theta.sin();

@@ -17,6 +17,18 @@ pub use tumble_testkit::{RandomSource, XorShift64Star as Rng};
 #[allow(unused_imports)] // each test binary uses a different subset
 pub use tumble::analytic::elliptic_k;
 
+/// A world without gravity or sleeping, with the continuous stage (and the
+/// end-overlap stage in it) on or off: bodies move only as a test sets them.
+pub fn weightless_world(continuous: bool) -> tumble::world::World {
+    tumble::world::World::new(tumble::world::WorldSettings {
+        gravity: DVec3::ZERO,
+        sleeping: false,
+        continuous,
+        ..tumble::world::WorldSettings::default()
+    })
+    .unwrap()
+}
+
 /// A test pose with a generic orientation.
 pub fn tilted_pose() -> Pose {
     Pose::new(

@@ -5,7 +5,7 @@
 //! trajectory moves it at random; compare medians over an ensemble. With
 //! `DIAG=1`, every step deeper than 1 mm names the pair and its point; with
 //! `FIRST_RUN=k`, the ensemble starts at run k (profile_stages traces run k
-//! with `ENSEMBLE_RUN=k`); `PUSH_FRACTION=f` and `SUBSTEPS=n` set those
+//! with `ENSEMBLE_RUN=k`); `PUSH_FRACTION=f`, `SUBSTEPS=n` and `ITERATIONS=n` set those
 //! `WorldSettings` fields for every run. For the concave pile each run
 //! also counts the bodies out of the bin at its end.
 use tumble::scenes;
@@ -34,6 +34,9 @@ fn main() {
         }
         if let Some(n) = std::env::var("SUBSTEPS").ok().and_then(|v| v.parse().ok()) {
             scene.settings.substeps = n;
+        }
+        if let Some(n) = std::env::var("ITERATIONS").ok().and_then(|v| v.parse().ok()) {
+            scene.settings.iterations = n;
         }
         for (i, b) in scene.bodies.iter_mut().enumerate() {
             b.pose.position.x += 1e-5 * k as f64 * ((i % 3) as f64 - 1.0);

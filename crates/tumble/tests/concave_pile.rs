@@ -325,8 +325,65 @@ fn a_ring_jerked_into_a_ring_it_was_not_touching_is_pushed_back_out() {
     assert!(overlap <= bound, "A ended the step {overlap} m inside B");
 }
 
+#[test]
+fn a_mesh_knocked_a_few_mesh_margins_into_a_wall_is_pushed_back_out() {
+    // A mesh cube A at rest 2.2 mm from a static mesh wall (beyond the mesh
+    // margin: no speculative contact), a second cube C touching A's far
+    // side and coming at it at 0.55 m/s, no gravity. Within the step C
+    // pushes A about 4.6 mm towards the wall, more than the mesh margin
+    // that A's contacts with the wall are found with but less than the
+    // contact margin: A ends 2.4 mm in the wall without the end-overlap
+    // stage. A mesh pair's thresholds (moved, closed in) count in its own
+    // margin; when they counted in the contact margin (5 mm, not 2),
+    // the stage left this pair alone, and in the concave pile a torus
+    // rocking on another, which found one of its two contact regions each
+    // step, swung the other 4.8 mm deep.
+    let step = |continuous: bool| {
+        let mut world = weightless_world(continuous);
+        let half = KNOCKED_HALF;
+        let gap = 0.0022;
+        let wall = BodyDesc::fixed(box_shape(DVec3::new(0.2, 0.5, 0.5))).at(DVec3::new(-0.2, 0.0, 0.0));
+        world.add_body(&wall).unwrap();
+        let a = world.add_body(&row_cube(half + gap, 0.0)).unwrap();
+        world
+            .add_body(&row_cube(3.0 * half + gap + 0.0005, -0.55))
+            .unwrap();
+        let settings = world.settings().clone();
+        assert!(
+            gap > settings.mesh_contact_margin,
+            "A starts within the mesh margin of the wall"
+        );
+        world.step();
+        let x = world.center_of_mass(a).unwrap().x;
+        // How far A moved, and how deep it ends in the wall (m).
+        (half + gap - x, half - x, settings)
+    };
+    let (travel, unchecked, settings) = step(false);
+    let bound = (1.0 + END_OVERLAP_SLACK) * settings.allowed_penetration;
+    assert!(
+        travel > settings.mesh_contact_margin && travel < settings.contact_margin,
+        "A moved {travel} m in the step: the test no longer tests a move of a few mesh margins"
+    );
+    assert!(
+        unchecked > bound,
+        "A ended {unchecked} m in the wall without the stage: the test no longer tests it"
+    );
+    let (_, overlap, _) = step(true);
+    assert!(overlap <= bound, "A ended the step {overlap} m in the wall");
+}
+
 /// Half the edge of [`knocked_row`]'s cubes (m).
 const KNOCKED_HALF: f64 = 0.1;
+
+/// A frictionless mesh cube of edge `2 KNOCKED_HALF` (1000 kg/m^3) centred
+/// at `x` on the x axis, moving along it at `v` (m/s).
+fn row_cube(x: f64, v: f64) -> BodyDesc {
+    BodyDesc::dynamic(box_shape(DVec3::splat(KNOCKED_HALF)))
+        .at(DVec3::new(x, 0.0, 0.0))
+        .with_density(1000.0)
+        .with_material(0.0, 0.0)
+        .with_velocity(DVec3::new(v, 0.0, 0.0), DVec3::ZERO)
+}
 
 /// Three mesh cubes in a row along x without gravity: A at the origin and
 /// B 4 mm from it at rest, C coming at B at 6 m/s from 1 cm away; with
@@ -336,16 +393,9 @@ fn knocked_row(wall: bool) -> (World, Option<BodyId>, [BodyId; 2]) {
     let half = KNOCKED_HALF;
     let slab = BodyDesc::fixed(box_shape(DVec3::new(0.2, 0.5, 0.5))).at(DVec3::new(-half - 0.2, 0.0, 0.0));
     let wall = wall.then(|| world.add_body(&slab).unwrap());
-    let at = |x: f64, v: f64| {
-        BodyDesc::dynamic(box_shape(DVec3::splat(half)))
-            .at(DVec3::new(x, 0.0, 0.0))
-            .with_density(1000.0)
-            .with_material(0.0, 0.0)
-            .with_velocity(DVec3::new(v, 0.0, 0.0), DVec3::ZERO)
-    };
-    let a = world.add_body(&at(0.0, 0.0)).unwrap();
-    let b = world.add_body(&at(2.0 * half + 0.004, 0.0)).unwrap();
-    world.add_body(&at(4.0 * half + 0.014, -6.0)).unwrap();
+    let a = world.add_body(&row_cube(0.0, 0.0)).unwrap();
+    let b = world.add_body(&row_cube(2.0 * half + 0.004, 0.0)).unwrap();
+    world.add_body(&row_cube(4.0 * half + 0.014, -6.0)).unwrap();
     (world, wall, [a, b])
 }
 

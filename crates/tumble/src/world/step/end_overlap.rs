@@ -17,8 +17,10 @@
 //! other along the line of their centres by [`LANDING_CLOSING`] of the
 //! pair's margin per step or more at the step's start, or closed in by that much
 //! over the step, or one of them was struck within the step, its velocities
-//! changed by [`STRUCK_MARGINS`] margins a step, or their surfaces slid over
-//! each other at a contact by more than the margin: bodies that roll or
+//! changed by [`STRUCK_MARGINS`] contact margins a step, or their surfaces
+//! slid over each other at a contact by more than the pair's margin (the
+//! contact margin if the pair began deeper than [`END_OVERLAP_CAP`] allowed
+//! penetrations, being pushed out of an overlap): bodies that roll or
 //! slide slowly on each other keep speculative contacts to the features
 //! that meet, but a contact plane found at the step's start misses how a
 //! curved surface bends away under a long slide), and so is a pair of
@@ -161,7 +163,7 @@ pub const END_OVERLAP_CAP: f64 = 3.0;
 const CAP_SLACK: f64 = 0.25;
 
 /// A pair of dynamic bodies with a mesh whose surfaces slid over each other
-/// at a contact by more than the contact margin within the step is collided
+/// at a contact by more than the pair's margin within the step is collided
 /// again at its end too, and separated when it ends deeper than its floor
 /// by more than this many allowed penetrations (not
 /// [`END_OVERLAP_SLACK`]'s two).
@@ -399,15 +401,16 @@ impl World {
         // The margin the pair's speculative contacts were found with
         // (`mesh_contact_margin` for two meshes): the thresholds below that
         // say whether the pair may have met features its speculative
-        // contacts did not hold (moved, closed in, slid) count in it. Counted in
-        // the contact margin (5 mm, not 2), they left alone a torus of the
-        // concave pile rocking on another, which found one of its two
-        // contact regions each step and swung the other 4.8 mm deep.
-        // So does slid, for a pair that began the step shallow (`sliding`):
-        // a pair already deeper than END_OVERLAP_CAP allowed penetrations
-        // is being pushed out along its own normals, and two tori spawned
-        // overlapping, taken for a sliding pair as they were, were pushed
-        // 26 mm sideways along their overlap's normals. Struck stays
+        // contacts did not hold (moved, closed in; slid, for a pair that
+        // began the step shallow) count in it. Counted in the contact
+        // margin (5 mm, not 2), they left alone a torus of the concave pile
+        // rocking on another, which found one of its two contact regions
+        // each step and swung the other 4.8 mm deep. A pair already deeper
+        // than END_OVERLAP_CAP allowed penetrations is being pushed out
+        // along its own normals, which slides it across the normals of its
+        // overlap's other points: two tori spawned overlapping, taken for a
+        // sliding pair in the mesh margin, were pushed 26 mm sideways
+        // (`sliding` keeps the contact margin for them). Struck stays
         // counted in the contact margin: in the mesh margin it took the
         // median of the concave pile's 64 landings from 1.75 to 1.61 mm
         // but cost the torus chain, whose links jerk each other every step,
@@ -461,10 +464,8 @@ impl World {
                 .map(|(a, b, points)| ((a, b), self.slide(f, (a, b), &f.points[points]))),
         );
         // In the pair's margin where the pair began the step no deeper than
-        // END_OVERLAP_CAP allowed penetrations; a pair deeper than that is
-        // being pushed out of an overlap along its own normals, which slides
-        // it across the normals of the overlap's other points (see
-        // `pair_margin`).
+        // END_OVERLAP_CAP allowed penetrations, else in the contact margin
+        // (see `pair_margin`).
         let sliding = |a: u32, b: u32| {
             let reach = if floor(a, b) <= END_OVERLAP_CAP * allowed {
                 pair_margin(a, b)

@@ -422,18 +422,25 @@ impl World {
                 margin
             }
         };
-        // Struck within the step, by STRUCK_MARGINS margins.
+        // Struck within the step, by STRUCK_MARGINS contact margins.
         let struck =
             |a: u32, b: u32| struck_by[a as usize].max(struck_by[b as usize]) > STRUCK_MARGINS * margin;
-        // The tests of `may_take_part` (below) that need no contact patch:
-        // a pile of boxes at rest passes none, and skips the rest.
-        let mesh_or_struck =
+        // Which pairs may take part: a body that can move, and a mesh or a
+        // struck body (a pile of boxes at rest has none, and skips the
+        // rest). Against a static or kinematic body too, fast or slow,
+        // touching it at the step's start or not: the sweeps ran first and
+        // put back a body that passed through or sank deeper than the
+        // margin, and a point that came in from a wall's far side goes back
+        // the way it came (`end_overlaps`). (Once a fast body that had not
+        // touched the wall was left to the sweeps alone: a bracket of the
+        // concave pile struck against the bin's floor ended 11 mm in it.)
+        let may_take_part =
             |a: u32, b: u32| (movable(a) || movable(b)) && (has_mesh(a) || has_mesh(b) || struck(a, b));
         let candidates: Vec<(u32, u32)> = f
             .pairs
             .iter()
             .copied()
-            .filter(|&(a, b)| mesh_or_struck(a, b))
+            .filter(|&(a, b)| may_take_part(a, b))
             .collect();
         if candidates.is_empty() {
             return;
@@ -501,14 +508,6 @@ impl World {
             let after = (eb.body.position() - ea.body.position()).length();
             announced.max(before - after)
         };
-        // Against a static or kinematic body too, fast or slow, touching it
-        // at the step's start or not: the sweeps ran first and put back a
-        // body that passed through or sank deeper than the margin, and
-        // a point that came in from a wall's far side goes back the way it
-        // came (`end_overlaps`). (Once a fast body that had not touched
-        // the wall was left to the sweeps alone: a bracket of the concave
-        // pile struck against the bin's floor ended 11 mm in it.)
-        let may_take_part = |a: u32, b: u32| mesh_or_struck(a, b);
         // A pair that began the step deeper than DEEP_START_MARGINS is the
         // push-out's alone (two bodies spawned inside each other separate
         // along their own push-out normals, and the points that separation

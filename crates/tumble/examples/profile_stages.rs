@@ -15,7 +15,7 @@
 //! `WorldSettings` field set to `m`; with `PIN_THREADS=1`, `adaptive_threads`
 //! off (every step with work for the threads on them); with `NO_CCD=1`,
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
-//! total energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
+//! total energy, kinetic energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
 //! impulse and the two bodies' speeds; with `TRACE_PAIR=depth` (m; any other
 //! value: 1 cm), after every step whose deepest contact is over it, that pair's contacts then and at
@@ -265,8 +265,9 @@ fn main() {
         gaining_steps += usize::from(now - energy > 1e-3);
         if trace_energy {
             eprintln!(
-                "step {step}: energy change {:+.4e} J, deepest {:.4} m, solver residual {:.2e} m/s",
+                "step {step}: energy change {:+.4e} J, kinetic {:.3e} J, deepest {:.4} m, solver residual {:.2e} m/s",
                 now - energy,
+                world.kinetic_energy(),
                 r.max_penetration,
                 r.solver_residual
             );

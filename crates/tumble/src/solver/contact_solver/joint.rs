@@ -189,6 +189,9 @@ pub struct JointConstraint {
     h: f64,
     /// A's lever arm to its anchor as the rows were built (for the reaction).
     lever_a: DVec3,
+    /// The scalar rows' effective masses with the equality rows held, and
+    /// their couplings, are this sub-step's (see `hold_equality_rows`).
+    held: bool,
 }
 
 impl JointConstraint {
@@ -223,6 +226,7 @@ impl JointConstraint {
             direct: false,
             island_rows: 0,
             lever_a: DVec3::ZERO,
+            held: false,
         }
     }
 
@@ -267,7 +271,9 @@ impl JointConstraint {
     }
 
     /// Effective masses, bounds and soft coefficients for the bodies'
-    /// inverse masses; the equality block factored.
+    /// inverse masses; the equality block factored, unless the joint's
+    /// island solves its equality rows (then `hold_equality_rows` when a
+    /// scalar row first acts in the sub-step).
     fn condition(&mut self, ma: f64, ia: &glam::DMat3, mb: f64, ib: &glam::DMat3, h: f64) {
         let m_sum = ma + mb;
         for i in 0..JOINT_ROWS {
@@ -277,6 +283,13 @@ impl JointConstraint {
             let r = &mut self.rows[i];
             r.ia = *ia * r.ang_a;
             r.ib = *ib * r.ang_b;
+            r.push = 0.0;
+            if i < self.n_eq {
+                // Equality rows are solved as a block (the joint's or its
+                // island's): unbounded, rigid, no effective mass of their own.
+                (r.lo, r.hi, r.gamma, r.bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
+                continue;
+            }
             let k = m_sum * r.lin.length_squared() + r.ang_a.dot(r.ia) + r.ang_b.dot(r.ib);
             let (mut lo, mut hi, mut gamma, mut bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
             match i {
@@ -314,14 +327,21 @@ impl JointConstraint {
             } else {
                 0.0
             };
-            r.push = 0.0;
         }
-        // A joint whose equality rows its island solves, and which has no
-        // limit, motor or spring row of its own, never uses its block.
-        let own_scalar_rows = self.active & !self.island_rows & !((1u16 << LOWER) - 1);
-        if self.direct && own_scalar_rows == 0 {
-            return;
+        // A joint whose equality rows its island solves uses its own block
+        // only for its limits, motor or spring, and a limit only when it
+        // acts: most sub-steps of a ragdoll's elbows and knees need none.
+        self.held = false;
+        if !self.direct {
+            self.hold_equality_rows(m_sum);
         }
+    }
+
+    /// The equality block `K` factored, and each scalar row's effective
+    /// mass and coupling with the equality rows held, for the rows of this
+    /// sub-step (`m_sum`: the two bodies' inverse masses added).
+    fn hold_equality_rows(&mut self, m_sum: f64) {
+        self.held = true;
         // K = J M^-1 J^T over the equality rows, a small regularization on
         // its diagonal (a degenerate pose makes rows dependent).
         let n = self.n_eq;
@@ -865,13 +885,18 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
         if j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
             continue;
         }
+        let r = &j.rows[i];
+        let residual = r.velocity(p.va, p.wa, p.vb, p.wb) + r.bias + r.gamma * r.impulse;
+        if r.lo == 0.0 && r.impulse == 0.0 && residual >= 0.0 {
+            // A limit that is not pressed stays at zero, whatever its
+            // effective mass: the block need not be held for it.
+            continue;
+        }
+        if !j.held {
+            j.hold_equality_rows(p.ma + p.mb);
+        }
         let r = &mut j.rows[i];
-        let jv = r.velocity(p.va, p.wa, p.vb, p.wb);
-        let new = crate::solver::clamp_impulse(
-            r.impulse - r.mass * (jv + r.bias + r.gamma * r.impulse),
-            r.lo,
-            r.hi,
-        );
+        let new = crate::solver::clamp_impulse(r.impulse - r.mass * residual, r.lo, r.hi);
         let dl = new - r.impulse;
         r.impulse = new;
         j.apply_scalar(&mut p, i, dl, false);
@@ -909,7 +934,7 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
         if j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
             continue;
         }
-        let r = &mut j.rows[i];
+        let r = &j.rows[i];
         if r.c >= 0.0 && r.push == 0.0 {
             continue;
         }
@@ -920,6 +945,10 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
             0.0
         };
         let jp = r.velocity(p.va, p.wa, p.vb, p.wb);
+        if !j.held {
+            j.hold_equality_rows(p.ma + p.mb);
+        }
+        let r = &mut j.rows[i];
         let new = (r.push + r.mass * (target - jp)).max(0.0);
         let dl = new - r.push;
         r.push = new;

@@ -24,7 +24,7 @@
 //! step before, the two bodies' centres and velocities before the step
 //! before and before this step (a spin taken on within the step) and
 //! after it; with `TRACE_MOVING` set, the
-//! six fastest bodies at the end (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
+//! six fastest bodies at the end (`#k`: the body's index, for `TRACE_BODY`) (what keeps a pile from rest); with `TRACE_JOINTS=N`, every N steps the
 //! largest joint error and which joint has it; with `TRACE_SINK=N`, every N
 //! steps how far a pyramid's layers sank and its flanks moved in; with
 //! `TRACE_LEAN=N`, every N steps how far they leaned out of its plane; with
@@ -442,7 +442,8 @@ fn main() {
         let mut v: Vec<(f64, String, DVec3, DVec3, DVec3)> = world
             .body_ids()
             .into_iter()
-            .map(|id| {
+            .enumerate()
+            .map(|(k, id)| {
                 let (lv, av) = (
                     world.linear_velocity(id).unwrap(),
                     world.angular_velocity(id).unwrap(),
@@ -451,7 +452,7 @@ fn main() {
                 let at = world.center_of_mass(id).unwrap();
                 (
                     lv.length() + av.length() * 0.1,
-                    world.name(id).unwrap_or("?").to_string(),
+                    format!("#{k} {}", world.name(id).unwrap_or("?")),
                     lv,
                     av,
                     at,

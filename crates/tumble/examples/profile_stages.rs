@@ -13,7 +13,8 @@
 //! `RESTING_MOTION=m`, `CONTACT_MARGIN=m`, `MESH_CONTACT_MARGIN=m` or
 //! `ALLOWED_PENETRATION=m`, that
 //! `WorldSettings` field set to `m`; with `PIN_THREADS=1`, `adaptive_threads`
-//! off (every step with work for the threads on them); with `NO_CCD=1`,
+//! off (every step with work for the threads on them); with `TRACE_THREADS=1`,
+//! each step's thread count (the adaptive choice's) and time; with `NO_CCD=1`,
 //! the continuous stage off; with `TRACE_ENERGY=1`, each step's change of
 //! total energy, kinetic energy and deepest penetration; with `TRACE_DEEPEST=N`, every N steps
 //! the deepest contact: its depth, height, the two bodies' names, normal,
@@ -205,6 +206,7 @@ fn main() {
     // friction may only take it away, so a gain is a defect to chase.
     let mut energy = world.kinetic_energy() + world.potential_energy();
     let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
+    let trace_threads = std::env::var("TRACE_THREADS").is_ok();
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
     let mut threaded_steps = 0usize;
     let mut prev: Vec<tumble::world::WorldContact> = Vec::new();
@@ -258,6 +260,13 @@ fn main() {
         };
         let r = world.step();
         threaded_steps += usize::from(r.threads > 1);
+        if trace_threads {
+            eprintln!(
+                "step {step}: {} thread(s), {:.3} ms",
+                r.threads,
+                r.total_time().as_secs_f64() * 1e3
+            );
+        }
         let now = world.kinetic_energy() + world.potential_energy();
         if now - energy > largest_gain {
             (largest_gain, gain_step) = (now - energy, step);

@@ -191,7 +191,7 @@ pub struct JointConstraint {
     lever_a: DVec3,
     /// The scalar rows' effective masses with the equality rows held, and
     /// their couplings, are this sub-step's (see `hold_equality_rows`).
-    held: bool,
+    pub(super) held: bool,
 }
 
 impl JointConstraint {
@@ -340,7 +340,7 @@ impl JointConstraint {
     /// The equality block `K` factored, and each scalar row's effective
     /// mass and coupling with the equality rows held, for the rows of this
     /// sub-step (`m_sum`: the two bodies' inverse masses added).
-    fn hold_equality_rows(&mut self, m_sum: f64) {
+    pub(super) fn hold_equality_rows(&mut self, m_sum: f64) {
         self.held = true;
         // K = J M^-1 J^T over the equality rows, a small regularization on
         // its diagonal (a degenerate pose makes rows dependent).

@@ -906,6 +906,69 @@ mod tests {
         }
     }
 
+    /// A joint solved with its island holds its own equality block (the
+    /// effective masses of its limits with the equality rows held) only in
+    /// the sub-steps where one of its limits acts; holding it at every
+    /// sub-step's start instead gives the same bits, and the lazy run does
+    /// skip it where no limit is pressed.
+    #[test]
+    fn limits_held_only_where_they_act_give_the_bits_of_limits_held_always() {
+        let (bodies, joints) = trees(&mut SplitMix64(11), 4);
+        let run = |eager: bool| {
+            let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
+            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, &[], LANES);
+            let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
+            let h = 1.0 / 480.0;
+            let (mut held, mut skipped) = (0, 0);
+            for _ in 0..8 {
+                begin_joints(&mut joints, &mut islands, &mut bodies, h, true);
+                if eager {
+                    for j in joints.iter_mut().filter(|j| j.direct) {
+                        let m_sum = bodies[j.a as usize].inv_mass + bodies[j.b as usize].inv_mass;
+                        j.hold_equality_rows(m_sum);
+                    }
+                }
+                solve_joints(&mut joints, &mut islands, &mut bodies);
+                solve_joints(&mut joints, &mut islands, &mut bodies);
+                push_joints(&mut joints, &mut islands, &mut bodies, h);
+                integrate_positions(&mut bodies, &q0, h);
+                for j in joints.iter().filter(|j| j.direct && j.law.limits.is_some()) {
+                    if j.held {
+                        held += 1;
+                    } else {
+                        skipped += 1;
+                    }
+                }
+            }
+            let state: Vec<[[u64; 3]; 3]> = bodies
+                .iter()
+                .map(|b| [b.v, b.w, b.dp].map(|x| x.to_array().map(f64::to_bits)))
+                .collect();
+            let impulses: Vec<[u64; JOINT_ROWS]> =
+                joints.iter().map(|j| j.impulses().map(f64::to_bits)).collect();
+            (state, impulses, held, skipped)
+        };
+        let (state, impulses, held, skipped) = run(false);
+        let (state_eager, impulses_eager, _, _) = run(true);
+        assert!(joints_with_limits_in_islands(&bodies, &joints) > 0);
+        assert!(
+            held > 0 && skipped > 0,
+            "limits held {held}, skipped {skipped}: the test needs both"
+        );
+        assert_eq!(state, state_eager);
+        assert_eq!(impulses, impulses_eager);
+    }
+
+    /// How many joints with limits [`joint_islands`] solves with an island.
+    fn joints_with_limits_in_islands(bodies: &[SolverBody], joints: &[JointConstraint]) -> usize {
+        let mut joints = joints.to_vec();
+        joint_islands_in_lanes(&mut joints, bodies, &[], LANES);
+        joints
+            .iter()
+            .filter(|j| j.direct && j.law.limits.is_some())
+            .count()
+    }
+
     /// `count` chains of three bodies on ball joints (world - A - B - C,
     /// masses 1 : 0.1 : 10, random velocities) whose ends A and C touch:
     /// a patch of two overlapping points closes the loop A - B - C. The

@@ -9,7 +9,10 @@
 //!   together, as one block `K dl = -J v` with `K = J M^-1 J^T` factored
 //!   once per sub-step (Cholesky): a lone joint is exact in one pass, and
 //!   the rows of a joint never fight each other (Box2D and Jolt solve the
-//!   point part of a joint as one 3x3 block the same way).
+//!   point part of a joint as one 3x3 block the same way). A joint whose
+//!   island solves its equality rows (`joint_island`) factors its own block
+//!   only for the sub-steps in which one of its limits acts, for the
+//!   limit's effective mass with the equality rows held (below).
 //! - *Limit rows* (hinge angle, slider offset, rope length, swing cone,
 //!   twist) push only (`l >= 0`) and are speculative like contacts: a limit
 //!   still `C` away lets the joint approach it at `C / h` per sub-step.

@@ -859,6 +859,21 @@ mod tests {
         (bodies, joints)
     }
 
+    /// The rest of a sub-step after its start: two velocity passes, a
+    /// push-out pass and the position update.
+    fn passes(
+        joints: &mut [JointConstraint],
+        islands: &mut [JointIsland],
+        bodies: &mut [SolverBody],
+        q0: &[DQuat],
+        h: f64,
+    ) {
+        solve_joints(joints, islands, bodies);
+        solve_joints(joints, islands, bodies);
+        push_joints(joints, islands, bodies, h);
+        integrate_positions(bodies, q0, h);
+    }
+
     /// Four islands of one shape solved in the lanes of one unit give the
     /// bits each gets in a unit of its own: sub-steps of the joints' start,
     /// two velocity passes, a push-out pass and the position update.
@@ -872,10 +887,7 @@ mod tests {
             let h = 1.0 / 480.0;
             for _ in 0..6 {
                 begin_joints(&mut joints, &mut islands, &mut bodies, h, true);
-                solve_joints(&mut joints, &mut islands, &mut bodies);
-                solve_joints(&mut joints, &mut islands, &mut bodies);
-                push_joints(&mut joints, &mut islands, &mut bodies, h);
-                integrate_positions(&mut bodies, &q0, h);
+                passes(&mut joints, &mut islands, &mut bodies, &q0, h);
             }
             let lanes: Vec<usize> = islands.iter().map(JointIsland::lanes).collect();
             let state: Vec<[DVec3; 3]> = bodies.iter().map(|b| [b.v, b.w, b.dp]).collect();
@@ -928,10 +940,7 @@ mod tests {
                         j.hold_equality_rows(m_sum);
                     }
                 }
-                solve_joints(&mut joints, &mut islands, &mut bodies);
-                solve_joints(&mut joints, &mut islands, &mut bodies);
-                push_joints(&mut joints, &mut islands, &mut bodies, h);
-                integrate_positions(&mut bodies, &q0, h);
+                passes(&mut joints, &mut islands, &mut bodies, &q0, h);
                 for j in joints.iter().filter(|j| j.direct && j.law.limits.is_some()) {
                     if j.held {
                         held += 1;

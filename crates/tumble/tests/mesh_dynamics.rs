@@ -203,6 +203,58 @@ fn mesh_sphere_rolls_down_the_incline_at_five_sevenths_g_sin_theta() {
 }
 
 #[test]
+fn mesh_box_on_a_mesh_slope_sticks_or_slides_as_coulomb_says() {
+    // shared/scenes.md incline (30 degrees) with both the slab and the cube
+    // as triangle meshes. With mu 0.7 > tan 30 the cube holds still (its
+    // patch holds an anchor, and from 0.5 s on it stays within a micron);
+    // with mu 0.2 the anchor lets go and the cube slides at
+    // g (sin - mu cos).
+    let theta = 30f64.to_radians();
+    let downhill = DVec3::new(theta.cos(), 0.0, -theta.sin());
+    for mu in [0.7, 0.2] {
+        let mut scene = tumble::scenes::incline(mu);
+        let (slab, cube) = (scene.bodies[0].pose, scene.bodies[1].pose);
+        scene.bodies[0] = BodyDesc::fixed(mesh(box_mesh(DVec3::new(10.0, 10.0, 0.5)).unwrap()))
+            .with_pose(slab)
+            .with_material(mu, 0.0);
+        scene.bodies[1] = BodyDesc::dynamic(mesh(box_mesh(DVec3::splat(0.25)).unwrap()))
+            .with_pose(cube)
+            .with_mass(1.0)
+            .with_material(mu, 0.0);
+        let (mut world, ids) = scene.build().unwrap();
+        let start = world.center_of_mass(ids[1]).unwrap();
+        let mut settled = start;
+        let steps = (5.0 / scene.settings.dt).round() as usize;
+        for k in 1..=steps {
+            world.step();
+            if k == steps / 10 {
+                settled = world.center_of_mass(ids[1]).unwrap();
+            }
+            if mu < 0.5 && k == steps / 5 {
+                // 1 s in: d = a t^2 / 2.
+                let a = 9.81 * (theta.sin() - mu * theta.cos());
+                let d = (world.center_of_mass(ids[1]).unwrap() - start).dot(downhill);
+                assert!(
+                    (d - 0.5 * a).abs() < 0.02 * 0.5 * a,
+                    "slid {d} m in 1 s, expected {}",
+                    0.5 * a
+                );
+                break;
+            }
+        }
+        if mu > 0.5 {
+            let crept = (world.center_of_mass(ids[1]).unwrap() - settled).length();
+            assert!(crept < 1e-6, "the cube crept {crept} m from 0.5 s to 5 s");
+            assert!(
+                (settled - start).length() < 1e-3,
+                "moved {} m settling",
+                (settled - start).length()
+            );
+        }
+    }
+}
+
+#[test]
 fn box_slides_straight_and_smoothly_across_a_ground_of_small_triangles() {
     // A cube slides at 3 m/s across a static sheet of 0.25 m cells (3200
     // triangles, diagonals in a checkerboard). The internal edges must not

@@ -17,7 +17,8 @@
 //!
 //! Friction lives on contact patches (see `solver::contact_solver`): each
 //! patch's friction impulses are remembered under the collider pair and the
-//! patch normal.
+//! patch normal, and so is where a sticking mesh patch is anchored
+//! (docs/pipeline.md, "Anchors").
 
 use tumble_collide::{DVec3, Feature, Pose};
 
@@ -52,6 +53,10 @@ pub(crate) struct CachedPatch {
     pub tangent_impulse: DVec3,
     /// Twist friction impulse about the normal (N m s).
     pub twist_impulse: f64,
+    /// Where the patch stuck: one material point of A and one of B that
+    /// coincided when it began to stick, each from its body's centre of
+    /// mass in its body axes (m); `None` while it slides or does not press.
+    pub anchor: Option<[DVec3; 2]>,
 }
 
 /// Where a collider pair with a triangle mesh was when its contacts were

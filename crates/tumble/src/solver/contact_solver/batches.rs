@@ -302,9 +302,10 @@ impl SolverArrays<'_> {
     }
 
     /// [`super::push_out`] (and the joints) by the team, as its pass number
-    /// `pass` (from 1) of the sub-step: a thread whose patches or joints
-    /// pushed raises `pushed` to `pass`. After the call every thread sees
-    /// whether any pushed (`pushed == pass`).
+    /// `pass` (from 1, counted over the step), the sub-step's `first` or a
+    /// later one: a thread whose patches or joints pushed raises `pushed`
+    /// to `pass`. After the call every thread sees whether any pushed
+    /// (`pushed == pass`).
     ///
     /// # Safety
     /// As [`SolverArrays::begin_substep`].
@@ -314,6 +315,7 @@ impl SolverArrays<'_> {
         params: &SolverParams,
         h: f64,
         pass: usize,
+        first: bool,
         pushed: &AtomicUsize,
     ) {
         let inv_h = 1.0 / h;
@@ -333,11 +335,15 @@ impl SolverArrays<'_> {
             self.each_patch(
                 team,
                 |m, pts| {
-                    if push_patch(m, pts, &self.bodies, params, inv_h) {
+                    if push_patch(m, pts, &self.bodies, params, inv_h, first) {
                         pushed.fetch_max(pass, Ordering::Relaxed);
                     }
                 },
-                BundlePass::Push { params, inv_h },
+                BundlePass::Push {
+                    params,
+                    inv_h,
+                    hold: first,
+                },
                 || {
                     pushed.fetch_max(pass, Ordering::Relaxed);
                 },

@@ -191,6 +191,15 @@ pub struct ManifoldConstraint {
     /// direct all-points-pressing solve that `passes::solve_block` tries
     /// before its sweeps.
     pub block_inverse: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
+    /// Whether the patch holds an anchor from the last step (it stuck):
+    /// the push-out then also pulls its two anchor points back together
+    /// across the normal, within what friction has left (`passes::hold_anchor`).
+    pub anchored: bool,
+    /// The anchor points' lever arms from A's and B's centres of mass at the
+    /// step start (world, m).
+    pub anchor_r: [DVec3; 2],
+    /// A's anchor point less B's at the step start (world, m).
+    pub anchor_offset: DVec3,
 }
 
 /// Patches with at most this many points solve their normal rows as one
@@ -242,6 +251,9 @@ impl ManifoldConstraint {
             inv_mass: [0.0; 2],
             block: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
             block_inverse: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
+            anchored: false,
+            anchor_r: [DVec3::ZERO; 2],
+            anchor_offset: DVec3::ZERO,
         }
     }
 

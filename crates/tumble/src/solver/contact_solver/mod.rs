@@ -18,7 +18,9 @@
 //!    disc, then `v_n >= 0` on touching points and `v_n >= -s/h` on points
 //!    with a gap `s` (speculative: the gap may close, never go negative),
 //! 4. push-out ([`push_out`]): overlap beyond the allowance is removed by
-//!    pseudo-velocities that move the bodies but are then discarded,
+//!    pseudo-velocities that move the bodies but are then discarded (in
+//!    the first pass, sticking patches of meshes also pull their anchor
+//!    points back together: static friction at the position level),
 //! 5. integrate positions with the velocities plus the pseudo-velocities
 //!    ([`integrate_positions`]).
 //!

@@ -399,7 +399,14 @@ fn push_out_lifts_a_sunken_box_face_without_turning_it() {
     c.patch(0, 1, DVec3::Z, &sunk, 0.5, 0.0);
     c.prepare(&bodies);
     begin_substep(&mut c.manifolds, &mut c.points, &mut bodies, false);
-    assert!(push_out(&c.manifolds, &mut c.points, &mut bodies, &params(), h));
+    assert!(push_out(
+        &c.manifolds,
+        &mut c.points,
+        &mut bodies,
+        &params(),
+        h,
+        true
+    ));
     let lift = params().push_out_fraction * depth / h;
     assert!(
         (bodies[0].push_v - DVec3::Z * lift).length() < 1e-12 * lift,

@@ -141,6 +141,12 @@ pub(crate) struct WidePatch<const N: usize> {
     block: Block<N>,
     block_inverse: Block<N>,
     points: [WidePoint; N],
+    /// All bits set in lanes whose patch holds an anchor
+    /// (`ManifoldConstraint::anchored`), its lever arms and offset.
+    anchored: Lane,
+    anchor_ra: V3,
+    anchor_rb: V3,
+    anchor_offset: V3,
 }
 
 /// `rolling::Rolling` of four patches, one per lane (zero in lanes without
@@ -201,6 +207,10 @@ impl<const N: usize> WidePatch<N> {
             block: [[Lane::ZERO; N]; N],
             block_inverse: [[Lane::ZERO; N]; N],
             points: [WidePoint::default(); N],
+            anchored: Lane::ZERO,
+            anchor_ra: V3::ZERO,
+            anchor_rb: V3::ZERO,
+            anchor_offset: V3::ZERO,
         }
     }
 
@@ -244,6 +254,12 @@ impl<const N: usize> WidePatch<N> {
             }
             set(&mut w.inv_mass[0], l, m.inv_mass[0]);
             set(&mut w.inv_mass[1], l, m.inv_mass[1]);
+            if m.anchored {
+                set(&mut w.anchored, l, f64::from_bits(u64::MAX));
+                w.anchor_ra.set_lane(l, m.anchor_r[0]);
+                w.anchor_rb.set_lane(l, m.anchor_r[1]);
+                w.anchor_offset.set_lane(l, m.anchor_offset);
+            }
             for i in 0..N {
                 for j in 0..N {
                     set(&mut w.block[i][j], l, m.block[i][j]);
@@ -1087,7 +1103,7 @@ fn swept_block<const N: usize>(
 
 /// `passes::push_patch` on four patches (its `push_block`, lane by lane:
 /// directly where the patch is flat and every point takes part, else point
-/// after point); whether any lane pushed.
+/// after point; then with `hold` its `hold_anchor`); whether any lane pushed.
 ///
 /// # Safety
 /// The lanes' dynamic bodies are this thread's alone meanwhile.
@@ -1096,6 +1112,7 @@ pub(super) unsafe fn push<const N: usize>(
     bodies: &Shared<SolverBody>,
     params: &SolverParams,
     inv_h: f64,
+    hold: bool,
 ) -> bool {
     let allowed = Lane::splat(params.allowed_penetration);
     // `passes::push_target`: a real point takes part where it overlaps
@@ -1107,7 +1124,8 @@ pub(super) unsafe fn push<const N: usize>(
         *t = p.real & !(le(Lane::ZERO, excess) & eq(p.push_impulse, Lane::ZERO));
         pushing |= *t;
     }
-    if !pushing.any() {
+    let holding = hold && w.anchored.any();
+    if !pushing.any() && !holding {
         return false;
     }
     // SAFETY: the caller's promise.
@@ -1118,6 +1136,34 @@ pub(super) unsafe fn push<const N: usize>(
         vb: V3::from_lanes(b.map(|b| b.push_v)),
         wb: V3::from_lanes(b.map(|b| b.push_w)),
     };
+    if pushing.any() {
+        push_points(w, &mut vel, params, inv_h, &taking_part, pushing);
+    }
+    if holding {
+        hold_anchor(w, (&a, &b), &mut vel, inv_h);
+    }
+    // SAFETY: the caller's promise.
+    unsafe {
+        scatter(bodies, w, [vel.va, vel.wa, vel.vb, vel.wb], |body, v, omega| {
+            body.push_v = v;
+            body.push_w = omega;
+        })
+    };
+    pushing.any()
+}
+
+/// The push-out rows of [`push`]: `passes::push_block` where it applies,
+/// else `passes::push_points`, in the lanes where a point takes part.
+#[inline(always)]
+fn push_points<const N: usize>(
+    w: &mut WidePatch<N>,
+    vel: &mut PairLanes,
+    params: &SolverParams,
+    inv_h: f64,
+    taking_part: &[Lane; N],
+    pushing: Lane,
+) {
+    let allowed = Lane::splat(params.allowed_penetration);
     let (fraction, max_speed, inv_h) = (
         Lane::splat(-params.push_out_fraction),
         Lane::splat(params.max_push_out_speed),
@@ -1148,12 +1194,12 @@ pub(super) unsafe fn push<const N: usize>(
     let (direct, ok) = direct_block(w, &b, &lambda);
     let ok = ok & all & pushing;
     if ok.any() {
-        let mut solved = vel;
+        let mut solved = *vel;
         for (i, p) in w.points.iter_mut().enumerate() {
             p.push_impulse = select(ok, lambda[i] + direct[i], p.push_impulse);
             solved.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, w.inv_mass, direct[i]);
         }
-        vel = PairLanes::select(ok, &solved, &vel);
+        *vel = PairLanes::select(ok, &solved, vel);
     }
     // The other lanes point after another (`passes::push_points`).
     if !ok.all() {
@@ -1169,14 +1215,50 @@ pub(super) unsafe fn push<const N: usize>(
             vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, w.inv_mass, applied);
         }
     }
-    // SAFETY: the caller's promise.
-    unsafe {
-        scatter(bodies, w, [vel.va, vel.wa, vel.vb, vel.wb], |body, v, omega| {
-            body.push_v = v;
-            body.push_w = omega;
-        })
-    };
-    true
+}
+
+/// `passes::hold_anchor` in the lanes whose patch holds an anchor and has
+/// friction left.
+#[inline(always)]
+fn hold_anchor<const N: usize>(
+    w: &WidePatch<N>,
+    (a, b): (&[&SolverBody; LANES], &[&SolverBody; LANES]),
+    vel: &mut PairLanes,
+    inv_h: f64,
+) {
+    let mut total = Lane::ZERO;
+    for p in &w.points {
+        total += p.normal_impulse;
+    }
+    let used = (w.impulses[0] * w.impulses[0] + w.impulses[1] * w.impulses[1]).sqrt();
+    let budget = w.friction * total - used;
+    let act = w.anchored & lt(Lane::ZERO, budget);
+    if !act.any() {
+        return;
+    }
+    let (dpa, dpb) = (V3::from_lanes(a.map(|b| b.dp)), V3::from_lanes(b.map(|b| b.dp)));
+    let (ta, tb) = (
+        M3::from_lanes(a.map(|b| b.turn)),
+        M3::from_lanes(b.map(|b| b.turn)),
+    );
+    let (ra, rb) = (w.anchor_ra, w.anchor_rb);
+    let offset = w.anchor_offset + ((dpa + ta.mul_vec(ra)) - ra) - ((dpb + tb.mul_vec(rb)) - rb);
+    let gain = Lane::splat(-super::passes::HOLD_FRACTION * inv_h);
+    let mut lambda = [Lane::ZERO; 2];
+    for (i, l) in lambda.iter_mut().enumerate() {
+        let (d, row) = (w.directions[i], &w.rows[i]);
+        *l = w.masses[i] * (gain * offset.dot(d) - vel.along(d, row.ra_x_d, row.rb_x_d));
+    }
+    let len = (lambda[0] * lambda[0] + lambda[1] * lambda[1]).sqrt();
+    let over = lt(budget, len);
+    let scale = budget / len;
+    lambda = lambda.map(|l| select(over, l * scale, l));
+    let mut held = *vel;
+    for (i, &l) in lambda.iter().enumerate() {
+        let row = &w.rows[i];
+        held.apply(w.directions[i], row.ia_ra_x_d, row.ib_rb_x_d, w.inv_mass, l);
+    }
+    *vel = PairLanes::select(act, &held, vel);
 }
 
 /// `passes::residual` over a bundle's real points: the largest violation
@@ -1220,6 +1302,8 @@ pub(crate) enum BundlePass<'a> {
         params: &'a SolverParams,
         /// `1 / h`.
         inv_h: f64,
+        /// Hold the anchors of sticking patches (the sub-step's first pass).
+        hold: bool,
     },
 }
 
@@ -1241,7 +1325,7 @@ impl BundlePass<'_> {
                     solve(w, bodies, inv_h);
                     false
                 }
-                BundlePass::Push { params, inv_h } => push(w, bodies, params, inv_h),
+                BundlePass::Push { params, inv_h, hold } => push(w, bodies, params, inv_h, hold),
             }
         }
     }
@@ -1366,6 +1450,12 @@ mod tests {
                         - DMat3::from_cols(normal * normal.x, normal * normal.y, normal * normal.z);
                     m.curvature = across * (-1.0 / (3.0 * radius));
                 }
+                // Most of the others stuck last step and hold an anchor.
+                4..=6 => {
+                    m.anchored = true;
+                    m.anchor_r = [rng.vec3(0.6), rng.vec3(0.6)];
+                    m.anchor_offset = rng.vec3(0.002);
+                }
                 _ => {}
             }
             prepare(&mut m, &mut points, &bodies);
@@ -1407,7 +1497,7 @@ mod tests {
             for _ in 0..2 {
                 solve(manifolds, points, bodies, H);
             }
-            push_out(manifolds, points, bodies, &params(), H);
+            push_out(manifolds, points, bodies, &params(), H, true);
             integrate_positions(bodies, &q0, H);
         }
     }
@@ -1464,7 +1554,7 @@ mod tests {
                     for _ in 0..2 {
                         arrays.solve(team, H);
                     }
-                    arrays.push_out(team, &params(), H, sub + 1, &pushed);
+                    arrays.push_out(team, &params(), H, sub + 1, true, &pushed);
                 }
                 if team.index() == 0 {
                     // SAFETY: the others wait at the barrier below.
@@ -1684,5 +1774,18 @@ mod tests {
         assert!(whole > 10 && mixed > 10, "{whole} whole, {mixed} mixed");
         let rebuilt = manifolds.iter().zip(&before).filter(|(m, b)| m.block != b.block);
         assert!(rebuilt.count() > 10);
+        // Anchored patches with friction left to hold their anchor, and
+        // without.
+        let left = |m: &&ManifoldConstraint| {
+            let total: f64 = points[m.range()].iter().map(|p| p.normal_impulse).sum();
+            m.friction * total > m.impulses[0].hypot(m.impulses[1])
+        };
+        let anchored: Vec<_> = manifolds.iter().filter(|m| m.anchored).collect();
+        let holding = anchored.iter().filter(|m| left(m)).count();
+        assert!(
+            holding > 10 && anchored.len() - holding > 10,
+            "{holding} of {}",
+            anchored.len()
+        );
     }
 }

@@ -310,6 +310,7 @@ impl World {
                     restitution,
                     skin,
                     rolling: [ca.shape.rolling_radius(), cb.shape.rolling_radius()],
+                    anchors: is_mesh(ca) || is_mesh(cb),
                     smooth: match (&ca.shape, &cb.shape) {
                         (Shape::Mesh(m), round)
                             if round.rolling_radius() > 0.0 && m.smooth_surface().is_some() =>

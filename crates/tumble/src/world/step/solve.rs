@@ -16,9 +16,10 @@ use crate::solver::contact_solver::{
     SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
+use crate::world::patches::PreparedPatch;
 use crate::world::report::{SolveStage, StepReport};
 use crate::world::step::frame::SolverFrame;
-use crate::world::{SolverKind, World, WorldContact};
+use crate::world::{Arena, BodyEntry, SolverKind, World, WorldContact};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -255,8 +256,9 @@ impl World {
                     }
                     lap(SolveStage::Iterate);
                     for pass in 1..=push_out_iterations {
+                        let first = pass == 1;
                         let pass = (sub * push_out_iterations + pass) as usize;
-                        unsafe { arrays.push_out(team, &params, h, pass, &pushed) };
+                        unsafe { arrays.push_out(team, &params, h, pass, first, &pushed) };
                         // `<`, not `!=`: a thread that went on may already
                         // have raised `pushed` to `pass + 1` while a slower
                         // one reads it; only a thread that saw `pass` goes
@@ -461,6 +463,11 @@ impl World {
                     );
                     m.rolling = p.rolling;
                     m.curvature = p.curvature;
+                    if let Some(anchor) = &p.anchor {
+                        m.anchored = true;
+                        m.anchor_r = anchor.r;
+                        m.anchor_offset = anchor.offset;
+                    }
                 }
             });
         let position = &sf.position;
@@ -608,6 +615,7 @@ impl World {
             runs.push((c * run, run_patches, run_cache, run_contacts));
         }
         let scale = substeps as f64;
+        let bodies = &self.bodies;
         f.pool
             .for_each_mut(&mut runs, |_, (first, run_patches, run_cache, run_contacts)| {
                 let mut at = 0;
@@ -615,15 +623,16 @@ impl World {
                     let patch = &f.patches[*first + j];
                     let m = &sf.manifolds[sf.position[*first + j] as usize];
                     let tangent = m.tangent_impulse();
+                    // The patch's friction is reported on its points in
+                    // proportion to their normal impulses.
+                    let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
                     *cached = CachedPatch {
                         key: patch.key,
                         normal: patch.normal,
                         tangent_impulse: tangent,
                         twist_impulse: m.impulses[2],
+                        anchor: anchor_to_keep(bodies, f, patch, m, total),
                     };
-                    // The patch's friction is reported on its points in
-                    // proportion to their normal impulses.
-                    let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
                     let points = f.points[patch.range()].iter().zip(&sf.points[m.range()]);
                     for (k, (p, c)) in points.enumerate() {
                         let share = if total > 0.0 {
@@ -652,6 +661,47 @@ impl World {
         manifold::finish(&mut self.cache, &mut self.patch_cache);
     }
 }
+
+/// What a patch remembers of where it stuck (`CachedPatch::anchor`):
+/// the anchor it held, while it sticks (its friction impulse inside
+/// [`STICKING`] of the Coulomb disc); a new one where its two bodies
+/// meet at the patch's centre at the step's end, when it began to
+/// stick in this step; none while it slides, does not press, or rolls.
+fn anchor_to_keep(
+    bodies: &Arena<BodyEntry>,
+    f: &StepFrame,
+    patch: &PreparedPatch,
+    m: &ManifoldConstraint,
+    total: f64,
+) -> Option<[DVec3; 2]> {
+    let used = m.impulses[0].hypot(m.impulses[1]);
+    let sticks = total > 0.0 && used < STICKING * m.friction * total;
+    if !sticks || !patch.holds {
+        return None;
+    }
+    if let Some(anchor) = &patch.anchor {
+        return Some(anchor.local);
+    }
+    let sf = &f.solver;
+    let points = &f.points[patch.range()];
+    let centre = points.iter().map(|p| p.contact.point).sum::<DVec3>() / points.len() as f64;
+    let poses = [
+        bodies.at(patch.key.0)?.body.pose(),
+        bodies.at(patch.key.1)?.body.pose(),
+    ];
+    let moved = [&sf.bodies[m.a as usize], &sf.bodies[m.b as usize]];
+    // Each body's copy of the centre at the step's end, and their midpoint.
+    let ends = [0, 1].map(|k| poses[k].position + moved[k].dp + moved[k].turn * (centre - poses[k].position));
+    let meet = 0.5 * (ends[0] + ends[1]);
+    Some([0, 1].map(|k| {
+        let arm = moved[k].turn.transpose() * (meet - poses[k].position - moved[k].dp);
+        poses[k].rotation.inverse() * arm
+    }))
+}
+
+/// A patch sticks while its friction impulse stays within this fraction of
+/// the Coulomb disc's radius (`mu` times its normal impulse).
+const STICKING: f64 = 0.95;
 
 /// The sub-steps with the exact normal solve (`SolverKind::Lemke`): serial,
 /// small systems; falls back to the PGS passes if Lemke fails.
@@ -714,10 +764,12 @@ fn exact_substeps(
             report.solver_residual = contact_solver::residual(&sf.manifolds, &sf.points, &sf.bodies, h);
         }
         clock.lap(report, SolveStage::Iterate);
-        for _ in 0..push_out_iterations {
+        for pass in 0..push_out_iterations {
             let joints =
                 contact_solver::push_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies, h);
-            if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h) && !joints
+            let first = pass == 0;
+            if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h, first)
+                && !joints
             {
                 break;
             }
@@ -778,6 +830,7 @@ fn cache_placeholders() -> (CachedContact, CachedPatch, WorldContact) {
             normal: DVec3::Z,
             tangent_impulse: DVec3::ZERO,
             twist_impulse: 0.0,
+            anchor: None,
         },
         WorldContact {
             body_a: nobody,

@@ -1137,7 +1137,7 @@ pub(super) unsafe fn push<const N: usize>(
         wb: V3::from_lanes(b.map(|b| b.push_w)),
     };
     if pushing.any() {
-        push_points(w, &mut vel, params, inv_h, &taking_part, pushing);
+        push_rows(w, &mut vel, params, inv_h, &taking_part, pushing);
     }
     if holding {
         hold_anchor(w, (&a, &b), &mut vel, inv_h);
@@ -1155,7 +1155,7 @@ pub(super) unsafe fn push<const N: usize>(
 /// The push-out rows of [`push`]: `passes::push_block` where it applies,
 /// else `passes::push_points`, in the lanes where a point takes part.
 #[inline(always)]
-fn push_points<const N: usize>(
+fn push_rows<const N: usize>(
     w: &mut WidePatch<N>,
     vel: &mut PairLanes,
     params: &SolverParams,

@@ -663,7 +663,7 @@ fn solve_patch_friction(m: &mut ManifoldConstraint, total: f64, vel: &mut PairVe
 /// never adds kinetic energy and never depends on the load (a stack does
 /// not sag under its own weight, as it does with Baumgarte or spring bias).
 /// In the sub-step's `first` pass, patches that stuck in the last step also
-/// hold their anchors ([`hold_anchor`]). Returns `false` when no point
+/// hold their anchors (`hold_anchor`). Returns `false` when no point
 /// needed it (nothing was pushed; held anchors do not count).
 pub fn push_out(
     manifolds: &[ManifoldConstraint],

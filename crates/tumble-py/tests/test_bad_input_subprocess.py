@@ -143,7 +143,7 @@ CASES = [
     ("open(tmp + '/e.snap', 'wb').close(); tumble.World.load(tmp + '/e.snap')", FILE),
     ("tumble.World.from_bytes(b'garbage')", INVALID),
     ("tumble.World.from_bytes(world.to_bytes()[:40])", INVALID),
-    ("b = bytearray(world.to_bytes()); b[8] = 7; tumble.World.from_bytes(bytes(b))", INVALID),
+    ("b = bytearray(world.to_bytes()); b[8] += 1; tumble.World.from_bytes(bytes(b))", INVALID),
     ("world.save(tmp + '/no/such/dir/w.snap')", FILE),
 ]
 

@@ -105,9 +105,9 @@ fn a_layer_of_concave_bodies_comes_to_rest_and_stays_still() {
     // 25 bodies (five of each kind) dropped onto the bin's floor: by 5 s
     // they lie still, and over the next second none creeps by more than a
     // micron. Static friction is held at the position level (patch
-    // anchors): without it, their friction rows (at each patch's centre,
-    // over points of several normals) left a few bodies rocking and
-    // creeping, 1.4e-5 J still moving at 5 s and 6.4e-6 J at 6 s.
+    // anchors): without it, what the velocity passes left unsolved kept a
+    // few bodies rocking and creeping, 1.4e-5 J still moving at 5 s and
+    // 6.4e-6 J at 6 s.
     let scene = scenes::concave_pile(25);
     let (mut world, ids) = scene.build().unwrap();
     let mut deepest: f64 = 0.0;

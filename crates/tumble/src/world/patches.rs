@@ -109,11 +109,10 @@ pub(crate) struct PairInfo<'a> {
     /// (`Shape::rolling_radius`, 0 when not round).
     pub rolling: [f64; 2],
     /// Whether the pair's sticking patches hold anchors
-    /// (`CachedPatch::anchor`): pairs with a triangle mesh. Their patches'
-    /// points each have their own normal and are solved one after another,
-    /// and their friction, applied at the patch's centre, lets a resting
-    /// pile creep; a flat patch (a box's face) is solved as one block and
-    /// holds still (five slabs stacked on a slope of 0.4 rad did not move by
+    /// (`CachedPatch::anchor`): pairs with a triangle mesh (a resting pile
+    /// of concave bodies crept without anchors); a flat patch (a box's
+    /// face, block-solved, its points sharing one normal) held still where
+    /// measured (five slabs stacked on a slope of 0.4 rad did not move by
     /// a tenth of a micron from 8 s to 10 s), and anchors on the box stacks of the 20-layer
     /// pyramid let its wall sway further out of its plane (top box 17 mm
     /// away after 10 s instead of 3.7).

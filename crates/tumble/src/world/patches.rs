@@ -73,9 +73,6 @@ pub(crate) struct PreparedPatch {
     pub anchor: Option<PatchAnchor>,
     /// Whether the patch may hold an anchor (`PairInfo::anchors`, not round).
     pub holds: bool,
-    /// Whether its block LCP is solved exactly
-    /// (`ManifoldConstraint::exact_block`): pairs without a triangle mesh.
-    pub exact_block: bool,
 }
 
 /// A sticking patch's anchor at the step start.
@@ -297,7 +294,6 @@ pub(crate) fn add_pair(
             warm_twist,
             anchor,
             holds,
-            exact_block: !pair.anchors,
         });
     }
     warm

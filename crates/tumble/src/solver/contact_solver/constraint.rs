@@ -191,11 +191,6 @@ pub struct ManifoldConstraint {
     /// direct all-points-pressing solve that `passes::solve_block` tries
     /// before its sweeps.
     pub block_inverse: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
-    /// Whether the patch's block LCP is solved exactly where the direct
-    /// all-points-pressing answer fails (`passes::exact_from_sweeps`, and
-    /// the push-out's `passes::push_block`), not left to the sweeps: set
-    /// for pairs without a triangle mesh (see `passes::solve_block`).
-    pub exact_block: bool,
     /// Whether the patch holds an anchor from the last step (it stuck):
     /// the push-out then also pulls its two anchor points back together
     /// across the normal, within what friction has left (`passes::hold_anchor`).
@@ -256,7 +251,6 @@ impl ManifoldConstraint {
             inv_mass: [0.0; 2],
             block: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
             block_inverse: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
-            exact_block: false,
             anchored: false,
             anchor_r: [DVec3::ZERO; 2],
             anchor_offset: DVec3::ZERO,

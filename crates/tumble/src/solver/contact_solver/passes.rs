@@ -390,25 +390,13 @@ pub(super) const BLOCK_SWEEPS: usize = 8;
 /// patch's Delassus block, find the impulse change `d` such that
 /// `lambda + d >= 0`, `w = b + K d >= 0` and `(lambda + d) . w = 0`: first
 /// directly with every point pressing, else by projected Gauss-Seidel
-/// sweeps on the 4 x 4 system, whose answer a patch with `exact_block`
-/// (a pair without a triangle mesh) then makes exact
-/// ([`exact_from_sweeps`]); then apply `d` once.
+/// sweeps on the 4 x 4 system; then apply `d` once.
 ///
 /// Why: solved one row after another with the bodies' velocities updated in
 /// between, the first point of a face takes the load the others should
 /// share, and a tall stack of aligned boxes rocks from that bias. On the
 /// small block the sweeps are cheap (no body data is touched) and converge
-/// to an answer whose velocities do not depend on the order of the points,
-/// but not within their [`BLOCK_SWEEPS`]: a face's block is singular (four
-/// corners, three motions), and where a corner lifts the sweeps stopped an
-/// uneven amount short of the answer on the face's two sides (impulses a
-/// part in 10^4 apart after one step of a three-row pyramid). The 20-row
-/// pyramid, a wall one box deep that is its own mirror image through its
-/// plane, swayed out of that plane for the whole 10 s (top box 2-7 mm off
-/// it, 1.4e-4 J still moving at the end); solved exactly it stays in it to
-/// 1e-15 m and is at rest (4e-14 J). Pairs with a mesh keep the sweeps'
-/// answer: exact there too, 5 of 16 jittered starts of the concave pile
-/// lost a body over the bin's wall (none with the sweeps).
+/// to an answer whose velocities do not depend on the order of the points.
 #[inline(always)]
 fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut PairVelocity, inv_h: f64) {
     // Fixed-size arrays padded with inactive points (zero row, zero mass):
@@ -423,14 +411,8 @@ fn solve_block(m: &ManifoldConstraint, pts: &mut [PointConstraint], vel: &mut Pa
         lambda[i] = p.normal_impulse;
         mass[i] = p.normal_mass;
     }
-    let d = direct_block(&m.block, &m.block_inverse, &b, &lambda).unwrap_or_else(|| {
-        let swept = swept_block(&m.block, &b, &lambda, &mass);
-        if m.exact_block && pts.len() > 1 {
-            exact_from_sweeps(&m.block, &b, &lambda, &mass, swept)
-        } else {
-            swept
-        }
-    });
+    let d = direct_block(&m.block, &m.block_inverse, &b, &lambda)
+        .unwrap_or_else(|| swept_block(&m.block, &b, &lambda, &mass));
     for (i, p) in pts.iter_mut().enumerate() {
         let new_impulse = lambda[i] + d[i];
         p.normal_impulse = new_impulse;
@@ -473,8 +455,7 @@ fn direct_block(
 
 /// The block LCP of [`direct_block`] solved exactly by trying the sets of
 /// pressing points (Murty's enumeration; at most 15 for four points), the
-/// set `first` (a guess) and then the larger sets first: the points
-/// `taking_part` in a set press (`w = 0`),
+/// larger sets first: the points `taking_part` in a set press (`w = 0`),
 /// every other point is released (`lambda + d = 0`), and the first set
 /// whose impulses are not negative and whose released points are not
 /// approaching is the answer. `None` if none is (a block singular within
@@ -482,14 +463,13 @@ fn direct_block(
 ///
 /// Why: the sweeps stop after [`BLOCK_SWEEPS`]; on a block whose two
 /// points see nearly the same motion (a loop through joints leaves a
-/// patch little freedom) they leave a point approaching, and on a face
-/// whose corner lifts they leave its two sides uneven ([`solve_block`]).
-pub(super) fn enumerated_block(
+/// patch little freedom) they leave a point approaching.
+#[allow(clippy::needless_range_loop)] // elimination reads best indexed
+fn enumerated_block(
     block: &PatchBlock,
     b: &[f64; BLOCK_POINTS],
     lambda: &[f64; BLOCK_POINTS],
     taking_part: &[bool; BLOCK_POINTS],
-    first: Option<u32>,
 ) -> Option<[f64; BLOCK_POINTS]> {
     let tolerance = 1e-9 * (1.0 + b.iter().fold(0.0f64, |x, &y| x.max(y.abs())));
     /// The sets of four points, larger sets first.
@@ -498,92 +478,55 @@ pub(super) fn enumerated_block(
         .iter()
         .enumerate()
         .fold(0u32, |m, (i, &t)| m | (u32::from(t) << i));
-    if let Some(set) = first.filter(|&s| s & !all == 0) {
-        if let Some(d) = pressing_set(block, b, lambda, taking_part, set, tolerance) {
+    'sets: for set in BY_SIZE.into_iter().filter(|&s| s & !all == 0) {
+        let mut pressing = [0usize; BLOCK_POINTS];
+        let mut k = 0;
+        for i in (0..BLOCK_POINTS).filter(|&i| set & (1 << i) != 0) {
+            pressing[k] = i;
+            k += 1;
+        }
+        let pressing = &pressing[..k];
+        // Released points drop their impulse: d_i = -lambda_i.
+        let mut d = std::array::from_fn(|i| if set & (1 << i) != 0 { 0.0 } else { -lambda[i] });
+        // The pressing points: K_PP d_P = -(b_P + K_P,R d_R), by Gaussian
+        // elimination with partial pivoting.
+        let mut a = [[0.0; BLOCK_POINTS + 1]; BLOCK_POINTS];
+        for (r, &i) in pressing.iter().enumerate() {
+            for (c, &j) in pressing.iter().enumerate() {
+                a[r][c] = block[i][j];
+            }
+            a[r][k] = -(b[i] + (0..BLOCK_POINTS).map(|j| block[i][j] * d[j]).sum::<f64>());
+        }
+        for col in 0..k {
+            let pivot = (col..k).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+            if a[pivot][col].abs() <= 1e-12 * block[pressing[col]][pressing[col]].abs() {
+                continue 'sets;
+            }
+            a.swap(col, pivot);
+            for r in col + 1..k {
+                let f = a[r][col] / a[col][col];
+                for c in col..=k {
+                    a[r][c] -= f * a[col][c];
+                }
+            }
+        }
+        for r in (0..k).rev() {
+            let rest: f64 = (r + 1..k).map(|c| a[r][c] * d[pressing[c]]).sum();
+            d[pressing[r]] = (a[r][k] - rest) / a[r][r];
+        }
+        let w = |i: usize| b[i] + (0..BLOCK_POINTS).map(|j| block[i][j] * d[j]).sum::<f64>();
+        let holds = (0..BLOCK_POINTS).all(|i| {
+            if set & (1 << i) != 0 {
+                lambda[i] + d[i] >= 0.0
+            } else {
+                !taking_part[i] || w(i) >= -tolerance
+            }
+        });
+        if holds {
             return Some(d);
         }
     }
-    BY_SIZE
-        .into_iter()
-        .filter(|&s| s & !all == 0 && Some(s) != first)
-        .find_map(|set| pressing_set(block, b, lambda, taking_part, set, tolerance))
-}
-
-/// The block LCP's answer where the points of `set` press and the others
-/// are released, if it is one ([`enumerated_block`]).
-#[allow(clippy::needless_range_loop)] // elimination reads best indexed
-#[inline(always)]
-fn pressing_set(
-    block: &PatchBlock,
-    b: &[f64; BLOCK_POINTS],
-    lambda: &[f64; BLOCK_POINTS],
-    taking_part: &[bool; BLOCK_POINTS],
-    set: u32,
-    tolerance: f64,
-) -> Option<[f64; BLOCK_POINTS]> {
-    let mut pressing = [0usize; BLOCK_POINTS];
-    let mut k = 0;
-    for i in (0..BLOCK_POINTS).filter(|&i| set & (1 << i) != 0) {
-        pressing[k] = i;
-        k += 1;
-    }
-    let pressing = &pressing[..k];
-    // Released points drop their impulse: d_i = -lambda_i.
-    let mut d = std::array::from_fn(|i| if set & (1 << i) != 0 { 0.0 } else { -lambda[i] });
-    // The pressing points: K_PP d_P = -(b_P + K_P,R d_R), by Gaussian
-    // elimination with partial pivoting.
-    let mut a = [[0.0; BLOCK_POINTS + 1]; BLOCK_POINTS];
-    for (r, &i) in pressing.iter().enumerate() {
-        for (c, &j) in pressing.iter().enumerate() {
-            a[r][c] = block[i][j];
-        }
-        a[r][k] = -(b[i] + (0..BLOCK_POINTS).map(|j| block[i][j] * d[j]).sum::<f64>());
-    }
-    for col in 0..k {
-        let pivot = (col..k).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
-        if a[pivot][col].abs() <= 1e-12 * block[pressing[col]][pressing[col]].abs() {
-            return None;
-        }
-        a.swap(col, pivot);
-        for r in col + 1..k {
-            let f = a[r][col] / a[col][col];
-            for c in col..=k {
-                a[r][c] -= f * a[col][c];
-            }
-        }
-    }
-    for r in (0..k).rev() {
-        let rest: f64 = (r + 1..k).map(|c| a[r][c] * d[pressing[c]]).sum();
-        d[pressing[r]] = (a[r][k] - rest) / a[r][r];
-    }
-    let w = |i: usize| b[i] + (0..BLOCK_POINTS).map(|j| block[i][j] * d[j]).sum::<f64>();
-    let holds = (0..BLOCK_POINTS).all(|i| {
-        if set & (1 << i) != 0 {
-            lambda[i] + d[i] >= 0.0
-        } else {
-            !taking_part[i] || w(i) >= -tolerance
-        }
-    });
-    holds.then_some(d)
-}
-
-/// The block LCP of [`solve_block`] solved exactly ([`enumerated_block`]),
-/// trying first the set of points that the sweeps' answer `swept` leaves
-/// pressing (most often the answer: one elimination); `swept` itself where
-/// no set of pressing points solves it.
-#[inline(always)]
-pub(super) fn exact_from_sweeps(
-    block: &PatchBlock,
-    b: &[f64; BLOCK_POINTS],
-    lambda: &[f64; BLOCK_POINTS],
-    mass: &[f64; BLOCK_POINTS],
-    swept: [f64; BLOCK_POINTS],
-) -> [f64; BLOCK_POINTS] {
-    let taking_part = std::array::from_fn(|i| mass[i] > 0.0);
-    let guess = (0..BLOCK_POINTS)
-        .filter(|&i| taking_part[i] && lambda[i] + swept[i] > 0.0)
-        .fold(0u32, |m, i| m | (1 << i));
-    enumerated_block(block, b, lambda, &taking_part, Some(guess)).unwrap_or(swept)
+    None
 }
 
 /// Symmetric projected Gauss-Seidel sweeps (forward, then backward: no
@@ -889,10 +832,8 @@ fn push_target(p: &PointConstraint, params: &SolverParams, inv_h: f64) -> Option
 /// polytope's face, edge or corner) of at most [`BLOCK_POINTS`] points
 /// solved together, directly, as [`direct_block`] solves the velocity rows,
 /// when every point takes part and the answer pushes at none of them with a
-/// negative impulse; otherwise, for a patch with `exact_block`, exactly
-/// over the points that take part ([`exact_push`]; an answer that depends on
-/// no order, as [`solve_block`]'s), and else point after point
-/// ([`push_points`]). `true` if any point took part.
+/// negative impulse; otherwise point after point ([`push_points`]). `true`
+/// if any point took part.
 ///
 /// Why: pushed one point after another, the first point of a face takes
 /// the push the others should share, and the box turns a little about the
@@ -913,30 +854,14 @@ fn push_block(
 ) -> bool {
     let mut b = [0.0; BLOCK_POINTS];
     let mut lambda = [0.0; BLOCK_POINTS];
-    let mut taking_part = [false; BLOCK_POINTS];
     for (i, p) in pts.iter().enumerate() {
         let Some(target) = push_target(p, params, inv_h) else {
-            continue;
+            return push_points(m, pts, vel, params, inv_h);
         };
         b[i] = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d) - target;
         lambda[i] = p.push_impulse;
-        taking_part[i] = true;
     }
-    let taking = taking_part.iter().filter(|&&t| t).count();
-    if taking == 0 {
-        return false;
-    }
-    let d = if taking == pts.len() {
-        direct_block(&m.block, &m.block_inverse, &b, &lambda)
-    } else {
-        None
-    };
-    let d = d.or_else(|| {
-        m.exact_block
-            .then(|| exact_push(&m.block, &b, &lambda, &taking_part))
-            .flatten()
-    });
-    let Some(d) = d else {
+    let Some(d) = direct_block(&m.block, &m.block_inverse, &b, &lambda) else {
         return push_points(m, pts, vel, params, inv_h);
     };
     for (i, p) in pts.iter_mut().enumerate() {
@@ -944,22 +869,6 @@ fn push_block(
         vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, m.inv_mass, d[i]);
     }
     true
-}
-
-/// The push-out's block LCP solved exactly ([`enumerated_block`]), trying
-/// first the set where every point `taking_part` pushes.
-#[inline(always)]
-pub(super) fn exact_push(
-    block: &PatchBlock,
-    b: &[f64; BLOCK_POINTS],
-    lambda: &[f64; BLOCK_POINTS],
-    taking_part: &[bool; BLOCK_POINTS],
-) -> Option<[f64; BLOCK_POINTS]> {
-    let pressing = taking_part
-        .iter()
-        .enumerate()
-        .fold(0u32, |m, (i, &t)| m | (u32::from(t) << i));
-    enumerated_block(block, b, lambda, taking_part, Some(pressing))
 }
 
 /// One friction pass over one patch ([`solve_friction`]'s kernel), with the
@@ -1059,7 +968,7 @@ pub(super) unsafe fn solve_owned_normals(
             k if k == pts.len() => direct_block(block, inverse, &b, &lambda),
             _ => None,
         }
-        .or_else(|| enumerated_block(block, &b, &lambda, &taking_part, None))
+        .or_else(|| enumerated_block(block, &b, &lambda, &taking_part))
         .unwrap_or_else(|| swept_block(block, &b, &lambda, &mass));
         let mut vel = vel;
         for (i, p) in pts.iter_mut().enumerate() {
@@ -1120,7 +1029,7 @@ mod tests {
             let lambda: [f64; BLOCK_POINTS] =
                 std::array::from_fn(|i| if i < points { rng.range(0.0, 1.0) } else { 0.0 });
             let taking_part = std::array::from_fn(|i| i < points);
-            let d = enumerated_block(&k, &b, &lambda, &taking_part, None)
+            let d = enumerated_block(&k, &b, &lambda, &taking_part)
                 .unwrap_or_else(|| panic!("case {case}: no set of pressing points"));
             for i in 0..points {
                 let z = lambda[i] + d[i];

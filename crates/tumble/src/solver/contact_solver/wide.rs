@@ -28,11 +28,8 @@
 
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
-use super::constraint::{
-    ManifoldConstraint, PatchBlock, PointConstraint, SolverParams, BLOCK_POINTS, BLOCK_REFRESH,
-};
+use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_REFRESH};
 use super::lanes::{self, eq, gt, le, lt, recip_or_zero, select, Lane, LANES, M3, V3};
-use super::passes;
 use super::rolling::Rolling;
 use std::ops::Range;
 use tumble_collide::{DMat3, DVec3};
@@ -144,9 +141,6 @@ pub(crate) struct WidePatch<const N: usize> {
     block: Block<N>,
     block_inverse: Block<N>,
     points: [WidePoint; N],
-    /// All bits set in lanes whose block LCP is solved exactly
-    /// (`ManifoldConstraint::exact_block`).
-    exact_block: Lane,
     /// All bits set in lanes whose patch holds an anchor
     /// (`ManifoldConstraint::anchored`), its lever arms and offset.
     anchored: Lane,
@@ -213,7 +207,6 @@ impl<const N: usize> WidePatch<N> {
             block: [[Lane::ZERO; N]; N],
             block_inverse: [[Lane::ZERO; N]; N],
             points: [WidePoint::default(); N],
-            exact_block: Lane::ZERO,
             anchored: Lane::ZERO,
             anchor_ra: V3::ZERO,
             anchor_rb: V3::ZERO,
@@ -261,9 +254,6 @@ impl<const N: usize> WidePatch<N> {
             }
             set(&mut w.inv_mass[0], l, m.inv_mass[0]);
             set(&mut w.inv_mass[1], l, m.inv_mass[1]);
-            if m.exact_block {
-                set(&mut w.exact_block, l, f64::from_bits(u64::MAX));
-            }
             if m.anchored {
                 set(&mut w.anchored, l, f64::from_bits(u64::MAX));
                 w.anchor_ra.set_lane(l, m.anchor_r[0]);
@@ -1035,11 +1025,7 @@ fn solve_block<const N: usize>(w: &mut WidePatch<N>, vel: &mut PairLanes, inv_h:
     let d = if ok.all() {
         direct
     } else {
-        let mut swept = swept_block(w, &b, &lambda, &mass, !ok);
-        let exact = w.exact_block & !ok;
-        if N > 1 && exact.any() {
-            exact_lanes(w, &b, &lambda, &mass, exact, &mut swept);
-        }
+        let swept = swept_block(w, &b, &lambda, &mass, !ok);
         std::array::from_fn(|i| select(ok, direct[i], swept[i]))
     };
     for (i, p) in w.points.iter_mut().enumerate() {
@@ -1071,96 +1057,6 @@ fn direct_block<const N: usize>(w: &WidePatch<N>, b: &[Lane; N], lambda: &[Lane;
         fails |= lt(lambda[i] + d[i], Lane::ZERO) | lt(r[i], -tolerance);
     }
     (d, !fails)
-}
-
-/// Lane `l` of a bundle's block, as the scalar kernels hold it (padded to
-/// [`BLOCK_POINTS`] with zero rows).
-fn lane_block<const N: usize>(w: &WidePatch<N>, l: usize) -> PatchBlock {
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            if i < N && j < N {
-                get(w.block[i][j], l)
-            } else {
-                0.0
-            }
-        })
-    })
-}
-
-/// Lane `l` of a bundle's per-point values, padded with zeros.
-fn lane_values<const N: usize>(x: &[Lane; N], l: usize) -> [f64; BLOCK_POINTS] {
-    std::array::from_fn(|i| if i < N { get(x[i], l) } else { 0.0 })
-}
-
-/// `passes::exact_from_sweeps` in the lanes of `exact`, one lane at a time
-/// (few: patches with a point lifting or pulling).
-#[inline(never)]
-fn exact_lanes<const N: usize>(
-    w: &WidePatch<N>,
-    b: &[Lane; N],
-    lambda: &[Lane; N],
-    mass: &[Lane; N],
-    exact: Lane,
-    swept: &mut [Lane; N],
-) {
-    for l in (0..LANES).filter(|&l| lane_set(exact, l)) {
-        let d = passes::exact_from_sweeps(
-            &lane_block(w, l),
-            &lane_values(b, l),
-            &lane_values(lambda, l),
-            &lane_values(mass, l),
-            lane_values(swept, l),
-        );
-        for (i, x) in swept.iter_mut().enumerate() {
-            set(x, l, d[i]);
-        }
-    }
-}
-
-/// `passes::exact_push` in the lanes of `exact` whose patch is flat (its
-/// points share one normal), one lane at a time; `ok` and `direct` take the
-/// lanes it solves.
-#[inline(never)]
-fn exact_push_lanes<const N: usize>(
-    w: &WidePatch<N>,
-    b: &[Lane; N],
-    lambda: &[Lane; N],
-    taking_part: &[Lane; N],
-    exact: Lane,
-    ok: &mut Lane,
-    direct: &mut [Lane; N],
-) {
-    let mut solved = ok.to_array();
-    for l in (0..LANES).filter(|&l| lane_set(exact, l)) {
-        let n0 = w.points[0].normal.to_lanes()[l];
-        let flat = w
-            .points
-            .iter()
-            .all(|p| !lane_set(p.real, l) || p.normal.to_lanes()[l] == n0);
-        if !flat {
-            continue;
-        }
-        let taking = std::array::from_fn(|i| i < N && lane_set(taking_part[i], l));
-        let answer = passes::exact_push(
-            &lane_block(w, l),
-            &lane_values(b, l),
-            &lane_values(lambda, l),
-            &taking,
-        );
-        if let Some(d) = answer {
-            for (i, x) in direct.iter_mut().enumerate() {
-                set(x, l, d[i]);
-            }
-            solved[l] = f64::from_bits(u64::MAX);
-        }
-    }
-    *ok = Lane::new(solved);
-}
-
-/// Whether lane `l` of the mask `m` is set.
-#[inline(always)]
-fn lane_set(m: Lane, l: usize) -> bool {
-    get(m, l).to_bits() != 0
 }
 
 /// `passes::swept_block`, lane by lane, in the lanes of `active`: a lane
@@ -1295,12 +1191,8 @@ fn push_rows<const N: usize>(
         );
         all &= (taking_part[i] & p.normal.eq_mask(&w.points[0].normal)) | !p.real;
     }
-    let (mut direct, ok) = direct_block(w, &b, &lambda);
-    let mut ok = ok & all & pushing;
-    let exact = w.exact_block & pushing & !ok;
-    if exact.any() {
-        exact_push_lanes(w, &b, &lambda, taking_part, exact, &mut ok, &mut direct);
-    }
+    let (direct, ok) = direct_block(w, &b, &lambda);
+    let ok = ok & all & pushing;
     if ok.any() {
         let mut solved = *vel;
         for (i, p) in w.points.iter_mut().enumerate() {
@@ -1566,9 +1458,6 @@ mod tests {
                 }
                 _ => {}
             }
-            // Every other patch solves its block exactly (a pair without a
-            // mesh), the others by the sweeps.
-            m.exact_block = k % 2 == 0;
             prepare(&mut m, &mut points, &bodies);
             manifolds.push(m);
         }
@@ -1873,35 +1762,16 @@ mod tests {
         // solve) and blocks where some do not (point after point).
         let allowed = params().allowed_penetration;
         let takes_part = |p: &PointConstraint| p.push_impulse != 0.0 || p.separation_now + allowed < 0.0;
-        let (mut whole, mut mixed, mut exact_mixed) = (0, 0, 0);
+        let (mut whole, mut mixed) = (0, 0);
         for m in &manifolds {
             let pts = &points[m.range()];
             if pts.iter().all(|p| takes_part(p) && p.normal == pts[0].normal) {
                 whole += 1;
             } else if pts.iter().any(takes_part) {
                 mixed += 1;
-                exact_mixed += usize::from(m.exact_block && pts.iter().all(|p| p.normal == pts[0].normal));
             }
         }
-        assert!(
-            whole > 10 && mixed > 10 && exact_mixed > 10,
-            "{whole} whole, {mixed} mixed, {exact_mixed} of them exact and flat"
-        );
-        // Blocks solved exactly where a point of theirs lifts (the direct
-        // answer fails), and by the sweeps.
-        let lifting = |exact: bool| {
-            manifolds
-                .iter()
-                .filter(|m| m.exact_block == exact && m.point_count > 1)
-                .filter(|m| points[m.range()].iter().any(|p| p.normal_impulse == 0.0))
-                .count()
-        };
-        assert!(
-            lifting(true) > 10 && lifting(false) > 10,
-            "{} exact, {} swept",
-            lifting(true),
-            lifting(false)
-        );
+        assert!(whole > 10 && mixed > 10, "{whole} whole, {mixed} mixed");
         let rebuilt = manifolds.iter().zip(&before).filter(|(m, b)| m.block != b.block);
         assert!(rebuilt.count() > 10);
         // Anchored patches with friction left to hold their anchor, and

@@ -463,7 +463,6 @@ impl World {
                     );
                     m.rolling = p.rolling;
                     m.curvature = p.curvature;
-                    m.exact_block = p.exact_block;
                     if let Some(anchor) = &p.anchor {
                         m.anchored = true;
                         m.anchor_r = anchor.r;

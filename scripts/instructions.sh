@@ -72,7 +72,8 @@ if [ -n "$base" ]; then
     echo "base $base ($(git -C "$root" rev-parse --short "$rev")): $base_total instructions"
     awk -v a="$base_total" -v b="$total" 'BEGIN { printf "change: %+.2f %%\n", 100 * (b - a) / a }'
 fi
-# Functions of the workspace, inclusive, heaviest first.
+# Functions of the workspace, inclusive, heaviest first (awk reads to the
+# end: `head` would close the pipe early, which pipefail reports).
 callgrind_annotate --inclusive=yes "$out" 2> /dev/null |
     grep -E "^ *[0-9,]+ \( *[0-9.]+%\)  $root/crates" |
-    sed -e "s|$root/||" -e 's/ \[.*\]$//' | head -n "$top"
+    sed -e "s|$root/||" -e 's/ \[.*\]$//' | awk -v n="$top" 'NR <= n'

@@ -280,3 +280,99 @@ fn bad_input_is_refused() {
         Err(QueryError::Narrow(_))
     ));
 }
+
+/// Shapes touching or slightly overlapping a flat mesh slab at the start of
+/// their motion get the slab's normal, not the direction of the round-off
+/// between two closest points that coincide. The first pose is where the
+/// projectile matrix (tumble's `scenes::projectile_cases`) met it: a hull of
+/// an icosphere spinning at 190 rad/s along a slab turned by 60 degrees,
+/// whose exact distance came out 0 with closest points 5e-16 m apart; the
+/// normal of that difference put the body on the slab's far side and
+/// continuous collision held it in place for good. The others are random
+/// poses of every convex shape resting on the slab within 0.5 mm.
+#[test]
+fn shapes_touching_a_mesh_slab_at_the_start_get_its_normal() {
+    let slab = Shape::Mesh(
+        MeshShape::new(tumble_collide::mesh::box_mesh(DVec3::new(1.0, 1.0, 0.01)).unwrap()).unwrap(),
+    );
+    let turn = DQuat::from_rotation_y(60f64.to_radians());
+    let slab_pose = Pose::new(DVec3::ZERO, turn).unwrap();
+    let face = turn * DVec3::Z;
+    let hull = Shape::ConvexHull(ConvexHull::from_mesh(&icosphere_mesh(0.05, 1).unwrap()).unwrap());
+    let options = ToiOptions {
+        target: 0.0025,
+        tolerance: 0.00125,
+        max_iterations: 64,
+    };
+    let normal_at_start = |shape: &Shape, start: Pose, end: Pose| {
+        let hit = time_of_impact(
+            shape,
+            &Motion::new(start, end, DVec3::ZERO),
+            &slab,
+            &Motion::fixed(slab_pose),
+            &options,
+        )
+        .unwrap()
+        .expect("touching at the start");
+        assert_eq!(hit.time, 0.0);
+        hit.normal
+    };
+    // The pose the projectile matrix met (bits as traced), sliding off.
+    let start = Pose::new(
+        DVec3::new(0.4398560421521284, 6.155139569021796e-15, -0.6438872944553118),
+        DQuat::from_xyzw(
+            -5.572154496077951e-7,
+            0.05712839809654763,
+            4.645735657050637e-6,
+            -0.99836683944782,
+        ),
+    )
+    .unwrap();
+    let end = Pose::new(
+        DVec3::new(0.6689945138587156, -9.267128689810225e-11, -0.9950235973922759),
+        DQuat::from_xyzw(
+            -5.956699838882694e-6,
+            -0.9986867652226836,
+            2.1460406944395768e-5,
+            -0.05123226008113505,
+        ),
+    )
+    .unwrap();
+    let n = normal_at_start(&hull, start, end);
+    assert!(
+        n.dot(face) > 0.99,
+        "the traced hull: normal {n} against the face's {face}"
+    );
+    // Random resting poses of every convex shape, moving along the face.
+    let mut r = rng(77);
+    let convex: Vec<(&str, Shape)> = shapes().into_iter().filter(|(name, _)| *name != "mesh").collect();
+    let along = turn * DVec3::X;
+    for k in 0..200 {
+        let (name, shape) = &convex[k % convex.len()];
+        let q = random_rotation(&mut r);
+        // Lowest point of the shape along -face at this orientation, by the
+        // narrow phase against a half-space through the slab's top face.
+        let probe = Pose::new(face * 5.0, q).unwrap();
+        let plane = Shape::HalfSpace(HalfSpace::new(face, 0.0).unwrap());
+        let mut out = Vec::new();
+        contact_shapes(
+            shape,
+            &probe,
+            &plane,
+            &Pose::new(face * 0.01, DQuat::IDENTITY).unwrap(),
+            10.0,
+            &mut out,
+        )
+        .unwrap();
+        let lowest = out.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min);
+        let sink = 0.0005 * r();
+        let offset = along * (r() - 0.5) + (turn * DVec3::Y) * (r() - 0.5);
+        let start = Pose::new(face * (5.0 - lowest - sink) + offset, q).unwrap();
+        let end = Pose::new(start.position + along * 0.3, q).unwrap();
+        let n = normal_at_start(shape, start, end);
+        assert!(
+            n.dot(face) > 0.99,
+            "{name} #{k}: normal {n} against the face's {face}"
+        );
+    }
+}

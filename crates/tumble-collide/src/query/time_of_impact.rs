@@ -266,15 +266,19 @@ fn separation_bound(
         _ => None,
     };
     if let Some(d) = exact {
+        // Apart: the closest points give the direction. Touching or
+        // overlapping (distance 0), they coincide up to round-off, whose
+        // direction is noise: a hull spinning along a mesh slab took such a
+        // normal for the slab's, and continuous collision, finding the body
+        // on the wrong side of it, put it back where it began, step after
+        // step. The deepest contact of the narrow phase gives the direction.
         let normal = (d.point_a - d.point_b).normalize_or_zero();
-        if normal != DVec3::ZERO {
+        if d.distance > 0.0 && normal != DVec3::ZERO {
             return Ok(SeparationBound {
                 distance: d.distance,
                 witness: Some((normal, (d.point_a + d.point_b) * 0.5)),
             });
         }
-        // Touching or overlapping: the closest points coincide and give no
-        // direction; the deepest contact of the narrow phase does.
         buffer.clear();
         contact_shapes(a, pa, b, pb, probe, buffer)?;
         let deepest = buffer.iter().min_by(|x, y| x.distance.total_cmp(&y.distance));

@@ -26,7 +26,7 @@ mod kinematic;
 mod ode;
 mod splitting;
 pub use splitting::{free_rotation, turn_by};
-pub(crate) use splitting::{sin_cos_series, SERIES_LIMIT};
+pub(crate) use splitting::{sin_cos_series, symmetry_axis, SERIES_LIMIT};
 mod symplectic;
 
 use crate::body::{BodyKind, BodyState, RigidBody};

@@ -3,7 +3,7 @@
 //! sleeping bodies share the immovable entry 0).
 
 use super::lanes::{self, Lane, LANES, M3, Q4, V3};
-use crate::integrate::{sin_cos_series, SERIES_LIMIT};
+use crate::integrate::{sin_cos_series, symmetry_axis, SERIES_LIMIT};
 use tumble_collide::{DMat3, DQuat, DVec3};
 
 /// Per-body solver state. Static and kinematic bodies have zero inverse mass
@@ -124,8 +124,9 @@ pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
 /// [`integrate_positions`] for four dynamic bodies, one per SIMD lane: the
 /// scalar path's operations in the same order (the same bits), bodies of
 /// equal principal moments (spheres, cubes) turning by the exact flow and
-/// the others by the splitting of [`turn_freely`], each lane computing both
-/// and keeping its own; the push-out's turn, where a body has one, body by
+/// the others as [`turn_freely`] turns them (symmetric bodies by their exact
+/// flow, the rest by the splitting), each lane computing every kind the
+/// four need and keeping its own; the push-out's turn, where a body has one, body by
 /// body in between. Returns `false`, having changed nothing, when one of
 /// the four is not a dynamic body or turns by more than the series of
 /// `sin_cos` covers.
@@ -158,7 +159,8 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
     let inv = V3::from_lanes(std::array::from_fn(|l| b[l].inv_inertia_body));
     let free = if any_free {
         let unequal = lanes::mask(equal_flags.map(|e| !e));
-        let Some(turned) = turn_freely_four(q_start, w, inv, h, unequal, &limit) else {
+        let axes = std::array::from_fn(|l| symmetry_axis(b[l].inv_inertia_body));
+        let Some(turned) = turn_freely_four(q_start, w, inv, h, (unequal, axes), &limit) else {
             return false;
         };
         Some(turned)
@@ -222,15 +224,19 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
 
 /// [`turn_freely`]'s orientation and angular velocity on four lanes (every
 /// lane computed; only those in the mask `checked`, whose answer is used,
-/// are held to the series' limit): `None` when a checked lane turns by
-/// more than the series covers in one of the splitting's five flows.
+/// are held to the series' limit): lanes of a symmetric body (`axes[l]`,
+/// its symmetry axis) turn by the exact flow of
+/// `integrate::free_rotation`, two turns, and the others by its splitting,
+/// five; each kind is computed only where a checked lane needs it. `None`
+/// when a checked lane turns by more than the series covers in one of its
+/// flows.
 #[inline(always)]
 fn turn_freely_four(
     q: Q4,
     w: V3,
     inv: V3,
     h: f64,
-    checked: Lane,
+    (checked, axes): (Lane, [Option<usize>; LANES]),
     limit: &impl Fn(Lane, Lane) -> bool,
 ) -> Option<(Q4, V3)> {
     let inertia = V3 {
@@ -239,43 +245,141 @@ fn turn_freely_four(
         z: lanes::recip_or_zero(inv.z),
     };
     let l = q.rotate(inertia.mul_each(q.conjugate().rotate(w)));
-    // `integrate::free_rotation`: 1(h/2) 2(h/2) 3(h) 2(h/2) 1(h/2).
+    let symmetric = checked & lanes::mask(axes.map(|a| a.is_some()));
+    let general = checked & lanes::mask(axes.map(|a| a.is_none()));
+    let split = if any_lane(general) {
+        Some(split_four(q, l, inv, h, general, limit)?)
+    } else {
+        None
+    };
+    let exact = if any_lane(symmetric) {
+        Some(symmetric_four(q, l, inv, h, (symmetric, axes), limit)?)
+    } else {
+        None
+    };
+    let q = match (split, exact) {
+        (Some(split), Some(exact)) => Q4::select(symmetric, exact, split),
+        (Some(q), None) | (None, Some(q)) => q,
+        (None, None) => q,
+    };
+    let q = q.normalize();
+    let w = q.rotate(inv.mul_each(q.conjugate().rotate(l)));
+    Some((q, w))
+}
+
+/// `true` when some lane of the mask is set.
+#[inline(always)]
+fn any_lane(mask: Lane) -> bool {
+    mask.to_array().iter().any(|&x| x.to_bits() != 0)
+}
+
+/// `integrate::free_rotation`'s splitting, 1(h/2) 2(h/2) 3(h) 2(h/2) 1(h/2),
+/// on four lanes (not normalized).
+#[inline(always)]
+fn split_four(
+    q: Q4,
+    l: V3,
+    inv: V3,
+    h: f64,
+    checked: Lane,
+    limit: &impl Fn(Lane, Lane) -> bool,
+) -> Option<Q4> {
     let half = 0.5 * h;
     let mut q = q;
     for (axis, t) in [(0, half), (1, half), (2, h), (1, half), (0, half)] {
         // `splitting::principal_flow`, lane by lane.
         let pi = q.conjugate().rotate(l);
         let angle = Lane::splat(t) * pi.component(axis) * inv.component(axis);
-        let x = Lane::splat(0.5) * angle;
-        if limit(x, checked) {
-            return None;
-        }
-        let (s, c) = sin_cos_series(x);
-        let (qx, qy, qz, qw) = (q.x, q.y, q.z, q.w);
-        q = match axis {
-            0 => Q4 {
-                x: qx * c + qw * s,
-                y: qy * c + qz * s,
-                z: qz * c - qy * s,
-                w: qw * c - qx * s,
-            },
-            1 => Q4 {
-                x: qx * c - qz * s,
-                y: qy * c + qw * s,
-                z: qz * c + qx * s,
-                w: qw * c - qy * s,
-            },
-            _ => Q4 {
-                x: qx * c + qy * s,
-                y: qy * c - qx * s,
-                z: qz * c + qw * s,
-                w: qw * c - qz * s,
-            },
-        };
+        q = turn_about_body_axis_four(q, axis, angle, checked, limit)?;
     }
-    let q = q.normalize();
-    let w = q.rotate(inv.mul_each(q.conjugate().rotate(l)));
-    Some((q, w))
+    Some(q)
+}
+
+/// `splitting::symmetric_rotation` on four lanes, lane `l` about its own
+/// symmetry axis `axes[l]` (not normalized): the turn about the momentum,
+/// then the turn about the body's axis.
+#[inline(always)]
+fn symmetric_four(
+    q: Q4,
+    l: V3,
+    inv: V3,
+    h: f64,
+    (checked, axes): (Lane, [Option<usize>; LANES]),
+    limit: &impl Fn(Lane, Lane) -> bool,
+) -> Option<Q4> {
+    let inv_lanes = inv.to_lanes();
+    let axis_of = |k: usize| axes[k].unwrap_or(2);
+    let transverse = Lane::new(std::array::from_fn(|k| inv_lanes[k][(axis_of(k) + 1) % 3]));
+    let axial = Lane::new(std::array::from_fn(|k| inv_lanes[k][axis_of(k)]));
+    // `turn_by(l * (transverse * h)) * q`.
+    let angle = l.scale(transverse * Lane::splat(h));
+    let theta = angle.dot(angle).sqrt();
+    let half = Lane::splat(0.5) * theta;
+    if limit(half, checked) {
+        return None;
+    }
+    let (s, c) = sin_cos_series(half);
+    let along = angle.scale(s / theta);
+    let still = lanes::eq(theta, Lane::ZERO);
+    let turn = Q4 {
+        x: lanes::select(still, Lane::ZERO, along.x),
+        y: lanes::select(still, Lane::ZERO, along.y),
+        z: lanes::select(still, Lane::ZERO, along.z),
+        w: lanes::select(still, Lane::ONE, c),
+    };
+    let q = turn.mul(q);
+    // The turn about the body's own axis by `h pi_3 (axial - transverse)`.
+    let pi = q.conjugate().rotate(l);
+    let mut turned = q;
+    for axis in 0..3 {
+        let on = checked & lanes::mask(std::array::from_fn(|k| axes[k] == Some(axis)));
+        if !any_lane(on) {
+            continue;
+        }
+        let angle = Lane::splat(h) * pi.component(axis) * (axial - transverse);
+        let about = turn_about_body_axis_four(q, axis, angle, on, limit)?;
+        turned = Q4::select(on, about, turned);
+    }
+    Some(turned)
+}
+
+/// `splitting::turn_about_body_axis` on four lanes: `q` turned by `angle`
+/// about its body axis `axis`; `None` when a lane of `checked` turns by more
+/// than the series covers.
+#[inline(always)]
+fn turn_about_body_axis_four(
+    q: Q4,
+    axis: usize,
+    angle: Lane,
+    checked: Lane,
+    limit: &impl Fn(Lane, Lane) -> bool,
+) -> Option<Q4> {
+    let x = Lane::splat(0.5) * angle;
+    if limit(x, checked) {
+        return None;
+    }
+    let (s, c) = sin_cos_series(x);
+    let (qx, qy, qz, qw) = (q.x, q.y, q.z, q.w);
+    Some(match axis {
+        0 => Q4 {
+            x: qx * c + qw * s,
+            y: qy * c + qz * s,
+            z: qz * c - qy * s,
+            w: qw * c - qx * s,
+        },
+        1 => Q4 {
+            x: qx * c - qz * s,
+            y: qy * c + qw * s,
+            z: qz * c + qx * s,
+            w: qw * c - qy * s,
+        },
+        _ => Q4 {
+            x: qx * c + qy * s,
+            y: qy * c - qx * s,
+            z: qz * c + qw * s,
+            w: qw * c - qz * s,
+        },
+    })
 }
 
 /// [`integrate_positions`], body by body.
@@ -322,9 +426,10 @@ fn push_turn(b: &mut SolverBody, h: f64) {
     }
 }
 
-/// Free rotation under the constant L by the symplectic principal-axis
-/// splitting, with w updated to the new pose, and the world inverse inertia
-/// too unless a push-out turn follows (which sets it).
+/// Free rotation under the constant L (`integrate::free_rotation`: the exact
+/// flow of a symmetric body, else the symplectic principal-axis splitting),
+/// with w updated to the new pose, and the world inverse inertia too unless
+/// a push-out turn follows (which sets it).
 fn turn_freely(b: &mut SolverBody, h: f64) {
     let inertia_body = DVec3::new(
         recip_or_zero(b.inv_inertia_body.x),
@@ -334,9 +439,10 @@ fn turn_freely(b: &mut SolverBody, h: f64) {
     // L = R I R^T w and w = R I^-1 R^T L through the quaternion (two
     // rotations each, no 3 x 3 matrices built).
     let l = b.q * (inertia_body * (b.q.conjugate() * b.w));
-    // Free rotation under the constant L by the symplectic principal-axis
-    // splitting: no energy drift for tumbling bodies (a plain exponential
-    // map with the step's w gains energy steadily on asymmetric bodies).
+    // Free rotation under the constant L, exact for a symmetric body and by
+    // the symplectic principal-axis splitting otherwise: no energy drift for
+    // tumbling bodies (a plain exponential map with the step's w gains
+    // energy steadily on asymmetric bodies).
     b.q = crate::integrate::free_rotation(b.q, l, b.inv_inertia_body, h).normalize();
     b.w = b.q * (b.inv_inertia_body * (b.q.conjugate() * l));
     // A push-out turn follows and sets the world inverse inertia itself.
@@ -359,8 +465,10 @@ mod tests {
     use tumble_testkit::{RandomSource, SplitMix64};
 
     /// Four bodies at a time give the body-by-body path's bits: spheres and
-    /// cubes (equal moments, the exact flow) and bodies of unequal moments
-    /// (the splitting), alone and mixed in one group of four, spinning slow
+    /// cubes (equal moments, the exact flow), symmetric bodies about each of
+    /// their three axes (two equal moments, their exact flow) and bodies of
+    /// unequal moments (the splitting), alone and mixed in one group of
+    /// four, spinning slow
     /// and fast (the series' limit), at rest, with and without a push-out
     /// turn, among kinematic ones (which send their group of four to the
     /// scalar path).
@@ -369,9 +477,11 @@ mod tests {
         let mut rng = SplitMix64(11);
         let mut bodies = vec![SolverBody::fixed()];
         for i in 0..403 {
-            let inv = match i % 5 {
+            let inv = match i % 7 {
                 0 | 1 => DVec3::new(rng.range(0.5, 3.0), rng.range(0.5, 3.0), rng.range(0.5, 3.0)),
                 2 if i % 3 == 0 => DVec3::new(1.0, 2.0, 2.0),
+                2 => DVec3::new(1.5, 0.7, 1.5),
+                3 => DVec3::new(2.5, 2.5, rng.range(0.5, 3.0)),
                 _ => DVec3::splat(rng.range(0.5, 3.0)),
             };
             let spin = match i % 23 {
@@ -393,21 +503,29 @@ mod tests {
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         let mut each = bodies.clone();
         let mut probe = bodies.clone();
-        let (mut wide, mut mixed) = (0, 0);
+        let (mut wide, mut mixed, mut symmetric) = (0, 0, [0; 3]);
         for (b, q) in probe.chunks_exact_mut(LANES).zip(q0.chunks_exact(LANES)) {
             let equal = |b: &SolverBody| {
                 let i = b.inv_inertia_body;
                 i.x == i.y && i.y == i.z
             };
             let kinds = b.iter().filter(|b| equal(b)).count();
+            let axes: Vec<usize> = b
+                .iter()
+                .filter_map(|b| symmetry_axis(b.inv_inertia_body))
+                .collect();
             if turn_four(b, q, 1.0 / 480.0) {
                 wide += 1;
                 mixed += usize::from(kinds > 0 && kinds < LANES);
+                for axis in axes {
+                    symmetric[axis] += 1;
+                }
             }
         }
         assert!(
-            wide > 40 && wide < 100 && mixed > 20,
-            "both paths run: {wide} groups of four wide, {mixed} of them mixed"
+            wide > 40 && wide < 100 && mixed > 20 && symmetric.iter().all(|&n| n > 10),
+            "every path runs: {wide} groups of four wide, {mixed} of them mixed, \
+             symmetric bodies about x, y, z in them: {symmetric:?}"
         );
         let h = 1.0 / 480.0;
         for _ in 0..3 {

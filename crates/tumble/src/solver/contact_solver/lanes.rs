@@ -361,6 +361,17 @@ impl Q4 {
         v.scale(w * w - b2) + b.scale(v.dot(b) * two) + b.cross(v).scale(w * two)
     }
 
+    /// Lanewise `if mask { yes } else { no }`.
+    #[inline(always)]
+    pub fn select(mask: Lane, yes: Q4, no: Q4) -> Q4 {
+        Q4 {
+            x: select(mask, yes.x, no.x),
+            y: select(mask, yes.y, no.y),
+            z: select(mask, yes.z, no.z),
+            w: select(mask, yes.w, no.w),
+        }
+    }
+
     /// As glam's `conjugate`.
     #[inline(always)]
     pub fn conjugate(self) -> Q4 {

@@ -34,7 +34,10 @@
 //! `EARLY_ITERATIONS=steps:iterations`, that many iterations for the first
 //! steps only; with `PUSH_FRACTION=f` or `PUSH_SPEED=v`, the push-out's
 //! fraction or speed limit; with `TRACE_BODY=name`, after every step that
-//! body's motion and the contacts on it).
+//! body's motion and the contacts on it; with `TRACE_LIFT=1`, after every
+//! step the three bodies whose potential energy changed most in it, how far
+//! each rose and its speed at the end: where a settled pile's energy goes up
+//! and down while its kinetic energy stays small).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 use tumble_collide::DVec3;
@@ -207,6 +210,21 @@ fn main() {
     let mut energy = world.kinetic_energy() + world.potential_energy();
     let trace_energy = std::env::var("TRACE_ENERGY").is_ok();
     let trace_threads = std::env::var("TRACE_THREADS").is_ok();
+    // TRACE_LIFT: each dynamic body's potential energy (J) after the last
+    // step, by its index among the world's bodies.
+    let trace_lift = std::env::var("TRACE_LIFT").is_ok();
+    let potential = |world: &tumble::world::World| -> Vec<f64> {
+        let g = world.settings().gravity;
+        world
+            .body_ids()
+            .into_iter()
+            .map(|id| match world.body(id) {
+                Ok(b) if b.kind() == tumble::BodyKind::Dynamic => -b.mass() * g.dot(b.position()),
+                _ => 0.0,
+            })
+            .collect()
+    };
+    let mut lift_before = if trace_lift { potential(&world) } else { Vec::new() };
     let (mut largest_gain, mut gain_step, mut gaining_steps) = (f64::NEG_INFINITY, 0, 0);
     let mut threaded_steps = 0usize;
     let mut prev: Vec<tumble::world::WorldContact> = Vec::new();
@@ -282,6 +300,37 @@ fn main() {
             );
         }
         energy = now;
+        if trace_lift {
+            let lift_now = potential(&world);
+            let mut changes: Vec<(usize, f64)> = lift_now
+                .iter()
+                .zip(&lift_before)
+                .map(|(now, before)| now - before)
+                .enumerate()
+                .collect();
+            changes.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
+            let ids = world.body_ids();
+            let g = world.settings().gravity.length().max(f64::MIN_POSITIVE);
+            let top: Vec<String> = changes
+                .iter()
+                .filter(|c| c.1 != 0.0)
+                .take(3)
+                .map(|&(k, de)| {
+                    let b = world.body(ids[k]).expect("live");
+                    format!(
+                        "#{k} {de:+.2e} J (rose {:+.1} um, {:.2} mm/s)",
+                        de / (b.mass() * g) * 1e6,
+                        b.velocity().length() * 1e3
+                    )
+                })
+                .collect();
+            let total: f64 = changes.iter().map(|c| c.1).sum();
+            eprintln!(
+                "step {step}: potential energy {total:+.3e} J; most: {}",
+                top.join(", ")
+            );
+            lift_before = lift_now;
+        }
         deepest = deepest.max(r.max_penetration);
         if let Some(threshold) = trace_pair {
             let depth = |c: &tumble::world::WorldContact| c.contact.depth();

@@ -110,16 +110,63 @@ impl SolverBody {
 /// body precesses correctly (gyroscopic effect) instead of keeping `w` fixed.
 /// The push-out pseudo-velocities move the body too and are then cleared.
 /// `q0` holds each body's orientation at the step start (for [`SolverBody::turn`]).
+///
+/// Four bodies at a time in SIMD lanes, grouped by how they turn (equal
+/// moments, symmetric about each axis, all moments different): a group of
+/// one kind computes one flow, where four neighbours in the array (a
+/// ragdoll's torso among its limbs) would compute every kind they hold. A
+/// body's result does not depend on its group (the lanes give the bits of
+/// one body at a time), so neither does the grouping change a bit.
 pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
-    let mut four = bodies.chunks_exact_mut(LANES).zip(q0.chunks_exact(LANES));
-    for (b, q) in &mut four {
-        if !turn_four(b, q, h) {
-            integrate_each(b, q, h);
+    let n = bodies.len().min(q0.len());
+    let (bodies, q0) = (&mut bodies[..n], &q0[..n]);
+    for (window, q_window) in bodies.chunks_mut(GROUPING_WINDOW).zip(q0.chunks(GROUPING_WINDOW)) {
+        // Slots of the window by kind: 0 equal moments, 1-3 symmetric about
+        // x, y, z, 4 all different, 5 one at a time (kinematic, static).
+        let mut kinds = [[0u8; GROUPING_WINDOW]; 6];
+        let mut counts = [0usize; 6];
+        for (i, b) in window.iter().enumerate() {
+            let kind = if !b.dynamic || b.kinematic {
+                5
+            } else {
+                let inv = b.inv_inertia_body;
+                if inv.x == inv.y && inv.y == inv.z {
+                    0
+                } else {
+                    symmetry_axis(inv).map_or(4, |axis| 1 + axis)
+                }
+            };
+            kinds[kind][counts[kind]] = i as u8;
+            counts[kind] += 1;
+        }
+        for kind in 0..6 {
+            let slots = &kinds[kind][..counts[kind]];
+            let mut groups = slots.chunks_exact(LANES);
+            if kind < 5 {
+                for g in &mut groups {
+                    let idx: [usize; LANES] = std::array::from_fn(|l| g[l] as usize);
+                    let q: [DQuat; LANES] = idx.map(|i| q_window[i]);
+                    let Ok(mut four) = window.get_disjoint_mut(idx) else {
+                        unreachable!("the slots of a window are distinct");
+                    };
+                    if !turn_four(&mut four, &q, h) {
+                        for (b, &q) in four.into_iter().zip(&q) {
+                            integrate_one(b, q, h);
+                        }
+                    }
+                }
+            }
+            let rest = if kind < 5 { groups.remainder() } else { slots };
+            for &i in rest {
+                integrate_one(&mut window[i as usize], q_window[i as usize], h);
+            }
         }
     }
-    let done = bodies.len() / LANES * LANES;
-    integrate_each(&mut bodies[done..], &q0[done..], h);
 }
+
+/// Bodies grouped at a time by [`integrate_positions`] (at most 256, its
+/// slots are bytes): the solver's blocks of bodies per thread hold 64.
+const GROUPING_WINDOW: usize = 64;
 
 /// [`integrate_positions`] for four dynamic bodies, one per SIMD lane: the
 /// scalar path's operations in the same order (the same bits), bodies of
@@ -131,7 +178,7 @@ pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
 /// the four is not a dynamic body or turns by more than the series of
 /// `sin_cos` covers.
 #[inline(always)]
-fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
+fn turn_four(b: &mut [&mut SolverBody; LANES], q0: &[DQuat; LANES], h: f64) -> bool {
     if !b.iter().all(|b| b.dynamic && !b.kinematic) {
         return false;
     }
@@ -209,7 +256,7 @@ fn turn_four(b: &mut [SolverBody], q0: &[DQuat], h: f64) -> bool {
                 }
             }
         }
-        push_turn(&mut b[l], h);
+        push_turn(b[l], h);
     }
     let q = Q4::from_lanes(std::array::from_fn(|l| b[l].q));
     let start = Q4::from_lanes(std::array::from_fn(|l| q0[l]));
@@ -383,31 +430,38 @@ fn turn_about_body_axis_four(
 }
 
 /// [`integrate_positions`], body by body.
+#[cfg(test)]
 fn integrate_each(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
     for (b, &q_start) in bodies.iter_mut().zip(q0) {
-        if b.kinematic {
-            b.dp += b.v * h;
-            b.q = (DQuat::from_scaled_axis(b.w * h) * b.q).normalize();
-            b.turn = DMat3::from_quat(b.q * q_start.conjugate());
-            continue;
-        }
-        if !b.dynamic {
-            continue;
-        }
-        b.dp += (b.v + b.push_v) * h;
-        let inv_i = b.inv_inertia_body;
-        if inv_i.x == inv_i.y && inv_i.y == inv_i.z {
-            // Equal principal moments: w stays constant during the free
-            // turn and the world inverse inertia is the same diagonal.
-            b.q = (crate::integrate::turn_by(b.w * h) * b.q).normalize();
-        } else {
-            turn_freely(b, h);
-        }
-        push_turn(b, h);
-        b.turn = DMat3::from_quat(b.q * q_start.conjugate());
-        b.push_v = DVec3::ZERO;
-        b.push_w = DVec3::ZERO;
+        integrate_one(b, q_start, h);
     }
+}
+
+/// [`integrate_positions`] for one body, `q_start` its orientation at the
+/// step's start.
+fn integrate_one(b: &mut SolverBody, q_start: DQuat, h: f64) {
+    if b.kinematic {
+        b.dp += b.v * h;
+        b.q = (DQuat::from_scaled_axis(b.w * h) * b.q).normalize();
+        b.turn = DMat3::from_quat(b.q * q_start.conjugate());
+        return;
+    }
+    if !b.dynamic {
+        return;
+    }
+    b.dp += (b.v + b.push_v) * h;
+    let inv_i = b.inv_inertia_body;
+    if inv_i.x == inv_i.y && inv_i.y == inv_i.z {
+        // Equal principal moments: w stays constant during the free turn
+        // and the world inverse inertia is the same diagonal.
+        b.q = (crate::integrate::turn_by(b.w * h) * b.q).normalize();
+    } else {
+        turn_freely(b, h);
+    }
+    push_turn(b, h);
+    b.turn = DMat3::from_quat(b.q * q_start.conjugate());
+    b.push_v = DVec3::ZERO;
+    b.push_w = DVec3::ZERO;
 }
 
 /// The push-out's turn of a body by its pseudo angular velocity over `h`
@@ -514,7 +568,11 @@ mod tests {
                 .iter()
                 .filter_map(|b| symmetry_axis(b.inv_inertia_body))
                 .collect();
-            if turn_four(b, q, 1.0 / 480.0) {
+            let [b0, b1, b2, b3] = b else {
+                unreachable!("chunks of four")
+            };
+            let q: [DQuat; LANES] = q.try_into().expect("chunks of four");
+            if turn_four(&mut [b0, b1, b2, b3], &q, 1.0 / 480.0) {
                 wide += 1;
                 mixed += usize::from(kinds > 0 && kinds < LANES);
                 for axis in axes {

@@ -128,7 +128,7 @@ fn symmetric_rotation(q: DQuat, l: DVec3, inv_inertia: DVec3, axis: usize, h: f6
 /// axis of `l` at the constant rate `l / I`: that exact flow is taken
 /// instead, one turn for the five of the splitting; a body with two equal
 /// moments (capsule, cylinder) takes its exact flow too, two turns
-/// ([`symmetric_rotation`]).
+/// (`symmetric_rotation`).
 #[inline]
 pub fn free_rotation(q: DQuat, l: DVec3, inv_inertia: DVec3, h: f64) -> DQuat {
     if inv_inertia.x == inv_inertia.y && inv_inertia.y == inv_inertia.z {

@@ -146,12 +146,20 @@ pub fn integrate_positions(bodies: &mut [SolverBody], q0: &[DQuat], h: f64) {
                 for g in &mut groups {
                     let idx: [usize; LANES] = std::array::from_fn(|l| g[l] as usize);
                     let q: [DQuat; LANES] = idx.map(|i| q_window[i]);
-                    let Ok(mut four) = window.get_disjoint_mut(idx) else {
-                        unreachable!("the slots of a window are distinct");
-                    };
-                    if !turn_four(&mut four, &q, h) {
-                        for (b, &q) in four.into_iter().zip(&q) {
-                            integrate_one(b, q, h);
+                    // The slots of a window are distinct, so the four are
+                    // always disjoint; one at a time otherwise, not a panic.
+                    match window.get_disjoint_mut(idx) {
+                        Ok(mut four) => {
+                            if !turn_four(&mut four, &q, h) {
+                                for (b, &q) in four.into_iter().zip(&q) {
+                                    integrate_one(b, q, h);
+                                }
+                            }
+                        }
+                        Err(_) => {
+                            for (&i, &q) in idx.iter().zip(&q) {
+                                integrate_one(&mut window[i], q, h);
+                            }
                         }
                     }
                 }
@@ -173,8 +181,8 @@ const GROUPING_WINDOW: usize = 64;
 /// equal principal moments (spheres, cubes) turning by the exact flow and
 /// the others as [`turn_freely`] turns them (symmetric bodies by their exact
 /// flow, the rest by the splitting), each lane computing every kind the
-/// four need and keeping its own; the push-out's turn, where a body has one, body by
-/// body in between. Returns `false`, having changed nothing, when one of
+/// four need and keeping its own; the push-out's turn, where a body has
+/// one, body by body in between. Returns `false`, having changed nothing, when one of
 /// the four is not a dynamic body or turns by more than the series of
 /// `sin_cos` covers.
 #[inline(always)]

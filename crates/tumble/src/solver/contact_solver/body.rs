@@ -224,17 +224,7 @@ fn turn_four(b: &mut [&mut SolverBody; LANES], q0: &[DQuat; LANES], h: f64) -> b
     };
     let v = V3::from_lanes(std::array::from_fn(|l| b[l].v + b[l].push_v)).scale(h_lane);
     let dp = (V3::from_lanes(std::array::from_fn(|l| b[l].dp)) + v).to_lanes();
-    // turn_by: identity for no turn, else (axis sin, cos) of half the angle.
-    let (s, c) = sin_cos_series(half);
-    let axis = angle.scale(s / theta);
-    let still = lanes::eq(theta, Lane::ZERO);
-    let turn = Q4 {
-        x: lanes::select(still, Lane::ZERO, axis.x),
-        y: lanes::select(still, Lane::ZERO, axis.y),
-        z: lanes::select(still, Lane::ZERO, axis.z),
-        w: lanes::select(still, Lane::ONE, c),
-    };
-    let q_equal = turn.mul(q_start).normalize();
+    let q_equal = turn_by_four(angle, theta, half).mul(q_start).normalize();
     let (q, w_free, inv_world) = match free {
         Some((q_free, w_free)) => {
             let q = Q4 {
@@ -373,16 +363,7 @@ fn symmetric_four(
     if limit(half, checked) {
         return None;
     }
-    let (s, c) = sin_cos_series(half);
-    let along = angle.scale(s / theta);
-    let still = lanes::eq(theta, Lane::ZERO);
-    let turn = Q4 {
-        x: lanes::select(still, Lane::ZERO, along.x),
-        y: lanes::select(still, Lane::ZERO, along.y),
-        z: lanes::select(still, Lane::ZERO, along.z),
-        w: lanes::select(still, Lane::ONE, c),
-    };
-    let q = turn.mul(q);
+    let q = turn_by_four(angle, theta, half).mul(q);
     // The turn about the body's own axis by `h pi_3 (axial - transverse)`.
     let pi = q.conjugate().rotate(l);
     let mut turned = q;
@@ -396,6 +377,22 @@ fn symmetric_four(
         turned = Q4::select(on, about, turned);
     }
     Some(turned)
+}
+
+/// `integrate::turn_by` on four lanes: the turn by the rotation vector
+/// `angle` of length `theta` (`half` = `theta / 2`, within the series'
+/// limit): the identity for no turn, else (axis sin, cos) of half the angle.
+#[inline(always)]
+fn turn_by_four(angle: V3, theta: Lane, half: Lane) -> Q4 {
+    let (s, c) = sin_cos_series(half);
+    let axis = angle.scale(s / theta);
+    let still = lanes::eq(theta, Lane::ZERO);
+    Q4 {
+        x: lanes::select(still, Lane::ZERO, axis.x),
+        y: lanes::select(still, Lane::ZERO, axis.y),
+        z: lanes::select(still, Lane::ZERO, axis.z),
+        w: lanes::select(still, Lane::ONE, c),
+    }
 }
 
 /// `splitting::turn_about_body_axis` on four lanes: `q` turned by `angle`

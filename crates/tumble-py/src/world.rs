@@ -50,7 +50,7 @@ use tumble_collide::{DVec3, Pose};
 ///                                deeper than 5 mm gets up to 3 more)
 ///     contact_margin=0.005       m, speculative contact distance
 ///     mesh_contact_margin=0.002  m, the same between two triangle meshes
-///     resting_motion=1e-5        m, a mesh pair that moved less since its
+///     resting_motion=5e-7        m, a mesh pair that moved less since its
 ///                                last search re-evaluates its kept points
 ///     allowed_penetration=0.0005 m, overlap left uncorrected
 ///     push_out_fraction=0.2      overlap removed per sub-step, in (0, 1]
@@ -231,7 +231,7 @@ impl World {
         signature = (**settings),
         text_signature = "(*, gravity=(0, 0, -9.81), dt=0.016666666666666666, substeps=8, integrator='semi_implicit', \
             solver='pgs', iterations=2, push_out_iterations=1, contact_margin=0.005, \
-            mesh_contact_margin=0.002, resting_motion=1e-05, allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
+            mesh_contact_margin=0.002, resting_motion=5e-07, allowed_penetration=0.0005, push_out_fraction=0.2, max_push_out_speed=3.0, \
             restitution_threshold=0.5, continuous=True, sleeping=True, sleep_linear_speed=0.05, \
             sleep_angular_speed=0.05, time_to_sleep=0.5, threads=0, adaptive_threads=True)"
     )]

@@ -9,11 +9,13 @@
 //! - [`node`]: the memory-compact f32 node with conservative rounding.
 //! - [`build`]: top-down construction, [`ObbTree`] and its statistics.
 //! - [`traverse`]: simultaneous traversal of two trees (overlap and distance).
+//! - [`front`]: where the last walk of two trees ended, to start the next from.
 //! - [`query`]: one tree against a query box, sphere or half-space.
 //! - [`volume_distance`](mod@volume_distance): one tree's distance to a convex query volume.
 
 pub mod build;
 pub mod fit;
+pub mod front;
 pub mod node;
 pub mod obb;
 pub mod query;
@@ -23,6 +25,7 @@ pub mod traverse;
 pub mod volume_distance;
 
 pub use build::{BuildOptions, BvhError, ObbTree, TreeStats, MAX_COORDINATE};
+pub use front::{collide_leaves_front, FrontWalk, WalkFront};
 pub use node::Node;
 pub use obb::Obb;
 pub use query::{query_aabb, query_halfspace, query_obb, query_sphere};

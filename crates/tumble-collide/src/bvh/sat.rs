@@ -115,7 +115,7 @@ pub struct LaneBox<'a> {
 /// columns `A^T B_j` and `A^T (cB - cA)`. Why lanes: a tree walk spends its
 /// time here (the torus chain's step, 45 % of it in this test scalar, took
 /// 1.20 ms instead of 1.43 on one thread, the same trajectory).
-#[inline]
+#[inline(always)]
 pub fn obb_disjoint_axes(a: LaneBox, b: LaneBox) -> bool {
     let (t, rb) = a_face_terms(a, b);
     if t.abs().simd_gt(lanes_of(a.half) + rb).any() {

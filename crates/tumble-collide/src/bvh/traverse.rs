@@ -11,9 +11,10 @@
 //! their statistics.
 //!
 //! The public walks (`collide`, `collide_moving`, `collide_leaves`,
-//! `distance_with`) open with the same header, two trees and their poses
-//! then a bound (checked by `check_nonneg` in `collide_leaves`, which the
-//! first two run on, and in `distance_with`): public API whose extra
+//! `distance_with`, and `front`'s `collide_leaves_front` and
+//! `collide_leaves_through`) open with the same header, two trees and their poses
+//! then a bound (checked by `check_nonneg` in `walk_from`, which all but
+//! `distance_with` run on, and in `distance_with`): public API whose extra
 //! arguments and callbacks differ.
 
 use super::build::ObbTree;
@@ -70,13 +71,13 @@ pub(crate) fn check_nonneg(what: &'static str, value: f64) -> Result<(), Travers
 
 /// Pose of mesh B in mesh A's frame, precomputed once per query.
 #[derive(Clone, Copy)]
-struct Relative {
+pub(super) struct Relative {
     rot: DQuat,
     trans: DVec3,
 }
 
 impl Relative {
-    fn new(pose_a: &Pose, pose_b: &Pose) -> Relative {
+    pub(super) fn new(pose_a: &Pose, pose_b: &Pose) -> Relative {
         let qa_inv = pose_a.rotation.conjugate();
         Relative {
             rot: (qa_inv * pose_b.rotation).normalize(),
@@ -102,7 +103,7 @@ impl Relative {
     /// the move along its axis) and grown on every side by the rotation's
     /// reach over its half diagonal.
     #[inline]
-    fn place_b_drifting(&self, nb: &Node, grow: f64, drift: &Drift) -> Placed {
+    pub(super) fn place_b_drifting(&self, nb: &Node, grow: f64, drift: &Drift) -> Placed {
         let mut placed = self.place_b(nb, grow);
         if drift.is_none() {
             return placed;
@@ -129,7 +130,7 @@ impl Relative {
 /// A box in mesh A's frame. When a pair is split, the unsplit side is placed
 /// once and shared by the two child tests.
 #[derive(Clone, Copy)]
-struct Placed {
+pub(super) struct Placed {
     /// The box's axes (columns).
     axes: DMat3,
     /// The same by component (`sat::axis_lanes`).
@@ -149,7 +150,7 @@ impl Placed {
 
     /// Box `na` of mesh A (already in A's frame), grown by `grow` (m).
     #[inline]
-    fn a(na: &Node, grow: f64) -> Placed {
+    pub(super) fn a(na: &Node, grow: f64) -> Placed {
         let axes = DMat3::from_quat(na.quat_f64());
         Placed {
             axes,
@@ -170,8 +171,8 @@ impl Placed {
         }
     }
 
-    #[inline]
-    fn overlaps(&self, b: &Placed) -> bool {
+    #[inline(always)]
+    pub(super) fn overlaps(&self, b: &Placed) -> bool {
         !obb_disjoint_axes(self.lane_box(), b.lane_box())
     }
 
@@ -183,7 +184,7 @@ impl Placed {
 
 /// `true` when the pair should be split on A's side.
 #[inline]
-fn descend_a(na: &Node, nb: &Node) -> bool {
+pub(super) fn descend_a(na: &Node, nb: &Node) -> bool {
     !na.is_leaf() && (nb.is_leaf() || na.size() >= nb.size())
 }
 
@@ -263,6 +264,47 @@ pub fn collide_leaves(
     drift: &Drift,
     mut on_leaves: impl FnMut(u32, u32) -> Traverse,
 ) -> Result<TraversalStats, TraversalError> {
+    walk_from(
+        a,
+        pose_a,
+        b,
+        pose_b,
+        (margin, drift),
+        &[ROOT_PAIR],
+        None,
+        |x, y, _| on_leaves(x, y),
+    )
+}
+
+/// The root pair of two trees: where a walk from the top begins.
+pub(super) const ROOT_PAIR: (u32, u32) = (0, 0);
+
+/// The walk of [`collide_leaves`] begun at each node pair of `cut` in turn
+/// instead of at the roots (`bvh::front`): each is tested as the walk
+/// tests a pair it reaches, and the walk goes on below it as from the
+/// roots, so that a cut of the roots' pair tree gives the leaf pairs of the
+/// walk from the roots in its order, with perhaps some whose ancestors
+/// above the cut are apart. With `terminals`, the node pairs where each
+/// walk below the cut ended (apart, or a leaf pair) are appended in the
+/// same depth-first order: a cut again. `[ROOT_PAIR]` is the walk from the
+/// roots; node indices outside the trees are refused as a bad parameter.
+///
+/// `on_leaves` gets with each leaf pair a question it may ask: whether the
+/// walk from the roots reaches the pair's cut entry, that is whether the
+/// boxes of every node pair above it on its path from the roots overlap,
+/// tested as that walk tests them (answered once per entry; `bvh::front`
+/// on why a caller asks).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn walk_from(
+    a: &ObbTree,
+    pose_a: &Pose,
+    b: &ObbTree,
+    pose_b: &Pose,
+    (margin, drift): (f64, &Drift),
+    cut: &[(u32, u32)],
+    mut terminals: Option<&mut Vec<(u32, u32)>>,
+    mut on_leaves: impl FnMut(u32, u32, &mut dyn FnMut() -> bool) -> Traverse,
+) -> Result<TraversalStats, TraversalError> {
     check_nonneg("collide margin", margin)?;
     if !drift.is_finite() {
         return Err(TraversalError::BadParameter {
@@ -270,18 +312,26 @@ pub fn collide_leaves(
             value: f64::NAN,
         });
     }
+    let (na, nb) = (a.nodes(), b.nodes());
+    for &(x, y) in cut {
+        for (what, node, nodes) in [
+            ("walk cut node of A", x, na.len()),
+            ("walk cut node of B", y, nb.len()),
+        ] {
+            if node as usize >= nodes.max(1) {
+                return Err(TraversalError::BadParameter {
+                    what,
+                    value: node as f64,
+                });
+            }
+        }
+    }
     let rel = Relative::new(pose_a, pose_b);
     let drift = drift.in_frame_of(pose_a);
     let grow = 0.5 * margin;
-    let (na, nb) = (a.nodes(), b.nodes());
-    let mut stats = TraversalStats {
-        bv_tests: 1,
-        ..TraversalStats::default()
-    };
-    if na.is_empty()
-        || nb.is_empty()
-        || !Placed::a(&na[0], grow).overlaps(&rel.place_b_drifting(&nb[0], grow, &drift))
-    {
+    let mut stats = TraversalStats::default();
+    if na.is_empty() || nb.is_empty() {
+        stats.bv_tests = 1;
         return Ok(stats);
     }
     // B's boxes placed in A's frame, and A's with their axes as matrices,
@@ -295,42 +345,149 @@ pub fn collide_leaves(
         placed_a.begin(na.len());
         let place_b = |i: u32| rel.place_b_drifting(&nb[i as usize], grow, &drift);
         let place_a = |i: u32| Placed::a(&na[i as usize], grow);
-        let mut stack = SmallStack::<(u32, u32)>::new();
-        stack.push((0, 0));
-        while let Some((ia, ib)) = stack.pop() {
-            let (x, y) = (&na[ia as usize], &nb[ib as usize]);
-            if x.is_leaf() && y.is_leaf() {
-                stats.leaf_pairs += 1;
-                stats.triangle_pairs += (a.leaf_triangles(x).len() * b.leaf_triangles(y).len()) as u64;
-                if on_leaves(ia, ib) == Traverse::Stop {
-                    stats.stopped = true;
-                    return;
-                }
-                continue;
-            }
-            // Test the children before pushing; push the second child first so
-            // the first is visited first (depth-first, left to right).
-            if descend_a(x, y) {
-                let pb = placed.get(ib, || place_b(ib));
-                let c = x.first_child();
-                for child in [c + 1, c] {
-                    stats.bv_tests += 1;
-                    if placed_a.get(child, || place_a(child)).overlaps(pb) {
-                        stack.push((child, ib));
+        // (node of A, node of B, whether the boxes overlap): a pair apart
+        // is on the stack only to be handed to `terminals` in its turn.
+        let mut stack = SmallStack::<(u32, u32, bool)>::new();
+        // The path from the roots to the last entry asked about, each pair
+        // with its test (entries come in depth-first order, and neighbours
+        // share most of their paths).
+        let mut path: Vec<((u32, u32), bool)> = Vec::new();
+        for &entry in cut {
+            let (ia, ib) = entry;
+            let mut entry_reached = (entry == ROOT_PAIR).then_some(true);
+            stats.bv_tests += 1;
+            let overlaps = placed_a
+                .get(ia, || place_a(ia))
+                .overlaps(placed.get(ib, || place_b(ib)));
+            stack.push((ia, ib, overlaps));
+            while let Some((ia, ib, overlaps)) = stack.pop() {
+                if !overlaps {
+                    if let Some(t) = terminals.as_deref_mut() {
+                        t.push((ia, ib));
                     }
+                    continue;
                 }
-            } else {
-                let pa = placed_a.get(ia, || place_a(ia));
-                let c = y.first_child();
-                for child in [c + 1, c] {
-                    stats.bv_tests += 1;
-                    if pa.overlaps(placed.get(child, || place_b(child))) {
-                        stack.push((ia, child));
+                let (x, y) = (&na[ia as usize], &nb[ib as usize]);
+                if x.is_leaf() && y.is_leaf() {
+                    if let Some(t) = terminals.as_deref_mut() {
+                        t.push((ia, ib));
+                    }
+                    stats.leaf_pairs += 1;
+                    stats.triangle_pairs += (a.leaf_triangles(x).len() * b.leaf_triangles(y).len()) as u64;
+                    let mut reached = || {
+                        *entry_reached.get_or_insert_with(|| {
+                            let mut overlaps = |x: u32, y: u32| {
+                                let pb = placed.get(y, || place_b(y));
+                                placed_a.get(x, || place_a(x)).overlaps(pb)
+                            };
+                            path_overlaps(na, nb, entry, &mut path, &mut overlaps)
+                        })
+                    };
+                    if on_leaves(ia, ib, &mut reached) == Traverse::Stop {
+                        stats.stopped = true;
+                        return;
+                    }
+                    continue;
+                }
+                // Test the children before pushing; push the second child
+                // first so the first is visited first (depth-first, left to
+                // right). A child apart is pushed only when the walk keeps
+                // its terminals.
+                let keep_apart = terminals.is_some();
+                if descend_a(x, y) {
+                    let pb = placed.get(ib, || place_b(ib));
+                    let c = x.first_child();
+                    for child in [c + 1, c] {
+                        stats.bv_tests += 1;
+                        let overlaps = placed_a.get(child, || place_a(child)).overlaps(pb);
+                        if overlaps || keep_apart {
+                            stack.push((child, ib, overlaps));
+                        }
+                    }
+                } else {
+                    let pa = placed_a.get(ia, || place_a(ia));
+                    let c = y.first_child();
+                    for child in [c + 1, c] {
+                        stats.bv_tests += 1;
+                        let overlaps = pa.overlaps(placed.get(child, || place_b(child)));
+                        if overlaps || keep_apart {
+                            stack.push((ia, child, overlaps));
+                        }
                     }
                 }
             }
         }
     };
+    with_placed_boxes(&mut walk);
+    Ok(stats)
+}
+
+/// Whether every node pair above `entry` on the walk's path from the
+/// roots' pair passes `overlaps` (the entry's own test is the caller's).
+/// `path` holds the last path asked about, with its tests, and is reused
+/// where the new one begins alike. An entry the walk from the roots cannot
+/// meet (no cut a walk leaves holds one) is not reached.
+fn path_overlaps(
+    na: &[Node],
+    nb: &[Node],
+    entry: (u32, u32),
+    path: &mut Vec<((u32, u32), bool)>,
+    overlaps: &mut impl FnMut(u32, u32) -> bool,
+) -> bool {
+    let first_leaf = |nodes: &[Node], mut n: u32| {
+        while !nodes[n as usize].is_leaf() {
+            n = nodes[n as usize].first_child();
+        }
+        nodes[n as usize].leaf_range().0
+    };
+    let (ta, tb) = (first_leaf(na, entry.0), first_leaf(nb, entry.1));
+    // The child of `node` whose subtree holds the node whose first leaf's
+    // run starts at `target`: leaves hold consecutive runs of the tree's
+    // triangle index array, left subtree before right.
+    let towards = |nodes: &[Node], node: u32, target: u32| {
+        let c = nodes[node as usize].first_child();
+        if target >= first_leaf(nodes, c + 1) {
+            c + 1
+        } else {
+            c
+        }
+    };
+    let (mut x, mut y) = ROOT_PAIR;
+    let mut depth = 0;
+    while (x, y) != entry {
+        let ok = match path.get(depth) {
+            Some(&(pair, ok)) if pair == (x, y) => ok,
+            _ => {
+                path.truncate(depth);
+                let ok = overlaps(x, y);
+                path.push(((x, y), ok));
+                ok
+            }
+        };
+        if !ok {
+            return false;
+        }
+        let (nx, ny) = (&na[x as usize], &nb[y as usize]);
+        if descend_a(nx, ny) {
+            if x == entry.0 {
+                return false;
+            }
+            x = towards(na, x, ta);
+        } else {
+            if y == entry.1 || ny.is_leaf() {
+                return false;
+            }
+            y = towards(nb, y, tb);
+        }
+        depth += 1;
+    }
+    true
+}
+
+/// Runs `walk` with this thread's caches of placed boxes (B's, then A's),
+/// or fresh ones where they are taken (a walk inside a walk's callback) or
+/// being torn down.
+pub(super) fn with_placed_boxes(walk: &mut impl FnMut(&mut PlacedBoxes, &mut PlacedBoxes)) {
     let cached = PLACED_B.try_with(|cell_b| {
         PLACED_A.with(
             |cell_a| match (cell_b.try_borrow_mut(), cell_a.try_borrow_mut()) {
@@ -345,14 +502,13 @@ pub fn collide_leaves(
     if cached != Ok(true) {
         walk(&mut PlacedBoxes::default(), &mut PlacedBoxes::default());
     }
-    Ok(stats)
 }
 
 /// Boxes of one walk's tree B placed in A's frame, by node (valid where
 /// `stamp` holds the walk's `generation`): kept per thread so that a walk
 /// neither allocates nor clears them.
 #[derive(Default)]
-struct PlacedBoxes {
+pub(super) struct PlacedBoxes {
     boxes: Vec<Placed>,
     stamp: Vec<u32>,
     generation: u32,
@@ -360,7 +516,7 @@ struct PlacedBoxes {
 
 impl PlacedBoxes {
     /// Starts a walk of a tree of `nodes` nodes: nothing placed yet.
-    fn begin(&mut self, nodes: usize) {
+    pub(super) fn begin(&mut self, nodes: usize) {
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
             // Wrapped: old stamps could read as current.
@@ -375,7 +531,7 @@ impl PlacedBoxes {
 
     /// Node `i`'s box, placed by `place` the first time it is asked for.
     #[inline]
-    fn get(&mut self, i: u32, place: impl FnOnce() -> Placed) -> &Placed {
+    pub(super) fn get(&mut self, i: u32, place: impl FnOnce() -> Placed) -> &Placed {
         let i = i as usize;
         if self.stamp[i] != self.generation {
             self.boxes[i] = place();

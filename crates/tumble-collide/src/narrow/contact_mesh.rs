@@ -15,7 +15,7 @@
 
 use super::contact_halfspace::push_vertex_on_plane;
 use super::smooth_foot::{push_foot_contact, smooth_foot, SmoothFoot};
-use crate::bvh::{self, Obb, Traverse};
+use crate::bvh::{self, Obb, Traverse, WalkFront};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::drift::Drift;
 use crate::math::{DMat3, DVec3};
@@ -299,9 +299,35 @@ pub fn contact_mesh_mesh_moving(
     drift: &Drift,
     out: &mut Vec<Contact>,
 ) {
+    let mut next = WalkFront::new();
+    contact_mesh_mesh_front(
+        (a, pose_a),
+        (b, pose_b),
+        (margin, drift),
+        &WalkFront::new(),
+        &mut next,
+        out,
+    );
+}
+
+/// [`contact_mesh_mesh_moving`] with the walk begun at `front`'s cut
+/// (`bvh::front`; an empty front is the roots), the front where it ended
+/// written to `next`: the same contacts, bit for bit. Where a leaf
+/// pair that the walk from the roots does not reach (an ancestor above the
+/// cut is apart) gives contacts, they are dropped (the walk's question,
+/// `bvh::front`), so the answer is that walk's, whatever front the pair kept.
+pub(super) fn contact_mesh_mesh_front(
+    (a, pose_a): (&MeshShape, &Pose),
+    (b, pose_b): (&MeshShape, &Pose),
+    (margin, drift): (f64, &Drift),
+    front: &WalkFront,
+    next: &mut WalkFront,
+    out: &mut Vec<Contact>,
+) {
     let start = out.len();
     let rel = pose_a.inverse().mul_pose(pose_b);
     let rot = DMat3::from_quat(rel.rotation);
+    let (tree_a, tree_b) = (a.tree(), b.tree());
     VERTEX_CACHE.with_borrow_mut(|cache| {
         cache.begin(b.mesh().vertices().len(), &drift.in_frame_of(pose_a));
         let mut placed = PlacedPair {
@@ -311,10 +337,25 @@ pub fn contact_mesh_mesh_moving(
             trans: rel.position,
             cache,
         };
-        let _ = bvh::collide_moving(a.tree(), pose_a, b.tree(), pose_b, margin, drift, |ta, tb, _| {
-            placed.owned_contacts((ta, tb), margin, out);
+        let on_leaves = |x: u32, y: u32, reached: &mut dyn FnMut() -> bool| {
+            let before = out.len();
+            for &ta in tree_a.leaf_triangles(&tree_a.nodes()[x as usize]) {
+                for &tb in tree_b.leaf_triangles(&tree_b.nodes()[y as usize]) {
+                    placed.owned_contacts((ta, tb), margin, out);
+                }
+            }
+            // Found below a cut entry the walk from the roots does not
+            // reach: not its contacts (`bvh::front`).
+            if out.len() > before && !reached() {
+                out.truncate(before);
+            }
             Traverse::Continue
-        });
+        };
+        // (A refused margin or drift gives no contacts; the callers check
+        // both first.)
+        let _ = bvh::collide_leaves_front(
+            tree_a, pose_a, tree_b, pose_b, margin, drift, front, next, on_leaves,
+        );
     });
     finish_mesh_mesh(out, start, a, pose_a, b, pose_b);
 }

@@ -1,8 +1,11 @@
-//! Temporal coherence for two meshes that barely move against each other
-//! (issue 15, "contacts re-validated rather than re-found"): a resting pair
-//! keeps the leaf pairs of one walk of the two OBB-trees and, step after
-//! step, tests only the triangle pairs of that list that its motion since
-//! then could have brought within the margin.
+//! Temporal coherence for two meshes (issue 15, "contacts re-validated
+//! rather than re-found"): a pair that barely moves keeps the leaf pairs of
+//! one walk of the two OBB-trees and, step after step, tests only the
+//! triangle pairs of that list that its motion since then could have
+//! brought within the margin; a pair that moves more keeps where its last
+//! walk along the drift ended, and begins the next one there
+//! (`bvh::front`; the same contacts, about half the box tests where two
+//! meshes stay entangled, as the torus chain's links).
 //!
 //! The idea is the Verlet list of molecular dynamics (neighbours within a
 //! cutoff plus a skin, valid while no particle has moved half the skin)
@@ -29,7 +32,7 @@
 use super::contact_mesh::{finish_mesh_mesh, PlacedPair, VERTEX_CACHE};
 use super::dispatch::{check_margin_and_drift, refuse_non_finite};
 use super::NarrowError;
-use crate::bvh::{self, ObbTree, Traverse};
+use crate::bvh::{self, ObbTree, Traverse, WalkFront};
 use crate::contact::Contact;
 use crate::drift::Drift;
 use crate::math::{DMat3, DQuat, DVec3};
@@ -40,9 +43,9 @@ use std::sync::Arc;
 
 /// A pair qualifies while no point of B can move farther than this (m)
 /// relative to A within the look-ahead: resting and slowly sliding pairs.
-/// Faster pairs walk their trees along the drift every step
-/// (`contact_mesh_mesh_moving`), which follows a fast part's own path
-/// instead of a list grown around all of it.
+/// Faster pairs walk their trees along the drift every step, from their
+/// last walk's front (`contact_mesh::contact_mesh_mesh_front`), which
+/// follows a fast part's own path instead of a list grown around all of it.
 pub const RECALL_MAX_REACH: f64 = 0.002;
 
 /// The slack (m) a new list is found with beyond the margin and the
@@ -55,29 +58,54 @@ pub const RECALL_SLACK: f64 = 0.002;
 /// coordinates' arithmetic (1e-15 relative), far below any margin.
 const ROUND_OFF: f64 = 1e-9;
 
-/// What one walk of two OBB-trees found, kept for the following steps.
+/// What one walk of two OBB-trees found, kept for the following steps: a
+/// resting pair's list of triangle pairs, or a moving pair's front (where
+/// its walk along the drift ended, `bvh::front`).
 #[derive(Debug, Clone)]
 pub struct MeshPairMemory {
-    /// The trees the list indexes: an entry is only ever used for them (held,
+    /// The trees the memory indexes: it is only ever used for them (held,
     /// so that no other tree can take their place in memory).
     trees: (Arc<ObbTree>, Arc<ObbTree>),
-    /// B's pose in A's frame at the walk.
-    rel: Pose,
-    /// The margin the walk used (m): the step's margin plus B's look-ahead
-    /// reach plus [`RECALL_SLACK`].
-    reach: f64,
-    /// The triangle pairs `(A's, B's)` of the leaf pairs within `reach`, in
-    /// walk order (A's triangles outer within a leaf pair), with their
-    /// distance at the walk (m): only those within `reach` (and round-off),
-    /// since the list is given up before B has moved far enough to bring a
-    /// farther one within the margin.
-    pairs: Vec<(u32, u32, f64)>,
+    kept: Kept,
+}
+
+#[derive(Debug, Clone)]
+enum Kept {
+    /// A resting pair's triangle pairs (module docs).
+    List {
+        /// B's pose in A's frame at the walk.
+        rel: Pose,
+        /// The margin the walk used (m): the step's margin plus B's
+        /// look-ahead reach plus [`RECALL_SLACK`].
+        reach: f64,
+        /// The triangle pairs `(A's, B's)` of the leaf pairs within
+        /// `reach`, in walk order (A's triangles outer within a leaf pair),
+        /// with their distance at the walk (m): only those within `reach`
+        /// (and round-off), since the list is given up before B has moved
+        /// far enough to bring a farther one within the margin.
+        pairs: Vec<(u32, u32, f64)>,
+    },
+    /// A moving pair's walk front.
+    Front(WalkFront),
 }
 
 impl MeshPairMemory {
-    /// How many triangle pairs the list holds.
+    /// How many triangle pairs the list holds (0 for a front).
     pub fn triangle_pairs(&self) -> usize {
-        self.pairs.len()
+        match &self.kept {
+            Kept::List { pairs, .. } => pairs.len(),
+            Kept::Front(_) => 0,
+        }
+    }
+
+    /// The walk front kept for trees `a` and `b`, if this memory is one.
+    pub fn front_for(&self, a: &Arc<ObbTree>, b: &Arc<ObbTree>) -> Option<&WalkFront> {
+        match &self.kept {
+            Kept::Front(front) if Arc::ptr_eq(&self.trees.0, a) && Arc::ptr_eq(&self.trees.1, b) => {
+                Some(front)
+            }
+            _ => None,
+        }
     }
 }
 
@@ -89,8 +117,8 @@ pub enum Recall {
     /// A new list was found (no memory, or it had run out): keep this one.
     Found(MeshPairMemory),
     /// The pair moves too fast for a list: it walked its trees along the
-    /// drift, and there is nothing to keep.
-    Walked,
+    /// drift, from its last walk's front if it kept one; keep the new front.
+    Walked(MeshPairMemory),
 }
 
 /// [`contact_mesh_mesh_moving`](super::contact_mesh_mesh_moving) for a pair
@@ -127,7 +155,11 @@ pub fn contact_mesh_mesh_recalled(
         let (tree_a, tree_b) = (a.tree_arc(), b.tree_arc());
         let (na, nb) = (tree_a.nodes(), tree_b.nodes());
         if na.is_empty() || nb.is_empty() {
-            break 'recall Recall::Walked;
+            super::contact_mesh_mesh_moving(a, pose_a, b, pose_b, margin, drift, out);
+            break 'recall Recall::Walked(MeshPairMemory {
+                trees: (tree_a.clone(), tree_b.clone()),
+                kept: Kept::Front(WalkFront::new()),
+            });
         }
         let rel = pose_a.inverse().mul_pose(pose_b);
         let rot = DMat3::from_quat(rel.rotation);
@@ -142,13 +174,33 @@ pub fn contact_mesh_mesh_recalled(
             local_drift.reach(root_in_a, tree_b.leaf_reach()) * (1.0 + 1e-12) + ROUND_OFF
         };
         if reach_max > RECALL_MAX_REACH {
-            super::contact_mesh_mesh_moving(a, pose_a, b, pose_b, margin, drift, out);
-            break 'recall Recall::Walked;
+            let last = memory.and_then(|m| m.front_for(tree_a, tree_b));
+            let mut next = WalkFront::new();
+            super::contact_mesh::contact_mesh_mesh_front(
+                (a, pose_a),
+                (b, pose_b),
+                (margin, drift),
+                last.unwrap_or(&WalkFront::new()),
+                &mut next,
+                out,
+            );
+            break 'recall Recall::Walked(MeshPairMemory {
+                trees: (tree_a.clone(), tree_b.clone()),
+                kept: Kept::Front(next),
+            });
         }
-        let remembered = memory.filter(|m| {
-            Arc::ptr_eq(&m.trees.0, tree_a)
+        let remembered = memory.and_then(|m| match &m.kept {
+            Kept::List {
+                rel: then,
+                reach,
+                pairs,
+            } if Arc::ptr_eq(&m.trees.0, tree_a)
                 && Arc::ptr_eq(&m.trees.1, tree_b)
-                && margin + reach_max + moved_since(&m.rel, &rel, root_b, tree_b.leaf_reach()) <= m.reach
+                && margin + reach_max + moved_since(then, &rel, root_b, tree_b.leaf_reach()) <= *reach =>
+            {
+                Some((then, pairs.as_slice()))
+            }
+            _ => None,
         });
         let recall = VERTEX_CACHE.with_borrow_mut(|cache| {
             cache.begin(b.mesh().vertices().len(), &local_drift);
@@ -160,10 +212,10 @@ pub fn contact_mesh_mesh_recalled(
                 cache,
             };
             match remembered {
-                Some(m) => {
-                    let moved = moved_since(&m.rel, &rel, root_b, tree_b.leaf_reach());
+                Some((then, pairs)) => {
+                    let moved = moved_since(then, &rel, root_b, tree_b.leaf_reach());
                     let listed = Listed {
-                        memory: m,
+                        pairs,
                         moved,
                         margin,
                         reach_max,
@@ -172,21 +224,19 @@ pub fn contact_mesh_mesh_recalled(
                     Recall::Reused
                 }
                 None => {
-                    let memory = walk(
-                        &mut placed,
-                        pose_a,
-                        pose_b,
-                        rel,
-                        margin + reach_max + RECALL_SLACK,
-                    );
+                    let reach = margin + reach_max + RECALL_SLACK;
+                    let pairs = walk(&mut placed, pose_a, pose_b, reach);
                     let listed = Listed {
-                        memory: &memory,
+                        pairs: &pairs,
                         moved: 0.0,
                         margin,
                         reach_max,
                     };
                     listed.contacts(&mut placed, out);
-                    Recall::Found(memory)
+                    Recall::Found(MeshPairMemory {
+                        trees: (tree_a.clone(), tree_b.clone()),
+                        kept: Kept::List { rel, reach, pairs },
+                    })
                 }
             }
         });
@@ -197,10 +247,47 @@ pub fn contact_mesh_mesh_recalled(
     Ok(recall)
 }
 
+/// [`contact_mesh_mesh`](super::contact_mesh_mesh) for a pair that may
+/// have kept a front of this same query (a second walk of the pair within
+/// a step, at other poses and another margin than the narrow phase's: the
+/// end-of-step overlaps): the walk begins at the front `memory` holds if it
+/// is one for these two trees, else at the roots, and the front where it
+/// ended is returned to keep. The contacts are the same bits either way.
+/// Errors as [`contact_shapes`](super::contact_shapes).
+pub fn contact_mesh_mesh_from_front(
+    a: &MeshShape,
+    pose_a: &Pose,
+    b: &MeshShape,
+    pose_b: &Pose,
+    margin: f64,
+    memory: Option<&MeshPairMemory>,
+    out: &mut Vec<Contact>,
+) -> Result<MeshPairMemory, NarrowError> {
+    check_margin_and_drift(margin, &Drift::NONE)?;
+    let start = out.len();
+    let (tree_a, tree_b) = (a.tree_arc(), b.tree_arc());
+    let mut next = WalkFront::new();
+    super::contact_mesh::contact_mesh_mesh_front(
+        (a, pose_a),
+        (b, pose_b),
+        (margin, &Drift::NONE),
+        memory
+            .and_then(|m| m.front_for(tree_a, tree_b))
+            .unwrap_or(&WalkFront::new()),
+        &mut next,
+        out,
+    );
+    refuse_non_finite(out, start, "mesh", "mesh")?;
+    Ok(MeshPairMemory {
+        trees: (tree_a.clone(), tree_b.clone()),
+        kept: Kept::Front(next),
+    })
+}
+
 /// A new list: the triangle pairs of the leaf pairs of the two trees within
 /// `reach` (no drift: the reach covers it) that are themselves within it,
 /// each with its distance.
-fn walk(placed: &mut PlacedPair, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach: f64) -> MeshPairMemory {
+fn walk(placed: &mut PlacedPair, pose_a: &Pose, pose_b: &Pose, reach: f64) -> Vec<(u32, u32, f64)> {
     let (tree_a, tree_b) = (placed.a.tree_arc(), placed.b.tree_arc());
     let mut leaf_pairs = Vec::new();
     let _ = bvh::traverse::collide_leaves(tree_a, pose_a, tree_b, pose_b, reach, &Drift::NONE, |x, y| {
@@ -233,17 +320,13 @@ fn walk(placed: &mut PlacedPair, pose_a: &Pose, pose_b: &Pose, rel: Pose, reach:
             }
         }
     }
-    MeshPairMemory {
-        trees: (tree_a.clone(), tree_b.clone()),
-        rel,
-        reach,
-        pairs,
-    }
+    pairs
 }
 
 /// A list with how far B has moved since it was found.
 struct Listed<'m> {
-    memory: &'m MeshPairMemory,
+    /// The list's triangle pairs, with their distances at the walk.
+    pairs: &'m [(u32, u32, f64)],
     /// A bound on any point of B's move in A's frame since the walk (m).
     moved: f64,
     /// The step's margin (m).
@@ -259,7 +342,7 @@ impl Listed<'_> {
     /// the margin and the largest look-ahead, in the list's order.
     fn contacts(&self, placed: &mut PlacedPair, out: &mut Vec<Contact>) {
         let reach = self.margin + self.reach_max;
-        for &(ta, tb, gap) in &self.memory.pairs {
+        for &(ta, tb, gap) in self.pairs {
             if gap - self.moved - ROUND_OFF > reach {
                 continue;
             }
@@ -401,7 +484,7 @@ mod tests {
                     found += 1;
                     memory = Some(m);
                 }
-                Recall::Walked => panic!("a slow pair walks along its drift"),
+                Recall::Walked(_) => panic!("a slow pair walks along its drift"),
             }
             let mut fresh = Vec::new();
             let again = contact_mesh_mesh_recalled(&a, &pose_a, &b, pose_b, margin, &drift, None, &mut fresh);
@@ -457,7 +540,7 @@ mod tests {
         };
         let (mut recalled, mut moving) = (Vec::new(), Vec::new());
         let got = contact_mesh_mesh_recalled(&a, &pose_a, &b, &pose_b, 0.004, &fast, None, &mut recalled);
-        assert!(matches!(got, Ok(Recall::Walked)));
+        assert!(matches!(got, Ok(Recall::Walked(_))));
         contact_mesh_mesh_moving(&a, &pose_a, &b, &pose_b, 0.004, &fast, &mut moving);
         assert_eq!(bits(&recalled), bits(&moving));
         // A memory of the ball against another torus (same shape, other

@@ -63,7 +63,8 @@ pub use contact_sphere_cuboid::contact_sphere_cuboid;
 pub use contact_sphere_sphere::contact_sphere_sphere;
 pub use dispatch::{contact_shapes, contact_shapes_moving};
 pub use mesh_pair_memory::{
-    contact_mesh_mesh_recalled, moved_since, MeshPairMemory, Recall, RECALL_MAX_REACH, RECALL_SLACK,
+    contact_mesh_mesh_from_front, contact_mesh_mesh_recalled, moved_since, MeshPairMemory, Recall,
+    RECALL_MAX_REACH, RECALL_SLACK,
 };
 pub use reduce::{
     reduce_patch, reduce_to_four, KEEP_AREA_FRACTION, KEEP_DEPTH_SLACK, PATCH_DEPTH_BAND, PATCH_MAX_POINTS,

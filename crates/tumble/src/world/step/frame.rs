@@ -152,10 +152,15 @@ pub(crate) struct StepScratch {
     pub wide: WideBatches,
     /// The last step's frame arrays, emptied (see [`StepFrame::recycle`]).
     pub frame: FrameBuffers,
-    /// The walks that resting mesh pairs remember (`narrow::MeshPairMemory`),
-    /// by collider pair, in the step's pair order. They change the narrow
-    /// phase's cost, never its contacts.
+    /// The walks that mesh pairs remember (`narrow::MeshPairMemory`: a
+    /// resting pair's triangle pairs, a moving pair's walk front), by
+    /// collider pair, in the step's pair order. They change the cost of the
+    /// narrow phase and of the end-of-step overlaps, never their contacts.
     pub mesh_memory: Vec<(MeshPairKey, Option<MeshPairMemory>)>,
+    /// Where the end-of-step overlap walks of mesh pairs ended last step
+    /// (`bvh::front`), by collider pair in key order: their next walks
+    /// begin there. They change those walks' cost, never their contacts.
+    pub end_fronts: Vec<(MeshPairKey, MeshPairMemory)>,
     /// Whether steps run on the threads or on one (`thread_choice`): where
     /// the work is done, never what it gives.
     pub thread_choice: super::ThreadChoice,

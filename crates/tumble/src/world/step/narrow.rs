@@ -9,9 +9,9 @@
 //! contacts do not depend on the chunk it falls in, so the result is the
 //! same bits for any thread count.
 //!
-//! Mesh pairs also read the tree walks they remembered last step
-//! (`StepScratch::mesh_memory`, `narrow::contact_mesh_mesh_recalled`) and
-//! say what to keep; the kept list is rebuilt in pair order at the join. A
+//! Mesh pairs also read the tree walks they remembered last step (a list
+//! of triangle pairs, or a moving pair's walk front: `StepScratch::mesh_memory`,
+//! `narrow::contact_mesh_mesh_recalled`) and say what to keep; the kept list is rebuilt in pair order at the join. A
 //! memory changes what a pair costs, never its contacts.
 
 use super::frame::MeshPairKey;
@@ -281,8 +281,10 @@ impl World {
                         .map(|recall| match (recall, index) {
                             // Reused only when there was a memory, so it has an index.
                             (Recall::Reused, Some(i)) => out.recalls.push((key, Recalled::Kept(i))),
-                            (Recall::Found(m), _) => out.recalls.push((key, Recalled::New(m))),
-                            (Recall::Reused, None) | (Recall::Walked, _) => {}
+                            (Recall::Found(m), _) | (Recall::Walked(m), _) => {
+                                out.recalls.push((key, Recalled::New(m)))
+                            }
+                            (Recall::Reused, None) => {}
                         })
                 } else {
                     contact_shapes(&ca.shape, &wpa, &cb.shape, &wpb, margin, buffer)

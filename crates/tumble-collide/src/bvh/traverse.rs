@@ -11,9 +11,8 @@
 //! their statistics.
 //!
 //! The public walks (`collide`, `collide_moving`, `collide_leaves`,
-//! `distance_with`, and `front`'s `collide_leaves_front` and
-//! `collide_leaves_through`) open with the same header, two trees and their poses
-//! then a bound (checked by `check_nonneg` in `walk_from`, which all but
+//! `distance_with`, and `front`'s `collide_leaves_front`) open with the
+//! same header, two trees and their poses then a bound (checked by `check_nonneg` in `walk_from`, which all but
 //! `distance_with` run on, and in `distance_with`): public API whose extra
 //! arguments and callbacks differ.
 

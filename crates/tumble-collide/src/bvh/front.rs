@@ -168,10 +168,11 @@ impl WalkFront {
     }
 
     /// The front after `walked` (from this one's start) ended at `cut`.
-    /// A walk from the cut that cost as much as the last from the roots
-    /// (bodies that move far in a step, whose cut holds pairs the roots'
-    /// test would have left alone) sends the next walks to the roots, for
-    /// twice as many each time it happens (up to [`MOST_WAIT`]).
+    /// A walk from the cut that cost more than [`PAYS_BELOW`] of the last
+    /// from the roots (bodies that move far in a step, whose cut holds
+    /// pairs the roots' test would have left alone) sends the next walks
+    /// to the roots, for twice as many each time it happens (up to
+    /// [`MOST_WAIT`]).
     fn after(&self, walked: &FrontWalk, cut: Vec<(u32, u32)>, nodes: (usize, usize)) -> WalkFront {
         let cost = walked.cost();
         let (roots_cost, fresh) = if walked.from_roots {

@@ -12,7 +12,8 @@
 //!   triangles and an exact 2D test (edge crossings and containment);
 //! - degenerate (zero-area) triangles, which the paper excludes: a zero-area
 //!   triangle is the union of its edges, tested as segments against the other
-//!   triangle (or segments against segments).
+//!   triangle (or segments against segments); so is a sliver whose area is
+//!   below the round-off of its edges (its plane is noise).
 
 use super::orient::{orient2d, orient3d};
 use crate::math::DVec3;
@@ -40,8 +41,9 @@ pub fn tri_tri_overlap(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     }
     let nb = (b[1] - b[0]).cross(b[2] - b[0]);
     let na = (a[1] - a[0]).cross(a[2] - a[0]);
-    if na == DVec3::ZERO || nb == DVec3::ZERO {
-        return degenerate_overlap(a, na, b, nb);
+    let (flat_a, flat_b) = (sliver(a, na), sliver(b, nb));
+    if flat_a || flat_b {
+        return degenerate_overlap((a, flat_a, na), (b, flat_b, nb));
     }
     // Sides of A's vertices relative to B's plane; same arithmetic as
     // orient3d(b0, b1, b2, x), so the same exactness.
@@ -92,7 +94,7 @@ pub fn segment_triangle_overlap(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
         return false;
     }
     let n = (t[1] - t[0]).cross(t[2] - t[0]);
-    if n == DVec3::ZERO {
+    if sliver(t, n) {
         return (0..3).any(|k| segment_segment_overlap(p, q, t[k], t[(k + 1) % 3]));
     }
     segment_proper_triangle(p, q, t, n)
@@ -285,11 +287,38 @@ fn segment_proper_triangle(p: DVec3, q: DVec3, t: &[DVec3; 3], n: DVec3) -> bool
     (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0)
 }
 
-/// At least one triangle has zero area (its normal is exactly zero).
+/// A triangle whose normal (twice its area) is at most this times its
+/// longest edge squared is tested as its edges ([`sliver`]).
+const SLIVER_EPS: f64 = 1e-12;
+
+/// `true` when triangle `t` (normal `n`, unnormalised) has no area, or an
+/// area below the round-off of its edges: a sliver whose plane is noise.
+/// The signs of points against such a plane are round-off, and the general
+/// test then answered by its frame: a sliver 2e-16 of its length wide,
+/// crossing a triangle's plane outside the triangle, was reported as
+/// touching it in the world frame and not in the triangle's mesh frame
+/// (found by libFuzzer, `fuzz/regressions/collide/sliver_plane_noise`).
+/// Tested as its edges, a sliver loses at most what lies within its width.
+/// Integer coordinates (the exact cases) never make one: a non-zero integer
+/// normal is at least 1 long.
+#[inline]
+fn sliver(t: &[DVec3; 3], n: DVec3) -> bool {
+    let longest2 = (t[1] - t[0])
+        .length_squared()
+        .max((t[2] - t[1]).length_squared())
+        .max((t[0] - t[2]).length_squared());
+    n == DVec3::ZERO || n.length_squared() <= (SLIVER_EPS * longest2) * (SLIVER_EPS * longest2)
+}
+
+/// At least one triangle has no area, or is a sliver (`flat`, [`sliver`]):
+/// it is tested as its edges.
 #[cold]
-fn degenerate_overlap(a: &[DVec3; 3], na: DVec3, b: &[DVec3; 3], nb: DVec3) -> bool {
+fn degenerate_overlap(
+    (a, flat_a, na): (&[DVec3; 3], bool, DVec3),
+    (b, flat_b, nb): (&[DVec3; 3], bool, DVec3),
+) -> bool {
     let edges = |t: &[DVec3; 3]| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])];
-    match (na == DVec3::ZERO, nb == DVec3::ZERO) {
+    match (flat_a, flat_b) {
         (true, true) => edges(a)
             .iter()
             .any(|&(p, q)| edges(b).iter().any(|&(r, s)| segment_segment_overlap(p, q, r, s))),
@@ -320,6 +349,33 @@ mod tests {
         let rb = [fb[2], fb[0], fb[1]];
         assert_eq!(tri_tri_overlap(&ra, &rb), want, "reordered: a = {a:?}, b = {b:?}");
         want
+    }
+
+    #[test]
+    fn a_sliver_crossing_a_plane_outside_the_triangle_does_not_touch_it() {
+        // Found by libFuzzer (fuzz/regressions/collide/sliver_plane_noise):
+        // B is 2e-16 of its length wide; its long edge crosses A's plane at
+        // (-2.3555, -0.4664, -1.3366), outside A (in exact rationals, one
+        // of the three edge tests there is -0.44 against +0.48 and +1.2).
+        // The general test, with B's plane made of round-off, said touching.
+        let a = [
+            DVec3::new(-1.840115968566415, -0.9781643396658275, -1.3728236820019837),
+            DVec3::new(-0.5826199740596627, -1.9168688487067977, -2.0),
+            DVec3::new(-2.0, -0.5308613717860684, -1.8630655374990464),
+        ];
+        let b = [
+            DVec3::new(-1.5489597353142117, 0.5916242432891508, -0.8789041194760416),
+            DVec3::new(-2.028021646875973, -0.03675566668147123, -1.1507313839015354),
+            DVec3::new(-2.6506044254820766, -0.8533902204375289, -1.5039946459196054),
+        ];
+        assert!(sliver(&b, (b[1] - b[0]).cross(b[2] - b[0])));
+        assert!(!tri_tri_overlap(&a, &b));
+        assert!(!tri_tri_overlap(&b, &a));
+        // The same sliver moved onto A's face (its middle corner on A's
+        // centroid) touches it.
+        let shift = (a[0] + a[1] + a[2]) / 3.0 - b[1];
+        let on = b.map(|p| p + shift);
+        assert!(tri_tri_overlap(&a, &on) && tri_tri_overlap(&on, &a));
     }
 
     fn point(rng: &mut Rng, r: i64) -> IVec {

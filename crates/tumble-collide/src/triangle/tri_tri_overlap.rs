@@ -371,6 +371,9 @@ mod tests {
         assert!(sliver(&b, (b[1] - b[0]).cross(b[2] - b[0])));
         assert!(!tri_tri_overlap(&a, &b));
         assert!(!tri_tri_overlap(&b, &a));
+        // The distance, which asks this test first, is then not zero either.
+        let d = super::super::tri_distance::triangle_distance(&a, &b);
+        assert!(d.distance > 0.0, "{d:?}");
         // The same sliver moved onto A's face (its middle corner on A's
         // centroid) touches it.
         let shift = (a[0] + a[1] + a[2]) / 3.0 - b[1];
@@ -536,6 +539,9 @@ mod tests {
         let b = [DVec3::new(f64::NAN, 0.0, 0.0), DVec3::X, DVec3::Y];
         assert!(!tri_tri_overlap(&a, &b));
         assert!(!tri_tri_overlap(&b, &a));
+        // The distance, which asks this test first, is then not zero either.
+        let d = super::super::tri_distance::triangle_distance(&a, &b);
+        assert!(d.distance > 0.0, "{d:?}");
         let c = [DVec3::ZERO, DVec3::splat(f64::INFINITY), DVec3::Y];
         assert!(!tri_tri_overlap(&a, &c));
     }

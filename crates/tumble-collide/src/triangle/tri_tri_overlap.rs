@@ -267,8 +267,20 @@ fn segment_segment_overlap(p1: DVec3, p2: DVec3, q1: DVec3, q2: DVec3) -> bool {
 
 /// Closed segment against a non-degenerate closed triangle with normal `n`.
 fn segment_proper_triangle(p: DVec3, q: DVec3, t: &[DVec3; 3], n: DVec3) -> bool {
-    let dp = n.dot(p - t[0]);
-    let dq = n.dot(q - t[0]);
+    // Sides within round-off of the plane are on it: a segment lying in
+    // the plane (a collapsed triangle's edge in the face it rests on) got
+    // sides of 1e-17 of either sign from the rounding of n, and through them
+    // was taken to cross the plane once and then to pass through a triangle
+    // a metre away (libFuzzer, `fuzz/regressions/collide/in_plane_segment`).
+    let on_plane = |d: f64, x: DVec3| {
+        if d.abs() <= PLANE_EPS * n.length() * (x - t[0]).length() {
+            0.0
+        } else {
+            d
+        }
+    };
+    let dp = on_plane(n.dot(p - t[0]), p);
+    let dq = on_plane(n.dot(q - t[0]), q);
     if (dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) {
         return false;
     }
@@ -286,6 +298,13 @@ fn segment_proper_triangle(p: DVec3, q: DVec3, t: &[DVec3; 3], n: DVec3) -> bool
     let s2 = orient3d(p, q, t[2], t[0]);
     (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0)
 }
+
+/// A point whose side of a plane is at most this times the plane normal's
+/// length times its distance from the plane's corner is on the plane (in
+/// `segment_proper_triangle`): ten times the round-off of the side, and for
+/// integer coordinates below 10^4 (the exact cases) under 1, so never a
+/// non-zero side there.
+const PLANE_EPS: f64 = 1e-14;
 
 /// A triangle whose normal (twice its area) is at most this times its
 /// longest edge squared is tested as its edges ([`sliver`]).
@@ -534,14 +553,37 @@ mod tests {
     }
 
     #[test]
+    fn a_collapsed_triangle_in_a_faces_plane_but_outside_it_does_not_touch_it() {
+        // Found by libFuzzer (fuzz/regressions/collide/in_plane_segment): A
+        // collapsed to a segment lying in B's plane (y = z, up to the
+        // rounding of B's normal, whose x is 4e-17), a metre from B. The
+        // segment's sides of the plane were +-1e-17, taken to cross it.
+        let a = [
+            DVec3::new(-1.3411764705882354, -2.0, -2.0),
+            DVec3::new(-0.5725490196078431, -1.231372549019608, -1.231372549019608),
+            DVec3::new(-0.5725490196078431, -1.231372549019608, -1.231372549019608),
+        ];
+        let b = [
+            DVec3::new(-1.231372549019608, -0.4627450980392156, -0.4627450980392156),
+            DVec3::new(-2.0, -0.46274509803921565, -0.4627450980392156),
+            DVec3::new(-2.0, -1.231372549019608, -1.231372549019608),
+        ];
+        assert!(!tri_tri_overlap(&a, &b) && !tri_tri_overlap(&b, &a));
+        assert!(!segment_triangle_overlap(a[0], a[1], &b));
+        let d = super::super::tri_distance::triangle_distance(&a, &b);
+        assert!(d.distance > 0.9, "{d:?}");
+        // Slid along the plane to begin at B's centroid, it touches.
+        let shift = (b[0] + b[1] + b[2]) / 3.0 - a[0];
+        let on = a.map(|p| p + shift);
+        assert!(tri_tri_overlap(&on, &b) && tri_tri_overlap(&b, &on));
+    }
+
+    #[test]
     fn non_finite_input_returns_false() {
         let a = [DVec3::ZERO, DVec3::X, DVec3::Y];
         let b = [DVec3::new(f64::NAN, 0.0, 0.0), DVec3::X, DVec3::Y];
         assert!(!tri_tri_overlap(&a, &b));
         assert!(!tri_tri_overlap(&b, &a));
-        // The distance, which asks this test first, is then not zero either.
-        let d = super::super::tri_distance::triangle_distance(&a, &b);
-        assert!(d.distance > 0.0, "{d:?}");
         let c = [DVec3::ZERO, DVec3::splat(f64::INFINITY), DVec3::Y];
         assert!(!tri_tri_overlap(&a, &c));
     }

@@ -13,6 +13,7 @@
 //!   (thesis 5.2, 7.1).
 //! - [`phong`]: a point against the smooth surface a triangle with corner
 //!   normals stands for (Phong normals, Phong tessellation).
+//! - `tri_measure`: a triangle's box and longest edge, shared by the tests above.
 //! - [`merge`]: removal of the duplicates that shared vertices and edges produce.
 //!
 //! All functions take triangles as `[DVec3; 3]` in one common frame: the caller
@@ -26,6 +27,7 @@ pub mod phong;
 pub mod tri_box;
 pub mod tri_contact;
 pub mod tri_distance;
+mod tri_measure;
 pub mod tri_tri_overlap;
 
 pub use merge::{merge_contacts, MergeError, MergeParams};

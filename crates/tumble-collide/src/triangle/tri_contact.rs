@@ -69,6 +69,7 @@
 //! differ in the last bits.
 
 use super::tri_distance::closest_points_segments;
+use super::tri_measure::{bounds, longest_edge_squared};
 use super::tri_tri_overlap::tri_tri_overlap;
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;
@@ -126,11 +127,7 @@ struct Face {
 fn face(t: &[DVec3; 3]) -> Option<Face> {
     let raw = (t[1] - t[0]).cross(t[2] - t[0]);
     let len = raw.length();
-    let longest2 = (t[1] - t[0])
-        .length_squared()
-        .max((t[2] - t[1]).length_squared())
-        .max((t[0] - t[2]).length_squared());
-    (len > AREA_EPS * longest2).then(|| Face { unit: raw / len, raw })
+    (len > AREA_EPS * longest_edge_squared(t)).then(|| Face { unit: raw / len, raw })
 }
 
 /// Signed heights of the corners of `t` over the plane of `f` through `origin`.
@@ -362,11 +359,10 @@ fn features_of_pair(
 /// for bit.
 #[inline(always)]
 fn boxes_apart(a: &[DVec3; 3], b: &[DVec3; 3], margin: f64) -> bool {
-    let low = |t: &[DVec3; 3]| t[0].min(t[1]).min(t[2]);
-    let high = |t: &[DVec3; 3]| t[0].max(t[1]).max(t[2]);
+    let ((low_a, high_a), (low_b, high_b)) = (bounds(a), bounds(b));
     let scale = 1.0 + a[0].abs().max_element().max(b[0].abs().max_element());
     let reach = DVec3::splat(margin + BOX_EPS * scale);
-    (low(a) - high(b)).cmpgt(reach).any() || (low(b) - high(a)).cmpgt(reach).any()
+    (low_a - high_b).cmpgt(reach).any() || (low_b - high_a).cmpgt(reach).any()
 }
 
 /// `true` when the triangles meet (touching included): the test every

@@ -16,6 +16,7 @@
 //!   below the round-off of its edges (its plane is noise).
 
 use super::orient::{orient2d, orient3d};
+use super::tri_measure::{bounds, longest_edge_squared};
 use crate::math::DVec3;
 use glam::DVec2;
 
@@ -103,8 +104,7 @@ pub fn segment_triangle_overlap(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
 /// The axis-aligned bounding boxes of two triangles overlap (closed).
 #[inline]
 fn boxes_overlap(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
-    let (lo_a, hi_a) = (a[0].min(a[1]).min(a[2]), a[0].max(a[1]).max(a[2]));
-    let (lo_b, hi_b) = (b[0].min(b[1]).min(b[2]), b[0].max(b[1]).max(b[2]));
+    let ((lo_a, hi_a), (lo_b, hi_b)) = (bounds(a), bounds(b));
     lo_a.cmple(hi_b).all() && lo_b.cmple(hi_a).all()
 }
 
@@ -322,10 +322,7 @@ const SLIVER_EPS: f64 = 1e-12;
 /// normal is at least 1 long.
 #[inline]
 fn sliver(t: &[DVec3; 3], n: DVec3) -> bool {
-    let longest2 = (t[1] - t[0])
-        .length_squared()
-        .max((t[2] - t[1]).length_squared())
-        .max((t[0] - t[2]).length_squared());
+    let longest2 = longest_edge_squared(t);
     n == DVec3::ZERO || n.length_squared() <= (SLIVER_EPS * longest2) * (SLIVER_EPS * longest2)
 }
 

@@ -56,7 +56,9 @@ pub fn resolve_collisions(
                 }
                 let (mut ba, mut bb) = (bodies[ia], bodies[ib]);
                 let vn = p.normal.dot(ba.velocity_at(p.r_a) - bb.velocity_at(p.r_b));
-                if vn >= -params.restitution_threshold {
+                // A NaN approach (bodies whose velocities overflowed:
+                // quarantined after the step) skips the point too.
+                if vn.is_nan() || vn >= -params.restitution_threshold {
                     continue;
                 }
                 let a_n = p.normal.dot(a_n_pair);
@@ -66,8 +68,21 @@ pub fn resolve_collisions(
                 }
                 let v_start = vn + 0.5 * a_n * h;
                 let vi2 = v_start * v_start - 2.0 * a_n * gap;
+                if vi2 <= 0.0 {
+                    // Pushed apart (a_n > 0) hard enough to stop before the
+                    // surfaces meet: no impact (the resting solve acts if
+                    // they touch). Bouncing anyway would leave faster than
+                    // the pair came: e^2 v^2 + 2 a g (1 - e^2) > v^2.
+                    continue;
+                }
                 let e = m.restitution;
                 let v_out = (e * e * vi2 + 2.0 * a_n * gap).max(0.0).sqrt() - 0.5 * a_n * h;
+                if !v_out.is_finite() {
+                    // Speeds or accelerations near the f64 limit overflowed:
+                    // no bounce to give (the resting solve still acts, and a
+                    // body left non-finite is quarantined).
+                    continue;
+                }
                 // Restitution never creates energy: for e <= 1 the pair
                 // leaves (at the step start) no faster than it came.
                 debug_assert!(

@@ -430,3 +430,81 @@ fn push_out_lifts_a_sunken_box_face_without_turning_it() {
         .sum();
     assert!(torque.length() < 1e-12 * lift, "{torque:?}");
 }
+
+#[test]
+fn approaches_that_overflow_give_no_bounce() {
+    // Bodies whose speeds or accelerations ran to the f64 limit (libFuzzer's
+    // `world_step`, `fuzz/regressions/world_step/restitution_overflow`): the
+    // approach is NaN or infinite, so Newton's law has no finite answer. No
+    // impulse is applied (the body is the quarantine's after the step) and
+    // nothing panics, in debug builds included.
+    let x = DVec3::X;
+    let cases = [
+        (DVec3::new(f64::NAN, 0.0, 0.0), DVec3::ZERO, [DVec3::ZERO; 2]),
+        (x * 1e308, x * -1e308, [DVec3::ZERO; 2]),
+        (x, DVec3::ZERO, [x * 1e308, x * -1e308]),
+    ];
+    for (va, vb, accel) in cases {
+        let mut bodies = vec![body(1.0, va), body(1.0, vb)];
+        let before: Vec<_> = bodies
+            .iter()
+            .map(|b| (b.v.to_array().map(f64::to_bits), b.w))
+            .collect();
+        let mut c = Contacts::default();
+        // B to the +x of A, normal from B to A: approaching when A moves +x.
+        c.patch(0, 1, -x, &[(x * 0.5, -x * 0.5, 0.0)], 0.0, 1.0);
+        c.prepare(&bodies);
+        c.collide(&mut bodies, &accel, 0.01, 0.01);
+        let after: Vec<_> = bodies
+            .iter()
+            .map(|b| (b.v.to_array().map(f64::to_bits), b.w))
+            .collect();
+        assert_eq!(
+            before, after,
+            "approach {va} against {vb}, accelerations {accel:?}"
+        );
+    }
+}
+
+#[test]
+fn an_approach_stopped_by_its_acceleration_before_contact_does_not_bounce() {
+    // A ball 10 cm above the ground, falling at 1 m/s, pushed up at a m/s^2
+    // (a thruster): it reaches the ground only if 1 > 2 a 0.1. At a = 20 it
+    // turns back 2.5 cm above it, so no impact and no impulse (a bounce
+    // computed anyway left faster than it came: libFuzzer's `world_step`,
+    // `fuzz/regressions/world_step/restitution_turned_back`); at a = 2 it
+    // lands at sqrt(1 - 0.4) m/s and leaves slower than it came.
+    let (dt, h, gap) = (0.2, 0.2 / 8.0, 0.1);
+    for (a, lands) in [(20.0, false), (2.0, true)] {
+        // Stored half a sub-step early (semi-implicit Euler).
+        let stored = -1.0 - 0.5 * a * h;
+        let mut bodies = vec![body(1.0, DVec3::new(0.0, 0.0, stored)), body(0.0, DVec3::ZERO)];
+        let mut c = Contacts::default();
+        c.patch(
+            0,
+            1,
+            DVec3::Z,
+            &[(DVec3::new(0.0, 0.0, -0.1), DVec3::ZERO, gap)],
+            0.0,
+            0.5,
+        );
+        c.prepare(&bodies);
+        c.collide(&mut bodies, &[DVec3::new(0.0, 0.0, a), DVec3::ZERO], dt, h);
+        let v_out = bodies[0].v.z + 0.5 * a * h;
+        if lands {
+            let vi = (1.0 - 2.0 * a * gap).sqrt();
+            assert!(
+                v_out > 0.0 && v_out * v_out <= 1.0,
+                "a = {a}: left at {v_out} m/s"
+            );
+            // Leaves the surface at e vi, so passes the gap at this speed.
+            let expected = ((0.5 * vi).powi(2) + 2.0 * a * gap).sqrt();
+            assert!((v_out - expected).abs() < 1e-12, "a = {a}: {v_out} vs {expected}");
+        } else {
+            assert_eq!(
+                bodies[0].v.z, stored,
+                "a = {a}: turned back before contact, no bounce"
+            );
+        }
+    }
+}

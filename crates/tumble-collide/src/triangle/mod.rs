@@ -1,8 +1,8 @@
 //! Triangle-level narrow phase: the exact tests every mesh-mesh query ends in
 //! once the OBBTrees have narrowed a body pair down to triangle pairs.
 //!
-//! - [`orient`]: orientation predicates (3x3 determinants, exact for small
-//!   integer coordinates).
+//! - [`orient`]: orientation predicates (Shewchuk's adaptive exact signs,
+//!   from the `robust` crate).
 //! - [`tri_tri_overlap`](mod@tri_tri_overlap): closed triangle-triangle
 //!   intersection (Guigue & Devillers 2003), coplanar and degenerate cases included.
 //! - [`tri_box`]: triangle vs oriented box (Akenine-Moller 2001, 13 axes).

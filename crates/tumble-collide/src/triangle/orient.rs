@@ -1,34 +1,45 @@
-//! Orientation predicates as plain determinants (Guigue & Devillers 2003, sec. 2;
-//! Shewchuk's `orient3d` without the adaptive precision).
+//! Orientation predicates (Guigue & Devillers 2003, sec. 2): Shewchuk's
+//! adaptive-precision `orient3d` and `orient2d` ("Adaptive Precision
+//! Floating-Point Arithmetic and Fast Robust Geometric Predicates", 1997),
+//! from the `robust` crate.
 //!
 //! Every sign decision of the overlap tests goes through these two functions.
-//! They are evaluated as differences followed by products, so for coordinates
-//! that are integers of magnitude below about 5 * 10^4 every intermediate value
-//! is an integer below 2^53 and the result is exact: the tests of this module
-//! rely on that to compare against an exact oracle. For general floating-point
-//! input the sign is only as good as the conditioning of the determinant.
+//! The sign is exact for any finite input whose products neither overflow
+//! nor underflow: a floating-point determinant with an error bound first,
+//! and more precise stages only where the bound does not settle the sign.
+//! Plain determinants were exact only for small integer coordinates: two
+//! copies of one triangle a million metres long, slid along its own edge
+//! and so exactly coplanar in floating point, were taken to cross each
+//! other (libFuzzer, `fuzz/regressions/collide/coplanar_far_slide`).
 
 use crate::math::DVec3;
 use glam::DVec2;
+use robust::{Coord, Coord3D};
 
 /// Signed volume (times 6) of the tetrahedron `a b c d`:
-/// `((b - a) x (c - a)) . (d - a)`.
+/// `((b - a) x (c - a)) . (d - a)`, with its sign exact.
 ///
 /// Positive when `d` lies on the side of the plane `a b c` that the
 /// counter-clockwise normal `(b - a) x (c - a)` points to, negative on the other
 /// side, zero when the four points are coplanar (units: m^3).
 #[inline]
 pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    (b - a).cross(c - a).dot(d - a)
+    let p = |v: DVec3| Coord3D {
+        x: v.x,
+        y: v.y,
+        z: v.z,
+    };
+    // Shewchuk's sign convention is the opposite one (positive below).
+    -robust::orient3d(p(a), p(b), p(c), p(d))
 }
 
-/// Signed area (times 2) of the triangle `a b c` in the plane:
-/// positive when `a b c` turn counter-clockwise, zero when collinear (m^2).
+/// Signed area (times 2) of the triangle `a b c` in the plane, with its sign
+/// exact: positive when `a b c` turn counter-clockwise, zero when collinear
+/// (m^2).
 #[inline]
 pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    let u = b - a;
-    let v = c - a;
-    u.x * v.y - u.y * v.x
+    let p = |v: DVec2| Coord { x: v.x, y: v.y };
+    robust::orient2d(p(a), p(b), p(c))
 }
 
 #[cfg(test)]

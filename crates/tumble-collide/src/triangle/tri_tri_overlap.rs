@@ -22,9 +22,11 @@ use glam::DVec2;
 
 /// `true` when the closed triangles `a` and `b` share at least one point.
 ///
-/// Exact for coordinates that are integers of magnitude below about 10^4 (see
-/// [`orient3d`]); for general input the decisions are floating-point signs of
-/// well-scaled determinants. Zero-area triangles (repeated or collinear
+/// Every side decision is an exact orientation sign ([`orient3d`],
+/// [`orient2d`]), but for triangles whose area is round-off (tested as
+/// their edges, [`sliver`]) and segment ends within round-off of a plane
+/// (on it, `segment_proper_triangle`): those rules keep two frames of one
+/// configuration answering alike. Zero-area triangles (repeated or collinear
 /// vertices) are handled as segments or points. If any coordinate is not finite
 /// the answer is `false` (nothing is reported for a NaN triangle).
 #[inline]
@@ -46,13 +48,13 @@ pub fn tri_tri_overlap(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     if flat_a || flat_b {
         return degenerate_overlap((a, flat_a, na), (b, flat_b, nb));
     }
-    // Sides of A's vertices relative to B's plane; same arithmetic as
-    // orient3d(b0, b1, b2, x), so the same exactness.
-    let da = [nb.dot(a[0] - b[0]), nb.dot(a[1] - b[0]), nb.dot(a[2] - b[0])];
+    // Sides of A's vertices relative to B's plane and of B's relative to
+    // A's, their signs exact (`orient3d`).
+    let da = a.map(|x| orient3d(b[0], b[1], b[2], x));
     if strictly_one_side(da) {
         return false;
     }
-    let db = [na.dot(b[0] - a[0]), na.dot(b[1] - a[0]), na.dot(b[2] - a[0])];
+    let db = b.map(|x| orient3d(a[0], a[1], a[2], x));
     if strictly_one_side(db) {
         return false;
     }
@@ -395,6 +397,37 @@ mod tests {
         let shift = (a[0] + a[1] + a[2]) / 3.0 - b[1];
         let on = b.map(|p| p + shift);
         assert!(tri_tri_overlap(&a, &on) && tri_tri_overlap(&on, &a));
+    }
+
+    #[test]
+    fn copies_of_a_long_triangle_slid_apart_along_its_edge_do_not_touch() {
+        // Found by libFuzzer (fuzz/regressions/collide/coplanar_far_slide):
+        // one triangle a million metres long, and its copy slid along its
+        // own edge (the x axis) by 1,152,941 m, more than the edge's
+        // 1,000,001 m: the two lie in one plane exactly (every corner of B
+        // has the y and z of one of A's), and apart (the copy of a triangle
+        // slid along an edge meets it only while the slide is shorter than
+        // that edge). Plain determinants of these coordinates gave sides of
+        // round-off and said touching.
+        let (y, z) = (-152942.1764705882, -152942.1764705882);
+        let (y1, z1) = (-485511.5587090868, -486274.50980392157);
+        let a = [
+            DVec3::new(999999.0, y, z),
+            DVec3::new(41657.1297779812, y1, z1),
+            DVec3::new(2000000.0, y, z),
+        ];
+        let b = [
+            DVec3::new(-152942.1764705882, y, z),
+            DVec3::new(-1111284.046692607, y1, z1),
+            DVec3::new(847058.8235294118, y, z),
+        ];
+        assert!(!tri_tri_overlap(&a, &b) && !tri_tri_overlap(&b, &a));
+        // Slid by less than the edge, the copy overlaps it.
+        let near = a.map(|p| p - DVec3::new(900_000.0, 0.0, 0.0));
+        assert!(tri_tri_overlap(&a, &near) && tri_tri_overlap(&near, &a));
+        // Slid by exactly the edge, the two share one corner.
+        let end = a.map(|p| p + (a[2] - a[0]));
+        assert!(tri_tri_overlap(&a, &end) && tri_tri_overlap(&end, &a));
     }
 
     fn point(rng: &mut Rng, r: i64) -> IVec {

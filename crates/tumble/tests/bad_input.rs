@@ -430,6 +430,38 @@ fn world_calls_reject_bad_input_and_leave_the_world_unchanged() {
             },
             bad_shape,
         ),
+        (
+            "body placed beyond MAX_POSITION (1e37 m)",
+            BodyDesc::dynamic(sphere(0.1)).at(DVec3::new(0.0, 1e37, 0.0)),
+            bad_value,
+        ),
+        (
+            // libFuzzer: the body's centre of mass, 1.8e308 m off, overflowed
+            // to infinity (fuzz/regressions/world_step/far_shape_offset).
+            "shape placed 1.8e308 m from its body (finite, beyond MAX_POSITION)",
+            BodyDesc {
+                shapes: vec![ShapeDesc::new(sphere(0.1)).at(Pose::new(
+                    DVec3::new(-1.0, f64::MAX, 0.5),
+                    DQuat::IDENTITY,
+                )
+                .unwrap())],
+                ..BodyDesc::dynamic(sphere(0.1))
+            },
+            bad_shape,
+        ),
+        (
+            "centre of mass beyond MAX_POSITION (two shapes each within it)",
+            BodyDesc {
+                shapes: vec![
+                    ShapeDesc::new(sphere(0.1))
+                        .at(Pose::new(DVec3::new(1e36, 0.0, 0.0), DQuat::IDENTITY).unwrap()),
+                    ShapeDesc::new(sphere(0.1))
+                        .at(Pose::new(DVec3::new(1e36, 0.0, 0.0), DQuat::IDENTITY).unwrap()),
+                ],
+                ..BodyDesc::dynamic(sphere(0.1)).at(DVec3::new(1e36, 0.0, 0.0))
+            },
+            bad_value,
+        ),
     ];
     for (what, desc, expected) in descs {
         rejects(c, &mut w, what, |w| w.add_body(&desc).map(|_| ()), expected);
@@ -534,6 +566,13 @@ fn world_calls_reject_bad_input_and_leave_the_world_unchanged() {
             Pose {
                 position: DVec3::ZERO,
                 rotation: DQuat::from_xyzw(1.0, 1.0, 1.0, 1.0),
+            },
+        ),
+        (
+            "set_pose beyond MAX_POSITION",
+            Pose {
+                position: DVec3::new(-2e36, 0.0, 0.0),
+                rotation: DQuat::IDENTITY,
             },
         ),
     ];

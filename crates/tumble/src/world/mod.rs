@@ -156,6 +156,25 @@ fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
     }
 }
 
+/// Farthest a body or shape may be placed from the origin (m): the OBBTree's
+/// coordinate limit (`tumble_collide::bvh::MAX_COORDINATE`). Beyond it a
+/// body's mass frame and boxes overflow (a shape placed 1.8e308 m from its
+/// body put the body at infinity; libFuzzer, `fuzz/regressions/world_step/
+/// far_shape_offset`).
+pub const MAX_POSITION: f64 = tumble_collide::bvh::MAX_COORDINATE;
+
+/// `field` within [`MAX_POSITION`] of the origin on every axis.
+fn check_position(field: &'static str, p: DVec3) -> Result<(), WorldError> {
+    if p.is_finite() && p.abs().max_element() <= MAX_POSITION {
+        Ok(())
+    } else {
+        Err(WorldError::BadValue {
+            field,
+            message: format!("must lie within {MAX_POSITION:e} m of the origin on every axis, got {p:?}"),
+        })
+    }
+}
+
 /// The checks `World::new` makes of its settings.
 pub(crate) fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
     let positive = |field: &'static str, x: f64| {
@@ -315,10 +334,17 @@ impl World {
             field: "body.pose",
             message: e.to_string(),
         })?;
+        check_position("body.pose.position", pose.position)?;
         for (index, s) in desc.shapes.iter().enumerate() {
             Pose::new(s.local_pose.position, s.local_pose.rotation).map_err(|e| WorldError::BadShape {
                 index,
                 message: format!("local_pose: {e}"),
+            })?;
+            check_position("shape.local_pose.position", s.local_pose.position).map_err(|e| {
+                WorldError::BadShape {
+                    index,
+                    message: e.to_string(),
+                }
             })?;
         }
         let material = Material::new(desc.material.restitution, desc.material.friction).map_err(|e| {
@@ -342,6 +368,7 @@ impl World {
                         message: e.to_string(),
                     })?;
                 let body_pose = pose.mul_pose(&body_in_model);
+                check_position("body.pose.position (centre of mass)", body_pose.position)?;
                 let body = RigidBody::new_dynamic(frame.mass, frame.moments, body_pose).map_err(|e| {
                     WorldError::BadShape {
                         index: 0,
@@ -522,8 +549,10 @@ impl World {
             field: "pose",
             message: e.to_string(),
         })?;
+        check_position("pose.position", pose.position)?;
         let e = self.entry_mut(id)?;
         let body_pose = pose.mul_pose(&e.body_in_model);
+        check_position("pose.position (centre of mass)", body_pose.position)?;
         e.body.set_pose(body_pose);
         e.sleeping = false;
         e.rest_time = 0.0;

@@ -470,7 +470,7 @@ fn approaches_that_overflow_give_no_bounce() {
 fn an_approach_stopped_by_its_acceleration_before_contact_does_not_bounce() {
     // A ball 10 cm above the ground, falling at 1 m/s, pushed up at a m/s^2
     // (a thruster): it reaches the ground only if 1 > 2 a 0.1. At a = 20 it
-    // turns back 2.5 cm above it, so no impact and no impulse (a bounce
+    // turns back after 2.5 cm, 7.5 cm above it: no impact, no impulse (a bounce
     // computed anyway left faster than it came: libFuzzer's `world_step`,
     // `fuzz/regressions/world_step/restitution_turned_back`); at a = 2 it
     // lands at sqrt(1 - 0.4) m/s and leaves slower than it came.

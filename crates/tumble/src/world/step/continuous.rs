@@ -206,7 +206,9 @@ impl World {
                         .body
                         .apply_impulse_at_point(-n * j, p);
                 }
-                if cfg!(debug_assertions) {
+                // (Speeds near 1e154 m/s overflow the energy itself: no
+                // check there; a state that turns non-finite is quarantined.)
+                if cfg!(debug_assertions) && energy_before.is_finite() {
                     let (ea, eb) = (
                         self.bodies.at(slot).expect("live"),
                         self.bodies.at(impact.partner).expect("live"),

@@ -24,7 +24,7 @@ use glam::DVec2;
 ///
 /// Every side decision is an exact orientation sign ([`orient3d`],
 /// [`orient2d`]), but for triangles whose area is round-off (tested as
-/// their edges, [`sliver`]) and segment ends within round-off of a plane
+/// their edges, `sliver`) and segment ends within round-off of a plane
 /// (on it, `segment_proper_triangle`): those rules keep two frames of one
 /// configuration answering alike. Zero-area triangles (repeated or collinear
 /// vertices) are handled as segments or points. If any coordinate is not finite

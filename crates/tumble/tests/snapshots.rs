@@ -321,6 +321,27 @@ fn inconsistent_snapshots_are_refused_and_restore_leaves_the_world_unchanged() {
         1,
     );
     assert!(Snapshot::from_json(&bad).is_err());
+    // Nor a body or a shape beyond the coordinate limit that `add_body`
+    // and `set_pose` hold every body to (finite, so it decodes).
+    let json2 = world2.snapshot().to_json();
+    let far = format!("{:e}", 10.0 * tumble::world::MAX_POSITION);
+    for prefix in ["\"state\":{\"position\":[", "\"local\":{\"position\":["] {
+        // The first coordinate after `prefix` replaced by `far`.
+        let at = json2
+            .find(prefix)
+            .unwrap_or_else(|| panic!("{prefix} not in the snapshot JSON"))
+            + prefix.len();
+        let comma = at + json2[at..].find(',').unwrap();
+        let bad = format!("{}{far}{}", &json2[..at], &json2[comma..]);
+        let result = Snapshot::from_json(&bad).and_then(|s| target.restore(&s));
+        match result {
+            Err(SnapshotError::Invalid(message)) => {
+                assert!(message.contains("within"), "{prefix}: {message}")
+            }
+            other => panic!("{prefix}: {other:?}"),
+        }
+        assert!(target.snapshot() == before, "{prefix}: the world changed");
+    }
 }
 
 #[test]

@@ -707,6 +707,19 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
         return Err(format!("state is not finite: {s:?}"));
     }
     Pose::new(s.position, s.orientation).map_err(|e| format!("state orientation: {e}"))?;
+    // Within the coordinate limit `World::add_body` and `set_pose` hold
+    // every body to (`MAX_POSITION`): beyond it boxes overflow.
+    let placed = |what: &str, p: DVec3| {
+        if p.abs().max_element() <= super::MAX_POSITION {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} must lie within {:e} m of the origin on every axis, got {p:?}",
+                super::MAX_POSITION
+            ))
+        }
+    };
+    placed("state position", s.position)?;
     let finite = |what: &str, v: DVec3| {
         if v.is_finite() {
             Ok(())
@@ -756,6 +769,7 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
     body.material = material;
     let body_in_model = r.body_in_model.unwrap_or(Pose::IDENTITY);
     Pose::new(body_in_model.position, body_in_model.rotation).map_err(|e| format!("body_in_model: {e}"))?;
+    placed("body_in_model position", body_in_model.position)?;
     if r.colliders.is_empty() {
         return Err("a body needs at least one collider".into());
     }
@@ -763,6 +777,7 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
     for (k, c) in r.colliders.iter().enumerate() {
         let local = c.local.unwrap_or(Pose::IDENTITY);
         Pose::new(local.position, local.rotation).map_err(|e| format!("colliders[{k}].local: {e}"))?;
+        placed(&format!("colliders[{k}].local position"), local.position)?;
         let shape = match &c.shape {
             ShapeRecord::Sphere(s) => Shape::Sphere(*s),
             ShapeRecord::Cuboid(s) => Shape::Cuboid(*s),

@@ -110,6 +110,8 @@ def test_bad_body_arguments_leave_the_world_unchanged(kwargs: dict, message: str
     [
         (lambda: tumble.Sphere(-1.0), "sphere: radius must be finite and > 0, got -1"),
         (lambda: tumble.Sphere(NAN), "sphere: radius must be finite and > 0, got NaN"),
+        (lambda: tumble.Sphere(1e37), "sphere: radius must be finite and <= 1e36"),
+        (lambda: tumble.Box((1, 1e300, 1)), "must be finite and <= 1e36"),
         (lambda: tumble.Box((1, 0, 1)), "must be finite and > 0"),
         (lambda: tumble.Box((1, INF, 1)), "must be finite and > 0"),
         (lambda: tumble.Capsule(0.1, -1.0), "capsule"),

@@ -182,7 +182,11 @@ pub fn reduce_patch(
     let level = (deepest + PATCH_DEPTH_BAND).max(0.0);
     let support: Vec<usize> = (0..n).filter(|&i| points[i].1 <= level).collect();
     if support.len() <= max {
-        let mut rest: Vec<usize> = (0..n).filter(|&i| points[i].1 > level).collect();
+        // The others, NaN gaps included (last, by `total_cmp`): a patch
+        // keeps points whatever its gaps (an empty patch has no normal).
+        let mut rest: Vec<usize> = (0..n)
+            .filter(|&i| points[i].1.is_nan() || points[i].1 > level)
+            .collect();
         rest.sort_by(|&x, &y| points[x].1.total_cmp(&points[y].1).then(x.cmp(&y)));
         keep.extend_from_slice(&support);
         keep.extend(rest.into_iter().take(max - support.len()));
@@ -474,6 +478,22 @@ mod tests {
             &mut keep,
         );
         keep
+    }
+
+    #[test]
+    fn a_patch_keeps_points_whatever_its_gaps() {
+        // Gaps that are NaN (a contact of an overflowing shape) or partly
+        // NaN: the patch still keeps as many points as it may, the finite
+        // ones first, never none.
+        let n = PATCH_MAX_POINTS + 3;
+        let all_nan: Vec<(DVec3, f64)> = (0..n).map(|i| (DVec3::X * i as f64, f64::NAN)).collect();
+        assert_eq!(reduce(&all_nan), (0..PATCH_MAX_POINTS).collect::<Vec<_>>());
+        let mut some_nan = all_nan.clone();
+        some_nan[n - 1].1 = 0.001;
+        some_nan[n - 2].1 = -0.001;
+        let kept = reduce(&some_nan);
+        assert_eq!(kept.len(), PATCH_MAX_POINTS);
+        assert!(kept.contains(&(n - 1)) && kept.contains(&(n - 2)), "{kept:?}");
     }
 
     #[test]

@@ -20,7 +20,7 @@ pub struct Capsule {
 
 impl Capsule {
     /// A capsule; `radius` must be finite and > 0, `half_height` finite and
-    /// >= 0 (zero gives a sphere) (m).
+    /// >= 0 (zero gives a sphere), both at most [`super::MAX_DIMENSION`] (m).
     pub fn new(radius: f64, half_height: f64) -> Result<Capsule, ShapeError> {
         check_positive("capsule", "radius", radius)?;
         // `mass::solid_capsule` keeps its own `>= 0` test (it reports a

@@ -84,8 +84,20 @@ impl ConvexHull {
     ) -> Result<ConvexHull, ShapeError> {
         // Zero is a valid tolerance (exact coplanarity).
         check_non_negative("convex_hull", "relative_tolerance", relative_tolerance)?;
-        mesh.check_solid()?;
         let (lo, hi) = mesh.bounds();
+        if let Some(value) = [lo, hi]
+            .iter()
+            .flat_map(|v| v.to_array())
+            .find(|x| !x.is_finite() || x.abs() > super::MAX_DIMENSION)
+        {
+            return Err(ShapeError::BadDimension {
+                shape: "convex_hull",
+                name: "vertex coordinate",
+                expected: "within 1e36 of 0",
+                value,
+            });
+        }
+        mesh.check_solid()?;
         let tol = relative_tolerance * (hi - lo).length();
         let verts = mesh.vertices();
         let tris = mesh.triangles();

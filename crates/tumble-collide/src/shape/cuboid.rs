@@ -54,7 +54,8 @@ pub struct Cuboid {
 }
 
 impl Cuboid {
-    /// A box; every half extent must be finite and > 0 (m).
+    /// A box; every half extent must be finite, > 0 and at most
+    /// [`super::MAX_DIMENSION`] (m).
     pub fn new(half_extents: DVec3) -> Result<Cuboid, ShapeError> {
         check_positive("cuboid", "half_extents.x", half_extents.x)?;
         check_positive("cuboid", "half_extents.y", half_extents.y)?;

@@ -34,11 +34,11 @@ impl HalfSpace {
                 length,
             });
         }
-        if !offset.is_finite() {
+        if !offset.is_finite() || offset.abs() > super::MAX_DIMENSION {
             return Err(ShapeError::BadDimension {
                 shape: "half_space",
                 name: "offset",
-                expected: "finite",
+                expected: "within 1e36 of 0",
                 value: offset,
             });
         }

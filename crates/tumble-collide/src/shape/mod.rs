@@ -43,14 +43,14 @@ use crate::pose::Pose;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ShapeError {
     /// A dimension is NaN, infinite, zero or negative (or negative where zero
-    /// is allowed).
+    /// is allowed), or beyond [`MAX_DIMENSION`].
     #[error("{shape}: {name} must be finite and {expected}, got {value}")]
     BadDimension {
         /// Which shape.
         shape: &'static str,
         /// Which parameter.
         name: &'static str,
-        /// What was expected ("> 0" or ">= 0").
+        /// What was expected ("> 0", ">= 0", "<= 1e36 (MAX_DIMENSION)", ...).
         expected: &'static str,
         /// The value given.
         value: f64,
@@ -112,9 +112,18 @@ pub enum ShapeError {
     Hull(#[from] HullError),
 }
 
+/// Largest dimension of a shape (m): a radius, half extent, half height,
+/// a hull's vertex coordinate or a half-space's offset. The OBBTree's
+/// coordinate limit ([`crate::bvh::MAX_COORDINATE`], which bounds a mesh's
+/// vertices): beyond it a shape's boxes, mass and contact distances
+/// overflow (a sphere of radius 1.8e308 m gave contacts at 1e307 m,
+/// 1.8e308 m deep; libFuzzer's `world_step`).
+pub const MAX_DIMENSION: f64 = crate::bvh::MAX_COORDINATE;
+
 // `mass::primitives::dim` and `mesh::generators::dim` make the same test but
 // return `MassError` / `GeneratorError`: those modules take bare numbers, not
-// shapes, and each reports in its own error type.
+// shapes, and each reports in its own error type (a generated mesh beyond
+// the limit is refused when its tree is built).
 pub(crate) fn check_positive(shape: &'static str, name: &'static str, value: f64) -> Result<(), ShapeError> {
     check_dimension(shape, name, value, value > 0.0, "> 0")
 }
@@ -136,13 +145,18 @@ fn check_dimension(
     in_range: bool,
     expected: &'static str,
 ) -> Result<(), ShapeError> {
-    if value.is_finite() && in_range {
+    if value.is_finite() && in_range && value <= MAX_DIMENSION {
         Ok(())
     } else {
         Err(ShapeError::BadDimension {
             shape,
             name,
-            expected,
+            // Named by the bound it breaks.
+            expected: if value.is_finite() && in_range {
+                "<= 1e36 (MAX_DIMENSION)"
+            } else {
+                expected
+            },
             value,
         })
     }

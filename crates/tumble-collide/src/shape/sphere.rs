@@ -18,7 +18,8 @@ pub struct Sphere {
 }
 
 impl Sphere {
-    /// A sphere; `radius` must be finite and > 0 (m).
+    /// A sphere; `radius` must be finite, > 0 and at most
+    /// [`super::MAX_DIMENSION`] (m).
     pub fn new(radius: f64) -> Result<Sphere, ShapeError> {
         check_positive("sphere", "radius", radius)?;
         Ok(Sphere { radius })

@@ -47,6 +47,35 @@ fn constructors_reject_bad_numbers() {
 }
 
 #[test]
+fn constructors_reject_dimensions_beyond_the_coordinate_limit() {
+    // Finite but past MAX_DIMENSION (a sphere of radius f64::MAX gave
+    // contacts 1.8e308 m deep, libFuzzer's world_step); at the limit, kept.
+    let far = 1e37;
+    let too_big = |r: Result<Shape, ShapeError>, name: &str| match r {
+        Err(ShapeError::BadDimension { value, .. }) => assert!(value.abs() >= far, "{name}: {value}"),
+        other => panic!("{name}: {other:?}"),
+    };
+    too_big(Sphere::new(f64::MAX).map(Shape::from), "sphere");
+    too_big(Sphere::new(far).map(Shape::from), "sphere");
+    too_big(Cuboid::new(DVec3::new(1.0, far, 1.0)).map(Shape::from), "cuboid");
+    too_big(Capsule::new(far, 1.0).map(Shape::from), "capsule radius");
+    too_big(Capsule::new(1.0, far).map(Shape::from), "capsule half height");
+    too_big(
+        HalfSpace::new(DVec3::Z, -far).map(Shape::from),
+        "half-space offset",
+    );
+    let huge = crate::mesh::box_mesh(DVec3::splat(far)).unwrap();
+    too_big(ConvexHull::from_mesh(&huge).map(Shape::from), "hull vertex");
+    assert!(Sphere::new(MAX_DIMENSION).is_ok());
+    assert!(HalfSpace::new(DVec3::Z, -MAX_DIMENSION).is_ok());
+    let message = Sphere::new(far).unwrap_err().to_string();
+    assert!(
+        message.contains("radius") && message.contains("1e36"),
+        "{message}"
+    );
+}
+
+#[test]
 fn half_space_plane_moves_with_its_pose() {
     let h = HalfSpace::new(DVec3::Z, 0.5).unwrap();
     let pose = Pose::new(

@@ -19,6 +19,7 @@ use tumble::collide::query::{
 };
 use tumble::collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble::collide::{hull, mass, narrow, triangle, DQuat, DVec3, Pose};
+use tumble::joint::urdf::{add_urdf, UrdfOptions};
 use tumble::scene::{parse_scene, Format};
 use tumble::world::{BodyDesc, MassDesc, ShapeDesc, Snapshot, World, WorldSettings};
 use tumble::BodyKind;
@@ -28,7 +29,7 @@ pub type Target = fn(&[u8]);
 
 /// The targets by name (the names of the libFuzzer binaries and of the
 /// corpus directories `fuzz/corpus/<name>`).
-pub const TARGETS: [(&str, Target); 8] = [
+pub const TARGETS: [(&str, Target); 9] = [
     ("scene_toml", scene_toml),
     ("scene_json", scene_json),
     ("obj", obj),
@@ -37,6 +38,7 @@ pub const TARGETS: [(&str, Target); 8] = [
     ("world_step", world_step),
     ("snapshot", snapshot),
     ("narrow", narrow_pair),
+    ("urdf", urdf),
 ];
 
 /// Bytes read as numbers and choices; past the end everything reads as 0.
@@ -232,6 +234,48 @@ pub fn scene_toml(data: &[u8]) {
 /// Scene files in JSON: parse, check, build, step.
 pub fn scene_json(data: &[u8]) {
     scene_text(data, Format::Json);
+}
+
+/// URDF robots: parse and add to a world over a ground plane, which a
+/// refused file leaves unchanged (its snapshot compared), then step a
+/// robot that is not too large.
+pub fn urdf(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    // Mesh geometry is read from the disk, where a name such as /dev/zero
+    // never ends: not fuzzed here (the mesh readers have their targets).
+    if text.contains("mesh") {
+        return;
+    }
+    let mut world = World::new(WorldSettings::default()).expect("the default settings are valid");
+    let ground = HalfSpace::new(DVec3::Z, 0.0).expect("a unit normal");
+    world
+        .add_body(&BodyDesc::fixed(ground))
+        .expect("a static half-space is a valid body");
+    let before = world.snapshot();
+    let options = UrdfOptions {
+        position: DVec3::new(0.0, 0.0, 1.0),
+        fixed_base: data.len().is_multiple_of(2),
+        ..UrdfOptions::default()
+    };
+    match add_urdf(&mut world, text, Path::new("fuzz/robot.urdf"), options) {
+        Ok(robot) => {
+            assert!(!robot.bodies.is_empty(), "a robot without a body");
+            assert_eq!(world.body_count(), 1 + robot.bodies.len());
+            if robot.bodies.len() <= MAX_BODIES_STEPPED {
+                step_and_check(&mut world, 3);
+            }
+        }
+        Err(e) => {
+            // Every error names the file (and, for the text, where in it).
+            assert!(e.to_string().starts_with("fuzz/robot.urdf"), "{e}");
+            assert!(
+                world.snapshot() == before,
+                "a refused URDF changed the world: {e}"
+            );
+        }
+    }
 }
 
 /// Everything that accepts a mesh, on a mesh from a file.

@@ -200,8 +200,14 @@ fn fuzz_smoke_narrow() {
     smoke("narrow");
 }
 
+#[test]
+fn fuzz_smoke_urdf() {
+    smoke("urdf");
+}
+
 /// Writes the seed corpus of every target into `fuzz/corpus/` (run once by
-/// hand with `--ignored`; the files are committed).
+/// hand with `--ignored`; the files are committed; rerun when a target is
+/// added).
 #[test]
 #[ignore]
 fn write_seed_corpus() {
@@ -337,4 +343,31 @@ fn write_seed_corpus() {
     }
     write("snapshot", "stepped.snap", &world.snapshot().to_bytes());
     write("snapshot", "stepped.json", world.snapshot().to_json().as_bytes());
+    // The shipped robots, and a small one of every joint type and geometry.
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/robots");
+    for (path, data) in read_dir_files(&robots) {
+        if path.extension().and_then(|e| e.to_str()) == Some("urdf") {
+            write("urdf", &path.file_name().unwrap().to_string_lossy(), &data);
+        }
+    }
+    write(
+        "urdf",
+        "small.urdf",
+        br#"<robot name="r">
+  <link name="base"><inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.4 0.4 0.2"/></geometry></collision></link>
+  <link name="a"><inertial><origin xyz="0 0 0.1"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.1" rpy="0 0 0"/><geometry><cylinder radius="0.05" length="0.2"/></geometry></collision></link>
+  <link name="b"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <link name="c"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="2"/><dynamics damping="0.1"/></joint>
+  <joint name="j2" type="prismatic"><parent link="a"/><child link="b"/><origin xyz="0 0 0.2"/>
+    <axis xyz="1 0 0"/><limit lower="0" upper="0.1" effort="5" velocity="1"/></joint>
+  <joint name="j3" type="continuous"><parent link="b"/><child link="c"/><axis xyz="0 1 0"/></joint>
+  <joint name="j4" type="fixed"><parent link="base"/><child link="d"/></joint>
+  <link name="d"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+</robot>
+"#,
+    );
 }

@@ -176,7 +176,7 @@ fn the_quadruped_stands_on_its_pd_held_legs() {
 
 fn error_of(text: &str) -> (u32, String, String) {
     let mut w = world();
-    let before = w.body_count();
+    let before = w.snapshot();
     match add_urdf(&mut w, text, "bad.urdf".as_ref(), UrdfOptions::default()) {
         Err(UrdfError::At {
             line,
@@ -184,7 +184,8 @@ fn error_of(text: &str) -> (u32, String, String) {
             message,
             ..
         }) => {
-            assert_eq!(w.body_count(), before, "the world is unchanged");
+            // Unchanged to the last slot generation: its whole snapshot.
+            assert!(w.snapshot() == before, "the world changed: {message}");
             assert_eq!(w.joint_count(), 0);
             (line, element, message)
         }
@@ -267,6 +268,12 @@ fn bad_files_name_the_line_and_element() {
         "<link name=\"b\"><inertial><mass value=\"-1\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\"/></inertial>",
     ));
     assert!(message.contains("mass"), "{message}");
+
+    // Refused by the world itself, after the root link's body went in:
+    // a ball so small its mass properties underflow.
+    let (_, element, message) = error_of(&TWO_LINKS.replace("radius=\"0.05\"", "radius=\"1e-320\""));
+    assert_eq!(element, "link name=\"b\"");
+    assert!(message.contains("shapes[0]"), "{message}");
 }
 
 #[test]

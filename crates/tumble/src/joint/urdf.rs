@@ -637,48 +637,40 @@ impl Model<'_, '_> {
             desc.validate().map_err(|e| r.err(j.node, e.to_string()))?;
             joint_descs.push((j, desc));
         }
-        // Everything checked: add, and take it all back if the world objects.
+        // Everything checked: added to a copy of the world, which replaces
+        // it only once the whole robot is in. Removing what was added
+        // before a refusal would not give the world back as it was: the
+        // freed slots' generations and the free list would differ
+        // (libFuzzer's `urdf` target, a box 1e-320 m thick).
+        let mut trial = world.clone();
         let mut ids: Vec<BodyId> = Vec::with_capacity(descs.len());
-        let undo = |world: &mut World, ids: &[BodyId]| {
-            for &id in ids {
-                let _ = world.remove_body(id);
-            }
-        };
         for (g, desc) in descs.iter().enumerate() {
-            match world.add_body(desc) {
-                Ok(id) => ids.push(id),
-                Err(e) => {
-                    undo(world, &ids);
-                    return Err(r.err(self.links[groups[g]].node, world_message(&e)));
-                }
-            }
+            let id = trial
+                .add_body(desc)
+                .map_err(|e| r.err(self.links[groups[g]].node, world_message(&e)))?;
+            ids.push(id);
         }
         let mut joints = BTreeMap::new();
         for (j, desc) in &joint_descs {
-            match world.add_joint(&desc.clone().with_bodies(|g| ids[g])) {
-                Ok(id) => {
-                    joints.insert(
-                        j.name.clone(),
-                        UrdfJoint {
-                            id,
-                            effort: j.effort,
-                            velocity: j.velocity,
-                        },
-                    );
-                }
-                Err(e) => {
-                    undo(world, &ids);
-                    return Err(r.err(j.node, world_message(&e)));
-                }
-            }
+            let id = trial
+                .add_joint(&desc.clone().with_bodies(|g| ids[g]))
+                .map_err(|e| r.err(j.node, world_message(&e)))?;
+            joints.insert(
+                j.name.clone(),
+                UrdfJoint {
+                    id,
+                    effort: j.effort,
+                    velocity: j.velocity,
+                },
+            );
         }
         if options.fixed_base {
             let frame = pose[root].expect("placed");
-            if let Err(e) = world.add_joint(&JointDesc::fixed(ids[body_of[root]], None, frame.position)) {
-                undo(world, &ids);
-                return Err(r.err(self.links[root].node, world_message(&e)));
-            }
+            trial
+                .add_joint(&JointDesc::fixed(ids[body_of[root]], None, frame.position))
+                .map_err(|e| r.err(self.links[root].node, world_message(&e)))?;
         }
+        *world = trial;
         Ok(UrdfRobot {
             name: self.name.clone(),
             links: self

@@ -132,7 +132,8 @@ pub fn load_urdf(
 
 /// Adds the robot described by URDF `text` to `world`; `file` names it in
 /// errors and is where mesh files are looked up from. On error the world
-/// is unchanged.
+/// is unchanged (the robot goes into a copy of the world first, so a call
+/// costs a copy of what the world holds).
 pub fn add_urdf(
     world: &mut World,
     text: &str,

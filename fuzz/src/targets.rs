@@ -20,6 +20,7 @@ use tumble::collide::query::{
 use tumble::collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble::collide::{hull, mass, narrow, triangle, DQuat, DVec3, Pose};
 use tumble::joint::urdf::{add_urdf, UrdfOptions};
+use tumble::joint::{JointDesc, JointKind, Motor, Spring};
 use tumble::scene::{parse_scene, Format};
 use tumble::world::{BodyDesc, MassDesc, ShapeDesc, Snapshot, World, WorldSettings};
 use tumble::BodyKind;
@@ -29,7 +30,7 @@ pub type Target = fn(&[u8]);
 
 /// The targets by name (the names of the libFuzzer binaries and of the
 /// corpus directories `fuzz/corpus/<name>`).
-pub const TARGETS: [(&str, Target); 9] = [
+pub const TARGETS: [(&str, Target); 10] = [
     ("scene_toml", scene_toml),
     ("scene_json", scene_json),
     ("obj", obj),
@@ -39,6 +40,7 @@ pub const TARGETS: [(&str, Target); 9] = [
     ("snapshot", snapshot),
     ("narrow", narrow_pair),
     ("urdf", urdf),
+    ("joints", joints),
 ];
 
 /// Bytes read as numbers and choices; past the end everything reads as 0.
@@ -632,6 +634,167 @@ pub fn world_step(data: &[u8]) {
             }
         }
         step_and_check(&mut world, 1);
+    }
+}
+
+/// Joints: 2-5 dynamic spheres and boxes over a ground, joined by up to six
+/// fuzzed joints of every kind (anchors, axes, limits, swing limits,
+/// motors, springs, lengths; some to the world, some of a body to itself);
+/// a refused joint, motor change or removal leaves the world's whole
+/// snapshot unchanged. Stepped with motors changed and joints or bodies
+/// removed in between: every state finite, and every joint's state
+/// (coordinate, rate, errors, reaction, anchors, axis) finite.
+pub fn joints(data: &[u8]) {
+    let mut input = Input::new(data);
+    let settings = WorldSettings {
+        dt: input.number(1e-3, 0.05),
+        substeps: 1 + input.below(8) as u32,
+        iterations: 1 + input.below(4) as u32,
+        ..WorldSettings::default()
+    };
+    let Ok(mut world) = World::new(settings) else {
+        return;
+    };
+    let ground = HalfSpace::new(DVec3::Z, 0.0).expect("a unit normal");
+    world
+        .add_body(&BodyDesc::fixed(ground))
+        .expect("a static half-space is a valid body");
+    let mut bodies = Vec::new();
+    for i in 0..2 + input.below(4) {
+        let shape = if input.below(2) == 0 {
+            Sphere::new(input.number(0.05, 0.4)).map(Shape::Sphere)
+        } else {
+            Cuboid::new(input.vec3(0.05, 0.4)).map(Shape::Cuboid)
+        };
+        let Ok(shape) = shape else {
+            continue;
+        };
+        let mut desc = BodyDesc::dynamic(shape);
+        desc.pose = input.pose(1.0);
+        desc.pose.position.z += 1.0 + 0.5 * i as f64;
+        if input.below(2) == 0 {
+            desc.mass = MassDesc::Mass(input.number(0.01, 100.0));
+        }
+        if let Ok(id) = world.add_body(&desc) {
+            bodies.push(id);
+        }
+    }
+    if bodies.is_empty() {
+        return;
+    }
+    let mut joints = Vec::new();
+    for _ in 0..1 + input.below(6) {
+        let kind = JointKind::ALL[input.below(JointKind::ALL.len())];
+        let ia = input.below(bodies.len());
+        let a = bodies[ia];
+        // Another body, or the world, or (refused) A itself.
+        let b = match input.below(8) {
+            7 => None,
+            6 => Some(a),
+            _ if bodies.len() > 1 => Some(bodies[(ia + 1 + input.below(bodies.len() - 1)) % bodies.len()]),
+            _ => None,
+        };
+        let mut desc = JointDesc::new(kind, a, b, input.vec3(-2.0, 2.0), input.vec3(-1.0, 1.0));
+        // Each option where the kind takes it, and one input in eight
+        // anywhere (which the checks must refuse). A coin reads 1 for yes,
+        // so that an input's zeros (and its end) ask for nothing.
+        let wild = input.below(8) == 7;
+        let (distance, ball) = (kind == JointKind::Distance, kind == JointKind::Ball);
+        let coin = |input: &mut Input, allowed: bool| (allowed || wild) && input.below(2) == 1;
+        if coin(&mut input, distance) {
+            desc.anchor_b = Some(input.vec3(-2.0, 2.0));
+        }
+        if coin(&mut input, kind != JointKind::Fixed) {
+            let lo = input.number(-3.2, 3.2);
+            desc.limits = Some([lo, lo + input.number(-0.5, 4.0)]);
+        }
+        if coin(&mut input, ball) {
+            desc.swing_limit = Some(input.number(0.0, 3.2));
+        }
+        if coin(&mut input, matches!(kind, JointKind::Hinge | JointKind::Slider)) {
+            desc.motor = fuzz_motor(&mut input);
+        }
+        if coin(&mut input, distance) {
+            desc.spring = Some(Spring {
+                stiffness: input.number(0.0, 1000.0),
+                damping: input.number(0.0, 10.0),
+            });
+        }
+        if coin(&mut input, distance) {
+            desc.length = Some(input.number(0.0, 2.0));
+        }
+        desc.collide_connected = input.below(2) == 0;
+        let before = world.snapshot();
+        match world.add_joint(&desc) {
+            Ok(id) => joints.push(id),
+            Err(e) => assert!(
+                world.snapshot() == before,
+                "a refused joint changed the world: {e}"
+            ),
+        }
+    }
+    for _ in 0..1 + input.below(4) {
+        if !joints.is_empty() {
+            let j = joints[input.below(joints.len())];
+            match input.below(6) {
+                0 => {
+                    let before = world.snapshot();
+                    let motor = fuzz_motor(&mut input);
+                    if let Err(e) = world.set_joint_motor(j, motor) {
+                        assert!(
+                            world.snapshot() == before,
+                            "a refused motor changed the world: {e}"
+                        );
+                    }
+                }
+                1 => {
+                    world.remove_joint(j).expect("a live joint");
+                    joints.retain(|&k| k != j);
+                    assert!(world.remove_joint(j).is_err(), "removing a joint twice");
+                }
+                2 => {
+                    // Its joints go with it.
+                    let body = bodies.remove(input.below(bodies.len()));
+                    world.remove_body(body).expect("a live body");
+                    let live = world.joint_ids();
+                    joints.retain(|j| live.contains(j));
+                    if bodies.is_empty() {
+                        return;
+                    }
+                }
+                _ => {}
+            }
+        }
+        step_and_check(&mut world, 1);
+        for id in world.joint_ids() {
+            let s = world.joint_state(id).expect("a listed joint is live");
+            let numbers = [s.position, s.rate, s.linear_error, s.angular_error];
+            let vectors = [s.force, s.torque, s.anchor_a, s.anchor_b, s.axis];
+            assert!(
+                numbers.iter().all(|x| x.is_finite()) && vectors.iter().all(|v| v.is_finite()),
+                "joint {id:?}: {s:?}"
+            );
+        }
+        let (linear, angular) = world.max_joint_error();
+        assert!(linear.is_finite() && angular.is_finite(), "{linear} {angular}");
+    }
+}
+
+/// No motor, or a velocity or position motor of fuzzed targets, gains and
+/// force bound.
+fn fuzz_motor(input: &mut Input) -> Option<Motor> {
+    match input.below(3) {
+        0 => Some(Motor::Velocity {
+            target: input.number(-10.0, 10.0),
+            max_force: input.number(0.0, 100.0),
+        }),
+        1 => Some(Motor::Position {
+            target: input.number(-3.0, 3.0),
+            stiffness: input.number(0.0, 1000.0),
+            damping: input.number(0.0, 50.0),
+            max_force: input.number(0.0, 100.0),
+        }),
+        _ => None,
     }
 }
 

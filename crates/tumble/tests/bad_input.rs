@@ -121,6 +121,20 @@ fn world_calls_reject_bad_input_and_leave_the_world_unchanged() {
             },
         ),
         (
+            "dt below MIN_DT (the smallest f64)",
+            WorldSettings {
+                dt: 5e-324,
+                ..Default::default()
+            },
+        ),
+        (
+            "dt below MIN_DT",
+            WorldSettings {
+                dt: 1e-10,
+                ..Default::default()
+            },
+        ),
+        (
             "dt = NaN",
             WorldSettings {
                 dt: NAN,

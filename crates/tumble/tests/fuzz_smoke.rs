@@ -205,6 +205,11 @@ fn fuzz_smoke_urdf() {
     smoke("urdf");
 }
 
+#[test]
+fn fuzz_smoke_joints() {
+    smoke("joints");
+}
+
 /// Writes the seed corpus of every target into `fuzz/corpus/` (run once by
 /// hand with `--ignored`; the files are committed; rerun when a target is
 /// added).
@@ -309,7 +314,7 @@ fn write_seed_corpus() {
     );
     // Structured targets: bytes from a fixed generator, plus plain patterns.
     let mut rng = Rng(2024);
-    for target in ["collide", "world_step", "narrow"] {
+    for target in ["collide", "world_step", "narrow", "joints"] {
         for k in 0..12 {
             let len = 32 + rng.below(224);
             let data: Vec<u8> = (0..len).map(|_| (rng.next_u64() % 224) as u8).collect();

@@ -535,6 +535,21 @@ fn bad_joints_are_refused_and_leave_the_world_unchanged() {
         field(w.add_joint(&JointDesc::ball(c, None, DVec3::new(f64::NAN, 0.0, 0.0)))),
         "joint.anchor"
     );
+    // Finite but beyond the coordinate limit every body is held to.
+    let far = DVec3::new(0.0, f64::MAX, 0.0);
+    assert_eq!(field(w.add_joint(&JointDesc::ball(c, None, far))), "joint.anchor");
+    assert_eq!(
+        field(w.add_joint(&JointDesc::distance(c, None, a, far))),
+        "joint.anchor_b"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::distance(c, None, a, DVec3::Z).with_length(1e37))),
+        "joint.length"
+    );
+    assert_eq!(
+        field(w.add_joint(&JointDesc::slider(c, None, a, DVec3::Z).with_limits(0.0, 1e37))),
+        "joint.limits"
+    );
     assert_eq!(
         field(w.add_joint(&JointDesc::hinge(c, None, a, DVec3::ZERO))),
         "joint.axis"

@@ -4,7 +4,7 @@
 //! when added and turned into a frame on each body; the pose the bodies
 //! have then is the joint's zero (angle 0, offset 0).
 
-use crate::world::{BodyId, WorldError};
+use crate::world::{BodyId, WorldError, MAX_POSITION};
 use serde::{Deserialize, Serialize};
 use tumble_collide::DVec3;
 
@@ -304,12 +304,26 @@ impl<B: Copy + PartialEq> JointDesc<B> {
     pub fn validate(&self) -> Result<(), WorldError> {
         let bad = |field: &'static str, message: String| Err(WorldError::BadValue { field, message });
         let kind = self.kind.name();
-        if !self.anchor.is_finite() {
-            return bad("joint.anchor", format!("must be finite, got {:?}", self.anchor));
+        // Anchors, lengths and linear limits within the coordinate limit
+        // every body is held to (`MAX_POSITION`): a distance joint anchored
+        // at 1.8e308 m (finite) was accepted and its island's impulses
+        // turned NaN (libFuzzer's `joints` target).
+        let placed = |p: DVec3| p.is_finite() && p.abs().max_element() <= MAX_POSITION;
+        if !placed(self.anchor) {
+            return bad(
+                "joint.anchor",
+                format!(
+                    "must be finite and within {MAX_POSITION:e} m of the origin, got {:?}",
+                    self.anchor
+                ),
+            );
         }
         if let Some(b) = self.anchor_b {
-            if !b.is_finite() {
-                return bad("joint.anchor_b", format!("must be finite, got {b:?}"));
+            if !placed(b) {
+                return bad(
+                    "joint.anchor_b",
+                    format!("must be finite and within {MAX_POSITION:e} m of the origin, got {b:?}"),
+                );
             }
             if self.kind != JointKind::Distance {
                 return bad(
@@ -330,6 +344,12 @@ impl<B: Copy + PartialEq> JointDesc<B> {
                 return bad(
                     "joint.limits",
                     format!("must be finite with lower <= upper, got [{lo}, {hi}]"),
+                );
+            }
+            if lo.abs().max(hi.abs()) > MAX_POSITION {
+                return bad(
+                    "joint.limits",
+                    format!("must lie within +-{MAX_POSITION:e}, got [{lo}, {hi}]"),
                 );
             }
             match self.kind {
@@ -437,8 +457,11 @@ impl<B: Copy + PartialEq> JointDesc<B> {
                     format!("applies to distance joints only, not {kind}"),
                 );
             }
-            if !(l.is_finite() && l >= 0.0) {
-                return bad("joint.length", format!("must be finite and >= 0 m, got {l}"));
+            if !(l.is_finite() && (0.0..=MAX_POSITION).contains(&l)) {
+                return bad(
+                    "joint.length",
+                    format!("must be finite, >= 0 and at most {MAX_POSITION:e} m, got {l}"),
+                );
             }
         }
         if self.body_b == Some(self.body_a) {

@@ -175,6 +175,12 @@ fn check_position(field: &'static str, p: DVec3) -> Result<(), WorldError> {
     }
 }
 
+/// Shortest accepted `WorldSettings::dt` (s): a nanosecond, far below any
+/// time scale of rigid bodies. A step of 5e-324 s (the smallest f64) was
+/// accepted, its sub-step's inverse overflowed, and the joints reported
+/// reactions of NaN (impulse / step; libFuzzer's `joints` target).
+pub const MIN_DT: f64 = 1e-9;
+
 /// The checks `World::new` makes of its settings.
 pub(crate) fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
     let positive = |field: &'static str, x: f64| {
@@ -203,6 +209,12 @@ pub(crate) fn check_settings(s: &WorldSettings) -> Result<(), WorldError> {
         return Err(WorldError::BadValue {
             field: "settings.dt",
             message: format!("must be at most 1 s, got {}", s.dt),
+        });
+    }
+    if s.dt < MIN_DT {
+        return Err(WorldError::BadValue {
+            field: "settings.dt",
+            message: format!("must be at least {MIN_DT:e} s, got {:e}", s.dt),
         });
     }
     if s.substeps == 0 || s.substeps > 64 {

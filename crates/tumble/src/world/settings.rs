@@ -28,8 +28,8 @@ pub struct WorldSettings {
     /// Gravitational acceleration (m/s^2). Default (0, 0, -9.81): z is up.
     #[schemars(with = "[f64; 3]")]
     pub gravity: DVec3,
-    /// Time step of one `World::step` (s). Default 1/60. Smaller is more
-    /// accurate and costs proportionally more.
+    /// Time step of one `World::step` (s), from 1e-9 (`MIN_DT`) to 1.
+    /// Default 1/60. Smaller is more accurate and costs proportionally more.
     pub dt: f64,
     /// Solver sub-steps per step. Each sub-step integrates velocities, solves
     /// the contacts once and integrates positions, reusing the contact points

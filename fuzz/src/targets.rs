@@ -21,7 +21,8 @@ use tumble::collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, 
 use tumble::collide::{hull, mass, narrow, triangle, DQuat, DVec3, Pose};
 use tumble::joint::urdf::{add_urdf, UrdfOptions};
 use tumble::joint::{JointDesc, JointKind, Motor, Spring};
-use tumble::scene::{parse_scene, Format};
+use tumble::scene::{parse_scene, Format, SceneDocument};
+use tumble::sweep::{RunLength, Sweep};
 use tumble::world::{BodyDesc, MassDesc, ShapeDesc, Snapshot, World, WorldSettings};
 use tumble::BodyKind;
 
@@ -30,7 +31,7 @@ pub type Target = fn(&[u8]);
 
 /// The targets by name (the names of the libFuzzer binaries and of the
 /// corpus directories `fuzz/corpus/<name>`).
-pub const TARGETS: [(&str, Target); 10] = [
+pub const TARGETS: [(&str, Target); 11] = [
     ("scene_toml", scene_toml),
     ("scene_json", scene_json),
     ("obj", obj),
@@ -41,6 +42,7 @@ pub const TARGETS: [(&str, Target); 10] = [
     ("narrow", narrow_pair),
     ("urdf", urdf),
     ("joints", joints),
+    ("sweep", sweep),
 ];
 
 /// Bytes read as numbers and choices; past the end everything reads as 0.
@@ -777,6 +779,72 @@ pub fn joints(data: &[u8]) {
         }
         let (linear, angular) = world.max_joint_error();
         assert!(linear.is_finite() && angular.is_finite(), "{linear} {angular}");
+    }
+}
+
+/// Parameter sweeps: the first line a JSON object `{"params": [[path,
+/// [values...]], ...], "steps": n, "metrics": [names...]}`, the rest a
+/// TOML scene file. Checked as `Sweep::new` checks it (a typed error is
+/// fine), then up to 8 of its runs of at most 8 steps on two threads: each
+/// run's row is its own, the same again on one thread, and a finished
+/// run's metrics are numbers (finite, or NaN where a metric has no value).
+pub fn sweep(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let (head, scene) = text.split_once('\n').unwrap_or((text, ""));
+    if !within_fuzz_budget(scene, Format::Toml) {
+        return;
+    }
+    let Ok(serde_json::Value::Object(spec)) = serde_json::from_str::<serde_json::Value>(head) else {
+        return;
+    };
+    let Ok(doc) = SceneDocument::parse(scene, Format::Toml, Path::new("fuzz-sweep.toml")) else {
+        return;
+    };
+    let params: Vec<(String, Vec<serde_json::Value>)> = match spec.get("params") {
+        Some(serde_json::Value::Array(list)) => list
+            .iter()
+            .filter_map(|p| match p {
+                serde_json::Value::Array(pair) => match (pair.first(), pair.get(1)) {
+                    (Some(serde_json::Value::String(path)), Some(serde_json::Value::Array(values))) => {
+                        Some((path.clone(), values.clone()))
+                    }
+                    _ => None,
+                },
+                _ => None,
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    let steps = spec
+        .get("steps")
+        .and_then(serde_json::Value::as_u64)
+        .unwrap_or(1)
+        .min(8);
+    let metrics: Vec<String> = match spec.get("metrics") {
+        Some(serde_json::Value::Array(m)) => m.iter().filter_map(|x| x.as_str().map(String::from)).collect(),
+        _ => Vec::new(),
+    };
+    let sweep = match Sweep::new(doc, params, RunLength::Steps(steps), &metrics) {
+        Ok(s) => s,
+        Err(e) => {
+            assert!(!e.to_string().is_empty());
+            return;
+        }
+    };
+    let indices: Vec<usize> = (0..sweep.len().min(8)).collect();
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let rows = sweep.run(&indices, 2, &cancel, &|_| {});
+    let serial = sweep.run(&indices, 1, &cancel, &|_| {});
+    assert_eq!(rows.len(), indices.len());
+    for (row, again) in rows.iter().zip(&serial) {
+        assert_eq!(
+            format!("{row:?}"),
+            format!("{again:?}"),
+            "a run's row depends on the threads"
+        );
+        assert!(row.metrics.iter().all(|x| !x.is_infinite()), "{row:?}");
     }
 }
 

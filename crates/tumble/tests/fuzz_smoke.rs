@@ -210,6 +210,11 @@ fn fuzz_smoke_joints() {
     smoke("joints");
 }
 
+#[test]
+fn fuzz_smoke_sweep() {
+    smoke("sweep");
+}
+
 /// Writes the seed corpus of every target into `fuzz/corpus/` (run once by
 /// hand with `--ignored`; the files are committed; rerun when a target is
 /// added).
@@ -348,6 +353,31 @@ fn write_seed_corpus() {
     }
     write("snapshot", "stepped.snap", &world.snapshot().to_bytes());
     write("snapshot", "stepped.json", world.snapshot().to_json().as_bytes());
+    // Sweeps: a JSON line of parameters, steps and metrics, then a scene.
+    let scene_text = |name: &str| std::fs::read_to_string(scenes.join(name)).unwrap();
+    for (name, head, scene) in [
+        (
+            "bounce",
+            r#"{"params": [["bodies[ball].restitution", [0.5, 0.9]], ["settings.dt", [0.004, 0.01]]], "steps": 8, "metrics": ["ball.rebound_z", "ball.max_z", "energy_drift", "max_penetration"]}"#,
+            scene_text("bounce.toml"),
+        ),
+        (
+            "door",
+            r#"{"params": [["bodies[1].mass", [1, 5, 20]]], "steps": 4, "metrics": ["max_joint_error", "toppled", "time", "kinetic_energy_end"]}"#,
+            scene_text("door.toml"),
+        ),
+        (
+            "pile",
+            r#"{"params": [["settings.substeps", [1, 4]], ["settings.gravity", [[0, 0, -9.81], [0, 0, -1]]]], "steps": 3, "metrics": ["energy_start", "energy_end"]}"#,
+            scene_text("first.toml"),
+        ),
+    ] {
+        write(
+            "sweep",
+            &format!("{name}.txt"),
+            format!("{head}\n{scene}").as_bytes(),
+        );
+    }
     // The shipped robots, and a small one of every joint type and geometry.
     let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/robots");
     for (path, data) in read_dir_files(&robots) {

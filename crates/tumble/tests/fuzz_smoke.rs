@@ -367,7 +367,7 @@ fn write_seed_corpus() {
             scene_text("door.toml"),
         ),
         (
-            "pile",
+            "first",
             r#"{"params": [["settings.substeps", [1, 4]], ["settings.gravity", [[0, 0, -9.81], [0, 0, -1]]]], "steps": 3, "metrics": ["energy_start", "energy_end"]}"#,
             scene_text("first.toml"),
         ),

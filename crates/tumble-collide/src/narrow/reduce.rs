@@ -182,8 +182,9 @@ pub fn reduce_patch(
     let level = (deepest + PATCH_DEPTH_BAND).max(0.0);
     let support: Vec<usize> = (0..n).filter(|&i| points[i].1 <= level).collect();
     if support.len() <= max {
-        // The others, NaN gaps included (last, by `total_cmp`): a patch
-        // keeps points whatever its gaps (an empty patch has no normal).
+        // The others, NaN gaps included (ordered by `total_cmp`, which
+        // puts a positive NaN last): a patch keeps points whatever its
+        // gaps (an empty patch has no normal).
         let mut rest: Vec<usize> = (0..n)
             .filter(|&i| points[i].1.is_nan() || points[i].1 > level)
             .collect();

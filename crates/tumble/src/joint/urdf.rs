@@ -642,7 +642,7 @@ impl Model<'_, '_> {
         // it only once the whole robot is in. Removing what was added
         // before a refusal would not give the world back as it was: the
         // freed slots' generations and the free list would differ
-        // (libFuzzer's `urdf` target, a box 1e-320 m thick).
+        // (the `urdf` fuzz target, a box 1e-320 m thick).
         let mut trial = world.clone();
         let mut ids: Vec<BodyId> = Vec::with_capacity(descs.len());
         for (g, desc) in descs.iter().enumerate() {

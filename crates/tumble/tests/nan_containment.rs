@@ -158,3 +158,55 @@ fn a_runaway_in_the_pile_stays_alone() {
         );
     }
 }
+
+#[test]
+fn a_quarantined_body_keeps_no_impulse_of_its_step() {
+    // A cube resting on the ground, hinged to the world at its centre; its
+    // motor asked for 1.8e308 rad/s with an unbounded torque (valid
+    // numbers, an absurd request) runs it away in one step. The quarantine
+    // restores it, and what the step's joint and contacts did goes with
+    // it: the joint reports no reaction, and the next steps, the motor
+    // taken off, start from nothing (a warm start from the runaway's
+    // impulses of 1e308 or NaN ran the cube away again; libFuzzer's
+    // `joints` target).
+    use tumble::collide::shape::{Cuboid, HalfSpace};
+    use tumble::joint::{JointDesc, Motor};
+    use tumble::world::{BodyDesc, WorldSettings};
+    let mut world = World::new(WorldSettings::default()).unwrap();
+    world
+        .add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
+        .unwrap();
+    let centre = DVec3::new(0.0, 0.0, 0.5);
+    let cube = world
+        .add_body(&BodyDesc::dynamic(Cuboid::new(DVec3::splat(0.5)).unwrap()).at(centre))
+        .unwrap();
+    let motor = Motor::Velocity {
+        target: f64::MAX,
+        max_force: f64::MAX,
+    };
+    let hinge = world
+        .add_joint(&JointDesc::hinge(cube, None, centre, DVec3::Z).with_motor(motor))
+        .unwrap();
+    for _ in 0..3 {
+        world.step();
+    }
+    let report = world.step();
+    assert_eq!(report.quarantined, vec![Quarantined { body: cube }]);
+    let state = world.joint_state(hinge).unwrap();
+    assert_eq!(
+        (state.force, state.torque),
+        (DVec3::ZERO, DVec3::ZERO),
+        "{state:?}"
+    );
+    world.set_joint_motor(hinge, None).unwrap();
+    for _ in 0..60 {
+        let report = world.step();
+        assert!(report.quarantined.is_empty(), "{:?}", report.quarantined);
+        let state = world.joint_state(hinge).unwrap();
+        assert!(state.force.is_finite() && state.torque.is_finite(), "{state:?}");
+    }
+    assert_all_finite(&world);
+    // At rest on the ground where it was held.
+    assert!(world.linear_velocity(cube).unwrap().length() < 1e-3);
+    assert!((world.pose(cube).unwrap().position - centre).length() < 1e-3);
+}

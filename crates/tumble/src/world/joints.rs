@@ -297,6 +297,24 @@ impl World {
     }
 
     /// Removes the joints attached to body slot `slot` (with the body).
+    /// Forgets what the joints of body slot `slot` did in the step (their
+    /// warm-start impulses and reported reactions, back to zero): the
+    /// quarantine restored the body to its state before the step, and a
+    /// runaway solve leaves impulses of 1e308 or NaN that the next step
+    /// would warm start from.
+    pub(crate) fn reset_joints_of(&mut self, slot: u32) {
+        for k in 0..self.joints.slot_count() as u32 {
+            if let Some(entry) = self.joints.at_mut(k) {
+                let (a, b) = entry.slots();
+                if a == slot || b == Some(slot) {
+                    entry.impulses = [0.0; JOINT_ROWS];
+                    entry.force = DVec3::ZERO;
+                    entry.torque = DVec3::ZERO;
+                }
+            }
+        }
+    }
+
     pub(crate) fn remove_joints_of(&mut self, slot: u32) {
         let attached: Vec<JointId> = self
             .joints

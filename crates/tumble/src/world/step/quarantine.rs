@@ -2,7 +2,8 @@
 //! not finite, or that would run away (faster than [`RUNAWAY_SPEED`]), is
 //! frozen for the step (immovable in the solver, so NaN cannot travel
 //! through contacts to its neighbours), then restored to its state before
-//! the step, stopped and reported in `StepReport::quarantined`. Three
+//! the step, stopped and reported in `StepReport::quarantined`; its
+//! joints' and contacts' impulses of the step are forgotten with it. Three
 //! checks feed it: before the solve (forces and velocities), at the write
 //! back (the solver's result), and after the step (bodies moved by an
 //! explicit integrator, and the backstop for everything else).
@@ -53,6 +54,13 @@ impl World {
             }
         }
         e.body.clear_forces();
+        // What the step's contacts and joints did to it is undone with its
+        // state: none of it is warm started from or reported as a
+        // reaction (a runaway solve leaves impulses of 1e308 or NaN;
+        // libFuzzer's `joints` target).
+        self.reset_joints_of(slot);
+        self.cache.retain(|c| c.key.0 != slot && c.key.1 != slot);
+        self.patch_cache.retain(|c| c.key.0 != slot && c.key.1 != slot);
         if let Some(body) = self.bodies.id_at(slot) {
             f.report.quarantined.push(Quarantined { body });
         }

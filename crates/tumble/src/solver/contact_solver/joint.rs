@@ -372,9 +372,13 @@ impl JointConstraint {
             if i == UPPER && self.active & (1 << LOWER) != 0 {
                 // Every kind builds its upper limit as the lower limit's row
                 // negated: the same effective mass and the coupling negated,
-                // bit for bit (IEEE arithmetic is symmetric in sign).
-                debug_assert!(self.rows[UPPER].ang_a == -self.rows[LOWER].ang_a);
-                debug_assert!(self.rows[UPPER].lin == -self.rows[LOWER].lin);
+                // bit for bit (IEEE arithmetic is symmetric in sign). Checked
+                // where the rows are numbers: a runaway's (NaN, for the
+                // quarantine) compare unequal to themselves.
+                let (lower, upper) = (&self.rows[LOWER], &self.rows[UPPER]);
+                let finite = lower.ang_a.is_finite() && lower.lin.is_finite();
+                debug_assert!(!finite || upper.ang_a == -lower.ang_a);
+                debug_assert!(!finite || upper.lin == -lower.lin);
                 self.coupling[UPPER - LOWER] = self.coupling[0].map(|c| -c);
                 self.rows[UPPER].mass = self.rows[LOWER].mass;
                 continue;

@@ -88,7 +88,7 @@ impl ConvexHull {
         if let Some(value) = [lo, hi]
             .iter()
             .flat_map(|v| v.to_array())
-            .find(|x| !x.is_finite() || x.abs() > super::MAX_DIMENSION)
+            .find(|&x| !super::within_dimension_limit(x))
         {
             return Err(ShapeError::BadDimension {
                 shape: "convex_hull",

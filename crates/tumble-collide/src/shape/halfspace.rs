@@ -34,7 +34,7 @@ impl HalfSpace {
                 length,
             });
         }
-        if !offset.is_finite() || offset.abs() > super::MAX_DIMENSION {
+        if !super::within_dimension_limit(offset) {
             return Err(ShapeError::BadDimension {
                 shape: "half_space",
                 name: "offset",

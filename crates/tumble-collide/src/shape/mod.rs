@@ -120,6 +120,12 @@ pub enum ShapeError {
 /// 1.8e308 m deep; libFuzzer's `world_step`).
 pub const MAX_DIMENSION: f64 = crate::bvh::MAX_COORDINATE;
 
+/// Whether `x` is finite and at most [`MAX_DIMENSION`] from 0: the one
+/// test of the limit (dimensions, hull coordinates, half-space offsets).
+pub(crate) fn within_dimension_limit(x: f64) -> bool {
+    x.is_finite() && x.abs() <= MAX_DIMENSION
+}
+
 // `mass::primitives::dim` and `mesh::generators::dim` make the same test but
 // return `MassError` / `GeneratorError`: those modules take bare numbers, not
 // shapes, and each reports in its own error type (a generated mesh beyond
@@ -145,7 +151,7 @@ fn check_dimension(
     in_range: bool,
     expected: &'static str,
 ) -> Result<(), ShapeError> {
-    if value.is_finite() && in_range && value <= MAX_DIMENSION {
+    if in_range && within_dimension_limit(value) {
         Ok(())
     } else {
         Err(ShapeError::BadDimension {

@@ -4,7 +4,7 @@
 //! when added and turned into a frame on each body; the pose the bodies
 //! have then is the joint's zero (angle 0, offset 0).
 
-use crate::world::{BodyId, WorldError, MAX_POSITION};
+use crate::world::{within_position_limit, BodyId, WorldError, MAX_POSITION};
 use serde::{Deserialize, Serialize};
 use tumble_collide::DVec3;
 
@@ -308,8 +308,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         // every body is held to (`MAX_POSITION`): a distance joint anchored
         // at 1.8e308 m (finite) was accepted and its island's impulses
         // turned NaN (libFuzzer's `joints` target).
-        let placed = |p: DVec3| p.is_finite() && p.abs().max_element() <= MAX_POSITION;
-        if !placed(self.anchor) {
+        if !within_position_limit(self.anchor) {
             return bad(
                 "joint.anchor",
                 format!(
@@ -319,7 +318,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             );
         }
         if let Some(b) = self.anchor_b {
-            if !placed(b) {
+            if !within_position_limit(b) {
                 return bad(
                     "joint.anchor_b",
                     format!("must be finite and within {MAX_POSITION:e} m of the origin, got {b:?}"),

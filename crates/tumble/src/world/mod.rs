@@ -163,9 +163,15 @@ fn check_vec(field: &'static str, v: DVec3) -> Result<(), WorldError> {
 /// far_shape_offset`).
 pub const MAX_POSITION: f64 = tumble_collide::bvh::MAX_COORDINATE;
 
+/// Whether `p` is finite and within [`MAX_POSITION`] of the origin on every
+/// axis: the one test of the limit (bodies, snapshots, joint anchors).
+pub(crate) fn within_position_limit(p: DVec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= MAX_POSITION
+}
+
 /// `field` within [`MAX_POSITION`] of the origin on every axis.
 fn check_position(field: &'static str, p: DVec3) -> Result<(), WorldError> {
-    if p.is_finite() && p.abs().max_element() <= MAX_POSITION {
+    if within_position_limit(p) {
         Ok(())
     } else {
         Err(WorldError::BadValue {

@@ -710,7 +710,7 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
     // Within the coordinate limit `World::add_body` and `set_pose` hold
     // every body to (`MAX_POSITION`): beyond it boxes overflow.
     let placed = |what: &str, p: DVec3| {
-        if p.abs().max_element() <= super::MAX_POSITION {
+        if super::within_position_limit(p) {
             Ok(())
         } else {
             Err(format!(

@@ -573,6 +573,9 @@ pub fn world_step(data: &[u8]) {
                 });
             }
         }
+        // Bodies of two shapes share a non-colliding group (drawn from
+        // what is drawn already, so that kept inputs keep their meaning).
+        let non_colliding_group = u32::from(shapes.len() == 2);
         let desc = BodyDesc {
             kind,
             shapes,
@@ -600,6 +603,7 @@ pub fn world_step(data: &[u8]) {
             linear_damping: input.number(0.0, 1.0),
             angular_damping: input.number(0.0, 1.0),
             ccd: input.below(4) == 0,
+            non_colliding_group,
             name: String::new(),
         };
         let count = world.body_count();

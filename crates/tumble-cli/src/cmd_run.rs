@@ -25,13 +25,20 @@ use tumble::world::{BodyDesc, Snapshot, World, WorldSettings};
 #[command(after_long_help = RUN_EXAMPLES)]
 pub struct RunArgs {
     /// Scene file (.toml or .json; see docs/scenes.md), or a URDF robot
-    /// (.urdf), run standing on a ground plane at z = 0.
+    /// (.urdf), run standing on a ground plane at z = 0 (its lowest point
+    /// on the plane, unless --base-position places it).
     #[arg(value_name = "SCENE")]
     scene: PathBuf,
     /// URDF: weld the robot's root link to the world.
     #[arg(long)]
     fixed_base: bool,
-    /// URDF: where the root link's frame goes, "x,y,z" in metres (default 0,0,0).
+    /// URDF: let the robot's links touch each other (off by default, as in
+    /// PyBullet: links of files written for other engines overlap beyond
+    /// their joints).
+    #[arg(long)]
+    self_collision: bool,
+    /// URDF: where the root link's frame goes, "x,y,z" in metres (default: x = y = 0,
+    /// z such that the robot's lowest point rests on the ground).
     #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
     base_position: Option<String>,
     /// Number of steps (default: the scene's `steps` or `duration`, else 10 s).
@@ -192,8 +199,8 @@ fn apply_overrides(args: &RunArgs, scene: &mut Scene) -> Result<(), CliError> {
 /// overrides of the command line.
 fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
     let position = match &args.base_position {
-        None => DVec3::ZERO,
-        Some(text) => {
+        None => None,
+        Some(text) => Some({
             let v: Vec<f64> = text
                 .split(',')
                 .map(|t| t.trim().parse::<f64>())
@@ -207,7 +214,7 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
                     )))
                 }
             }
-        }
+        }),
     };
     let settings = WorldSettings::default();
     let mut scene = Scene {
@@ -226,11 +233,33 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
     world
         .add_body(&BodyDesc::fixed(ground).named("ground"))
         .map_err(|e| CliError::Internal(e.to_string()))?;
-    let options = UrdfOptions {
-        position,
+    let mut options = UrdfOptions {
+        position: position.unwrap_or(DVec3::ZERO),
         fixed_base: args.fixed_base,
+        self_collision: args.self_collision,
         ..UrdfOptions::default()
     };
+    if position.is_none() {
+        // Standing on the ground: the robot's lowest point at z = 0 (its
+        // file's zero configuration may put it anywhere about its root).
+        let mut probe = world.clone();
+        let robot =
+            load_urdf(&mut probe, &args.scene, options).map_err(|e| CliError::Input(e.to_string()))?;
+        let lowest = robot
+            .bodies
+            .iter()
+            .flat_map(|&id| {
+                let pose = probe.body(id).expect("just added").pose();
+                let colliders = probe.colliders(id).expect("just added");
+                colliders
+                    .iter()
+                    .map(move |c| c.shape.aabb(&pose.mul_pose(&c.local)).min.z)
+            })
+            .fold(f64::INFINITY, f64::min);
+        if lowest.is_finite() {
+            options.position.z = -lowest;
+        }
+    }
     let robot = load_urdf(&mut world, &args.scene, options).map_err(|e| CliError::Input(e.to_string()))?;
     if !args.quiet {
         for w in &robot.warnings {

@@ -423,15 +423,24 @@ fn run_reports_the_largest_joint_error_of_a_jointed_scene() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let summary = String::from_utf8_lossy(&out.stdout);
+    let (line, mm) = summary_millimetres(&out.stdout, "largest joint error");
+    assert!(line.contains("(21 joints)"), "{line}");
+    // The rope holds within a centimetre.
+    assert!(mm < 10.0, "{line}");
+}
+
+/// The line of `tumble run`'s summary that begins with `label`, and the
+/// number of millimetres it gives ("max penetration X mm", "largest joint
+/// error X mm, ...").
+fn summary_millimetres(stdout: &[u8], label: &str) -> (String, f64) {
+    let summary = String::from_utf8_lossy(stdout);
     let line = summary
         .lines()
-        .find(|l| l.starts_with("largest joint error"))
-        .unwrap_or_else(|| panic!("no joint error line: {summary}"));
-    assert!(line.contains("(21 joints)"), "{line}");
-    // "largest joint error X mm, ...": the rope holds within a centimetre.
-    let mm: f64 = line.split_whitespace().nth(3).unwrap().parse().unwrap();
-    assert!(mm < 10.0, "{line}");
+        .find(|l| l.starts_with(label))
+        .unwrap_or_else(|| panic!("no `{label}` line: {summary}"));
+    let words = label.split_whitespace().count();
+    let mm = line.split_whitespace().nth(words).unwrap().parse().unwrap();
+    (line.to_string(), mm)
 }
 
 #[test]
@@ -447,6 +456,27 @@ fn run_simulates_a_urdf_robot_and_locates_a_bad_one() {
     assert!(summary.contains("(12 joints)"), "{summary}");
 
     let dir = temp_dir("urdf");
+    // Without --base-position the robot starts with its lowest point on
+    // the ground: a box whose frame is its centre starts resting, not
+    // 0.1 m deep in the ground (max penetration is the deepest overlap).
+    let cube = dir.join("cube.urdf");
+    std::fs::write(
+        &cube,
+        "<robot name=\"cube\"><link name=\"c\"><collision><geometry><box size=\"0.2 0.2 0.2\"/>\
+         </geometry></collision></link></robot>\n",
+    )
+    .unwrap();
+    for flags in [&[][..], &["--self-collision"][..]] {
+        let out = tumble()
+            .args(["run", "--steps", "30"])
+            .args(flags)
+            .arg(&cube)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let (line, mm) = summary_millimetres(&out.stdout, "max penetration");
+        assert!(mm < 1.0, "{line}");
+    }
     let bad = dir.join("bad.urdf");
     std::fs::write(
         &bad,

@@ -412,6 +412,9 @@ impl Robot {
 ///     position: where the root link's frame goes (m).
 ///     orientation: its orientation (x, y, z, w).
 ///     fixed_base: weld the root link to the world.
+///     self_collision: let the robot's links touch each other (off by
+///         default, as in PyBullet: links of files written for other
+///         engines overlap beyond their joints).
 ///
 /// Returns:
 ///     Robot with ``world``, ``links`` and ``joints`` (dicts by name),
@@ -422,7 +425,8 @@ impl Robot {
 ///         world is unchanged.
 ///     FileError: the file cannot be read.
 #[pyfunction]
-#[pyo3(signature = (path, *, world=None, position=None, orientation=None, fixed_base=false))]
+#[pyo3(signature = (path, *, world=None, position=None, orientation=None, fixed_base=false,
+    self_collision=false))]
 pub fn load_urdf(
     py: Python<'_>,
     path: std::path::PathBuf,
@@ -430,11 +434,13 @@ pub fn load_urdf(
     position: Option<&Bound<'_, PyAny>>,
     orientation: Option<&Bound<'_, PyAny>>,
     fixed_base: bool,
+    self_collision: bool,
 ) -> PyResult<Robot> {
     let options = tumble::joint::urdf::UrdfOptions {
         position: convert::vec3_or(position, "position", DVec3::ZERO)?,
         orientation: convert::quat_or_identity(orientation, "orientation")?,
         fixed_base,
+        self_collision,
     };
     let world = match world {
         Some(w) => w,

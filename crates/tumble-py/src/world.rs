@@ -265,13 +265,16 @@ impl World {
     ///         dynamic bodies too (bodies that move more than half their
     ///         thickness in a step are swept against static and kinematic
     ///         ones anyway), default False.
+    ///     non_colliding_group: bodies that share a nonzero group never
+    ///         touch each other (they still touch every other body),
+    ///         default 0 (none).
     ///     name: optional name (exports, find()).
     ///
     /// Raises:
     ///     InvalidArgument: a bad value or shape; the world is unchanged.
     #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None,
         velocity=None, angular_velocity=None, kind="dynamic", restitution=None, friction=None,
-        linear_damping=0.0, angular_damping=0.0, ccd=false, name=None))]
+        linear_damping=0.0, angular_damping=0.0, ccd=false, non_colliding_group=0, name=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         slf: &Bound<'_, Self>,
@@ -288,6 +291,7 @@ impl World {
         linear_damping: f64,
         angular_damping: f64,
         ccd: bool,
+        non_colliding_group: u32,
         name: Option<String>,
     ) -> PyResult<Body> {
         guard(|| {
@@ -321,6 +325,7 @@ impl World {
                 linear_damping,
                 angular_damping,
                 ccd,
+                non_colliding_group,
                 name: name.unwrap_or_default(),
             };
             let id = {

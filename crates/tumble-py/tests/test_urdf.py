@@ -70,3 +70,44 @@ def test_bad_files_are_located_and_leave_the_world_unchanged(tmp_path: Path) -> 
     assert len(world.bodies) == 0
     with pytest.raises(tumble.FileError):
         tumble.load_urdf(tmp_path / "missing.urdf")
+
+
+def test_links_touch_each_other_only_with_self_collision(tmp_path: Path) -> None:
+    # Link c comes back onto link a through b: a and c overlap. Without
+    # self-collision (the default, as in PyBullet) they do not touch.
+    box = '<geometry><box size="0.4 0.4 0.4"/></geometry>'
+    urdf = tmp_path / "folded.urdf"
+    urdf.write_text(
+        '<robot name="r">\n'
+        f'  <link name="a"><collision>{box}</collision></link>\n'
+        '  <link name="b"><collision><origin xyz="0 0 0.5"/>'
+        '<geometry><sphere radius="0.05"/></geometry></collision></link>\n'
+        '  <link name="c"><collision><origin xyz="0 0 -0.5"/>'
+        '<geometry><sphere radius="0.1"/></geometry></collision></link>\n'
+        '  <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>\n'
+        '  <joint name="j2" type="continuous"><parent link="b"/><child link="c"/>'
+        '<origin xyz="0 0 0.5"/></joint>\n'
+        "</robot>\n"
+    )
+    for self_collision in (False, True):
+        robot = tumble.load_urdf(
+            urdf, position=(0.0, 0.0, 1.0), fixed_base=True, self_collision=self_collision
+        )
+        robot.world.step()
+        a, c = robot.links["a"].index, robot.links["c"].index
+        contacts = robot.world.contacts()
+        pairs = set(zip(contacts["body_a"].tolist(), contacts["body_b"].tolist(), strict=True))
+        touching = (a, c) in pairs or (c, a) in pairs
+        assert touching == self_collision
+
+
+def test_bodies_of_one_non_colliding_group_pass_through_each_other() -> None:
+    world = tumble.World()
+    slab = world.add_body(
+        tumble.Box((1.0, 1.0, 0.1)), kind="static", non_colliding_group=2
+    )
+    ball = world.add_body(tumble.Sphere(0.1), position=(0, 0, 0.5), non_colliding_group=2)
+    for _ in range(60):
+        world.step()
+    assert ball.position[2] < 0.0, "fell through the slab of its own group"
+    assert slab.position[2] == 0.0

@@ -807,3 +807,36 @@ fn layers_of_boxes_and_spheres_landing_on_each_other_sink_in_no_deeper_than_6_cm
         world.kinetic_energy()
     );
 }
+
+#[test]
+fn bodies_of_one_non_colliding_group_pass_through_each_other_and_touch_the_rest() {
+    // A ball dropped onto a box: of one group, it falls through the box
+    // onto the ground (its free fall, g t^2 / 2, unchanged by the box);
+    // of another group, or none, it comes to rest on the box.
+    let rest_height = |ball_group: u32| {
+        let mut world = ground_world();
+        let slab = BodyDesc {
+            non_colliding_group: 3,
+            ..BodyDesc::fixed(Cuboid::new(DVec3::new(1.0, 1.0, 0.1)).unwrap()).at(DVec3::new(0.0, 0.0, 1.0))
+        };
+        world.add_body(&slab).unwrap();
+        let ball = world
+            .add_body(&BodyDesc {
+                non_colliding_group: ball_group,
+                ..BodyDesc::dynamic(Sphere::new(0.1).unwrap()).at(DVec3::new(0.0, 0.0, 1.5))
+            })
+            .unwrap();
+        for _ in 0..240 {
+            world.step();
+        }
+        world.center_of_mass(ball).unwrap().z
+    };
+    assert!(
+        (rest_height(3) - 0.1).abs() < 2e-3,
+        "through the slab onto the ground"
+    );
+    for group in [0, 4] {
+        let z = rest_height(group);
+        assert!((z - 1.2).abs() < 2e-3, "group {group}: on the slab, at {z} m");
+    }
+}

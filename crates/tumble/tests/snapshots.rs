@@ -185,6 +185,15 @@ fn assorted_world() -> (World, Vec<BodyId>, BodyId) {
             .at(DVec3::new(3.0, 0.0, 0.2))
             .with_velocity(DVec3::new(0.0, 0.1, 0.0), DVec3::new(0.0, 0.0, 0.2)),
         BodyDesc::dynamic(Sphere::new(0.1).unwrap()).at(DVec3::new(5.0, 5.0, 5.0)),
+        // Two overlapping balls of one non-colliding group (index 10, 11).
+        BodyDesc {
+            non_colliding_group: 7,
+            ..BodyDesc::dynamic(Sphere::new(0.2).unwrap()).at(DVec3::new(-2.0, 2.0, 0.5))
+        },
+        BodyDesc {
+            non_colliding_group: 7,
+            ..BodyDesc::dynamic(Sphere::new(0.2).unwrap()).at(DVec3::new(-2.0, 2.1, 0.5))
+        },
     ];
     let mut ids: Vec<BodyId> = descs.iter().map(|d| world.add_body(d).unwrap()).collect();
     let removed = ids.remove(9);
@@ -201,7 +210,7 @@ fn every_kind_of_body_survives_a_snapshot() {
     run(&mut world, 150);
     world.apply_force(ids[3], DVec3::new(0.5, 0.0, 0.0)).unwrap();
     let snap = world.snapshot();
-    assert_eq!(snap.body_count(), 9);
+    assert_eq!(snap.body_count(), 11);
     let mut restored = World::from_snapshot(&Snapshot::from_json(&snap.to_json()).unwrap()).unwrap();
     assert!(restored.pose(removed).is_err(), "a removed body stays removed");
     for &id in &ids {
@@ -212,7 +221,12 @@ fn every_kind_of_body_survives_a_snapshot() {
         );
         assert_eq!(restored.name(id).unwrap(), world.name(id).unwrap());
         assert_eq!(restored.is_sleeping(id).unwrap(), world.is_sleeping(id).unwrap());
+        assert_eq!(
+            restored.non_colliding_group(id).unwrap(),
+            world.non_colliding_group(id).unwrap()
+        );
     }
+    assert_eq!(restored.non_colliding_group(ids[10]).unwrap(), 7);
     let new_a = world.add_body(&BodyDesc::dynamic(Sphere::new(0.1).unwrap()).at(DVec3::new(-3.0, 0.0, 1.0)));
     let new_b =
         restored.add_body(&BodyDesc::dynamic(Sphere::new(0.1).unwrap()).at(DVec3::new(-3.0, 0.0, 1.0)));

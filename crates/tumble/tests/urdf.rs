@@ -225,14 +225,24 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!((line, element.as_str()), (5, "child"));
     assert!(message.contains("no link is named `c`"), "{message}");
 
-    let (line, element, message) = error_of(&TWO_LINKS.replace("type=\"revolute\"", "type=\"floating\""));
+    let (line, element, message) = error_of(&TWO_LINKS.replace("type=\"revolute\"", "type=\"planar\""));
     assert_eq!((line, element.as_str()), (4, "joint name=\"j\""));
     assert!(message.contains("not supported"), "{message}");
 
-    let (_, element, message) =
-        error_of(&TWO_LINKS.replace("lower=\"-1\" upper=\"1\"", "lower=\"1\" upper=\"-1\""));
-    assert_eq!(element, "limit");
-    assert!(message.contains("lower 1 > upper -1"), "{message}");
+    let (_, element, message) = error_of(&TWO_LINKS.replace(
+        "<link name=\"b\">",
+        "<link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" iyy=\"1\"/></inertial>",
+    ));
+    assert_eq!(element, "inertia");
+    assert!(message.contains("`izz`"), "{message}");
+
+    // A link with a mass but no geometry is not a body tumble can make.
+    let (_, element, message) = error_of(&TWO_LINKS.replace(
+        "<link name=\"b\"><collision><geometry><sphere radius=\"0.05\"/></geometry></collision></link>",
+        "<link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\"/></inertial></link>",
+    ));
+    assert_eq!(element, "link name=\"b\"");
+    assert!(message.contains("no collision or visual geometry"), "{message}");
 
     let (_, element, message) =
         error_of(&TWO_LINKS.replace("<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 one 0\"/>"));
@@ -340,4 +350,224 @@ fn saturated_motors_in_a_chain_hold_their_bound_and_the_chain_holds() {
         w.joint_state(lift).unwrap().position > 0.3,
         "sagged past the target"
     );
+}
+
+/// `text` loaded into a fresh world on a ground plane.
+fn loaded(text: &str, options: UrdfOptions) -> (World, UrdfRobot) {
+    let mut w = world();
+    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()).named("ground"))
+        .unwrap();
+    let robot = add_urdf(&mut w, text, "other_engine.urdf".as_ref(), options).unwrap();
+    (w, robot)
+}
+
+fn steps(w: &mut World, n: usize) {
+    for _ in 0..n {
+        w.step();
+    }
+}
+
+#[test]
+fn a_root_without_geometry_or_mass_stands_for_the_world() {
+    // ROS's `world` link: the box slides along x on a joint to the world,
+    // so gravity cannot pull it down; a push along x moves it freely.
+    let text = r#"<robot name="r">
+  <link name="world"/>
+  <link name="box"><collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <joint name="rail" type="prismatic">
+    <parent link="world"/><child link="box"/>
+    <origin xyz="0 0 1"/><axis xyz="1 0 0"/>
+    <limit lower="-5" upper="5" effort="10" velocity="1"/>
+  </joint>
+</robot>"#;
+    let (mut w, r) = loaded(text, UrdfOptions::default());
+    assert_eq!((w.body_count(), w.joint_count()), (2, 1), "ground and the box");
+    assert!(!r.links.contains_key("world"));
+    let rail = r.joints["rail"].id;
+    assert_eq!(w.joint(rail).unwrap().body_b, None, "attached to the world");
+    assert!(r.warnings.iter().any(|m| m.contains("stands for the world")));
+    let b = r.links["box"];
+    w.set_velocity(b, DVec3::new(0.5, 0.0, 0.0), DVec3::ZERO).unwrap();
+    steps(&mut w, 60);
+    let p = w.pose(b).unwrap().position;
+    assert!((p.z - 1.0).abs() < 1e-3, "held up by the rail: {p:?}");
+    assert!((p.x - 0.5).abs() < 0.01, "slid 0.5 m in 1 s: {p:?}");
+}
+
+#[test]
+fn a_massless_root_is_static_and_its_links_move_on_it() {
+    // PyBullet's convention: a mass of 0 makes the base static (a table,
+    // a fixed arm's base); its pendulum swings from it.
+    let text = r#"<robot name="r">
+  <link name="base">
+    <inertial><mass value="0"/><inertia ixx="0" iyy="0" izz="0"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>
+  </link>
+  <link name="bob">
+    <inertial><origin xyz="0.5 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>
+    <collision><origin xyz="0.5 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <joint name="pivot" type="continuous">
+    <parent link="base"/><child link="bob"/>
+    <origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
+  </joint>
+</robot>"#;
+    let (mut w, r) = loaded(
+        text,
+        UrdfOptions {
+            position: DVec3::new(0.0, 0.0, 1.0),
+            ..UrdfOptions::default()
+        },
+    );
+    let base = r.links["base"];
+    assert_eq!(w.body(base).unwrap().kind(), tumble::body::BodyKind::Static);
+    assert!(r
+        .warnings
+        .iter()
+        .any(|m| m.contains("mass of 0") && m.contains("static")));
+    let before = w.pose(base).unwrap();
+    steps(&mut w, 30);
+    assert_eq!(w.pose(base).unwrap(), before, "a static base does not move");
+    let swung = w.joint_state(r.joints["pivot"].id).unwrap().position;
+    assert!(
+        swung.abs() > 0.1,
+        "the bob swings down from the horizontal: {swung} rad"
+    );
+}
+
+#[test]
+fn a_leaf_link_without_geometry_or_mass_is_left_out_with_its_joint() {
+    // A tool or sensor frame on a moving joint (a gripper's auxiliary
+    // link): it carries nothing, so nothing of it is simulated.
+    let text = TWO_LINKS.replace(
+        "</robot>",
+        r#"  <link name="tool_frame"/>
+  <joint name="aux" type="prismatic">
+    <parent link="b"/><child link="tool_frame"/>
+    <axis xyz="1 0 0"/><limit lower="0" upper="0.1" effort="1" velocity="1"/>
+  </joint>
+</robot>"#,
+    );
+    let (w, r) = loaded(&text, UrdfOptions::default());
+    assert_eq!((w.body_count(), w.joint_count()), (3, 1));
+    assert!(!r.links.contains_key("tool_frame") && !r.joints.contains_key("aux"));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|m| m.contains("tool_frame") && m.contains("`aux`")));
+}
+
+#[test]
+fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
+    use tumble::collide::Shape;
+    use tumble::joint::JointKind;
+    // A blank line before the XML declaration; a capsule; a ball joint
+    // ("spherical"); a floating joint (no joint); a <limit> with lower >
+    // upper (no limit); a fixed joint with a zero axis; an inertia that
+    // gives only its moments.
+    let text = r#"
+<?xml version="1.0"?>
+<robot name="r">
+  <link name="a">
+    <inertial><mass value="2"/><inertia ixx="0.1" iyy="0.2" izz="0.3"/></inertial>
+    <collision><geometry><capsule radius="0.1" length="0.4"/></geometry></collision>
+  </link>
+  <link name="b"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <link name="c"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <link name="d"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <link name="e"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <joint name="ball" type="spherical"><parent link="a"/><child link="b"/><origin xyz="0 0 0.5"/></joint>
+  <joint name="free" type="floating"><parent link="a"/><child link="c"/><origin xyz="1 0 0"/></joint>
+  <joint name="hinge" type="revolute">
+    <parent link="a"/><child link="d"/><origin xyz="0 1 0"/><axis xyz="0 0 1"/>
+    <limit lower="1" upper="0" effort="1" velocity="1"/>
+  </joint>
+  <joint name="weld" type="fixed"><parent link="a"/><child link="e"/><origin xyz="0 -1 0"/><axis xyz="0 0 0"/></joint>
+</robot>"#;
+    let (w, r) = loaded(
+        text,
+        UrdfOptions {
+            position: DVec3::new(0.0, 0.0, 2.0),
+            ..UrdfOptions::default()
+        },
+    );
+    // Bodies: a (with e welded on), b, c, d; joints: the ball and the hinge.
+    assert_eq!((w.body_count(), w.joint_count()), (5, 2));
+    assert_eq!(r.links["a"], r.links["e"]);
+    let capsule = w
+        .colliders(r.links["a"])
+        .unwrap()
+        .iter()
+        .find_map(|c| match &c.shape {
+            Shape::Capsule(k) => Some((k.radius(), k.half_height())),
+            _ => None,
+        });
+    assert_eq!(capsule, Some((0.1, 0.2)), "length is between the caps' centres");
+    assert_eq!(w.joint(r.joints["ball"].id).unwrap().kind, JointKind::Ball);
+    assert!(!r.joints.contains_key("free"));
+    assert_eq!(w.joint(r.joints["hinge"].id).unwrap().limits, None);
+    assert!(r
+        .warnings
+        .iter()
+        .any(|m| m.contains("`hinge`") && m.contains("no limit")));
+    // The products of inertia default to 0: the moments are the principal ones.
+    let mut moments = w.body(r.links["a"]).unwrap().principal_inertia().to_array();
+    moments.sort_by(f64::total_cmp);
+    // (e has no <inertial>: where a merged link gives one, the body's
+    // mass is what the inertials give.)
+    assert_eq!(w.body(r.links["a"]).unwrap().mass(), 2.0);
+    for (m, want) in moments.iter().zip([0.1, 0.2, 0.3]) {
+        assert!((m - want).abs() < 1e-12, "{moments:?}");
+    }
+}
+
+#[test]
+fn a_robots_links_touch_each_other_only_when_asked() {
+    // Links a and c overlap (c comes back onto a through b); jointed links
+    // never touch, and a and c touch only with self-collision.
+    let text = r#"<robot name="r">
+  <link name="a"><collision><geometry><box size="0.4 0.4 0.4"/></geometry></collision></link>
+  <link name="b"><collision><origin xyz="0 0 0.5"/><geometry><sphere radius="0.05"/></geometry></collision></link>
+  <link name="c"><collision><origin xyz="0 0 -0.5"/><geometry><sphere radius="0.1"/></geometry></collision></link>
+  <joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>
+  <joint name="j2" type="revolute">
+    <parent link="b"/><child link="c"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>"#;
+    let touching = |self_collision: bool| {
+        let (mut w, r) = loaded(
+            &text.replace("type=\"fixed\"", "type=\"continuous\""),
+            UrdfOptions {
+                position: DVec3::new(0.0, 0.0, 1.0),
+                fixed_base: true,
+                self_collision,
+                ..UrdfOptions::default()
+            },
+        );
+        w.step();
+        let (a, c) = (r.links["a"], r.links["c"]);
+        let groups: Vec<u32> = r
+            .bodies
+            .iter()
+            .map(|&b| w.non_colliding_group(b).unwrap())
+            .collect();
+        let touch = w
+            .contacts()
+            .iter()
+            .any(|k| (k.body_a == a && k.body_b == c) || (k.body_a == c && k.body_b == a));
+        (touch, groups)
+    };
+    let (touch, groups) = touching(false);
+    assert!(!touch, "without self-collision, a and c do not touch");
+    assert!(groups.iter().all(|&g| g == groups[0] && g != 0), "{groups:?}");
+    let (touch, groups) = touching(true);
+    assert!(touch, "with self-collision, the overlapping links touch");
+    assert!(groups.iter().all(|&g| g == 0), "{groups:?}");
+    // A second robot takes a group of its own: its links touch the first's.
+    let mut w = world();
+    let first = add_urdf(&mut w, TWO_LINKS, "one.urdf".as_ref(), UrdfOptions::default()).unwrap();
+    let second = add_urdf(&mut w, TWO_LINKS, "two.urdf".as_ref(), UrdfOptions::default()).unwrap();
+    let group = |r: &UrdfRobot| w.non_colliding_group(r.bodies[0]).unwrap();
+    assert_ne!(group(&first), group(&second));
 }

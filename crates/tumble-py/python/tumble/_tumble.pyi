@@ -254,6 +254,7 @@ def load_urdf(
     position: Vec3 | None = None,
     orientation: Quat | None = None,
     fixed_base: bool = False,
+    self_collision: bool = False,
 ) -> Robot: ...
 
 class StepReport:
@@ -342,6 +343,7 @@ class World:
         linear_damping: float = 0.0,
         angular_damping: float = 0.0,
         ccd: bool = False,
+        non_colliding_group: int = 0,
         name: str | None = None,
     ) -> Body: ...
     def remove_body(self, body: Body) -> None: ...

@@ -13,17 +13,32 @@
 //! motor (`Motor::Position` with stiffness 0) until another motor is set;
 //! `effort` is kept as the joint's largest motor force for the caller.
 //!
+//! Files written for other engines load as those engines read them (the
+//! URDFs of PyBullet's data set, `bulletphysics/bullet3` `data/`, were the
+//! test): `<capsule radius length>` (Bullet's extension, `length` between
+//! the caps' centres) is a capsule, `<plane normal>` a half-space (a static
+//! link's), joint type `spherical` a ball joint and `floating` no joint,
+//! and a `<limit>` with lower > upper no limit; a mass of 0 means no mass was given,
+//! and a root body without mass is static, as in PyBullet (a ground plane,
+//! a table, the base of a fixed arm); a root link with neither geometry nor
+//! mass stands for the world (ROS's `world` link), so the joints from it
+//! attach their links to the world; a leaf link with neither, on a moving
+//! joint (a frame for a tool or a sensor), is left out with its joint; a
+//! fixed joint's axis is not read; off-diagonal inertia entries default to
+//! 0. Each such reading is reported in `UrdfRobot::warnings`.
+//!
 //! Errors name the file, line, column and element (`arm.urdf:12:5: <joint
 //! name="elbow">: ...`). Nothing is added to the world unless the whole
 //! robot is.
 
+use crate::body::BodyKind;
 use crate::joint::{JointDesc, JointId, JointKind, Motor};
 use crate::world::{BodyDesc, BodyId, MassDesc, ShapeDesc, World, WorldError};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tumble_collide::mass::MassProperties;
 use tumble_collide::mesh::load_mesh;
-use tumble_collide::shape::{ConvexHull, Cuboid, MeshShape, Shape, Sphere};
+use tumble_collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble_collide::{DMat3, DQuat, DVec3, Pose};
 
 /// Segments of the convex hull that stands for a URDF cylinder.
@@ -65,6 +80,14 @@ pub struct UrdfOptions {
     pub orientation: DQuat,
     /// Weld the root link to the world.
     pub fixed_base: bool,
+    /// Let the robot's links touch each other (jointed links still do not,
+    /// as a joint's `collide_connected` is off). Off by default, as in
+    /// PyBullet: the links of files written for other engines overlap
+    /// beyond their joints (a KUKA arm's fifth and seventh links at its
+    /// zero configuration), and contacts between them would fight the
+    /// joints. Off, the robot's bodies share a non-colliding group of
+    /// their own (`BodyDesc::non_colliding_group`).
+    pub self_collision: bool,
 }
 
 impl Default for UrdfOptions {
@@ -73,6 +96,7 @@ impl Default for UrdfOptions {
             position: DVec3::ZERO,
             orientation: DQuat::IDENTITY,
             fixed_base: false,
+            self_collision: false,
         }
     }
 }
@@ -93,9 +117,11 @@ pub struct UrdfJoint {
 pub struct UrdfRobot {
     /// The robot's name.
     pub name: String,
-    /// Every link's body (links merged by fixed joints share one).
+    /// Every link's body (links merged by fixed joints share one); a link
+    /// that stands for the world, or was left out, has none.
     pub links: BTreeMap<String, BodyId>,
-    /// The robot's bodies in the order they were added (root first).
+    /// The robot's bodies in the order they were added (the root's first,
+    /// unless the root stands for the world).
     pub bodies: Vec<BodyId>,
     /// Every non-fixed joint, by name.
     pub joints: BTreeMap<String, UrdfJoint>,
@@ -140,6 +166,18 @@ pub fn add_urdf(
     file: &Path,
     options: UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
+    // An XML declaration after a blank line (files of PyBullet's data set)
+    // is refused by the XML parser; it says nothing a URDF needs, so it is
+    // blanked out, in place, keeping every line and column.
+    let blanked;
+    let text = match text.find("<?xml") {
+        Some(at) if at > 0 && text[..at].trim().is_empty() => {
+            let end = text[at..].find("?>").map_or(text.len(), |e| at + e + 2);
+            blanked = format!("{}{}{}", &text[..at], " ".repeat(end - at), &text[end..]);
+            blanked.as_str()
+        }
+        _ => text,
+    };
     let doc = roxmltree::Document::parse(text).map_err(|e| {
         let pos = e.pos();
         UrdfError::At {
@@ -164,7 +202,10 @@ struct Reader<'a, 'input> {
 struct Link<'a, 'input> {
     node: roxmltree::Node<'a, 'input>,
     name: String,
+    /// The `<inertial>`, if it gives a mass (> 0).
     inertial: Option<MassProperties>,
+    /// An `<inertial>` with a mass of 0 (PyBullet: static, if the root).
+    zero_mass: bool,
     shapes: Vec<ShapeDesc>,
 }
 
@@ -186,6 +227,8 @@ struct Model<'a, 'input> {
     name: String,
     links: Vec<Link<'a, 'input>>,
     joints: Vec<Joint<'a, 'input>>,
+    /// Joints whose `<limit>` has lower > upper: no limit.
+    reversed_limits: Vec<String>,
 }
 
 impl<'a, 'input> Reader<'a, 'input> {
@@ -270,7 +313,10 @@ impl<'a, 'input> Reader<'a, 'input> {
     /// The shape of a `<geometry>` element.
     fn geometry(&self, g: roxmltree::Node) -> Result<Shape, UrdfError> {
         let Some(shape) = g.children().find(|c| c.is_element()) else {
-            return Err(self.err(g, "needs one of <box>, <cylinder>, <sphere>, <mesh>"));
+            return Err(self.err(
+                g,
+                "needs one of <box>, <cylinder>, <capsule>, <sphere>, <plane>, <mesh>",
+            ));
         };
         let bad = |e: &dyn std::fmt::Display| self.err(shape, e.to_string());
         match shape.tag_name().name() {
@@ -283,6 +329,22 @@ impl<'a, 'input> Reader<'a, 'input> {
             "sphere" => Ok(Sphere::new(self.number(shape, "radius")?)
                 .map_err(|e| bad(&e))?
                 .into()),
+            // Bullet's extension: the half-space below the plane through
+            // the collision origin with this normal (a static link's).
+            "plane" => {
+                let n = match shape.attribute("normal") {
+                    Some(_) => self.numbers(shape, "normal", 3)?,
+                    None => vec![0.0, 0.0, 1.0],
+                };
+                Ok(HalfSpace::new(DVec3::new(n[0], n[1], n[2]), 0.0)
+                    .map_err(|e| bad(&e))?
+                    .into())
+            }
+            // Bullet's extension: `length` between the two caps' centres, along z.
+            "capsule" => {
+                let (r, l) = (self.number(shape, "radius")?, self.number(shape, "length")?);
+                Ok(Capsule::new(r, 0.5 * l).map_err(|e| bad(&e))?.into())
+            }
             "cylinder" => {
                 // A convex hull of two rings: tumble has no cylinder
                 // primitive; the hull's flat sides are within r (1 - cos(pi/24)),
@@ -326,13 +388,14 @@ impl<'a, 'input> Reader<'a, 'input> {
             }
             other => Err(self.err(
                 shape,
-                format!("unknown geometry <{other}> (box, cylinder, sphere or mesh)"),
+                format!("unknown geometry <{other}> (box, cylinder, capsule, sphere, plane or mesh)"),
             )),
         }
     }
 
     fn link(&self, node: roxmltree::Node<'a, 'input>) -> Result<Link<'a, 'input>, UrdfError> {
         let name = self.attr(node, "name")?.to_string();
+        let mut zero_mass = false;
         let inertial = match self.child(node, "inertial") {
             None => None,
             Some(i) => {
@@ -344,9 +407,11 @@ impl<'a, 'input> Reader<'a, 'input> {
                 let t = self
                     .child(i, "inertia")
                     .ok_or_else(|| self.err(i, "needs <inertia ixx ixy ixz iyy iyz izz>"))?;
-                let [ixx, ixy, ixz, iyy, iyz, izz] =
-                    ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"].map(|k| self.optional_number(t, k, f64::NAN));
+                // The moments are needed; the products default to 0.
+                let [ixx, iyy, izz] = ["ixx", "iyy", "izz"].map(|k| self.number(t, k));
+                let [ixy, ixz, iyz] = ["ixy", "ixz", "iyz"].map(|k| self.optional_number(t, k, 0.0));
                 let (ixx, ixy, ixz, iyy, iyz, izz) = (ixx?, ixy?, ixz?, iyy?, iyz?, izz?);
+                zero_mass = mass == 0.0;
                 let inertia = DMat3::from_cols(
                     DVec3::new(ixx, ixy, ixz),
                     DVec3::new(ixy, iyy, iyz),
@@ -354,9 +419,13 @@ impl<'a, 'input> Reader<'a, 'input> {
                 );
                 // The tensor is given in the inertial origin's frame.
                 let r = DMat3::from_quat(origin.rotation);
-                let p = MassProperties::new(mass, origin.position, r * inertia * r.transpose())
-                    .map_err(|e| self.err(i, format!("mass {mass} kg, inertia: {e}")))?;
-                Some(p)
+                match zero_mass {
+                    true => None,
+                    false => Some(
+                        MassProperties::new(mass, origin.position, r * inertia * r.transpose())
+                            .map_err(|e| self.err(i, format!("mass {mass} kg, inertia: {e}")))?,
+                    ),
+                }
             }
         };
         let mut shapes = Vec::new();
@@ -379,6 +448,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             node,
             name,
             inertial,
+            zero_mass,
             shapes,
         })
     }
@@ -414,6 +484,7 @@ impl<'a, 'input> Reader<'a, 'input> {
                 .ok_or_else(|| self.err(el, format!("no link is named `{name}`")))
         };
         let mut joints: Vec<Joint> = Vec::new();
+        let mut reversed_limits = Vec::new();
         for node in root
             .children()
             .filter(|c| c.is_element() && c.tag_name().name() == "joint")
@@ -424,11 +495,16 @@ impl<'a, 'input> Reader<'a, 'input> {
                 "continuous" => "continuous",
                 "prismatic" => "prismatic",
                 "fixed" => "fixed",
+                // Bullet's extension: a ball joint.
+                "spherical" => "spherical",
+                // No constraint: the child moves freely.
+                "floating" => "floating",
                 other => {
                     return Err(self.err(
                         node,
                         format!(
-                            "joint type `{other}` is not supported (revolute, continuous, prismatic, fixed)"
+                            "joint type `{other}` is not supported (revolute, continuous, prismatic, fixed, \
+                             spherical, floating)"
                         ),
                     ))
                 }
@@ -446,7 +522,8 @@ impl<'a, 'input> Reader<'a, 'input> {
                     ),
                 ));
             }
-            let axis = match self.child(node, "axis") {
+            // A fixed joint's axis means nothing (files give "0 0 0").
+            let axis = match self.child(node, "axis").filter(|_| kind != "fixed") {
                 Some(a) => {
                     let v = self.numbers(a, "xyz", 3)?;
                     let v = DVec3::new(v[0], v[1], v[2]);
@@ -466,10 +543,13 @@ impl<'a, 'input> Reader<'a, 'input> {
                         self.optional_number(l, "lower", 0.0)?,
                         self.optional_number(l, "upper", 0.0)?,
                     );
-                    if lo > hi {
-                        return Err(self.err(l, format!("lower {lo} > upper {hi}")));
+                    // Bullet reads lower > upper as no limit (files of
+                    // PyBullet's data set rely on it).
+                    if lo <= hi {
+                        limits = Some([lo, hi]);
+                    } else {
+                        reversed_limits.push(name.clone());
                     }
-                    limits = Some([lo, hi]);
                 }
                 if effort < 0.0 || velocity < 0.0 {
                     return Err(self.err(l, "effort and velocity must be >= 0"));
@@ -501,7 +581,12 @@ impl<'a, 'input> Reader<'a, 'input> {
                 damping,
             });
         }
-        Ok(Model { name, links, joints })
+        Ok(Model {
+            name,
+            links,
+            joints,
+            reversed_limits,
+        })
     }
 }
 
@@ -555,6 +640,28 @@ impl Model<'_, '_> {
                 }
             }
         }
+        let mut warnings: Vec<String> = self
+            .reversed_limits
+            .iter()
+            .map(|j| {
+                format!("joint `{j}`: lower > upper in its <limit>, read as no limit (as Bullet reads it)")
+            })
+            .collect();
+        // A group of its own for the robot's bodies, unless they may touch.
+        let group = match options.self_collision {
+            true => 0,
+            false => 1 + world.max_non_colliding_group(),
+        };
+        // Whether a group carries another through a moving joint.
+        let carries = |g: usize| {
+            self.joints
+                .iter()
+                .any(|j| j.kind != "fixed" && body_of[j.parent] == g)
+        };
+        // Each group's body (an index into `descs`), or none: the root
+        // with neither geometry nor mass is the world, a leaf with neither
+        // is left out (module docs).
+        let mut group_body: Vec<Option<usize>> = Vec::with_capacity(groups.len());
         let mut descs = Vec::with_capacity(groups.len());
         for (g, &head_link) in groups.iter().enumerate() {
             let frame = pose[head_link].expect("placed");
@@ -562,6 +669,7 @@ impl Model<'_, '_> {
             let mut shapes = Vec::new();
             let mut parts = Vec::new();
             let mut names = Vec::new();
+            let mut zero_mass = false;
             for l in (0..n).filter(|&l| body_of[l] == g) {
                 let local = inv.mul_pose(&pose[l].expect("placed"));
                 let link = &self.links[l];
@@ -574,37 +682,84 @@ impl Model<'_, '_> {
                 if let Some(p) = link.inertial {
                     parts.push(p.transformed(&local));
                 }
+                zero_mass |= link.zero_mass;
             }
             let link = &self.links[head_link];
+            if shapes.is_empty() && parts.is_empty() {
+                if g == 0 {
+                    warnings.push(format!(
+                        "link `{}` has neither geometry nor mass: it stands for the world, and the joints \
+                         from it attach their links to the world",
+                        link.name
+                    ));
+                    group_body.push(None);
+                    continue;
+                }
+                if !carries(g) {
+                    let joint = parent_joint[head_link].map_or("", |k| self.joints[k].name.as_str());
+                    warnings.push(format!(
+                        "link `{}` has neither geometry nor mass and carries no other link: left out, \
+                         with its joint `{joint}`",
+                        link.name
+                    ));
+                    group_body.push(None);
+                    continue;
+                }
+            }
             if shapes.is_empty() {
                 return Err(r.err(
                     link.node,
                     "has no collision or visual geometry (a body needs a shape; join it with a fixed joint to one that has)",
                 ));
             }
-            let mass = if parts.is_empty() {
-                MassDesc::default()
+            let (kind, mass) = if !parts.is_empty() {
+                let combined =
+                    MassProperties::combine(&parts).map_err(|e| r.err(link.node, format!("inertia: {e}")))?;
+                (BodyKind::Dynamic, MassDesc::Inertial(combined))
+            } else if zero_mass && g == 0 {
+                warnings.push(format!(
+                    "link `{}` has a mass of 0: the robot's root is static, as in PyBullet",
+                    link.name
+                ));
+                (BodyKind::Static, MassDesc::default())
             } else {
-                MassDesc::Inertial(
-                    MassProperties::combine(&parts).map_err(|e| r.err(link.node, format!("inertia: {e}")))?,
-                )
+                if zero_mass {
+                    warnings.push(format!(
+                        "link `{}` has a mass of 0 but moves: its mass follows from its geometry \
+                         (as for a link without <inertial>)",
+                        link.name
+                    ));
+                }
+                (BodyKind::Dynamic, MassDesc::default())
             };
+            group_body.push(Some(descs.len()));
             descs.push(BodyDesc {
+                kind,
                 shapes,
                 mass,
                 pose: frame,
+                non_colliding_group: group,
                 name: names.join("+"),
                 ..BodyDesc::default()
             });
         }
-        let mut warnings = Vec::new();
         let mut joint_descs = Vec::new();
-        for j in self.joints.iter().filter(|j| j.kind != "fixed") {
+        for j in self
+            .joints
+            .iter()
+            .filter(|j| !matches!(j.kind, "fixed" | "floating"))
+        {
+            // A left-out link's joint goes with it.
+            let Some(child) = group_body[body_of[j.child]] else {
+                continue;
+            };
+            let parent = group_body[body_of[j.parent]];
             let frame = pose[j.child].expect("placed");
             let axis = frame.rotation * j.axis;
             let (kind, mut limits) = match j.kind {
                 "prismatic" => (JointKind::Slider, j.limits),
                 "revolute" => (JointKind::Hinge, j.limits),
+                "spherical" => (JointKind::Ball, None),
                 _ => (JointKind::Hinge, None),
             };
             let pi = std::f64::consts::PI;
@@ -618,14 +773,7 @@ impl Model<'_, '_> {
                     limits = None;
                 }
             }
-            let mut desc = JointDesc::new(
-                kind,
-                body_of[j.child],
-                Some(body_of[j.parent]),
-                frame.position,
-                axis,
-            )
-            .named(j.name.clone());
+            let mut desc = JointDesc::new(kind, child, parent, frame.position, axis).named(j.name.clone());
             desc.limits = limits;
             if j.damping > 0.0 {
                 desc.motor = Some(Motor::Position {
@@ -645,11 +793,13 @@ impl Model<'_, '_> {
         // (the `urdf` fuzz target, a box 1e-320 m thick).
         let mut trial = world.clone();
         let mut ids: Vec<BodyId> = Vec::with_capacity(descs.len());
-        for (g, desc) in descs.iter().enumerate() {
-            let id = trial
-                .add_body(desc)
-                .map_err(|e| r.err(self.links[groups[g]].node, world_message(&e)))?;
-            ids.push(id);
+        for (g, body) in group_body.iter().enumerate() {
+            if let Some(k) = body {
+                let id = trial
+                    .add_body(&descs[*k])
+                    .map_err(|e| r.err(self.links[groups[g]].node, world_message(&e)))?;
+                ids.push(id);
+            }
         }
         let mut joints = BTreeMap::new();
         for (j, desc) in &joint_descs {
@@ -665,11 +815,14 @@ impl Model<'_, '_> {
                 },
             );
         }
-        if options.fixed_base {
-            let frame = pose[root].expect("placed");
-            trial
-                .add_joint(&JointDesc::fixed(ids[body_of[root]], None, frame.position))
-                .map_err(|e| r.err(self.links[root].node, world_message(&e)))?;
+        // (A static root, or one that stands for the world, is fixed already.)
+        if let (true, Some(k)) = (options.fixed_base, group_body[body_of[root]]) {
+            if descs[k].kind == BodyKind::Dynamic {
+                let frame = pose[root].expect("placed");
+                trial
+                    .add_joint(&JointDesc::fixed(ids[k], None, frame.position))
+                    .map_err(|e| r.err(self.links[root].node, world_message(&e)))?;
+            }
         }
         *world = trial;
         Ok(UrdfRobot {
@@ -678,7 +831,7 @@ impl Model<'_, '_> {
                 .links
                 .iter()
                 .enumerate()
-                .map(|(l, link)| (link.name.clone(), ids[body_of[l]]))
+                .filter_map(|(l, link)| Some((link.name.clone(), ids[group_body[body_of[l]]?])))
                 .collect(),
             joints,
             bodies: ids.clone(),

@@ -341,6 +341,7 @@ fn resolve_body(
         linear_damping,
         angular_damping,
         ccd: spec.ccd.unwrap_or(false),
+        non_colliding_group: spec.non_colliding_group.unwrap_or(0),
         name: spec.name.clone(),
     };
     let existing = out.scene.bodies.len() as u64;

@@ -187,6 +187,10 @@ pub struct BodySpec {
     /// anyway). Default false.
     #[serde(default)]
     pub ccd: Option<bool>,
+    /// Bodies that share a nonzero group never touch each other (they still
+    /// touch every other body). Default 0: no group.
+    #[serde(default)]
+    pub non_colliding_group: Option<u32>,
     /// Force (N, world frame) at the centre of mass during the first step
     /// only: an initial push. Dynamic bodies only.
     #[serde(default)]

@@ -144,6 +144,12 @@ pub struct BodyDesc {
     /// step are swept against static and kinematic bodies while
     /// `WorldSettings::continuous` is on). Default false.
     pub ccd: bool,
+    /// Bodies that share a nonzero group never touch each other (they still
+    /// touch every other body): the links of one robot, whose shapes
+    /// overlap where they are jointed and often beyond (`joint::urdf`
+    /// gives each robot a group of its own unless asked for self-collision,
+    /// as PyBullet does). Default 0: no group.
+    pub non_colliding_group: u32,
     /// Optional name (scene files, exports). Default empty.
     pub name: String,
 }
@@ -161,6 +167,7 @@ impl Default for BodyDesc {
             linear_damping: 0.0,
             angular_damping: 0.0,
             ccd: false,
+            non_colliding_group: 0,
             name: String::new(),
         }
     }

@@ -104,6 +104,8 @@ pub(crate) struct BodyEntry {
     pub core: f64,
     /// Always swept by continuous collision.
     pub ccd: bool,
+    /// `BodyDesc::non_colliding_group`.
+    pub non_colliding_group: u32,
 }
 
 /// One contact point of the last step, with the impulses the solver applied.
@@ -448,6 +450,7 @@ impl World {
             thickness: step::thickness(&colliders),
             core: step::core_radius(&colliders),
             ccd: desc.ccd,
+            non_colliding_group: desc.non_colliding_group,
             colliders,
             body_in_model,
             proxy: None,
@@ -504,6 +507,16 @@ impl World {
         self.bodies.get_mut(id).ok_or(WorldError::StaleBody(id))
     }
 
+    /// The largest `BodyDesc::non_colliding_group` of the world's bodies (0
+    /// when none has one): `1 +` this is a group no body is in yet.
+    pub fn max_non_colliding_group(&self) -> u32 {
+        self.bodies
+            .iter()
+            .map(|(_, e)| e.non_colliding_group)
+            .max()
+            .unwrap_or(0)
+    }
+
     /// The rigid body (state in the body frame: centre of mass, principal axes).
     pub fn body(&self, id: BodyId) -> Result<&RigidBody, WorldError> {
         Ok(&self.entry(id)?.body)
@@ -512,6 +525,11 @@ impl World {
     /// The colliders of a body (shapes posed in the body frame).
     pub fn colliders(&self, id: BodyId) -> Result<&[Collider], WorldError> {
         Ok(&self.entry(id)?.colliders)
+    }
+
+    /// The body's `BodyDesc::non_colliding_group` (0: none).
+    pub fn non_colliding_group(&self, id: BodyId) -> Result<u32, WorldError> {
+        Ok(self.entry(id)?.non_colliding_group)
     }
 
     /// The body's name from its description.

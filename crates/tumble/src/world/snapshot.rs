@@ -40,7 +40,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 7;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 8;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -231,6 +231,9 @@ struct BodyRecord {
     sleep_group: u32,
     /// Always swept by continuous collision.
     ccd: bool,
+    /// `BodyDesc::non_colliding_group` (0: none).
+    #[serde(default)]
+    non_colliding_group: u32,
 }
 
 /// `None` when every component is +0.0 (not -0.0: the bits must come back).
@@ -504,6 +507,7 @@ impl World {
                         rest_time: e.rest_time,
                         sleep_group: e.sleep_group,
                         ccd: e.ccd,
+                        non_colliding_group: e.non_colliding_group,
                     }
                 });
                 SlotRecord { generation, body }
@@ -813,6 +817,7 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
         thickness: super::step::thickness(&colliders),
         core: super::step::core_radius(&colliders),
         ccd: r.ccd,
+        non_colliding_group: r.non_colliding_group,
         colliders,
         body_in_model,
         proxy: None,

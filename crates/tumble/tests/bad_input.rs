@@ -280,6 +280,14 @@ fn world_calls_reject_bad_input_and_leave_the_world_unchanged() {
     let dynamic = || BodyDesc::dynamic(sphere(0.2)).at(DVec3::new(0.0, 2.0, 1.0));
     let descs: Vec<(&str, BodyDesc, Expected)> = vec![
         ("no shapes", BodyDesc::default(), no_shapes),
+        (
+            "no shapes on a static body",
+            BodyDesc {
+                kind: tumble::body::BodyKind::Static,
+                ..BodyDesc::default()
+            },
+            no_shapes,
+        ),
         ("mass 0", dynamic().with_mass(0.0), bad_value),
         ("mass < 0", dynamic().with_mass(-1.0), bad_value),
         ("mass NaN", dynamic().with_mass(NAN), bad_value),

@@ -3,13 +3,14 @@
 //! file, through JSON) continues to the very bits the original reaches; a
 //! snapshot of another format version is refused, not misread.
 
+use tumble::collide::mass::MassProperties;
 use tumble::collide::mesh::box_mesh;
 use tumble::collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
-use tumble::collide::{DQuat, DVec3, Pose};
+use tumble::collide::{DMat3, DQuat, DVec3, Pose};
 use tumble::scenes;
 use tumble::world::{
-    BodyDesc, BodyId, ShapeDesc, Snapshot, SnapshotError, World, WorldSettings, SNAPSHOT_FORMAT_VERSION,
-    SNAPSHOT_MAGIC,
+    BodyDesc, BodyId, MassDesc, ShapeDesc, Snapshot, SnapshotError, World, WorldSettings,
+    SNAPSHOT_FORMAT_VERSION, SNAPSHOT_MAGIC,
 };
 
 /// Every number of the dynamic state of every live body, in slot order:
@@ -194,6 +195,17 @@ fn assorted_world() -> (World, Vec<BodyId>, BodyId) {
             non_colliding_group: 7,
             ..BodyDesc::dynamic(Sphere::new(0.2).unwrap()).at(DVec3::new(-2.0, 2.1, 0.5))
         },
+        // A body without shapes, its mass given (index 12): no broad-phase box.
+        BodyDesc {
+            shapes: Vec::new(),
+            mass: MassDesc::Inertial(
+                MassProperties::new(1.5, DVec3::ZERO, DMat3::from_diagonal(DVec3::new(0.1, 0.2, 0.3)))
+                    .unwrap(),
+            ),
+            ..BodyDesc::default()
+        }
+        .at(DVec3::new(2.0, -2.0, 1.0))
+        .with_velocity(DVec3::new(0.0, 0.0, 3.0), DVec3::new(0.5, 0.0, 1.0)),
     ];
     let mut ids: Vec<BodyId> = descs.iter().map(|d| world.add_body(d).unwrap()).collect();
     let removed = ids.remove(9);
@@ -210,7 +222,7 @@ fn every_kind_of_body_survives_a_snapshot() {
     run(&mut world, 150);
     world.apply_force(ids[3], DVec3::new(0.5, 0.0, 0.0)).unwrap();
     let snap = world.snapshot();
-    assert_eq!(snap.body_count(), 11);
+    assert_eq!(snap.body_count(), 12);
     let mut restored = World::from_snapshot(&Snapshot::from_json(&snap.to_json()).unwrap()).unwrap();
     assert!(restored.pose(removed).is_err(), "a removed body stays removed");
     for &id in &ids {

@@ -236,13 +236,18 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!(element, "inertia");
     assert!(message.contains("`izz`"), "{message}");
 
-    // A link with a mass but no geometry is not a body tumble can make.
+    // A massless frame between two moving joints (a hip of three hinges
+    // through two such links): no body can stand for it.
     let (_, element, message) = error_of(&TWO_LINKS.replace(
         "<link name=\"b\"><collision><geometry><sphere radius=\"0.05\"/></geometry></collision></link>",
-        "<link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\"/></inertial></link>",
+        "<link name=\"b\"/><link name=\"c\"><collision><geometry><sphere radius=\"0.05\"/></geometry></collision></link>\
+         <joint name=\"k\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/></joint>",
     ));
     assert_eq!(element, "link name=\"b\"");
-    assert!(message.contains("no collision or visual geometry"), "{message}");
+    assert!(
+        message.contains("neither geometry nor mass, and carries"),
+        "{message}"
+    );
 
     let (_, element, message) =
         error_of(&TWO_LINKS.replace("<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 one 0\"/>"));
@@ -570,4 +575,39 @@ fn a_robots_links_touch_each_other_only_when_asked() {
     let second = add_urdf(&mut w, TWO_LINKS, "two.urdf".as_ref(), UrdfOptions::default()).unwrap();
     let group = |r: &UrdfRobot| w.non_colliding_group(r.bodies[0]).unwrap();
     assert_ne!(group(&first), group(&second));
+}
+
+#[test]
+fn a_link_with_a_mass_and_no_geometry_is_a_body_that_touches_nothing() {
+    // A pan-tilt head whose base link gives only its <inertial>: a body
+    // without shapes, welded to the world here, carrying the head.
+    let text = r#"<robot name="r">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial></link>
+  <link name="head">
+    <inertial><origin xyz="0.3 0 0"/><mass value="0.5"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>
+    <collision><origin xyz="0.3 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <joint name="tilt" type="continuous">
+    <parent link="base"/><child link="head"/><axis xyz="0 1 0"/>
+  </joint>
+</robot>"#;
+    let (mut w, r) = loaded(
+        text,
+        UrdfOptions {
+            position: DVec3::new(0.0, 0.0, 1.0),
+            fixed_base: true,
+            ..UrdfOptions::default()
+        },
+    );
+    let base = r.links["base"];
+    assert!(w.colliders(base).unwrap().is_empty());
+    assert_eq!(w.body(base).unwrap().mass(), 1.0);
+    steps(&mut w, 30);
+    let tilt = w.joint_state(r.joints["tilt"].id).unwrap();
+    assert!(
+        tilt.position.abs() > 0.1,
+        "the head swings down: {} rad",
+        tilt.position
+    );
+    assert!(tilt.linear_error < 1e-3);
 }

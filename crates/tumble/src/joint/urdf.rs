@@ -25,7 +25,9 @@
 //! attach their links to the world; a leaf link with neither, on a moving
 //! joint (a frame for a tool or a sensor), is left out with its joint; a
 //! fixed joint's axis is not read; off-diagonal inertia entries default to
-//! 0. Each such reading is reported in `UrdfRobot::warnings`.
+//! 0. Each such reading is reported in `UrdfRobot::warnings`. A link with
+//! an `<inertial>` but no geometry is a body without shapes: it carries its
+//! mass and its joints and touches nothing.
 //!
 //! Errors name the file, line, column and element (`arm.urdf:12:5: <joint
 //! name="elbow">: ...`). Nothing is added to the world unless the whole
@@ -706,10 +708,10 @@ impl Model<'_, '_> {
                     continue;
                 }
             }
-            if shapes.is_empty() {
+            if shapes.is_empty() && parts.is_empty() {
                 return Err(r.err(
                     link.node,
-                    "has no collision or visual geometry (a body needs a shape; join it with a fixed joint to one that has)",
+                    "has neither geometry nor mass, and carries other links (give it an <inertial>)",
                 ));
             }
             let (kind, mass) = if !parts.is_empty() {

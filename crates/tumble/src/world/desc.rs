@@ -122,7 +122,11 @@ pub struct BodyDesc {
     /// mass) or kinematic (follows its prescribed velocity, pushes others,
     /// is never pushed). Default dynamic.
     pub kind: BodyKind,
-    /// The shapes, each with its pose in the model frame. At least one.
+    /// The shapes, each with its pose in the model frame. At least one,
+    /// except on a kinematic body or a dynamic one whose mass properties
+    /// are given (`MassDesc::Inertial`): a body without shapes touches
+    /// nothing and carries its joints (a robot link with an inertia and no
+    /// geometry).
     pub shapes: Vec<ShapeDesc>,
     /// Mass or density (dynamic bodies only). Default density 1000 kg/m^3.
     pub mass: MassDesc,

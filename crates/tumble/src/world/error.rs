@@ -19,8 +19,12 @@ pub enum WorldError {
         /// What was expected and what was given.
         message: String,
     },
-    /// A body description has no shapes.
-    #[error("body has no shapes: at least one is needed")]
+    /// A body description has no shapes where it needs one: a static body,
+    /// or a dynamic one whose mass properties are not given.
+    #[error(
+        "body has no shapes: a static body needs one, and a dynamic one without shapes needs \
+         its mass properties (MassDesc::Inertial)"
+    )]
     NoShapes,
     /// A shape cannot be used as given.
     #[error("shapes[{index}]: {message}")]

@@ -87,7 +87,8 @@ pub(crate) struct BodyEntry {
     /// principal axes); identity for static and kinematic bodies.
     pub body_in_model: Pose,
     /// Sweep-and-prune proxy; `None` for bodies with an unbounded shape
-    /// (half-space), which are tested against every body instead.
+    /// (half-space), which are tested against every body instead, and for
+    /// bodies without shapes, which touch nothing.
     pub proxy: Option<ProxyId>,
     pub name: String,
     pub sleeping: bool,
@@ -345,7 +346,15 @@ impl World {
     /// Adds a body. The description is validated completely before anything
     /// changes; on error the world is unchanged.
     pub fn add_body(&mut self, desc: &BodyDesc) -> Result<BodyId, WorldError> {
-        if desc.shapes.is_empty() {
+        // A body without shapes touches nothing: a kinematic one carries
+        // joints, a dynamic one its given mass (a robot's link that has an
+        // inertia but no geometry). A static one would be the world.
+        let shapeless_allowed = match desc.kind {
+            BodyKind::Kinematic => true,
+            BodyKind::Dynamic => matches!(desc.mass, MassDesc::Inertial(_)),
+            BodyKind::Static => false,
+        };
+        if desc.shapes.is_empty() && !shapeless_allowed {
             return Err(WorldError::NoShapes);
         }
         check_vec("body.linear_velocity", desc.linear_velocity)?;
@@ -462,7 +471,7 @@ impl World {
         let id = self.bodies.insert(entry);
         if unbounded {
             self.unbounded.push(id.index);
-        } else {
+        } else if !self.bodies.get(id).expect("just inserted").colliders.is_empty() {
             let aabb = step::body_aabb(self.bodies.get(id).expect("just inserted"), 0.0);
             match self.broad.insert(id.index, aabb) {
                 Ok(proxy) => self.bodies.get_mut(id).expect("just inserted").proxy = Some(proxy),

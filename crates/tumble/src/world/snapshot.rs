@@ -774,8 +774,8 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
     let body_in_model = r.body_in_model.unwrap_or(Pose::IDENTITY);
     Pose::new(body_in_model.position, body_in_model.rotation).map_err(|e| format!("body_in_model: {e}"))?;
     placed("body_in_model position", body_in_model.position)?;
-    if r.colliders.is_empty() {
-        return Err("a body needs at least one collider".into());
+    if r.colliders.is_empty() && r.kind == BodyKind::Static {
+        return Err("a static body needs at least one collider".into());
     }
     let mut colliders = Vec::with_capacity(r.colliders.len());
     for (k, c) in r.colliders.iter().enumerate() {
@@ -803,10 +803,12 @@ fn body_entry(r: &BodyRecord, meshes: &[MeshShape]) -> Result<(BodyEntry, Option
         colliders.push(Collider { shape, local });
     }
     let unbounded = colliders.iter().any(|c| matches!(c.shape, Shape::HalfSpace(_)));
-    let aabb = match (r.proxy_box, unbounded) {
+    let aabb = match (r.proxy_box, unbounded || colliders.is_empty()) {
         (Some([lo, hi]), false) => Some(Aabb::new(lo, hi).map_err(|e| format!("broad-phase box: {e}"))?),
         (None, true) => None,
-        _ => return Err("a body has a broad-phase box exactly when it has no half-space".into()),
+        _ => {
+            return Err("a body has a broad-phase box exactly when it has colliders and no half-space".into())
+        }
     };
     if !(r.rest_time.is_finite() && r.rest_time >= 0.0) {
         return Err(format!("rest time must be finite and >= 0, got {}", r.rest_time));

@@ -236,6 +236,14 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!(element, "inertia");
     assert!(message.contains("`izz`"), "{message}");
 
+    // A point mass: named at its <inertial>, not as a shape.
+    let (_, element, message) = error_of(&TWO_LINKS.replace(
+        "<link name=\"b\">",
+        "<link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/></inertial>",
+    ));
+    assert_eq!(element, "inertial");
+    assert!(message.contains("point mass"), "{message}");
+
     // A massless frame between two moving joints (a hip of three hinges
     // through two such links): no body can stand for it.
     let (_, element, message) = error_of(&TWO_LINKS.replace(

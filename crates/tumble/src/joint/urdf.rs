@@ -717,6 +717,20 @@ impl Model<'_, '_> {
             let (kind, mass) = if !parts.is_empty() {
                 let combined =
                     MassProperties::combine(&parts).map_err(|e| r.err(link.node, format!("inertia: {e}")))?;
+                // A point mass (all moments 0, as some files give) is valid
+                // mass properties but no rigid body: it could not turn.
+                let moments = combined.principal().moments;
+                if moments.x <= 0.0 || moments.x.is_nan() {
+                    let at = r.child(link.node, "inertial").unwrap_or(link.node);
+                    return Err(r.err(
+                        at,
+                        format!(
+                            "the body's principal moments of inertia must all be > 0 kg m^2, got {:?} \
+                             (a point mass cannot turn)",
+                            moments.to_array()
+                        ),
+                    ));
+                }
                 (BodyKind::Dynamic, MassDesc::Inertial(combined))
             } else if zero_mass && g == 0 {
                 warnings.push(format!(

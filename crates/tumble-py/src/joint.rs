@@ -401,7 +401,8 @@ impl Robot {
 }
 
 /// Loads a URDF robot (links with inertial, collision geometry: box,
-/// cylinder, sphere, mesh STL/OBJ relative to the file; revolute,
+/// cylinder, sphere, mesh STL/OBJ relative to the file or in a ROS
+/// package://; revolute,
 /// continuous, prismatic and fixed joints with limits) into `world` (a new
 /// World with default settings when None). Joint angles are 0 at the file's
 /// zero configuration; links joined by fixed joints become one body.

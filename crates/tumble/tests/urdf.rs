@@ -284,7 +284,7 @@ fn bad_files_name_the_line_and_element() {
         "<mesh filename=\"package://r/b.stl\"/>",
     ));
     assert_eq!(element, "mesh");
-    assert!(message.contains("ROS packages"), "{message}");
+    assert!(message.contains("no directory named `r`"), "{message}");
 
     let (_, _, message) = error_of(&TWO_LINKS.replace(
         "<link name=\"b\">",
@@ -618,4 +618,62 @@ fn a_link_with_a_mass_and_no_geometry_is_a_body_that_touches_nothing() {
         tilt.position
     );
     assert!(tilt.linear_error < 1e-3);
+}
+
+#[test]
+fn ros_package_meshes_are_found_in_the_package_the_file_lies_in() {
+    // A ROS package laid out as ROS lays it out: pkg/urdf/r.urdf naming
+    // package://pkg/meshes/cube.obj, and the same file outside any package.
+    let root = std::env::temp_dir().join(format!("tumble-urdf-package-{}", std::process::id()));
+    let pkg = root.join("cube_description");
+    std::fs::create_dir_all(pkg.join("urdf")).unwrap();
+    std::fs::create_dir_all(pkg.join("meshes")).unwrap();
+    // A unit cube, 12 outward triangles.
+    let mut obj = String::new();
+    for i in 0..8 {
+        let c = |bit: usize| if i & bit != 0 { 0.5 } else { -0.5 };
+        obj += &format!("v {} {} {}\n", c(1), c(2), c(4));
+    }
+    for f in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        obj += &format!("f {} {} {}\nf {} {} {}\n", f[0], f[1], f[2], f[0], f[2], f[3]);
+    }
+    std::fs::write(pkg.join("meshes/cube.obj"), obj).unwrap();
+    let text = r#"<robot name="cube"><link name="c">
+  <inertial><mass value="1"/><inertia ixx="0.1667" iyy="0.1667" izz="0.1667"/></inertial>
+  <collision><geometry><mesh filename="package://cube_description/meshes/cube.obj"/></geometry></collision>
+</link></robot>"#;
+    let file = pkg.join("urdf/cube.urdf");
+    std::fs::write(&file, text).unwrap();
+    let mut w = world();
+    let r = load_urdf(&mut w, &file, UrdfOptions::default()).unwrap();
+    let volume = w
+        .colliders(r.links["c"])
+        .unwrap()
+        .iter()
+        .find_map(|c| match &c.shape {
+            tumble::collide::Shape::Mesh(m) => Some(m.mesh().signed_volume()),
+            _ => None,
+        });
+    assert!((volume.unwrap() - 1.0).abs() < 1e-12, "{volume:?}");
+    // Beside the package (a workspace holding it), found there too.
+    let beside = root.join("cube.urdf");
+    std::fs::write(&beside, text).unwrap();
+    assert!(load_urdf(&mut w, &beside, UrdfOptions::default()).is_ok());
+    // Away from it, found nowhere, and said so.
+    let away = std::env::temp_dir().join(format!("tumble-urdf-away-{}", std::process::id()));
+    std::fs::create_dir_all(&away).unwrap();
+    std::fs::write(away.join("cube.urdf"), text).unwrap();
+    let e = load_urdf(&mut w, away.join("cube.urdf"), UrdfOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no directory named `cube_description`"), "{e}");
+    std::fs::remove_dir_all(&root).unwrap();
+    std::fs::remove_dir_all(&away).unwrap();
 }

@@ -2,7 +2,7 @@
 //!
 //! What is read (the ROS URDF specification): `<link>` with `<inertial>`
 //! (origin, mass, inertia), `<collision>` geometry (box, cylinder, sphere,
-//! mesh STL/OBJ relative to the file, with scale; `<visual>` geometry when a
+//! mesh STL/OBJ relative to the file or in a ROS `package://`, with scale; `<visual>` geometry when a
 //! link has no collision), and `<joint>` of type revolute, continuous,
 //! prismatic and fixed with origin, axis, `<limit lower upper effort
 //! velocity>` and `<dynamics damping>`. Links joined by fixed joints are
@@ -312,6 +312,51 @@ impl<'a, 'input> Reader<'a, 'input> {
         })
     }
 
+    /// Where the mesh file `name` of element `node` is: relative to the
+    /// URDF file, `file://` (absolute, or relative to the file), or a ROS
+    /// `package://PKG/PATH`: `PATH` inside the first directory named `PKG`
+    /// found among the URDF's own directory and its ancestors (a package
+    /// holding its `urdf/` and `meshes/` folders, as ROS lays them out),
+    /// their subdirectories named `PKG`, and the directories of
+    /// `ROS_PACKAGE_PATH` (and their subdirectories named `PKG`).
+    fn mesh_path(&self, node: roxmltree::Node, name: &str) -> Result<PathBuf, UrdfError> {
+        let here = self.file.parent().unwrap_or(Path::new(""));
+        if let Some(rest) = name.strip_prefix("package://") {
+            let (package, inside) = rest.split_once('/').unwrap_or((rest, ""));
+            let env = std::env::var_os("ROS_PACKAGE_PATH").unwrap_or_default();
+            let roots: Vec<PathBuf> = here
+                .ancestors()
+                .map(Path::to_path_buf)
+                .chain(std::env::split_paths(&env))
+                .collect();
+            let found = roots.iter().find_map(|root| {
+                let named = |dir: &Path| dir.file_name().is_some_and(|n| n == package);
+                [root.clone(), root.join(package)]
+                    .into_iter()
+                    .filter(|dir| named(dir))
+                    .map(|dir| dir.join(inside))
+                    .find(|candidate| candidate.is_file())
+            });
+            return found.ok_or_else(|| {
+                self.err(
+                    node,
+                    format!(
+                        "`{name}`: no directory named `{package}` holding `{inside}` among the URDF's \
+                         directory, its ancestors and ROS_PACKAGE_PATH"
+                    ),
+                )
+            });
+        }
+        let relative = name.strip_prefix("file://").unwrap_or(name);
+        if relative.contains("://") {
+            return Err(self.err(
+                node,
+                format!("`{name}`: only files, file:// and package:// can be found"),
+            ));
+        }
+        Ok(here.join(relative))
+    }
+
     /// The shape of a `<geometry>` element.
     fn geometry(&self, g: roxmltree::Node) -> Result<Shape, UrdfError> {
         let Some(shape) = g.children().find(|c| c.is_element()) else {
@@ -369,14 +414,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             }
             "mesh" => {
                 let name = self.attr(shape, "filename")?;
-                let relative = name.strip_prefix("file://").unwrap_or(name);
-                if relative.contains("://") {
-                    return Err(self.err(
-                        shape,
-                        format!("`{name}`: only files relative to the URDF (or file://) can be found, not ROS packages"),
-                    ));
-                }
-                let path = self.file.parent().unwrap_or(Path::new("")).join(relative);
+                let path = self.mesh_path(shape, name)?;
                 let mut mesh =
                     load_mesh(&path).map_err(|e| self.err(shape, format!("{}: {e}", path.display())))?;
                 if shape.attribute("scale").is_some() {

@@ -37,6 +37,10 @@ pub struct RunArgs {
     /// their joints).
     #[arg(long)]
     self_collision: bool,
+    /// URDF: replace an inertia no body could have by the isotropic one of
+    /// the same trace (as MuJoCo's balanceinertia), instead of refusing it.
+    #[arg(long)]
+    balance_inertia: bool,
     /// URDF: where the root link's frame goes, "x,y,z" in metres (default: x = y = 0,
     /// z such that the robot's lowest point rests on the ground).
     #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
@@ -237,6 +241,7 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
         position: position.unwrap_or(DVec3::ZERO),
         fixed_base: args.fixed_base,
         self_collision: args.self_collision,
+        balance_inertia: args.balance_inertia,
         ..UrdfOptions::default()
     };
     if position.is_none() {

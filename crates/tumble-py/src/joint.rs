@@ -416,6 +416,9 @@ impl Robot {
 ///     self_collision: let the robot's links touch each other (off by
 ///         default, as in PyBullet: links of files written for other
 ///         engines overlap beyond their joints).
+///     balance_inertia: replace an inertia no body could have by the
+///         isotropic one of the same trace (as MuJoCo's balanceinertia),
+///         with a warning, instead of refusing the file.
 ///
 /// Returns:
 ///     Robot with ``world``, ``links`` and ``joints`` (dicts by name),
@@ -427,7 +430,8 @@ impl Robot {
 ///     FileError: the file cannot be read.
 #[pyfunction]
 #[pyo3(signature = (path, *, world=None, position=None, orientation=None, fixed_base=false,
-    self_collision=false))]
+    self_collision=false, balance_inertia=false))]
+#[allow(clippy::too_many_arguments)] // the Python signature
 pub fn load_urdf(
     py: Python<'_>,
     path: std::path::PathBuf,
@@ -436,12 +440,14 @@ pub fn load_urdf(
     orientation: Option<&Bound<'_, PyAny>>,
     fixed_base: bool,
     self_collision: bool,
+    balance_inertia: bool,
 ) -> PyResult<Robot> {
     let options = tumble::joint::urdf::UrdfOptions {
         position: convert::vec3_or(position, "position", DVec3::ZERO)?,
         orientation: convert::quat_or_identity(orientation, "orientation")?,
         fixed_base,
         self_collision,
+        balance_inertia,
     };
     let world = match world {
         Some(w) => w,

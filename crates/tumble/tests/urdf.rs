@@ -677,3 +677,35 @@ fn ros_package_meshes_are_found_in_the_package_the_file_lies_in() {
     std::fs::remove_dir_all(&root).unwrap();
     std::fs::remove_dir_all(&away).unwrap();
 }
+
+#[test]
+fn an_inertia_no_body_could_have_is_refused_or_balanced_on_request() {
+    // Moments 0, 0 and 1.5 (a flat disc's, idealised too far): 0 + 0 < 1.5.
+    let text = TWO_LINKS.replace(
+        "<link name=\"b\">",
+        "<link name=\"b\"><inertial><mass value=\"2\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"1.5\"/></inertial>",
+    );
+    let (_, element, message) = error_of(&text);
+    assert_eq!(element, "inertial");
+    assert!(
+        message.contains("triangle inequality") && message.contains("balance_inertia"),
+        "{message}"
+    );
+    let (w, r) = loaded(
+        &text,
+        UrdfOptions {
+            balance_inertia: true,
+            ..UrdfOptions::default()
+        },
+    );
+    // The isotropic inertia of the same trace: 0.5 kg m^2 about every axis.
+    let b = w.body(r.links["b"]).unwrap();
+    assert_eq!(b.mass(), 2.0);
+    for m in b.principal_inertia().to_array() {
+        assert!((m - 0.5).abs() < 1e-12, "{:?}", b.principal_inertia());
+    }
+    assert!(r
+        .warnings
+        .iter()
+        .any(|m| m.contains("link `b`") && m.contains("balance_inertia")));
+}

@@ -255,6 +255,7 @@ def load_urdf(
     orientation: Quat | None = None,
     fixed_base: bool = False,
     self_collision: bool = False,
+    balance_inertia: bool = False,
 ) -> Robot: ...
 
 class StepReport:

@@ -90,6 +90,12 @@ pub struct UrdfOptions {
     /// joints. Off, the robot's bodies share a non-colliding group of
     /// their own (`BodyDesc::non_colliding_group`).
     pub self_collision: bool,
+    /// Replace an inertia that no body could have (a principal moment
+    /// below 0, or two that sum to less than the third, as some files
+    /// give) by the same mass's isotropic inertia of equal trace, with a
+    /// warning, as MuJoCo's `balanceinertia` does; off, such a file is
+    /// refused at its `<inertia>`.
+    pub balance_inertia: bool,
 }
 
 impl Default for UrdfOptions {
@@ -99,6 +105,7 @@ impl Default for UrdfOptions {
             orientation: DQuat::IDENTITY,
             fixed_base: false,
             self_collision: false,
+            balance_inertia: false,
         }
     }
 }
@@ -190,7 +197,11 @@ pub fn add_urdf(
             message: e.to_string(),
         }
     })?;
-    let reader = Reader { doc: &doc, file };
+    let reader = Reader {
+        doc: &doc,
+        file,
+        balance_inertia: options.balance_inertia,
+    };
     let model = reader.model()?;
     model.add_to(world, options, &reader)
 }
@@ -199,6 +210,8 @@ pub fn add_urdf(
 struct Reader<'a, 'input> {
     doc: &'a roxmltree::Document<'input>,
     file: &'a Path,
+    /// `UrdfOptions::balance_inertia`.
+    balance_inertia: bool,
 }
 
 struct Link<'a, 'input> {
@@ -208,6 +221,8 @@ struct Link<'a, 'input> {
     inertial: Option<MassProperties>,
     /// An `<inertial>` with a mass of 0 (PyBullet: static, if the root).
     zero_mass: bool,
+    /// Its inertia was not physical and was balanced (`balance_inertia`).
+    balanced: bool,
     shapes: Vec<ShapeDesc>,
 }
 
@@ -436,6 +451,7 @@ impl<'a, 'input> Reader<'a, 'input> {
     fn link(&self, node: roxmltree::Node<'a, 'input>) -> Result<Link<'a, 'input>, UrdfError> {
         let name = self.attr(node, "name")?.to_string();
         let mut zero_mass = false;
+        let mut balanced = false;
         let inertial = match self.child(node, "inertial") {
             None => None,
             Some(i) => {
@@ -459,12 +475,30 @@ impl<'a, 'input> Reader<'a, 'input> {
                 );
                 // The tensor is given in the inertial origin's frame.
                 let r = DMat3::from_quat(origin.rotation);
-                match zero_mass {
-                    true => None,
-                    false => Some(
-                        MassProperties::new(mass, origin.position, r * inertia * r.transpose())
-                            .map_err(|e| self.err(i, format!("mass {mass} kg, inertia: {e}")))?,
-                    ),
+                let mean = (ixx + iyy + izz) / 3.0;
+                match (
+                    zero_mass,
+                    MassProperties::new(mass, origin.position, r * inertia * r.transpose()),
+                ) {
+                    (true, _) => None,
+                    (false, Ok(p)) => Some(p),
+                    (false, Err(_)) if self.balance_inertia && mean > 0.0 && mass > 0.0 => {
+                        balanced = true;
+                        let isotropic = DMat3::from_diagonal(DVec3::splat(mean));
+                        Some(
+                            MassProperties::new(mass, origin.position, isotropic)
+                                .map_err(|e| self.err(i, format!("mass {mass} kg, inertia: {e}")))?,
+                        )
+                    }
+                    (false, Err(e)) => {
+                        let hint = if mass > 0.0 && mean > 0.0 {
+                            " (balance_inertia, CLI --balance-inertia, replaces it by the isotropic \
+                             inertia of the same trace, as MuJoCo's balanceinertia does)"
+                        } else {
+                            ""
+                        };
+                        return Err(self.err(i, format!("mass {mass} kg, inertia: {e}{hint}")));
+                    }
                 }
             }
         };
@@ -489,6 +523,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             name,
             inertial,
             zero_mass,
+            balanced,
             shapes,
         })
     }
@@ -687,6 +722,13 @@ impl Model<'_, '_> {
                 format!("joint `{j}`: lower > upper in its <limit>, read as no limit (as Bullet reads it)")
             })
             .collect();
+        warnings.extend(self.links.iter().filter(|l| l.balanced).map(|l| {
+            format!(
+                "link `{}`: its inertia is not physical; replaced by the isotropic inertia of the same \
+                 trace (balance_inertia)",
+                l.name
+            )
+        }));
         // A group of its own for the robot's bodies, unless they may touch.
         let group = match options.self_collision {
             true => 0,

@@ -261,6 +261,8 @@ pub fn urdf(data: &[u8]) {
     let options = UrdfOptions {
         position: DVec3::new(0.0, 0.0, 1.0),
         fixed_base: data.len().is_multiple_of(2),
+        self_collision: data.len().is_multiple_of(3),
+        balance_inertia: data.len().is_multiple_of(5),
         ..UrdfOptions::default()
     };
     match add_urdf(&mut world, text, Path::new("fuzz/robot.urdf"), options) {

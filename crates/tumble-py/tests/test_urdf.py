@@ -111,3 +111,18 @@ def test_bodies_of_one_non_colliding_group_pass_through_each_other() -> None:
         world.step()
     assert ball.position[2] < 0.0, "fell through the slab of its own group"
     assert slab.position[2] == 0.0
+
+
+def test_an_impossible_inertia_is_refused_or_balanced_on_request(tmp_path: Path) -> None:
+    urdf = tmp_path / "disc.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="a">'
+        '<inertial><mass value="2"/><inertia ixx="0" iyy="0" izz="1.5"/></inertial>'
+        '<collision><geometry><sphere radius="0.1"/></geometry></collision>'
+        "</link></robot>\n"
+    )
+    with pytest.raises(tumble.InvalidArgument, match="balance_inertia"):
+        tumble.load_urdf(urdf)
+    robot = tumble.load_urdf(urdf, balance_inertia=True)
+    assert any("balance_inertia" in w for w in robot.warnings)
+    assert robot.links["a"].mass == 2.0

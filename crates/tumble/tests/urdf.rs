@@ -262,6 +262,10 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!(element, "axis");
     assert!(message.contains("3 numbers"), "{message}");
 
+    let (_, element, message) = error_of("<robot name=\"r\"><link name=\"world\"/></robot>");
+    assert_eq!(element, "robot name=\"r\"");
+    assert!(message.contains("no link of the robot is a body"), "{message}");
+
     let (line, element, _) = error_of(&TWO_LINKS.replace("</robot>", "<robot>"));
     assert_eq!(element, "xml");
     assert!(line > 0);

@@ -839,6 +839,12 @@ impl Model<'_, '_> {
                 ..BodyDesc::default()
             });
         }
+        if descs.is_empty() {
+            return Err(r.err(
+                r.doc.root_element(),
+                "no link of the robot is a body (each has neither geometry nor mass)",
+            ));
+        }
         let mut joint_descs = Vec::new();
         for j in self
             .joints

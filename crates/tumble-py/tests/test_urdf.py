@@ -103,9 +103,7 @@ def test_links_touch_each_other_only_with_self_collision(tmp_path: Path) -> None
 
 def test_bodies_of_one_non_colliding_group_pass_through_each_other() -> None:
     world = tumble.World()
-    slab = world.add_body(
-        tumble.Box((1.0, 1.0, 0.1)), kind="static", non_colliding_group=2
-    )
+    slab = world.add_body(tumble.Box((1.0, 1.0, 0.1)), kind="static", non_colliding_group=2)
     ball = world.add_body(tumble.Sphere(0.1), position=(0, 0, 0.5), non_colliding_group=2)
     for _ in range(60):
         world.step()

@@ -2,32 +2,36 @@
 //!
 //! What is read (the ROS URDF specification): `<link>` with `<inertial>`
 //! (origin, mass, inertia), `<collision>` geometry (box, cylinder, sphere,
-//! mesh STL/OBJ relative to the file or in a ROS `package://`, with scale; `<visual>` geometry when a
-//! link has no collision), and `<joint>` of type revolute, continuous,
-//! prismatic and fixed with origin, axis, `<limit lower upper effort
-//! velocity>` and `<dynamics damping>`. Links joined by fixed joints are
-//! merged into one body (their shapes and inertia combined, as PyBullet and
-//! MuJoCo do); every other joint becomes a hinge (revolute, continuous) or
-//! slider (prismatic) from the parent link to the child link, its angle 0
-//! at the file's zero configuration. Joint `damping` becomes a damping
-//! motor (`Motor::Position` with stiffness 0) until another motor is set;
-//! `effort` is kept as the joint's largest motor force for the caller.
+//! mesh STL/OBJ relative to the file or in a ROS `package://`, with scale;
+//! `<visual>` geometry when a link has no collision), and `<joint>` of type
+//! revolute, continuous, prismatic and fixed with origin, axis, `<limit
+//! lower upper effort velocity>` and `<dynamics damping>`. Links joined by
+//! fixed joints are merged into one body (their shapes and inertia
+//! combined, as PyBullet and MuJoCo do); every other joint becomes a hinge
+//! (revolute, continuous) or slider (prismatic) from the parent link to the
+//! child link, its angle 0 at the file's zero configuration. Joint
+//! `damping` becomes a damping motor (`Motor::Position` with stiffness 0)
+//! until another motor is set; `effort` is kept as the joint's largest
+//! motor force for the caller.
 //!
 //! Files written for other engines load as those engines read them (the
 //! URDFs of PyBullet's data set, `bulletphysics/bullet3` `data/`, were the
 //! test): `<capsule radius length>` (Bullet's extension, `length` between
 //! the caps' centres) is a capsule, `<plane normal>` a half-space (a static
-//! link's), joint type `spherical` a ball joint and `floating` no joint,
-//! and a `<limit>` with lower > upper no limit; a mass of 0 means no mass was given,
-//! and a root body without mass is static, as in PyBullet (a ground plane,
-//! a table, the base of a fixed arm); a root link with neither geometry nor
-//! mass stands for the world (ROS's `world` link), so the joints from it
-//! attach their links to the world; a leaf link with neither, on a moving
-//! joint (a frame for a tool or a sensor), is left out with its joint; a
-//! fixed joint's axis is not read; off-diagonal inertia entries default to
-//! 0. Each such reading is reported in `UrdfRobot::warnings`. A link with
-//! an `<inertial>` but no geometry is a body without shapes: it carries its
-//! mass and its joints and touches nothing.
+//! link's), joint type `spherical` a ball joint and `floating` no joint, and
+//! a `<limit>` with lower > upper no limit; a mass of 0 means no mass was
+//! given, and a root body without mass is static, as in PyBullet (a ground
+//! plane, a table, the base of a fixed arm); a root link with neither
+//! geometry nor mass stands for the world (ROS's `world` link), so the
+//! joints from it attach their links to the world; a leaf link with
+//! neither, on a moving joint (a frame for a tool or a sensor), is left out
+//! with its joint; a fixed joint's axis is not read; off-diagonal inertia
+//! entries default to 0. Each such reading is reported in
+//! `UrdfRobot::warnings`. A link with an `<inertial>` but no geometry is a
+//! body without shapes: it carries its mass and its joints and touches
+//! nothing. The robot's links do not touch each other unless
+//! `UrdfOptions::self_collision`, and an inertia no body could have is
+//! refused unless `UrdfOptions::balance_inertia`.
 //!
 //! Errors name the file, line, column and element (`arm.urdf:12:5: <joint
 //! name="elbow">: ...`). Nothing is added to the world unless the whole

@@ -575,17 +575,26 @@ pub fn world_step(data: &[u8]) {
                 });
             }
         }
-        // Bodies of two shapes share a non-colliding group (drawn from
-        // what is drawn already, so that kept inputs keep their meaning).
+        // Bodies of two shapes share a non-colliding group, and a body
+        // left without shapes gets its drawn mass as mass properties (a
+        // body without shapes), both from what is drawn already, so that
+        // kept inputs keep their meaning.
         let non_colliding_group = u32::from(shapes.len() == 2);
+        let mut mass = if input.below(2) == 0 {
+            MassDesc::Density(input.number(1.0, 3000.0))
+        } else {
+            MassDesc::Mass(input.number(0.01, 100.0))
+        };
+        if let (true, MassDesc::Mass(m)) = (shapes.is_empty(), mass) {
+            let inertia = tumble::collide::DMat3::from_diagonal(DVec3::splat(0.1 * m));
+            if let Ok(p) = tumble::collide::mass::MassProperties::new(m, DVec3::ZERO, inertia) {
+                mass = MassDesc::Inertial(p);
+            }
+        }
         let desc = BodyDesc {
             kind,
             shapes,
-            mass: if input.below(2) == 0 {
-                MassDesc::Density(input.number(1.0, 3000.0))
-            } else {
-                MassDesc::Mass(input.number(0.01, 100.0))
-            },
+            mass,
             pose: input.pose(2.0),
             // Rest, everyday speeds, or a projectile up to 1,000 m/s.
             linear_velocity: match input.below(3) {

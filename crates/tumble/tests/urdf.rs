@@ -527,6 +527,23 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
         .warnings
         .iter()
         .any(|m| m.contains("`hinge`") && m.contains("no limit")));
+    // What is read but not simulated is said, not dropped in silence.
+    let coupled = TWO_LINKS.replace(
+        "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/>",
+        "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/><mimic joint=\"other\"/>\
+         <dynamics damping=\"0.1\" friction=\"0.5\"/>",
+    );
+    let (_, r) = loaded(&coupled, UrdfOptions::default());
+    assert!(
+        r.warnings.iter().any(|m| m.contains("<mimic joint=\"other\">")),
+        "{:?}",
+        r.warnings
+    );
+    assert!(
+        r.warnings.iter().any(|m| m.contains("friction")),
+        "{:?}",
+        r.warnings
+    );
     // The products of inertia default to 0: the moments are the principal ones.
     let mut moments = w.body(r.links["a"]).unwrap().principal_inertia().to_array();
     moments.sort_by(f64::total_cmp);

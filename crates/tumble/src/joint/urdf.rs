@@ -250,6 +250,8 @@ struct Model<'a, 'input> {
     joints: Vec<Joint<'a, 'input>>,
     /// Joints whose `<limit>` has lower > upper: no limit.
     reversed_limits: Vec<String>,
+    /// What the file asks for that is not simulated (a warning each).
+    unsimulated: Vec<String>,
 }
 
 impl<'a, 'input> Reader<'a, 'input> {
@@ -564,6 +566,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         };
         let mut joints: Vec<Joint> = Vec::new();
         let mut reversed_limits = Vec::new();
+        let mut unsimulated = Vec::new();
         for node in root
             .children()
             .filter(|c| c.is_element() && c.tag_name().name() == "joint")
@@ -640,9 +643,23 @@ impl<'a, 'input> Reader<'a, 'input> {
                 ));
             }
             let damping = match self.child(node, "dynamics") {
-                Some(d) => self.optional_number(d, "damping", 0.0)?,
+                Some(d) => {
+                    if self.optional_number(d, "friction", 0.0)? != 0.0 {
+                        unsimulated.push(format!(
+                            "joint `{name}`: <dynamics friction> is not simulated (no joint friction)"
+                        ));
+                    }
+                    self.optional_number(d, "damping", 0.0)?
+                }
                 None => 0.0,
             };
+            if let Some(m) = self.child(node, "mimic") {
+                unsimulated.push(format!(
+                    "joint `{name}`: <mimic joint=\"{}\"> is not simulated (no coupling between joints): \
+                     it moves on its own",
+                    m.attribute("joint").unwrap_or("")
+                ));
+            }
             if damping < 0.0 {
                 return Err(self.err(node, "dynamics damping must be >= 0"));
             }
@@ -665,6 +682,7 @@ impl<'a, 'input> Reader<'a, 'input> {
             links,
             joints,
             reversed_limits,
+            unsimulated,
         })
     }
 }
@@ -726,6 +744,7 @@ impl Model<'_, '_> {
                 format!("joint `{j}`: lower > upper in its <limit>, read as no limit (as Bullet reads it)")
             })
             .collect();
+        warnings.extend(self.unsimulated.iter().cloned());
         warnings.extend(self.links.iter().filter(|l| l.balanced).map(|l| {
             format!(
                 "link `{}`: its inertia is not physical; replaced by the isotropic inertia of the same \

@@ -98,7 +98,7 @@ pub struct UrdfOptions {
     /// below 0, or two that sum to less than the third, as some files
     /// give) by the same mass's isotropic inertia of equal trace, with a
     /// warning, as MuJoCo's `balanceinertia` does; off, such a file is
-    /// refused at its `<inertia>`.
+    /// refused at its `<inertial>`.
     pub balance_inertia: bool,
 }
 

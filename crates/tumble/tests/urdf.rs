@@ -604,6 +604,15 @@ fn a_robots_links_touch_each_other_only_when_asked() {
     let second = add_urdf(&mut w, TWO_LINKS, "two.urdf".as_ref(), UrdfOptions::default()).unwrap();
     let group = |r: &UrdfRobot| w.non_colliding_group(r.bodies[0]).unwrap();
     assert_ne!(group(&first), group(&second));
+    // Past the last group a world can name, a free one is found.
+    let mut w = world();
+    let top = BodyDesc {
+        non_colliding_group: u32::MAX,
+        ..BodyDesc::dynamic(tumble::collide::Sphere::new(0.1).unwrap())
+    };
+    w.add_body(&top).unwrap();
+    let r = add_urdf(&mut w, TWO_LINKS, "three.urdf".as_ref(), UrdfOptions::default()).unwrap();
+    assert_eq!(w.non_colliding_group(r.bodies[0]).unwrap(), 1);
 }
 
 #[test]

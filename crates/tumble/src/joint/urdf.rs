@@ -755,7 +755,7 @@ impl Model<'_, '_> {
         // A group of its own for the robot's bodies, unless they may touch.
         let group = match options.self_collision {
             true => 0,
-            false => 1 + world.max_non_colliding_group(),
+            false => world.unused_non_colliding_group(),
         };
         // Whether a group carries another through a moving joint.
         let carries = |g: usize| {

@@ -516,14 +516,17 @@ impl World {
         self.bodies.get_mut(id).ok_or(WorldError::StaleBody(id))
     }
 
-    /// The largest `BodyDesc::non_colliding_group` of the world's bodies (0
-    /// when none has one): `1 +` this is a group no body is in yet.
-    pub fn max_non_colliding_group(&self) -> u32 {
-        self.bodies
-            .iter()
-            .map(|(_, e)| e.non_colliding_group)
-            .max()
-            .unwrap_or(0)
+    /// A nonzero `BodyDesc::non_colliding_group` that no body of the world
+    /// is in: one more than the largest in use, or, if that is `u32::MAX`,
+    /// the smallest free one.
+    pub fn unused_non_colliding_group(&self) -> u32 {
+        let used: std::collections::BTreeSet<u32> =
+            self.bodies.iter().map(|(_, e)| e.non_colliding_group).collect();
+        let largest = used.last().copied().unwrap_or(0);
+        // (More groups than bodies exist, so a free one is always found.)
+        largest
+            .checked_add(1)
+            .unwrap_or_else(|| (1..).find(|g| !used.contains(g)).unwrap_or(1))
     }
 
     /// The rigid body (state in the body frame: centre of mass, principal axes).

@@ -203,6 +203,14 @@ const TWO_LINKS: &str = r#"<robot name="r">
   </joint>
 </robot>"#;
 
+/// [`TWO_LINKS`] with link b given an `<inertial>` of these elements.
+fn b_with_inertial(inertial: &str) -> String {
+    TWO_LINKS.replace(
+        "<link name=\"b\">",
+        &format!("<link name=\"b\"><inertial>{inertial}</inertial>"),
+    )
+}
+
 #[test]
 fn a_small_robot_loads() {
     let mut w = world();
@@ -229,17 +237,15 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!((line, element.as_str()), (4, "joint name=\"j\""));
     assert!(message.contains("not supported"), "{message}");
 
-    let (_, element, message) = error_of(&TWO_LINKS.replace(
-        "<link name=\"b\">",
-        "<link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" iyy=\"1\"/></inertial>",
+    let (_, element, message) = error_of(&b_with_inertial(
+        "<mass value=\"1\"/><inertia ixx=\"1\" iyy=\"1\"/>",
     ));
     assert_eq!(element, "inertia");
     assert!(message.contains("`izz`"), "{message}");
 
     // A point mass: named at its <inertial>, not as a shape.
-    let (_, element, message) = error_of(&TWO_LINKS.replace(
-        "<link name=\"b\">",
-        "<link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/></inertial>",
+    let (_, element, message) = error_of(&b_with_inertial(
+        "<mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/>",
     ));
     assert_eq!(element, "inertial");
     assert!(message.contains("point mass"), "{message}");
@@ -290,9 +296,8 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!(element, "mesh");
     assert!(message.contains("no directory named `r`"), "{message}");
 
-    let (_, _, message) = error_of(&TWO_LINKS.replace(
-        "<link name=\"b\">",
-        "<link name=\"b\"><inertial><mass value=\"-1\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\"/></inertial>",
+    let (_, _, message) = error_of(&b_with_inertial(
+        "<mass value=\"-1\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\"/>",
     ));
     assert!(message.contains("mass"), "{message}");
 
@@ -711,10 +716,7 @@ fn ros_package_meshes_are_found_in_the_package_the_file_lies_in() {
 #[test]
 fn an_inertia_no_body_could_have_is_refused_or_balanced_on_request() {
     // Moments 0, 0 and 1.5 (a flat disc's, idealised too far): 0 + 0 < 1.5.
-    let text = TWO_LINKS.replace(
-        "<link name=\"b\">",
-        "<link name=\"b\"><inertial><mass value=\"2\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"1.5\"/></inertial>",
-    );
+    let text = b_with_inertial("<mass value=\"2\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"1.5\"/>");
     let (_, element, message) = error_of(&text);
     assert_eq!(element, "inertial");
     assert!(

@@ -271,7 +271,14 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
             println!("warning: {w}");
         }
     }
-    Ok((world, robot.name, scene.steps))
+    // A robot without a name (some exported files) goes by its file's.
+    let name = match robot.name.is_empty() {
+        true => Path::new(&args.scene)
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned()),
+        false => robot.name,
+    };
+    Ok((world, name, scene.steps))
 }
 
 /// The partial file written while the work goes: `FILE.part` (a run's

@@ -243,25 +243,31 @@ fn bad_files_name_the_line_and_element() {
     assert_eq!(element, "inertia");
     assert!(message.contains("`izz`"), "{message}");
 
-    // A point mass: named at its <inertial>, not as a shape.
-    let (_, element, message) = error_of(&b_with_inertial(
-        "<mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/>",
-    ));
+    // A point mass without geometry to take an inertia from: named at its
+    // <inertial>, not as a shape.
+    let (_, element, message) = error_of(
+        &b_with_inertial("<mass value=\"1\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/>").replace(
+            "<collision><geometry><sphere radius=\"0.05\"/></geometry></collision>",
+            "",
+        ),
+    );
     assert_eq!(element, "inertial");
     assert!(message.contains("point mass"), "{message}");
 
-    // A massless frame between two moving joints (a hip of three hinges
-    // through two such links): no body can stand for it.
-    let (_, element, message) = error_of(&TWO_LINKS.replace(
-        "<link name=\"b\"><collision><geometry><sphere radius=\"0.05\"/></geometry></collision></link>",
-        "<link name=\"b\"/><link name=\"c\"><collision><geometry><sphere radius=\"0.05\"/></geometry></collision></link>\
-         <joint name=\"k\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/></joint>",
-    ));
-    assert_eq!(element, "link name=\"b\"");
-    assert!(
-        message.contains("neither geometry nor mass, and carries"),
-        "{message}"
+    // A massless frame between two moving joints, in a robot none of
+    // whose moving links has a mass to size its stand-in from (the root
+    // is static, the leaf has neither geometry nor mass).
+    let (_, element, message) = error_of(
+        &TWO_LINKS
+            .replace(
+                "<link name=\"b\"><collision><geometry><sphere radius=\"0.05\"/></geometry></collision></link>",
+                "<link name=\"b\"/><link name=\"c\"/>\
+                 <joint name=\"k\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/></joint>",
+            )
+            .replace("<link name=\"a\">", "<link name=\"a\"><inertial><mass value=\"0\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/></inertial>"),
     );
+    assert_eq!(element, "link name=\"b\"");
+    assert!(message.contains("no link of the robot has a mass"), "{message}");
 
     let (_, element, message) =
         error_of(&TWO_LINKS.replace("<axis xyz=\"0 1 0\"/>", "<axis xyz=\"0 one 0\"/>"));
@@ -740,4 +746,119 @@ fn an_inertia_no_body_could_have_is_refused_or_balanced_on_request() {
         .warnings
         .iter()
         .any(|m| m.contains("link `b`") && m.contains("balance_inertia")));
+}
+
+#[test]
+fn a_ball_of_three_hinges_through_massless_links_swings_and_spins_as_a_ball_joint() {
+    // MuJoCo's humanoid exported to URDF composes a hip of three hinges
+    // (x, y, z) through two links with neither geometry nor mass. They
+    // become light stand-ins, and the bob below hangs from a ball joint:
+    // swung in a vertical plane that no single hinge's, it keeps the
+    // compound pendulum's period 2 pi sqrt(I_pivot / (m g d)); spun about
+    // the vertical, it keeps its rate (no torque about it).
+    let text = r#"<robot name="hip">
+  <link name="base">
+    <inertial><mass value="0"/><inertia ixx="0" iyy="0" izz="0"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>
+  </link>
+  <link name="hx"><inertial><mass value="0"/><inertia ixx="0" iyy="0" izz="0"/></inertial></link>
+  <link name="hy"/>
+  <link name="bob">
+    <inertial><origin xyz="0 0 -0.5"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>
+    <collision><origin xyz="0 0 -0.5"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <joint name="x" type="continuous"><parent link="base"/><child link="hx"/><axis xyz="1 0 0"/></joint>
+  <joint name="y" type="continuous"><parent link="hx"/><child link="hy"/><axis xyz="0 1 0"/></joint>
+  <joint name="z" type="continuous"><parent link="hy"/><child link="bob"/><axis xyz="0 0 1"/></joint>
+</robot>"#;
+    let pivot = DVec3::new(0.0, 0.0, 2.0);
+    let options = UrdfOptions {
+        position: pivot,
+        ..UrdfOptions::default()
+    };
+    let (mut w, r) = loaded(text, options);
+    assert_eq!(w.joint_count(), 3);
+    let bob = r.links["bob"];
+    for link in ["hx", "hy"] {
+        let m = w.body(r.links[link]).unwrap().mass();
+        assert!((m - 1e-3).abs() < 1e-15, "{link}: {m} kg");
+    }
+    assert!(r
+        .warnings
+        .iter()
+        .any(|m| m.contains("`hx`, `hy`") && m.contains("carrying other links")));
+
+    // Swung about the horizontal diagonal (1, 1, 0) / sqrt 2.
+    let (g, d, i_pivot) = (9.81, 0.5, 0.01 + 0.25);
+    let omega = 0.2 * DVec3::new(1.0, 1.0, 0.0).normalize();
+    let arm = w.center_of_mass(bob).unwrap() - pivot;
+    w.set_velocity(bob, omega.cross(arm), omega).unwrap();
+    let (mut crossings, mut last_x, mut widest) = (Vec::new(), 0.0, [0.0f64; 2]);
+    for _ in 0..600 {
+        w.step();
+        let c = w.center_of_mass(bob).unwrap() - pivot;
+        if (last_x > 0.0) != (c.x > 0.0) {
+            crossings.push(w.time() - w.settings().dt * c.x.abs() / (c.x - last_x).abs());
+        }
+        last_x = c.x;
+        widest = [widest[0].max(c.x.abs()), widest[1].max(c.y.abs())];
+        assert!(
+            (c.x + c.y).abs() < 1e-3 * widest[0].max(1e-3),
+            "in its plane: {c:?}"
+        );
+    }
+    let n = crossings.len() - 1;
+    assert!(n >= 10, "it swings: {crossings:?}");
+    let period = 2.0 * (crossings[n] - crossings[0]) / n as f64;
+    let amplitude = widest[0].hypot(widest[1]) / d;
+    let exact =
+        2.0 * std::f64::consts::PI * (i_pivot / (g * d)).sqrt() * (1.0 + amplitude * amplitude / 16.0);
+    assert!(
+        (period / exact - 1.0).abs() < 1e-3,
+        "period {period} s, exact {exact} s"
+    );
+    assert!(
+        (widest[0] / widest[1] - 1.0).abs() < 0.01,
+        "both hinges swing: {widest:?}"
+    );
+
+    // Spun about the vertical through the bob.
+    let (mut w, r) = loaded(text, options);
+    let bob = r.links["bob"];
+    let below = w.center_of_mass(bob).unwrap();
+    w.set_velocity(bob, DVec3::ZERO, DVec3::Z).unwrap();
+    steps(&mut w, 120);
+    let spin = w.angular_velocity(bob).unwrap();
+    assert!((spin.z - 1.0).abs() < 1e-3, "kept its spin: {spin:?}");
+    let moved = (w.center_of_mass(bob).unwrap() - below).length();
+    assert!(moved < 1e-4, "and hangs still: {moved} m");
+    assert!(w.max_joint_error().0 < 1e-4);
+}
+
+#[test]
+fn a_point_mass_on_a_link_with_geometry_takes_the_geometrys_inertia() {
+    // PyBullet's data set gives some spheres an <inertial> of mass only
+    // (moments 0): the file's mass and centre, the sphere's 2/5 m r^2.
+    let text = b_with_inertial(
+        "<origin xyz=\"0.01 0 0\"/><mass value=\"3\"/><inertia ixx=\"0\" iyy=\"0\" izz=\"0\"/>",
+    );
+    let (w, r) = loaded(&text, UrdfOptions::default());
+    let b = w.body(r.links["b"]).unwrap();
+    assert_eq!(b.mass(), 3.0);
+    for m in b.principal_inertia().to_array() {
+        assert!(
+            (m - 0.4 * 3.0 * 0.05 * 0.05).abs() < 1e-12,
+            "{:?}",
+            b.principal_inertia()
+        );
+    }
+    // The body frame is the file's centre of mass, 1 cm off the sphere's
+    // centre along the link's x (the link b frame is 0.2 m above a).
+    let com = w.center_of_mass(r.links["b"]).unwrap();
+    let a = w.center_of_mass(r.links["a"]).unwrap();
+    assert!((com - a - DVec3::new(0.01, 0.0, 0.2)).length() < 1e-12, "{com:?}");
+    assert!(r
+        .warnings
+        .iter()
+        .any(|m| m.contains("link `b`") && m.contains("point mass")));
 }

@@ -25,7 +25,9 @@
 //! geometry nor mass stands for the world (ROS's `world` link), so the
 //! joints from it attach their links to the world; a leaf link with
 //! neither, on a moving joint (a frame for a tool or a sensor), is left out
-//! with its joint; a fixed joint's axis is not read; off-diagonal inertia
+//! with its joint, and one between moving joints (a frame through which
+//! joints are composed: a hip of three hinges) becomes a light body
+//! ([`STAND_IN_FRACTION`]); a fixed joint's axis is not read; off-diagonal inertia
 //! entries default to 0. Each such reading is reported in
 //! `UrdfRobot::warnings`. A link with an `<inertial>` but no geometry is a
 //! body without shapes: it carries its mass and its joints and touches
@@ -49,6 +51,56 @@ use tumble_collide::{DMat3, DQuat, DVec3, Pose};
 
 /// Segments of the convex hull that stands for a URDF cylinder.
 pub const CYLINDER_SEGMENTS: usize = 24;
+
+/// A link with neither geometry nor mass that carries other links through
+/// moving joints (a frame that composes joints: MuJoCo's humanoid exported
+/// to URDF makes its hips of three hinges this way) gets this fraction of
+/// the robot's lightest body's mass, and an isotropic inertia of this
+/// fraction of the smallest principal moment of any of its bodies. Small
+/// enough to leave the motion of the links it joins as it would be without
+/// it (a part in a thousand of the lightest mass), large enough for the
+/// joint island's direct solve, which is exact whatever the mass ratio
+/// (`solver::contact_solver::joint_island`).
+pub const STAND_IN_FRACTION: f64 = 1e-3;
+
+/// For a point mass `point` (an `<inertial>` with no moments) whose link
+/// has the geometry `shapes`: the file's mass at the file's centre of mass,
+/// with the inertia the geometry has about its own centre for that mass
+/// (PyBullet's default reading of every link: the shapes' inertia, the
+/// file's mass and frame). `None` when the geometry has no volume.
+fn geometry_inertia(shapes: &[ShapeDesc], point: &MassProperties) -> Option<MassProperties> {
+    let frame = crate::world::body_mass::body_mass(shapes, MassDesc::Mass(point.mass)).ok()?;
+    let axes = DMat3::from_quat(frame.rotation);
+    let inertia = axes * DMat3::from_diagonal(frame.moments) * axes.transpose();
+    MassProperties::new(point.mass, point.com, inertia).ok()
+}
+
+/// Gives the stand-in bodies `stand_ins` (indices into `descs`) their mass
+/// ([`STAND_IN_FRACTION`]), from the other dynamic bodies of `descs`; `Err`
+/// when none has a mass.
+fn stand_in_masses(descs: &mut [BodyDesc], stand_ins: &[usize]) -> Result<(), ()> {
+    let (mut lightest, mut smallest) = (f64::INFINITY, f64::INFINITY);
+    for (k, d) in descs.iter().enumerate() {
+        if d.kind != BodyKind::Dynamic || stand_ins.contains(&k) {
+            continue;
+        }
+        // A body whose mass cannot be found is refused by the world later,
+        // with its own message.
+        if let Ok(frame) = crate::world::body_mass::body_mass(&d.shapes, d.mass) {
+            lightest = lightest.min(frame.mass);
+            smallest = smallest.min(frame.moments.min_element());
+        }
+    }
+    if !(lightest.is_finite() && smallest.is_finite() && smallest > 0.0) {
+        return Err(());
+    }
+    for &k in stand_ins {
+        let inertia = DMat3::from_diagonal(DVec3::splat(STAND_IN_FRACTION * smallest));
+        let p = MassProperties::new(STAND_IN_FRACTION * lightest, DVec3::ZERO, inertia).map_err(|_| ())?;
+        descs[k].mass = MassDesc::Inertial(p);
+    }
+    Ok(())
+}
 
 /// Why a URDF file could not be loaded.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -567,6 +619,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         let mut joints: Vec<Joint> = Vec::new();
         let mut reversed_limits = Vec::new();
         let mut unsimulated = Vec::new();
+        let mut with_friction = Vec::new();
         for node in root
             .children()
             .filter(|c| c.is_element() && c.tag_name().name() == "joint")
@@ -644,10 +697,8 @@ impl<'a, 'input> Reader<'a, 'input> {
             }
             let damping = match self.child(node, "dynamics") {
                 Some(d) => {
-                    if self.optional_number(d, "friction", 0.0)? != 0.0 {
-                        unsimulated.push(format!(
-                            "joint `{name}`: <dynamics friction> is not simulated (no joint friction)"
-                        ));
+                    if self.optional_number(d, "friction", 0.0)? != 0.0 && kind != "fixed" {
+                        with_friction.push(format!("`{name}`"));
                     }
                     self.optional_number(d, "damping", 0.0)?
                 }
@@ -676,6 +727,15 @@ impl<'a, 'input> Reader<'a, 'input> {
                 velocity,
                 damping,
             });
+        }
+        // One line for them all (a file exported from MuJoCo gives every
+        // joint a friction).
+        if !with_friction.is_empty() {
+            unsimulated.push(format!(
+                "joint{} {}: <dynamics friction> is not simulated (no joint friction)",
+                if with_friction.len() > 1 { "s" } else { "" },
+                with_friction.join(", ")
+            ));
         }
         Ok(Model {
             name,
@@ -768,6 +828,9 @@ impl Model<'_, '_> {
         // is left out (module docs).
         let mut group_body: Vec<Option<usize>> = Vec::with_capacity(groups.len());
         let mut descs = Vec::with_capacity(groups.len());
+        // The massless frames between moving joints (indices into `descs`)
+        // and their links.
+        let (mut stand_ins, mut stand_in_links) = (Vec::new(), Vec::new());
         for (g, &head_link) in groups.iter().enumerate() {
             let frame = pose[head_link].expect("placed");
             let inv = frame.inverse();
@@ -812,10 +875,21 @@ impl Model<'_, '_> {
                 }
             }
             if shapes.is_empty() && parts.is_empty() {
-                return Err(r.err(
-                    link.node,
-                    "has neither geometry nor mass, and carries other links (give it an <inertial>)",
-                ));
+                // A frame between two moving joints (joints composed
+                // through massless links: a hip of three hinges). A body
+                // with no mass cannot move in maximal coordinates; it gets
+                // a small one once the robot's masses are known (below).
+                stand_ins.push(descs.len());
+                group_body.push(Some(descs.len()));
+                descs.push(BodyDesc {
+                    kind: BodyKind::Dynamic,
+                    pose: frame,
+                    non_colliding_group: group,
+                    name: names.join("+"),
+                    ..BodyDesc::default()
+                });
+                stand_in_links.push(head_link);
+                continue;
             }
             let (kind, mass) = if !parts.is_empty() {
                 let combined =
@@ -823,7 +897,19 @@ impl Model<'_, '_> {
                 // A point mass (all moments 0, as some files give) is valid
                 // mass properties but no rigid body: it could not turn.
                 let moments = combined.principal().moments;
-                if moments.x <= 0.0 || moments.x.is_nan() {
+                let from_geometry = match moments.z <= 0.0 && !shapes.is_empty() {
+                    true => geometry_inertia(&shapes, &combined),
+                    false => None,
+                };
+                if let Some(p) = from_geometry {
+                    warnings.push(format!(
+                        "link `{}`: its <inertial> is a point mass (moments {:?} kg m^2): its inertia \
+                         follows from its geometry and the file's mass, as PyBullet computes it",
+                        link.name,
+                        moments.to_array()
+                    ));
+                    (BodyKind::Dynamic, MassDesc::Inertial(p))
+                } else if moments.x <= 0.0 || moments.x.is_nan() {
                     let at = r.child(link.node, "inertial").unwrap_or(link.node);
                     return Err(r.err(
                         at,
@@ -833,8 +919,9 @@ impl Model<'_, '_> {
                             moments.to_array()
                         ),
                     ));
+                } else {
+                    (BodyKind::Dynamic, MassDesc::Inertial(combined))
                 }
-                (BodyKind::Dynamic, MassDesc::Inertial(combined))
             } else if zero_mass && g == 0 {
                 warnings.push(format!(
                     "link `{}` has a mass of 0: the robot's root is static, as in PyBullet",
@@ -866,6 +953,26 @@ impl Model<'_, '_> {
             return Err(r.err(
                 r.doc.root_element(),
                 "no link of the robot is a body (each has neither geometry nor mass)",
+            ));
+        }
+        if !stand_ins.is_empty() {
+            stand_in_masses(&mut descs, &stand_ins).map_err(|()| {
+                r.err(
+                    self.links[stand_in_links[0]].node,
+                    "has neither geometry nor mass, and carries other links, and no link of the robot \
+                     has a mass to size a stand-in from (give it an <inertial>)",
+                )
+            })?;
+            let names: Vec<String> = stand_in_links
+                .iter()
+                .map(|&l| format!("`{}`", self.links[l].name))
+                .collect();
+            warnings.push(format!(
+                "link{s} {}: neither geometry nor mass, but carrying other links: given {STAND_IN_FRACTION} \
+                 of the lightest body's mass and smallest moment of inertia (a massless frame between \
+                 joints cannot move in maximal coordinates)",
+                names.join(", "),
+                s = if names.len() > 1 { "s" } else { "" },
             ));
         }
         let mut joint_descs = Vec::new();

@@ -42,7 +42,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-mod body_mass;
+pub(crate) mod body_mass;
 mod desc;
 mod error;
 mod handles;

@@ -446,15 +446,15 @@ fn one_desc(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<ShapeDesc> {
 
 /// The shapes of a body: one shape-like object or a list/tuple of them.
 pub fn shape_descs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<ShapeDesc>> {
+    // None or an empty list: a body without shapes (kinematic, or dynamic
+    // with its inertia given), which the world checks.
+    if obj.is_none() {
+        return Ok(Vec::new());
+    }
     if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
         let mut out = Vec::new();
         for (i, item) in obj.try_iter()?.enumerate() {
             out.push(one_desc(&item?, &format!("shapes[{i}]"))?);
-        }
-        if out.is_empty() {
-            return Err(invalid(
-                "shapes: the list is empty; a body needs at least one shape",
-            ));
         }
         return Ok(out);
     }

@@ -31,7 +31,8 @@ use tumble::world::{
     BodyDesc, BodyId, MassDesc, MaterialDesc, Snapshot, SnapshotError, World as RWorld, WorldSettings,
 };
 use tumble::BodyKind;
-use tumble_collide::{DVec3, Pose};
+use tumble_collide::mass::MassProperties;
+use tumble_collide::{DMat3, DVec3, Pose};
 
 /// A simulated world of rigid bodies (SI units, z up, quaternions (x, y, z, w),
 /// angular velocity in the world frame).
@@ -249,9 +250,16 @@ impl World {
     /// Args:
     ///     shape: a shape (Box, Sphere, Capsule, ConvexHull, TriMesh, HalfSpace),
     ///         a trimesh.Trimesh-like object, a Placed shape, or a list of
-    ///         those for a compound body.
+    ///         those for a compound body; None (or []) for a body without
+    ///         shapes, which touches nothing: a kinematic one, or a dynamic
+    ///         one given `mass` and `inertia`.
     ///     mass: total mass (kg), spread by volume. Dynamic bodies only.
     ///     density: uniform density (kg/m^3); default 1000 when neither is given.
+    ///     inertia: the inertia about the centre of mass in the model frame
+    ///         (kg m^2): 3 numbers (a diagonal) or a symmetric 3x3 matrix,
+    ///         with `mass`; the shapes then only collide.
+    ///     center_of_mass: with `inertia`, the centre of mass in the model
+    ///         frame (m), default (0, 0, 0).
     ///     position: model-frame origin in the world (m), default (0, 0, 0).
     ///     orientation: (x, y, z, w) unit quaternion, default identity.
     ///     velocity: linear velocity of the centre of mass (m/s).
@@ -272,15 +280,18 @@ impl World {
     ///
     /// Raises:
     ///     InvalidArgument: a bad value or shape; the world is unchanged.
-    #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None,
-        velocity=None, angular_velocity=None, kind="dynamic", restitution=None, friction=None,
-        linear_damping=0.0, angular_damping=0.0, ccd=false, non_colliding_group=0, name=None))]
+    #[pyo3(signature = (shape, *, mass=None, density=None, inertia=None, center_of_mass=None,
+        position=None, orientation=None, velocity=None, angular_velocity=None, kind="dynamic",
+        restitution=None, friction=None, linear_damping=0.0, angular_damping=0.0, ccd=false,
+        non_colliding_group=0, name=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         slf: &Bound<'_, Self>,
         shape: &Bound<'_, PyAny>,
         mass: Option<f64>,
         density: Option<f64>,
+        inertia: Option<&Bound<'_, PyAny>>,
+        center_of_mass: Option<&Bound<'_, PyAny>>,
         position: Option<&Bound<'_, PyAny>>,
         orientation: Option<&Bound<'_, PyAny>>,
         velocity: Option<&Bound<'_, PyAny>>,
@@ -300,11 +311,29 @@ impl World {
             if kind != BodyKind::Dynamic && (mass.is_some() || density.is_some()) {
                 return Err(invalid("mass and density apply to dynamic bodies only"));
             }
-            let mass = match (mass, density) {
-                (Some(_), Some(_)) => return Err(invalid("give mass or density, not both")),
-                (Some(m), None) => MassDesc::Mass(m),
-                (None, Some(d)) => MassDesc::Density(d),
-                (None, None) => MassDesc::default(),
+            let inertia = inertia.filter(|i| !i.is_none());
+            let center_of_mass = center_of_mass.filter(|c| !c.is_none());
+            if kind != BodyKind::Dynamic && inertia.is_some() {
+                return Err(invalid("inertia applies to dynamic bodies only"));
+            }
+            if center_of_mass.is_some() && inertia.is_none() {
+                return Err(invalid(
+                    "center_of_mass is given with inertia (else it follows from the shapes)",
+                ));
+            }
+            let mass = match (mass, density, inertia) {
+                (_, Some(_), Some(_)) => return Err(invalid("give inertia with mass, not density")),
+                (None, None, Some(_)) => return Err(invalid("inertia needs mass (kg)")),
+                (Some(m), None, Some(i)) => {
+                    let com = convert::vec3_or(center_of_mass, "center_of_mass", DVec3::ZERO)?;
+                    let p = MassProperties::new(m, com, inertia_matrix(i)?)
+                        .map_err(|e| invalid(format!("mass, center_of_mass, inertia: {e}")))?;
+                    MassDesc::Inertial(p)
+                }
+                (Some(_), Some(_), None) => return Err(invalid("give mass or density, not both")),
+                (Some(m), None, None) => MassDesc::Mass(m),
+                (None, Some(d), None) => MassDesc::Density(d),
+                (None, None, None) => MassDesc::default(),
             };
             let pose = Pose {
                 position: convert::vec3_or(position, "position", DVec3::ZERO)?,
@@ -837,4 +866,22 @@ impl World {
             self.inner.step_count()
         )
     }
+}
+
+/// `add_body(inertia=...)`: 3 numbers (a diagonal) or a 3x3 matrix (kg m^2).
+fn inertia_matrix(obj: &Bound<'_, PyAny>) -> PyResult<DMat3> {
+    if let Ok(d) = convert::vec3(obj, "inertia") {
+        return Ok(DMat3::from_diagonal(d));
+    }
+    let rows = convert::points(obj, "inertia")
+        .ok()
+        .filter(|rows| rows.len() == 3)
+        .ok_or_else(|| {
+            invalid(format!(
+                "inertia: expected 3 numbers (a diagonal) or a 3x3 matrix, got {}",
+                convert::describe(obj)
+            ))
+        })?;
+    // Symmetric (checked by MassProperties::new): rows are columns.
+    Ok(DMat3::from_cols(rows[0], rows[1], rows[2]))
 }

@@ -282,3 +282,62 @@ def test_adaptive_threads_is_a_setting_and_never_changes_the_result() -> None:
     assert serial.tobytes() == pinned.tobytes() == adaptive.tobytes()
     with pytest.raises(tumble.InvalidArgument):
         tumble.World(adaptive_threads="yes")
+
+
+def test_a_body_with_given_inertia_turns_and_falls_by_it() -> None:
+    # A body without shapes (mass and inertia given) falls freely and
+    # turns under a torque at tau / I about each principal axis; a box given
+    # an inertia other than its own turns by the given one.
+    world = tumble.World(dt=1 / 120, sleeping=False)
+    free = world.add_body(
+        None, mass=2.0, inertia=(1.0, 1.5, 2.0), center_of_mass=(0.1, 0, 0), position=(0, 0, 5)
+    )
+    assert free.mass == 2.0
+    np.testing.assert_allclose(sorted(free.principal_inertia), [1.0, 1.5, 2.0], rtol=1e-12)
+    np.testing.assert_allclose(free.center_of_mass, [0.1, 0, 5], atol=1e-12)
+    box = world.add_body(
+        tumble.Box((0.1, 0.1, 0.1)),
+        mass=1.0,
+        inertia=np.diag([0.3, 0.3, 0.3]),
+        position=(3, 0, 5),
+    )
+    np.testing.assert_allclose(box.principal_inertia, [0.3, 0.3, 0.3], rtol=1e-12)
+    z0 = free.center_of_mass[2]
+    for _ in range(60):
+        free.apply_torque((0.0, 0.0, 1.0))
+        box.apply_torque((0.0, 0.0, 1.0))
+        world.step()
+    t = 60 / 120
+    # Semi-implicit Euler over N sub-steps of h: z = z0 - g h^2 N (N + 1) / 2.
+    s = world.settings["substeps"]
+    h, n = 1 / 120 / s, 60 * s
+    assert free.center_of_mass[2] == pytest.approx(z0 - G * h * h * n * (n + 1) / 2, abs=1e-9)
+    np.testing.assert_allclose(free.angular_velocity, [0, 0, t / 2.0], atol=1e-12)
+    np.testing.assert_allclose(box.angular_velocity, [0, 0, t / 0.3], atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"inertia": (1, 1, 1)}, "inertia needs mass"),
+        ({"inertia": (1, 1, 1), "density": 5.0}, "not density"),
+        ({"mass": 1.0, "inertia": (1, 1, 3)}, "inertia"),
+        ({"mass": 1.0, "inertia": [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]}, "inertia"),
+        ({"mass": 1.0, "inertia": (1, 1)}, "3 numbers (a diagonal) or a 3x3 matrix"),
+        ({"mass": 1.0, "center_of_mass": (0, 0, 1)}, "center_of_mass is given with inertia"),
+        ({"mass": 1.0, "inertia": (1, 1, 1), "kind": "static"}, "mass and density apply"),
+    ],
+)
+def test_bad_given_inertias_are_refused(kwargs, message) -> None:
+    world = tumble.World()
+    with pytest.raises(tumble.InvalidArgument) as info:
+        world.add_body(tumble.Sphere(0.1), **kwargs)
+    assert message in str(info.value)
+    assert len(world.bodies) == 0
+    # Without shapes: a static body needs one, a dynamic one its inertia.
+    for kind in ["static", "dynamic"]:
+        with pytest.raises(tumble.InvalidArgument) as info:
+            world.add_body(None, kind=kind)
+        assert "body has no shapes" in str(info.value)
+    world.add_body([], kind="kinematic")
+    assert len(world.bodies) == 1

@@ -330,10 +330,12 @@ class World:
     ) -> None: ...
     def add_body(
         self,
-        shape: BodyShapes,
+        shape: BodyShapes | None,
         *,
         mass: float | None = None,
         density: float | None = None,
+        inertia: Vec3 | npt.ArrayLike | None = None,
+        center_of_mass: Vec3 | None = None,
         position: Vec3 | None = None,
         orientation: Quat | None = None,
         velocity: Vec3 | None = None,

@@ -17,6 +17,7 @@ const ORDER: &[&str] = &[
     "MaterialDesc",
     "BodySpec",
     "KindSpec",
+    "InertiaSpec",
     "RotationSpec",
     "GridSpec",
     "ShapeSpec",
@@ -40,6 +41,7 @@ fn used_as(def: &str) -> &'static str {
         "MaterialDesc" => "each entry of `[materials]`: `[materials.NAME]`",
         "BodySpec" => "each `[[bodies]]` entry",
         "KindSpec" => "a body's `kind`",
+        "InertiaSpec" => "a body's `inertia`",
         "RotationSpec" => "each factor of a `rotation` list",
         "GridSpec" => "a body's `grid`",
         "ShapeSpec" => "each entry of `[shapes]` (`[shapes.NAME]`) and of a body's `shapes` list",
@@ -220,6 +222,15 @@ fn section(out: &mut String, name: &str, def: &Value) -> Result<(), SchemaShapeE
     }
     if let Some(alts) = def.get("oneOf").and_then(Value::as_array) {
         variants(out, alts, name)
+    } else if let Some(forms) = def.get("anyOf").and_then(Value::as_array) {
+        // Untagged: one value written in one of several forms.
+        out.push_str("| form | meaning |\n| --- | --- |\n");
+        for f in forms {
+            let description = f.get("description").and_then(Value::as_str).unwrap_or("");
+            out.push_str(&format!("| {} | {} |\n", type_name(f), cell(description)));
+        }
+        out.push('\n');
+        Ok(())
     } else if def.get("properties").is_some() {
         properties_table(out, def, &[])
     } else {

@@ -6,14 +6,15 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::error::{FieldError, FieldPath};
-use super::schema::{BodySpec, KindSpec, SceneFile};
+use super::schema::{BodySpec, InertiaSpec, KindSpec, SceneFile};
 use super::shapes::build_shape;
 use super::values::{non_negative, pose, positive, vec3_or_zero};
 use super::InitialLoad;
 use crate::body::BodyKind;
 use crate::scenes::Scene;
 use crate::world::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError};
-use tumble_collide::DVec3;
+use tumble_collide::mass::MassProperties;
+use tumble_collide::{DMat3, DVec3};
 
 /// Most bodies a scene file may describe (grids included).
 const MAX_SCENE_BODIES: u64 = 1_000_000;
@@ -229,6 +230,26 @@ fn unknown_name<'a>(
     )
 }
 
+/// `mass` with `inertia` (and `center_of_mass`): the mass properties given
+/// outright, checked as a body's (finite, mass > 0, symmetric, physical).
+fn given_mass_properties(
+    path: &FieldPath,
+    mass: f64,
+    inertia: InertiaSpec,
+    center_of_mass: Option<[f64; 3]>,
+) -> Result<MassDesc, FieldError> {
+    let mass = positive(&path.key("mass"), mass, "kg")?;
+    let com = vec3_or_zero(&path.key("center_of_mass"), center_of_mass)?;
+    let matrix = match inertia {
+        InertiaSpec::Diagonal(d) => DMat3::from_diagonal(DVec3::from_array(d)),
+        // Rows are columns: the matrix is symmetric (checked below).
+        InertiaSpec::Matrix(rows) => DMat3::from_cols_array_2d(&rows),
+    };
+    MassProperties::new(mass, com, matrix)
+        .map(MassDesc::Inertial)
+        .map_err(|e| FieldError::new(&path.key("inertia"), e.to_string()))
+}
+
 fn resolve_body(
     spec: &BodySpec,
     path: &FieldPath,
@@ -237,14 +258,20 @@ fn resolve_body(
 ) -> Result<(), FieldError> {
     let kind = kind(spec.kind);
     let alternate = spec.grid.as_ref().and_then(|g| g.alternate_shapes.as_ref());
-    super::values::exactly_one(
-        path,
-        &[spec.shape.is_some(), spec.shapes.is_some(), alternate.is_some()],
-        "shape (a name), shapes (a list) or grid.alternate_shapes",
-    )?;
-    // The shape sets this body's copies cycle through (one set without a grid).
+    let given = [spec.shape.is_some(), spec.shapes.is_some(), alternate.is_some()];
+    let n = given.iter().filter(|&&g| g).count();
+    if n > 1 {
+        return Err(FieldError::new(
+            path,
+            format!("give at most one of shape (a name), shapes (a list) or grid.alternate_shapes (got {n})"),
+        ));
+    }
+    // The shape sets this body's copies cycle through (one set without a
+    // grid; one empty set for a body without shapes).
     let mut shape_sets: Vec<(Vec<ShapeDesc>, Vec<FieldPath>)> = Vec::new();
-    if let Some(name) = &spec.shape {
+    if !given.contains(&true) {
+        shape_sets.push((Vec::new(), Vec::new()));
+    } else if let Some(name) = &spec.shape {
         let (s, p) = ctx.lookup(&path.key("shape"), name)?;
         shape_sets.push((vec![s], vec![p]));
     } else if let Some(list) = &spec.shapes {
@@ -269,19 +296,37 @@ fn resolve_body(
         }
     }
 
-    let mass = match (spec.mass, spec.density) {
-        (Some(_), Some(_)) => {
+    if spec.center_of_mass.is_some() && spec.inertia.is_none() {
+        return Err(FieldError::new(
+            &path.key("center_of_mass"),
+            "is given with inertia (else it follows from the shapes)",
+        ));
+    }
+    let mass = match (spec.mass, spec.density, spec.inertia) {
+        (_, Some(_), Some(_)) => {
+            return Err(FieldError::new(
+                &path.key("density"),
+                "give inertia with mass, not density",
+            ))
+        }
+        (None, None, Some(_)) => return Err(FieldError::new(&path.key("inertia"), "needs mass (kg)")),
+        (Some(m), None, Some(i)) => Some(given_mass_properties(path, m, i, spec.center_of_mass)?),
+        (Some(_), Some(_), None) => {
             return Err(FieldError::new(
                 &path.key("density"),
                 "give either mass or density, not both",
             ))
         }
-        (Some(m), None) => Some(MassDesc::Mass(positive(&path.key("mass"), m, "kg")?)),
-        (None, Some(d)) => Some(MassDesc::Density(positive(&path.key("density"), d, "kg/m^3")?)),
-        (None, None) => None,
+        (Some(m), None, None) => Some(MassDesc::Mass(positive(&path.key("mass"), m, "kg")?)),
+        (None, Some(d), None) => Some(MassDesc::Density(positive(&path.key("density"), d, "kg/m^3")?)),
+        (None, None, None) => None,
     };
     if mass.is_some() && kind != BodyKind::Dynamic {
-        let key = if spec.mass.is_some() { "mass" } else { "density" };
+        let key = match (spec.inertia, spec.mass) {
+            (Some(_), _) => "inertia",
+            (None, Some(_)) => "mass",
+            (None, None) => "density",
+        };
         return Err(FieldError::new(
             &path.key(key),
             "only dynamic bodies have a mass (static and kinematic bodies are not pushed)",

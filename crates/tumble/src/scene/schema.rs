@@ -123,6 +123,16 @@ pub enum KindSpec {
     Kinematic,
 }
 
+/// A body's given inertia (kg m^2): its diagonal, or the whole matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum InertiaSpec {
+    /// `[Ixx, Iyy, Izz]`: principal moments along the model axes.
+    Diagonal([f64; 3]),
+    /// `[[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]`: symmetric.
+    Matrix([[f64; 3]; 3]),
+}
+
 /// One body (or, with `grid`, a block of identical bodies).
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -134,8 +144,10 @@ pub struct BodySpec {
     /// `dynamic` (default), `static` or `kinematic`.
     #[serde(default)]
     pub kind: KindSpec,
-    /// Name of a shape in the top-level `shapes` table. Exactly one of
-    /// `shape`, `shapes` and `grid.alternate_shapes`.
+    /// Name of a shape in the top-level `shapes` table. At most one of
+    /// `shape`, `shapes` and `grid.alternate_shapes`; none for a body
+    /// without shapes, which touches nothing (a kinematic body, or a
+    /// dynamic one with `mass` and `inertia`).
     #[serde(default)]
     pub shape: Option<String>,
     /// The body's shapes, each with its optional `local_pose`.
@@ -149,6 +161,16 @@ pub struct BodySpec {
     /// mass and inertia follow from the geometry (meshes must be closed).
     #[serde(default)]
     pub density: Option<f64>,
+    /// Inertia about the centre of mass in the model frame (kg m^2), with
+    /// `mass`: three numbers (a diagonal) or a symmetric 3x3 matrix (rows).
+    /// The mass properties are then given outright (as a URDF `<inertial>`)
+    /// and the shapes only collide. Dynamic bodies only.
+    #[serde(default)]
+    pub inertia: Option<InertiaSpec>,
+    /// With `inertia`: the centre of mass in the model frame (m). Default
+    /// [0, 0, 0].
+    #[serde(default)]
+    pub center_of_mass: Option<[f64; 3]>,
     /// Name of a material in the top-level `materials` table.
     #[serde(default)]
     pub material: Option<String>,

@@ -560,3 +560,71 @@ fn bad_joints_are_located_at_their_field() {
     assert_eq!(path, "joints[0].body_a");
     assert!(message.contains("dynamic"), "{message}");
 }
+
+#[test]
+fn given_inertia_and_bodies_without_shapes() {
+    // A shapeless body given its mass properties, a box given an inertia
+    // other than its own, a kinematic body without shapes.
+    let text = r#"
+[[bodies]]
+name = "weight"
+mass = 2.0
+inertia = [1.0, 1.5, 2.0]
+center_of_mass = [0.1, 0, 0]
+
+[[bodies]]
+name = "box"
+shapes = [{ type = "box", half_extents = [0.1, 0.1, 0.1] }]
+mass = 1.0
+inertia = [[0.3, 0, 0], [0, 0.3, 0], [0, 0, 0.3]]
+position = [3, 0, 0]
+
+[[bodies]]
+name = "marker"
+kind = "kinematic"
+linear_velocity = [1, 0, 0]
+"#;
+    let (mut w, ids) = toml(text).unwrap().build().unwrap();
+    let weight = w.body(ids[0]).unwrap();
+    assert_eq!(weight.mass(), 2.0);
+    let mut moments = weight.principal_inertia().to_array();
+    moments.sort_by(f64::total_cmp);
+    assert_eq!(moments, [1.0, 1.5, 2.0]);
+    assert!((w.center_of_mass(ids[0]).unwrap() - DVec3::new(0.1, 0.0, 0.0)).length() < 1e-15);
+    assert_eq!(w.body(ids[1]).unwrap().principal_inertia(), DVec3::splat(0.3));
+    w.step();
+    assert!(
+        w.pose(ids[2]).unwrap().position.x > 0.0,
+        "the kinematic marker moves"
+    );
+
+    // Each bad combination at its field.
+    for (edit, field, wanted) in [
+        ("mass = 2.0\n", "inertia", "needs mass"),
+        ("mass = 2.0\n", "center_of_mass", "is given with inertia"),
+        ("mass = 2.0\n", "density", "not density"),
+        ("inertia = [1.0, 1.5, 2.0]\n", "inertia", "triangle inequality"),
+        ("inertia = [1.0, 1.5, 2.0]\n", "inertia", "only dynamic bodies"),
+    ] {
+        let replaced = match (field, wanted) {
+            ("inertia", "needs mass") => text.replacen(edit, "", 1),
+            ("center_of_mass", _) => text.replacen("inertia = [1.0, 1.5, 2.0]\n", "", 1),
+            ("density", _) => text.replacen(edit, "density = 5.0\n", 1),
+            (_, "triangle inequality") => text.replacen(edit, "inertia = [1.0, 1.0, 3.0]\n", 1),
+            _ => text.replacen(edit, "inertia = [1.0, 1.5, 2.0]\nkind = \"static\"\n", 1),
+        };
+        let (line, _, path, message) = at(toml(&replaced).unwrap_err());
+        assert_eq!(path, format!("bodies[0].{field}"), "{message}");
+        assert!(message.contains(wanted), "{message}");
+        assert_eq!(line, position_of(&replaced, field).0, "{message}");
+    }
+    // Without shapes and without inertia: the world refuses, at the body.
+    let bare = text.replacen("inertia = [1.0, 1.5, 2.0]\ncenter_of_mass = [0.1, 0, 0]\n", "", 1);
+    let (_, _, path, message) = at(toml(&bare).unwrap().build().unwrap_err());
+    assert_eq!(path, "bodies[0]");
+    assert!(message.contains("no shapes"), "{message}");
+    let both = text.replacen("mass = 2.0\n", "mass = 2.0\nshape = \"a\"\nshapes = []\n", 1);
+    let (_, _, path, message) = at(toml(&both).unwrap_err());
+    assert_eq!(path, "bodies[0]");
+    assert!(message.contains("at most one of"), "{message}");
+}

@@ -36,12 +36,21 @@ for t in "${targets[@]}"; do
     # -rss_limit_mb: scene files may build large (valid) worlds.
     # -report_slow_units: valid but large scenes build big meshes (slow
     # under the sanitizer); only crashes, timeouts and OOMs fail the run.
+    set +e
     nice -n 10 cargo +nightly fuzz run "$t" "corpus-new/$t" "corpus/$t" "regressions/$t" -- \
         -max_total_time="$seconds" -rss_limit_mb=4096 -timeout=60 -report_slow_units=60 \
         -print_final_stats=1 2>&1 |
-        tee "corpus-new/$t.log" | grep -E '^(stat::number_of_executed_units|==[0-9]+==|SUMMARY)' || true
+        tee "corpus-new/$t.log" | grep -E '^(stat::number_of_executed_units|==[0-9]+==|SUMMARY)'
+    status=${PIPESTATUS[0]}
+    set -e
     if ls "artifacts/$t"/crash-* "artifacts/$t"/oom-* "artifacts/$t"/timeout-* >/dev/null 2>&1; then
         echo "fuzz $t: failing inputs in fuzz/artifacts/$t/" >&2
+        exit 1
+    fi
+    # Anything else that stops the run (a build that fails) fails it too,
+    # rather than passing for a clean run.
+    if [ "$status" -ne 0 ]; then
+        echo "fuzz $t: cargo fuzz stopped with status $status (fuzz/corpus-new/$t.log)" >&2
         exit 1
     fi
 done

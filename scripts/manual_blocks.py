@@ -115,6 +115,10 @@ class Runner:
                 self.fail(f"{block.where} copy", f"differs from {m.group(1)}")
                 return
             self.ok(f"{block.where} equals {m.group(1)}")
+            # Run where it lies: the files it names are relative to it.
+            args = [str(self.tumble), "run", "--quiet", "--steps", "2", str(ROOT / m.group(1))]
+            self.command(f"{block.where} scene", args)
+            return
         self.scene(block, block.text, ".toml")
 
     def cargo_manifest(self, block: Block) -> None:

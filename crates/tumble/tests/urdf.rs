@@ -862,3 +862,169 @@ fn a_point_mass_on_a_link_with_geometry_takes_the_geometrys_inertia() {
         .iter()
         .any(|m| m.contains("link `b`") && m.contains("point mass")));
 }
+
+#[test]
+fn a_scene_files_robots_are_the_robots_load_urdf_adds() {
+    use tumble::scene::{parse_scene, Format, SceneError};
+    // The arm through a scene file beside a payload welded to its tool,
+    // and the quadruped beside it: named ROBOT/LINK, each robot in a
+    // non-colliding group of its own.
+    let text = format!(
+        r#"
+[settings]
+sleeping = false
+[[bodies]]
+name = "ground"
+kind = "static"
+shapes = [{{ type = "half_space" }}]
+[[robots]]
+file = "{arm}"
+name = "arm"
+fixed_base = true
+[[robots]]
+file = "{dog}"
+position = [2, 0, 0.4]
+[[bodies]]
+name = "payload"
+shapes = [{{ type = "box", half_extents = [0.02, 0.02, 0.02] }}]
+mass = 0.5
+position = [5, 0, 0.02]
+[[joints]]
+kind = "fixed"
+body_a = "payload"
+body_b = "quadruped/torso"
+anchor = [5, 0, 0.02]
+"#,
+        arm = robot_path("arm6.urdf"),
+        dog = robot_path("quadruped.urdf"),
+    );
+    let scene = parse_scene(&text, Format::Toml, "robots.toml".as_ref()).unwrap();
+    let (mut w, ids) = scene.build().unwrap();
+    let name = |k: usize| w.name(ids[k]).unwrap().to_string();
+    let arm_bodies: Vec<usize> = (0..ids.len()).filter(|&k| name(k).starts_with("arm/")).collect();
+    assert_eq!(arm_bodies.len(), 7);
+    assert!(arm_bodies.iter().any(|&k| name(k) == "arm/tool+tool_tip"));
+    let group = |k: usize| w.non_colliding_group(ids[k]).unwrap();
+    let dog = (0..ids.len()).find(|&k| name(k) == "quadruped/torso").unwrap();
+    assert!(group(arm_bodies[0]) != 0 && group(dog) != 0 && group(arm_bodies[0]) != group(dog));
+    assert_eq!(group(0), 0);
+
+    // Bit for bit what load_urdf gives in the same world (the bodies
+    // before the arm, the arm, then nothing else).
+    let only_arm = format!(
+        "[settings]\nsleeping = false\n[[bodies]]\nname = \"ground\"\nkind = \"static\"\n\
+         shapes = [{{ type = \"half_space\" }}]\n[[robots]]\nfile = \"{}\"\nfixed_base = true\n",
+        robot_path("arm6.urdf")
+    );
+    let (mut from_scene, scene_ids) = parse_scene(&only_arm, Format::Toml, "arm.toml".as_ref())
+        .unwrap()
+        .build()
+        .unwrap();
+    let mut direct = world();
+    direct
+        .add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()).named("ground"))
+        .unwrap();
+    let arm = load_urdf(
+        &mut direct,
+        robot_path("arm6.urdf"),
+        UrdfOptions {
+            fixed_base: true,
+            ..UrdfOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(from_scene.joint_count(), direct.joint_count());
+    let start = direct.pose(arm.links["tool"]).unwrap().position;
+    // Standing straight up it would stay: pushed, it falls over.
+    let by_name = |w: &World, ids: &[tumble::world::BodyId], n: &str| {
+        *ids.iter().find(|&&id| w.name(id).unwrap() == n).unwrap()
+    };
+    let push = DVec3::new(0.3, 0.2, 0.0);
+    let forearm = by_name(&from_scene, &scene_ids, "arm6/forearm");
+    from_scene.set_velocity(forearm, push, DVec3::ZERO).unwrap();
+    direct
+        .set_velocity(arm.links["forearm"], push, DVec3::ZERO)
+        .unwrap();
+    steps(&mut from_scene, 60);
+    steps(&mut direct, 60);
+    let tool_scene = by_name(&from_scene, &scene_ids, "arm6/tool+tool_tip");
+    assert_eq!(
+        from_scene.pose(tool_scene).unwrap(),
+        direct.pose(arm.links["tool"]).unwrap()
+    );
+    let moved = (direct.pose(arm.links["tool"]).unwrap().position - start).length();
+    assert!(moved > 0.01, "the arm sags under gravity: {moved} m");
+
+    // The whole scene steps, the payload held to the quadruped.
+    steps(&mut w, 60);
+    assert!(w.max_joint_error().0 < 1e-3);
+
+    // A missing file, at its field, naming the file.
+    let missing = text.replace("arm6.urdf", "arm7.urdf");
+    match parse_scene(&missing, Format::Toml, "robots.toml".as_ref()) {
+        Err(SceneError::At { path, message, .. }) => {
+            assert_eq!(path, "robots[0].file");
+            assert!(message.contains("arm7.urdf"), "{message}");
+        }
+        other => panic!("expected a located error, got {other:?}"),
+    }
+    // Motors: a joint the robot does not have, a motor the world refuses.
+    for (motor, wanted) in [
+        (
+            "nope = { type = \"velocity\", target = 1.0, max_force = 5.0 }",
+            "no moving joint named `nope`",
+        ),
+        (
+            "elbow = { type = \"velocity\", target = 1.0, max_force = -5.0 }",
+            "must be >= 0",
+        ),
+    ] {
+        let bad = text.replace(
+            "fixed_base = true\n",
+            &format!("fixed_base = true\nmotors = {{ {motor} }}\n"),
+        );
+        match parse_scene(&bad, Format::Toml, "robots.toml".as_ref()) {
+            Err(SceneError::At { path, message, .. }) => {
+                assert!(path.starts_with("robots[0].motors."), "{path}");
+                assert!(
+                    wanted != "must be >= 0" || path == "robots[0].motors.elbow.max_force",
+                    "{path}"
+                );
+                assert!(message.contains(wanted), "{message}");
+            }
+            other => panic!("expected a located error, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn the_arm_reach_scene_holds_its_payload_at_the_pd_targets() {
+    // examples/scenes/arm_reach.toml: the arm through a scene file, its
+    // motors from the file, a payload welded to its tool.
+    let path = format!(
+        "{}/../../examples/scenes/arm_reach.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let scene = tumble::scene::load_scene(&path).unwrap();
+    let (mut w, _) = scene.build().unwrap();
+    steps(&mut w, scene.scene.steps);
+    let state = |name: &str| {
+        let id = w
+            .joint_ids()
+            .into_iter()
+            .find(|&j| w.joint(j).unwrap().name == name)
+            .unwrap_or_else(|| panic!("no joint {name}"));
+        w.joint_state(id).unwrap()
+    };
+    for (name, target) in [
+        ("arm/shoulder_pan", 0.5),
+        ("arm/shoulder_lift", 0.6),
+        ("arm/elbow", 0.8),
+    ] {
+        let s = state(name);
+        // The load's torque over the stiffness leaves a few mrad.
+        assert!((s.position - target).abs() < 0.02, "{name}: {} rad", s.position);
+        assert!(s.rate.abs() < 1e-3, "{name}: still at {} rad/s", s.rate);
+    }
+    assert!(w.max_joint_error().0 < 1e-3);
+}

@@ -41,7 +41,7 @@
 
 use crate::body::BodyKind;
 use crate::joint::{JointDesc, JointId, JointKind, Motor};
-use crate::world::{BodyDesc, BodyId, MassDesc, ShapeDesc, World, WorldError};
+use crate::world::{BodyDesc, BodyId, MassDesc, ShapeDesc, World, WorldError, WorldSettings};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tumble_collide::mass::MassProperties;
@@ -196,6 +196,40 @@ pub struct UrdfRobot {
     pub warnings: Vec<String>,
 }
 
+/// A robot read from URDF before it is added anywhere: its bodies, and its
+/// joints with their bodies as indices into `bodies` (`None`: the world).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfParts {
+    /// The robot's name.
+    pub name: String,
+    /// One body per group of links joined by fixed joints, the root's first
+    /// (unless the root stands for the world).
+    pub bodies: Vec<BodyDesc>,
+    /// Every joint of the file that becomes one, in the file's order.
+    pub joints: Vec<UrdfPartJoint>,
+    /// With `UrdfOptions::fixed_base` and a dynamic root: its weld to the world.
+    pub base_weld: Option<JointDesc<usize>>,
+    /// Every link's body (an index into `bodies`); a link that stands for
+    /// the world, or was left out, has none.
+    pub links: BTreeMap<String, usize>,
+    /// The root link.
+    pub root: String,
+    /// How the file was read where it departs from the URDF specification,
+    /// and what it asks for that is not simulated.
+    pub warnings: Vec<String>,
+}
+
+/// A joint of [`UrdfParts`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct UrdfPartJoint {
+    /// The joint, named as in the file.
+    pub desc: JointDesc<usize>,
+    /// Largest effort of its `<limit>` (N m or N; infinite when not given).
+    pub effort: f64,
+    /// Largest speed of its `<limit>` (rad/s or m/s; infinite when not given).
+    pub velocity: f64,
+}
+
 /// Reads the URDF file at `path` and adds the robot to `world`.
 ///
 /// ```
@@ -214,11 +248,16 @@ pub fn load_urdf(
     options: UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| UrdfError::Read {
+    let text = read_file(path)?;
+    add_urdf(world, &text, path, options)
+}
+
+/// The text of the URDF file at `path`.
+fn read_file(path: &Path) -> Result<String, UrdfError> {
+    std::fs::read_to_string(path).map_err(|e| UrdfError::Read {
         file: path.to_path_buf(),
         message: e.to_string(),
-    })?;
-    add_urdf(world, &text, path, options)
+    })
 }
 
 /// Adds the robot described by URDF `text` to `world`; `file` names it in
@@ -231,6 +270,37 @@ pub fn add_urdf(
     file: &Path,
     options: UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
+    read(text, file, options, |model, reader| {
+        model.add_to(world, options, reader)
+    })
+}
+
+/// Reads the URDF file at `path` into [`UrdfParts`], the robot's bodies in
+/// non-colliding group `group` unless `options.self_collision` (a scene
+/// file's robots: `tumble::scene`). Checked as a world would check them
+/// when they are added, the refusals located in the file.
+pub fn read_urdf_parts(
+    path: impl AsRef<Path>,
+    options: UrdfOptions,
+    group: u32,
+) -> Result<UrdfParts, UrdfError> {
+    let path = path.as_ref();
+    let text = read_file(path)?;
+    read(&text, path, options, |model, reader| {
+        let (parts, body_nodes, joint_nodes) = model.parts(options, group, reader)?;
+        let mut scratch = World::new(WorldSettings::default()).expect("the default settings are valid");
+        add_parts(&mut scratch, &parts, &body_nodes, &joint_nodes, reader)?;
+        Ok(parts)
+    })
+}
+
+/// Parses URDF `text` (errors naming `file`) and hands its model to `then`.
+fn read<T>(
+    text: &str,
+    file: &Path,
+    options: UrdfOptions,
+    then: impl for<'a, 'i> FnOnce(&Model<'a, 'i>, &Reader<'a, 'i>) -> Result<T, UrdfError>,
+) -> Result<T, UrdfError> {
     // An XML declaration after a blank line (files of PyBullet's data set)
     // is refused by the XML parser; it says nothing a URDF needs, so it is
     // blanked out, in place, keeping every line and column.
@@ -259,7 +329,7 @@ pub fn add_urdf(
         balance_inertia: options.balance_inertia,
     };
     let model = reader.model()?;
-    model.add_to(world, options, &reader)
+    then(&model, &reader)
 }
 
 /// The parsed file.
@@ -747,8 +817,25 @@ impl<'a, 'input> Reader<'a, 'input> {
     }
 }
 
-impl Model<'_, '_> {
-    fn add_to(&self, world: &mut World, options: UrdfOptions, r: &Reader) -> Result<UrdfRobot, UrdfError> {
+impl<'a, 'input> Model<'a, 'input> {
+    /// The robot's bodies and joints (`UrdfParts`), its bodies' links'
+    /// elements and its joints' elements (for errors the world raises when
+    /// they are added), the robot's bodies in non-colliding group `group`
+    /// unless `options.self_collision`.
+    #[allow(clippy::type_complexity)]
+    fn parts(
+        &self,
+        options: UrdfOptions,
+        group: u32,
+        r: &Reader<'a, 'input>,
+    ) -> Result<
+        (
+            UrdfParts,
+            Vec<roxmltree::Node<'a, 'input>>,
+            Vec<roxmltree::Node<'a, 'input>>,
+        ),
+        UrdfError,
+    > {
         let n = self.links.len();
         let mut parent_joint = vec![None; n];
         for (k, j) in self.joints.iter().enumerate() {
@@ -815,7 +902,7 @@ impl Model<'_, '_> {
         // A group of its own for the robot's bodies, unless they may touch.
         let group = match options.self_collision {
             true => 0,
-            false => world.unused_non_colliding_group(),
+            false => group,
         };
         // Whether a group carries another through a moving joint.
         let carries = |g: usize| {
@@ -895,7 +982,8 @@ impl Model<'_, '_> {
                 let combined =
                     MassProperties::combine(&parts).map_err(|e| r.err(link.node, format!("inertia: {e}")))?;
                 // A point mass (all moments 0, as some files give) is valid
-                // mass properties but no rigid body: it could not turn.
+                // mass properties but no rigid body: it could not turn. With
+                // geometry, the geometry gives the moments; without, refused.
                 let moments = combined.principal().moments;
                 let from_geometry = match moments.z <= 0.0 && !shapes.is_empty() {
                     true => geometry_inertia(&shapes, &combined),
@@ -1018,59 +1106,121 @@ impl Model<'_, '_> {
             desc.validate().map_err(|e| r.err(j.node, e.to_string()))?;
             joint_descs.push((j, desc));
         }
-        // Everything checked: added to a copy of the world, which replaces
-        // it only once the whole robot is in. Removing what was added
-        // before a refusal would not give the world back as it was: the
-        // freed slots' generations and the free list would differ
-        // (the `urdf` fuzz target, a box 1e-320 m thick).
-        let mut trial = world.clone();
-        let mut ids: Vec<BodyId> = Vec::with_capacity(descs.len());
+        // (A static root, or one that stands for the world, is fixed already.)
+        let base_weld = match (options.fixed_base, group_body[body_of[root]]) {
+            (true, Some(k)) if descs[k].kind == BodyKind::Dynamic => {
+                let frame = pose[root].expect("placed");
+                Some(JointDesc::fixed(k, None, frame.position))
+            }
+            _ => None,
+        };
+        let mut body_nodes = vec![self.links[root].node; descs.len()];
         for (g, body) in group_body.iter().enumerate() {
             if let Some(k) = body {
-                let id = trial
-                    .add_body(&descs[*k])
-                    .map_err(|e| r.err(self.links[groups[g]].node, world_message(&e)))?;
-                ids.push(id);
+                body_nodes[*k] = self.links[groups[g]].node;
             }
         }
-        let mut joints = BTreeMap::new();
-        for (j, desc) in &joint_descs {
-            let id = trial
-                .add_joint(&desc.clone().with_bodies(|g| ids[g]))
-                .map_err(|e| r.err(j.node, world_message(&e)))?;
-            joints.insert(
-                j.name.clone(),
-                UrdfJoint {
-                    id,
+        let joint_nodes = joint_descs.iter().map(|(j, _)| j.node).collect();
+        let parts = UrdfParts {
+            name: self.name.clone(),
+            bodies: descs,
+            joints: joint_descs
+                .into_iter()
+                .map(|(j, desc)| UrdfPartJoint {
+                    desc,
                     effort: j.effort,
                     velocity: j.velocity,
-                },
-            );
-        }
-        // (A static root, or one that stands for the world, is fixed already.)
-        if let (true, Some(k)) = (options.fixed_base, group_body[body_of[root]]) {
-            if descs[k].kind == BodyKind::Dynamic {
-                let frame = pose[root].expect("placed");
-                trial
-                    .add_joint(&JointDesc::fixed(ids[k], None, frame.position))
-                    .map_err(|e| r.err(self.links[root].node, world_message(&e)))?;
-            }
-        }
-        *world = trial;
-        Ok(UrdfRobot {
-            name: self.name.clone(),
+                })
+                .collect(),
+            base_weld,
             links: self
                 .links
                 .iter()
                 .enumerate()
-                .filter_map(|(l, link)| Some((link.name.clone(), ids[group_body[body_of[l]]?])))
+                .filter_map(|(l, link)| Some((link.name.clone(), group_body[body_of[l]]?)))
                 .collect(),
-            joints,
-            bodies: ids.clone(),
             root: self.links[root].name.clone(),
             warnings,
+        };
+        Ok((parts, body_nodes, joint_nodes))
+    }
+
+    /// Adds the robot to `world`; on error the world is unchanged.
+    fn add_to(
+        &self,
+        world: &mut World,
+        options: UrdfOptions,
+        r: &Reader<'a, 'input>,
+    ) -> Result<UrdfRobot, UrdfError> {
+        let (parts, body_nodes, joint_nodes) = self.parts(options, world.unused_non_colliding_group(), r)?;
+        // Added to a copy of the world, which replaces it only once the
+        // whole robot is in. Removing what was added before a refusal would
+        // not give the world back as it was: the freed slots' generations
+        // and the free list would differ (the `urdf` fuzz target, a box
+        // 1e-320 m thick).
+        let mut trial = world.clone();
+        let (ids, joint_ids) = add_parts(&mut trial, &parts, &body_nodes, &joint_nodes, r)?;
+        *world = trial;
+        Ok(UrdfRobot {
+            name: parts.name.clone(),
+            links: parts
+                .links
+                .iter()
+                .map(|(name, &k)| (name.clone(), ids[k]))
+                .collect(),
+            joints: parts
+                .joints
+                .iter()
+                .zip(&joint_ids)
+                .map(|(j, &id)| {
+                    (
+                        j.desc.name.clone(),
+                        UrdfJoint {
+                            id,
+                            effort: j.effort,
+                            velocity: j.velocity,
+                        },
+                    )
+                })
+                .collect(),
+            bodies: ids,
+            root: parts.root,
+            warnings: parts.warnings,
         })
     }
+}
+
+/// Adds `parts` to `world` (bodies, joints, the base's weld), the world's
+/// refusals located at the link or joint element; the bodies' and the
+/// joints' handles. On error, part of the robot may be in `world`.
+fn add_parts(
+    world: &mut World,
+    parts: &UrdfParts,
+    body_nodes: &[roxmltree::Node],
+    joint_nodes: &[roxmltree::Node],
+    r: &Reader,
+) -> Result<(Vec<BodyId>, Vec<JointId>), UrdfError> {
+    let mut ids: Vec<BodyId> = Vec::with_capacity(parts.bodies.len());
+    for (desc, node) in parts.bodies.iter().zip(body_nodes) {
+        ids.push(
+            world
+                .add_body(desc)
+                .map_err(|e| r.err(*node, world_message(&e)))?,
+        );
+    }
+    let mut joint_ids = Vec::with_capacity(parts.joints.len());
+    for (j, node) in parts.joints.iter().zip(joint_nodes) {
+        let id = world
+            .add_joint(&j.desc.clone().with_bodies(|k| ids[k]))
+            .map_err(|e| r.err(*node, world_message(&e)))?;
+        joint_ids.push(id);
+    }
+    if let Some(weld) = &parts.base_weld {
+        world
+            .add_joint(&weld.clone().with_bodies(|k| ids[k]))
+            .map_err(|e| r.err(body_nodes[weld.body_a], world_message(&e)))?;
+    }
+    Ok((ids, joint_ids))
 }
 
 fn world_message(e: &WorldError) -> String {

@@ -6,11 +6,12 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::error::{FieldError, FieldPath};
-use super::schema::{BodySpec, InertiaSpec, KindSpec, SceneFile};
+use super::schema::{BodySpec, InertiaSpec, KindSpec, RobotSpec, SceneFile};
 use super::shapes::build_shape;
 use super::values::{non_negative, pose, positive, vec3_or_zero};
 use super::InitialLoad;
 use crate::body::BodyKind;
+use crate::joint::urdf::{read_urdf_parts, UrdfOptions};
 use crate::scenes::Scene;
 use crate::world::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError};
 use tumble_collide::mass::MassProperties;
@@ -175,6 +176,9 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
         let path = root.key("bodies").index(i);
         resolve_body(spec, &path, &ctx, &mut out)?;
     }
+    for (i, spec) in file.robots.iter().enumerate() {
+        resolve_robot(spec, &root.key("robots").index(i), base_dir, &mut out)?;
+    }
     // An empty file (or one with settings only) is almost surely the wrong
     // file: nothing would be simulated.
     if out.scene.bodies.is_empty() {
@@ -188,6 +192,85 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
         out.joint_paths.push(path);
     }
     Ok(out)
+}
+
+/// A robot's bodies and joints, appended to the scene's: the bodies named
+/// `PREFIX/LINK`, in a non-colliding group above every group of the scene
+/// so far (unless `self_collision`), its joints' bodies renumbered. A
+/// refusal of the URDF file is located at `file`, with the URDF file's own
+/// line and element in the message.
+fn resolve_robot(
+    spec: &RobotSpec,
+    path: &FieldPath,
+    base_dir: &Path,
+    out: &mut Resolved,
+) -> Result<(), FieldError> {
+    let frame = pose(path, spec.position, spec.orientation, spec.rotation.as_deref())?;
+    let options = UrdfOptions {
+        position: frame.position,
+        orientation: frame.rotation,
+        fixed_base: spec.fixed_base,
+        self_collision: spec.self_collision,
+        balance_inertia: spec.balance_inertia,
+    };
+    let used = out
+        .scene
+        .bodies
+        .iter()
+        .map(|b| b.non_colliding_group)
+        .max()
+        .unwrap_or(0);
+    let group = used
+        .checked_add(1)
+        .ok_or_else(|| FieldError::new(path, "no non-colliding group is left for the robot"))?;
+    let parts = read_urdf_parts(base_dir.join(&spec.file), options, group)
+        .map_err(|e| FieldError::new(&path.key("file"), e.to_string()))?;
+    let mut parts = parts;
+    for (name, motor) in &spec.motors {
+        let mpath = path.key("motors").key(name);
+        let Some(joint) = parts.joints.iter().position(|j| j.desc.name == *name) else {
+            let known: Vec<&str> = parts.joints.iter().map(|j| j.desc.name.as_str()).collect();
+            return Err(FieldError::new(
+                &mpath,
+                format!(
+                    "the robot has no moving joint named `{name}` (it has: {})",
+                    known.join(", ")
+                ),
+            ));
+        };
+        let joint = &mut parts.joints[joint];
+        joint.desc.motor = Some(*motor);
+        joint.desc.validate().map_err(|e| {
+            // `joints[k].motor.max_force` of a scene's own joint is
+            // `robots[k].motors.NAME.max_force` here.
+            let field = match &e {
+                WorldError::BadValue { field, .. } => field.strip_prefix("joint.motor."),
+                _ => None,
+            };
+            let at = field.map_or(mpath.clone(), |f| mpath.key(f));
+            FieldError::new(&at, super::joints::joint_error_message(&e))
+        })?;
+    }
+    let prefix = spec.name.clone().unwrap_or_else(|| parts.name.clone());
+    let first = out.scene.bodies.len();
+    for mut body in parts.bodies {
+        body.name = format!("{prefix}/{}", body.name);
+        out.origins.push(BodyOrigin {
+            path: path.clone(),
+            copy: None,
+            shapes: vec![path.clone(); body.shapes.len()],
+        });
+        out.scene.bodies.push(body);
+    }
+    let joints = parts.joints.into_iter().map(|j| j.desc).chain(parts.base_weld);
+    for mut joint in joints {
+        if !joint.name.is_empty() {
+            joint.name = format!("{prefix}/{}", joint.name);
+        }
+        out.scene.joints.push(joint.with_bodies(|k| first + k));
+        out.joint_paths.push(path.clone());
+    }
+    Ok(())
 }
 
 /// What the bodies of a file refer to.

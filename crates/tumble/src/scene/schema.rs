@@ -56,10 +56,56 @@ pub struct SceneFile {
     /// copies in place).
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
+    /// Robots read from URDF files, added after the bodies in this order
+    /// (their links' bodies named `ROBOT/LINK`, so that `joints` can name
+    /// them).
+    #[serde(default)]
+    pub robots: Vec<RobotSpec>,
     /// Joints between bodies (or a body and the world), added after the
-    /// bodies in this order.
+    /// bodies and the robots in this order.
     #[serde(default)]
     pub joints: Vec<JointSpec>,
+}
+
+/// A robot from a URDF file (`tumble::joint::urdf`: what is read, and how
+/// files written for other engines are read).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// The URDF file, relative to the scene file.
+    pub file: String,
+    /// Prefix of its bodies' names: `NAME/LINK` (links merged by fixed
+    /// joints: `NAME/LINK+LINK`) and of its joints' names. Default: the
+    /// robot's name in the file.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// World position of the root link's frame (m). Default [0, 0, 0].
+    #[serde(default)]
+    pub position: Option<[f64; 3]>,
+    /// Orientation of the root link's frame as a unit quaternion [x, y, z,
+    /// w]. At most one of `orientation` and `rotation`; default identity.
+    #[serde(default)]
+    pub orientation: Option<[f64; 4]>,
+    /// Orientation as a product of rotations in degrees, as a body's.
+    #[serde(default)]
+    pub rotation: Option<Vec<RotationSpec>>,
+    /// Weld the root link to the world. Default false.
+    #[serde(default)]
+    pub fixed_base: bool,
+    /// Let the robot's links touch each other. Default false (they share a
+    /// non-colliding group of their own, as in PyBullet).
+    #[serde(default)]
+    pub self_collision: bool,
+    /// Replace an inertia no body could have by the isotropic one of the
+    /// same trace (MuJoCo's `balanceinertia`). Default false: refused.
+    #[serde(default)]
+    pub balance_inertia: bool,
+    /// Motors of the robot's joints by the file's joint names (`shoulder =
+    /// { type = "position", target = 0.5, stiffness = 4000.0, damping =
+    /// 200.0, max_force = 150.0 }`), replacing the damping motor a
+    /// `<dynamics damping>` gives. Default none.
+    #[serde(default)]
+    pub motors: BTreeMap<String, Motor>,
 }
 
 /// A joint: its anchor and axis in world coordinates as the bodies are

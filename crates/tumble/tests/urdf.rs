@@ -225,6 +225,9 @@ fn a_small_robot_loads() {
     let e = load_urdf(&mut w, "no/such/robot.urdf", UrdfOptions::default()).unwrap_err();
     assert!(matches!(e, UrdfError::Read { .. }));
     assert!(e.to_string().contains("no/such/robot.urdf"));
+    // A directory (or a device) is not read at all.
+    let e = load_urdf(&mut w, env!("CARGO_MANIFEST_DIR"), UrdfOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("not a regular file"), "{e}");
 }
 
 #[test]

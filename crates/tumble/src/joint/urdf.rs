@@ -252,12 +252,28 @@ pub fn load_urdf(
     add_urdf(world, &text, path, options)
 }
 
+/// Largest URDF file read (bytes): robot descriptions are kilobytes; a
+/// path to something else (a device that never ends, a mesh named by
+/// mistake) is refused before it is read.
+pub const MAX_URDF_BYTES: u64 = 64 << 20;
+
 /// The text of the URDF file at `path`.
 fn read_file(path: &Path) -> Result<String, UrdfError> {
-    std::fs::read_to_string(path).map_err(|e| UrdfError::Read {
+    let refuse = |message: String| UrdfError::Read {
         file: path.to_path_buf(),
-        message: e.to_string(),
-    })
+        message,
+    };
+    let meta = std::fs::metadata(path).map_err(|e| refuse(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(refuse("not a regular file".into()));
+    }
+    if meta.len() > MAX_URDF_BYTES {
+        return Err(refuse(format!(
+            "{} bytes: larger than any robot description (at most {MAX_URDF_BYTES})",
+            meta.len()
+        )));
+    }
+    std::fs::read_to_string(path).map_err(|e| refuse(e.to_string()))
 }
 
 /// Adds the robot described by URDF `text` to `world`; `file` names it in

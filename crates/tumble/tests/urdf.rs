@@ -1031,3 +1031,55 @@ fn the_arm_reach_scene_holds_its_payload_at_the_pd_targets() {
     }
     assert!(w.max_joint_error().0 < 1e-3);
 }
+
+#[test]
+fn joint_friction_holds_below_it_and_opposes_motion_above_it() {
+    // A 1 kg bob 0.5 m out on a horizontal arm, its hinge's <dynamics
+    // friction> f: gravity's torque m g d = 4.905 N m. Above it the arm
+    // stays; below it the arm starts to fall at (m g d - f) / I_pivot
+    // (Coulomb friction on the joint, as MuJoCo's frictionloss).
+    let arm = |friction: f64| {
+        format!(
+            r#"<robot name="r">
+  <link name="base">
+    <inertial><mass value="0"/><inertia ixx="0" iyy="0" izz="0"/></inertial>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+  <link name="arm">
+    <inertial><origin xyz="0.5 0 0"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01"/></inertial>
+  </link>
+  <joint name="pivot" type="continuous">
+    <parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <dynamics friction="{friction}"/>
+  </joint>
+</robot>"#
+        )
+    };
+    let (g, d, i_pivot) = (9.81, 0.5, 0.01 + 0.25);
+    let torque = g * d;
+    let rate_after = |friction: f64, n: usize| {
+        let (mut w, r) = loaded(
+            &arm(friction),
+            UrdfOptions {
+                position: DVec3::new(0.0, 0.0, 2.0),
+                ..UrdfOptions::default()
+            },
+        );
+        steps(&mut w, n);
+        let s = w.joint_state(r.joints["pivot"].id).unwrap();
+        (s.position, s.rate, w.time())
+    };
+    let (held, rate, _) = rate_after(6.0, 60);
+    assert!(
+        held.abs() < 1e-6 && rate.abs() < 1e-6,
+        "held: {held} rad, {rate} rad/s"
+    );
+    for friction in [0.0, 3.0] {
+        let (_, rate, t) = rate_after(friction, 6);
+        let expected = (torque - friction) / i_pivot * t;
+        assert!(
+            (rate.abs() / expected - 1.0).abs() < 0.01,
+            "f {friction}: {rate} rad/s, expected {expected}"
+        );
+    }
+}

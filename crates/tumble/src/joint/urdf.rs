@@ -5,12 +5,14 @@
 //! mesh STL/OBJ relative to the file or in a ROS `package://`, with scale;
 //! `<visual>` geometry when a link has no collision), and `<joint>` of type
 //! revolute, continuous, prismatic and fixed with origin, axis, `<limit
-//! lower upper effort velocity>` and `<dynamics damping>`. Links joined by
+//! lower upper effort velocity>` and `<dynamics damping friction>`. Links joined by
 //! fixed joints are merged into one body (their shapes and inertia
 //! combined, as PyBullet and MuJoCo do); every other joint becomes a hinge
 //! (revolute, continuous) or slider (prismatic) from the parent link to the
 //! child link, its angle 0 at the file's zero configuration. Joint
-//! `damping` becomes a damping motor (`Motor::Position` with stiffness 0)
+//! `damping` becomes a damping motor (`Motor::Position` with stiffness 0),
+//! or where there is none, `friction` a friction motor (`Motor::Velocity`
+//! towards 0 bounded by the friction: Coulomb friction on the joint),
 //! until another motor is set; `effort` is kept as the joint's largest
 //! motor force for the caller.
 //!
@@ -380,6 +382,8 @@ struct Joint<'a, 'input> {
     effort: f64,
     velocity: f64,
     damping: f64,
+    /// `<dynamics friction>` (N m or N, Coulomb).
+    friction: f64,
 }
 
 struct Model<'a, 'input> {
@@ -781,15 +785,27 @@ impl<'a, 'input> Reader<'a, 'input> {
                     format!("a {kind} joint needs a <limit> (lower, upper, effort, velocity)"),
                 ));
             }
-            let damping = match self.child(node, "dynamics") {
-                Some(d) => {
-                    if self.optional_number(d, "friction", 0.0)? != 0.0 && kind != "fixed" {
-                        with_friction.push(format!("`{name}`"));
-                    }
-                    self.optional_number(d, "damping", 0.0)?
-                }
-                None => 0.0,
+            let (damping, friction) = match self.child(node, "dynamics") {
+                Some(d) => (
+                    self.optional_number(d, "damping", 0.0)?,
+                    self.optional_number(d, "friction", 0.0)?,
+                ),
+                None => (0.0, 0.0),
             };
+            if friction < 0.0 {
+                return Err(self.err(node, "dynamics friction must be >= 0"));
+            }
+            // One motor per joint: a damping motor, else a friction one;
+            // a ball joint takes neither.
+            let unused_friction = friction > 0.0 && (damping > 0.0 || kind == "spherical");
+            if unused_friction && kind != "fixed" {
+                with_friction.push(format!("`{name}`"));
+            }
+            if damping > 0.0 && kind == "spherical" {
+                unsimulated.push(format!(
+                    "joint `{name}`: <dynamics damping> is not simulated on a ball joint (no motor)"
+                ));
+            }
             if let Some(m) = self.child(node, "mimic") {
                 unsimulated.push(format!(
                     "joint `{name}`: <mimic joint=\"{}\"> is not simulated (no coupling between joints): \
@@ -812,13 +828,15 @@ impl<'a, 'input> Reader<'a, 'input> {
                 effort,
                 velocity,
                 damping,
+                friction,
             });
         }
         // One line for them all (a file exported from MuJoCo gives every
-        // joint a friction).
+        // joint a damping and a friction).
         if !with_friction.is_empty() {
             unsimulated.push(format!(
-                "joint{} {}: <dynamics friction> is not simulated (no joint friction)",
+                "joint{} {}: <dynamics friction> is not simulated beside a <dynamics damping> or on a \
+                 ball joint (one motor per joint: the damping motor is kept)",
                 if with_friction.len() > 1 { "s" } else { "" },
                 with_friction.join(", ")
             ));
@@ -1111,12 +1129,23 @@ impl<'a, 'input> Model<'a, 'input> {
             }
             let mut desc = JointDesc::new(kind, child, parent, frame.position, axis).named(j.name.clone());
             desc.limits = limits;
-            if j.damping > 0.0 {
+            if kind == JointKind::Ball {
+                // (Neither motor drives a ball joint: warned when read.)
+            } else if j.damping > 0.0 {
                 desc.motor = Some(Motor::Position {
                     target: 0.0,
                     stiffness: 0.0,
                     damping: j.damping,
                     max_force: j.effort,
+                });
+            } else if j.friction > 0.0 {
+                // Coulomb friction on the joint: held at rest up to the
+                // friction, opposed by it in motion; a rigid velocity row
+                // towards 0 bounded by it is exactly that (MuJoCo's
+                // `frictionloss` is this row).
+                desc.motor = Some(Motor::Velocity {
+                    target: 0.0,
+                    max_force: j.friction,
                 });
             }
             desc.validate().map_err(|e| r.err(j.node, e.to_string()))?;

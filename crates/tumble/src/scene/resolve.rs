@@ -223,9 +223,8 @@ fn resolve_robot(
     let group = used
         .checked_add(1)
         .ok_or_else(|| FieldError::new(path, "no non-colliding group is left for the robot"))?;
-    let parts = read_urdf_parts(base_dir.join(&spec.file), options, group)
+    let mut parts = read_urdf_parts(base_dir.join(&spec.file), options, group)
         .map_err(|e| FieldError::new(&path.key("file"), e.to_string()))?;
-    let mut parts = parts;
     for (name, motor) in &spec.motors {
         let mpath = path.key("motors").key(name);
         let Some(joint) = parts.joints.iter().position(|j| j.desc.name == *name) else {

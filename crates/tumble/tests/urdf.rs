@@ -845,7 +845,7 @@ fn a_ball_of_three_hinges_through_massless_links_swings_and_spins_as_a_ball_join
 }
 
 #[test]
-fn a_point_mass_on_a_link_with_geometry_takes_the_geometrys_inertia() {
+fn a_point_or_line_mass_on_a_link_with_geometry_takes_the_geometrys_inertia() {
     // PyBullet's data set gives some spheres an <inertial> of mass only
     // (moments 0): the file's mass and centre, the sphere's 2/5 m r^2.
     let text = b_with_inertial(
@@ -869,7 +869,16 @@ fn a_point_mass_on_a_link_with_geometry_takes_the_geometrys_inertia() {
     assert!(r
         .warnings
         .iter()
-        .any(|m| m.contains("link `b`") && m.contains("point mass")));
+        .any(|m| m.contains("link `b`") && m.contains("principal moment of 0")));
+    // A line mass (a rod idealised to no thickness, as PyBullet's cart-pole
+    // files give it) alike.
+    let rod = b_with_inertial("<mass value=\"3\"/><inertia ixx=\"0\" iyy=\"0.01\" izz=\"0.01\"/>");
+    let (w, r) = loaded(&rod, UrdfOptions::default());
+    let moments = w.body(r.links["b"]).unwrap().principal_inertia();
+    assert!(
+        (moments - DVec3::splat(0.4 * 3.0 * 0.05 * 0.05)).length() < 1e-12,
+        "{moments:?}"
+    );
 }
 
 #[test]

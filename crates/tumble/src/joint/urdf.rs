@@ -65,7 +65,7 @@ pub const CYLINDER_SEGMENTS: usize = 24;
 /// (`solver::contact_solver::joint_island`).
 pub const STAND_IN_FRACTION: f64 = 1e-3;
 
-/// For a point mass `point` (an `<inertial>` with no moments) whose link
+/// For a point or line mass `point` (an `<inertial>` with a moment of 0) whose link
 /// has the geometry `shapes`: the file's mass at the file's centre of mass,
 /// with the inertia the geometry has about its own centre for that mass
 /// (PyBullet's default reading of every link: the shapes' inertia, the
@@ -1015,18 +1015,21 @@ impl<'a, 'input> Model<'a, 'input> {
             let (kind, mass) = if !parts.is_empty() {
                 let combined =
                     MassProperties::combine(&parts).map_err(|e| r.err(link.node, format!("inertia: {e}")))?;
-                // A point mass (all moments 0, as some files give) is valid
-                // mass properties but no rigid body: it could not turn. With
-                // geometry, the geometry gives the moments; without, refused.
+                // A point mass (all moments 0, as some files give) or a
+                // line mass (a rod's moment about its axis 0) is valid mass
+                // properties but no rigid body: it could not turn about
+                // some axis. With geometry, the geometry gives the moments;
+                // without, refused.
                 let moments = combined.principal().moments;
-                let from_geometry = match moments.z <= 0.0 && !shapes.is_empty() {
+                let from_geometry = match moments.x <= 0.0 && !shapes.is_empty() {
                     true => geometry_inertia(&shapes, &combined),
                     false => None,
                 };
                 if let Some(p) = from_geometry {
                     warnings.push(format!(
-                        "link `{}`: its <inertial> is a point mass (moments {:?} kg m^2): its inertia \
-                         follows from its geometry and the file's mass, as PyBullet computes it",
+                        "link `{}`: its <inertial> has a principal moment of 0 (moments {:?} kg m^2: a point \
+                         or a line mass, which no solid is): its inertia follows from its geometry and the \
+                         file's mass, as PyBullet computes it",
                         link.name,
                         moments.to_array()
                     ));

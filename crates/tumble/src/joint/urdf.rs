@@ -305,7 +305,11 @@ pub fn read_urdf_parts(
     let path = path.as_ref();
     let text = read_file(path)?;
     read(&text, path, options, |model, reader| {
-        let (parts, body_nodes, joint_nodes) = model.parts(options, group, reader)?;
+        let Located {
+            parts,
+            body_nodes,
+            joint_nodes,
+        } = model.parts(options, group, reader)?;
         let mut scratch = World::new(WorldSettings::default()).expect("the default settings are valid");
         add_parts(&mut scratch, &parts, &body_nodes, &joint_nodes, reader)?;
         Ok(parts)
@@ -852,24 +856,15 @@ impl<'a, 'input> Reader<'a, 'input> {
 }
 
 impl<'a, 'input> Model<'a, 'input> {
-    /// The robot's bodies and joints (`UrdfParts`), its bodies' links'
-    /// elements and its joints' elements (for errors the world raises when
-    /// they are added), the robot's bodies in non-colliding group `group`
-    /// unless `options.self_collision`.
-    #[allow(clippy::type_complexity)]
+    /// The robot's bodies and joints, with the elements they come from
+    /// (for errors the world raises when they are added), the robot's
+    /// bodies in non-colliding group `group` unless `options.self_collision`.
     fn parts(
         &self,
         options: UrdfOptions,
         group: u32,
         r: &Reader<'a, 'input>,
-    ) -> Result<
-        (
-            UrdfParts,
-            Vec<roxmltree::Node<'a, 'input>>,
-            Vec<roxmltree::Node<'a, 'input>>,
-        ),
-        UrdfError,
-    > {
+    ) -> Result<Located<'a, 'input>, UrdfError> {
         let n = self.links.len();
         let mut parent_joint = vec![None; n];
         for (k, j) in self.joints.iter().enumerate() {
@@ -1190,7 +1185,11 @@ impl<'a, 'input> Model<'a, 'input> {
             root: self.links[root].name.clone(),
             warnings,
         };
-        Ok((parts, body_nodes, joint_nodes))
+        Ok(Located {
+            parts,
+            body_nodes,
+            joint_nodes,
+        })
     }
 
     /// Adds the robot to `world`; on error the world is unchanged.
@@ -1200,7 +1199,11 @@ impl<'a, 'input> Model<'a, 'input> {
         options: UrdfOptions,
         r: &Reader<'a, 'input>,
     ) -> Result<UrdfRobot, UrdfError> {
-        let (parts, body_nodes, joint_nodes) = self.parts(options, world.unused_non_colliding_group(), r)?;
+        let Located {
+            parts,
+            body_nodes,
+            joint_nodes,
+        } = self.parts(options, world.unused_non_colliding_group(), r)?;
         // Added to a copy of the world, which replaces it only once the
         // whole robot is in. Removing what was added before a refusal would
         // not give the world back as it was: the freed slots' generations
@@ -1236,6 +1239,14 @@ impl<'a, 'input> Model<'a, 'input> {
             warnings: parts.warnings,
         })
     }
+}
+
+/// [`UrdfParts`] with the link element of each body and the joint element
+/// of each joint.
+struct Located<'a, 'input> {
+    parts: UrdfParts,
+    body_nodes: Vec<roxmltree::Node<'a, 'input>>,
+    joint_nodes: Vec<roxmltree::Node<'a, 'input>>,
 }
 
 /// Adds `parts` to `world` (bodies, joints, the base's weld), the world's

@@ -13,7 +13,9 @@ use super::InitialLoad;
 use crate::body::BodyKind;
 use crate::joint::urdf::{read_urdf_parts, UrdfOptions};
 use crate::scenes::Scene;
-use crate::world::{BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError};
+use crate::world::{
+    unused_non_colliding_group, BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError,
+};
 use tumble_collide::mass::MassProperties;
 use tumble_collide::{DMat3, DVec3};
 
@@ -195,8 +197,8 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
 }
 
 /// A robot's bodies and joints, appended to the scene's: the bodies named
-/// `PREFIX/LINK`, in a non-colliding group above every group of the scene
-/// so far (unless `self_collision`), its joints' bodies renumbered. A
+/// `PREFIX/LINK`, in a non-colliding group no body of the scene so far is
+/// in (unless `self_collision`), its joints' bodies renumbered. A
 /// refusal of the URDF file is located at `file`, with the URDF file's own
 /// line and element in the message.
 fn resolve_robot(
@@ -213,16 +215,7 @@ fn resolve_robot(
         self_collision: spec.self_collision,
         balance_inertia: spec.balance_inertia,
     };
-    let used = out
-        .scene
-        .bodies
-        .iter()
-        .map(|b| b.non_colliding_group)
-        .max()
-        .unwrap_or(0);
-    let group = used
-        .checked_add(1)
-        .ok_or_else(|| FieldError::new(path, "no non-colliding group is left for the robot"))?;
+    let group = unused_non_colliding_group(out.scene.bodies.iter().map(|b| b.non_colliding_group));
     let mut parts = read_urdf_parts(base_dir.join(&spec.file), options, group)
         .map_err(|e| FieldError::new(&path.key("file"), e.to_string()))?;
     for (name, motor) in &spec.motors {

@@ -520,13 +520,7 @@ impl World {
     /// is in: one more than the largest in use, or, if that is `u32::MAX`,
     /// the smallest free one.
     pub fn unused_non_colliding_group(&self) -> u32 {
-        let used: std::collections::BTreeSet<u32> =
-            self.bodies.iter().map(|(_, e)| e.non_colliding_group).collect();
-        let largest = used.last().copied().unwrap_or(0);
-        // (More groups than bodies exist, so a free one is always found.)
-        largest
-            .checked_add(1)
-            .unwrap_or_else(|| (1..).find(|g| !used.contains(g)).unwrap_or(1))
+        unused_non_colliding_group(self.bodies.iter().map(|(_, e)| e.non_colliding_group))
     }
 
     /// The rigid body (state in the body frame: centre of mass, principal axes).
@@ -747,4 +741,16 @@ impl World {
     pub fn orientation(&self, id: BodyId) -> Result<DQuat, WorldError> {
         Ok(self.pose(id)?.rotation)
     }
+}
+
+/// A nonzero non-colliding group that none of `used` is: one more than the
+/// largest, or, if that is `u32::MAX`, the smallest free one (the world's
+/// bodies, `World::unused_non_colliding_group`, or a scene file's so far).
+pub fn unused_non_colliding_group(used: impl IntoIterator<Item = u32>) -> u32 {
+    let used: std::collections::BTreeSet<u32> = used.into_iter().collect();
+    let largest = used.last().copied().unwrap_or(0);
+    // (More groups than bodies exist, so a free one is always found.)
+    largest
+        .checked_add(1)
+        .unwrap_or_else(|| (1..).find(|g| !used.contains(g)).unwrap_or(1))
 }

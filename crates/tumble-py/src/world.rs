@@ -383,7 +383,10 @@ impl World {
     ///     motor: hinge or slider motor, {"target_velocity": v, "max_force": f}
     ///         or {"target_position": x, "stiffness": k, "damping": c,
     ///         "max_force": f} (N m or N).
-    ///     spring: distance joint (stiffness N/m, damping N s/m).
+    ///     spring: a spring-damper (stiffness, damping) or {"stiffness": k,
+    ///         "damping": c}: distance joint N/m and N s/m towards `length`;
+    ///         hinge N m/rad and N m s/rad, slider N/m and N s/m, towards the
+    ///         position at creation, beside the motor.
     ///     length: distance joint rest length (m; default the anchors' distance).
     ///     collide_connected: contacts between the two bodies (default off).
     ///

@@ -55,6 +55,34 @@ def test_a_velocity_motor_turns_at_its_target_and_reports_its_torque() -> None:
     assert abs(about_axis) == pytest.approx(G * 0.5 * math.cos(hinge.position), rel=0.1)
 
 
+def test_a_hinge_spring_rings_at_its_natural_period_beside_nothing_else() -> None:
+    # Zero gravity, a spring of k N m/rad on the hinge: I theta'' = -k theta,
+    # T = 2 pi sqrt(I / k); kicked at 1 rad/s, it swings 1 / w either way.
+    k = 2.5
+    world = tumble.World(gravity=(0, 0, 0), sleeping=False, threads=1)
+    bob = world.add_body(
+        tumble.Box((0.05, 0.05, 0.05)),
+        mass=1.0,
+        position=(0.5, 0, 0),
+        velocity=(0, 0.5, 0),
+        angular_velocity=(0, 0, 1),
+    )
+    spring = {"stiffness": k, "damping": 0.0}
+    hinge = world.add_joint("hinge", bob, None, anchor=(0, 0, 0), axis=(0, 0, 1), spring=spring)
+    i_pivot = (0.1**2 * 2) / 12 + 0.25
+    w = math.sqrt(k / i_pivot)
+    crossings, swing, last = [], 0.0, 0.0
+    for _ in range(600):
+        world.step()
+        swing = max(swing, abs(hinge.position))
+        if (last > 0) != (hinge.position > 0):
+            crossings.append(world.time)
+        last = hinge.position
+    period = 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    assert period == pytest.approx(2 * math.pi / w, rel=0.01)
+    assert swing == pytest.approx(1 / w, rel=0.01)
+
+
 def test_limits_hold_and_the_state_arrays_match_the_handles() -> None:
     world, bob, hinge = pendulum(limits=(-0.2, 0.8))
     for _ in range(120):
@@ -113,7 +141,8 @@ def test_removing_a_joint_or_its_body_makes_the_handle_stale() -> None:
         ({"motor": {"target_velocity": 1.0, "max_force": -1.0}}, "max_force"),
         ({"motor": {"target_velocity": 1.0, "target_position": 0.0}}, "exactly one"),
         ({"motor": {"speed": 1.0}}, "motor"),
-        ({"spring": (1.0, 1.0)}, "joint.spring"),
+        ({"kind": "ball", "spring": (1.0, 1.0)}, "joint.spring"),
+        ({"spring": (1.0, -1.0)}, "joint.spring"),
     ],
 )
 def test_bad_joints_are_refused_and_leave_the_world_unchanged(kwargs, message) -> None:

@@ -5,7 +5,7 @@
 
 use tumble::collide::{DQuat, DVec3, HalfSpace};
 use tumble::joint::urdf::{add_urdf, load_urdf, UrdfError, UrdfOptions, UrdfRobot};
-use tumble::joint::Motor;
+use tumble::joint::{Motor, Spring};
 use tumble::world::{BodyDesc, World, WorldSettings};
 
 fn robot_path(name: &str) -> String {
@@ -337,6 +337,7 @@ fn saturated_motors_in_a_chain_hold_their_bound_and_the_chain_holds() {
     )
     .unwrap();
     let lift = arm.joints["shoulder_lift"].id;
+    let lift_damping = w.joint(lift).unwrap().spring.expect("a damper").damping;
     for (name, j) in &arm.joints {
         let weak = ["shoulder_pan", "shoulder_lift", "elbow"].contains(&name.as_str());
         let motor = Motor::Position {
@@ -359,16 +360,18 @@ fn saturated_motors_in_a_chain_hold_their_bound_and_the_chain_holds() {
             worst.1.max(w.max_joint_error().1),
         );
         let s = w.joint_state(lift).unwrap();
-        // The reaction about the axis is the motor's (plus the limit's when
-        // the arm reaches it). The reaction is the last sub-step's, the axis
+        // The reaction about the axis is the motor's plus the joint's
+        // damper's (<dynamics damping>, c |w|), and the limit's when the
+        // arm reaches it. The reaction is the last sub-step's, the axis
         // where B is at the end of the step: B turns by w h in between, and
         // the hinge's torque across the axis (tens of N m) leaks into the
         // projection by that angle.
         let across = (s.torque - s.axis * s.torque.dot(s.axis)).length();
         let about_axis = s.torque.dot(s.axis).abs();
         let leak = across * 0.1;
+        let damper = lift_damping * s.rate.abs() * 1.01;
         assert!(
-            about_axis < 10.0 + leak || s.position.abs() > 1.99,
+            about_axis < 10.0 + damper + leak || s.position.abs() > 1.99,
             "{about_axis} N m at {}",
             s.position
         );
@@ -553,16 +556,33 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
         "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/><mimic joint=\"other\"/>\
          <dynamics damping=\"0.1\" friction=\"0.5\"/>",
     );
-    let (_, r) = loaded(&coupled, UrdfOptions::default());
+    let (coupled_world, r) = loaded(&coupled, UrdfOptions::default());
     assert!(
         r.warnings.iter().any(|m| m.contains("<mimic joint=\"other\">")),
         "{:?}",
         r.warnings
     );
+    // A damping and a friction both act: a damper (a spring of stiffness
+    // 0) and a friction motor.
     assert!(
-        r.warnings.iter().any(|m| m.contains("friction")),
+        !r.warnings.iter().any(|m| m.contains("friction")),
         "{:?}",
         r.warnings
+    );
+    let j = coupled_world.joint(r.joints["j"].id).unwrap();
+    assert_eq!(
+        j.spring,
+        Some(Spring {
+            stiffness: 0.0,
+            damping: 0.1
+        })
+    );
+    assert_eq!(
+        j.motor,
+        Some(Motor::Velocity {
+            target: 0.0,
+            max_force: 0.5
+        })
     );
     // The products of inertia default to 0: the moments are the principal ones.
     let mut moments = w.body(r.links["a"]).unwrap().principal_inertia().to_array();
@@ -1097,4 +1117,66 @@ fn joint_friction_holds_below_it_and_opposes_motion_above_it() {
             "f {friction}: {rate} rad/s, expected {expected}"
         );
     }
+}
+
+#[test]
+fn joint_damping_and_friction_slow_a_wheel_by_the_analytic_law() {
+    // A wheel on a vertical continuous joint (gravity turns it not), I =
+    // 0.5 kg m^2 about it, <dynamics damping c = 0.2 N m s friction f =
+    // 0.1 N m>, spun at w0 = 5 rad/s: I w' = -c w - f, so w(t) = (w0 + f /
+    // c) e^(-c t / I) - f / c until it stops at t* = (I / c) ln(1 + c w0 /
+    // f) = 6.0 s, and stays.
+    let text = r#"<robot name="r">
+  <link name="world"/>
+  <link name="wheel">
+    <inertial><mass value="1"/><inertia ixx="0.3" iyy="0.3" izz="0.5"/></inertial>
+  </link>
+  <joint name="axle" type="continuous">
+    <parent link="world"/><child link="wheel"/><origin xyz="0 0 1"/><axis xyz="0 0 1"/>
+    <dynamics damping="0.2" friction="0.1"/>
+  </joint>
+</robot>"#;
+    let (i, c, f, w0) = (0.5, 0.2, 0.1, 5.0);
+    let (mut w, r) = loaded(text, UrdfOptions::default());
+    let (wheel, axle) = (r.links["wheel"], r.joints["axle"].id);
+    w.set_velocity(wheel, DVec3::ZERO, DVec3::new(0.0, 0.0, w0))
+        .unwrap();
+    let rate = |w: &World| w.joint_state(axle).unwrap().rate;
+    steps(&mut w, 120);
+    let t = w.time();
+    let expected = (w0 + f / c) * (-c * t / i).exp() - f / c;
+    assert!(
+        (rate(&w) / expected - 1.0).abs() < 0.005,
+        "{} rad/s at {t} s, expected {expected}",
+        rate(&w)
+    );
+    let stop = (i / c) * (1.0 + c * w0 / f).ln();
+    while w.time() < stop - 0.05 {
+        w.step();
+        assert!(rate(&w) > 0.0, "stopped at {} s, before {stop}", w.time());
+    }
+    steps(&mut w, 6);
+    assert!(rate(&w).abs() < 1e-9, "still at {} rad/s", rate(&w));
+    // A motor set now replaces the friction and the damper stays: a
+    // velocity motor of at most tau = 0.4 N m towards a speed it cannot
+    // reach spins the wheel up to tau / c: w(t) = (tau / c) (1 - e^(-c t /
+    // I)).
+    let tau = 0.4;
+    w.set_joint_motor(
+        axle,
+        Some(Motor::Velocity {
+            target: 100.0,
+            max_force: tau,
+        }),
+    )
+    .unwrap();
+    let start = w.time();
+    steps(&mut w, 120);
+    let t = w.time() - start;
+    let expected = tau / c * (1.0 - (-c * t / i).exp());
+    assert!(
+        (rate(&w) / expected - 1.0).abs() < 0.005,
+        "{} rad/s after {t} s of the motor, expected {expected}",
+        rate(&w)
+    );
 }

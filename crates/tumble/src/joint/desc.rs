@@ -18,11 +18,11 @@ pub enum JointKind {
     /// cone about the axis (`swing_limit`) and twist limits about it
     /// (`limits`, rad).
     Ball,
-    /// Revolute: rotation about the axis only; angle limits (rad) and a
-    /// motor (rad/s, N m).
+    /// Revolute: rotation about the axis only; angle limits (rad), a
+    /// motor (rad/s, N m) and a spring-damper.
     Hinge,
-    /// Prismatic: translation along the axis only; offset limits (m) and a
-    /// motor (m/s, N).
+    /// Prismatic: translation along the axis only; offset limits (m), a
+    /// motor (m/s, N) and a spring-damper.
     Slider,
     /// The anchors keep a distance: a rod at `length` by default, a rope
     /// with `limits = [0, max]`, a spring with `spring`.
@@ -101,13 +101,18 @@ impl Motor {
     }
 }
 
-/// A linear spring-damper on a distance joint, towards its `length`.
+/// A passive spring-damper on the joint's coordinate: on a distance joint
+/// towards its `length` (N/m, N s/m); on a hinge towards the angle it was
+/// made at (N m/rad, N m s/rad); on a slider towards the offset it was made
+/// at (N/m, N s/m). It acts beside a hinge's or slider's motor (a damped
+/// robot joint under its servo; URDF's `<dynamics damping>` is a spring of
+/// stiffness 0) and is never bounded by the motor's force.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Spring {
-    /// Stiffness (N/m), >= 0.
+    /// Stiffness (N/m; N m/rad on a hinge), >= 0.
     pub stiffness: f64,
-    /// Damping (N s/m), >= 0.
+    /// Damping (N s/m; N m s/rad on a hinge), >= 0.
     pub damping: f64,
 }
 
@@ -176,7 +181,9 @@ pub struct JointDesc<B = BodyId> {
     pub swing_limit: Option<f64>,
     /// Hinge or slider motor.
     pub motor: Option<Motor>,
-    /// Distance joint: a spring towards `length` instead of a rod.
+    /// A spring-damper ([`Spring`]): on a distance joint towards `length`
+    /// instead of a rod; on a hinge or slider towards its position at
+    /// creation, beside its motor.
     pub spring: Option<Spring>,
     /// Distance joint: rest length (m, >= 0). Default: the anchors'
     /// distance at creation.
@@ -254,7 +261,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         self
     }
 
-    /// With a spring (distance joint).
+    /// With a spring-damper ([`Spring`]: distance joint, hinge or slider).
     pub fn with_spring(mut self, stiffness: f64, damping: f64) -> JointDesc<B> {
         self.spring = Some(Spring { stiffness, damping });
         self
@@ -430,10 +437,13 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             }
         }
         if let Some(s) = self.spring {
-            if self.kind != JointKind::Distance {
+            if !matches!(
+                self.kind,
+                JointKind::Distance | JointKind::Hinge | JointKind::Slider
+            ) {
                 return bad(
                     "joint.spring",
-                    format!("applies to distance joints only, not {kind}"),
+                    format!("applies to distance joints, hinges and sliders only, not {kind}"),
                 );
             }
             if !(s.stiffness.is_finite() && s.stiffness >= 0.0 && s.damping.is_finite() && s.damping >= 0.0) {

@@ -10,11 +10,11 @@
 //! combined, as PyBullet and MuJoCo do); every other joint becomes a hinge
 //! (revolute, continuous) or slider (prismatic) from the parent link to the
 //! child link, its angle 0 at the file's zero configuration. Joint
-//! `damping` becomes a damping motor (`Motor::Position` with stiffness 0),
-//! or where there is none, `friction` a friction motor (`Motor::Velocity`
-//! towards 0 bounded by the friction: Coulomb friction on the joint),
-//! until another motor is set; `effort` is kept as the joint's largest
-//! motor force for the caller.
+//! `damping` becomes a damper on the joint (a `Spring` of stiffness 0,
+//! which stays when a motor is set), and `friction` a friction motor
+//! (`Motor::Velocity` towards 0 bounded by the friction: Coulomb friction
+//! on the joint) until another motor is set; `effort` is kept as the
+//! joint's largest motor force for the caller.
 //!
 //! Files written for other engines load as those engines read them (the
 //! URDFs of PyBullet's data set, `bulletphysics/bullet3` `data/`, were the
@@ -42,7 +42,7 @@
 //! robot is.
 
 use crate::body::BodyKind;
-use crate::joint::{JointDesc, JointId, JointKind, Motor};
+use crate::joint::{JointDesc, JointId, JointKind, Motor, Spring};
 use crate::world::{BodyDesc, BodyId, MassDesc, ShapeDesc, World, WorldError, WorldSettings};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -799,15 +799,13 @@ impl<'a, 'input> Reader<'a, 'input> {
             if friction < 0.0 {
                 return Err(self.err(node, "dynamics friction must be >= 0"));
             }
-            // One motor per joint: a damping motor, else a friction one;
-            // a ball joint takes neither.
-            let unused_friction = friction > 0.0 && (damping > 0.0 || kind == "spherical");
-            if unused_friction && kind != "fixed" {
+            // A ball joint has neither a spring nor a motor.
+            if friction > 0.0 && kind == "spherical" {
                 with_friction.push(format!("`{name}`"));
             }
             if damping > 0.0 && kind == "spherical" {
                 unsimulated.push(format!(
-                    "joint `{name}`: <dynamics damping> is not simulated on a ball joint (no motor)"
+                    "joint `{name}`: <dynamics damping> is not simulated on a ball joint (no spring)"
                 ));
             }
             if let Some(m) = self.child(node, "mimic") {
@@ -839,8 +837,7 @@ impl<'a, 'input> Reader<'a, 'input> {
         // joint a damping and a friction).
         if !with_friction.is_empty() {
             unsimulated.push(format!(
-                "joint{} {}: <dynamics friction> is not simulated beside a <dynamics damping> or on a \
-                 ball joint (one motor per joint: the damping motor is kept)",
+                "joint{} {}: <dynamics friction> is not simulated on a ball joint (no motor)",
                 if with_friction.len() > 1 { "s" } else { "" },
                 with_friction.join(", ")
             ));
@@ -1127,24 +1124,26 @@ impl<'a, 'input> Model<'a, 'input> {
             }
             let mut desc = JointDesc::new(kind, child, parent, frame.position, axis).named(j.name.clone());
             desc.limits = limits;
-            if kind == JointKind::Ball {
-                // (Neither motor drives a ball joint: warned when read.)
-            } else if j.damping > 0.0 {
-                desc.motor = Some(Motor::Position {
-                    target: 0.0,
-                    stiffness: 0.0,
-                    damping: j.damping,
-                    max_force: j.effort,
-                });
-            } else if j.friction > 0.0 {
+            if kind != JointKind::Ball {
+                // (A ball joint has neither: warned when read.) Damping is
+                // passive, a damper beside whatever motor drives the joint
+                // (a spring of stiffness 0), never bounded by the effort.
+                if j.damping > 0.0 {
+                    desc.spring = Some(Spring {
+                        stiffness: 0.0,
+                        damping: j.damping,
+                    });
+                }
                 // Coulomb friction on the joint: held at rest up to the
                 // friction, opposed by it in motion; a rigid velocity row
                 // towards 0 bounded by it is exactly that (MuJoCo's
-                // `frictionloss` is this row).
-                desc.motor = Some(Motor::Velocity {
-                    target: 0.0,
-                    max_force: j.friction,
-                });
+                // `frictionloss` is this row). A motor set later replaces it.
+                if j.friction > 0.0 {
+                    desc.motor = Some(Motor::Velocity {
+                        target: 0.0,
+                        max_force: j.friction,
+                    });
+                }
             }
             desc.validate().map_err(|e| r.err(j.node, e.to_string()))?;
             joint_descs.push((j, desc));

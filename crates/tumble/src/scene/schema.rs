@@ -102,8 +102,9 @@ pub struct RobotSpec {
     pub balance_inertia: bool,
     /// Motors of the robot's joints by the file's joint names (`shoulder =
     /// { type = "position", target = 0.5, stiffness = 4000.0, damping =
-    /// 200.0, max_force = 150.0 }`), replacing the damping motor a
-    /// `<dynamics damping>` gives. Default none.
+    /// 200.0, max_force = 150.0 }`), replacing the friction motor a
+    /// `<dynamics friction>` gives (a `<dynamics damping>` stays, a damper
+    /// beside the motor). Default none.
     #[serde(default)]
     pub motors: BTreeMap<String, Motor>,
 }
@@ -144,7 +145,9 @@ pub struct JointSpec {
     /// `{ type = "position", target, stiffness, damping, max_force }`.
     #[serde(default)]
     pub motor: Option<Motor>,
-    /// Distance joint spring: `{ stiffness = N/m, damping = N s/m }`.
+    /// Spring-damper: `{ stiffness, damping }`. Distance joint: N/m and
+    /// N s/m, towards `length`; hinge: N m/rad and N m s/rad, slider: N/m
+    /// and N s/m, towards the position at creation, beside the motor.
     #[serde(default)]
     pub spring: Option<Spring>,
     /// Distance joint rest length (m). Default: the anchors' distance.

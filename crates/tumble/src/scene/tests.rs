@@ -548,6 +548,31 @@ fn bad_joints_are_located_at_their_field() {
     let (_, _, path, _) = at(toml(&bad_motor).err().unwrap());
     assert_eq!(path, "joints[0].motor.max_force");
 
+    // A spring on a hinge is read; on a ball joint it is refused at its field.
+    let sprung = PENDULUM.replace(
+        "axis = [0, 1, 0]",
+        "axis = [0, 1, 0]\nspring = { stiffness = 2.0, damping = 0.5 }",
+    );
+    let (world, _) = toml(&sprung).unwrap().build().unwrap();
+    let spring = world.joint(world.joint_ids()[0]).unwrap().spring;
+    assert_eq!(
+        spring,
+        Some(crate::joint::Spring {
+            stiffness: 2.0,
+            damping: 0.5
+        })
+    );
+    let ball = sprung.replace("kind = \"hinge\"", "kind = \"ball\"").replace(
+        "limits = [-1.0, 2.0]\nmotor = { type = \"velocity\", target = 0.5, max_force = 0.1 }\n",
+        "",
+    );
+    let (_, _, path, message) = at(toml(&ball).err().unwrap());
+    assert_eq!(path, "joints[0].spring");
+    assert!(
+        message.contains("distance joints, hinges and sliders only"),
+        "{message}"
+    );
+
     let bad_kind = PENDULUM.replace("kind = \"hinge\"", "kind = \"hing\"");
     let e = toml(&bad_kind).err().unwrap().to_string();
     assert!(e.contains("joints[0].kind") || e.contains("hing"), "{e}");

@@ -43,7 +43,7 @@ pub const JOINT_ROWS: usize = 11;
 pub(super) const LOWER: usize = 6;
 pub(super) const UPPER: usize = 7;
 pub(super) const MOTOR: usize = 8;
-const SPRING: usize = 9;
+pub(super) const SPRING: usize = 9;
 pub(super) const SWING: usize = 10;
 
 /// Fraction of a joint's position error removed per push-out pass. The
@@ -128,7 +128,7 @@ pub struct JointLaw {
     pub swing_limit: Option<f64>,
     /// Hinge or slider motor.
     pub motor: Option<Motor>,
-    /// Distance joint spring.
+    /// Spring-damper (distance joint, hinge, slider).
     pub spring: Option<Spring>,
     /// Distance joint rest length (m).
     pub length: f64,
@@ -310,13 +310,14 @@ impl JointConstraint {
                         Motor::Position {
                             stiffness, damping, ..
                         } => {
-                            (gamma, bias) = soft(stiffness, damping, r.c, h);
+                            (gamma, bias) = soft(stiffness, damping, r.c, h, MOTOR_STIFFNESS_AT);
                         }
                     }
                 }
                 SPRING => {
                     let s = self.law.spring.expect("spring row without a spring");
-                    (gamma, bias) = soft(s.stiffness, s.damping, r.c, h);
+                    let at = spring_at(s.stiffness, k, h);
+                    (gamma, bias) = soft(s.stiffness, s.damping, r.c, h, at);
                 }
                 _ => {}
             }
@@ -617,7 +618,7 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                 row.ang_b = -row.ang_a;
                 set.eq(row);
             }
-            if law.limits.is_some() || law.motor.is_some() {
+            if law.limits.is_some() || law.motor.is_some() || law.spring.is_some() {
                 let (angle, axis) = (pose.twist(), twist_axis());
                 if let Some([lo, hi]) = law.limits {
                     set.set(LOWER, JointRow::angular(axis, angle - lo));
@@ -629,6 +630,10 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                         Motor::Velocity { .. } => 0.0,
                     };
                     set.set(MOTOR, JointRow::angular(axis, c));
+                }
+                if law.spring.is_some() {
+                    // Towards the angle at creation (0), the short way round.
+                    set.set(SPRING, JointRow::angular(axis, wrap_angle(angle)));
                 }
             }
         }
@@ -652,6 +657,9 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                     Motor::Velocity { .. } => 0.0,
                 };
                 set.set(MOTOR, JointRow::linear(n, pose.ra, rb, c));
+            }
+            if law.spring.is_some() {
+                set.set(SPRING, JointRow::linear(n, pose.ra, rb, offset));
             }
         }
         JointKind::Distance => {
@@ -715,14 +723,50 @@ impl RowSet<'_> {
 }
 
 /// Soft-constraint coefficients `(gamma, bias)` of a spring-damper of
-/// stiffness `k` and damping `c` at error `err` over a sub-step `h`.
-fn soft(k: f64, c: f64, err: f64, h: f64) -> (f64, f64) {
-    let denom = c + h * k;
+/// stiffness `k` and damping `c` at error `err` over a sub-step `h`, its
+/// stiffness acting at the error `at` of the way through the sub-step.
+///
+/// The impulse is `l = -h (k (err + at h J v) + c J v)` with `v` the
+/// velocity at the sub-step's end (which the positions then move by), so
+/// `J v + b + gamma l = 0` with `gamma = 1 / (h (c + at h k))` and `b = k
+/// err / (c + at h k)`. At `at` = 1 (implicit Euler: Catto's soft step)
+/// it is stable for any gains, and the stiffness damps as if `c` were
+/// larger by `h k`.
+fn soft(k: f64, c: f64, err: f64, h: f64, at: f64) -> (f64, f64) {
+    let denom = c + at * h * k;
     if denom <= 0.0 {
         return (f64::INFINITY, 0.0);
     }
     (1.0 / (h * denom), k * err / denom)
 }
+
+/// Where in a sub-step a motor's PD stiffness acts (`soft`): at its end.
+/// A servo may settle a little sooner than its gains say.
+const MOTOR_STIFFNESS_AT: f64 = 1.0;
+
+/// Where in a sub-step a passive spring's stiffness acts (`soft`), for a
+/// row of effective inverse mass `kk` (`K`).
+///
+/// With the positions moved by the end velocity, a stiffness taken at `at`
+/// shrinks the oscillator's phase-space area by `1 / (1 + at x)` per
+/// sub-step (`x = h^2 k K`, the square of the spring's angular frequency
+/// times `h`): at 1 an undamped hinge spring ringing at 3 rad/s lost 9 % of
+/// its swing in 9 s, at 1/2 still 4.5 %. At 0 (the stiffness explicit, as
+/// gravity is: symplectic Euler) the spring keeps its energy, but is
+/// stable only while `x < 4`. So the stiffness is explicit but for
+/// [`SPRING_AT_LEAST`] while `x <= 2`, and beyond, `at = 1/2 - 1/x`, which
+/// keeps the effective `x / (1 + at x)` at 2: stable for any stiffness,
+/// damping only what explicit stiffness would have blown up.
+fn spring_at(k: f64, kk: f64, h: f64) -> f64 {
+    let x = h * h * k * kk;
+    if x > 2.0 { 0.5 - 1.0 / x } else { SPRING_AT_LEAST }.max(SPRING_AT_LEAST)
+}
+
+/// The least `at` of a spring's stiffness (`spring_at`): not 0, so that a
+/// spring without damping keeps a finite `gamma`; its loss, `1 - 1 / (1 +
+/// at x)` of the phase-space area per sub-step, is 2e-4 over 10 s for a
+/// spring ringing at 3 rad/s (480 sub-steps a second).
+const SPRING_AT_LEAST: f64 = 1e-3;
 
 /// Cholesky factor (lower) of the leading `n x n` block of `k`, each pivot
 /// stored as its reciprocal (the solves then multiply: a division has

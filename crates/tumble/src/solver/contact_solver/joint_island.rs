@@ -41,8 +41,8 @@ use super::constraint::SolverParams;
 use super::island_contacts::{OwnedPatch, PatchArrays};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
-    begin_joint, push_joint, solve_joint, JointConstraint, Pair, JOINT_PUSH_FRACTION, LOWER, MOTOR, SWING,
-    UPPER,
+    begin_joint, push_joint, solve_joint, JointConstraint, Pair, JOINT_PUSH_FRACTION, LOWER, MOTOR, SPRING,
+    SWING, UPPER,
 };
 use super::lanes::{Lane, LANES};
 use super::passes::{begin_patch, friction_patch, solve_owned_normals, OwnedPass};
@@ -65,7 +65,8 @@ pub struct JointIsland {
     lanes: Vec<Vec<u32>>,
     /// The system's shape, which the lanes share.
     profile: Profile,
-    /// Whether a row of the system has bounds (a motor; one lane only).
+    /// Whether the system has scalar rows (a motor, whose bounds are held
+    /// one lane at a time, or a spring): one lane only.
     bounded: bool,
     /// Per lane: the equality rows are aimed at the end of the sub-step
     /// (see `JointConstraint::aim_equality_rows`): only where the island's
@@ -358,9 +359,9 @@ impl JointIsland {
                     let jv = r.lin.dot(p.va - p.vb) + r.ang_a.dot(p.wa) + r.ang_b.dot(p.wb);
                     rhs[(at + e) * stride + l] = match push {
                         None => -jv - r.bias - r.gamma * r.impulse,
-                        // A motor does not push: its row only keeps the push-out
-                        // off the joint's free axis.
-                        Some(_) if slot == MOTOR => -jv - r.gamma * r.push,
+                        // A motor or spring does not push: its row only keeps
+                        // the push-out off the joint's free axis.
+                        Some(_) if slot == MOTOR || slot == SPRING => -jv - r.gamma * r.push,
                         Some((fraction, inv_h)) => {
                             any |= r.c.abs() > 1e-9;
                             -fraction * r.c * inv_h - jv
@@ -544,22 +545,22 @@ fn bounds(j: &JointConstraint, slot: usize, push: bool) -> (f64, f64, f64) {
 fn island_slots(j: &JointConstraint) -> impl Iterator<Item = usize> + use<> {
     let (n_eq, mask) = (j.n_eq, j.island_rows);
     (0..n_eq).chain(
-        [MOTOR, LOWER, UPPER, SWING]
+        [MOTOR, SPRING, LOWER, UPPER, SWING]
             .into_iter()
             .filter(move |&s| mask & (1 << s) != 0),
     )
 }
 
-/// The scalar rows of `j` its island solves: the motor. (Limits stay with
-/// the joint-by-joint pass: solved with the island through the same
-/// held-at-bound step, a quadruped crouching off its knee limits collapsed;
-/// that needs a proper active-set loop, not yet written.)
+/// The scalar rows of `j` its island solves: the motor and the spring
+/// (soft rows: a damped arm's dampers act through the whole chain's
+/// inertia, as its motors do). (Limits stay with the joint-by-joint pass:
+/// solved with the island through the same held-at-bound step, a quadruped
+/// crouching off its knee limits collapsed; that needs a proper active-set
+/// loop, not yet written.)
 fn island_mask(j: &JointConstraint) -> u16 {
-    if j.law.motor.is_some() {
-        1 << MOTOR
-    } else {
-        0
-    }
+    let motor = if j.law.motor.is_some() { 1 << MOTOR } else { 0 };
+    let spring = if j.law.spring.is_some() { 1 << SPRING } else { 0 };
+    motor | spring
 }
 
 /// The islands of joints worth a direct solve: joints linked through
@@ -751,8 +752,8 @@ fn joint_islands_in_lanes(
         };
         let bounded = masks.iter().any(|&m| m != 0);
         // The island joins the last unit where it is of the same shape,
-        // neither has a motor (the bounds are held one lane at a time) and
-        // a lane is free.
+        // neither has a motor or spring (the bounds are held one lane at a
+        // time) and a lane is free.
         if let Some(unit) = islands.last_mut().filter(|u: &&mut JointIsland| {
             !bounded && !u.bounded && u.lanes.len() < max_lanes && u.profile == profile
         }) {

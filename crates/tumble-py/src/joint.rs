@@ -338,6 +338,30 @@ impl Joint {
         w.inner.set_joint_motor(self.id, motor).or_raise()
     }
 
+    /// The spring-damper as {"stiffness": k, "damping": c}, or None.
+    /// Settable: (k, c), a dict, or None to take it off (e.g. a robot's
+    /// joint damping varied between rollouts).
+    #[getter]
+    fn spring<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let spring = self.desc(py, |d| d.spring)?;
+        spring
+            .map(|s| {
+                let d = PyDict::new(py);
+                d.set_item("stiffness", s.stiffness)?;
+                d.set_item("damping", s.damping)?;
+                Ok(d)
+            })
+            .transpose()
+    }
+
+    #[setter]
+    fn set_spring(&self, py: Python<'_>, value: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let spring = value.filter(|v| !v.is_none()).map(spring_from).transpose()?;
+        let mut w = self.world.bind(py).borrow_mut();
+        w.check_usable()?;
+        w.inner.set_joint_spring(self.id, spring).or_raise()
+    }
+
     /// Removes the joint; the handle becomes stale.
     fn remove(&self, py: Python<'_>) -> PyResult<()> {
         let mut w = self.world.bind(py).borrow_mut();

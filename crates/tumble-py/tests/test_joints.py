@@ -83,6 +83,18 @@ def test_a_hinge_spring_rings_at_its_natural_period_beside_nothing_else() -> Non
     assert swing == pytest.approx(1 / w, rel=0.01)
 
 
+def test_a_joints_spring_is_read_set_and_refused_when_bad() -> None:
+    world, bob, hinge = pendulum(spring=(2.0, 0.5))
+    assert hinge.spring == {"stiffness": 2.0, "damping": 0.5}
+    hinge.spring = {"stiffness": 0.0, "damping": 1.0}
+    assert hinge.spring == {"stiffness": 0.0, "damping": 1.0}
+    with pytest.raises(tumble.InvalidArgument, match="joint.spring"):
+        hinge.spring = (-1.0, 0.0)
+    assert hinge.spring == {"stiffness": 0.0, "damping": 1.0}
+    hinge.spring = None
+    assert hinge.spring is None
+
+
 def test_limits_hold_and_the_state_arrays_match_the_handles() -> None:
     world, bob, hinge = pendulum(limits=(-0.2, 0.8))
     for _ in range(120):

@@ -488,6 +488,57 @@ fn a_hinge_spring_rings_as_the_damped_oscillator() {
 }
 
 #[test]
+fn a_joints_spring_is_changed_or_taken_off_between_steps() {
+    // Kicked at 1 rad/s about a sprung hinge: taken off, the arm turns on at
+    // its rate; put back stiffer, it turns back towards its start; a bad
+    // spring is refused and the joint keeps its own.
+    let mut w = world(false);
+    let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    let j = w
+        .add_joint(&JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Z).with_spring(2.5, 0.0))
+        .unwrap();
+    w.set_velocity(bob, DVec3::new(0.0, 0.5, 0.0), DVec3::Z).unwrap();
+    w.set_joint_spring(j, None).unwrap();
+    assert_eq!(w.joint(j).unwrap().spring, None);
+    for _ in 0..30 {
+        w.step();
+    }
+    let s = w.joint_state(j).unwrap();
+    assert!(
+        (s.rate - 1.0).abs() < 1e-5 && (s.position - 0.5).abs() < 1e-5,
+        "{s:?}"
+    );
+    let stiff = tumble::joint::Spring {
+        stiffness: 10.0,
+        damping: 0.0,
+    };
+    w.set_joint_spring(j, Some(stiff)).unwrap();
+    for _ in 0..30 {
+        w.step();
+    }
+    assert!(w.joint_state(j).unwrap().rate < 0.0, "pulled back");
+    let bad = tumble::joint::Spring {
+        stiffness: -1.0,
+        damping: 0.0,
+    };
+    assert!(matches!(
+        w.set_joint_spring(j, Some(bad)),
+        Err(WorldError::BadValue {
+            field: "joint.spring",
+            ..
+        })
+    ));
+    assert_eq!(w.joint(j).unwrap().spring, Some(stiff));
+    let ball = w.add_joint(&JointDesc::ball(bob, None, DVec3::ZERO)).unwrap();
+    assert!(w.set_joint_spring(ball, Some(stiff)).is_err());
+    w.remove_joint(j).unwrap();
+    assert!(matches!(
+        w.set_joint_spring(j, None),
+        Err(WorldError::StaleJoint(_))
+    ));
+}
+
+#[test]
 fn a_spring_acts_beside_a_motor_and_a_slider_spring_carries_its_load() {
     // A velocity motor of at most 0.6 N m winds a hinge against a spring of
     // 2 N m/rad (critically damped): it stalls where the spring's torque

@@ -140,6 +140,30 @@ impl World {
         Ok(())
     }
 
+    /// Replaces a joint's spring-damper (`None` takes it off): a hinge's or
+    /// slider's passive spring, or a distance joint's spring (without one
+    /// the distance joint is a rod again, or a rope with limits), e.g. to
+    /// vary a robot's joint damping between rollouts. Validated as in
+    /// [`World::add_joint`]; the joint's bodies wake.
+    pub fn set_joint_spring(
+        &mut self,
+        id: JointId,
+        spring: Option<crate::joint::Spring>,
+    ) -> Result<(), WorldError> {
+        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
+        let mut desc = entry.desc.clone();
+        desc.spring = spring;
+        desc.validate()?;
+        let entry = self.joints.get_mut(id).ok_or(WorldError::StaleJoint(id))?;
+        entry.desc.spring = spring;
+        entry.law.spring = spring;
+        let bodies = [Some(entry.desc.body_a), entry.desc.body_b];
+        for body in bodies.into_iter().flatten() {
+            self.wake(body)?;
+        }
+        Ok(())
+    }
+
     /// Number of joints.
     pub fn joint_count(&self) -> usize {
         self.joints.len()

@@ -103,7 +103,8 @@ impl Motor {
 
 /// A passive spring-damper on the joint's coordinate: on a distance joint
 /// towards its `length` (N/m, N s/m); on a hinge towards the angle it was
-/// made at (N m/rad, N m s/rad); on a slider towards the offset it was made
+/// made at, the short way round (the angle is measured within +-pi; N m/rad,
+/// N m s/rad); on a slider towards the offset it was made
 /// at (N/m, N s/m). It acts beside a hinge's or slider's motor (a damped
 /// robot joint under its servo; URDF's `<dynamics damping>` is a spring of
 /// stiffness 0) and is never bounded by the motor's force.

@@ -482,9 +482,10 @@ impl JointIsland {
         // Rounds of an active set: hold what passes a bound, re-solve; let
         // go of a held row the others now push back inside its bounds (its
         // multiplier pulls towards the bound it is held at), and again. A
-        // row never let go could end a round held against the way it
-        // moves: Coulomb friction on a joint that turned round pushing it
-        // on (a chain slipping on every joint gained energy).
+        // row never let go could end a round held at a bound the solution
+        // no longer presses it against: a motor at its force pushing the
+        // joint on the way it already turns (with the friction motors in the
+        // system, a chain slipping on every joint gained energy so).
         let mut held: Vec<Held> = Vec::new();
         for _ in 0..HELD_ROUNDS {
             let mut changed = false;

@@ -539,6 +539,32 @@ fn a_joints_spring_is_changed_or_taken_off_between_steps() {
 }
 
 #[test]
+fn stiff_springs_sharing_a_body_stay_bounded() {
+    // Three distance springs side by side on one 1 kg cube, each of
+    // h^2 k / m = 1.9 (k = 437,760 N/m at 480 sub-steps a second): together
+    // 5.7, past the explicit stiffness's bound of 4 (a spring taken
+    // explicitly by its own measure alone would be, and they would ring
+    // up). Released 1 cm from rest, the cube never swings further.
+    let mut w = world(false);
+    let c = cube(&mut w, DVec3::new(1.01, 0.0, 0.0));
+    let k = 1.9 * 480.0 * 480.0;
+    for _ in 0..3 {
+        w.add_joint(
+            &JointDesc::distance(c, None, DVec3::new(1.01, 0.0, 0.0), DVec3::ZERO)
+                .with_length(1.0)
+                .with_spring(k, 0.0),
+        )
+        .unwrap();
+    }
+    for _ in 0..120 {
+        let report = w.step();
+        assert!(report.quarantined.is_empty());
+        let x = w.center_of_mass(c).unwrap().x - 1.0;
+        assert!(x.abs() <= 0.01 * (1.0 + 1e-9), "swung out to {x} m");
+    }
+}
+
+#[test]
 fn a_spring_acts_beside_a_motor_and_a_slider_spring_carries_its_load() {
     // A velocity motor of at most 0.6 N m winds a hinge against a spring of
     // 2 N m/rad (critically damped): it stalls where the spring's torque

@@ -731,36 +731,57 @@ impl RowSet<'_> {
 /// `J v + b + gamma l = 0` with `gamma = 1 / (h (c + at h k))` and `b = k
 /// err / (c + at h k)`. At `at` = 1 (implicit Euler: Catto's soft step)
 /// it is stable for any gains, and the stiffness damps as if `c` were
-/// larger by `h k`.
+/// larger by `h k`. `gamma` is held finite (a subnormal stiffness without
+/// damping gave an infinite one, and `inf * 0` a NaN that cleared a whole
+/// joint island's solve) and `b` computed as `err (k / ...)` (a stiffness
+/// near `f64::MAX` times an error over 1 overflowed).
 fn soft(k: f64, c: f64, err: f64, h: f64, at: f64) -> (f64, f64) {
     let denom = c + at * h * k;
     if denom <= 0.0 {
         return (f64::INFINITY, 0.0);
     }
-    (1.0 / (h * denom), k * err / denom)
+    let bias = err * (k / denom);
+    (
+        (1.0 / (h * denom)).min(MAX_SOFTNESS),
+        if bias.is_finite() { bias } else { 0.0 },
+    )
 }
+
+/// Largest `gamma` of a soft row (`soft`): beyond it the row takes no
+/// impulse worth a bit of any other row's.
+const MAX_SOFTNESS: f64 = 1e300;
 
 /// Where in a sub-step a motor's PD stiffness acts (`soft`): at its end.
 /// A servo may settle a little sooner than its gains say.
 const MOTOR_STIFFNESS_AT: f64 = 1.0;
 
 /// Where in a sub-step a passive spring's stiffness acts (`soft`), for a
-/// row of effective inverse mass `kk` (`K`).
+/// row of effective inverse mass `kk` (`K`, the row's own: for a hinge the
+/// bodies' inertias about their centres, which overstates the frequency).
 ///
 /// With the positions moved by the end velocity, a stiffness taken at `at`
 /// shrinks the oscillator's phase-space area by `1 / (1 + at x)` per
-/// sub-step (`x = h^2 k K`, the square of the spring's angular frequency
-/// times `h`): at 1 an undamped hinge spring ringing at 3 rad/s lost 9 % of
-/// its swing in 9 s, at 1/2 still 4.5 %. At 0 (the stiffness explicit, as
-/// gravity is: symplectic Euler) the spring keeps its energy, but is
-/// stable only while `x < 4`. So the stiffness is explicit but for
-/// [`SPRING_AT_LEAST`] while `x <= 2`, and beyond, `at = 1/2 - 1/x`, which
-/// keeps the effective `x / (1 + at x)` at 2: stable for any stiffness,
-/// damping only what explicit stiffness would have blown up.
+/// sub-step (`x = h^2 k K`, the spring's angular frequency times `h`,
+/// squared): at 1 an undamped hinge spring ringing at 3 rad/s lost 9 % of
+/// its swing in 9 s. At 0 (the stiffness explicit, as gravity is:
+/// symplectic Euler) the spring keeps its energy, but the bodies' springs
+/// together are stable only while their combined `x` stays under 4, and
+/// several springs on one body add up (three collinear springs at 1.9 each
+/// make 5.7). So a spring is explicit (but for [`SPRING_AT_LEAST`]) only
+/// far inside that bound, `x <= EXPLICIT_SPRING` on its own (80 such
+/// springs on one body stay under 4), and beyond it is Catto's soft step.
 fn spring_at(k: f64, kk: f64, h: f64) -> f64 {
     let x = h * h * k * kk;
-    if x > 2.0 { 0.5 - 1.0 / x } else { SPRING_AT_LEAST }.max(SPRING_AT_LEAST)
+    if x <= EXPLICIT_SPRING {
+        SPRING_AT_LEAST
+    } else {
+        1.0
+    }
 }
+
+/// Largest `h^2 k K` of a spring taken explicitly (`spring_at`): 107 rad/s
+/// at 480 sub-steps a second.
+const EXPLICIT_SPRING: f64 = 0.05;
 
 /// The least `at` of a spring's stiffness (`spring_at`): not 0, so that a
 /// spring without damping keeps a finite `gamma`; its loss, `1 - 1 / (1 +

@@ -68,8 +68,10 @@ pub struct JointIsland {
     lanes: Vec<Vec<u32>>,
     /// The system's shape, which the lanes share.
     profile: Profile,
-    /// Whether the system has scalar rows (a motor, whose bounds are held
-    /// one lane at a time, or a spring): one lane only.
+    /// Whether the system has scalar rows (motors, springs): one lane only.
+    single: bool,
+    /// Whether a row of the system has a force bound (a position motor's
+    /// finite `max_force`), held by [`JointIsland::hold_at_bounds`].
     bounded: bool,
     /// Per lane: the equality rows are aimed at the end of the sub-step
     /// (see `JointConstraint::aim_equality_rows`): only where the island's
@@ -487,6 +489,7 @@ impl JointIsland {
         // joint on the way it already turns (with the friction motors in the
         // system, a chain slipping on every joint gained energy so).
         let mut held: Vec<Held> = Vec::new();
+        let mut settled = false;
         for _ in 0..HELD_ROUNDS {
             let mut changed = false;
             for &(i, acc, lo, hi) in &bounded {
@@ -502,14 +505,18 @@ impl JointIsland {
                     changed = true;
                 }
             }
-            if !changed || held.len() > MAX_HELD {
+            if held.is_empty() {
+                return;
+            }
+            if held.len() > MAX_HELD {
                 break;
             }
             let Some(mu) = solve_held(&held, &x0) else {
                 break;
             };
             // The row held the wrong way hardest is let go (one a round, so
-            // that the set does not swing back and forth).
+            // that the set does not swing back and forth), and the round
+            // starts again, whether or not it added a row.
             let wrong = held
                 .iter()
                 .zip(&mu)
@@ -527,12 +534,14 @@ impl JointIsland {
                 continue;
             }
             apply_held(x, &x0, &held, &mu);
+            if !changed {
+                // Every held row pressed the right way, every other within
+                // its bounds (checked on this same answer above).
+                settled = true;
+                break;
+            }
         }
-        let settled = bounded.iter().all(|&(i, acc, lo, hi)| {
-            let total = acc + x[i];
-            (lo..=hi).contains(&total) || held.iter().any(|h| h.row == i)
-        });
-        if settled && held.len() <= MAX_HELD {
+        if settled {
             return;
         }
         // Not settled: every bounded row held at its unbounded value, clamped.
@@ -871,12 +880,20 @@ fn joint_islands_in_lanes(
             start,
             size,
         };
-        let bounded = masks.iter().any(|&m| m != 0);
+        // Scalar rows in the system (motors, springs) keep the island in a
+        // unit of its own; only a motor's force bound is held.
+        let single = masks.iter().any(|&m| m != 0);
+        let bounded = order.iter().zip(&masks).any(|(&k, &m)| {
+            m & (1 << MOTOR) != 0
+                && joints[k as usize]
+                    .law
+                    .motor
+                    .is_some_and(|m| m.max_force().is_finite())
+        });
         // The island joins the last unit where it is of the same shape,
-        // neither has a motor or spring (the bounds are held one lane at a
-        // time) and a lane is free.
+        // neither has a motor or spring and a lane is free.
         if let Some(unit) = islands.last_mut().filter(|u: &&mut JointIsland| {
-            !bounded && !u.bounded && u.lanes.len() < max_lanes && u.profile == profile
+            !single && !u.single && u.lanes.len() < max_lanes && u.profile == profile
         }) {
             let lane = unit.lanes.len();
             unit.owned.extend(owned.into_iter().map(|mut o| {
@@ -890,6 +907,7 @@ fn joint_islands_in_lanes(
         islands.push(JointIsland {
             lanes: vec![order],
             profile,
+            single,
             bounded,
             aim: vec![aim],
             owned,

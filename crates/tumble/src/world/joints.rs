@@ -126,18 +126,7 @@ impl World {
         id: JointId,
         motor: Option<crate::joint::Motor>,
     ) -> Result<(), WorldError> {
-        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
-        let mut desc = entry.desc.clone();
-        desc.motor = motor;
-        desc.validate()?;
-        let entry = self.joints.get_mut(id).ok_or(WorldError::StaleJoint(id))?;
-        entry.desc.motor = motor;
-        entry.law.motor = motor;
-        let bodies = [Some(entry.desc.body_a), entry.desc.body_b];
-        for body in bodies.into_iter().flatten() {
-            self.wake(body)?;
-        }
-        Ok(())
+        self.change_joint(id, |desc| desc.motor = motor)
     }
 
     /// Replaces a joint's spring-damper (`None` takes it off): a hinge's or
@@ -150,14 +139,21 @@ impl World {
         id: JointId,
         spring: Option<crate::joint::Spring>,
     ) -> Result<(), WorldError> {
+        self.change_joint(id, |desc| desc.spring = spring)
+    }
+
+    /// A joint's motor or spring changed by `edit` on its description,
+    /// validated first (the world unchanged on an error), then copied into
+    /// the law the solver reads; the joint's bodies wake.
+    fn change_joint(&mut self, id: JointId, edit: impl FnOnce(&mut JointDesc)) -> Result<(), WorldError> {
         let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
         let mut desc = entry.desc.clone();
-        desc.spring = spring;
+        edit(&mut desc);
         desc.validate()?;
         let entry = self.joints.get_mut(id).ok_or(WorldError::StaleJoint(id))?;
-        entry.desc.spring = spring;
-        entry.law.spring = spring;
-        let bodies = [Some(entry.desc.body_a), entry.desc.body_b];
+        (entry.law.motor, entry.law.spring) = (desc.motor, desc.spring);
+        let bodies = [Some(desc.body_a), desc.body_b];
+        entry.desc = desc;
         for body in bodies.into_iter().flatten() {
             self.wake(body)?;
         }

@@ -230,6 +230,7 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
         settings,
         bodies: Vec::new(),
         joints: Vec::new(),
+        no_contact: Vec::new(),
     };
     apply_overrides(args, &mut scene)?;
     let mut world = World::new(scene.settings.clone()).map_err(|e| CliError::Input(e.to_string()))?;
@@ -269,6 +270,12 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
     if !args.quiet {
         for w in &robot.warnings {
             println!("warning: {w}");
+        }
+        if !robot.no_contact.is_empty() {
+            println!(
+                "self-collision: {} pairs of links overlap in the file's pose and never touch",
+                robot.no_contact.len()
+            );
         }
     }
     // A robot without a name (some exported files) goes by its file's.

@@ -12,7 +12,7 @@ use crate::errors::{guard, invalid, OrRaise};
 use crate::world::World;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 use tumble::joint::{JointDesc, JointKind, JointState, Motor, Spring};
 use tumble::world::{JointId, World as RWorld};
 use tumble_collide::DVec3;
@@ -410,6 +410,10 @@ pub struct Robot {
     /// What was read but not used.
     #[pyo3(get)]
     warnings: Vec<String>,
+    /// With ``self_collision``: the (Body, Body) pairs of links that
+    /// overlap in the file's pose and so never touch.
+    #[pyo3(get)]
+    no_contact: Py<PyList>,
 }
 
 #[pymethods]
@@ -438,15 +442,17 @@ impl Robot {
 ///     orientation: its orientation (x, y, z, w).
 ///     fixed_base: weld the root link to the world.
 ///     self_collision: let the robot's links touch each other (off by
-///         default, as in PyBullet: links of files written for other
-///         engines overlap beyond their joints).
+///         default, as in PyBullet). Links that overlap in the file's pose
+///         still never touch (``Robot.no_contact``): files written for other
+///         engines overlap links beyond their joints, and contacts between
+///         them would fight the joints.
 ///     balance_inertia: replace an inertia no body could have by the
 ///         isotropic one of the same trace (as MuJoCo's balanceinertia),
 ///         with a warning, instead of refusing the file.
 ///
 /// Returns:
 ///     Robot with ``world``, ``links`` and ``joints`` (dicts by name),
-///     ``efforts``, ``root``, ``warnings``.
+///     ``efforts``, ``root``, ``warnings``, ``no_contact``.
 ///
 /// Raises:
 ///     InvalidArgument: a bad file, with file:line:column and element; the
@@ -509,7 +515,17 @@ pub fn load_urdf(
         )?;
         efforts.set_item(name, j.effort)?;
     }
+    let body = |id| Body {
+        world: world.clone().unbind(),
+        id,
+    };
+    let no_contact = PyList::empty(py);
+    for &(a, b) in &robot.no_contact {
+        no_contact.append((body(a), body(b)))?;
+    }
+    let no_contact = no_contact.unbind();
     Ok(Robot {
+        no_contact,
         world: world.unbind(),
         name: robot.name,
         root: robot.root,

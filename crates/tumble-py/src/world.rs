@@ -463,6 +463,44 @@ impl World {
         guard(|| slf.borrow_mut().remove(id))
     }
 
+    /// Allows (``True``) or forbids (``False``) contacts between two bodies
+    /// from the next step on (Bullet's ``setCollisionFilterPair``, MuJoCo's
+    /// ``<exclude>``). Allowing undoes only such an exclusion: bodies of one
+    /// non-colliding group, or jointed without ``collide_connected``, still
+    /// never touch (``contacts_allowed``). Both bodies wake.
+    ///
+    /// Raises:
+    ///     InvalidArgument: a body given twice; StaleHandle: a removed body.
+    fn set_contacts_between(
+        slf: &Bound<'_, Self>,
+        body_a: PyRef<'_, Body>,
+        body_b: PyRef<'_, Body>,
+        allowed: bool,
+    ) -> PyResult<()> {
+        let (a, b) = (body_a.id_in(slf)?, body_b.id_in(slf)?);
+        guard(|| {
+            let mut w = slf.borrow_mut();
+            w.check_usable()?;
+            w.inner.set_contacts_between(a, b, allowed).or_raise()
+        })
+    }
+
+    /// Whether two bodies may touch: not in one non-colliding group, not
+    /// jointed without ``collide_connected``, not kept apart by
+    /// ``set_contacts_between``.
+    fn contacts_allowed(
+        slf: &Bound<'_, Self>,
+        body_a: PyRef<'_, Body>,
+        body_b: PyRef<'_, Body>,
+    ) -> PyResult<bool> {
+        let (a, b) = (body_a.id_in(slf)?, body_b.id_in(slf)?);
+        guard(|| {
+            let w = slf.borrow();
+            w.check_usable()?;
+            w.inner.contacts_allowed(a, b).or_raise()
+        })
+    }
+
     /// Advances the world by `n` steps of `dt` each, with the GIL released.
     /// Ctrl-C stops it between two steps (KeyboardInterrupt; the steps taken
     /// so far are kept).

@@ -4,6 +4,7 @@ arrays, and bad files are refused with file, line and element."""
 
 from __future__ import annotations
 
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -72,33 +73,80 @@ def test_bad_files_are_located_and_leave_the_world_unchanged(tmp_path: Path) -> 
         tumble.load_urdf(tmp_path / "missing.urdf")
 
 
-def test_links_touch_each_other_only_with_self_collision(tmp_path: Path) -> None:
-    # Link c comes back onto link a through b: a and c overlap. Without
-    # self-collision (the default, as in PyBullet) they do not touch.
+def _hanging_pair(tmp_path: Path, c_at: str) -> Path:
+    """Link c hangs from b, which turns on a: no joint links a and c. With
+    c at "0 0 -0.5" c's ball lies inside a's box; at "0.5 0 0" it starts
+    beside the box and swings down into it."""
     box = '<geometry><box size="0.4 0.4 0.4"/></geometry>'
-    urdf = tmp_path / "folded.urdf"
+    urdf = tmp_path / f"hanging{len(c_at)}.urdf"
     urdf.write_text(
         '<robot name="r">\n'
         f'  <link name="a"><collision>{box}</collision></link>\n'
         '  <link name="b"><collision><origin xyz="0 0 0.5"/>'
         '<geometry><sphere radius="0.05"/></geometry></collision></link>\n'
-        '  <link name="c"><collision><origin xyz="0 0 -0.5"/>'
+        f'  <link name="c"><collision><origin xyz="{c_at}"/>'
         '<geometry><sphere radius="0.1"/></geometry></collision></link>\n'
         '  <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>\n'
         '  <joint name="j2" type="continuous"><parent link="b"/><child link="c"/>'
-        '<origin xyz="0 0 0.5"/></joint>\n'
+        '<origin xyz="0 0 0.5"/><axis xyz="0 1 0"/></joint>\n'
         "</robot>\n"
     )
+    return urdf
+
+
+def _a_and_c_touch(robot: tumble.Robot) -> bool:
+    a, c = robot.links["a"].index, robot.links["c"].index
+    contacts = robot.world.contacts()
+    pairs = set(zip(contacts["body_a"].tolist(), contacts["body_b"].tolist(), strict=True))
+    return (a, c) in pairs or (c, a) in pairs
+
+
+def test_links_touch_each_other_only_with_self_collision(tmp_path: Path) -> None:
+    # Without self-collision (the default, as in PyBullet) c swings down
+    # through a; with it, c strikes a.
+    urdf = _hanging_pair(tmp_path, "0.5 0 0")
     for self_collision in (False, True):
         robot = tumble.load_urdf(
             urdf, position=(0.0, 0.0, 1.0), fixed_base=True, self_collision=self_collision
         )
-        robot.world.step()
-        a, c = robot.links["a"].index, robot.links["c"].index
-        contacts = robot.world.contacts()
-        pairs = set(zip(contacts["body_a"].tolist(), contacts["body_b"].tolist(), strict=True))
-        touching = (a, c) in pairs or (c, a) in pairs
-        assert touching == self_collision
+        assert robot.no_contact == []
+        touched = False
+        for _ in range(120):
+            robot.world.step()
+            touched |= _a_and_c_touch(robot)
+        assert touched == self_collision
+
+
+def test_links_overlapping_in_the_files_pose_never_touch(tmp_path: Path) -> None:
+    # Their contacts would fight the joints: with self-collision they are
+    # kept apart (Robot.no_contact), until asked otherwise.
+    robot = tumble.load_urdf(
+        _hanging_pair(tmp_path, "0 0 -0.5"),
+        position=(0.0, 0.0, 1.0),
+        fixed_base=True,
+        self_collision=True,
+    )
+    a, b, c = (robot.links[name] for name in "abc")
+    assert robot.no_contact == [(a, c)]
+    world = robot.world
+    assert not world.contacts_allowed(a, c)
+    assert not world.contacts_allowed(a, b), "jointed"
+    for _ in range(60):
+        world.step()
+        assert not _a_and_c_touch(robot)
+    world.set_contacts_between(c, a, True)
+    assert world.contacts_allowed(a, c)
+    world.step()
+    assert _a_and_c_touch(robot)
+    # Kept apart again, through a pickle too.
+    world.set_contacts_between(a, c, False)
+    restored = pickle.loads(pickle.dumps(world))
+    assert not restored.contacts_allowed(restored.bodies[a.index], restored.bodies[c.index])
+    with pytest.raises(tumble.InvalidArgument, match="body_b"):
+        world.set_contacts_between(a, a, False)
+    world.remove_body(b)
+    with pytest.raises(tumble.StaleBodyError):
+        world.set_contacts_between(a, b, False)
 
 
 def test_bodies_of_one_non_colliding_group_pass_through_each_other() -> None:

@@ -842,6 +842,80 @@ fn bodies_of_one_non_colliding_group_pass_through_each_other_and_touch_the_rest(
 }
 
 #[test]
+fn an_excluded_pair_passes_through_itself_and_touches_the_rest() {
+    use tumble::world::WorldError;
+    // Two balls dropped onto a slab, their pair excluded: the upper one
+    // falls through the lower one (its free fall unchanged by it) and both
+    // come to rest on the slab, which they still touch.
+    let mut world = ground_world();
+    let slab = world
+        .add_body(
+            &BodyDesc::fixed(Cuboid::new(DVec3::new(1.0, 1.0, 0.1)).unwrap()).at(DVec3::new(0.0, 0.0, 1.0)),
+        )
+        .unwrap();
+    let ball = |z: f64| BodyDesc::dynamic(Sphere::new(0.1).unwrap()).at(DVec3::new(0.0, 0.0, z));
+    let lower = world.add_body(&ball(1.2)).unwrap();
+    let upper = world.add_body(&ball(1.6)).unwrap();
+    assert!(world.contacts_allowed(lower, upper).unwrap());
+    world.set_contacts_between(upper, lower, false).unwrap();
+    assert!(!world.contacts_allowed(lower, upper).unwrap());
+    assert_eq!(world.excluded_contact_pairs(), &[(lower, upper)]);
+    assert!(world.contacts_allowed(lower, slab).unwrap());
+    // A refused call leaves the world as it was.
+    let before = world.snapshot();
+    assert!(matches!(
+        world.set_contacts_between(lower, lower, false),
+        Err(WorldError::BadValue { field: "body_b", .. })
+    ));
+    // Until the upper ball reaches the slab (0.3 m of free fall, 15 steps), it falls
+    // as it falls with no lower ball at all, to the bit.
+    let mut alone = ground_world();
+    alone
+        .add_body(
+            &BodyDesc::fixed(Cuboid::new(DVec3::new(1.0, 1.0, 0.1)).unwrap()).at(DVec3::new(0.0, 0.0, 1.0)),
+        )
+        .unwrap();
+    let single = alone.add_body(&ball(1.6)).unwrap();
+    for _ in 0..14 {
+        world.step();
+        alone.step();
+        assert!(world.contacts().iter().all(|c| {
+            let pair = [c.body_a, c.body_b];
+            !(pair.contains(&lower) && pair.contains(&upper))
+        }));
+        assert_eq!(
+            world.center_of_mass(upper).unwrap(),
+            alone.center_of_mass(single).unwrap()
+        );
+    }
+    // (Resting on the lower ball, its centre would be at 1.4 m.)
+    let z = world.center_of_mass(upper).unwrap().z;
+    assert!(z < 1.36, "at {z} m: not through the lower ball");
+    for _ in 0..240 {
+        world.step();
+    }
+    for id in [lower, upper] {
+        let z = world.center_of_mass(id).unwrap().z;
+        assert!((z - 1.2).abs() < 2e-3, "{id:?} at {z} m, not on the slab");
+    }
+    // Stale handles are refused; removing a body drops its exclusions.
+    world.remove_body(upper).unwrap();
+    assert!(world.excluded_contact_pairs().is_empty());
+    assert!(matches!(
+        world.set_contacts_between(lower, upper, true),
+        Err(WorldError::StaleBody(_))
+    ));
+    assert!(matches!(
+        world.contacts_allowed(upper, lower),
+        Err(WorldError::StaleBody(_))
+    ));
+    // The refusal above changed nothing (the snapshot before it restores
+    // the exclusion with the world).
+    world.restore(&before).unwrap();
+    assert_eq!(world.excluded_contact_pairs(), &[(lower, upper)]);
+}
+
+#[test]
 fn a_body_without_shapes_falls_freely_touches_nothing_and_carries_a_joint() {
     use tumble::collide::mass::MassProperties;
     use tumble::collide::DMat3;

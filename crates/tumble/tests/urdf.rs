@@ -597,47 +597,100 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
 
 #[test]
 fn a_robots_links_touch_each_other_only_when_asked() {
-    // Links a and c overlap (c comes back onto a through b); jointed links
-    // never touch, and a and c touch only with self-collision.
+    // Link c hangs from b, which turns on a: a and c are linked by no joint.
+    // As written, c's ball lies inside a's box; with `C_OUT` it starts out
+    // beside the box and swings down into it.
     let text = r#"<robot name="r">
   <link name="a"><collision><geometry><box size="0.4 0.4 0.4"/></geometry></collision></link>
   <link name="b"><collision><origin xyz="0 0 0.5"/><geometry><sphere radius="0.05"/></geometry></collision></link>
-  <link name="c"><collision><origin xyz="0 0 -0.5"/><geometry><sphere radius="0.1"/></geometry></collision></link>
-  <joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>
+  <link name="c"><collision><origin xyz="C_AT"/><geometry><sphere radius="0.1"/></geometry></collision></link>
+  <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>
   <joint name="j2" type="revolute">
     <parent link="b"/><child link="c"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
     <limit lower="-1" upper="1" effort="1" velocity="1"/>
   </joint>
 </robot>"#;
-    let touching = |self_collision: bool| {
-        let (mut w, r) = loaded(
-            &text.replace("type=\"fixed\"", "type=\"continuous\""),
+    const C_IN: &str = "0 0 -0.5";
+    const C_OUT: &str = "0.5 0 0";
+    let load = |c_at: &str, self_collision: bool| {
+        loaded(
+            &text.replace("C_AT", c_at),
             UrdfOptions {
                 position: DVec3::new(0.0, 0.0, 1.0),
                 fixed_base: true,
                 self_collision,
                 ..UrdfOptions::default()
             },
-        );
-        w.step();
-        let (a, c) = (r.links["a"], r.links["c"]);
-        let groups: Vec<u32> = r
-            .bodies
-            .iter()
-            .map(|&b| w.non_colliding_group(b).unwrap())
-            .collect();
-        let touch = w
-            .contacts()
-            .iter()
-            .any(|k| (k.body_a == a && k.body_b == c) || (k.body_a == c && k.body_b == a));
-        (touch, groups)
+        )
     };
-    let (touch, groups) = touching(false);
-    assert!(!touch, "without self-collision, a and c do not touch");
+    let a_c_touch = |w: &World, r: &UrdfRobot| {
+        let (a, c) = (r.links["a"], r.links["c"]);
+        w.contacts()
+            .iter()
+            .any(|k| (k.body_a == a && k.body_b == c) || (k.body_a == c && k.body_b == a))
+    };
+    // Without self-collision, the robot's links share a group and never
+    // touch: c swings down through a.
+    let (mut w, r) = load(C_OUT, false);
+    let groups: Vec<u32> = r
+        .bodies
+        .iter()
+        .map(|&b| w.non_colliding_group(b).unwrap())
+        .collect();
     assert!(groups.iter().all(|&g| g == groups[0] && g != 0), "{groups:?}");
-    let (touch, groups) = touching(true);
-    assert!(touch, "with self-collision, the overlapping links touch");
-    assert!(groups.iter().all(|&g| g == 0), "{groups:?}");
+    let mut touched = false;
+    for _ in 0..120 {
+        w.step();
+        touched |= a_c_touch(&w, &r);
+    }
+    assert!(!touched, "without self-collision, a and c do not touch");
+    assert!(r.no_contact.is_empty());
+    // With it, c starts clear of a and strikes it on the way down.
+    let (mut w, r) = load(C_OUT, true);
+    assert!(r.bodies.iter().all(|&b| w.non_colliding_group(b).unwrap() == 0));
+    assert!(r.no_contact.is_empty(), "{:?}", r.no_contact);
+    let mut touched = false;
+    for _ in 0..120 {
+        w.step();
+        touched |= a_c_touch(&w, &r);
+    }
+    assert!(touched, "with self-collision, c strikes a");
+    // Links that overlap in the file's pose never touch, even with
+    // self-collision (their contacts would fight the joints): the robot
+    // moves to the very same bits as without self-collision, where no
+    // other pair of its links can meet.
+    let (mut off, _) = load(C_IN, false);
+    let (mut on, r) = load(C_IN, true);
+    assert_eq!(r.no_contact, vec![(r.links["a"], r.links["c"])]);
+    assert!(!on.contacts_allowed(r.links["a"], r.links["c"]).unwrap());
+    for _ in 0..120 {
+        off.step();
+        on.step();
+        assert!(!a_c_touch(&on, &r));
+    }
+    let pose = |w: &World| r.bodies.iter().map(|&b| w.pose(b).unwrap()).collect::<Vec<_>>();
+    assert_eq!(pose(&on), pose(&off));
+    // Allowed again, they touch at the next step.
+    on.set_contacts_between(r.links["c"], r.links["a"], true).unwrap();
+    on.step();
+    assert!(a_c_touch(&on, &r), "an exclusion taken back lets the pair touch");
+    // A scene file's self-colliding robot keeps the same pair apart.
+    let dir = std::env::temp_dir().join(format!("tumble-urdf-overlap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("r.urdf"), text.replace("C_AT", C_IN)).unwrap();
+    let scene = format!(
+        "[[robots]]\nfile = \"{}\"\nfixed_base = true\nself_collision = true\n",
+        dir.join("r.urdf").display()
+    );
+    let scene = tumble::scene::parse_scene(&scene, tumble::scene::Format::Toml, "s.toml".as_ref()).unwrap();
+    assert_eq!(scene.scene.no_contact, vec![(0, 2)]);
+    let (w, ids) = scene.build().unwrap();
+    assert!(!w.contacts_allowed(ids[0], ids[2]).unwrap());
+    assert!(
+        w.contacts_allowed(ids[0], ids[1]).is_ok_and(|allowed| !allowed),
+        "jointed"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
     // A second robot takes a group of its own: its links touch the first's.
     let mut w = world();
     let first = add_urdf(&mut w, TWO_LINKS, "one.urdf".as_ref(), UrdfOptions::default()).unwrap();

@@ -48,6 +48,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tumble_collide::mass::MassProperties;
 use tumble_collide::mesh::load_mesh;
+use tumble_collide::narrow::contact_shapes;
 use tumble_collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble_collide::{DMat3, DQuat, DVec3, Pose};
 
@@ -141,12 +142,10 @@ pub struct UrdfOptions {
     /// Weld the root link to the world.
     pub fixed_base: bool,
     /// Let the robot's links touch each other (jointed links still do not,
-    /// as a joint's `collide_connected` is off). Off by default, as in
-    /// PyBullet: the links of files written for other engines overlap
-    /// beyond their joints (a KUKA arm's fifth and seventh links at its
-    /// zero configuration), and contacts between them would fight the
-    /// joints. Off, the robot's bodies share a non-colliding group of
-    /// their own (`BodyDesc::non_colliding_group`).
+    /// as a joint's `collide_connected` is off, nor do links that overlap
+    /// where the file places them: `UrdfParts::no_contact`). Off by
+    /// default, as in PyBullet. Off, the robot's bodies share a
+    /// non-colliding group of their own (`BodyDesc::non_colliding_group`).
     pub self_collision: bool,
     /// Replace an inertia that no body could have (a principal moment
     /// below 0, or two that sum to less than the third, as some files
@@ -192,6 +191,9 @@ pub struct UrdfRobot {
     pub bodies: Vec<BodyId>,
     /// Every non-fixed joint, by name.
     pub joints: BTreeMap<String, UrdfJoint>,
+    /// With `UrdfOptions::self_collision`: the pairs of bodies that overlap
+    /// in the file's pose and so never touch (`UrdfParts::no_contact`).
+    pub no_contact: Vec<(BodyId, BodyId)>,
     /// The root link.
     pub root: String,
     /// What was read but not used (limits beyond what a hinge measures, ...).
@@ -211,6 +213,11 @@ pub struct UrdfParts {
     pub joints: Vec<UrdfPartJoint>,
     /// With `UrdfOptions::fixed_base` and a dynamic root: its weld to the world.
     pub base_weld: Option<JointDesc<usize>>,
+    /// With `UrdfOptions::self_collision`: the pairs of bodies (indices
+    /// into `bodies`, the lower first) that overlap where the file places
+    /// them and that no joint links; they never touch
+    /// (`World::set_contacts_between`).
+    pub no_contact: Vec<(usize, usize)>,
     /// Every link's body (an index into `bodies`); a link that stands for
     /// the world, or was left out, has none.
     pub links: BTreeMap<String, usize>,
@@ -1163,6 +1170,16 @@ impl<'a, 'input> Model<'a, 'input> {
             }
         }
         let joint_nodes = joint_descs.iter().map(|(j, _)| j.node).collect();
+        let no_contact = match options.self_collision {
+            true => {
+                let linked: Vec<(usize, usize)> = joint_descs
+                    .iter()
+                    .filter_map(|(_, d)| d.body_b.map(|b| (d.body_a.min(b), d.body_a.max(b))))
+                    .collect();
+                overlapping_pairs(&descs, &linked)
+            }
+            false => Vec::new(),
+        };
         let parts = UrdfParts {
             name: self.name.clone(),
             bodies: descs,
@@ -1175,6 +1192,7 @@ impl<'a, 'input> Model<'a, 'input> {
                 })
                 .collect(),
             base_weld,
+            no_contact,
             links: self
                 .links
                 .iter()
@@ -1233,6 +1251,7 @@ impl<'a, 'input> Model<'a, 'input> {
                     )
                 })
                 .collect(),
+            no_contact: parts.no_contact.iter().map(|&(a, b)| (ids[a], ids[b])).collect(),
             bodies: ids,
             root: parts.root,
             warnings: parts.warnings,
@@ -1278,7 +1297,55 @@ fn add_parts(
             .add_joint(&weld.clone().with_bodies(|k| ids[k]))
             .map_err(|e| r.err(body_nodes[weld.body_a], world_message(&e)))?;
     }
+    for &(a, b) in &parts.no_contact {
+        world
+            .set_contacts_between(ids[a], ids[b], false)
+            .map_err(|e| r.err(body_nodes[a], world_message(&e)))?;
+    }
     Ok((ids, joint_ids))
+}
+
+/// The pairs of `bodies` (indices, the lower first, in order) that no pair
+/// of `linked` names and whose shapes overlap where their descriptions
+/// place them. A robot's links that overlap in the file's pose were never
+/// meant to touch (the links of files written for other engines overlap
+/// beyond their joints: a KUKA LWR's fifth and seventh links); held
+/// together by the joints between them, their contacts squeeze against rows
+/// that lock every way out, and such robots blew apart (KUKA's LWR, Vision
+/// 60 and MuJoCo's humanoid in PyBullet's data set). MoveIt's setup
+/// assistant switches off the pairs "in collision by default" the same way.
+fn overlapping_pairs(bodies: &[BodyDesc], linked: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let shapes: Vec<Vec<(&Shape, Pose)>> = bodies
+        .iter()
+        .map(|b| {
+            b.shapes
+                .iter()
+                .filter(|s| !matches!(s.shape, Shape::HalfSpace(_)))
+                .map(|s| (&s.shape, b.pose.mul_pose(&s.local_pose)))
+                .collect()
+        })
+        .collect();
+    let mut buffer = Vec::new();
+    let mut pairs = Vec::new();
+    for a in 0..bodies.len() {
+        for b in a + 1..bodies.len() {
+            if linked.contains(&(a, b)) {
+                continue;
+            }
+            let overlap = shapes[a].iter().any(|(sa, pa)| {
+                shapes[b].iter().any(|(sb, pb)| {
+                    buffer.clear();
+                    // (A pair the narrow phase cannot answer is left to touch.)
+                    contact_shapes(sa, pa, sb, pb, 0.0, &mut buffer).is_ok()
+                        && buffer.iter().any(|c| c.distance < 0.0)
+                })
+            });
+            if overlap {
+                pairs.push((a, b));
+            }
+        }
+    }
+    pairs
 }
 
 fn world_message(e: &WorldError) -> String {

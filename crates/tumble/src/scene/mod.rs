@@ -224,6 +224,9 @@ impl LoadedScene {
             let desc = self.scene.joint_desc(joint, &ids).map_err(at)?;
             world.add_joint(&desc).map_err(at)?;
         }
+        self.scene
+            .keep_apart(&mut world, &ids)
+            .map_err(|e| locate(&e, None))?;
         Ok((world, ids))
     }
 }

@@ -169,6 +169,7 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
             bodies: Vec::new(),
             steps,
             joints: Vec::new(),
+            no_contact: Vec::new(),
         },
         loads: Vec::new(),
         origins: Vec::new(),
@@ -193,6 +194,8 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
         out.scene.joints.push(joint);
         out.joint_paths.push(path);
     }
+    let pairs = super::joints::resolve_no_contact(&file.no_contact, &out.scene.bodies)?;
+    out.scene.no_contact.extend(pairs);
     Ok(out)
 }
 
@@ -254,6 +257,9 @@ fn resolve_robot(
         });
         out.scene.bodies.push(body);
     }
+    out.scene
+        .no_contact
+        .extend(parts.no_contact.iter().map(|&(a, b)| (first + a, first + b)));
     let joints = parts.joints.into_iter().map(|j| j.desc).chain(parts.base_weld);
     for mut joint in joints {
         if !joint.name.is_empty() {

@@ -65,6 +65,19 @@ pub struct SceneFile {
     /// bodies and the robots in this order.
     #[serde(default)]
     pub joints: Vec<JointSpec>,
+    /// Pairs of bodies that never touch (`World::set_contacts_between`),
+    /// named as `joints` names them.
+    #[serde(default)]
+    pub no_contact: Vec<NoContactSpec>,
+}
+
+/// Two bodies that never touch each other (they still touch the rest).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NoContactSpec {
+    /// The names of the two bodies (after grid expansion, robots' links as
+    /// `ROBOT/LINK`).
+    pub bodies: [String; 2],
 }
 
 /// A robot from a URDF file (`tumble::joint::urdf`: what is read, and how
@@ -92,8 +105,9 @@ pub struct RobotSpec {
     /// Weld the root link to the world. Default false.
     #[serde(default)]
     pub fixed_base: bool,
-    /// Let the robot's links touch each other. Default false (they share a
-    /// non-colliding group of their own, as in PyBullet).
+    /// Let the robot's links touch each other, except links that overlap
+    /// in the file's pose. Default false (they share a non-colliding group
+    /// of their own, as in PyBullet).
     #[serde(default)]
     pub self_collision: bool,
     /// Replace an inertia no body could have by the isotropic one of the

@@ -653,3 +653,50 @@ linear_velocity = [1, 0, 0]
     assert_eq!(path, "bodies[0]");
     assert!(message.contains("at most one of"), "{message}");
 }
+
+#[test]
+fn a_no_contact_pair_passes_through_itself_and_bad_pairs_are_located() {
+    // Two balls overlapping by half, without gravity: kept apart they do
+    // not push each other; without the entry they are pushed apart.
+    let text = r#"
+[settings]
+gravity = [0, 0, 0]
+sleeping = false
+[[bodies]]
+name = "left"
+shapes = [{ type = "sphere", radius = 0.1 }]
+position = [0, 0, 0]
+[[bodies]]
+name = "right"
+shapes = [{ type = "sphere", radius = 0.1 }]
+position = [0.1, 0, 0]
+[[no_contact]]
+bodies = ["right", "left"]
+"#;
+    let moved = |text: &str| {
+        let loaded = toml(text).unwrap();
+        let (mut world, ids) = loaded.build().unwrap();
+        for _ in 0..10 {
+            world.step();
+        }
+        let gap = world.center_of_mass(ids[1]).unwrap() - world.center_of_mass(ids[0]).unwrap();
+        gap.x - 0.1
+    };
+    let loaded = toml(text).unwrap();
+    assert_eq!(loaded.scene.no_contact, vec![(0, 1)]);
+    assert_eq!(moved(text), 0.0);
+    let without = &text[..text.find("[[no_contact]]").unwrap()];
+    assert!(moved(without) > 0.05, "overlapping balls push apart");
+
+    let unknown = text.replace("[\"right\", \"left\"]", "[\"right\", \"lfet\"]");
+    let (line, column, path, message) = at(toml(&unknown).err().unwrap());
+    assert_eq!(path, "no_contact[0].bodies[1]");
+    assert_eq!((line, column), position_of(&unknown, "\"lfet\""));
+    assert!(message.contains("no body is named `lfet`"), "{message}");
+    let twice = text.replace("[\"right\", \"left\"]", "[\"left\", \"left\"]");
+    let (_, _, path, message) = at(toml(&twice).err().unwrap());
+    assert_eq!(path, "no_contact[0].bodies[1]");
+    assert!(message.contains("never touches itself"), "{message}");
+    let one = text.replace("[\"right\", \"left\"]", "[\"right\"]");
+    assert!(toml(&one).is_err(), "a pair has two bodies");
+}

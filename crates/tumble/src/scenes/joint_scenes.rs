@@ -49,6 +49,7 @@ pub fn heavy_chain() -> Scene {
         bodies,
         steps: 600,
         joints,
+        no_contact: Vec::new(),
     }
 }
 
@@ -172,6 +173,7 @@ pub fn ragdoll_pile() -> Scene {
         bodies,
         steps: 600,
         joints,
+        no_contact: Vec::new(),
     }
 }
 

@@ -104,6 +104,7 @@ pub fn torus_on_ground() -> Scene {
         ],
         steps: 240,
         joints: Vec::new(),
+        no_contact: Vec::new(),
     }
 }
 
@@ -141,5 +142,6 @@ pub fn tori_pass() -> Scene {
         ],
         steps: 360,
         joints: Vec::new(),
+        no_contact: Vec::new(),
     }
 }

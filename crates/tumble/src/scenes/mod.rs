@@ -60,6 +60,7 @@ fn ten_seconds_without_sleep(name: impl Into<String>, bodies: Vec<BodyDesc>) -> 
         bodies,
         steps: 600,
         joints: Vec::new(),
+        no_contact: Vec::new(),
     }
 }
 
@@ -76,6 +77,10 @@ pub struct Scene {
     pub steps: usize,
     /// Joints, their bodies named by index into `bodies`.
     pub joints: Vec<JointDesc<usize>>,
+    /// Body pairs (indices into `bodies`) that never touch
+    /// (`World::set_contacts_between`): a self-colliding robot's links
+    /// that overlap in its file's pose (`UrdfParts::no_contact`).
+    pub no_contact: Vec<(usize, usize)>,
 }
 
 impl Scene {
@@ -91,7 +96,26 @@ impl Scene {
         for joint in &self.joints {
             world.add_joint(&self.joint_desc(joint, &ids)?)?;
         }
+        self.keep_apart(&mut world, &ids)?;
         Ok((world, ids))
+    }
+
+    /// Keeps the `no_contact` pairs of the scene's bodies `ids` apart in
+    /// `world` (an index past the bodies is refused).
+    pub fn keep_apart(&self, world: &mut World, ids: &[BodyId]) -> Result<(), WorldError> {
+        let id = |i: usize| {
+            ids.get(i).copied().ok_or_else(|| WorldError::BadValue {
+                field: "scene.no_contact",
+                message: format!(
+                    "body index {i} is out of range (the scene has {} bodies)",
+                    ids.len()
+                ),
+            })
+        };
+        for &(a, b) in &self.no_contact {
+            world.set_contacts_between(id(a)?, id(b)?, false)?;
+        }
+        Ok(())
     }
 
     /// A scene joint with its body indices turned into the handles `ids`

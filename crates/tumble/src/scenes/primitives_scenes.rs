@@ -147,6 +147,7 @@ pub fn cradle() -> Scene {
         bodies,
         steps: 240,
         joints: Vec::new(),
+        no_contact: Vec::new(),
     }
 }
 
@@ -181,6 +182,7 @@ pub fn incline(mu: f64) -> Scene {
         bodies: vec![slab, cube],
         steps: 240,
         joints: Vec::new(),
+        no_contact: Vec::new(),
     }
 }
 
@@ -223,5 +225,6 @@ pub fn ball_drop(height: f64, e: f64) -> Scene {
         ],
         steps: 1200,
         joints: Vec::new(),
+        no_contact: Vec::new(),
     }
 }

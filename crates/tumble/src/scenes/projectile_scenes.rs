@@ -171,6 +171,7 @@ impl ProjectileCase {
             ],
             steps: PROJECTILE_STEPS,
             joints: Vec::new(),
+            no_contact: Vec::new(),
         }
     }
 

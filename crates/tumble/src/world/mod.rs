@@ -43,6 +43,7 @@
 //! ```
 
 pub(crate) mod body_mass;
+mod contact_filter;
 mod desc;
 mod error;
 mod handles;
@@ -140,6 +141,9 @@ pub struct World {
     searches: Vec<SearchedPair>,
     contacts: Vec<WorldContact>,
     touching: Vec<(BodyId, BodyId)>,
+    /// Body pairs kept apart by `set_contacts_between`, the lower slot
+    /// first, sorted (`contact_filter`).
+    contact_exclusions: Vec<(BodyId, BodyId)>,
     time: f64,
     step_count: u64,
     /// Worker threads for `settings.threads` (not state: results do not depend on it).
@@ -288,6 +292,7 @@ impl World {
             searches: Vec::new(),
             contacts: Vec::new(),
             touching: Vec::new(),
+            contact_exclusions: Vec::new(),
             time: 0.0,
             step_count: 0,
             scratch: step::StepScratch::default(),
@@ -505,6 +510,7 @@ impl World {
         self.searches
             .retain(|c| c.key.0 != id.index && c.key.1 != id.index);
         self.contacts.retain(|c| c.body_a != id && c.body_b != id);
+        self.contact_exclusions.retain(|&(a, b)| a != id && b != id);
         Ok(())
     }
 

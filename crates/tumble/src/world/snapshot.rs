@@ -11,7 +11,8 @@
 //! broad-phase box of each body (the fattened box of its last active step:
 //! it decides which pairs are tested), the warm-start contact cache and the
 //! touching pairs of the last step (they decide the next step's begin/end
-//! events), and every joint slot with its joint (description, frames on
+//! events), the body pairs kept apart by `World::set_contacts_between`,
+//! and every joint slot with its joint (description, frames on
 //! the bodies, warm-start impulses, last reaction). Not in it: the contact list of the last step ([`World::contacts`]
 //! is empty after a restore until the next step) and the broad phase's
 //! internal sort order (rebuilt; its pair set, the only thing the step reads,
@@ -40,7 +41,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 8;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 9;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -116,6 +117,9 @@ pub struct Snapshot {
     searches: Vec<SearchedPair>,
     /// Body pairs touching at the last step, sorted.
     touching: Vec<(BodyId, BodyId)>,
+    /// Body pairs kept apart by `World::set_contacts_between`, the lower
+    /// slot first, sorted.
+    contact_exclusions: Vec<(BodyId, BodyId)>,
     /// Live bodies in the order the owner wants them listed (e.g. the rows
     /// of the Python arrays); slot order unless set with
     /// [`Snapshot::set_body_order`].
@@ -527,6 +531,7 @@ impl World {
             patch_cache: self.patch_cache.clone(),
             searches: self.searches.clone(),
             touching: self.touching.clone(),
+            contact_exclusions: self.contact_exclusions.clone(),
             body_order: self.body_ids(),
             joint_slots: (0..self.joints.slot_count() as u32)
                 .map(|i| JointSlotRecord {
@@ -663,6 +668,16 @@ impl World {
         if !snapshot.touching.windows(2).all(|w| w[0] < w[1]) {
             return Err(invalid("touching pairs must be sorted and unique"));
         }
+        if !snapshot.contact_exclusions.windows(2).all(|w| w[0] < w[1]) {
+            return Err(invalid("contact_exclusions must be sorted and unique"));
+        }
+        for (i, &(a, b)) in snapshot.contact_exclusions.iter().enumerate() {
+            if a.index >= b.index || bodies.get(a).is_none() || bodies.get(b).is_none() {
+                return Err(invalid(format!(
+                    "contact_exclusions[{i}]: ({a:?}, {b:?}) must be two live bodies, the lower slot first"
+                )));
+            }
+        }
         let joint_slots = snapshot
             .joint_slots
             .iter()
@@ -688,6 +703,7 @@ impl World {
             searches: snapshot.searches.clone(),
             contacts: Vec::new(),
             touching: snapshot.touching.clone(),
+            contact_exclusions: snapshot.contact_exclusions.clone(),
             time: snapshot.time,
             step_count: snapshot.step_count,
             pool: crate::pool::WorkerPool::new(snapshot.settings.threads),

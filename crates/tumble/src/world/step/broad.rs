@@ -60,16 +60,9 @@ impl World {
         }
         pairs.sort_unstable();
         pairs.dedup();
-        // Jointed bodies do not touch unless their joint says so, nor do
-        // bodies of one non-colliding group.
-        let jointed = self.jointed_pairs_without_contact();
-        if !jointed.is_empty() {
-            pairs.retain(|p| jointed.binary_search(p).is_err());
-        }
-        let group = |slot: u32| self.bodies.at(slot).map_or(0, |e| e.non_colliding_group);
-        if (0..n_slots as u32).any(|i| group(i) != 0) {
-            pairs.retain(|&(a, b)| group(a) == 0 || group(a) != group(b));
-        }
+        // Jointed bodies, bodies of one non-colliding group and excluded
+        // pairs do not touch.
+        self.filter_contact_pairs(&mut pairs);
         f.report.broad_pairs = pairs.len();
         // Nothing to wake when no body sleeps (a landing pile of 10,000
         // skips a pass over its 100,000 pairs).

@@ -273,7 +273,7 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
         }
         if !robot.no_contact.is_empty() {
             println!(
-                "self-collision: {} pairs of links overlap in the file's pose and never touch",
+                "self-collision: links that overlap in the file's pose never touch (pairs kept apart: {})",
                 robot.no_contact.len()
             );
         }

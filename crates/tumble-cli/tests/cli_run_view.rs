@@ -477,6 +477,33 @@ fn run_simulates_a_urdf_robot_and_locates_a_bad_one() {
         let (line, mm) = summary_millimetres(&out.stdout, "max penetration");
         assert!(mm < 1.0, "{line}");
     }
+    // Two links that overlap in the file's pose, linked by no joint (b is
+    // carried by a massless frame on a hinge): with self-collision they are
+    // said to be kept apart.
+    let folded = dir.join("folded.urdf");
+    std::fs::write(
+        &folded,
+        "<robot name=\"f\">\
+         <link name=\"a\"><collision><geometry><box size=\"0.4 0.4 0.4\"/></geometry></collision></link>\
+         <link name=\"m\"><collision><origin xyz=\"0 0 0.5\"/><geometry><sphere radius=\"0.05\"/></geometry></collision></link>\
+         <link name=\"b\"><collision><origin xyz=\"0 0 -0.5\"/><geometry><sphere radius=\"0.1\"/></geometry></collision></link>\
+         <joint name=\"j1\" type=\"continuous\"><parent link=\"a\"/><child link=\"m\"/></joint>\
+         <joint name=\"j2\" type=\"continuous\"><parent link=\"m\"/><child link=\"b\"/><origin xyz=\"0 0 0.5\"/></joint>\
+         </robot>\n",
+    )
+    .unwrap();
+    for (flags, said) in [(&[][..], false), (&["--self-collision"][..], true)] {
+        let out = tumble()
+            .args(["run", "--steps", "5"])
+            .args(flags)
+            .arg(&folded)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let summary = String::from_utf8_lossy(&out.stdout);
+        let line = "self-collision: links that overlap in the file's pose never touch (pairs kept apart: 1)";
+        assert_eq!(summary.contains(line), said, "{summary}");
+    }
     let bad = dir.join("bad.urdf");
     std::fs::write(
         &bad,

@@ -4,7 +4,7 @@
 //! the slot.
 
 use crate::convert::{self, quat_out, vec3, vec_out};
-use crate::errors::{error, guard, invalid, Kind, OrRaise};
+use crate::errors::{busy, error, guard, invalid, Kind, OrRaise};
 use crate::world::World;
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -82,13 +82,6 @@ impl Body {
         w.check_usable()?;
         guard(|| f(&mut w, self.id))
     }
-}
-
-fn busy() -> PyErr {
-    error(
-        Kind::Tumble,
-        "the world is in use by another thread (stepping); try again when step() returns",
-    )
 }
 
 #[pymethods]

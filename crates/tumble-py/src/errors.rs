@@ -263,6 +263,15 @@ pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
+/// The error for a world another thread holds (stepping with the GIL
+/// released).
+pub fn busy() -> PyErr {
+    error(
+        Kind::Tumble,
+        "the world is in use by another thread (stepping); try again when step() returns",
+    )
+}
+
 /// Runs `f`, turning a panic inside it into `InternalError` so that no
 /// panic reaches Python as pyo3's `PanicException` (a `BaseException`).
 pub fn guard<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {

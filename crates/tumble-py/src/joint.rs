@@ -411,7 +411,8 @@ pub struct Robot {
     #[pyo3(get)]
     warnings: Vec<String>,
     /// With ``self_collision``: the (Body, Body) pairs of links that
-    /// overlap in the file's pose and so never touch.
+    /// overlap in the file's pose and so never touch (as loaded; later
+    /// ``World.set_contacts_between`` calls do not change this list).
     #[pyo3(get)]
     no_contact: Py<PyList>,
 }

@@ -11,7 +11,7 @@
 
 use crate::body::{kind_from, Body};
 use crate::convert::{self, matrix_out};
-use crate::errors::{error, guard, invalid, panic_message, Kind, OrRaise};
+use crate::errors::{busy, error, guard, invalid, panic_message, Kind, OrRaise};
 use crate::joint::{Joint, JointArgs};
 use crate::record::Recorder;
 use crate::report::{self, PyStepReport, StepSummary};
@@ -467,10 +467,12 @@ impl World {
     /// from the next step on (Bullet's ``setCollisionFilterPair``, MuJoCo's
     /// ``<exclude>``). Allowing undoes only such an exclusion: bodies of one
     /// non-colliding group, or jointed without ``collide_connected``, still
-    /// never touch (``contacts_allowed``). Both bodies wake.
+    /// never touch (``contacts_allowed``). Both bodies wake if it changes
+    /// anything.
     ///
     /// Raises:
-    ///     InvalidArgument: a body given twice; StaleHandle: a removed body.
+    ///     InvalidArgument: a body given twice, or one of another world.
+    ///     StaleBodyError: a removed body.
     fn set_contacts_between(
         slf: &Bound<'_, Self>,
         body_a: PyRef<'_, Body>,
@@ -479,7 +481,7 @@ impl World {
     ) -> PyResult<()> {
         let (a, b) = (body_a.id_in(slf)?, body_b.id_in(slf)?);
         guard(|| {
-            let mut w = slf.borrow_mut();
+            let mut w = slf.try_borrow_mut().map_err(|_| busy())?;
             w.check_usable()?;
             w.inner.set_contacts_between(a, b, allowed).or_raise()
         })
@@ -488,6 +490,10 @@ impl World {
     /// Whether two bodies may touch: not in one non-colliding group, not
     /// jointed without ``collide_connected``, not kept apart by
     /// ``set_contacts_between``.
+    ///
+    /// Raises:
+    ///     InvalidArgument: a body given twice, or one of another world.
+    ///     StaleBodyError: a removed body.
     fn contacts_allowed(
         slf: &Bound<'_, Self>,
         body_a: PyRef<'_, Body>,
@@ -495,7 +501,7 @@ impl World {
     ) -> PyResult<bool> {
         let (a, b) = (body_a.id_in(slf)?, body_b.id_in(slf)?);
         guard(|| {
-            let w = slf.borrow();
+            let w = slf.try_borrow().map_err(|_| busy())?;
             w.check_usable()?;
             w.inner.contacts_allowed(a, b).or_raise()
         })

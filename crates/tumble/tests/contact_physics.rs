@@ -867,7 +867,8 @@ fn an_excluded_pair_passes_through_itself_and_touches_the_rest() {
         world.set_contacts_between(lower, lower, false),
         Err(WorldError::BadValue { field: "body_b", .. })
     ));
-    // Until the upper ball reaches the slab (0.3 m of free fall, 15 steps), it falls
+    assert!(world.snapshot() == before, "a refused call changed the world");
+    // Until the upper ball reaches the slab (0.4 m of free fall, 17 steps), it falls
     // as it falls with no lower ball at all, to the bit.
     let mut alone = ground_world();
     alone
@@ -898,19 +899,24 @@ fn an_excluded_pair_passes_through_itself_and_touches_the_rest() {
         let z = world.center_of_mass(id).unwrap().z;
         assert!((z - 1.2).abs() < 2e-3, "{id:?} at {z} m, not on the slab");
     }
-    // Stale handles are refused; removing a body drops its exclusions.
+    // Stale handles are refused, the world unchanged; removing a body
+    // drops its exclusions.
     world.remove_body(upper).unwrap();
     assert!(world.excluded_contact_pairs().is_empty());
+    let after_removal = world.snapshot();
     assert!(matches!(
-        world.set_contacts_between(lower, upper, true),
+        world.set_contacts_between(lower, upper, false),
         Err(WorldError::StaleBody(_))
     ));
     assert!(matches!(
         world.contacts_allowed(upper, lower),
         Err(WorldError::StaleBody(_))
     ));
-    // The refusal above changed nothing (the snapshot before it restores
-    // the exclusion with the world).
+    assert!(
+        world.snapshot() == after_removal,
+        "a refused call changed the world"
+    );
+    // A snapshot keeps the exclusion.
     world.restore(&before).unwrap();
     assert_eq!(world.excluded_contact_pairs(), &[(lower, upper)]);
 }

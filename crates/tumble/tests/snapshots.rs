@@ -212,6 +212,8 @@ fn assorted_world() -> (World, Vec<BodyId>, BodyId) {
     world.remove_body(removed).unwrap();
     world.apply_force(ids[1], DVec3::new(1.0, 2.0, 3.0)).unwrap();
     world.apply_torque(ids[2], DVec3::new(0.0, 0.1, 0.0)).unwrap();
+    // The two mesh cubes, one above the other, never touch each other.
+    world.set_contacts_between(ids[6], ids[5], false).unwrap();
     (world, ids, removed)
 }
 
@@ -238,6 +240,7 @@ fn every_kind_of_body_survives_a_snapshot() {
             world.non_colliding_group(id).unwrap()
         );
     }
+    assert_eq!(restored.excluded_contact_pairs(), &[(ids[5], ids[6])]);
     assert_eq!(restored.non_colliding_group(ids[10]).unwrap(), 7);
     let new_a = world.add_body(&BodyDesc::dynamic(Sphere::new(0.1).unwrap()).at(DVec3::new(-3.0, 0.0, 1.0)));
     let new_b =
@@ -338,6 +341,33 @@ fn inconsistent_snapshots_are_refused_and_restore_leaves_the_world_unchanged() {
             "{to}: {result:?}"
         );
         assert!(target.snapshot() == before, "{to}: the world changed");
+    }
+    // Excluded pairs: reversed, repeated, or naming a body that is not
+    // there (a stale generation, the removed slot).
+    let key = "\"contact_exclusions\":";
+    let at = json.find(key).expect("contact_exclusions in the JSON") + key.len();
+    let end = at + json[at..].find("]]").unwrap() + 2;
+    let list = &json[at..end];
+    let (first, second) = list[2..list.len() - 2].split_once("},{").unwrap();
+    let (first, second) = (format!("{first}}}"), format!("{{{second}"));
+    let stale = first.replace("\"generation\":", "\"generation\":7");
+    let removed_slot = format!("{{\"index\":9,{}", &second[second.find(',').unwrap() + 1..]);
+    for pairs in [
+        format!("[[{second},{first}]]"),
+        format!("[[{first},{second}],[{first},{second}]]"),
+        format!("[[{stale},{second}]]"),
+        format!("[[{first},{removed_slot}]]"),
+        format!("[[{first},{first}]]"),
+    ] {
+        let bad = format!("{}{pairs}{}", &json[..at], &json[end..]);
+        let result = Snapshot::from_json(&bad).and_then(|s| target.restore(&s));
+        match result {
+            Err(SnapshotError::Invalid(message)) => {
+                assert!(message.contains("contact_exclusions"), "{pairs}: {message}")
+            }
+            other => panic!("{pairs}: {other:?}"),
+        }
+        assert!(target.snapshot() == before, "{pairs}: the world changed");
     }
     // A state that is not finite cannot be put in through a snapshot.
     let (world2, ..) = assorted_world();

@@ -34,7 +34,8 @@
 //! `UrdfRobot::warnings`. A link with an `<inertial>` but no geometry is a
 //! body without shapes: it carries its mass and its joints and touches
 //! nothing. The robot's links do not touch each other unless
-//! `UrdfOptions::self_collision`, and an inertia no body could have is
+//! `UrdfOptions::self_collision`, and then not where they overlap in the
+//! file's pose (`UrdfParts::no_contact`); an inertia no body could have is
 //! refused unless `UrdfOptions::balance_inertia`.
 //!
 //! Errors name the file, line, column and element (`arm.urdf:12:5: <joint
@@ -1267,7 +1268,8 @@ struct Located<'a, 'input> {
     joint_nodes: Vec<roxmltree::Node<'a, 'input>>,
 }
 
-/// Adds `parts` to `world` (bodies, joints, the base's weld), the world's
+/// Adds `parts` to `world` (bodies, joints, the base's weld, the pairs kept
+/// apart), the world's
 /// refusals located at the link or joint element; the bodies' and the
 /// joints' handles. On error, part of the robot may be in `world`.
 fn add_parts(
@@ -1314,7 +1316,13 @@ fn add_parts(
 /// that lock every way out, and such robots blew apart (KUKA's LWR, Vision
 /// 60 and MuJoCo's humanoid in PyBullet's data set). MoveIt's setup
 /// assistant switches off the pairs "in collision by default" the same way.
+/// A pair with a triangle mesh counts as overlapping within the skin the
+/// world keeps meshes apart by (twice the default allowed penetration, as
+/// the narrow stage offsets them): nearer, it would be pushed apart at the
+/// first step. (A mesh is a surface: a link wholly inside another's mesh
+/// makes no contact here, and is not kept apart.)
 fn overlapping_pairs(bodies: &[BodyDesc], linked: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let skin = 2.0 * WorldSettings::default().allowed_penetration;
     let shapes: Vec<Vec<(&Shape, Pose)>> = bodies
         .iter()
         .map(|b| {
@@ -1334,10 +1342,12 @@ fn overlapping_pairs(bodies: &[BodyDesc], linked: &[(usize, usize)]) -> Vec<(usi
             }
             let overlap = shapes[a].iter().any(|(sa, pa)| {
                 shapes[b].iter().any(|(sb, pb)| {
+                    let mesh = matches!(sa, Shape::Mesh(_)) || matches!(sb, Shape::Mesh(_));
+                    let within = if mesh { skin } else { 0.0 };
                     buffer.clear();
                     // (A pair the narrow phase cannot answer is left to touch.)
-                    contact_shapes(sa, pa, sb, pb, 0.0, &mut buffer).is_ok()
-                        && buffer.iter().any(|c| c.distance < 0.0)
+                    contact_shapes(sa, pa, sb, pb, within, &mut buffer).is_ok()
+                        && buffer.iter().any(|c| c.distance < within)
                 })
             });
             if overlap {

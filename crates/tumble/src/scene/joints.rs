@@ -1,9 +1,10 @@
-//! The `[[joints]]` of a scene file, and its `[[no_contact]]` pairs:
-//! bodies found by name, values checked where they are written (the path
-//! of each field kept, so the world's objections point at the file's line).
+//! The `[[joints]]` of a scene file: bodies found by name, values checked
+//! where they are written (the path of each field kept, so the world's
+//! objections point at the file's line).
 
 use super::error::{FieldError, FieldPath};
-use super::schema::{JointSpec, NoContactSpec};
+use super::resolve::body_named;
+use super::schema::JointSpec;
 use super::values::vec3;
 use crate::joint::JointDesc;
 use crate::world::{BodyDesc, WorldError};
@@ -46,44 +47,6 @@ pub(crate) fn resolve_joints(
         out.push((desc, path));
     }
     Ok(out)
-}
-
-/// The index of the one body of `bodies` named `name`, which field `path`
-/// gives (a joint's bodies, a `no_contact` pair).
-pub(crate) fn body_named(bodies: &[BodyDesc], path: &FieldPath, name: &str) -> Result<usize, FieldError> {
-    let mut hits = bodies.iter().enumerate().filter(|(_, b)| b.name == name);
-    match (hits.next(), hits.next()) {
-        (Some((i, _)), None) => Ok(i),
-        (None, _) => Err(FieldError::new(path, format!("no body is named `{name}`"))),
-        (Some(_), Some(_)) => Err(FieldError::new(
-            path,
-            format!("more than one body is named `{name}`: give them distinct names"),
-        )),
-    }
-}
-
-/// Each `[[no_contact]]` pair of the file as indices into `bodies`, the
-/// lower first.
-pub(crate) fn resolve_no_contact(
-    specs: &[NoContactSpec],
-    bodies: &[BodyDesc],
-) -> Result<Vec<(usize, usize)>, FieldError> {
-    specs
-        .iter()
-        .enumerate()
-        .map(|(k, spec)| {
-            let path = FieldPath::root().key("no_contact").index(k).key("bodies");
-            let a = body_named(bodies, &path.index(0), &spec.bodies[0])?;
-            let b = body_named(bodies, &path.index(1), &spec.bodies[1])?;
-            if a == b {
-                return Err(FieldError::new(
-                    &path.index(1),
-                    format!("`{}` twice: a body never touches itself", spec.bodies[1]),
-                ));
-            }
-            Ok((a.min(b), a.max(b)))
-        })
-        .collect()
 }
 
 /// The field of joint `path` a world error is about (`joint.limits` ->

@@ -60,6 +60,7 @@
 pub mod error;
 mod joints;
 mod locate;
+mod no_contact;
 pub mod params;
 mod parse;
 mod resolve;

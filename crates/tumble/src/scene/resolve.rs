@@ -194,7 +194,7 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
         out.scene.joints.push(joint);
         out.joint_paths.push(path);
     }
-    let pairs = super::joints::resolve_no_contact(&file.no_contact, &out.scene.bodies)?;
+    let pairs = super::no_contact::resolve_no_contact(&file.no_contact, &out.scene.bodies)?;
     out.scene.no_contact.extend(pairs);
     Ok(out)
 }
@@ -544,4 +544,18 @@ fn resolve_body(
         }
     }
     Ok(())
+}
+
+/// The index of the one body of `bodies` named `name`, which field `path`
+/// gives (a joint's bodies, a `no_contact` pair).
+pub(super) fn body_named(bodies: &[BodyDesc], path: &FieldPath, name: &str) -> Result<usize, FieldError> {
+    let mut hits = bodies.iter().enumerate().filter(|(_, b)| b.name == name);
+    match (hits.next(), hits.next()) {
+        (Some((i, _)), None) => Ok(i),
+        (None, _) => Err(FieldError::new(path, format!("no body is named `{name}`"))),
+        (Some(_), Some(_)) => Err(FieldError::new(
+            path,
+            format!("more than one body is named `{name}`: give them distinct names"),
+        )),
+    }
 }

@@ -77,15 +77,17 @@ pub struct Scene {
     pub steps: usize,
     /// Joints, their bodies named by index into `bodies`.
     pub joints: Vec<JointDesc<usize>>,
-    /// Body pairs (indices into `bodies`) that never touch
-    /// (`World::set_contacts_between`): a self-colliding robot's links
-    /// that overlap in its file's pose (`UrdfParts::no_contact`).
+    /// Body pairs (indices into `bodies`, the lower first) that never touch
+    /// (`World::set_contacts_between`): a scene file's `[[no_contact]]`
+    /// pairs, and a self-colliding robot's links that overlap in its file's
+    /// pose (`UrdfParts::no_contact`).
     pub no_contact: Vec<(usize, usize)>,
 }
 
 impl Scene {
     /// Builds the world; returns it with the body handles in insertion
-    /// order (joints are added after the bodies, in order).
+    /// order (joints are added after the bodies, in order, then the
+    /// `no_contact` pairs kept apart).
     pub fn build(&self) -> Result<(World, Vec<BodyId>), WorldError> {
         let mut world = World::new(self.settings.clone())?;
         let ids = self
@@ -103,17 +105,22 @@ impl Scene {
     /// Keeps the `no_contact` pairs of the scene's bodies `ids` apart in
     /// `world` (an index past the bodies is refused).
     pub fn keep_apart(&self, world: &mut World, ids: &[BodyId]) -> Result<(), WorldError> {
-        let id = |i: usize| {
-            ids.get(i).copied().ok_or_else(|| WorldError::BadValue {
+        for (k, &(a, b)) in self.no_contact.iter().enumerate() {
+            let bad = |message: String| WorldError::BadValue {
                 field: "scene.no_contact",
-                message: format!(
-                    "body index {i} is out of range (the scene has {} bodies)",
-                    ids.len()
-                ),
-            })
-        };
-        for &(a, b) in &self.no_contact {
-            world.set_contacts_between(id(a)?, id(b)?, false)?;
+                message: format!("pair {k} ({a}, {b}): {message}"),
+            };
+            let id = |i: usize| {
+                ids.get(i).copied().ok_or_else(|| {
+                    bad(format!(
+                        "body index {i} is out of range (the scene has {} bodies)",
+                        ids.len()
+                    ))
+                })
+            };
+            world
+                .set_contacts_between(id(a)?, id(b)?, false)
+                .map_err(|e| bad(e.to_string()))?;
         }
         Ok(())
     }

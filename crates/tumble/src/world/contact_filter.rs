@@ -14,7 +14,8 @@ impl World {
     /// `b`, from the next step on. Forbidding them ends their contacts with
     /// that step; allowing them again undoes only this call's exclusion (a
     /// shared non-colliding group or a joint still keeps them apart: see
-    /// [`World::contacts_allowed`]). Both bodies wake.
+    /// [`World::contacts_allowed`]). Both bodies wake if it changes
+    /// anything.
     ///
     /// ```
     /// use tumble::collide::{Cuboid, DVec3};
@@ -33,16 +34,19 @@ impl World {
     /// ```
     pub fn set_contacts_between(&mut self, a: BodyId, b: BodyId, allowed: bool) -> Result<(), WorldError> {
         let pair = self.body_pair(a, b)?;
-        let at = self.contact_exclusions.binary_search(&pair);
-        match (allowed, at) {
+        match (allowed, self.contact_exclusions.binary_search(&pair)) {
             (true, Ok(i)) => {
                 self.contact_exclusions.remove(i);
             }
             (false, Err(i)) => self.contact_exclusions.insert(i, pair),
-            _ => {}
+            // Nothing changes: the bodies sleep on.
+            _ => return Ok(()),
         }
         for id in [a, b] {
-            self.wake(id)?;
+            // (Both are live: `body_pair` said so.)
+            let e = self.entry_mut(id).expect("live body");
+            e.sleeping = false;
+            e.rest_time = 0.0;
         }
         Ok(())
     }
@@ -53,17 +57,16 @@ impl World {
     /// [`World::set_contacts_between`].
     pub fn contacts_allowed(&self, a: BodyId, b: BodyId) -> Result<bool, WorldError> {
         let pair = self.body_pair(a, b)?;
-        let slots = (pair.0.index, pair.1.index);
         let (ga, gb) = (
             self.entry(a)?.non_colliding_group,
             self.entry(b)?.non_colliding_group,
         );
-        Ok(!(ga != 0 && ga == gb)
-            && self.contact_exclusions.binary_search(&pair).is_err()
-            && self
-                .jointed_pairs_without_contact()
-                .binary_search(&slots)
-                .is_err())
+        let jointed = self.joints.iter().any(|(_, j)| {
+            let (ja, jb) = j.slots();
+            !j.desc.collide_connected
+                && jb.is_some_and(|jb| (ja.min(jb), ja.max(jb)) == (pair.0.index, pair.1.index))
+        });
+        Ok(!(ga != 0 && ga == gb) && self.contact_exclusions.binary_search(&pair).is_err() && !jointed)
     }
 
     /// The body pairs [`World::set_contacts_between`] keeps apart, each
@@ -76,15 +79,33 @@ impl World {
     /// not touch (module docs).
     pub(crate) fn filter_contact_pairs(&self, pairs: &mut Vec<(u32, u32)>) {
         let mut apart = self.jointed_pairs_without_contact();
-        apart.extend(self.contact_exclusions.iter().map(|(a, b)| (a.index, b.index)));
-        if !apart.is_empty() {
+        if !self.contact_exclusions.is_empty() {
+            apart.extend(self.contact_exclusions.iter().map(|(a, b)| (a.index, b.index)));
             apart.sort_unstable();
+        }
+        if !apart.is_empty() {
             pairs.retain(|p| apart.binary_search(p).is_err());
         }
         let group = |slot: u32| self.bodies.at(slot).map_or(0, |e| e.non_colliding_group);
         if (0..self.bodies.slot_count() as u32).any(|i| group(i) != 0) {
             pairs.retain(|&(a, b)| group(a) == 0 || group(a) != group(b));
         }
+    }
+
+    /// Body slot pairs (sorted, `a < b`) whose contacts a joint switches off.
+    fn jointed_pairs_without_contact(&self) -> Vec<(u32, u32)> {
+        let mut pairs: Vec<(u32, u32)> = self
+            .joints
+            .iter()
+            .filter(|(_, j)| !j.desc.collide_connected)
+            .filter_map(|(_, j)| {
+                let (a, b) = j.slots();
+                b.map(|b| (a.min(b), a.max(b)))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        pairs
     }
 
     /// `a` and `b` as a pair of live, distinct bodies, the lower slot first.

@@ -269,22 +269,6 @@ impl World {
         })
     }
 
-    /// Body slot pairs (sorted, `a < b`) whose contacts a joint switches off.
-    pub(crate) fn jointed_pairs_without_contact(&self) -> Vec<(u32, u32)> {
-        let mut pairs: Vec<(u32, u32)> = self
-            .joints
-            .iter()
-            .filter(|(_, j)| !j.desc.collide_connected)
-            .filter_map(|(_, j)| {
-                let (a, b) = j.slots();
-                b.map(|b| (a.min(b), a.max(b)))
-            })
-            .collect();
-        pairs.sort_unstable();
-        pairs.dedup();
-        pairs
-    }
-
     /// Body slot pairs linked by a joint (both bodies, not the world), in
     /// joint order: they share an island.
     pub(crate) fn joint_links(&self) -> Vec<(u32, u32)> {

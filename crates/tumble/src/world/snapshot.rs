@@ -668,8 +668,11 @@ impl World {
         if !snapshot.touching.windows(2).all(|w| w[0] < w[1]) {
             return Err(invalid("touching pairs must be sorted and unique"));
         }
-        if !snapshot.contact_exclusions.windows(2).all(|w| w[0] < w[1]) {
-            return Err(invalid("contact_exclusions must be sorted and unique"));
+        if let Some(k) = snapshot.contact_exclusions.windows(2).position(|w| w[0] >= w[1]) {
+            return Err(invalid(format!(
+                "contact_exclusions[{}]: pairs must be sorted and unique",
+                k + 1
+            )));
         }
         for (i, &(a, b)) in snapshot.contact_exclusions.iter().enumerate() {
             if a.index >= b.index || bodies.get(a).is_none() || bodies.get(b).is_none() {

@@ -507,6 +507,20 @@ impl World {
         })
     }
 
+    /// The (Body, Body) pairs ``set_contacts_between`` keeps apart, each
+    /// with the body added first (the lower slot) first, in that order.
+    fn excluded_contact_pairs(slf: &Bound<'_, Self>) -> PyResult<Vec<(Body, Body)>> {
+        let pairs = guard(|| {
+            let w = slf.try_borrow().map_err(|_| busy())?;
+            w.check_usable()?;
+            Ok(w.inner.excluded_contact_pairs().to_vec())
+        })?;
+        Ok(pairs
+            .into_iter()
+            .map(|(a, b)| (World::body_handle(slf, a), World::body_handle(slf, b)))
+            .collect())
+    }
+
     /// Advances the world by `n` steps of `dt` each, with the GIL released.
     /// Ctrl-C stops it between two steps (KeyboardInterrupt; the steps taken
     /// so far are kept).

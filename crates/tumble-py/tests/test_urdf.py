@@ -129,6 +129,7 @@ def test_links_overlapping_in_the_files_pose_never_touch(tmp_path: Path) -> None
     a, b, c = (robot.links[name] for name in "abc")
     assert robot.no_contact == [(a, c)]
     world = robot.world
+    assert world.excluded_contact_pairs() == [(a, c)]
     assert not world.contacts_allowed(a, c)
     assert not world.contacts_allowed(a, b), "jointed"
     for _ in range(60):
@@ -136,6 +137,7 @@ def test_links_overlapping_in_the_files_pose_never_touch(tmp_path: Path) -> None
         assert not _a_and_c_touch(robot)
     world.set_contacts_between(c, a, True)
     assert world.contacts_allowed(a, c)
+    assert world.excluded_contact_pairs() == []
     world.step()
     assert _a_and_c_touch(robot)
     # Kept apart again, through a pickle too.

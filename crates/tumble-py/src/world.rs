@@ -386,7 +386,9 @@ impl World {
     ///     spring: a spring-damper (stiffness, damping) or {"stiffness": k,
     ///         "damping": c}: distance joint N/m and N s/m towards `length`;
     ///         hinge N m/rad and N m s/rad, slider N/m and N s/m, towards the
-    ///         position at creation, beside the motor.
+    ///         position at creation, beside the motor; ball joint N m/rad and
+    ///         N m s/rad about every axis, towards the relative orientation
+    ///         at creation.
     ///     length: distance joint rest length (m; default the anchors' distance).
     ///     collide_connected: contacts between the two bodies (default off).
     ///

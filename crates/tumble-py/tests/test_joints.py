@@ -86,6 +86,35 @@ def test_a_hinge_spring_rings_at_its_natural_period_beside_nothing_else() -> Non
     assert last == pytest.approx(first, rel=1e-3)
 
 
+def test_a_ball_spring_turns_a_cube_back_at_its_natural_period_about_any_axis() -> None:
+    # Zero gravity, a 1 kg cube (I = 1/600 kg m^2 about any axis through its
+    # centre) on a ball joint at its centre with a spring of k N m/rad,
+    # kicked at 1 rad/s about a slanted axis u: I theta'' = -k theta about u,
+    # T = 2 pi sqrt(I / k), swinging 1 / w either way, never off u.
+    k, i = 0.1, 1 / 600
+    u = np.array([1.0, 2.0, -0.5]) / np.linalg.norm([1.0, 2.0, -0.5])
+    world = tumble.World(gravity=(0, 0, 0), sleeping=False, threads=1)
+    cube = world.add_body(tumble.Box((0.05, 0.05, 0.05)), mass=1.0, angular_velocity=tuple(u))
+    ball = world.add_joint("ball", cube, None, anchor=(0, 0, 0), spring=(k, 0.0))
+    assert ball.spring == {"stiffness": k, "damping": 0.0}
+    turns = []
+    for _ in range(240):
+        world.step()
+        x, y, z, w = cube.orientation
+        angle = 2 * math.atan2(math.sqrt(x * x + y * y + z * z), w)
+        axis = np.array([x, y, z]) / max(math.sqrt(x * x + y * y + z * z), 1e-300)
+        turn = angle * axis
+        assert np.linalg.norm(turn - np.dot(turn, u) * u) < 1e-9
+        turns.append(float(np.dot(turn, u)))
+    w_n = math.sqrt(k / i)
+    crossings = [
+        (n + 1) / 60 for n in range(len(turns) - 1) if (turns[n] > 0) != (turns[n + 1] > 0)
+    ]
+    period = 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    assert period == pytest.approx(2 * math.pi / w_n, rel=0.005)
+    assert max(map(abs, turns)) == pytest.approx(1 / w_n, rel=2e-3)
+
+
 def test_a_joints_spring_is_read_set_and_refused_when_bad() -> None:
     world, bob, hinge = pendulum(spring=(2.0, 0.5))
     assert hinge.spring == {"stiffness": 2.0, "damping": 0.5}
@@ -156,7 +185,7 @@ def test_removing_a_joint_or_its_body_makes_the_handle_stale() -> None:
         ({"motor": {"target_velocity": 1.0, "max_force": -1.0}}, "max_force"),
         ({"motor": {"target_velocity": 1.0, "target_position": 0.0}}, "exactly one"),
         ({"motor": {"speed": 1.0}}, "motor"),
-        ({"kind": "ball", "spring": (1.0, 1.0)}, "joint.spring"),
+        ({"kind": "fixed", "spring": (1.0, 1.0)}, "joint.spring"),
         ({"spring": (1.0, -1.0)}, "joint.spring"),
     ],
 )

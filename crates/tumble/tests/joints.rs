@@ -435,37 +435,7 @@ fn a_hinge_spring_rings_as_the_damped_oscillator() {
     let i: f64 = 1.0 / 600.0 + 0.25;
     let (k, zeta): (f64, f64) = (2.5, 0.2);
     let (w_n, c) = ((k / i).sqrt(), 2.0 * zeta * (k * i).sqrt());
-    let w_d = w_n * (1.0 - zeta * zeta).sqrt();
-    let dt = 1.0 / 60.0;
-    let angles = ringing_hinge(k, c, 480);
-    // Zero crossings (interpolated) and the largest |angle| between two.
-    let mut crossings = Vec::new();
-    let mut peaks = Vec::new();
-    let mut peak: f64 = 0.0;
-    for (n, pair) in angles.windows(2).enumerate() {
-        peak = peak.max(pair[0].abs());
-        if (pair[0] > 0.0) != (pair[1] > 0.0) {
-            let t = (n + 1) as f64 * dt + dt * pair[0].abs() / (pair[1] - pair[0]).abs();
-            crossings.push(t);
-            peaks.push(peak);
-            peak = 0.0;
-        }
-    }
-    assert!(crossings.len() >= 4, "{crossings:?}");
-    let half_period = (crossings[3] - crossings[0]) / 3.0;
-    assert!(
-        (half_period * w_d / PI - 1.0).abs() < 0.005,
-        "half period {half_period} s, expected {}",
-        PI / w_d
-    );
-    let decrement = zeta * PI / (1.0 - zeta * zeta).sqrt();
-    for pair in peaks[1..4].windows(2) {
-        let measured = (pair[0] / pair[1]).ln();
-        assert!(
-            (measured / decrement - 1.0).abs() < 0.02,
-            "peaks {peaks:?}: decrement {measured}, expected {decrement}"
-        );
-    }
+    assert_rings_as_the_damped_oscillator(&ringing_hinge(k, c, 480), w_n, zeta);
     // Undamped, it keeps its swing: the peaks of the first and the fifth
     // period within 5e-4 (`SPRING_AT_LEAST`'s loss is 1e-4 here; Catto's
     // soft step lost 9 %).
@@ -485,6 +455,160 @@ fn a_hinge_spring_rings_as_the_damped_oscillator() {
         peak(&angles)
     );
     assert!(peak(&angles[60..]) <= peak(&angles[..60]) * (1.0 + 1e-9));
+}
+
+/// Zero crossings (interpolated, s) of a signal sampled every `dt` from
+/// `dt`, and the largest |value| between each crossing and the one before.
+fn crossings_and_peaks(signal: &[f64], dt: f64) -> (Vec<f64>, Vec<f64>) {
+    let (mut crossings, mut peaks, mut peak) = (Vec::new(), Vec::new(), 0.0f64);
+    for (n, pair) in signal.windows(2).enumerate() {
+        peak = peak.max(pair[0].abs());
+        if (pair[0] > 0.0) != (pair[1] > 0.0) {
+            crossings.push((n + 1) as f64 * dt + dt * pair[0].abs() / (pair[1] - pair[0]).abs());
+            peaks.push(peak);
+            peak = 0.0;
+        }
+    }
+    (crossings, peaks)
+}
+
+/// Asserts that `signal`, sampled every 1/60 s, rings as the oscillator
+/// `x'' = -w_n^2 x - 2 zeta w_n x'`: zero crossings every pi / w_d (w_d =
+/// w_n sqrt(1 - zeta^2); 0.5 %) and each swing's peak e^(-zeta pi /
+/// sqrt(1 - zeta^2)) of the one before (2 %: peaks sampled at 60 Hz).
+fn assert_rings_as_the_damped_oscillator(signal: &[f64], w_n: f64, zeta: f64) {
+    let w_d = w_n * (1.0 - zeta * zeta).sqrt();
+    let (crossings, peaks) = crossings_and_peaks(signal, 1.0 / 60.0);
+    assert!(crossings.len() >= 4, "{crossings:?}");
+    let half_period = (crossings[3] - crossings[0]) / 3.0;
+    assert!(
+        (half_period * w_d / PI - 1.0).abs() < 0.005,
+        "half period {half_period} s, expected {}",
+        PI / w_d
+    );
+    let decrement = zeta * PI / (1.0 - zeta * zeta).sqrt();
+    for pair in peaks[1..4].windows(2) {
+        let measured = (pair[0] / pair[1]).ln();
+        assert!(
+            (measured / decrement - 1.0).abs() < 0.02,
+            "peaks {peaks:?}: decrement {measured}, expected {decrement}"
+        );
+    }
+}
+
+/// The turn of a body from its start about unit `axis` (rad).
+fn turn_about(w: &World, id: BodyId, axis: DVec3) -> f64 {
+    w.orientation(id).unwrap().to_scaled_axis().dot(axis)
+}
+
+#[test]
+fn a_ball_spring_rings_as_the_torsional_oscillator_about_any_axis() {
+    // A 1 kg cube (I = 1/600 kg m^2 about every axis through its centre)
+    // on a ball joint at its centre, kicked at 1 rad/s about a slanted axis
+    // u: the spring's torque -k theta - c w keeps it turning about u, as
+    // I theta'' = -k theta - c theta', so it rings at w_d = w_n sqrt(1 -
+    // zeta^2) with each swing's peak e^(-zeta pi / sqrt(1 - zeta^2)) of the
+    // one before, and undamped keeps a swing of 1 / w_n (period 0.5 %,
+    // decrement 2 %: peaks sampled at 60 Hz).
+    let i = 1.0 / 600.0;
+    let u = DVec3::new(1.0, 2.0, -0.5).normalize();
+    let ring = |k: f64, c: f64, steps: usize| {
+        let mut w = world(false);
+        let cube = cube(&mut w, DVec3::ZERO);
+        w.add_joint(&JointDesc::ball(cube, None, DVec3::ZERO).with_spring(k, c))
+            .unwrap();
+        w.set_velocity(cube, DVec3::ZERO, u).unwrap();
+        let turns: Vec<f64> = (0..steps)
+            .map(|_| {
+                w.step();
+                // It turns about u alone.
+                let off = w.orientation(cube).unwrap().to_scaled_axis().reject_from(u);
+                assert!(off.length() < 1e-9, "turned off the kick's axis by {off}");
+                turn_about(&w, cube, u)
+            })
+            .collect();
+        turns
+    };
+    let (k, zeta): (f64, f64) = (0.1, 0.2);
+    let (w_n, c) = ((k / i).sqrt(), 2.0 * zeta * (k * i).sqrt());
+    assert_rings_as_the_damped_oscillator(&ring(k, c, 240), w_n, zeta);
+    let peak = |a: &[f64]| a.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    let turns = ring(k, 0.0, 600);
+    let (first, late) = (peak(&turns[..60]), peak(&turns[540..]));
+    assert!((first - 1.0 / w_n).abs() < 2e-3 / w_n, "{first} vs {}", 1.0 / w_n);
+    assert!(
+        late > (1.0 - 1e-3) * first && late <= first * (1.0 + 1e-9),
+        "{first} -> {late}"
+    );
+}
+
+#[test]
+fn two_sprung_ball_joints_ring_in_the_chains_normal_mode() {
+    // Two 1 kg cubes centred on the origin, the first ball-jointed to the
+    // world and the second to the first, each joint a spring k about the
+    // origin (two joints sharing a body: solved as one joint island, its
+    // spring rows in the island's system). About z: I a'' = -k a - k (a -
+    // b), I b'' = -k (b - a), whose slow mode w^2 = (k / I) (3 - sqrt 5) / 2
+    // turns b by phi = (1 + sqrt 5) / 2 times a. Kicked in that shape it
+    // rings in it alone: the ratio holds and a crosses zero every pi / w.
+    let i = 1.0 / 600.0;
+    let k = 0.1;
+    let phi = (1.0 + 5.0f64.sqrt()) / 2.0;
+    let w_slow = (k / i * (3.0 - 5.0f64.sqrt()) / 2.0).sqrt();
+    let mut w = world(false);
+    let a = cube(&mut w, DVec3::ZERO);
+    let b = cube(&mut w, DVec3::ZERO);
+    w.add_joint(&JointDesc::ball(a, None, DVec3::ZERO).with_spring(k, 0.0))
+        .unwrap();
+    w.add_joint(&JointDesc::ball(b, Some(a), DVec3::ZERO).with_spring(k, 0.0))
+        .unwrap();
+    w.set_velocity(a, DVec3::ZERO, DVec3::Z).unwrap();
+    w.set_velocity(b, DVec3::ZERO, DVec3::Z * phi).unwrap();
+    let mut turns = Vec::new();
+    for _ in 0..360 {
+        w.step();
+        let (ta, tb) = (turn_about(&w, a, DVec3::Z), turn_about(&w, b, DVec3::Z));
+        assert!(
+            (tb - phi * ta).abs() < 2e-3 / w_slow,
+            "b {tb} against phi a {}",
+            phi * ta
+        );
+        turns.push(ta);
+    }
+    let (crossings, _) = crossings_and_peaks(&turns, 1.0 / 60.0);
+    assert!(crossings.len() >= 4, "{crossings:?}");
+    let n = crossings.len() - 1;
+    let half_period = (crossings[n] - crossings[0]) / n as f64;
+    assert!(
+        (half_period * w_slow / PI - 1.0).abs() < 0.005,
+        "half period {half_period} s, expected {}",
+        PI / w_slow
+    );
+}
+
+#[test]
+fn a_damped_ball_jointed_arm_comes_to_rest_hanging() {
+    // A 0.5 m arm on a damped ball joint, let go level in gravity: the
+    // damper takes energy out at every instant (c w^2 >= 0), so the total
+    // energy never rises, and the arm ends hanging straight down, at rest.
+    let mut w = world(true);
+    let arm = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+    w.add_joint(&JointDesc::ball(arm, None, DVec3::ZERO).with_spring(0.0, 0.5))
+        .unwrap();
+    // Kicked sideways too, so that it swings in three dimensions.
+    w.set_velocity(arm, DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.0, 0.0, 2.0))
+        .unwrap();
+    let energy = |w: &World| w.kinetic_energy() + G * w.pose(arm).unwrap().position.z;
+    let mut last = energy(&w);
+    for _ in 0..1200 {
+        w.step();
+        let e = energy(&w);
+        assert!(e <= last + 1e-6, "energy rose {last} -> {e}");
+        last = e;
+    }
+    let p = w.pose(arm).unwrap().position;
+    assert!((p - DVec3::new(0.0, 0.0, -0.5)).length() < 1e-3, "{p}");
+    assert!(w.kinetic_energy() < 1e-6);
 }
 
 #[test]
@@ -529,8 +653,8 @@ fn a_joints_spring_is_changed_or_taken_off_between_steps() {
         })
     ));
     assert_eq!(w.joint(j).unwrap().spring, Some(stiff));
-    let ball = w.add_joint(&JointDesc::ball(bob, None, DVec3::ZERO)).unwrap();
-    assert!(w.set_joint_spring(ball, Some(stiff)).is_err());
+    let weld = w.add_joint(&JointDesc::fixed(bob, None, DVec3::ZERO)).unwrap();
+    assert!(w.set_joint_spring(weld, Some(stiff)).is_err());
     w.remove_joint(j).unwrap();
     assert!(matches!(
         w.set_joint_spring(j, None),
@@ -793,7 +917,7 @@ fn bad_joints_are_refused_and_leave_the_world_unchanged() {
         "joint.motor.max_force"
     );
     assert_eq!(
-        field(w.add_joint(&JointDesc::ball(c, None, a).with_spring(1.0, 1.0))),
+        field(w.add_joint(&JointDesc::fixed(c, None, a).with_spring(1.0, 1.0))),
         "joint.spring"
     );
     assert_eq!(
@@ -841,8 +965,14 @@ fn a_snapshot_with_joints_continues_bit_for_bit() {
     let b = cube(&mut w, DVec3::new(1.0, 0.0, 0.0));
     w.add_joint(&JointDesc::hinge(a, None, DVec3::ZERO, DVec3::Y).with_limits(-1.0, 1.0))
         .unwrap();
-    w.add_joint(&JointDesc::ball(b, Some(a), DVec3::new(0.75, 0.0, 0.0)).with_swing_limit(0.5))
-        .unwrap();
+    // (The ball's spring rows are warm-started from the slots a ball's
+    // equality rows leave free: the snapshot carries them.)
+    w.add_joint(
+        &JointDesc::ball(b, Some(a), DVec3::new(0.75, 0.0, 0.0))
+            .with_swing_limit(0.5)
+            .with_spring(0.5, 0.05),
+    )
+    .unwrap();
     for _ in 0..20 {
         w.step();
     }

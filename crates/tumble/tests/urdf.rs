@@ -511,7 +511,7 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
   <link name="d"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
   <link name="e"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
   <joint name="ball" type="spherical"><parent link="a"/><child link="b"/><origin xyz="0 0 0.5"/>
-    <dynamics damping="0.5"/></joint>
+    <dynamics damping="0.5" friction="0.2"/></joint>
   <joint name="free" type="floating"><parent link="a"/><child link="c"/><origin xyz="1 0 0"/></joint>
   <joint name="hinge" type="revolute">
     <parent link="a"/><child link="d"/><origin xyz="0 1 0"/><axis xyz="0 0 1"/>
@@ -538,12 +538,26 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
             _ => None,
         });
     assert_eq!(capsule, Some((0.1, 0.2)), "length is between the caps' centres");
-    assert_eq!(w.joint(r.joints["ball"].id).unwrap().kind, JointKind::Ball);
-    // (A ball joint has no motor to damp it with: said, not refused.)
+    let ball = w.joint(r.joints["ball"].id).unwrap();
+    assert_eq!(ball.kind, JointKind::Ball);
+    // Its damping is a damper about every axis; its friction, which would
+    // need a motor a ball joint has not, is said, not refused.
+    assert_eq!(
+        ball.spring,
+        Some(Spring {
+            stiffness: 0.0,
+            damping: 0.5
+        })
+    );
     assert!(r
         .warnings
         .iter()
-        .any(|m| m.contains("`ball`") && m.contains("not simulated on a ball joint")));
+        .any(|m| m.contains("`ball`") && m.contains("<dynamics friction> is not simulated on a ball joint")));
+    assert!(
+        !r.warnings.iter().any(|m| m.contains("damping")),
+        "{:?}",
+        r.warnings
+    );
     assert!(!r.joints.contains_key("free"));
     assert_eq!(w.joint(r.joints["hinge"].id).unwrap().limits, None);
     assert!(r

@@ -15,8 +15,9 @@ pub enum JointKind {
     /// Weld: no relative motion at all.
     Fixed,
     /// Spherical: the anchors coincide, any rotation; an optional swing
-    /// cone about the axis (`swing_limit`) and twist limits about it
-    /// (`limits`, rad).
+    /// cone about the axis (`swing_limit`), twist limits about it
+    /// (`limits`, rad) and a spring-damper towards the orientation at
+    /// creation.
     Ball,
     /// Revolute: rotation about the axis only; angle limits (rad), a
     /// motor (rad/s, N m) and a spring-damper.
@@ -105,15 +106,20 @@ impl Motor {
 /// towards its `length` (N/m, N s/m); on a hinge towards the angle it was
 /// made at, the short way round (the angle is measured within +-pi; N m/rad,
 /// N m s/rad); on a slider towards the offset it was made
-/// at (N/m, N s/m). It acts beside a hinge's or slider's motor (a damped
+/// at (N/m, N s/m); on a ball joint towards the relative orientation it was
+/// made at, a torque `-k theta - c w` with `theta` the rotation vector that
+/// takes the bodies back (the short way round) and `w` their relative
+/// angular velocity (N m/rad, N m s/rad, the same about every axis: a
+/// ragdoll's damped shoulders and hips, MuJoCo's ball `stiffness` and
+/// `damping`). It acts beside a hinge's or slider's motor (a damped
 /// robot joint under its servo; URDF's `<dynamics damping>` is a spring of
 /// stiffness 0) and is never bounded by the motor's force.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Spring {
-    /// Stiffness (N/m; N m/rad on a hinge), >= 0.
+    /// Stiffness (N/m; N m/rad on a hinge or ball joint), >= 0.
     pub stiffness: f64,
-    /// Damping (N s/m; N m s/rad on a hinge), >= 0.
+    /// Damping (N s/m; N m s/rad on a hinge or ball joint), >= 0.
     pub damping: f64,
 }
 
@@ -184,7 +190,8 @@ pub struct JointDesc<B = BodyId> {
     pub motor: Option<Motor>,
     /// A spring-damper ([`Spring`]): on a distance joint towards `length`
     /// instead of a rod; on a hinge or slider towards its position at
-    /// creation, beside its motor.
+    /// creation, beside its motor; on a ball joint towards its relative
+    /// orientation at creation.
     pub spring: Option<Spring>,
     /// Distance joint: rest length (m, >= 0). Default: the anchors'
     /// distance at creation.
@@ -262,7 +269,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         self
     }
 
-    /// With a spring-damper ([`Spring`]: distance joint, hinge or slider).
+    /// With a spring-damper ([`Spring`]: distance, ball, hinge or slider joint).
     pub fn with_spring(mut self, stiffness: f64, damping: f64) -> JointDesc<B> {
         self.spring = Some(Spring { stiffness, damping });
         self
@@ -438,13 +445,10 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             }
         }
         if let Some(s) = self.spring {
-            if !matches!(
-                self.kind,
-                JointKind::Distance | JointKind::Hinge | JointKind::Slider
-            ) {
+            if self.kind == JointKind::Fixed {
                 return bad(
                     "joint.spring",
-                    format!("applies to distance joints, hinges and sliders only, not {kind}"),
+                    format!("applies to distance, ball, hinge and slider joints, not {kind}"),
                 );
             }
             if !(s.stiffness.is_finite() && s.stiffness >= 0.0 && s.damping.is_finite() && s.damping >= 0.0) {

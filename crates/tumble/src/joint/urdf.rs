@@ -11,7 +11,8 @@
 //! (revolute, continuous) or slider (prismatic) from the parent link to the
 //! child link, its angle 0 at the file's zero configuration. Joint
 //! `damping` becomes a damper on the joint (a `Spring` of stiffness 0,
-//! which stays when a motor is set), and `friction` a friction motor
+//! which stays when a motor is set; on a `spherical` joint it damps the
+//! turn about every axis), and `friction` a friction motor
 //! (`Motor::Velocity` towards 0 bounded by the friction: Coulomb friction
 //! on the joint) until another motor is set; `effort` is kept as the
 //! joint's largest motor force for the caller.
@@ -807,14 +808,9 @@ impl<'a, 'input> Reader<'a, 'input> {
             if friction < 0.0 {
                 return Err(self.err(node, "dynamics friction must be >= 0"));
             }
-            // A ball joint has neither a spring nor a motor.
+            // A ball joint has a damper but no motor.
             if friction > 0.0 && kind == "spherical" {
                 with_friction.push(format!("`{name}`"));
-            }
-            if damping > 0.0 && kind == "spherical" {
-                unsimulated.push(format!(
-                    "joint `{name}`: <dynamics damping> is not simulated on a ball joint (no spring)"
-                ));
             }
             if let Some(m) = self.child(node, "mimic") {
                 unsimulated.push(format!(
@@ -1132,16 +1128,17 @@ impl<'a, 'input> Model<'a, 'input> {
             }
             let mut desc = JointDesc::new(kind, child, parent, frame.position, axis).named(j.name.clone());
             desc.limits = limits;
+            // Damping is passive, a damper beside whatever motor drives
+            // the joint (a spring of stiffness 0), never bounded by the
+            // effort; on a ball joint it damps the turn about every axis.
+            if j.damping > 0.0 {
+                desc.spring = Some(Spring {
+                    stiffness: 0.0,
+                    damping: j.damping,
+                });
+            }
             if kind != JointKind::Ball {
-                // (A ball joint has neither: warned when read.) Damping is
-                // passive, a damper beside whatever motor drives the joint
-                // (a spring of stiffness 0), never bounded by the effort.
-                if j.damping > 0.0 {
-                    desc.spring = Some(Spring {
-                        stiffness: 0.0,
-                        damping: j.damping,
-                    });
-                }
+                // (A ball joint has no motor: its friction is warned when read.)
                 // Coulomb friction on the joint: held at rest up to the
                 // friction, opposed by it in motion; a rigid velocity row
                 // towards 0 bounded by it is exactly that (MuJoCo's

@@ -161,7 +161,9 @@ pub struct JointSpec {
     pub motor: Option<Motor>,
     /// Spring-damper: `{ stiffness, damping }`. Distance joint: N/m and
     /// N s/m, towards `length`; hinge: N m/rad and N m s/rad, slider: N/m
-    /// and N s/m, towards the position at creation, beside the motor.
+    /// and N s/m, towards the position at creation, beside the motor; ball
+    /// joint: N m/rad and N m s/rad about every axis, towards the relative
+    /// orientation at creation.
     #[serde(default)]
     pub spring: Option<Spring>,
     /// Distance joint rest length (m). Default: the anchors' distance.

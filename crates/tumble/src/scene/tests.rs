@@ -548,7 +548,8 @@ fn bad_joints_are_located_at_their_field() {
     let (_, _, path, _) = at(toml(&bad_motor).err().unwrap());
     assert_eq!(path, "joints[0].motor.max_force");
 
-    // A spring on a hinge is read; on a ball joint it is refused at its field.
+    // A spring on a hinge or a ball joint is read; on a weld it is refused
+    // at its field.
     let sprung = PENDULUM.replace(
         "axis = [0, 1, 0]",
         "axis = [0, 1, 0]\nspring = { stiffness = 2.0, damping = 0.5 }",
@@ -566,10 +567,17 @@ fn bad_joints_are_located_at_their_field() {
         "limits = [-1.0, 2.0]\nmotor = { type = \"velocity\", target = 0.5, max_force = 0.1 }\n",
         "",
     );
-    let (_, _, path, message) = at(toml(&ball).err().unwrap());
+    let (world, _) = toml(&ball).unwrap().build().unwrap();
+    let joint = world.joint(world.joint_ids()[0]).unwrap();
+    assert_eq!(
+        (joint.kind, joint.spring),
+        (crate::joint::JointKind::Ball, spring)
+    );
+    let weld = ball.replace("kind = \"ball\"", "kind = \"fixed\"");
+    let (_, _, path, message) = at(toml(&weld).err().unwrap());
     assert_eq!(path, "joints[0].spring");
     assert!(
-        message.contains("distance joints, hinges and sliders only"),
+        message.contains("distance, ball, hinge and slider joints, not fixed"),
         "{message}"
     );
 

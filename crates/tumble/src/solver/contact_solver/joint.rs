@@ -40,6 +40,28 @@ use tumble_collide::{DQuat, DVec3, Pose};
 /// and swing cone. A row keeps its slot for the joint's life, so its
 /// impulse is warm-started across sub-steps and steps by slot.
 pub const JOINT_ROWS: usize = 11;
+/// A ball joint's spring: three soft angular rows about the world axes, in
+/// the slots its three equality rows leave free (`BALL_SPRING..BALL_SPRING
+/// + 3`). Every other kind with equality rows fills these slots with them.
+pub(super) const BALL_SPRING: usize = 3;
+/// The last of a ball's spring rows.
+const BALL_SPRING_LAST: usize = BALL_SPRING + 2;
+/// The first slot that can hold a scalar row (limit, motor, spring): a
+/// ball's spring rows.
+const FIRST_SCALAR: usize = BALL_SPRING;
+/// The scalar row slots, in the order a pass relaxes them: springs first,
+/// then the motor, the limits and the swing cone. A slot below a joint's
+/// `n_eq` is one of its equality rows, not a scalar row.
+pub(super) const SCALAR_SLOTS: [usize; 8] = [
+    BALL_SPRING,
+    BALL_SPRING + 1,
+    BALL_SPRING_LAST,
+    SPRING,
+    MOTOR,
+    LOWER,
+    UPPER,
+    SWING,
+];
 pub(super) const LOWER: usize = 6;
 pub(super) const UPPER: usize = 7;
 pub(super) const MOTOR: usize = 8;
@@ -171,10 +193,10 @@ pub struct JointConstraint {
     pub(super) n_eq: usize,
     /// The rows, by slot.
     pub(super) rows: [JointRow; JOINT_ROWS],
-    /// Per scalar row slot (from [`LOWER`]): `K_ee^-1 K_e,row`, the
+    /// Per scalar row slot (from [`FIRST_SCALAR`]): `K_ee^-1 K_e,row`, the
     /// equality impulses that keep the equality rows' velocities unchanged
     /// when the row acts.
-    coupling: [[f64; 6]; JOINT_ROWS - LOWER],
+    coupling: [[f64; 6]; JOINT_ROWS - FIRST_SCALAR],
     /// Centre of mass of each side at the step's start (the world: origin).
     pub x0: [DVec3; 2],
     /// Orientation of each side at the step's start.
@@ -223,7 +245,7 @@ impl JointConstraint {
             active: 0,
             n_eq: 0,
             chol: [[0.0; 6]; 6],
-            coupling: [[0.0; 6]; JOINT_ROWS - LOWER],
+            coupling: [[0.0; 6]; JOINT_ROWS - FIRST_SCALAR],
             start: [(DVec3::ZERO, DQuat::IDENTITY); 2],
             h: 0.0,
             direct: false,
@@ -314,7 +336,8 @@ impl JointConstraint {
                         }
                     }
                 }
-                SPRING => {
+                // (Slots below `n_eq` were equality rows, above: a ball's.)
+                SPRING | BALL_SPRING..=BALL_SPRING_LAST => {
                     let s = self.law.spring.expect("spring row without a spring");
                     let at = spring_at(s.stiffness, k, h);
                     (gamma, bias) = soft(s.stiffness, s.damping, r.c, h, at);
@@ -366,7 +389,7 @@ impl JointConstraint {
         // mass is the Schur complement K_rr - K_re K_ee^-1 K_er): a hinge
         // limit or motor on a pendulum then feels the pendulum's inertia
         // about the pivot, not only the bob's own, and converges in a pass.
-        for i in LOWER..JOINT_ROWS {
+        for i in FIRST_SCALAR.max(n)..JOINT_ROWS {
             if self.active & (1 << i) == 0 || n == 0 {
                 continue;
             }
@@ -380,7 +403,7 @@ impl JointConstraint {
                 let finite = lower.ang_a.is_finite() && lower.lin.is_finite();
                 debug_assert!(!finite || upper.ang_a == -lower.ang_a);
                 debug_assert!(!finite || upper.lin == -lower.lin);
-                self.coupling[UPPER - LOWER] = self.coupling[0].map(|c| -c);
+                self.coupling[UPPER - FIRST_SCALAR] = self.coupling[LOWER - FIRST_SCALAR].map(|c| -c);
                 self.rows[UPPER].mass = self.rows[LOWER].mass;
                 continue;
             }
@@ -395,7 +418,7 @@ impl JointConstraint {
             let schur = k_rr - (0..n).map(|e| k_er[e] * coupling[e]).sum::<f64>();
             let denom = schur.max(1e-12 * k_rr) + r.gamma;
             let row = &mut self.rows[i];
-            self.coupling[i - LOWER] = coupling;
+            self.coupling[i - FIRST_SCALAR] = coupling;
             row.mass = if denom > 1e-300 && denom.is_finite() {
                 1.0 / denom
             } else {
@@ -480,7 +503,7 @@ impl JointConstraint {
         }
         p.apply(&self.rows[i], dl);
         for e in 0..self.n_eq {
-            let de = -self.coupling[i - LOWER][e] * dl;
+            let de = -self.coupling[i - FIRST_SCALAR][e] * dl;
             if push {
                 self.rows[e].push += de;
             } else {
@@ -605,6 +628,15 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                 let (twist, axis) = (pose.twist(), twist_axis());
                 set.set(LOWER, JointRow::angular(axis, twist - lo));
                 set.set(UPPER, JointRow::angular(axis, hi - twist).negated());
+            }
+            if law.spring.is_some() {
+                // Towards the relative rotation at creation: the rotation
+                // vector's components about the world axes, as a weld's
+                // angular rows, but soft (a torque `-k theta - c w`).
+                let err = pose.rotation_error();
+                for (k, e) in DVec3::AXES.into_iter().enumerate() {
+                    set.set(BALL_SPRING + k, JointRow::angular(e, err.dot(e)));
+                }
             }
         }
         JointKind::Hinge => {
@@ -952,9 +984,9 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
             p.apply(&j.rows[i], d);
         }
     }
-    for i in [SPRING, MOTOR, LOWER, UPPER, SWING] {
+    for i in SCALAR_SLOTS {
         // Rows solved with the joint's island are not solved again here.
-        if j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
+        if i < j.n_eq || j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
             continue;
         }
         let r = &j.rows[i];

@@ -43,12 +43,12 @@ use super::constraint::SolverParams;
 use super::island_contacts::{OwnedPatch, PatchArrays};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
-    begin_joint, push_joint, solve_joint, JointConstraint, Pair, JOINT_PUSH_FRACTION, LOWER, MOTOR, SPRING,
-    SWING, UPPER,
+    begin_joint, push_joint, solve_joint, JointConstraint, Pair, BALL_SPRING, JOINT_PUSH_FRACTION, LOWER,
+    MOTOR, SPRING, SWING, UPPER,
 };
 use super::lanes::{Lane, LANES};
 use super::passes::{begin_patch, friction_patch, solve_owned_normals, OwnedPass};
-use crate::joint::Motor;
+use crate::joint::{JointKind, Motor};
 
 /// Largest ratio of the heaviest to the lightest body of an island whose
 /// equality rows are aimed at the end of the sub-step.
@@ -367,7 +367,7 @@ impl JointIsland {
                         None => -jv - r.bias - r.gamma * r.impulse,
                         // A motor or spring does not push: its row only keeps
                         // the push-out off the joint's free axis.
-                        Some(_) if slot == MOTOR || slot == SPRING => -jv - r.gamma * r.push,
+                        Some(_) if is_soft(j, slot) => -jv - r.gamma * r.push,
                         Some((fraction, inv_h)) => {
                             any |= r.c.abs() > 1e-9;
                             -fraction * r.c * inv_h - jv
@@ -661,14 +661,30 @@ fn bounds(j: &JointConstraint, slot: usize, push: bool) -> (f64, f64, f64) {
 }
 
 /// The row slots of joint `j` in its island's system: its equality rows,
-/// then its motor.
+/// then its scalar rows the island solves (`island_mask`).
 fn island_slots(j: &JointConstraint) -> impl Iterator<Item = usize> + use<> {
     let (n_eq, mask) = (j.n_eq, j.island_rows);
     (0..n_eq).chain(
-        [MOTOR, SPRING, LOWER, UPPER, SWING]
-            .into_iter()
-            .filter(move |&s| mask & (1 << s) != 0),
+        [
+            MOTOR,
+            SPRING,
+            BALL_SPRING,
+            BALL_SPRING + 1,
+            BALL_SPRING + 2,
+            LOWER,
+            UPPER,
+            SWING,
+        ]
+        .into_iter()
+        .filter(move |&s| s >= n_eq && mask & (1 << s) != 0),
     )
+}
+
+/// Whether row `slot` of `j` is soft (a motor's or a spring's): it takes
+/// part in the push-out only to keep it off the joint's free axes. (A
+/// ball's spring slots hold other kinds' equality rows.)
+fn is_soft(j: &JointConstraint, slot: usize) -> bool {
+    slot == MOTOR || slot == SPRING || (slot >= j.n_eq && (BALL_SPRING..BALL_SPRING + 3).contains(&slot))
 }
 
 /// The scalar rows of `j` its island solves: a position (PD) motor and the
@@ -689,7 +705,11 @@ fn island_mask(j: &JointConstraint) -> u16 {
         Some(Motor::Position { .. }) => 1 << MOTOR,
         _ => 0,
     };
-    let spring = if j.law.spring.is_some() { 1 << SPRING } else { 0 };
+    let spring = match (j.law.spring, j.law.kind) {
+        (None, _) => 0,
+        (Some(_), JointKind::Ball) => 0b111 << BALL_SPRING,
+        (Some(_), _) => 1 << SPRING,
+    };
     motor | spring
 }
 

@@ -731,7 +731,7 @@ pub fn joints(data: &[u8]) {
         if coin(&mut input, matches!(kind, JointKind::Hinge | JointKind::Slider)) {
             desc.motor = fuzz_motor(&mut input);
         }
-        if coin(&mut input, distance) {
+        if coin(&mut input, kind != JointKind::Fixed) {
             desc.spring = Some(Spring {
                 stiffness: input.number(0.0, 1000.0),
                 damping: input.number(0.0, 10.0),

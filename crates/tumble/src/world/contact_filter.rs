@@ -56,17 +56,12 @@ impl World {
     /// `collide_connected`, and not kept apart by
     /// [`World::set_contacts_between`].
     pub fn contacts_allowed(&self, a: BodyId, b: BodyId) -> Result<bool, WorldError> {
-        let pair = self.body_pair(a, b)?;
-        let (ga, gb) = (
-            self.entry(a)?.non_colliding_group,
-            self.entry(b)?.non_colliding_group,
-        );
-        let jointed = self.joints.iter().any(|(_, j)| {
-            let (ja, jb) = j.slots();
-            !j.desc.collide_connected
-                && jb.is_some_and(|jb| (ja.min(jb), ja.max(jb)) == (pair.0.index, pair.1.index))
-        });
-        Ok(!(ga != 0 && ga == gb) && self.contact_exclusions.binary_search(&pair).is_err() && !jointed)
+        let (a, b) = self.body_pair(a, b)?;
+        // The broad phase's own filter, on this one pair: the rules have
+        // one home.
+        let mut pair = vec![(a.index, b.index)];
+        self.filter_contact_pairs(&mut pair);
+        Ok(!pair.is_empty())
     }
 
     /// The body pairs [`World::set_contacts_between`] keeps apart, each

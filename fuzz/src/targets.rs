@@ -740,6 +740,9 @@ pub fn joints(data: &[u8]) {
         if coin(&mut input, distance) {
             desc.length = Some(input.number(0.0, 2.0));
         }
+        if coin(&mut input, kind != JointKind::Fixed) {
+            desc.friction = Some(input.number(0.0, 50.0));
+        }
         desc.collide_connected = input.below(2) == 0;
         let before = world.snapshot();
         match world.add_joint(&desc) {

@@ -138,6 +138,7 @@ pub struct JointArgs<'a, 'py> {
     pub swing_limit: Option<f64>,
     pub motor: Option<&'a Bound<'py, PyAny>>,
     pub spring: Option<&'a Bound<'py, PyAny>>,
+    pub friction: Option<f64>,
     pub length: Option<f64>,
     pub collide_connected: bool,
     pub name: Option<String>,
@@ -172,6 +173,7 @@ pub fn add_joint(
         .map(spring_from)
         .transpose()?;
     desc.length = args.length;
+    desc.friction = args.friction;
     desc.collide_connected = args.collide_connected;
     desc.name = args.name.unwrap_or_default();
     let id = guard(|| {
@@ -360,6 +362,22 @@ impl Joint {
         let mut w = self.world.bind(py).borrow_mut();
         w.check_usable()?;
         w.inner.set_joint_spring(self.id, spring).or_raise()
+    }
+
+    /// Coulomb friction on the joint's coordinate (N m or N; about each
+    /// world axis on a ball joint), or None. Settable: a number >= 0, or
+    /// None to take it off (e.g. a robot's joint friction varied between
+    /// rollouts).
+    #[getter]
+    fn friction(&self, py: Python<'_>) -> PyResult<Option<f64>> {
+        self.desc(py, |d| d.friction)
+    }
+
+    #[setter]
+    fn set_friction(&self, py: Python<'_>, value: Option<f64>) -> PyResult<()> {
+        let mut w = self.world.bind(py).borrow_mut();
+        w.check_usable()?;
+        w.inner.set_joint_friction(self.id, value).or_raise()
     }
 
     /// Removes the joint; the handle becomes stale.

@@ -390,12 +390,17 @@ impl World {
     ///         N m s/rad about every axis, towards the relative orientation
     ///         at creation.
     ///     length: distance joint rest length (m; default the anchors' distance).
+    ///     friction: Coulomb friction on the joint's coordinate, beside the
+    ///         motor and spring (N m on a hinge, and about each world axis
+    ///         on a ball joint; N on a slider or distance joint; not on a
+    ///         weld).
     ///     collide_connected: contacts between the two bodies (default off).
     ///
     /// Raises:
     ///     InvalidArgument: a bad value; the world is unchanged.
     #[pyo3(signature = (kind, body_a, body_b=None, *, anchor, axis=None, anchor_b=None, limits=None,
-        swing_limit=None, motor=None, spring=None, length=None, collide_connected=false, name=None))]
+        swing_limit=None, motor=None, spring=None, length=None, friction=None, collide_connected=false,
+        name=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_joint(
         slf: &Bound<'_, Self>,
@@ -410,6 +415,7 @@ impl World {
         motor: Option<&Bound<'_, PyAny>>,
         spring: Option<&Bound<'_, PyAny>>,
         length: Option<f64>,
+        friction: Option<f64>,
         collide_connected: bool,
         name: Option<String>,
     ) -> PyResult<Joint> {
@@ -422,6 +428,7 @@ impl World {
             swing_limit,
             motor,
             spring,
+            friction,
             length,
             collide_connected,
             name,

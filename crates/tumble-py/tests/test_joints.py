@@ -115,6 +115,41 @@ def test_a_ball_spring_turns_a_cube_back_at_its_natural_period_about_any_axis() 
     assert max(map(abs, turns)) == pytest.approx(1 / w_n, rel=2e-3)
 
 
+def test_slider_friction_holds_below_its_load_and_slips_above_it() -> None:
+    # A 1 kg cube on a slider up a 30 degree slope: m g sin(30) = 4.905 N
+    # down the axis. 6 N of friction hold it; with 2 N it slides at
+    # a = g sin(30) - f / m, x = -a t^2 / 2 after t = 1 s.
+    axis = (math.cos(math.pi / 6), 0.0, math.sin(math.pi / 6))
+
+    def slide(friction: float) -> tumble.Joint:
+        world = tumble.World(sleeping=False, threads=1)
+        cube = world.add_body(tumble.Box((0.05, 0.05, 0.05)), mass=1.0)
+        slider = world.add_joint(
+            "slider", cube, None, anchor=(0, 0, 0), axis=axis, friction=friction
+        )
+        assert slider.friction == friction
+        world.step(60)
+        return slider
+
+    held = slide(6.0)
+    assert abs(held.position) < 1e-9 and abs(held.rate) < 1e-9
+    a = G * 0.5 - 2.0
+    assert slide(2.0).position == pytest.approx(-0.5 * a, rel=0.005)
+
+
+def test_a_joints_friction_is_set_and_refused_when_bad() -> None:
+    world, bob, hinge = pendulum(friction=0.5)
+    assert hinge.friction == 0.5
+    hinge.friction = None
+    assert hinge.friction is None
+    for bad in (-1.0, math.nan, math.inf):
+        with pytest.raises(tumble.InvalidArgument, match="joint.friction"):
+            hinge.friction = bad
+    assert hinge.friction is None
+    with pytest.raises(tumble.InvalidArgument, match="joint.friction"):
+        world.add_joint("fixed", bob, None, anchor=(0, 0, 0), friction=1.0)
+
+
 def test_a_joints_spring_is_read_set_and_refused_when_bad() -> None:
     world, bob, hinge = pendulum(spring=(2.0, 0.5))
     assert hinge.spring == {"stiffness": 2.0, "damping": 0.5}

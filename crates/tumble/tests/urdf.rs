@@ -540,21 +540,22 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
     assert_eq!(capsule, Some((0.1, 0.2)), "length is between the caps' centres");
     let ball = w.joint(r.joints["ball"].id).unwrap();
     assert_eq!(ball.kind, JointKind::Ball);
-    // Its damping is a damper about every axis; its friction, which would
-    // need a motor a ball joint has not, is said, not refused.
+    // Its damping is a damper about every axis, its friction Coulomb
+    // friction about each: both simulated, neither warned about.
     assert_eq!(
-        ball.spring,
-        Some(Spring {
-            stiffness: 0.0,
-            damping: 0.5
-        })
+        (ball.spring, ball.friction),
+        (
+            Some(Spring {
+                stiffness: 0.0,
+                damping: 0.5
+            }),
+            Some(0.2)
+        )
     );
-    assert!(r
-        .warnings
-        .iter()
-        .any(|m| m.contains("`ball`") && m.contains("<dynamics friction> is not simulated on a ball joint")));
     assert!(
-        !r.warnings.iter().any(|m| m.contains("damping")),
+        !r.warnings
+            .iter()
+            .any(|m| m.contains("damping") || m.contains("friction")),
         "{:?}",
         r.warnings
     );
@@ -577,7 +578,7 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
         r.warnings
     );
     // A damping and a friction both act: a damper (a spring of stiffness
-    // 0) and a friction motor.
+    // 0) and the joint's Coulomb friction, with no motor.
     assert!(
         !r.warnings.iter().any(|m| m.contains("friction")),
         "{:?}",
@@ -591,13 +592,7 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
             damping: 0.1
         })
     );
-    assert_eq!(
-        j.motor,
-        Some(Motor::Velocity {
-            target: 0.0,
-            max_force: 0.5
-        })
-    );
+    assert_eq!((j.friction, j.motor), (Some(0.5), None));
     // The products of inertia default to 0: the moments are the principal ones.
     let mut moments = w.body(r.links["a"]).unwrap().principal_inertia().to_array();
     moments.sort_by(f64::total_cmp);
@@ -1224,10 +1219,10 @@ fn joint_damping_and_friction_slow_a_wheel_by_the_analytic_law() {
     }
     steps(&mut w, 6);
     assert!(rate(&w).abs() < 1e-9, "still at {} rad/s", rate(&w));
-    // A motor set now replaces the friction and the damper stays: a
-    // velocity motor of at most tau = 0.4 N m towards a speed it cannot
-    // reach spins the wheel up to tau / c: w(t) = (tau / c) (1 - e^(-c t /
-    // I)).
+    // A motor set now acts beside the friction and the damper: a velocity
+    // motor of at most tau = 0.4 N m towards a speed it cannot reach spins
+    // the wheel up against both, I w' = tau - f - c w, to (tau - f) / c:
+    // w(t) = ((tau - f) / c) (1 - e^(-c t / I)).
     let tau = 0.4;
     w.set_joint_motor(
         axle,
@@ -1240,7 +1235,7 @@ fn joint_damping_and_friction_slow_a_wheel_by_the_analytic_law() {
     let start = w.time();
     steps(&mut w, 120);
     let t = w.time() - start;
-    let expected = tau / c * (1.0 - (-c * t / i).exp());
+    let expected = (tau - f) / c * (1.0 - (-c * t / i).exp());
     assert!(
         (rate(&w) / expected - 1.0).abs() < 0.005,
         "{} rad/s after {t} s of the motor, expected {expected}",

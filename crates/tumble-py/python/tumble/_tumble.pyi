@@ -229,6 +229,7 @@ class Joint:
     def axis(self) -> FloatArray: ...
     motor: dict[str, float] | None
     spring: dict[str, float] | None
+    friction: float | None
     def remove(self) -> None: ...
     def __hash__(self) -> int: ...
 
@@ -367,6 +368,7 @@ class World:
         motor: dict[str, float] | None = None,
         spring: tuple[float, float] | dict[str, float] | None = None,
         length: float | None = None,
+        friction: float | None = None,
         collide_connected: bool = False,
         name: str | None = None,
     ) -> Joint: ...

@@ -196,6 +196,16 @@ pub struct JointDesc<B = BodyId> {
     /// Distance joint: rest length (m, >= 0). Default: the anchors'
     /// distance at creation.
     pub length: Option<f64>,
+    /// Coulomb friction on the joint's coordinate (N m on a hinge or ball
+    /// joint, N on a slider or distance joint; finite, >= 0): the joint
+    /// holds still while the torque or force that would move it stays
+    /// within the friction, and moving it is opposed by exactly the
+    /// friction. On a ball joint it bounds the torque about each world
+    /// axis (MuJoCo's `frictionloss`, per degree of freedom). It acts
+    /// beside the motor and the spring (a robot joint's friction under its
+    /// servo; URDF's `<dynamics friction>`). Not on a weld.
+    #[serde(default)]
+    pub friction: Option<f64>,
     /// Contacts between the two bodies (default off: jointed bodies
     /// usually overlap at the joint).
     pub collide_connected: bool,
@@ -218,6 +228,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             motor: None,
             spring: None,
             length: None,
+            friction: None,
             collide_connected: false,
             name: String::new(),
         }
@@ -269,6 +280,12 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         self
     }
 
+    /// With Coulomb friction on the joint ([`JointDesc::friction`]: N m or N).
+    pub fn with_friction(mut self, friction: f64) -> JointDesc<B> {
+        self.friction = Some(friction);
+        self
+    }
+
     /// With a spring-damper ([`Spring`]: distance, ball, hinge or slider joint).
     pub fn with_spring(mut self, stiffness: f64, damping: f64) -> JointDesc<B> {
         self.spring = Some(Spring { stiffness, damping });
@@ -308,6 +325,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             motor: self.motor,
             spring: self.spring,
             length: self.length,
+            friction: self.friction,
             collide_connected: self.collide_connected,
             name: self.name,
         }
@@ -462,6 +480,20 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             }
             if s.stiffness == 0.0 && s.damping == 0.0 {
                 return bad("joint.spring", "needs stiffness or damping > 0".into());
+            }
+        }
+        if let Some(f) = self.friction {
+            if self.kind == JointKind::Fixed {
+                return bad(
+                    "joint.friction",
+                    format!("applies to distance, ball, hinge and slider joints, not {kind}"),
+                );
+            }
+            if !(f.is_finite() && f >= 0.0) {
+                return bad(
+                    "joint.friction",
+                    format!("must be finite and >= 0 (N m or N), got {f}"),
+                );
             }
         }
         if let Some(l) = self.length {

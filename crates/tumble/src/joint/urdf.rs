@@ -12,9 +12,8 @@
 //! child link, its angle 0 at the file's zero configuration. Joint
 //! `damping` becomes a damper on the joint (a `Spring` of stiffness 0,
 //! which stays when a motor is set; on a `spherical` joint it damps the
-//! turn about every axis), and `friction` a friction motor
-//! (`Motor::Velocity` towards 0 bounded by the friction: Coulomb friction
-//! on the joint) until another motor is set; `effort` is kept as the
+//! turn about every axis), and `friction` the joint's Coulomb friction
+//! (`JointDesc::friction`, beside any motor); `effort` is kept as the
 //! joint's largest motor force for the caller.
 //!
 //! Files written for other engines load as those engines read them (the
@@ -44,7 +43,7 @@
 //! robot is.
 
 use crate::body::BodyKind;
-use crate::joint::{JointDesc, JointId, JointKind, Motor, Spring};
+use crate::joint::{JointDesc, JointId, JointKind, Spring};
 use crate::world::{BodyDesc, BodyId, MassDesc, ShapeDesc, World, WorldError, WorldSettings};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -722,7 +721,6 @@ impl<'a, 'input> Reader<'a, 'input> {
         let mut joints: Vec<Joint> = Vec::new();
         let mut reversed_limits = Vec::new();
         let mut unsimulated = Vec::new();
-        let mut with_friction = Vec::new();
         for node in root
             .children()
             .filter(|c| c.is_element() && c.tag_name().name() == "joint")
@@ -808,10 +806,6 @@ impl<'a, 'input> Reader<'a, 'input> {
             if friction < 0.0 {
                 return Err(self.err(node, "dynamics friction must be >= 0"));
             }
-            // A ball joint has a damper but no motor.
-            if friction > 0.0 && kind == "spherical" {
-                with_friction.push(format!("`{name}`"));
-            }
             if let Some(m) = self.child(node, "mimic") {
                 unsimulated.push(format!(
                     "joint `{name}`: <mimic joint=\"{}\"> is not simulated (no coupling between joints): \
@@ -836,15 +830,6 @@ impl<'a, 'input> Reader<'a, 'input> {
                 damping,
                 friction,
             });
-        }
-        // One line for them all (a file exported from MuJoCo gives every
-        // joint a damping and a friction).
-        if !with_friction.is_empty() {
-            unsimulated.push(format!(
-                "joint{} {}: <dynamics friction> is not simulated on a ball joint (no motor)",
-                if with_friction.len() > 1 { "s" } else { "" },
-                with_friction.join(", ")
-            ));
         }
         Ok(Model {
             name,
@@ -1137,18 +1122,10 @@ impl<'a, 'input> Model<'a, 'input> {
                     damping: j.damping,
                 });
             }
-            if kind != JointKind::Ball {
-                // (A ball joint has no motor: its friction is warned when read.)
-                // Coulomb friction on the joint: held at rest up to the
-                // friction, opposed by it in motion; a rigid velocity row
-                // towards 0 bounded by it is exactly that (MuJoCo's
-                // `frictionloss` is this row). A motor set later replaces it.
-                if j.friction > 0.0 {
-                    desc.motor = Some(Motor::Velocity {
-                        target: 0.0,
-                        max_force: j.friction,
-                    });
-                }
+            // Coulomb friction on the joint (MuJoCo's `frictionloss`),
+            // beside whatever motor is set later.
+            if j.friction > 0.0 {
+                desc.friction = Some(j.friction);
             }
             desc.validate().map_err(|e| r.err(j.node, e.to_string()))?;
             joint_descs.push((j, desc));

@@ -40,6 +40,7 @@ pub(crate) fn resolve_joints(
         desc.motor = spec.motor;
         desc.spring = spec.spring;
         desc.length = spec.length;
+        desc.friction = spec.friction;
         desc.collide_connected = spec.collide_connected;
         desc.name = spec.name.clone();
         desc.validate()

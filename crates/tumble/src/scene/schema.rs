@@ -116,9 +116,9 @@ pub struct RobotSpec {
     pub balance_inertia: bool,
     /// Motors of the robot's joints by the file's joint names (`shoulder =
     /// { type = "position", target = 0.5, stiffness = 4000.0, damping =
-    /// 200.0, max_force = 150.0 }`), replacing the friction motor a
-    /// `<dynamics friction>` gives (a `<dynamics damping>` stays, a damper
-    /// beside the motor). Default none.
+    /// 200.0, max_force = 150.0 }`), beside the joint's `<dynamics damping>`
+    /// (a damper) and `<dynamics friction>` (its Coulomb friction). Default
+    /// none.
     #[serde(default)]
     pub motors: BTreeMap<String, Motor>,
 }
@@ -169,6 +169,11 @@ pub struct JointSpec {
     /// Distance joint rest length (m). Default: the anchors' distance.
     #[serde(default)]
     pub length: Option<f64>,
+    /// Coulomb friction on the joint's coordinate (N m on a hinge or ball
+    /// joint, about each world axis on a ball; N on a slider or distance
+    /// joint; >= 0), beside the motor and spring. Not on a weld.
+    #[serde(default)]
+    pub friction: Option<f64>,
     /// Contacts between the two bodies (default false).
     #[serde(default)]
     pub collide_connected: bool,

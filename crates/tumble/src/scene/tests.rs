@@ -580,6 +580,13 @@ fn bad_joints_are_located_at_their_field() {
         message.contains("distance, ball, hinge and slider joints, not fixed"),
         "{message}"
     );
+    // A joint's friction is read, and a bad one located.
+    let rubbing = PENDULUM.replace("axis = [0, 1, 0]", "axis = [0, 1, 0]\nfriction = 0.25");
+    let (world, _) = toml(&rubbing).unwrap().build().unwrap();
+    assert_eq!(world.joint(world.joint_ids()[0]).unwrap().friction, Some(0.25));
+    let (_, _, path, message) = at(toml(&rubbing.replace("0.25", "-0.25")).err().unwrap());
+    assert_eq!(path, "joints[0].friction");
+    assert!(message.contains(">= 0"), "{message}");
 
     let bad_kind = PENDULUM.replace("kind = \"hinge\"", "kind = \"hing\"");
     let e = toml(&bad_kind).err().unwrap().to_string();

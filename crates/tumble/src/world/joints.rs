@@ -85,14 +85,10 @@ impl World {
                 rotation: (inv * rotation).normalize(),
             }
         };
-        let law = JointLaw {
-            kind: desc.kind,
-            limits: desc.limits,
-            swing_limit: desc.swing_limit,
-            motor: desc.motor,
-            spring: desc.spring,
-            length: desc.length.unwrap_or_else(|| (desc.anchor - anchor_b).length()),
-        };
+        let law = JointLaw::of(
+            desc,
+            desc.length.unwrap_or_else(|| (desc.anchor - anchor_b).length()),
+        );
         let entry = JointEntry {
             desc: desc.clone(),
             local: [in_body(&a, desc.anchor), in_body(&b, anchor_b)],
@@ -129,8 +125,8 @@ impl World {
         self.change_joint(id, |desc| desc.motor = motor)
     }
 
-    /// Replaces a joint's spring-damper (`None` takes it off): a hinge's or
-    /// slider's passive spring, or a distance joint's spring (without one
+    /// Replaces a joint's spring-damper (`None` takes it off): a hinge's,
+    /// slider's or ball joint's passive spring, or a distance joint's spring (without one
     /// the distance joint is a rod again, or a rope with limits), e.g. to
     /// vary a robot's joint damping between rollouts. Validated as in
     /// [`World::add_joint`]; the joint's bodies wake.
@@ -142,7 +138,15 @@ impl World {
         self.change_joint(id, |desc| desc.spring = spring)
     }
 
-    /// A joint's motor or spring changed by `edit` on its description,
+    /// Replaces a joint's Coulomb friction (`None` takes it off; see
+    /// [`JointDesc::friction`]), e.g. to vary a robot's joint friction
+    /// between rollouts. Validated as in [`World::add_joint`]; the joint's
+    /// bodies wake.
+    pub fn set_joint_friction(&mut self, id: JointId, friction: Option<f64>) -> Result<(), WorldError> {
+        self.change_joint(id, |desc| desc.friction = friction)
+    }
+
+    /// A joint's motor, spring or friction changed by `edit` on its description,
     /// validated first (the world unchanged on an error), then copied into
     /// the law the solver reads; the joint's bodies wake.
     fn change_joint(&mut self, id: JointId, edit: impl FnOnce(&mut JointDesc)) -> Result<(), WorldError> {
@@ -151,7 +155,7 @@ impl World {
         edit(&mut desc);
         desc.validate()?;
         let entry = self.joints.get_mut(id).ok_or(WorldError::StaleJoint(id))?;
-        (entry.law.motor, entry.law.spring) = (desc.motor, desc.spring);
+        entry.law = JointLaw::of(&desc, entry.law.length);
         let bodies = [Some(desc.body_a), desc.body_b];
         entry.desc = desc;
         for body in bodies.into_iter().flatten() {

@@ -41,7 +41,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 9;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 10;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -184,14 +184,7 @@ impl JointRecord {
             return Err("impulses, reaction and rest length must be finite".into());
         }
         Ok(JointEntry {
-            law: JointLaw {
-                kind: desc.kind,
-                limits: desc.limits,
-                swing_limit: desc.swing_limit,
-                motor: desc.motor,
-                spring: desc.spring,
-                length: self.rest_length,
-            },
+            law: JointLaw::of(&desc, self.rest_length),
             desc,
             local: self.local,
             impulses,

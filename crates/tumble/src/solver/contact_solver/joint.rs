@@ -36,10 +36,10 @@ use super::coloring::Shared;
 use crate::joint::{wrap_angle, JointKind, JointPose, Motor, Spring};
 use tumble_collide::{DQuat, DVec3, Pose};
 
-/// Rows of a joint: six equality slots, then the limits, motor, spring
-/// and swing cone. A row keeps its slot for the joint's life, so its
-/// impulse is warm-started across sub-steps and steps by slot.
-pub const JOINT_ROWS: usize = 11;
+/// Rows of a joint: six equality slots, then the limits, motor, spring,
+/// swing cone and friction. A row keeps its slot for the joint's life, so
+/// its impulse is warm-started across sub-steps and steps by slot.
+pub const JOINT_ROWS: usize = 14;
 /// A ball joint's spring: three soft angular rows about the world axes, in
 /// the slots its three equality rows leave free (`BALL_SPRING..BALL_SPRING
 /// + 3`). Every other kind with equality rows fills these slots with them.
@@ -50,14 +50,19 @@ const BALL_SPRING_LAST: usize = BALL_SPRING + 2;
 /// ball's spring rows.
 const FIRST_SCALAR: usize = BALL_SPRING;
 /// The scalar row slots, in the order a pass relaxes them: springs first,
-/// then the motor, the limits and the swing cone. A slot below a joint's
-/// `n_eq` is one of its equality rows, not a scalar row.
-pub(super) const SCALAR_SLOTS: [usize; 8] = [
+/// then the motor, the friction (which then has the last word on what the
+/// motor and springs leave moving), the limits and the swing cone (hard
+/// bounds last). A slot below a joint's `n_eq` is one of its equality
+/// rows, not a scalar row.
+pub(super) const SCALAR_SLOTS: [usize; 11] = [
     BALL_SPRING,
     BALL_SPRING + 1,
     BALL_SPRING_LAST,
     SPRING,
     MOTOR,
+    FRICTION,
+    FRICTION + 1,
+    FRICTION_LAST,
     LOWER,
     UPPER,
     SWING,
@@ -67,6 +72,12 @@ pub(super) const UPPER: usize = 7;
 pub(super) const MOTOR: usize = 8;
 pub(super) const SPRING: usize = 9;
 pub(super) const SWING: usize = 10;
+/// Coulomb friction on the joint's coordinate: one row (hinge, slider,
+/// distance joint) or three about the world axes (ball joint), each a
+/// velocity row towards 0 bounded by the friction (`FRICTION..FRICTION + 3`).
+pub(super) const FRICTION: usize = 11;
+/// The last of a ball's friction rows.
+const FRICTION_LAST: usize = FRICTION + 2;
 
 /// Fraction of a joint's position error removed per push-out pass. The
 /// push velocities are discarded after each sub-step, so a large fraction
@@ -150,13 +161,30 @@ pub struct JointLaw {
     pub swing_limit: Option<f64>,
     /// Hinge or slider motor.
     pub motor: Option<Motor>,
-    /// Spring-damper (distance joint, hinge, slider).
+    /// Spring-damper (distance, ball, hinge, slider joint).
     pub spring: Option<Spring>,
+    /// Coulomb friction on the joint's coordinate (N m or N).
+    pub friction: Option<f64>,
     /// Distance joint rest length (m).
     pub length: f64,
 }
 
 impl JointLaw {
+    /// The law of a joint described by `desc` whose rest length (distance
+    /// joint) is `length`: the one place a description's options reach the
+    /// solver (a joint added, changed or restored from a snapshot).
+    pub fn of<B>(desc: &crate::joint::JointDesc<B>, length: f64) -> JointLaw {
+        JointLaw {
+            kind: desc.kind,
+            limits: desc.limits,
+            swing_limit: desc.swing_limit,
+            motor: desc.motor,
+            spring: desc.spring,
+            friction: desc.friction,
+            length,
+        }
+    }
+
     /// Equality rows of a joint with this law (fixed by the kind and
     /// options, so an island's system keeps its shape).
     pub fn equality_rows(&self) -> usize {
@@ -341,6 +369,13 @@ impl JointConstraint {
                     let s = self.law.spring.expect("spring row without a spring");
                     let at = spring_at(s.stiffness, k, h);
                     (gamma, bias) = soft(s.stiffness, s.damping, r.c, h, at);
+                }
+                // Held at rest up to the friction, opposed by it in motion:
+                // a rigid row towards no relative motion, bounded by it
+                // (MuJoCo's `frictionloss`, per degree of freedom).
+                FRICTION..=FRICTION_LAST => {
+                    let f = self.law.friction.expect("friction row without a friction") * h;
+                    (lo, hi) = (-f, f);
                 }
                 _ => {}
             }
@@ -638,6 +673,11 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                     set.set(BALL_SPRING + k, JointRow::angular(e, err.dot(e)));
                 }
             }
+            if law.friction.is_some() {
+                for (k, e) in DVec3::AXES.into_iter().enumerate() {
+                    set.set(FRICTION + k, JointRow::angular(e, 0.0));
+                }
+            }
         }
         JointKind::Hinge => {
             set.point(pose, &c[..3]);
@@ -668,6 +708,9 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                     set.set(SPRING, JointRow::angular(axis, wrap_angle(angle)));
                 }
             }
+            if law.friction.is_some() {
+                set.set(FRICTION, JointRow::angular(twist_axis(), 0.0));
+            }
         }
         JointKind::Slider => {
             set.locked(&c[..3]);
@@ -693,6 +736,9 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
             if law.spring.is_some() {
                 set.set(SPRING, JointRow::linear(n, pose.ra, rb, offset));
             }
+            if law.friction.is_some() {
+                set.set(FRICTION, JointRow::linear(n, pose.ra, rb, 0.0));
+            }
         }
         JointKind::Distance => {
             let len = d.length();
@@ -707,6 +753,9 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
             }
             if law.spring.is_some() {
                 set.set(SPRING, along(len - law.length));
+            }
+            if law.friction.is_some() {
+                set.set(FRICTION, along(0.0));
             }
         }
     }

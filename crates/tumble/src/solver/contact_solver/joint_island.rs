@@ -486,8 +486,9 @@ impl JointIsland {
         // multiplier pulls towards the bound it is held at), and again. A
         // row never let go could end a round held at a bound the solution
         // no longer presses it against: a motor at its force pushing the
-        // joint on the way it already turns (with the friction motors in the
-        // system, a chain slipping on every joint gained energy so).
+        // joint on the way it already turns (with friction rows, then
+        // velocity motors towards 0, in the system, a chain slipping on
+        // every joint gained energy so).
         let mut held: Vec<Held> = Vec::new();
         let mut settled = false;
         for _ in 0..HELD_ROUNDS {
@@ -974,6 +975,7 @@ mod tests {
             swing_limit,
             motor: None,
             spring: None,
+            friction: None,
             length,
         };
         for t in 0..count {
@@ -1162,6 +1164,7 @@ mod tests {
             swing_limit: None,
             motor: None,
             spring: None,
+            friction: None,
             length: 0.0,
         };
         for t in 0..count {

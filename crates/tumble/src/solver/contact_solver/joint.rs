@@ -329,10 +329,7 @@ impl JointConstraint {
     /// scalar row first acts in the sub-step).
     fn condition(&mut self, ma: f64, ia: &glam::DMat3, mb: f64, ib: &glam::DMat3, h: f64) {
         let m_sum = ma + mb;
-        for i in 0..JOINT_ROWS {
-            if self.active & (1 << i) == 0 {
-                continue;
-            }
+        for i in slots(self.active) {
             let r = &mut self.rows[i];
             r.ia = *ia * r.ang_a;
             r.ib = *ib * r.ang_b;
@@ -803,6 +800,18 @@ impl RowSet<'_> {
     }
 }
 
+/// The slots whose bits are set in `mask`, in increasing order.
+#[inline]
+fn slots(mut mask: u16) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let i = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            i
+        })
+    })
+}
+
 /// Soft-constraint coefficients `(gamma, bias)` of a spring-damper of
 /// stiffness `k` and damping `c` at error `err` over a sub-step `h`, its
 /// stiffness acting at the error `at` of the way through the sub-step.
@@ -993,10 +1002,7 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
     j.condition(a.inv_mass, &a.inv_inertia, b.inv_mass, &b.inv_inertia, h);
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, false) };
-    for i in 0..JOINT_ROWS {
-        if j.active & (1 << i) == 0 {
-            continue;
-        }
+    for i in slots(j.active) {
         let r = &mut j.rows[i];
         if warm {
             r.impulse = crate::solver::clamp_impulse(r.impulse, r.lo, r.hi);
@@ -1033,9 +1039,11 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
             p.apply(&j.rows[i], d);
         }
     }
+    // Rows solved with the joint's island are not solved again here (nor
+    // are the equality rows, in the slots below `n_eq`).
+    let scalar = j.active & !j.island_rows & !((1u16 << j.n_eq) - 1);
     for i in SCALAR_SLOTS {
-        // Rows solved with the joint's island are not solved again here.
-        if i < j.n_eq || j.active & (1 << i) == 0 || j.island_rows & (1 << i) != 0 {
+        if scalar & (1 << i) == 0 {
             continue;
         }
         let r = &j.rows[i];

@@ -364,8 +364,8 @@ impl Joint {
         w.inner.set_joint_spring(self.id, spring).or_raise()
     }
 
-    /// Coulomb friction on the joint's coordinate (N m or N; about each
-    /// world axis on a ball joint), or None. Settable: a number >= 0, or
+    /// Coulomb friction on the joint's coordinate (N m or N; whichever way
+    /// a ball joint turns), or None. Settable: a number >= 0, or
     /// None to take it off (e.g. a robot's joint friction varied between
     /// rollouts).
     #[getter]

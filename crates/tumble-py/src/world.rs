@@ -391,9 +391,8 @@ impl World {
     ///         at creation.
     ///     length: distance joint rest length (m; default the anchors' distance).
     ///     friction: Coulomb friction on the joint's coordinate, beside the
-    ///         motor and spring (N m on a hinge, and about each world axis
-    ///         on a ball joint; N on a slider or distance joint; not on a
-    ///         weld).
+    ///         motor and spring (N m on a hinge, and whichever way a ball
+    ///         joint turns; N on a slider or rope; not on a weld or rod).
     ///     collide_connected: contacts between the two bodies (default off).
     ///
     /// Raises:

@@ -11,7 +11,7 @@ mod common;
 
 use common::elliptic_k;
 use std::f64::consts::PI;
-use tumble::collide::{Cuboid, DVec3, HalfSpace, Sphere};
+use tumble::collide::{Cuboid, DQuat, DVec3, HalfSpace, Pose, Sphere};
 use tumble::joint::{JointDesc, JointKind, Motor};
 use tumble::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
 
@@ -628,15 +628,17 @@ fn slider_friction_holds_below_its_load_and_slips_above_it_by_the_analytic_law()
             w.step();
         }
         let s = w.joint_state(j).unwrap();
-        (s.position, s.rate)
+        (s.position, s.rate, s.force)
     };
-    let (held, rate) = slide(6.0);
+    let (held, rate, force) = slide(6.0);
     assert!(
         held.abs() < 1e-9 && rate.abs() < 1e-9,
         "held: {held} m, {rate} m/s"
     );
+    // The joint, friction included, holds the whole weight up.
+    assert!((force - DVec3::new(0.0, 0.0, G)).length() < 1e-6, "{force}");
     let a = G * 0.5 - 2.0;
-    let (x, v) = slide(2.0);
+    let (x, v, _) = slide(2.0);
     assert!(
         (x / (-0.5 * a) - 1.0).abs() < 0.005,
         "{x} m, expected {}",
@@ -685,39 +687,64 @@ fn hinge_friction_acts_beside_a_motor() {
 }
 
 #[test]
-fn ball_friction_stops_a_spin_about_each_axis_at_its_own_rate() {
+fn ball_friction_stops_a_spin_at_the_same_rate_about_any_axis() {
     // Zero gravity, a 1 kg cube (I = 1/600 kg m^2 about every axis) on a
-    // ball joint at its centre with a friction of f = 0.01 N m about each
-    // world axis, spun at 2 rad/s about a slanted axis u: each component of
-    // its spin falls at f / I = 6 rad/s^2 until it is 0, then stays (the
-    // friction bounds each axis's torque, as MuJoCo's frictionloss each
-    // degree of freedom's; 0.1 %: the solver adds a little geometric
-    // stiffness to a jointed body's inertia).
+    // ball joint at its centre with a friction of f = 0.01 N m, spun at 2
+    // rad/s about a slanted axis: the friction torque is f against the
+    // spin whichever way it points (Coulomb friction, bounded in length),
+    // so the spin keeps its axis and falls at f / I = 6 rad/s^2 until it
+    // is 0, then stays (0.1 %: the solver adds a little geometric stiffness
+    // to a jointed body's inertia). Turned by any rotation R, the whole
+    // scene spins as R times the first (1e-9): no axis of the world or of
+    // the joint's frame is favoured.
     let (i, f) = (1.0 / 600.0, 0.01);
-    let u = DVec3::new(1.0, 2.0, -0.5).normalize();
-    let mut w = world(false);
-    let c = cube(&mut w, DVec3::ZERO);
-    w.add_joint(&JointDesc::ball(c, None, DVec3::ZERO).with_friction(f))
+    let spin_down = |turn: DQuat| {
+        let mut w = world(false);
+        let c = w
+            .add_body(
+                &BodyDesc::dynamic(Cuboid::new(DVec3::splat(0.05)).unwrap())
+                    .with_mass(1.0)
+                    .with_pose(Pose::new(DVec3::ZERO, turn).unwrap()),
+            )
+            .unwrap();
+        w.add_joint(
+            &JointDesc::new(
+                JointKind::Ball,
+                c,
+                None,
+                DVec3::ZERO,
+                turn * DVec3::new(0.3, -0.2, 1.0),
+            )
+            .with_friction(f),
+        )
         .unwrap();
-    let w0 = u * 2.0;
-    w.set_velocity(c, DVec3::ZERO, w0).unwrap();
-    for _ in 0..20 {
-        w.step();
-        let t = w.time();
-        let expected = w0.to_array().map(|x| x.signum() * (x.abs() - f / i * t).max(0.0));
-        let spin = w.angular_velocity(c).unwrap().to_array();
-        for k in 0..3 {
-            let change = (w0[k] - expected[k]).abs();
+        let w0 = turn * DVec3::new(1.0, 2.0, -0.5).normalize() * 2.0;
+        w.set_velocity(c, DVec3::ZERO, w0).unwrap();
+        let mut spins = Vec::new();
+        for _ in 0..40 {
+            w.step();
+            let t = w.time();
+            let spin = w.angular_velocity(c).unwrap();
+            let expected = (2.0 - f / i * t).max(0.0);
             assert!(
-                (spin[k] - expected[k]).abs() <= 1e-3 * change + 1e-12,
-                "at {t} s: {spin:?}, expected {expected:?}"
+                (spin.length() - expected).abs() <= 1e-3 * (2.0 - expected) + 1e-12,
+                "at {t} s: {} rad/s, expected {expected}",
+                spin.length()
             );
+            assert!(
+                spin.reject_from(w0).length() <= 1e-9,
+                "it turned off its axis: {spin}"
+            );
+            spins.push(spin);
         }
+        assert!(spins.last().unwrap().length() < 1e-12, "it stops");
+        spins
+    };
+    let plain = spin_down(DQuat::IDENTITY);
+    let turn = DQuat::from_scaled_axis(DVec3::new(0.7, -1.9, 0.4));
+    for (a, b) in plain.iter().zip(spin_down(turn)) {
+        assert!((turn * *a - b).length() < 1e-9, "{a} turned against {b}");
     }
-    for _ in 0..20 {
-        w.step();
-    }
-    assert!(w.angular_velocity(c).unwrap().length() < 1e-12);
 }
 
 #[test]
@@ -749,14 +776,34 @@ fn a_joints_friction_is_changed_or_refused() {
         assert!(w.snapshot() == before, "a refused friction changed the world");
     }
     assert_eq!(w.joint(j).unwrap().friction, None);
-    let weld = JointDesc::fixed(bob, None, DVec3::ZERO).with_friction(1.0);
-    assert!(matches!(
-        w.add_joint(&weld),
-        Err(WorldError::BadValue {
-            field: "joint.friction",
-            ..
-        })
-    ));
+    // Not on a weld, nor on a rod (whose length cannot change); a friction
+    // of 0 is none at all (the same bits as without).
+    let rod = JointDesc::distance(bob, None, DVec3::ZERO, DVec3::new(0.5, 0.0, 0.0));
+    for refused in [JointDesc::fixed(bob, None, DVec3::ZERO), rod.clone()] {
+        assert!(matches!(
+            w.add_joint(&refused.with_friction(1.0)),
+            Err(WorldError::BadValue {
+                field: "joint.friction",
+                ..
+            })
+        ));
+    }
+    assert!(
+        w.add_joint(&rod.with_limits(0.0, 1.0).with_friction(1.0)).is_ok(),
+        "a rope's"
+    );
+    let swing = |friction: Option<f64>| {
+        let mut w = world(true);
+        let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
+        let mut hinge = JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Y);
+        hinge.friction = friction;
+        w.add_joint(&hinge).unwrap();
+        for _ in 0..30 {
+            w.step();
+        }
+        w.state_hash()
+    };
+    assert_eq!(swing(Some(0.0)), swing(None));
 }
 
 #[test]
@@ -1247,13 +1294,20 @@ fn a_light_chain_holds_a_hundred_times_heavier_weight() {
 
 #[test]
 fn a_chain_slipping_on_the_friction_of_every_joint_loses_energy_and_holds() {
-    // 30 links of 0.1 kg on hinges, each with Coulomb friction on its joint
-    // (a velocity motor towards 0 of at most 2 mN m, URDF's <dynamics
-    // friction>), released horizontal: every joint slips at once, so every
-    // motor is at its bound in the island's system. Friction only takes
-    // energy out; the joints hold. (With these motors in the island's
-    // system, the chain gained 54 J in its first step with 16 bounds held
-    // at most, and blew up at the whip of its end with them all held.)
+    // 30 links of 0.1 kg on hinges, each with Coulomb friction of 2 mN m on
+    // its joint (URDF's <dynamics friction>), or a velocity motor towards 0
+    // bounded as much (the same row, in the motor's slot), released
+    // horizontal: every joint slips at once, so every row is at its bound.
+    // Friction only takes energy out; the joints hold. (With these rows in
+    // the island's system, the chain gained 54 J in its first step with 16
+    // bounds held at most, and blew up at the whip of its end with them all
+    // held.)
+    for as_motor in [false, true] {
+        slipping_chain(as_motor);
+    }
+}
+
+fn slipping_chain(as_motor: bool) {
     let mut w = world(true);
     let n = 30;
     let mut prev = None;
@@ -1266,15 +1320,16 @@ fn a_chain_slipping_on_the_friction_of_every_joint_loses_energy_and_holds() {
                     .with_mass(0.1),
             )
             .unwrap();
-        w.add_joint(
-            &JointDesc::hinge(c, prev, DVec3::new(x - 0.05, 0.0, 0.0), DVec3::Y).with_motor(
-                Motor::Velocity {
-                    target: 0.0,
-                    max_force: 0.002,
-                },
-            ),
-        )
-        .unwrap();
+        let hinge = JointDesc::hinge(c, prev, DVec3::new(x - 0.05, 0.0, 0.0), DVec3::Y);
+        let hinge = if as_motor {
+            hinge.with_motor(Motor::Velocity {
+                target: 0.0,
+                max_force: 0.002,
+            })
+        } else {
+            hinge.with_friction(0.002)
+        };
+        w.add_joint(&hinge).unwrap();
         prev = Some(c);
     }
     let energy = |w: &World| w.kinetic_energy() + w.potential_energy();

@@ -200,10 +200,11 @@ pub struct JointDesc<B = BodyId> {
     /// joint, N on a slider or distance joint; finite, >= 0): the joint
     /// holds still while the torque or force that would move it stays
     /// within the friction, and moving it is opposed by exactly the
-    /// friction. On a ball joint it bounds the torque about each world
-    /// axis (MuJoCo's `frictionloss`, per degree of freedom). It acts
-    /// beside the motor and the spring (a robot joint's friction under its
-    /// servo; URDF's `<dynamics friction>`). Not on a weld.
+    /// friction. On a ball joint it bounds the friction torque's length,
+    /// whichever way the joint turns. It acts beside the motor and the
+    /// spring (a robot joint's friction under its servo; URDF's `<dynamics
+    /// friction>`, MuJoCo's `frictionloss`). Not on a weld, nor on a
+    /// distance joint that is a rod (no limits, no spring); 0 is none.
     #[serde(default)]
     pub friction: Option<f64>,
     /// Contacts between the two bodies (default off: jointed bodies
@@ -337,6 +338,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
     pub fn validate(&self) -> Result<(), WorldError> {
         let bad = |field: &'static str, message: String| Err(WorldError::BadValue { field, message });
         let kind = self.kind.name();
+        let not_on_a_weld = || format!("applies to distance, ball, hinge and slider joints, not {kind}");
         // Anchors, lengths and linear limits within the coordinate limit
         // every body is held to (`MAX_POSITION`): a distance joint anchored
         // at 1.8e308 m (finite) was accepted and its island's impulses
@@ -464,10 +466,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         }
         if let Some(s) = self.spring {
             if self.kind == JointKind::Fixed {
-                return bad(
-                    "joint.spring",
-                    format!("applies to distance, ball, hinge and slider joints, not {kind}"),
-                );
+                return bad("joint.spring", not_on_a_weld());
             }
             if !(s.stiffness.is_finite() && s.stiffness >= 0.0 && s.damping.is_finite() && s.damping >= 0.0) {
                 return bad(
@@ -484,9 +483,14 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         }
         if let Some(f) = self.friction {
             if self.kind == JointKind::Fixed {
+                return bad("joint.friction", not_on_a_weld());
+            }
+            if self.kind == JointKind::Distance && self.spring.is_none() && self.limits.is_none() {
                 return bad(
                     "joint.friction",
-                    format!("applies to distance, ball, hinge and slider joints, not {kind}"),
+                    "a rod's length cannot change: friction on a distance joint needs limits (a rope) \
+                     or a spring"
+                        .into(),
                 );
             }
             if !(f.is_finite() && f >= 0.0) {

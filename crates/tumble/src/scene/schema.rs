@@ -170,8 +170,8 @@ pub struct JointSpec {
     #[serde(default)]
     pub length: Option<f64>,
     /// Coulomb friction on the joint's coordinate (N m on a hinge or ball
-    /// joint, about each world axis on a ball; N on a slider or distance
-    /// joint; >= 0), beside the motor and spring. Not on a weld.
+    /// joint, whichever way a ball turns; N on a slider or distance joint;
+    /// >= 0), beside the motor and spring. Not on a weld or a rod.
     #[serde(default)]
     pub friction: Option<f64>,
     /// Contacts between the two bodies (default false).

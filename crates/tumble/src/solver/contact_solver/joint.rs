@@ -16,6 +16,8 @@
 //! - *Limit rows* (hinge angle, slider offset, rope length, swing cone,
 //!   twist) push only (`l >= 0`) and are speculative like contacts: a limit
 //!   still `C` away lets the joint approach it at `C / h` per sub-step.
+//! - *Friction rows* (Coulomb friction on the joint's coordinate) are
+//!   velocity rows towards 0 bounded by the friction times the sub-step.
 //! - *Motor and spring rows* are soft constraints (implicit spring-damper,
 //!   Erin Catto's "soft step"): for stiffness `k` and damping `c` the row
 //!   solves `dl = -m' (J v + b + gamma l)` with `gamma = 1 / (h (c + h k))`,
@@ -45,7 +47,9 @@ pub const JOINT_ROWS: usize = 14;
 /// + 3`). Every other kind with equality rows fills these slots with them.
 pub(super) const BALL_SPRING: usize = 3;
 /// The last of a ball's spring rows.
-const BALL_SPRING_LAST: usize = BALL_SPRING + 2;
+pub(super) const BALL_SPRING_LAST: usize = BALL_SPRING + 2;
+/// A ball's spring slots as a mask of slot bits.
+pub(super) const BALL_SPRING_MASK: u16 = 0b111 << BALL_SPRING;
 /// The first slot that can hold a scalar row (limit, motor, spring): a
 /// ball's spring rows.
 const FIRST_SCALAR: usize = BALL_SPRING;
@@ -73,8 +77,10 @@ pub(super) const MOTOR: usize = 8;
 pub(super) const SPRING: usize = 9;
 pub(super) const SWING: usize = 10;
 /// Coulomb friction on the joint's coordinate: one row (hinge, slider,
-/// distance joint) or three about the world axes (ball joint), each a
-/// velocity row towards 0 bounded by the friction (`FRICTION..FRICTION + 3`).
+/// distance joint), a velocity row towards 0 bounded by the friction, or
+/// three about A's joint frame axes (ball joint) whose impulse together is
+/// bounded by it in length (`FRICTION..FRICTION + 3`): a friction torque
+/// of at most `f` whichever way the joint turns.
 pub(super) const FRICTION: usize = 11;
 /// The last of a ball's friction rows.
 const FRICTION_LAST: usize = FRICTION + 2;
@@ -180,7 +186,8 @@ impl JointLaw {
             swing_limit: desc.swing_limit,
             motor: desc.motor,
             spring: desc.spring,
-            friction: desc.friction,
+            // (A friction of 0 is no friction: no rows.)
+            friction: desc.friction.filter(|&f| f > 0.0),
             length,
         }
     }
@@ -212,7 +219,8 @@ pub struct JointConstraint {
     pub b: u32,
     /// Bit `i`: row slot `i` is in use this sub-step.
     pub active: u16,
-    /// Scalar row slots (motor, limits) solved with the island too.
+    /// Scalar row slots solved in the island's system (a position motor,
+    /// springs: `joint_island::island_mask`).
     pub(super) island_rows: u16,
     /// The equality rows are solved with the joint's island
     /// (`joint_island`), not joint by joint.
@@ -370,7 +378,9 @@ impl JointConstraint {
                 // Held at rest up to the friction, opposed by it in motion:
                 // a rigid row towards no relative motion, bounded by it
                 // (MuJoCo's `frictionloss`, per degree of freedom).
-                FRICTION..=FRICTION_LAST => {
+                // (A ball's three rows are bounded together, by
+                // `bound_ball_friction`.)
+                FRICTION..=FRICTION_LAST if self.law.kind != JointKind::Ball => {
                     let f = self.law.friction.expect("friction row without a friction") * h;
                     (lo, hi) = (-f, f);
                 }
@@ -388,8 +398,9 @@ impl JointConstraint {
             };
         }
         // A joint whose equality rows its island solves uses its own block
-        // only for its limits, motor or spring, and a limit only when it
-        // acts: most sub-steps of a ragdoll's elbows and knees need none.
+        // only for the scalar rows the island leaves to it (limits, a
+        // velocity motor, friction), and a limit only when it acts: most
+        // sub-steps of a ragdoll's elbows and knees need none.
         self.held = false;
         if !self.direct {
             self.hold_equality_rows(m_sum);
@@ -511,6 +522,31 @@ impl JointConstraint {
                 0.0
             };
         }
+    }
+
+    /// A ball joint's friction impulses (its three friction rows) scaled
+    /// into the ball of radius `f h`, keeping their direction: isotropic
+    /// Coulomb friction, a torque of at most `f` about any axis (a box
+    /// bound per row would allow `sqrt 3 f` across the frame's diagonal,
+    /// and so depend on how the frame was chosen). Returns the impulse each
+    /// row gained (0 when within the bound, or for another kind).
+    fn bound_ball_friction(&mut self, h: f64) -> [f64; 3] {
+        let mut change = [0.0; 3];
+        if self.law.kind != JointKind::Ball || self.active & (1 << FRICTION) == 0 {
+            return change;
+        }
+        let limit = self.law.friction.unwrap_or(0.0) * h;
+        let rows = &mut self.rows[FRICTION..=FRICTION_LAST];
+        let length = rows.iter().map(|r| r.impulse * r.impulse).sum::<f64>().sqrt();
+        if length > limit {
+            let scale = limit / length;
+            for (r, c) in rows.iter_mut().zip(&mut change) {
+                let bounded = r.impulse * scale;
+                *c = bounded - r.impulse;
+                r.impulse = bounded;
+            }
+        }
+        change
     }
 
     /// Adds `dl` to row `e`'s impulse (or push-out impulse).
@@ -671,8 +707,8 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                 }
             }
             if law.friction.is_some() {
-                for (k, e) in DVec3::AXES.into_iter().enumerate() {
-                    set.set(FRICTION + k, JointRow::angular(e, 0.0));
+                for k in 0..3 {
+                    set.set(FRICTION + k, JointRow::angular(pose.axis_a(k), 0.0));
                 }
             }
         }
@@ -1002,6 +1038,9 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
     j.condition(a.inv_mass, &a.inv_inertia, b.inv_mass, &b.inv_inertia, h);
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, false) };
+    if warm {
+        j.bound_ball_friction(h);
+    }
     for i in slots(j.active) {
         let r = &mut j.rows[i];
         if warm {
@@ -1018,8 +1057,9 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
     unsafe { store(j, bodies, &p, false) };
 }
 
-/// One velocity pass over the joint: the equality block, then the motor,
-/// spring and limits, each with the equality rows held.
+/// One velocity pass over the joint: the equality block, then the springs,
+/// motor, friction and limits (`SCALAR_SLOTS`), each with the equality rows
+/// held.
 ///
 /// # Safety
 /// As [`begin_joint`].
@@ -1042,7 +1082,7 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
     // Rows solved with the joint's island are not solved again here (nor
     // are the equality rows, in the slots below `n_eq`).
     let scalar = j.active & !j.island_rows & !((1u16 << j.n_eq) - 1);
-    for i in SCALAR_SLOTS {
+    for i in SCALAR_SLOTS.into_iter().filter(|_| scalar != 0) {
         if scalar & (1 << i) == 0 {
             continue;
         }
@@ -1061,6 +1101,14 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
         let dl = new - r.impulse;
         r.impulse = new;
         j.apply_scalar(&mut p, i, dl, false);
+        if i == FRICTION_LAST {
+            // A ball's friction rows, relaxed one by one, then bounded
+            // together (as a contact patch's two tangent rows are).
+            let change = j.bound_ball_friction(j.h);
+            for (k, dl) in change.into_iter().enumerate() {
+                j.apply_scalar(&mut p, FRICTION + k, dl, false);
+            }
+        }
     }
     // SAFETY: the caller's promise.
     unsafe { store(j, bodies, &p, false) };

@@ -43,8 +43,8 @@ use super::constraint::SolverParams;
 use super::island_contacts::{OwnedPatch, PatchArrays};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
-    begin_joint, push_joint, solve_joint, JointConstraint, Pair, BALL_SPRING, JOINT_PUSH_FRACTION, LOWER,
-    MOTOR, SPRING, SWING, UPPER,
+    begin_joint, push_joint, solve_joint, JointConstraint, Pair, BALL_SPRING, BALL_SPRING_LAST,
+    BALL_SPRING_MASK, JOINT_PUSH_FRACTION, LOWER, MOTOR, SPRING, SWING, UPPER,
 };
 use super::lanes::{Lane, LANES};
 use super::passes::{begin_patch, friction_patch, solve_owned_normals, OwnedPass};
@@ -671,13 +671,15 @@ fn island_slots(j: &JointConstraint) -> impl Iterator<Item = usize> + use<> {
             SPRING,
             BALL_SPRING,
             BALL_SPRING + 1,
-            BALL_SPRING + 2,
+            BALL_SPRING_LAST,
             LOWER,
             UPPER,
             SWING,
         ]
         .into_iter()
-        .filter(move |&s| s >= n_eq && mask & (1 << s) != 0),
+        // (`island_mask` sets a ball's spring slots on balls alone, whose
+        // equality rows end below them.)
+        .filter(move |&s| mask & (1 << s) != 0),
     )
 }
 
@@ -685,14 +687,14 @@ fn island_slots(j: &JointConstraint) -> impl Iterator<Item = usize> + use<> {
 /// part in the push-out only to keep it off the joint's free axes. (A
 /// ball's spring slots hold other kinds' equality rows.)
 fn is_soft(j: &JointConstraint, slot: usize) -> bool {
-    slot == MOTOR || slot == SPRING || (slot >= j.n_eq && (BALL_SPRING..BALL_SPRING + 3).contains(&slot))
+    slot == MOTOR || slot == SPRING || (slot >= j.n_eq && BALL_SPRING_MASK & (1 << slot) != 0)
 }
 
 /// The scalar rows of `j` its island solves: a position (PD) motor and the
 /// spring (soft rows: a damped arm's dampers and its servos act through the
-/// whole chain's inertia). A velocity motor is a rigid row with bounds
-/// (a speed servo, or Coulomb friction on the joint) and stays with the
-/// joint-by-joint pass, with the equality rows held: in the system, a chain
+/// whole chain's inertia). A velocity motor and the joint's friction are
+/// rigid rows with bounds (a speed servo; Coulomb friction on the joint)
+/// and stay with the joint-by-joint pass, with the equality rows held: in the system, a chain
 /// of 30 links slipping on the friction of every joint (all 30 rows held at
 /// their bounds, each solve exact to 1e-14) blew up as its end whipped
 /// round at 2.3 s, where with the pass it loses energy and holds (the
@@ -708,7 +710,7 @@ fn island_mask(j: &JointConstraint) -> u16 {
     };
     let spring = match (j.law.spring, j.law.kind) {
         (None, _) => 0,
-        (Some(_), JointKind::Ball) => 0b111 << BALL_SPRING,
+        (Some(_), JointKind::Ball) => BALL_SPRING_MASK,
         (Some(_), _) => 1 << SPRING,
     };
     motor | spring

@@ -103,6 +103,12 @@ pub fn build(scene: &Scene, multibody: bool) -> Result<SceneWorld, String> {
 /// parry's V-HACD with its default parameters) instead of `TriMesh`es;
 /// static meshes stay `TriMesh`es (Rapier collides convex shapes with them).
 pub fn build_with(scene: &Scene, multibody: bool, decompose: bool) -> Result<SceneWorld, String> {
+    if !scene.no_contact.is_empty() {
+        return Err(format!(
+            "{}: pairs kept apart (no_contact) have no Rapier twin here",
+            scene.name
+        ));
+    }
     let plain = scene.plain().map_err(|e| format!("{}: {e}", scene.name))?;
     let mut w = world();
     w.gravity = v(plain.gravity.to_array());
@@ -193,6 +199,21 @@ fn joints(
         )
         .0;
     for j in &scene.joints {
+        // What the twin does not translate is refused, not dropped: the
+        // peers must run the same work.
+        let untranslated = [
+            ("a motor", j.motor.is_some()),
+            ("a spring", j.spring.is_some()),
+            ("a friction", j.friction.is_some()),
+            ("a swing limit", j.swing_limit.is_some()),
+            (
+                "ball twist limits",
+                j.kind == tumble::joint::JointKind::Ball && j.limits.is_some(),
+            ),
+        ];
+        if let Some((what, _)) = untranslated.iter().find(|(_, has)| *has) {
+            return Err(format!("joint `{}`: {what} has no Rapier twin here", j.name));
+        }
         // Rapier's body 1 is tumble's body B (the world: the fixed body at
         // the origin), body 2 is A.
         let (h1, f1) = match j.body_b {

@@ -1,5 +1,5 @@
 //! Joints: descriptions ([`JointDesc`]: fixed, ball, hinge, slider,
-//! distance, with limits, motors and springs), the joint frames and the
+//! distance, with limits, motors, springs and friction), the joint frames and the
 //! coordinates measured through them ([`JointPose`]), and the state the
 //! world reports ([`JointState`]), and robots from URDF files ([`urdf`]).
 //! The rows the solver relaxes live with the contact rows in

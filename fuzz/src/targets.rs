@@ -728,7 +728,10 @@ pub fn joints(data: &[u8]) {
         if coin(&mut input, ball) {
             desc.swing_limit = Some(input.number(0.0, 3.2));
         }
-        if coin(&mut input, matches!(kind, JointKind::Hinge | JointKind::Slider)) {
+        if coin(
+            &mut input,
+            matches!(kind, JointKind::Hinge | JointKind::Slider) || ball,
+        ) {
             desc.motor = fuzz_motor(&mut input);
         }
         if coin(&mut input, kind != JointKind::Fixed) {
@@ -866,16 +869,27 @@ pub fn sweep(data: &[u8]) {
     }
 }
 
-/// No motor, or a velocity or position motor of fuzzed targets, gains and
-/// force bound.
+/// No motor, or a velocity or position motor (a hinge's or slider's) or an
+/// angular velocity or orientation motor (a ball joint's) of fuzzed
+/// targets, gains and force bound (on any kind: the wrong ones are refused).
 fn fuzz_motor(input: &mut Input) -> Option<Motor> {
-    match input.below(3) {
+    match input.below(5) {
         0 => Some(Motor::Velocity {
             target: input.number(-10.0, 10.0),
             max_force: input.number(0.0, 100.0),
         }),
         1 => Some(Motor::Position {
             target: input.number(-3.0, 3.0),
+            stiffness: input.number(0.0, 1000.0),
+            damping: input.number(0.0, 50.0),
+            max_force: input.number(0.0, 100.0),
+        }),
+        2 => Some(Motor::AngularVelocity {
+            target: input.vec3(-10.0, 10.0).to_array(),
+            max_force: input.number(0.0, 100.0),
+        }),
+        3 => Some(Motor::Orientation {
+            target: input.vec3(-4.0, 4.0).to_array(),
             stiffness: input.number(0.0, 1000.0),
             damping: input.number(0.0, 50.0),
             max_force: input.number(0.0, 100.0),

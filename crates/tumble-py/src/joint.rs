@@ -46,8 +46,34 @@ fn only_keys(d: &Bound<'_, PyDict>, allowed: &[&str], what: &str) -> PyResult<()
     Ok(())
 }
 
+/// A motor target: a number (hinge, slider) or three (a ball joint's
+/// vector), named for errors.
+enum Target {
+    Scalar(f64),
+    Vector([f64; 3]),
+}
+
+/// The target under `key` of `d`, if given.
+fn target(d: &Bound<'_, PyDict>, key: &str) -> PyResult<Option<Target>> {
+    match d.get_item(key)? {
+        None => Ok(None),
+        Some(v) => {
+            if let Ok(x) = v.extract::<f64>() {
+                return Ok(Some(Target::Scalar(x)));
+            }
+            convert::numbers::<3>(
+                &v,
+                &format!("motor[{key:?}]"),
+                "a number or 3 numbers (ball joint)",
+            )
+            .map(|t| Some(Target::Vector(t)))
+        }
+    }
+}
+
 /// `{"target_velocity": v, "max_force": f}` or `{"target_position": x,
-/// "stiffness": k, "damping": c, "max_force": f}`.
+/// "stiffness": k, "damping": c, "max_force": f}`; on a ball joint the
+/// targets are 3-vectors (`Motor::AngularVelocity`, `Motor::Orientation`).
 fn motor_from(obj: &Bound<'_, PyAny>) -> PyResult<Motor> {
     let d = obj.cast::<PyDict>().map_err(|_| {
         invalid(format!(
@@ -56,22 +82,36 @@ fn motor_from(obj: &Bound<'_, PyAny>) -> PyResult<Motor> {
         ))
     })?;
     let max_force = number(d, "max_force", "motor")?.unwrap_or(f64::INFINITY);
-    match (number(d, "target_velocity", "motor")?, number(d, "target_position", "motor")?) {
+    match (target(d, "target_velocity")?, target(d, "target_position")?) {
         (Some(target), None) => {
             only_keys(d, &["target_velocity", "max_force"], "motor")?;
-            Ok(Motor::Velocity { target, max_force })
+            Ok(match target {
+                Target::Scalar(target) => Motor::Velocity { target, max_force },
+                Target::Vector(target) => Motor::AngularVelocity { target, max_force },
+            })
         }
         (None, Some(target)) => {
             only_keys(d, &["target_position", "stiffness", "damping", "max_force"], "motor")?;
-            Ok(Motor::Position {
-                target,
-                stiffness: number(d, "stiffness", "motor")?.unwrap_or(0.0),
-                damping: number(d, "damping", "motor")?.unwrap_or(0.0),
-                max_force,
+            let stiffness = number(d, "stiffness", "motor")?.unwrap_or(0.0);
+            let damping = number(d, "damping", "motor")?.unwrap_or(0.0);
+            Ok(match target {
+                Target::Scalar(target) => Motor::Position {
+                    target,
+                    stiffness,
+                    damping,
+                    max_force,
+                },
+                Target::Vector(target) => Motor::Orientation {
+                    target,
+                    stiffness,
+                    damping,
+                    max_force,
+                },
             })
         }
         _ => Err(invalid(
-            "motor: give exactly one of \"target_velocity\" (rad/s or m/s) and \"target_position\" (rad or m)",
+            "motor: give exactly one of \"target_velocity\" (rad/s or m/s; a ball joint's: 3 numbers, rad/s) \
+             and \"target_position\" (rad or m; a ball joint's: a rotation vector, 3 numbers, rad)",
         )),
     }
 }
@@ -109,6 +149,21 @@ fn motor_dict<'py>(py: Python<'py>, m: &Motor) -> PyResult<Bound<'py, PyDict>> {
             max_force,
         } => {
             d.set_item("target_position", target)?;
+            d.set_item("stiffness", stiffness)?;
+            d.set_item("damping", damping)?;
+            d.set_item("max_force", max_force)?;
+        }
+        Motor::AngularVelocity { target, max_force } => {
+            d.set_item("target_velocity", target.to_vec())?;
+            d.set_item("max_force", max_force)?;
+        }
+        Motor::Orientation {
+            target,
+            stiffness,
+            damping,
+            max_force,
+        } => {
+            d.set_item("target_position", target.to_vec())?;
             d.set_item("stiffness", stiffness)?;
             d.set_item("damping", damping)?;
             d.set_item("max_force", max_force)?;

@@ -382,7 +382,12 @@ impl World {
     ///     swing_limit: ball joint cone half-angle (rad).
     ///     motor: hinge or slider motor, {"target_velocity": v, "max_force": f}
     ///         or {"target_position": x, "stiffness": k, "damping": c,
-    ///         "max_force": f} (N m or N).
+    ///         "max_force": f} (N m or N); a ball joint's, the same with
+    ///         3-vector targets (world axes at creation, turning with B):
+    ///         the angular velocity of A relative to B (rad/s), or the
+    ///         rotation vector (rad) by which A is turned relative to B from
+    ///         its orientation at creation, with a torque at most `max_force`
+    ///         long (N m).
     ///     spring: a spring-damper (stiffness, damping) or {"stiffness": k,
     ///         "damping": c}: distance joint N/m and N s/m towards `length`;
     ///         hinge N m/rad and N m s/rad, slider N/m and N s/m, towards the

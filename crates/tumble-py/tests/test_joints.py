@@ -115,6 +115,56 @@ def test_a_ball_spring_turns_a_cube_back_at_its_natural_period_about_any_axis() 
     assert max(map(abs, turns)) == pytest.approx(1 / w_n, rel=2e-3)
 
 
+def test_a_ball_motor_spins_a_cube_up_at_its_torque_and_turns_it_to_a_target() -> None:
+    # Zero gravity, a 1 kg cube (I = 1/600 kg m^2) on a ball joint at its
+    # centre. A velocity motor towards 3 rad/s about a slanted axis u with
+    # at most 0.01 N m spins it up at tau / I = 6 rad/s^2 about u; an
+    # orientation motor, critically damped, turns it by the target rotation
+    # vector and holds it there.
+    i, tau = 1 / 600, 0.01
+    u = np.array([1.0, 2.0, -0.5]) / np.linalg.norm([1.0, 2.0, -0.5])
+    world = tumble.World(gravity=(0, 0, 0), sleeping=False, threads=1)
+    cube = world.add_body(tumble.Box((0.05, 0.05, 0.05)), mass=1.0)
+    ball = world.add_joint(
+        "ball",
+        cube,
+        None,
+        anchor=(0, 0, 0),
+        motor={"target_velocity": tuple(3.0 * u), "max_force": tau},
+    )
+    assert ball.motor == {"target_velocity": list(3.0 * u), "max_force": tau}
+    world.step(12)
+    spin = np.asarray(cube.angular_velocity)
+    assert np.linalg.norm(spin) == pytest.approx(tau / i * 0.2, rel=1e-3)
+    assert np.linalg.norm(spin - np.dot(spin, u) * u) < 1e-9
+    world.step(48)
+    assert np.asarray(cube.angular_velocity) == pytest.approx(3.0 * u, abs=1e-9)
+
+    k = 0.1
+    ball.motor = {
+        "target_position": tuple(0.8 * u),
+        "stiffness": k,
+        "damping": 2 * math.sqrt(k * i),
+    }
+    cube.angular_velocity = (0, 0, 0)
+    cube.orientation = (0, 0, 0, 1)
+    world.step(600)
+    x, y, z, w = cube.orientation
+    turn = 2 * math.atan2(math.sqrt(x * x + y * y + z * z), w)
+    axis = np.array([x, y, z]) / math.sqrt(x * x + y * y + z * z)
+    assert turn * axis == pytest.approx(0.8 * u, abs=1e-6)
+    for bad in (
+        {"target_velocity": 1.0},  # a hinge's on a ball joint
+        {"target_velocity": (math.nan, 0, 0)},
+        {"target_position": (0, 0, 1), "stiffness": -1.0},
+        {"target_velocity": (0, 0)},
+    ):
+        with pytest.raises(tumble.InvalidArgument, match="motor"):
+            ball.motor = bad
+    with pytest.raises(tumble.InvalidArgument, match="joint.motor"):
+        world.add_joint("hinge", cube, None, anchor=(0, 0, 0), motor={"target_velocity": (0, 0, 1)})
+
+
 def test_slider_friction_holds_below_its_load_and_slips_above_it() -> None:
     # A 1 kg cube on a slider up a 30 degree slope: m g sin(30) = 4.905 N
     # down the axis. 6 N of friction hold it; with 2 N it slides at
@@ -189,10 +239,23 @@ def test_a_rope_is_slack_below_its_length_and_holds_at_it() -> None:
 
 
 def test_pickling_keeps_joints_and_continues_bit_for_bit() -> None:
-    world, bob, hinge = pendulum(limits=(-1.0, 1.0))
+    # With motors: a world with one did not unpickle before (its binary
+    # snapshot could not read a motor back).
+    world, bob, hinge = pendulum(
+        limits=(-1.0, 1.0), motor={"target_velocity": 0.3, "max_force": 2.0}
+    )
+    other = world.add_body(tumble.Box((0.05, 0.05, 0.05)), mass=1.0, position=(1.0, 0, 0))
+    world.add_joint(
+        "ball",
+        other,
+        bob,
+        anchor=(0.75, 0, 0),
+        motor={"target_position": (0, 0.5, 0), "stiffness": 2.0, "max_force": 0.5},
+    )
     world.step(10)
     copy = pickle.loads(pickle.dumps(world))
-    assert len(copy.joints()) == 1
+    assert len(copy.joints()) == 2
+    assert copy.joints()[1].motor == world.joints()[1].motor
     world.step(20)
     copy.step(20)
     np.testing.assert_array_equal(world.positions, copy.positions)

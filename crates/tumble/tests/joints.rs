@@ -699,25 +699,7 @@ fn ball_friction_stops_a_spin_at_the_same_rate_about_any_axis() {
     // the joint's frame is favoured.
     let (i, f) = (1.0 / 600.0, 0.01);
     let spin_down = |turn: DQuat| {
-        let mut w = world(false);
-        let c = w
-            .add_body(
-                &BodyDesc::dynamic(Cuboid::new(DVec3::splat(0.05)).unwrap())
-                    .with_mass(1.0)
-                    .with_pose(Pose::new(DVec3::ZERO, turn).unwrap()),
-            )
-            .unwrap();
-        w.add_joint(
-            &JointDesc::new(
-                JointKind::Ball,
-                c,
-                None,
-                DVec3::ZERO,
-                turn * DVec3::new(0.3, -0.2, 1.0),
-            )
-            .with_friction(f),
-        )
-        .unwrap();
+        let (mut w, c) = cube_on_a_turned_ball(turn, |d| d.with_friction(f));
         let w0 = turn * DVec3::new(1.0, 2.0, -0.5).normalize() * 2.0;
         w.set_velocity(c, DVec3::ZERO, w0).unwrap();
         let mut spins = Vec::new();
@@ -745,6 +727,262 @@ fn ball_friction_stops_a_spin_at_the_same_rate_about_any_axis() {
     for (a, b) in plain.iter().zip(spin_down(turn)) {
         assert!((turn * *a - b).length() < 1e-9, "{a} turned against {b}");
     }
+}
+
+/// A 1 kg cube (I = 1/600 kg m^2 about every axis) at the origin, turned
+/// by `turn`, on a ball joint to the world at its centre whose axis is
+/// turned with it, with the options `with` gives it (whose vectors the
+/// caller turns too).
+fn cube_on_a_turned_ball(turn: DQuat, with: impl FnOnce(JointDesc) -> JointDesc) -> (World, BodyId) {
+    let mut w = world(false);
+    let c = w
+        .add_body(
+            &BodyDesc::dynamic(Cuboid::new(DVec3::splat(0.05)).unwrap())
+                .with_mass(1.0)
+                .with_pose(Pose::new(DVec3::ZERO, turn).unwrap()),
+        )
+        .unwrap();
+    let ball = JointDesc::new(
+        JointKind::Ball,
+        c,
+        None,
+        DVec3::ZERO,
+        turn * DVec3::new(0.3, -0.2, 1.0),
+    );
+    w.add_joint(&with(ball)).unwrap();
+    (w, c)
+}
+
+#[test]
+fn a_ball_velocity_motor_spins_up_at_its_torque_bound_about_any_axis() {
+    // Zero gravity, the cube driven towards 3 rad/s about a slanted axis u
+    // by at most tau = 0.01 N m: the torque is bounded in length, so the
+    // spin keeps the axis u and grows at tau / I = 6 rad/s^2 until it is 3
+    // rad/s (at 0.5 s), then holds it (0.1 %: the solver adds a little
+    // geometric stiffness to a jointed body's inertia). Turned by any
+    // rotation R, the whole scene (the target too) spins as R times the
+    // first (1e-9): no axis of the world or of the joint's frame is
+    // favoured.
+    let (i, tau, target) = (1.0 / 600.0, 0.01, 3.0);
+    let u = DVec3::new(1.0, 2.0, -0.5).normalize();
+    let spin_up = |turn: DQuat| {
+        let motor = Motor::AngularVelocity {
+            target: (turn * u * target).to_array(),
+            max_force: tau,
+        };
+        let (mut w, c) = cube_on_a_turned_ball(turn, |d| d.with_motor(motor));
+        let mut spins = Vec::new();
+        for _ in 0..60 {
+            w.step();
+            let t = w.time();
+            let spin = w.angular_velocity(c).unwrap();
+            let expected = (tau / i * t).min(target);
+            let tolerance = if t < 0.5 + 1.0 / 60.0 {
+                1e-3 * expected
+            } else {
+                1e-9
+            };
+            assert!(
+                (spin.length() - expected).abs() <= tolerance,
+                "at {t} s: {} rad/s, expected {expected}",
+                spin.length()
+            );
+            assert!(
+                spin.reject_from(turn * u).length() <= 1e-9,
+                "it turned off its axis: {spin}"
+            );
+            spins.push(spin);
+        }
+        assert!(
+            (spins.last().unwrap().length() - target).abs() < 1e-9,
+            "held at the target"
+        );
+        spins
+    };
+    let plain = spin_up(DQuat::IDENTITY);
+    let turn = DQuat::from_scaled_axis(DVec3::new(0.7, -1.9, 0.4));
+    for (a, b) in plain.iter().zip(spin_up(turn)) {
+        assert!((turn * *a - b).length() < 1e-9, "{a} turned against {b}");
+    }
+}
+
+#[test]
+fn a_ball_velocity_motors_target_turns_with_body_b() {
+    // Zero gravity, two cubes centred on the origin, A ball-jointed to B
+    // there with an unbounded velocity motor of target w_t (world axes at
+    // creation), B spun about another axis and free: the motor holds wA -
+    // wB at w_t as B carries it (q_B(t) q_B(0)^-1 w_t; the rows are built
+    // about B's axes at each sub-step's start, so the target lags by the
+    // turn of B in one sub-step, |wB| h |w_t|), and the pair's angular
+    // momentum I (wA + wB) is kept (the motor's torque is internal; 1e-9
+    // relative).
+    let i = 1.0 / 600.0;
+    let mut w = world(false);
+    let a = cube(&mut w, DVec3::ZERO);
+    let b = cube(&mut w, DVec3::ZERO);
+    let w_t = DVec3::new(0.4, -1.0, 0.7);
+    w.add_joint(
+        &JointDesc::ball(a, Some(b), DVec3::ZERO).with_motor(Motor::AngularVelocity {
+            target: w_t.to_array(),
+            max_force: f64::INFINITY,
+        }),
+    )
+    .unwrap();
+    w.set_velocity(b, DVec3::ZERO, DVec3::new(0.0, 0.0, 2.0)).unwrap();
+    let momentum = |w: &World| (w.angular_velocity(a).unwrap() + w.angular_velocity(b).unwrap()) * i;
+    let l0 = momentum(&w);
+    for _ in 0..120 {
+        w.step();
+        let relative = w.angular_velocity(a).unwrap() - w.angular_velocity(b).unwrap();
+        let carried = w.orientation(b).unwrap() * w_t;
+        let lag = w.angular_velocity(b).unwrap().length() / 480.0 * w_t.length();
+        assert!(
+            (relative - carried).length() < 1.01 * lag,
+            "at {} s: wA - wB = {relative}, the target as B carries it {carried}",
+            w.time()
+        );
+        assert!((momentum(&w) - l0).length() <= 1e-9 * l0.length());
+    }
+}
+
+#[test]
+fn a_ball_orientation_motor_turns_a_body_to_its_target_as_the_damped_oscillator() {
+    // Zero gravity, the cube at rest, its motor's target a turn of 0.8 rad
+    // about a slanted axis u with stiffness k and damping c: I theta'' =
+    // k (0.8 - theta) - c theta', so theta - 0.8 rings as the damped
+    // oscillator about u alone (the cube never leaves the axis, 1e-9) and
+    // critically damped ends at the target (1e-6). The whole scene turned
+    // by R (the target too) turns as R times the first (1e-9). The
+    // stiffness acts at the end of each sub-step of h = 1/480 s (implicit
+    // Euler, as a hinge's position servo), which damps as c + h k: the
+    // oscillator's zeta is that of c + h k. With a
+    // stiffness of 100 and at most tau = 0.01 N m, the torque is tau from
+    // the start: the cube spins up about u at tau / I = 6 rad/s^2 (0.1 %).
+    let i = 1.0 / 600.0;
+    let u = DVec3::new(1.0, 2.0, -0.5).normalize();
+    let angle = 0.8;
+    let run = |turn: DQuat, k: f64, c: f64, tau: f64, steps: usize| {
+        let motor = Motor::Orientation {
+            target: (turn * u * angle).to_array(),
+            stiffness: k,
+            damping: c,
+            max_force: tau,
+        };
+        let (mut w, cube) = cube_on_a_turned_ball(turn, |d| d.with_motor(motor));
+        let mut turns = Vec::new();
+        for _ in 0..steps {
+            w.step();
+            // The cube's turn from its start (`turn`), in the unturned
+            // scene's axes: turn^-1 (O turn^-1) turn.
+            let rotation = (turn.conjugate() * w.orientation(cube).unwrap()).to_scaled_axis();
+            assert!(
+                rotation.reject_from(u).length() < 1e-9,
+                "turned off the target's axis by {}",
+                rotation.reject_from(u)
+            );
+            turns.push((
+                rotation.dot(u),
+                w.orientation(cube).unwrap(),
+                w.angular_velocity(cube).unwrap(),
+            ));
+        }
+        turns
+    };
+    let (k, zeta): (f64, f64) = (0.1, 0.2);
+    let (w_n, c) = ((k / i).sqrt(), 2.0 * zeta * (k * i).sqrt());
+    let rings = run(DQuat::IDENTITY, k, c, f64::INFINITY, 240);
+    let offsets: Vec<f64> = rings.iter().map(|(t, _, _)| t - angle).collect();
+    let zeta_implicit = (c + k / 480.0) / (2.0 * (k * i).sqrt());
+    assert_rings_as_the_damped_oscillator(&offsets, w_n, zeta_implicit);
+    let critical = run(DQuat::IDENTITY, k, 2.0 * (k * i).sqrt(), f64::INFINITY, 600);
+    let (end, _, _) = critical.last().unwrap();
+    assert!((end - angle).abs() < 1e-6, "ends at {end} rad, target {angle}");
+    let turn = DQuat::from_scaled_axis(DVec3::new(0.7, -1.9, 0.4));
+    for ((_, qa, _), (_, qb, _)) in rings.iter().zip(run(turn, k, c, f64::INFINITY, 240)) {
+        assert!(
+            // Turned from `turn` by turn q turn^-1: at turn q.
+            (turn * *qa).dot(qb).abs() > 1.0 - 1e-15,
+            "{qa} turned against {qb}"
+        );
+    }
+    let tau = 0.01;
+    for (n, (_, _, spin)) in run(DQuat::IDENTITY, 100.0, 0.0, tau, 6).iter().enumerate() {
+        let expected = tau / i * (n + 1) as f64 / 60.0;
+        assert!(
+            (spin.length() - expected).abs() < 1e-3 * expected && spin.reject_from(u).length() < 1e-9,
+            "step {n}: {spin}, expected {expected} rad/s about u"
+        );
+    }
+}
+
+#[test]
+fn a_ball_motor_is_changed_or_refused() {
+    let mut w = world(false);
+    let bob = cube(&mut w, DVec3::ZERO);
+    let j = w.add_joint(&JointDesc::ball(bob, None, DVec3::ZERO)).unwrap();
+    let spin = Motor::AngularVelocity {
+        target: [0.0, 0.0, 1.0],
+        max_force: f64::INFINITY,
+    };
+    w.set_joint_motor(j, Some(spin)).unwrap();
+    w.step();
+    assert!((w.angular_velocity(bob).unwrap() - DVec3::Z).length() < 1e-9);
+    let bad = [
+        // A hinge's motor on a ball joint and a ball's on a hinge.
+        Motor::Velocity {
+            target: 1.0,
+            max_force: 1.0,
+        },
+        Motor::AngularVelocity {
+            target: [f64::NAN, 0.0, 0.0],
+            max_force: 1.0,
+        },
+        Motor::Orientation {
+            target: [0.0, f64::INFINITY, 0.0],
+            stiffness: 1.0,
+            damping: 0.0,
+            max_force: 1.0,
+        },
+        Motor::Orientation {
+            target: [0.0, 0.5, 0.0],
+            stiffness: 0.0,
+            damping: 0.0,
+            max_force: 1.0,
+        },
+        Motor::Orientation {
+            target: [0.0, 0.5, 0.0],
+            stiffness: -1.0,
+            damping: 0.0,
+            max_force: 1.0,
+        },
+        Motor::AngularVelocity {
+            target: [0.0, 0.0, 1.0],
+            max_force: -1.0,
+        },
+    ];
+    for motor in bad {
+        let before = w.snapshot();
+        let err = w.set_joint_motor(j, Some(motor)).unwrap_err();
+        assert!(
+            matches!(err, WorldError::BadValue { field, .. } if field.starts_with("joint.motor")),
+            "{motor:?}: {err}"
+        );
+        assert!(w.snapshot() == before, "a refused motor changed the world");
+    }
+    let hinge = JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Z).with_motor(spin);
+    assert!(matches!(
+        w.add_joint(&hinge),
+        Err(WorldError::BadValue {
+            field: "joint.motor",
+            ..
+        })
+    ));
+    w.set_joint_motor(j, None).unwrap();
+    w.step();
+    assert!(
+        (w.angular_velocity(bob).unwrap() - DVec3::Z).length() < 1e-9,
+        "coasts"
+    );
 }
 
 #[test]
@@ -1161,7 +1399,11 @@ fn a_snapshot_with_joints_continues_bit_for_bit() {
     w.add_joint(
         &JointDesc::hinge(a, None, DVec3::ZERO, DVec3::Y)
             .with_limits(-1.0, 1.0)
-            .with_friction(0.05),
+            .with_friction(0.05)
+            .with_motor(Motor::Velocity {
+                target: 0.3,
+                max_force: 2.0,
+            }),
     )
     .unwrap();
     // (The ball's spring rows are warm-started from the slots a ball's
@@ -1172,17 +1414,34 @@ fn a_snapshot_with_joints_continues_bit_for_bit() {
             .with_spring(0.5, 0.05),
     )
     .unwrap();
+    // A ball motor's third row has a slot of its own: carried too.
+    let c = cube(&mut w, DVec3::new(1.5, 0.0, 0.0));
+    w.add_joint(
+        &JointDesc::ball(c, Some(b), DVec3::new(1.25, 0.0, 0.0)).with_motor(Motor::Orientation {
+            target: [0.2, -0.4, 0.3],
+            stiffness: 2.0,
+            damping: 0.1,
+            max_force: 0.5,
+        }),
+    )
+    .unwrap();
     for _ in 0..20 {
         w.step();
     }
+    // Through the binary format (which reads motors: a world with one did
+    // not decode before) and through JSON.
     let snap = w.snapshot();
     let mut copy =
         World::from_snapshot(&tumble::world::Snapshot::from_bytes(&snap.to_bytes()).unwrap()).unwrap();
-    assert_eq!(copy.joint_count(), 2);
+    let mut from_json =
+        World::from_snapshot(&tumble::world::Snapshot::from_json(&snap.to_json()).unwrap()).unwrap();
+    assert_eq!(copy.joint_count(), 3);
     for _ in 0..40 {
         w.step();
         copy.step();
+        from_json.step();
         assert_eq!(w.state_hash(), copy.state_hash());
+        assert_eq!(w.state_hash(), from_json.state_hash());
     }
 }
 

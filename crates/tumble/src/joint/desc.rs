@@ -6,7 +6,7 @@
 
 use crate::world::{within_position_limit, BodyId, WorldError, MAX_POSITION};
 use serde::{Deserialize, Serialize};
-use tumble_collide::DVec3;
+use tumble_collide::{DQuat, DVec3};
 
 /// What a joint lets the two bodies do relative to each other.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
@@ -67,7 +67,19 @@ impl JointKind {
 }
 
 /// A joint motor: drives the joint coordinate (hinge angle, slider offset)
-/// with at most `max_force` (N m for a hinge, N for a slider).
+/// with at most `max_force` (N m for a hinge, N for a slider), or a ball
+/// joint's relative rotation with a torque at most `max_force` long (N m,
+/// whichever way it turns).
+///
+/// A ball joint's targets are vectors in world axes at the joint's creation,
+/// carried with body B afterwards (fixed in B's joint frame; the world's
+/// axes when B is the world), and they act on A relative to B: `AngularVelocity`
+/// holds `wA - wB` at the target, `Orientation` turns A from its orientation
+/// relative to B at creation by the target rotation vector (Jolt's
+/// swing-twist motor, PhysX's slerp drive). Hinges and sliders take
+/// `Velocity` and `Position` motors (`velocity`, `position` in scene
+/// files), ball joints `AngularVelocity` and `Orientation`
+/// (`angular_velocity`, `orientation`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "type", deny_unknown_fields)]
 pub enum Motor {
@@ -91,13 +103,154 @@ pub enum Motor {
         /// Largest torque (N m) or force (N), >= 0.
         max_force: f64,
     },
+    /// Ball joint: holds the angular velocity of A relative to B at
+    /// `target` as hard as `max_force` allows.
+    AngularVelocity {
+        /// Target relative angular velocity `wA - wB` (rad/s; world axes at
+        /// creation, turning with B).
+        target: [f64; 3],
+        /// Largest torque (N m), >= 0 (infinity: unbounded): the length of
+        /// the motor's torque, whichever way it acts.
+        max_force: f64,
+    },
+    /// Ball joint: a PD servo turning A relative to B towards the rotation
+    /// `target` from their relative orientation at creation: torque =
+    /// stiffness theta - damping (wA - wB), `theta` the rotation vector from
+    /// A's present orientation to the target (the short way round),
+    /// integrated implicitly (stable for any gains).
+    Orientation {
+        /// Target rotation vector (axis times angle, rad; world axes at
+        /// creation, turning with B); its length is the angle, any finite
+        /// length (beyond pi the same orientation as the shorter turn the
+        /// other way).
+        target: [f64; 3],
+        /// Proportional gain, >= 0 (N m/rad).
+        stiffness: f64,
+        /// Derivative gain, >= 0 (N m s/rad).
+        damping: f64,
+        /// Largest torque (N m), >= 0: the length of the motor's torque.
+        max_force: f64,
+    },
 }
 
 impl Motor {
     /// Largest torque (N m) or force (N).
     pub fn max_force(&self) -> f64 {
         match *self {
-            Motor::Velocity { max_force, .. } | Motor::Position { max_force, .. } => max_force,
+            Motor::Velocity { max_force, .. }
+            | Motor::Position { max_force, .. }
+            | Motor::AngularVelocity { max_force, .. }
+            | Motor::Orientation { max_force, .. } => max_force,
+        }
+    }
+
+    /// Whether this is a ball joint's motor (`AngularVelocity`, `Orientation`).
+    pub fn is_ball(&self) -> bool {
+        matches!(self, Motor::AngularVelocity { .. } | Motor::Orientation { .. })
+    }
+
+    /// The same motor with a ball joint's vector target turned by
+    /// `rotation` (from world axes at creation into B's joint frame, where
+    /// the solver keeps it); a hinge's or slider's unchanged.
+    pub fn turned(self, rotation: DQuat) -> Motor {
+        let turn = |t: [f64; 3]| (rotation * DVec3::from(t)).to_array();
+        match self {
+            Motor::AngularVelocity { target, max_force } => Motor::AngularVelocity {
+                target: turn(target),
+                max_force,
+            },
+            Motor::Orientation {
+                target,
+                stiffness,
+                damping,
+                max_force,
+            } => Motor::Orientation {
+                target: turn(target),
+                stiffness,
+                damping,
+                max_force,
+            },
+            m => m,
+        }
+    }
+}
+
+/// Serde of [`JointDesc::motor`]: the motor as scene files write it
+/// (tagged by a `type` field) in human-readable formats, and as the
+/// externally tagged [`MotorRecord`] in binary ones. A binary snapshot
+/// (postcard) cannot read an enum tagged by a field, which needs a
+/// self-describing format: a snapshot of a world with any motor failed to
+/// decode ("a feature that PostCard will never implement"), so a robot
+/// under its servos could not be pickled or sent to a Ray worker.
+mod motor_serde {
+    use super::{Motor, MotorRecord};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(motor: &Option<Motor>, s: S) -> Result<S::Ok, S::Error> {
+        if s.is_human_readable() {
+            motor.serialize(s)
+        } else {
+            motor.map(MotorRecord::from).serialize(s)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Motor>, D::Error> {
+        if d.is_human_readable() {
+            Option::<Motor>::deserialize(d)
+        } else {
+            Ok(Option::<MotorRecord>::deserialize(d)?.map(Motor::from))
+        }
+    }
+}
+
+/// [`Motor`] in binary formats (`motor_serde`): the same variants and
+/// fields, tagged by the variant's index instead of a `type` field.
+#[derive(Serialize, Deserialize)]
+enum MotorRecord {
+    Velocity([f64; 2]),
+    Position([f64; 4]),
+    AngularVelocity([f64; 3], f64),
+    Orientation([f64; 3], [f64; 3]),
+}
+
+impl From<Motor> for MotorRecord {
+    fn from(m: Motor) -> MotorRecord {
+        match m {
+            Motor::Velocity { target, max_force } => MotorRecord::Velocity([target, max_force]),
+            Motor::Position {
+                target,
+                stiffness,
+                damping,
+                max_force,
+            } => MotorRecord::Position([target, stiffness, damping, max_force]),
+            Motor::AngularVelocity { target, max_force } => MotorRecord::AngularVelocity(target, max_force),
+            Motor::Orientation {
+                target,
+                stiffness,
+                damping,
+                max_force,
+            } => MotorRecord::Orientation(target, [stiffness, damping, max_force]),
+        }
+    }
+}
+
+impl From<MotorRecord> for Motor {
+    fn from(m: MotorRecord) -> Motor {
+        match m {
+            MotorRecord::Velocity([target, max_force]) => Motor::Velocity { target, max_force },
+            MotorRecord::Position([target, stiffness, damping, max_force]) => Motor::Position {
+                target,
+                stiffness,
+                damping,
+                max_force,
+            },
+            MotorRecord::AngularVelocity(target, max_force) => Motor::AngularVelocity { target, max_force },
+            MotorRecord::Orientation(target, [stiffness, damping, max_force]) => Motor::Orientation {
+                target,
+                stiffness,
+                damping,
+                max_force,
+            },
         }
     }
 }
@@ -186,7 +339,8 @@ pub struct JointDesc<B = BodyId> {
     pub limits: Option<[f64; 2]>,
     /// Ball joint: half-angle of the cone the axis may swing in (rad, in (0, pi]).
     pub swing_limit: Option<f64>,
-    /// Hinge or slider motor.
+    /// Hinge, slider or ball joint motor ([`Motor`]).
+    #[serde(with = "motor_serde")]
     pub motor: Option<Motor>,
     /// A spring-damper ([`Spring`]): on a distance joint towards `length`
     /// instead of a rod; on a hinge or slider towards its position at
@@ -275,7 +429,7 @@ impl<B: Copy + PartialEq> JointDesc<B> {
         self
     }
 
-    /// With a motor (hinge, slider).
+    /// With a motor (hinge, slider, ball joint: [`Motor`]).
     pub fn with_motor(mut self, motor: Motor) -> JointDesc<B> {
         self.motor = Some(motor);
         self
@@ -421,23 +575,55 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             }
         }
         if let Some(m) = self.motor {
-            if !matches!(self.kind, JointKind::Hinge | JointKind::Slider) {
-                return bad(
-                    "joint.motor",
-                    format!("applies to hinges and sliders only, not {kind}"),
-                );
+            match self.kind {
+                JointKind::Hinge | JointKind::Slider if m.is_ball() => {
+                    return bad(
+                        "joint.motor",
+                        format!(
+                            "a {kind} takes a \"velocity\" or \"position\" motor (its coordinate is \
+                             a number), not a ball joint's vector target"
+                        ),
+                    )
+                }
+                JointKind::Ball if !m.is_ball() => {
+                    return bad(
+                        "joint.motor",
+                        "a ball joint takes an \"angular_velocity\" or \"orientation\" motor \
+                         (a vector target, rad/s or rad)"
+                            .into(),
+                    )
+                }
+                JointKind::Hinge | JointKind::Slider | JointKind::Ball => {}
+                _ => {
+                    return bad(
+                        "joint.motor",
+                        format!("applies to hinges, sliders and ball joints only, not {kind}"),
+                    )
+                }
             }
             let (target, gains) = match m {
-                Motor::Velocity { target, .. } => (target, [0.0, 0.0]),
+                Motor::Velocity { target, .. } => ([target; 3], [0.0, 0.0]),
+                Motor::AngularVelocity { target, .. } => (target, [0.0, 0.0]),
                 Motor::Position {
+                    target,
+                    stiffness,
+                    damping,
+                    ..
+                } => ([target; 3], [stiffness, damping]),
+                Motor::Orientation {
                     target,
                     stiffness,
                     damping,
                     ..
                 } => (target, [stiffness, damping]),
             };
-            if !target.is_finite() {
-                return bad("joint.motor.target", format!("must be finite, got {target}"));
+            if !target.iter().all(|t| t.is_finite()) {
+                let shown = if m.is_ball() {
+                    format!("{target:?}")
+                } else {
+                    format!("{}", target[0])
+                };
+                return bad("joint.motor.target", format!("must be finite, got {shown}"));
             }
             if !(gains.iter().all(|g| g.is_finite() && *g >= 0.0)) {
                 return bad(
@@ -447,12 +633,15 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             }
             if let Motor::Position {
                 stiffness, damping, ..
+            }
+            | Motor::Orientation {
+                stiffness, damping, ..
             } = m
             {
                 if stiffness == 0.0 && damping == 0.0 {
                     return bad(
                         "joint.motor",
-                        "a position motor needs stiffness or damping > 0".into(),
+                        "a position or orientation motor needs stiffness or damping > 0".into(),
                     );
                 }
             }

@@ -92,6 +92,17 @@ impl JointPose {
         }
         q.to_scaled_axis()
     }
+
+    /// The rotation taking the frame `target` (B's frame turned by it, in
+    /// B's frame: where a ball motor wants A's frame) onto A's, as a world
+    /// rotation vector, the short way round: zero when A's frame is there.
+    pub fn rotation_error_from(&self, target: DQuat) -> DVec3 {
+        let mut q = self.fa * (self.fb * target).conjugate();
+        if q.w < 0.0 {
+            q = -q;
+        }
+        q.to_scaled_axis()
+    }
 }
 
 /// `angle` wrapped into (-pi, pi] (differences of hinge angles).

@@ -156,7 +156,11 @@ pub struct JointSpec {
     #[serde(default)]
     pub swing_limit: Option<f64>,
     /// Hinge or slider motor: `{ type = "velocity", target, max_force }` or
-    /// `{ type = "position", target, stiffness, damping, max_force }`.
+    /// `{ type = "position", target, stiffness, damping, max_force }`; ball
+    /// joint: `{ type = "angular_velocity", target = [x, y, z], max_force }`
+    /// (rad/s) or `{ type = "orientation", target = [x, y, z], stiffness,
+    /// damping, max_force }` (a rotation vector, rad), world axes at
+    /// creation, A turned relative to B.
     #[serde(default)]
     pub motor: Option<Motor>,
     /// Spring-damper: `{ stiffness, damping }`. Distance joint: N/m and

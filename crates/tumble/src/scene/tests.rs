@@ -573,6 +573,29 @@ fn bad_joints_are_located_at_their_field() {
         (joint.kind, joint.spring),
         (crate::joint::JointKind::Ball, spring)
     );
+    // A ball joint's motor takes a vector target; a hinge's motor on it is
+    // refused at its field.
+    let driven = ball.replace(
+        "kind = \"ball\"",
+        "kind = \"ball\"\nmotor = { type = \"orientation\", target = [0, 0, 0.5], stiffness = 3.0, damping = 0.2, max_force = 1.5 }",
+    );
+    let (world, _) = toml(&driven).unwrap().build().unwrap();
+    assert_eq!(
+        world.joint(world.joint_ids()[0]).unwrap().motor,
+        Some(crate::joint::Motor::Orientation {
+            target: [0.0, 0.0, 0.5],
+            stiffness: 3.0,
+            damping: 0.2,
+            max_force: 1.5
+        })
+    );
+    let scalar = ball.replace(
+        "kind = \"ball\"",
+        "kind = \"ball\"\nmotor = { type = \"velocity\", target = 0.5, max_force = 0.1 }",
+    );
+    let (_, _, path, message) = at(toml(&scalar).err().unwrap());
+    assert_eq!(path, "joints[0].motor");
+    assert!(message.contains("angular_velocity"), "{message}");
     let weld = ball.replace("kind = \"ball\"", "kind = \"fixed\"");
     let (_, _, path, message) = at(toml(&weld).err().unwrap());
     assert_eq!(path, "joints[0].spring");

@@ -23,7 +23,10 @@
 //!   solves `dl = -m' (J v + b + gamma l)` with `gamma = 1 / (h (c + h k))`,
 //!   `b = k C / (c + h k)`, `m' = 1 / (K + gamma)`, stable for any gains;
 //!   the impulse is bounded by the motor's force times `h`. A velocity motor
-//!   is the rigid case (`gamma = 0`, `b = -target`).
+//!   is the rigid case (`gamma = 0`, `b = -target`). A ball joint's motor is
+//!   three such rows about B's frame axes (its targets are kept in B's
+//!   frame), relaxed one by one and then scaled together into the ball of
+//!   radius `max_force h`, as a ball's friction: a torque bounded in length.
 //!
 //! Drift (the error left by integrating positions with velocities that only
 //! satisfy `J v = 0`) is removed in the push-out pass with pseudo-velocities
@@ -35,13 +38,14 @@
 
 use super::body::SolverBody;
 use super::coloring::Shared;
-use crate::joint::{wrap_angle, JointKind, JointPose, Motor, Spring};
+use crate::joint::{frame_rotation, wrap_angle, JointKind, JointPose, Motor, Spring};
 use tumble_collide::{DQuat, DVec3, Pose};
 
 /// Rows of a joint: six equality slots, then the limits, motor, spring,
-/// swing cone and friction. A row keeps its slot for the joint's life, so
-/// its impulse is warm-started across sub-steps and steps by slot.
-pub const JOINT_ROWS: usize = 14;
+/// swing cone, friction and a ball motor's third row. A row keeps its slot
+/// for the joint's life, so its impulse is warm-started across sub-steps
+/// and steps by slot.
+pub const JOINT_ROWS: usize = 15;
 /// A ball joint's spring: three soft angular rows about the world axes, in
 /// the slots its three equality rows leave free (`BALL_SPRING..BALL_SPRING
 /// + 3`). Every other kind with equality rows fills these slots with them.
@@ -58,12 +62,13 @@ const FIRST_SCALAR: usize = BALL_SPRING;
 /// motor and springs leave moving), the limits and the swing cone (hard
 /// bounds last). A slot below a joint's `n_eq` is one of its equality
 /// rows, not a scalar row.
-pub(super) const SCALAR_SLOTS: [usize; 11] = [
+pub(super) const SCALAR_SLOTS: [usize; 12] = [
     BALL_SPRING,
     BALL_SPRING + 1,
     BALL_SPRING_LAST,
     SPRING,
     MOTOR,
+    BALL_MOTOR_LAST,
     FRICTION,
     FRICTION + 1,
     FRICTION_LAST,
@@ -84,6 +89,14 @@ pub(super) const SWING: usize = 10;
 pub(super) const FRICTION: usize = 11;
 /// The last of a ball's friction rows.
 const FRICTION_LAST: usize = FRICTION + 2;
+/// A ball joint's motor: three rows about B's joint frame axes, in the
+/// slots a hinge's motor and spring take (a ball's spring has slots of its
+/// own) and one more, relaxed in this order (`SCALAR_SLOTS`) and then
+/// bounded together in length (`bound_ball_rows`): a torque of at most
+/// the motor's force whichever way it turns.
+pub(super) const BALL_MOTOR: [usize; 3] = [SPRING, MOTOR, BALL_MOTOR_LAST];
+/// The last of a ball motor's rows, the slot of its own.
+pub(super) const BALL_MOTOR_LAST: usize = 14;
 
 /// Fraction of a joint's position error removed per push-out pass. The
 /// push velocities are discarded after each sub-step, so a large fraction
@@ -165,7 +178,8 @@ pub struct JointLaw {
     pub limits: Option<[f64; 2]>,
     /// Ball joint: swing cone half-angle (rad).
     pub swing_limit: Option<f64>,
-    /// Hinge or slider motor.
+    /// Hinge, slider or ball motor (a ball motor's target in B's joint
+    /// frame).
     pub motor: Option<Motor>,
     /// Spring-damper (distance, ball, hinge, slider joint).
     pub spring: Option<Spring>,
@@ -184,7 +198,11 @@ impl JointLaw {
             kind: desc.kind,
             limits: desc.limits,
             swing_limit: desc.swing_limit,
-            motor: desc.motor,
+            // A ball motor's targets from world axes at creation into B's
+            // joint frame (both frames were `frame_rotation(axis)` then).
+            motor: desc
+                .motor
+                .map(|m| m.turned(frame_rotation(desc.axis.normalize()).conjugate())),
             spring: desc.spring,
             // (A friction of 0 is no friction: no rows.)
             friction: desc.friction.filter(|&f| f > 0.0),
@@ -351,6 +369,22 @@ impl JointConstraint {
             let k = m_sum * r.lin.length_squared() + r.ang_a.dot(r.ia) + r.ang_b.dot(r.ib);
             let (mut lo, mut hi, mut gamma, mut bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
             match i {
+                // A ball's motor: bounded together (`bound_ball_rows`).
+                SPRING | MOTOR | BALL_MOTOR_LAST if self.law.kind == JointKind::Ball => {
+                    let k = BALL_MOTOR
+                        .iter()
+                        .position(|&s| s == i)
+                        .expect("a ball motor slot");
+                    match self.law.motor.expect("ball motor row without a motor") {
+                        Motor::AngularVelocity { target, .. } => bias = -target[k],
+                        Motor::Orientation {
+                            stiffness, damping, ..
+                        } => {
+                            (gamma, bias) = soft(stiffness, damping, r.c, h, MOTOR_STIFFNESS_AT);
+                        }
+                        Motor::Velocity { .. } | Motor::Position { .. } => {}
+                    }
+                }
                 LOWER | UPPER | SWING => {
                     lo = 0.0;
                     // Speculative: a limit C away may be approached at C / h.
@@ -367,6 +401,8 @@ impl JointConstraint {
                         } => {
                             (gamma, bias) = soft(stiffness, damping, r.c, h, MOTOR_STIFFNESS_AT);
                         }
+                        // (A ball's, above.)
+                        Motor::AngularVelocity { .. } | Motor::Orientation { .. } => {}
                     }
                 }
                 // (Slots below `n_eq` were equality rows, above: a ball's.)
@@ -531,16 +567,38 @@ impl JointConstraint {
     /// and so depend on how the frame was chosen). Returns the impulse each
     /// row gained (0 when within the bound, or for another kind).
     fn bound_ball_friction(&mut self, h: f64) -> [f64; 3] {
-        let mut change = [0.0; 3];
         if self.law.kind != JointKind::Ball || self.active & (1 << FRICTION) == 0 {
-            return change;
+            return [0.0; 3];
         }
         let limit = self.law.friction.unwrap_or(0.0) * h;
-        let rows = &mut self.rows[FRICTION..=FRICTION_LAST];
-        let length = rows.iter().map(|r| r.impulse * r.impulse).sum::<f64>().sqrt();
+        self.bound_ball_rows([FRICTION, FRICTION + 1, FRICTION_LAST], limit)
+    }
+
+    /// A ball joint's motor impulses (its three motor rows) scaled into the
+    /// ball of radius `max_force h`, as [`Self::bound_ball_friction`] bounds
+    /// friction: a motor torque of at most `max_force` about any axis.
+    fn bound_ball_motor(&mut self, h: f64) -> [f64; 3] {
+        match self.law.motor {
+            Some(m) if m.is_ball() && self.law.kind == JointKind::Ball && self.active & (1 << MOTOR) != 0 => {
+                self.bound_ball_rows(BALL_MOTOR, m.max_force() * h)
+            }
+            _ => [0.0; 3],
+        }
+    }
+
+    /// The impulses of rows `slots` scaled, keeping their direction, into
+    /// the ball of radius `limit` (N m s); the impulse each row gained.
+    fn bound_ball_rows(&mut self, slots: [usize; 3], limit: f64) -> [f64; 3] {
+        let mut change = [0.0; 3];
+        let length = slots
+            .iter()
+            .map(|&i| self.rows[i].impulse * self.rows[i].impulse)
+            .sum::<f64>()
+            .sqrt();
         if length > limit {
             let scale = limit / length;
-            for (r, c) in rows.iter_mut().zip(&mut change) {
+            for (&i, c) in slots.iter().zip(&mut change) {
+                let r = &mut self.rows[i];
                 let bounded = r.impulse * scale;
                 *c = bounded - r.impulse;
                 r.impulse = bounded;
@@ -711,6 +769,23 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                     set.set(FRICTION + k, JointRow::angular(pose.axis_a(k), 0.0));
                 }
             }
+            match law.motor {
+                // About B's frame axes, where the targets are given: the
+                // velocity rows' rates are the target's components.
+                Some(Motor::AngularVelocity { .. }) => {
+                    for (k, slot) in BALL_MOTOR.into_iter().enumerate() {
+                        set.set(slot, JointRow::angular(pose.axis_b(k), 0.0));
+                    }
+                }
+                Some(Motor::Orientation { target, .. }) => {
+                    let err = pose.rotation_error_from(DQuat::from_scaled_axis(DVec3::from(target)));
+                    for (k, slot) in BALL_MOTOR.into_iter().enumerate() {
+                        let e = pose.axis_b(k);
+                        set.set(slot, JointRow::angular(e, err.dot(e)));
+                    }
+                }
+                _ => {}
+            }
         }
         JointKind::Hinge => {
             set.point(pose, &c[..3]);
@@ -732,7 +807,7 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
                 if let Some(m) = law.motor {
                     let c = match m {
                         Motor::Position { target, .. } => wrap_angle(angle - target),
-                        Motor::Velocity { .. } => 0.0,
+                        _ => 0.0,
                     };
                     set.set(MOTOR, JointRow::angular(axis, c));
                 }
@@ -762,7 +837,7 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
             if let Some(m) = law.motor {
                 let c = match m {
                     Motor::Position { target, .. } => offset - target,
-                    Motor::Velocity { .. } => 0.0,
+                    _ => 0.0,
                 };
                 set.set(MOTOR, JointRow::linear(n, pose.ra, rb, c));
             }
@@ -1039,6 +1114,7 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, false) };
     if warm {
+        j.bound_ball_motor(h);
         j.bound_ball_friction(h);
     }
     for i in slots(j.active) {
@@ -1107,6 +1183,13 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
             let change = j.bound_ball_friction(j.h);
             for (k, dl) in change.into_iter().enumerate() {
                 j.apply_scalar(&mut p, FRICTION + k, dl, false);
+            }
+        }
+        if i == BALL_MOTOR_LAST {
+            // A ball motor's rows, the same way.
+            let change = j.bound_ball_motor(j.h);
+            for (slot, dl) in BALL_MOTOR.into_iter().zip(change) {
+                j.apply_scalar(&mut p, slot, dl, false);
             }
         }
     }

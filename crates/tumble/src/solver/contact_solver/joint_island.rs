@@ -690,11 +690,12 @@ fn is_soft(j: &JointConstraint, slot: usize) -> bool {
     slot == MOTOR || slot == SPRING || (slot >= j.n_eq && BALL_SPRING_MASK & (1 << slot) != 0)
 }
 
-/// The scalar rows of `j` its island solves: a position (PD) motor and the
-/// spring (soft rows: a damped arm's dampers and its servos act through the
+/// The scalar rows of `j` its island solves: a hinge's or slider's position
+/// (PD) motor and the spring (soft rows: a damped arm's dampers and its servos act through the
 /// whole chain's inertia). A velocity motor and the joint's friction are
 /// rigid rows with bounds (a speed servo; Coulomb friction on the joint)
-/// and stay with the joint-by-joint pass, with the equality rows held: in the system, a chain
+/// and stay with the joint-by-joint pass, as does a ball joint's motor
+/// (its three rows bounded together in length, not row by row), with the equality rows held: in the system, a chain
 /// of 30 links slipping on the friction of every joint (all 30 rows held at
 /// their bounds, each solve exact to 1e-14) blew up as its end whipped
 /// round at 2.3 s, where with the pass it loses energy and holds (the

@@ -264,6 +264,7 @@ pub fn joint_arrays<'py>(py: Python<'py>, world: &RWorld) -> PyResult<Bound<'py,
     out.set_item("anchor_a", rows(&|s| s.anchor_a)?)?;
     out.set_item("anchor_b", rows(&|s| s.anchor_b)?)?;
     out.set_item("axis", rows(&|s| s.axis)?)?;
+    out.set_item("rotation", rows(&|s| s.rotation)?)?;
     Ok(out)
 }
 
@@ -377,6 +378,15 @@ impl Joint {
     #[getter]
     fn axis<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         Ok(vec_out(py, self.state(py)?.axis))
+    }
+
+    /// The rotation of body A relative to body B since the joint was made:
+    /// a rotation vector (rad) in the world's axes at creation carried with
+    /// B, shape (3,); what a ball joint's `target_position` motor drives to
+    /// its target.
+    #[getter]
+    fn rotation<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(vec_out(py, self.state(py)?.rotation))
     }
 
     /// The motor as a dict (see `World.add_joint`), or None. Settable: a

@@ -464,7 +464,7 @@ impl World {
 
     /// The state of every joint as arrays, one row per joint in `joints()`
     /// order: "position", "rate", "linear_error", "angular_error" (J,),
-    /// "force", "torque", "anchor_a", "anchor_b", "axis" (J, 3).
+    /// "force", "torque", "anchor_a", "anchor_b", "axis", "rotation" (J, 3).
     fn joint_states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.check_usable()?;
         crate::joint::joint_arrays(py, &self.inner)

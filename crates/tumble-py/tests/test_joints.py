@@ -153,6 +153,8 @@ def test_a_ball_motor_spins_a_cube_up_at_its_torque_and_turns_it_to_a_target() -
     turn = 2 * math.atan2(math.sqrt(x * x + y * y + z * z), w)
     axis = np.array([x, y, z]) / math.sqrt(x * x + y * y + z * z)
     assert turn * axis == pytest.approx(0.8 * u, abs=1e-6)
+    assert ball.rotation == pytest.approx(0.8 * u, abs=1e-6)
+    assert world.joint_states()["rotation"][0] == pytest.approx(0.8 * u, abs=1e-6)
     for bad in (
         {"target_velocity": 1.0},  # a hinge's on a ball joint
         {"target_velocity": (math.nan, 0, 0)},

@@ -146,6 +146,14 @@ fn hinge_limits_stop_the_swing() {
         let s = w.joint_state(j).unwrap();
         highest = highest.max(s.position);
         assert!(s.position > -0.3 - 0.01, "below the lower limit: {}", s.position);
+        // Its rotation is its angle about its axis (it holds the axis to
+        // 1e-6 rad).
+        assert!(
+            (s.rotation - s.position * DVec3::Y).length() < 1e-6,
+            "{} at angle {}",
+            s.rotation,
+            s.position
+        );
     }
     assert!(highest > 1.1, "reaches its limit: {highest}");
     assert!(highest < 1.2 + 0.02, "stopped at the limit: {highest}");
@@ -875,6 +883,14 @@ fn a_ball_orientation_motor_turns_a_body_to_its_target_as_the_damped_oscillator(
             // The cube's turn from its start (`turn`), in the unturned
             // scene's axes: turn^-1 (O turn^-1) turn.
             let rotation = (turn.conjugate() * w.orientation(cube).unwrap()).to_scaled_axis();
+            // The joint reports the same turn in the world's axes (B is the
+            // world): what the motor drives to its target.
+            let reported = w.joint_state(w.joint_ids()[0]).unwrap().rotation;
+            assert!(
+                (reported - turn * rotation).length() < 1e-9,
+                "reported {reported}, turned {}",
+                turn * rotation
+            );
             assert!(
                 rotation.reject_from(u).length() < 1e-9,
                 "turned off the target's axis by {}",

@@ -227,7 +227,9 @@ class Joint:
     def anchor_b(self) -> FloatArray: ...
     @property
     def axis(self) -> FloatArray: ...
-    motor: dict[str, float] | None
+    @property
+    def rotation(self) -> FloatArray: ...
+    motor: dict[str, float | list[float]] | None
     spring: dict[str, float] | None
     friction: float | None
     def remove(self) -> None: ...
@@ -365,7 +367,7 @@ class World:
         anchor_b: Vec3 | None = None,
         limits: tuple[float, float] | None = None,
         swing_limit: float | None = None,
-        motor: dict[str, float] | None = None,
+        motor: dict[str, float | Sequence[float]] | None = None,
         spring: tuple[float, float] | dict[str, float] | None = None,
         length: float | None = None,
         friction: float | None = None,

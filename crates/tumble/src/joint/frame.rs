@@ -59,6 +59,12 @@ impl JointPose {
         }
     }
 
+    /// A's frame relative to B's as a rotation vector in B's frame (rad,
+    /// the short way round).
+    pub fn relative_rotation(&self) -> DVec3 {
+        self.relative().to_scaled_axis()
+    }
+
     /// Twist of A's frame relative to B's about the joint axis (rad, in
     /// [-pi, pi]): the hinge angle, the ball joint's twist. The twist part of
     /// the swing-twist split of the relative rotation, so a swing (axes not

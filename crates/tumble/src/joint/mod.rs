@@ -41,4 +41,10 @@ pub struct JointState {
     pub anchor_b: DVec3,
     /// The joint axis as body B carries it (world, unit).
     pub axis: DVec3,
+    /// The rotation of A relative to B since the joint was made, as a
+    /// rotation vector (axis times angle, rad, the short way round) in the
+    /// world's axes at creation carried with B: what a ball joint's
+    /// orientation motor drives to its target (`Motor::Orientation`); on a
+    /// hinge its angle about its axis.
+    pub rotation: DVec3,
 }

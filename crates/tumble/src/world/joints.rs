@@ -262,6 +262,9 @@ impl World {
             anchor_a: p.pa,
             anchor_b: p.pb,
             axis,
+            // From B's joint frame into the world's axes at creation (both
+            // frames were `frame_rotation(axis)` then).
+            rotation: frame_rotation(entry.desc.axis.normalize()) * p.relative_rotation(),
         })
     }
 

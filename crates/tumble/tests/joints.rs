@@ -932,6 +932,90 @@ fn a_ball_orientation_motor_turns_a_body_to_its_target_as_the_damped_oscillator(
 }
 
 #[test]
+fn a_ball_orientation_motor_holds_an_arm_against_gravity_where_its_torque_balances_the_weight() {
+    // A 1 kg cube 0.5 m out along x on a ball joint at the origin, its
+    // orientation motor aimed at the pose it was made in (target 0) with
+    // stiffness k: gravity turns it down about -y until k theta = m g d cos
+    // theta (the weight's moment about the pivot; the motor's torque k theta
+    // about y). Solved by bisection (1e-4 rad), and the arm does not turn
+    // about any other axis (1e-9).
+    let (k, d) = (20.0, 0.5);
+    let mut w = world(true);
+    let arm = cube(&mut w, DVec3::new(d, 0.0, 0.0));
+    let j = w
+        .add_joint(
+            &JointDesc::ball(arm, None, DVec3::ZERO).with_motor(Motor::Orientation {
+                target: [0.0; 3],
+                stiffness: k,
+                damping: 2.0,
+                max_force: f64::INFINITY,
+            }),
+        )
+        .unwrap();
+    for _ in 0..600 {
+        w.step();
+    }
+    let (mut lo, mut hi) = (0.0, std::f64::consts::FRAC_PI_2);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if k * mid < G * d * mid.cos() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let rotation = w.joint_state(j).unwrap().rotation;
+    // Turned down: about +y (x towards -z).
+    assert!(
+        (rotation.y - lo).abs() < 1e-4,
+        "sags {} rad, expected {lo}",
+        rotation.y
+    );
+    assert!(rotation.x.abs() + rotation.z.abs() < 1e-9, "{rotation}");
+}
+
+#[test]
+fn ball_motors_in_a_joint_island_bring_an_arm_to_its_pose() {
+    // Two cubes in a row on ball joints (the world to the first at the
+    // origin, the first to the second at 0.5 m: one joint island, its
+    // equality rows solved as one system, the motors' rows by joint), zero
+    // gravity, orientation motors aimed at turns about different slanted
+    // axes, critically damped for the outer link's inertia: each joint ends
+    // at its target (1e-6 rad) and the arm at rest.
+    let mut w = world(false);
+    let a = cube(&mut w, DVec3::new(0.25, 0.0, 0.0));
+    let b = cube(&mut w, DVec3::new(0.75, 0.0, 0.0));
+    let targets = [DVec3::new(0.2, -0.5, 0.3), DVec3::new(-0.6, 0.1, 0.4)];
+    let motor = |t: DVec3| Motor::Orientation {
+        target: t.to_array(),
+        stiffness: 2.0,
+        damping: 1.0,
+        max_force: f64::INFINITY,
+    };
+    let shoulder = w
+        .add_joint(&JointDesc::ball(a, None, DVec3::ZERO).with_motor(motor(targets[0])))
+        .unwrap();
+    let elbow = w
+        .add_joint(&JointDesc::ball(b, Some(a), DVec3::new(0.5, 0.0, 0.0)).with_motor(motor(targets[1])))
+        .unwrap();
+    for _ in 0..1200 {
+        w.step();
+    }
+    for (j, t) in [shoulder, elbow].into_iter().zip(targets) {
+        let s = w.joint_state(j).unwrap();
+        assert!(
+            (s.rotation - t).length() < 1e-6,
+            "{} against its target {t}",
+            s.rotation
+        );
+        assert!(s.linear_error < 1e-6, "{}", s.linear_error);
+    }
+    for body in [a, b] {
+        assert!(w.angular_velocity(body).unwrap().length() < 1e-6);
+    }
+}
+
+#[test]
 fn a_ball_motor_is_changed_or_refused() {
     let mut w = world(false);
     let bob = cube(&mut w, DVec3::ZERO);

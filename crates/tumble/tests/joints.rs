@@ -1016,6 +1016,51 @@ fn ball_motors_in_a_joint_island_bring_an_arm_to_its_pose() {
 }
 
 #[test]
+fn a_ball_motors_torque_is_bounded_in_length_where_its_rows_are_coupled() {
+    // Zero gravity, a 1 kg cube centred 0.3 m from its ball joint (its
+    // inertia about the anchor is no longer the same about every axis, so
+    // the motor's three rows act on each other through the body), driven
+    // towards a fast spin about a slanted axis with at most 0.05 N m, alone
+    // and as the outer joint of a two-joint island: the joint's torque
+    // about its anchor (the motor's alone: the anchor rows' force passes
+    // through it) never exceeds 0.05 N m in length (1e-9) and, while the
+    // spin is far from its target, equals it (1e-6).
+    let tau = 0.05;
+    let target = DVec3::new(1.0, 2.0, -0.5).normalize() * 20.0;
+    let motor = Motor::AngularVelocity {
+        target: target.to_array(),
+        max_force: tau,
+    };
+    for island in [false, true] {
+        let mut w = world(false);
+        let (pivot, parent) = if island {
+            let base = cube(&mut w, DVec3::new(-0.3, 0.0, 0.0));
+            w.add_joint(&JointDesc::ball(base, None, DVec3::new(-0.6, 0.0, 0.0)))
+                .unwrap();
+            (DVec3::ZERO, Some(base))
+        } else {
+            (DVec3::ZERO, None)
+        };
+        let arm = cube(&mut w, DVec3::new(0.3, 0.0, 0.0));
+        let j = w
+            .add_joint(&JointDesc::ball(arm, parent, pivot).with_motor(motor))
+            .unwrap();
+        for step in 0..30 {
+            w.step();
+            let torque = w.joint_state(j).unwrap().torque.length();
+            assert!(
+                torque <= tau * (1.0 + 1e-9),
+                "island {island}, step {step}: {torque} N m"
+            );
+            assert!(
+                (torque - tau).abs() < 1e-6 * tau,
+                "island {island}, step {step}: {torque} N m, saturated at {tau}"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_ball_motor_is_changed_or_refused() {
     let mut w = world(false);
     let bob = cube(&mut w, DVec3::ZERO);
@@ -1060,12 +1105,28 @@ fn a_ball_motor_is_changed_or_refused() {
             max_force: -1.0,
         },
     ];
-    for motor in bad {
+    let fields = [
+        "joint.motor",
+        "joint.motor.target",
+        "joint.motor.target",
+        "joint.motor",
+        "joint.motor",
+        "joint.motor.max_force",
+        // A rotation vector whose length overflows: no orientation.
+        "joint.motor.target",
+    ];
+    let overflowing = Motor::Orientation {
+        target: [1e200, 1e200, 0.0],
+        stiffness: 1.0,
+        damping: 0.0,
+        max_force: 1.0,
+    };
+    for (motor, field) in bad.into_iter().chain([overflowing]).zip(fields) {
         let before = w.snapshot();
         let err = w.set_joint_motor(j, Some(motor)).unwrap_err();
         assert!(
-            matches!(err, WorldError::BadValue { field, .. } if field.starts_with("joint.motor")),
-            "{motor:?}: {err}"
+            matches!(err, WorldError::BadValue { field: f, .. } if f == field),
+            "{motor:?}: {err}, expected at {field}"
         );
         assert!(w.snapshot() == before, "a refused motor changed the world");
     }

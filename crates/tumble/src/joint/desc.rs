@@ -340,7 +340,7 @@ pub struct JointDesc<B = BodyId> {
     /// Ball joint: half-angle of the cone the axis may swing in (rad, in (0, pi]).
     pub swing_limit: Option<f64>,
     /// Hinge, slider or ball joint motor ([`Motor`]).
-    #[serde(with = "motor_serde")]
+    #[serde(default, with = "motor_serde")]
     pub motor: Option<Motor>,
     /// A spring-damper ([`Spring`]): on a distance joint towards `length`
     /// instead of a rod; on a hinge or slider towards its position at
@@ -617,7 +617,9 @@ impl<B: Copy + PartialEq> JointDesc<B> {
                     ..
                 } => (target, [stiffness, damping]),
             };
-            if !target.iter().all(|t| t.is_finite()) {
+            // (Finite components, and a finite length: a rotation vector
+            // whose length overflows has no orientation.)
+            if !(target.iter().all(|t| t.is_finite()) && DVec3::from(target).length().is_finite()) {
                 let shown = if m.is_ball() {
                     format!("{target:?}")
                 } else {

@@ -234,7 +234,9 @@ fn resolve_robot(
             ));
         };
         let joint = &mut parts.joints[joint];
-        joint.desc.motor = Some(*motor);
+        // (A ball joint's vector targets are in the file's axes: turned with
+        // the robot's placement into the world's.)
+        joint.desc.motor = Some(motor.turned(frame.rotation));
         joint.desc.validate().map_err(|e| {
             // `joints[k].motor.max_force` of a scene's own joint is
             // `robots[k].motors.NAME.max_force` here.

@@ -117,8 +117,10 @@ pub struct RobotSpec {
     /// Motors of the robot's joints by the file's joint names (`shoulder =
     /// { type = "position", target = 0.5, stiffness = 4000.0, damping =
     /// 200.0, max_force = 150.0 }`), beside the joint's `<dynamics damping>`
-    /// (a damper) and `<dynamics friction>` (its Coulomb friction). Default
-    /// none.
+    /// (a damper) and `<dynamics friction>` (its Coulomb friction); a
+    /// `spherical` joint's `angular_velocity` or `orientation` motor has its
+    /// vector target in the file's axes (turned with the robot's placement).
+    /// Default none.
     #[serde(default)]
     pub motors: BTreeMap<String, Motor>,
 }

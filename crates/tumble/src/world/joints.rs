@@ -114,8 +114,9 @@ impl World {
         Ok(())
     }
 
-    /// Replaces a hinge's or slider's motor (`None` switches it off), e.g.
-    /// to move a PD servo's target each step. Validated as in
+    /// Replaces a joint's motor (`None` switches it off; a hinge's, slider's
+    /// or ball joint's, [`Motor`](crate::joint::Motor)), e.g. to move a PD
+    /// servo's target each step. Validated as in
     /// [`World::add_joint`]; the joint's bodies wake.
     pub fn set_joint_motor(
         &mut self,

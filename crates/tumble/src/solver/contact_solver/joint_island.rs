@@ -722,8 +722,10 @@ fn island_mask(j: &JointConstraint) -> u16 {
 /// profile within [`MAX_PROFILE`]. Marks their joints `direct`. Joints in
 /// the returned islands are listed breadth-first from the island's first
 /// joint (in joint order), so the result is deterministic; consecutive
-/// islands of the same shape without motors share a unit, up to one per
-/// lane of the solver's SIMD type.
+/// islands of the same shape without rows of their own in the system (a
+/// position motor, a spring: `island_mask`; velocity and ball motors are
+/// relaxed joint by joint) share a unit, up to one per lane of the
+/// solver's SIMD type.
 ///
 /// `contacts` lists the patches an island may own, as (patch, body A,
 /// body B): an island owns those whose two bodies are both its own (see

@@ -619,7 +619,9 @@ impl<B: Copy + PartialEq> JointDesc<B> {
             };
             // (Finite components, and a finite length: a rotation vector
             // whose length overflows has no orientation.)
-            if !(target.iter().all(|t| t.is_finite()) && DVec3::from(target).length().is_finite()) {
+            if !(target.iter().all(|t| t.is_finite())
+                && (!m.is_ball() || DVec3::from(target).length().is_finite()))
+            {
                 let shown = if m.is_ball() {
                     format!("{target:?}")
                 } else {

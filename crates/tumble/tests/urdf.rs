@@ -1242,3 +1242,53 @@ fn joint_damping_and_friction_slow_a_wheel_by_the_analytic_law() {
         rate(&w)
     );
 }
+
+#[test]
+fn a_scene_robots_ball_motor_target_turns_with_the_robot() {
+    // A `spherical` joint driven from a scene file's motor table: its
+    // target is in the file's axes, so the same table on the robot placed
+    // turned by R gives the joint the target R t in the world, and the
+    // child link turns (relative to its parent) by exactly that: the robot
+    // placed turned does what it does unturned, turned.
+    let text = r#"<robot name="r">
+  <link name="a"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="b"><inertial><origin xyz="0 0 0.3"/><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="ball" type="spherical"><parent link="a"/><child link="b"/><origin xyz="0 0 0.5"/></joint>
+</robot>"#;
+    let dir = std::env::temp_dir().join(format!("tumble-urdf-ball-motor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("r.urdf"), text).unwrap();
+    let target = DVec3::new(0.3, -0.4, 0.2);
+    let run = |orientation: DQuat| {
+        let q = orientation.to_array();
+        let scene = format!(
+            "[settings]\ngravity = [0, 0, 0]\nsleeping = false\n[[robots]]\nfile = \"{}\"\nfixed_base = true\n\
+             orientation = [{}, {}, {}, {}]\n\
+             motors = {{ ball = {{ type = \"orientation\", target = [{}, {}, {}], stiffness = 1.0, damping = 0.2, max_force = 100.0 }} }}\n",
+            dir.join("r.urdf").display(),
+            q[0],
+            q[1],
+            q[2],
+            q[3],
+            target.x,
+            target.y,
+            target.z,
+        );
+        let (mut w, _) = tumble::scene::parse_scene(&scene, tumble::scene::Format::Toml, "s.toml".as_ref())
+            .unwrap()
+            .build()
+            .unwrap();
+        steps(&mut w, 900);
+        let j = w.joint_ids()[0];
+        w.joint_state(j).unwrap().rotation
+    };
+    let plain = run(DQuat::IDENTITY);
+    assert!((plain - target).length() < 1e-6, "{plain} against {target}");
+    let turn = DQuat::from_scaled_axis(DVec3::new(0.7, -1.9, 0.4));
+    let turned = run(turn);
+    assert!(
+        (turned - turn * target).length() < 1e-6,
+        "{turned} against {}",
+        turn * target
+    );
+}

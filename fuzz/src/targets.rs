@@ -20,7 +20,7 @@ use tumble::collide::query::{
 use tumble::collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble::collide::{hull, mass, narrow, triangle, DQuat, DVec3, Pose};
 use tumble::joint::urdf::{add_urdf, UrdfOptions};
-use tumble::joint::{JointDesc, JointKind, Motor, Spring};
+use tumble::joint::{Gear, JointDesc, JointKind, Motor, Spring};
 use tumble::scene::{parse_scene, Format, SceneDocument};
 use tumble::sweep::{RunLength, Sweep};
 use tumble::world::{BodyDesc, MassDesc, ShapeDesc, Snapshot, World, WorldSettings};
@@ -759,7 +759,7 @@ pub fn joints(data: &[u8]) {
     for _ in 0..1 + input.below(4) {
         if !joints.is_empty() {
             let j = joints[input.below(joints.len())];
-            match input.below(6) {
+            match input.below(7) {
                 0 => {
                     let before = world.snapshot();
                     let motor = fuzz_motor(&mut input);
@@ -774,6 +774,24 @@ pub fn joints(data: &[u8]) {
                     world.remove_joint(j).expect("a live joint");
                     joints.retain(|&k| k != j);
                     assert!(world.remove_joint(j).is_err(), "removing a joint twice");
+                }
+                3 | 4 => {
+                    // A gear to another joint (or itself, or none: let go),
+                    // any ratio and offset the input gives.
+                    let before = world.snapshot();
+                    let gear = match input.below(4) {
+                        0 => None,
+                        _ => Some(
+                            Gear::new(joints[input.below(joints.len())], input.number(-100.0, 100.0))
+                                .with_offset(input.number(-4.0, 4.0)),
+                        ),
+                    };
+                    if let Err(e) = world.set_joint_gear(j, gear) {
+                        assert!(
+                            world.snapshot() == before,
+                            "a refused gear changed the world: {e}"
+                        );
+                    }
                 }
                 2 => {
                     // Its joints go with it.

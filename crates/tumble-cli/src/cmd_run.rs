@@ -231,6 +231,7 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
         bodies: Vec::new(),
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     };
     apply_overrides(args, &mut scene)?;
     let mut world = World::new(scene.settings.clone()).map_err(|e| CliError::Input(e.to_string()))?;

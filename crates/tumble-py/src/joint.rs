@@ -13,7 +13,7 @@ use crate::world::World;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use tumble::joint::{JointDesc, JointKind, JointState, Motor, Spring};
+use tumble::joint::{Gear, JointDesc, JointKind, JointState, Motor, Spring};
 use tumble::world::{JointId, World as RWorld};
 use tumble_collide::DVec3;
 
@@ -278,6 +278,34 @@ pub struct Joint {
 }
 
 impl Joint {
+    /// A gear from its dict {"leader": Joint of this world, "ratio": r,
+    /// "offset": o (optional)}.
+    fn gear_from(&self, v: &Bound<'_, PyAny>) -> PyResult<Gear> {
+        let d = v.cast::<PyDict>().map_err(|_| {
+            invalid(format!(
+                "gear: expected a dict such as {{\"leader\": joint, \"ratio\": 2.0}}, got {}",
+                convert::describe(v)
+            ))
+        })?;
+        only_keys(d, &["leader", "ratio", "offset"], "gear")?;
+        let leader = d
+            .get_item("leader")?
+            .ok_or_else(|| invalid("gear: \"leader\" (the Joint it follows) is missing"))?;
+        let leader = leader.cast::<Joint>().map_err(|_| {
+            invalid(format!(
+                "gear[\"leader\"]: expected a Joint, got {}",
+                convert::describe(&leader)
+            ))
+        })?;
+        let leader = leader.get();
+        if leader.world.as_ptr() != self.world.as_ptr() {
+            return Err(invalid("gear[\"leader\"]: a joint of another world"));
+        }
+        let ratio = number(d, "ratio", "gear")?.ok_or_else(|| invalid("gear: \"ratio\" is missing"))?;
+        let offset = number(d, "offset", "gear")?.unwrap_or(0.0);
+        Ok(Gear::new(leader.id, ratio).with_offset(offset))
+    }
+
     fn state(&self, py: Python<'_>) -> PyResult<JointState> {
         let w = self.world.bind(py).borrow();
         w.check_usable()?;
@@ -443,6 +471,52 @@ impl Joint {
         let mut w = self.world.bind(py).borrow_mut();
         w.check_usable()?;
         w.inner.set_joint_friction(self.id, value).or_raise()
+    }
+
+    /// The gear that holds this joint's coordinate at a ratio of another
+    /// joint's, as {"leader": Joint, "ratio": r, "offset": o}, or None:
+    /// `position = ratio * leader.position + offset` (a gear pair, a rack
+    /// and pinion, a URDF mimic joint; hinges and sliders). Settable: such
+    /// a dict ("offset" optional, default 0) or None to let the joint go.
+    #[getter]
+    fn gear<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let gear = {
+            let w = self.world.bind(py).borrow();
+            w.check_usable()?;
+            w.inner.joint_gear(self.id).or_raise()?
+        };
+        gear.map(|g| {
+            let d = PyDict::new(py);
+            let leader = Joint {
+                world: self.world.clone_ref(py),
+                id: g.leader,
+            };
+            d.set_item("leader", Py::new(py, leader)?)?;
+            d.set_item("ratio", g.ratio)?;
+            d.set_item("offset", g.offset)?;
+            Ok(d)
+        })
+        .transpose()
+    }
+
+    #[setter]
+    fn set_gear(&self, py: Python<'_>, value: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let gear = match value.filter(|v| !v.is_none()) {
+            None => None,
+            Some(v) => Some(self.gear_from(v)?),
+        };
+        let mut w = self.world.bind(py).borrow_mut();
+        w.check_usable()?;
+        w.inner.set_joint_gear(self.id, gear).or_raise()
+    }
+
+    /// How far the coordinate is from where its gear holds it (rad or m;
+    /// 0 without a gear).
+    #[getter]
+    fn gear_error(&self, py: Python<'_>) -> PyResult<f64> {
+        let w = self.world.bind(py).borrow();
+        w.check_usable()?;
+        w.inner.gear_error(self.id).or_raise()
     }
 
     /// Removes the joint; the handle becomes stale.

@@ -305,3 +305,77 @@ def test_a_joint_to_a_body_of_another_world_is_refused() -> None:
     b = two.add_body(tumble.Sphere(0.1), mass=1.0)
     with pytest.raises(tumble.InvalidArgument, match="another world"):
         one.add_joint("ball", a, b, anchor=(0, 0, 0))
+
+
+def gear_pair(ratio: float) -> tuple[tumble.World, tumble.Joint, tumble.Joint]:
+    """Two spheres of 1 kg and radius 0.1 m on hinges about z to the world,
+    the second following the first at `ratio`."""
+    world = tumble.World(sleeping=False, threads=1, gravity=(0, 0, 0))
+    wheels = [world.add_body(tumble.Sphere(0.1), mass=1.0, position=(x, 0, 0)) for x in (0.0, 0.3)]
+    leader, follower = (
+        world.add_joint("hinge", w, None, anchor=w.position, axis=(0, 0, 1)) for w in wheels
+    )
+    follower.gear = {"leader": leader, "ratio": ratio}
+    return world, leader, follower
+
+
+def test_a_gear_turns_its_follower_in_its_ratio() -> None:
+    # The leader driven at 3 rad/s: the follower at -3/2 of it, at the
+    # angle the ratio gives (within the push-out's micro-radians), and
+    # the gear reads back as it was set.
+    world, leader, follower = gear_pair(-1.5)
+    assert follower.gear == {"leader": leader, "ratio": -1.5, "offset": 0.0}
+    assert leader.gear is None
+    leader.motor = {"target_velocity": 3.0, "max_force": 100.0}
+    world.step(30)
+    assert leader.rate == pytest.approx(3.0, abs=1e-6)
+    assert follower.rate == pytest.approx(-4.5, abs=1e-6)
+    assert follower.position == pytest.approx(
+        math.remainder(-1.5 * leader.position, math.tau), abs=1e-6
+    )
+    assert follower.gear_error < 1e-6
+
+
+def test_a_free_gear_pair_shares_its_spin_by_the_reduced_inertia() -> None:
+    # The leader spinning alone at w0 meets its follower (equal wheels,
+    # ratio r): it then turns at w0 / (1 + r^2), and the pair keeps that
+    # energy.
+    world, leader, follower = gear_pair(2.0)
+    leader.body_a.angular_velocity = (0, 0, 4.0)
+    world.step()
+    assert leader.rate == pytest.approx(4.0 / 5.0, rel=1e-9)
+    energy = world.kinetic_energy
+    world.step(120)
+    assert follower.rate == pytest.approx(2.0 * leader.rate, rel=1e-9)
+    assert world.kinetic_energy == pytest.approx(energy, rel=1e-9)
+
+
+def test_a_gear_is_pickled_let_go_and_refused_when_bad() -> None:
+    world, leader, follower = gear_pair(2.0)
+    leader.motor = {"target_velocity": 1.0, "max_force": 10.0}
+    world.step(5)
+    copy = pickle.loads(pickle.dumps(world))
+    assert copy.joints()[1].gear["ratio"] == 2.0
+    world.step(20)
+    copy.step(20)
+    np.testing.assert_array_equal(world.positions, copy.positions)
+    for bad, message in [
+        ({"leader": follower, "ratio": 1.0}, "gear.leader"),
+        ({"leader": leader, "ratio": math.nan}, "gear.ratio"),
+        ({"leader": leader}, "ratio"),
+        ({"leader": leader, "ratio": 1.0, "teeth": 3}, "unknown key"),
+        ({"leader": 3, "ratio": 1.0}, "Joint"),
+        ((leader, 1.0), "dict"),
+    ]:
+        with pytest.raises(tumble.InvalidArgument, match=message):
+            follower.gear = bad
+        assert follower.gear["ratio"] == 2.0
+    other, other_leader, _ = gear_pair(1.0)
+    with pytest.raises(tumble.InvalidArgument, match="another world"):
+        follower.gear = {"leader": other_leader, "ratio": 1.0}
+    follower.gear = None
+    assert follower.gear is None and follower.gear_error == 0.0
+    # Removing the leader takes the gear with it.
+    follower.gear = {"leader": leader, "ratio": 1.0}
+    leader.remove()
+    assert follower.gear is None

@@ -5,7 +5,7 @@
 
 use tumble::collide::{DQuat, DVec3, HalfSpace};
 use tumble::joint::urdf::{add_urdf, load_urdf, UrdfError, UrdfOptions, UrdfRobot};
-use tumble::joint::{Motor, Spring};
+use tumble::joint::{Gear, Motor, Spring};
 use tumble::world::{BodyDesc, World, WorldSettings};
 
 fn robot_path(name: &str) -> String {
@@ -565,18 +565,12 @@ fn bullet_extensions_and_conventions_read_as_pybullet_reads_them() {
         .warnings
         .iter()
         .any(|m| m.contains("`hinge`") && m.contains("no limit")));
-    // What is read but not simulated is said, not dropped in silence.
     let coupled = TWO_LINKS.replace(
         "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/>",
-        "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/><mimic joint=\"other\"/>\
+        "<limit lower=\"-1\" upper=\"1\" effort=\"5\" velocity=\"2\"/>\
          <dynamics damping=\"0.1\" friction=\"0.5\"/>",
     );
     let (coupled_world, r) = loaded(&coupled, UrdfOptions::default());
-    assert!(
-        r.warnings.iter().any(|m| m.contains("<mimic joint=\"other\">")),
-        "{:?}",
-        r.warnings
-    );
     // A damping and a friction both act: a damper (a spring of stiffness
     // 0) and the joint's Coulomb friction, with no motor.
     assert!(
@@ -1290,5 +1284,110 @@ fn a_scene_robots_ball_motor_target_turns_with_the_robot() {
         (turned - turn * target).length() < 1e-6,
         "{turned} against {}",
         turn * target
+    );
+}
+
+/// A gripper: a palm welded to the world and two fingers on sliders
+/// across it, the second mimicking the first (`multiplier` -1: they close
+/// together), and a wrist-like wheel mimicking the first finger's slide at
+/// 10 rad/m with an offset.
+const GRIPPER: &str = r#"<robot name="gripper">
+  <link name="world"/>
+  <link name="palm"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="left"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="right"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="dial"><inertial><mass value="0.2"/><inertia ixx="1e-3" iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="base" type="fixed"><parent link="world"/><child link="palm"/><origin xyz="0 0 1"/></joint>
+  <joint name="left_slide" type="prismatic">
+    <parent link="palm"/><child link="left"/><origin xyz="0 0.05 0"/><axis xyz="0 1 0"/>
+    <limit lower="-0.04" upper="0.04" effort="50" velocity="1"/>
+  </joint>
+  <joint name="right_slide" type="prismatic">
+    <parent link="palm"/><child link="right"/><origin xyz="0 -0.05 0"/><axis xyz="0 1 0"/>
+    <limit lower="-0.04" upper="0.04" effort="50" velocity="1"/>
+    <mimic joint="left_slide" multiplier="-1"/>
+  </joint>
+  <joint name="dial_turn" type="continuous">
+    <parent link="palm"/><child link="dial"/><origin xyz="0.1 0 0"/><axis xyz="1 0 0"/>
+    <mimic joint="left_slide" multiplier="10" offset="0.2"/>
+  </joint>
+</robot>"#;
+
+#[test]
+fn mimic_joints_follow_their_leader() {
+    // The left finger driven to 0.02 m by its PD servo: the right one
+    // mirrors it (-0.02 m) and the dial turns to 10 x 0.02 + 0.2 rad,
+    // each within a micrometre or microradian of its gear, no gravity
+    // acting along the slides (they are horizontal).
+    let mut w = world();
+    let r = add_urdf(&mut w, GRIPPER, "gripper.urdf".as_ref(), UrdfOptions::default()).unwrap();
+    assert!(
+        r.warnings.iter().all(|m| !m.contains("mimic")),
+        "{:?}",
+        r.warnings
+    );
+    let [left, right, dial] = ["left_slide", "right_slide", "dial_turn"].map(|n| r.joints[n].id);
+    assert_eq!(w.joint_gear(right).unwrap(), Some(Gear::new(left, -1.0)));
+    assert_eq!(
+        w.joint_gear(dial).unwrap(),
+        Some(Gear::new(left, 10.0).with_offset(0.2))
+    );
+    w.set_joint_motor(
+        left,
+        Some(Motor::Position {
+            target: 0.02,
+            stiffness: 200.0,
+            damping: 20.0,
+            max_force: 50.0,
+        }),
+    )
+    .unwrap();
+    for _ in 0..240 {
+        w.step();
+    }
+    let position = |j| w.joint_state(j).unwrap().position;
+    assert!(
+        (position(left) - 0.02).abs() < 1e-4,
+        "left finger at {}",
+        position(left)
+    );
+    assert!(
+        (position(right) + position(left)).abs() < 1e-6,
+        "right finger at {}",
+        position(right)
+    );
+    assert!(
+        (position(dial) - (10.0 * position(left) + 0.2)).abs() < 1e-6,
+        "dial at {}",
+        position(dial)
+    );
+    assert!(
+        w.max_joint_error().0 < 1e-6 && w.max_joint_error().1 < 1e-6,
+        "{:?}",
+        w.max_joint_error()
+    );
+}
+
+#[test]
+fn a_mimic_of_a_joint_the_robot_does_not_move_is_refused_at_the_mimic_element() {
+    for leader in ["nothing", "base"] {
+        let text = GRIPPER.replace(
+            "<mimic joint=\"left_slide\" multiplier=\"-1\"/>",
+            &format!("<mimic joint=\"{leader}\" multiplier=\"-1\"/>"),
+        );
+        let (line, element, message) = error_of(&text);
+        assert_eq!(element, "mimic", "{message}");
+        assert_eq!(line, 15, "{message}");
+        assert!(message.contains(&format!("`{leader}`")), "{message}");
+    }
+    // A mimic with no joint to follow.
+    let text = GRIPPER.replace(
+        "<mimic joint=\"left_slide\" multiplier=\"-1\"/>",
+        "<mimic multiplier=\"-1\"/>",
+    );
+    let (_, element, message) = error_of(&text);
+    assert!(
+        element == "mimic" && message.contains("joint="),
+        "{element} {message}"
     );
 }

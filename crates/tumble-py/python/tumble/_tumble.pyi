@@ -232,6 +232,9 @@ class Joint:
     motor: dict[str, float | list[float]] | None
     spring: dict[str, float] | None
     friction: float | None
+    gear: dict[str, Joint | float] | None
+    @property
+    def gear_error(self) -> float: ...
     def remove(self) -> None: ...
     def __hash__(self) -> int: ...
 

@@ -4,6 +4,7 @@
 //! (hinge angle, slider offset, distance, swing and twist) and errors. The
 //! solver and the state the world reports both measure through here.
 
+use super::JointKind;
 use tumble_collide::{DQuat, DVec3, Pose};
 
 /// Both joint frames placed in the world.
@@ -89,6 +90,35 @@ impl JointPose {
         (self.pa - self.pb).length()
     }
 
+    /// The coordinate a gear reads (`joint::Gear`): a hinge's angle (rad,
+    /// [`Self::twist`]) or a slider's offset (m, [`Self::offset`]); 0 for
+    /// other kinds.
+    pub fn coordinate(&self, kind: JointKind) -> f64 {
+        match kind {
+            JointKind::Hinge => self.twist(),
+            JointKind::Slider => self.offset(),
+            _ => 0.0,
+        }
+    }
+
+    /// The rate of [`Self::coordinate`] as a row over the two bodies'
+    /// velocities: `(linear, angular)` for A and for B, so that the rate is
+    /// `lin_a . vA + ang_a . wA + lin_b . vB + ang_b . wB`. A hinge turns
+    /// about B's axis `n`: `n . (wA - wB)`. A slider's offset `n . d` (`d`
+    /// from B's anchor to A's, `n` fixed in B) changes at `n . (vA + wA x
+    /// rA - vB - wB x rB) + (wB x n) . d`.
+    pub fn coordinate_rows(&self, kind: JointKind) -> [(DVec3, DVec3); 2] {
+        let n = self.axis_b(0);
+        match kind {
+            JointKind::Hinge => [(DVec3::ZERO, n), (DVec3::ZERO, -n)],
+            JointKind::Slider => {
+                let d = self.pa - self.pb;
+                [(n, self.ra.cross(n)), (-n, n.cross(d) - self.rb.cross(n))]
+            }
+            _ => [(DVec3::ZERO, DVec3::ZERO); 2],
+        }
+    }
+
     /// The rotation taking B's frame onto A's, as a world rotation vector
     /// (axis times angle, rad): zero when the frames agree.
     pub fn rotation_error(&self) -> DVec3 {
@@ -108,6 +138,17 @@ impl JointPose {
             q = -q;
         }
         q.to_scaled_axis()
+    }
+}
+
+/// A joint coordinate followed across a hinge's wrap: `raw` (as
+/// [`JointPose::coordinate`] reads it, a hinge's in [-pi, pi]) taken as
+/// the value nearest `last` (rad or m; a slider's is `raw` itself), so that
+/// a wheel that has turned three times reads 6 pi.
+pub fn unwrap_coordinate(kind: JointKind, last: f64, raw: f64) -> f64 {
+    match kind {
+        JointKind::Hinge => last + wrap_angle(raw - last),
+        _ => raw,
     }
 }
 

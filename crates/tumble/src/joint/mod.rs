@@ -1,17 +1,20 @@
 //! Joints: descriptions ([`JointDesc`]: fixed, ball, hinge, slider,
 //! distance, with limits, motors, springs and friction), the joint frames and the
 //! coordinates measured through them ([`JointPose`]), and the state the
-//! world reports ([`JointState`]), and robots from URDF files ([`urdf`]).
+//! world reports ([`JointState`]), gears between two joints' coordinates
+//! ([`Gear`]), and robots from URDF files ([`urdf`]).
 //! The rows the solver relaxes live with the contact rows in
 //! `solver::contact_solver::joint`.
 
 mod desc;
 mod frame;
+mod gear;
 pub mod urdf;
 
 pub use crate::world::JointId;
 pub use desc::{JointDesc, JointKind, Motor, Spring};
-pub use frame::{frame_rotation, wrap_angle, JointPose};
+pub use frame::{frame_rotation, unwrap_coordinate, wrap_angle, JointPose};
+pub use gear::Gear;
 
 use tumble_collide::DVec3;
 

@@ -43,7 +43,7 @@
 //! robot is.
 
 use crate::body::BodyKind;
-use crate::joint::{JointDesc, JointId, JointKind, Spring};
+use crate::joint::{Gear, JointDesc, JointId, JointKind, Spring};
 use crate::world::{BodyDesc, BodyId, MassDesc, ShapeDesc, World, WorldError, WorldSettings};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -238,6 +238,20 @@ pub struct UrdfPartJoint {
     pub effort: f64,
     /// Largest speed of its `<limit>` (rad/s or m/s; infinite when not given).
     pub velocity: f64,
+    /// Its `<mimic>`: the gear that holds it to another joint's coordinate.
+    pub gear: Option<UrdfGear>,
+}
+
+/// A `<mimic joint multiplier offset>`: the joint's coordinate held at
+/// `ratio` times `leader`'s plus `offset` ([`Gear`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UrdfGear {
+    /// The joint followed, an index into [`UrdfParts::joints`].
+    pub leader: usize,
+    /// `multiplier` (default 1).
+    pub ratio: f64,
+    /// `offset` (rad or m, default 0).
+    pub offset: f64,
 }
 
 /// Reads the URDF file at `path` and adds the robot to `world`.
@@ -396,6 +410,9 @@ struct Joint<'a, 'input> {
     damping: f64,
     /// `<dynamics friction>` (N m or N, Coulomb).
     friction: f64,
+    /// `<mimic joint multiplier offset>`: the leader's name, the ratio and
+    /// the offset, and the element.
+    mimic: Option<(String, f64, f64, roxmltree::Node<'a, 'input>)>,
 }
 
 struct Model<'a, 'input> {
@@ -404,8 +421,6 @@ struct Model<'a, 'input> {
     joints: Vec<Joint<'a, 'input>>,
     /// Joints whose `<limit>` has lower > upper: no limit.
     reversed_limits: Vec<String>,
-    /// What the file asks for that is not simulated (a warning each).
-    unsimulated: Vec<String>,
 }
 
 impl<'a, 'input> Reader<'a, 'input> {
@@ -720,7 +735,6 @@ impl<'a, 'input> Reader<'a, 'input> {
         };
         let mut joints: Vec<Joint> = Vec::new();
         let mut reversed_limits = Vec::new();
-        let mut unsimulated = Vec::new();
         for node in root
             .children()
             .filter(|c| c.is_element() && c.tag_name().name() == "joint")
@@ -806,13 +820,21 @@ impl<'a, 'input> Reader<'a, 'input> {
             if friction < 0.0 {
                 return Err(self.err(node, "dynamics friction must be >= 0"));
             }
-            if let Some(m) = self.child(node, "mimic") {
-                unsimulated.push(format!(
-                    "joint `{name}`: <mimic joint=\"{}\"> is not simulated (no coupling between joints): \
-                     it moves on its own",
-                    m.attribute("joint").unwrap_or("")
-                ));
-            }
+            // A mimic joint follows its leader by a gear (`joint::Gear`).
+            let mimic = match self.child(node, "mimic") {
+                Some(m) => {
+                    let leader = m
+                        .attribute("joint")
+                        .ok_or_else(|| self.err(m, "<mimic> needs joint=\"the joint it follows\""))?;
+                    Some((
+                        leader.to_string(),
+                        self.optional_number(m, "multiplier", 1.0)?,
+                        self.optional_number(m, "offset", 0.0)?,
+                        m,
+                    ))
+                }
+                None => None,
+            };
             if damping < 0.0 {
                 return Err(self.err(node, "dynamics damping must be >= 0"));
             }
@@ -829,6 +851,7 @@ impl<'a, 'input> Reader<'a, 'input> {
                 velocity,
                 damping,
                 friction,
+                mimic,
             });
         }
         Ok(Model {
@@ -836,7 +859,6 @@ impl<'a, 'input> Reader<'a, 'input> {
             links,
             joints,
             reversed_limits,
-            unsimulated,
         })
     }
 }
@@ -906,7 +928,6 @@ impl<'a, 'input> Model<'a, 'input> {
                 format!("joint `{j}`: lower > upper in its <limit>, read as no limit (as Bullet reads it)")
             })
             .collect();
-        warnings.extend(self.unsimulated.iter().cloned());
         warnings.extend(self.links.iter().filter(|l| l.balanced).map(|l| {
             format!(
                 "link `{}`: its inertia is not physical; replaced by the isotropic inertia of the same \
@@ -1155,15 +1176,41 @@ impl<'a, 'input> Model<'a, 'input> {
             }
             false => Vec::new(),
         };
+        // Mimic joints: each follows a moving joint of this robot by name.
+        let mut gears = Vec::with_capacity(joint_descs.len());
+        for (j, _) in &joint_descs {
+            gears.push(match &j.mimic {
+                None => None,
+                Some((leader, ratio, offset, node)) => {
+                    let Some(k) = joint_descs.iter().position(|(l, _)| l.name == *leader) else {
+                        return Err(r.err(
+                            *node,
+                            format!(
+                                "joint `{}` mimics `{leader}`, which is not a moving joint of this robot \
+                                 (no such joint, or a fixed one)",
+                                j.name
+                            ),
+                        ));
+                    };
+                    Some(UrdfGear {
+                        leader: k,
+                        ratio: *ratio,
+                        offset: *offset,
+                    })
+                }
+            });
+        }
         let parts = UrdfParts {
             name: self.name.clone(),
             bodies: descs,
             joints: joint_descs
                 .into_iter()
-                .map(|(j, desc)| UrdfPartJoint {
+                .zip(gears)
+                .map(|((j, desc), gear)| UrdfPartJoint {
                     desc,
                     effort: j.effort,
                     velocity: j.velocity,
+                    gear,
                 })
                 .collect(),
             base_weld,
@@ -1267,6 +1314,14 @@ fn add_parts(
             .add_joint(&j.desc.clone().with_bodies(|k| ids[k]))
             .map_err(|e| r.err(*node, world_message(&e)))?;
         joint_ids.push(id);
+    }
+    for ((j, node), &id) in parts.joints.iter().zip(joint_nodes).zip(&joint_ids) {
+        if let Some(g) = j.gear {
+            let gear = Gear::new(joint_ids[g.leader], g.ratio).with_offset(g.offset);
+            world
+                .set_joint_gear(id, Some(gear))
+                .map_err(|e| r.err(*node, world_message(&e)))?;
+        }
     }
     if let Some(weld) = &parts.base_weld {
         world

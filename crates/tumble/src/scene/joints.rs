@@ -7,6 +7,7 @@ use super::resolve::body_named;
 use super::schema::JointSpec;
 use super::values::vec3;
 use crate::joint::JointDesc;
+use crate::scenes::SceneGear;
 use crate::world::{BodyDesc, WorldError};
 use tumble_collide::DVec3;
 
@@ -46,6 +47,58 @@ pub(crate) fn resolve_joints(
         desc.validate()
             .map_err(|e| FieldError::new(&joint_error_path(&e, &path), joint_error_message(&e)))?;
         out.push((desc, path));
+    }
+    Ok(out)
+}
+
+/// The gears of the file's joints (`specs`, which are `joints[first..]`),
+/// each leader found by name among all of `joints` (a robot's too).
+pub(crate) fn resolve_gears(
+    specs: &[JointSpec],
+    joints: &[JointDesc<usize>],
+    first: usize,
+) -> Result<Vec<SceneGear>, FieldError> {
+    let mut out = Vec::new();
+    for (k, spec) in specs.iter().enumerate() {
+        let Some(gear) = &spec.gear else { continue };
+        let path = FieldPath::root().key("joints").index(k).key("gear").key("leader");
+        let named: Vec<usize> = (0..joints.len())
+            .filter(|&i| joints[i].name == gear.leader)
+            .collect();
+        let leader = match named[..] {
+            [i] => i,
+            [] => {
+                let known: Vec<&str> = joints
+                    .iter()
+                    .map(|j| j.name.as_str())
+                    .filter(|n| !n.is_empty())
+                    .collect();
+                return Err(FieldError::new(
+                    &path,
+                    format!(
+                        "no joint is named `{}` (named joints: {})",
+                        gear.leader,
+                        known.join(", ")
+                    ),
+                ));
+            }
+            _ => {
+                return Err(FieldError::new(
+                    &path,
+                    format!(
+                        "{} joints are named `{}`: a gear's leader needs a name of its own",
+                        named.len(),
+                        gear.leader
+                    ),
+                ))
+            }
+        };
+        out.push(SceneGear {
+            follower: first + k,
+            leader,
+            ratio: gear.ratio,
+            offset: gear.offset,
+        });
     }
     Ok(out)
 }

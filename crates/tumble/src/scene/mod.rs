@@ -75,6 +75,7 @@ pub use schema::SceneFile;
 
 use std::path::{Path, PathBuf};
 
+use crate::joint::Gear;
 use crate::scenes::Scene;
 use crate::world::{BodyId, World};
 use resolve::{world_error_message, world_error_path, BodyOrigin};
@@ -210,6 +211,7 @@ impl LoadedScene {
                 .apply_torque(id, load.torque)
                 .map_err(|e| locate(&e, origin))?;
         }
+        let mut joint_ids = Vec::with_capacity(self.scene.joints.len());
         for (joint, path) in self.scene.joints.iter().zip(&self.joint_paths) {
             let at = |e: crate::world::WorldError| {
                 parse::locate_error(
@@ -223,11 +225,42 @@ impl LoadedScene {
                 )
             };
             let desc = self.scene.joint_desc(joint, &ids).map_err(at)?;
-            world.add_joint(&desc).map_err(at)?;
+            joint_ids.push(world.add_joint(&desc).map_err(at)?);
         }
         self.scene
             .keep_apart(&mut world, &ids)
             .map_err(|e| locate(&e, None))?;
+        // A gear is refused at its follower's `gear` (a robot's mimic
+        // joints were checked in the robot's own file).
+        for g in &self.scene.gears {
+            let path = self
+                .joint_paths
+                .get(g.follower)
+                .cloned()
+                .unwrap_or_else(FieldPath::root);
+            let fail = |field: Option<&str>, message: String| {
+                // (`gear.follower` is the joint itself: its `gear`.)
+                let path = match field.and_then(|f| f.strip_prefix("gear.")) {
+                    Some(rest) if rest != "follower" => path.key("gear").key(rest),
+                    _ => path.key("gear"),
+                };
+                parse::locate_error(
+                    &self.file,
+                    &self.text,
+                    self.format,
+                    FieldError::new(&path, message),
+                )
+            };
+            let (Some(&follower), Some(&leader)) = (joint_ids.get(g.follower), joint_ids.get(g.leader))
+            else {
+                return Err(fail(None, "its joints are not in the scene".into()));
+            };
+            let gear = Gear::new(leader, g.ratio).with_offset(g.offset);
+            world.set_joint_gear(follower, Some(gear)).map_err(|e| match &e {
+                crate::world::WorldError::BadValue { field, message } => fail(Some(field), message.clone()),
+                other => fail(None, other.to_string()),
+            })?;
+        }
         Ok((world, ids))
     }
 }

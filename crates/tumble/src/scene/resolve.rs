@@ -12,7 +12,7 @@ use super::values::{non_negative, pose, positive, vec3_or_zero};
 use super::InitialLoad;
 use crate::body::BodyKind;
 use crate::joint::urdf::{read_urdf_parts, UrdfOptions};
-use crate::scenes::Scene;
+use crate::scenes::{Scene, SceneGear};
 use crate::world::{
     unused_non_colliding_group, BodyDesc, MassDesc, MaterialDesc, ShapeDesc, World, WorldError,
 };
@@ -170,6 +170,7 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
             steps,
             joints: Vec::new(),
             no_contact: Vec::new(),
+            gears: Vec::new(),
         },
         loads: Vec::new(),
         origins: Vec::new(),
@@ -190,10 +191,13 @@ pub(crate) fn resolve(file: &SceneFile, base_dir: &Path, default_name: &str) -> 
             "a scene needs at least one body; this file describes none",
         ));
     }
+    let first_file_joint = out.scene.joints.len();
     for (joint, path) in super::joints::resolve_joints(&file.joints, &out.scene.bodies)? {
         out.scene.joints.push(joint);
         out.joint_paths.push(path);
     }
+    let gears = super::joints::resolve_gears(&file.joints, &out.scene.joints, first_file_joint)?;
+    out.scene.gears.extend(gears);
     let pairs = super::no_contact::resolve_no_contact(&file.no_contact, &out.scene.bodies)?;
     out.scene.no_contact.extend(pairs);
     Ok(out)
@@ -262,6 +266,19 @@ fn resolve_robot(
     out.scene
         .no_contact
         .extend(parts.no_contact.iter().map(|&(a, b)| (first + a, first + b)));
+    // A robot's mimic joints, as gears between its joints (numbered from
+    // the first of them in the scene).
+    let first_joint = out.scene.joints.len();
+    out.scene
+        .gears
+        .extend(parts.joints.iter().enumerate().filter_map(|(k, j)| {
+            j.gear.map(|g| SceneGear {
+                follower: first_joint + k,
+                leader: first_joint + g.leader,
+                ratio: g.ratio,
+                offset: g.offset,
+            })
+        }));
     let joints = parts.joints.into_iter().map(|j| j.desc).chain(parts.base_weld);
     for mut joint in joints {
         if !joint.name.is_empty() {

@@ -183,6 +183,27 @@ pub struct JointSpec {
     /// Contacts between the two bodies (default false).
     #[serde(default)]
     pub collide_connected: bool,
+    /// Hinge or slider: hold this joint's coordinate at a ratio of another
+    /// joint's, `{ leader = "joint name", ratio, offset }` (a gear pair, a
+    /// rack and pinion; a robot's joints are named `robot/joint`).
+    #[serde(default)]
+    pub gear: Option<GearSpec>,
+}
+
+/// A joint's gear: its coordinate (rad or m) held at `ratio` times the
+/// leader's plus `offset`, both measured from the joints' creation.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GearSpec {
+    /// Name of the joint followed (a hinge or slider of this scene).
+    pub leader: String,
+    /// Follower coordinate per unit of the leader's (rad/rad, m/rad, rad/m
+    /// or m/m; negative turns the other way).
+    pub ratio: f64,
+    /// The follower's coordinate where the leader's is 0 (rad or m).
+    /// Default 0.
+    #[serde(default)]
+    pub offset: f64,
 }
 
 /// How a body moves.

@@ -531,6 +531,86 @@ fn joints_reach_the_world_as_written() {
     assert!(p.z < 0.9);
 }
 
+const GEARED: &str = r#"
+[[bodies]]
+name = "wheel_a"
+shapes = [{ type = "sphere", radius = 0.1 }]
+mass = 1.0
+
+[[bodies]]
+name = "wheel_b"
+shapes = [{ type = "sphere", radius = 0.1 }]
+mass = 1.0
+position = [0.3, 0, 0]
+
+[[joints]]
+name = "drive"
+kind = "hinge"
+body_a = "wheel_a"
+anchor = [0, 0, 0]
+motor = { type = "velocity", target = 2.0, max_force = 100.0 }
+
+[[joints]]
+name = "driven"
+kind = "hinge"
+body_a = "wheel_b"
+anchor = [0.3, 0, 0]
+gear = { leader = "drive", ratio = -2.0 }
+"#;
+
+#[test]
+fn a_gear_reaches_the_world_and_bad_gears_are_located() {
+    let loaded = toml(GEARED).unwrap();
+    let (mut world, ids) = loaded.build().unwrap();
+    let [drive, driven] = [world.joint_ids()[0], world.joint_ids()[1]];
+    assert_eq!(
+        world.joint_gear(driven).unwrap(),
+        Some(crate::joint::Gear::new(drive, -2.0))
+    );
+    for _ in 0..30 {
+        world.step();
+    }
+    let spin = |k: usize| world.angular_velocity(ids[k]).unwrap().z;
+    assert!(
+        (spin(0) - 2.0).abs() < 1e-6 && (spin(1) + 4.0).abs() < 1e-6,
+        "{} {}",
+        spin(0),
+        spin(1)
+    );
+
+    let unknown = GEARED.replace("leader = \"drive\"", "leader = \"drvie\"");
+    let (line, column, path, message) = at(toml(&unknown).err().unwrap());
+    assert_eq!(path, "joints[1].gear.leader");
+    assert_eq!((line, column), position_of(&unknown, "\"drvie\""));
+    assert!(
+        message.contains("no joint is named `drvie`") && message.contains("drive"),
+        "{message}"
+    );
+
+    let twice = GEARED.replace("name = \"driven\"", "name = \"drive\"");
+    let (_, _, path, message) = at(toml(&twice).err().unwrap());
+    assert_eq!(path, "joints[1].gear.leader");
+    assert!(message.contains("2 joints are named"), "{message}");
+
+    let nan = GEARED.replace("ratio = -2.0", "ratio = nan");
+    let (line, column, path, _) = at(toml(&nan).unwrap().build().err().unwrap());
+    assert_eq!(path, "joints[1].gear.ratio");
+    assert_eq!((line, column), position_of(&nan, "nan"));
+
+    let itself = GEARED.replace("leader = \"drive\"", "leader = \"driven\"");
+    let (_, _, path, message) = at(toml(&itself).unwrap().build().err().unwrap());
+    assert_eq!(path, "joints[1].gear.leader");
+    assert!(message.contains("itself"), "{message}");
+
+    let ball = GEARED.replace(
+        "kind = \"hinge\"\nbody_a = \"wheel_b\"",
+        "kind = \"ball\"\nbody_a = \"wheel_b\"",
+    );
+    let (_, _, path, message) = at(toml(&ball).unwrap().build().err().unwrap());
+    assert_eq!(path, "joints[1].gear");
+    assert!(message.contains("hinges and sliders"), "{message}");
+}
+
 #[test]
 fn bad_joints_are_located_at_their_field() {
     let swapped = PENDULUM.replace("limits = [-1.0, 2.0]", "limits = [2.0, -1.0]");

@@ -50,6 +50,7 @@ pub fn heavy_chain() -> Scene {
         steps: 600,
         joints,
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }
 
@@ -174,6 +175,7 @@ pub fn ragdoll_pile() -> Scene {
         steps: 600,
         joints,
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }
 

@@ -105,6 +105,7 @@ pub fn torus_on_ground() -> Scene {
         steps: 240,
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }
 
@@ -143,5 +144,6 @@ pub fn tori_pass() -> Scene {
         steps: 360,
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }

@@ -39,8 +39,8 @@ pub use tori_queries::{
     TORI_PLAIN_FORMAT, TORI_POSES,
 };
 
-use crate::joint::JointDesc;
-use crate::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
+use crate::joint::{Gear, JointDesc};
+use crate::world::{BodyDesc, BodyId, JointId, World, WorldError, WorldSettings};
 
 /// The standard scenes' settings: the defaults with sleeping off (a
 /// benchmark times every body in every step).
@@ -61,6 +61,7 @@ fn ten_seconds_without_sleep(name: impl Into<String>, bodies: Vec<BodyDesc>) -> 
         steps: 600,
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }
 
@@ -82,6 +83,24 @@ pub struct Scene {
     /// pairs, and a self-colliding robot's links that overlap in its file's
     /// pose (`UrdfParts::no_contact`).
     pub no_contact: Vec<(usize, usize)>,
+    /// Gears: a joint (the follower, an index into `joints`) held at a
+    /// ratio of another's coordinate (`World::set_joint_gear`): a scene
+    /// file's `gear` of a joint, a robot's `<mimic>` joints.
+    pub gears: Vec<SceneGear>,
+}
+
+/// A gear of a [`Scene`]: joint `follower`'s coordinate held at `ratio`
+/// times joint `leader`'s plus `offset` (indices into [`Scene::joints`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneGear {
+    /// The joint that follows.
+    pub follower: usize,
+    /// The joint followed.
+    pub leader: usize,
+    /// Follower coordinate per unit of the leader's.
+    pub ratio: f64,
+    /// The follower's coordinate where the leader's is 0 (rad or m).
+    pub offset: f64,
 }
 
 impl Scene {
@@ -95,11 +114,48 @@ impl Scene {
             .iter()
             .map(|b| world.add_body(b))
             .collect::<Result<Vec<_>, _>>()?;
+        let mut joints = Vec::with_capacity(self.joints.len());
         for joint in &self.joints {
-            world.add_joint(&self.joint_desc(joint, &ids)?)?;
+            joints.push(world.add_joint(&self.joint_desc(joint, &ids)?)?);
         }
         self.keep_apart(&mut world, &ids)?;
+        self.set_gears(&mut world, &joints)?;
         Ok((world, ids))
+    }
+
+    /// Sets the scene's gears between its joints `joints` (the handles of
+    /// [`Scene::joints`] in order; an index past them is refused).
+    pub fn set_gears(&self, world: &mut World, joints: &[JointId]) -> Result<(), WorldError> {
+        (0..self.gears.len()).try_for_each(|k| self.set_gear(world, joints, k))
+    }
+
+    /// Sets gear `k` of the scene (see [`Scene::set_gears`]).
+    pub fn set_gear(&self, world: &mut World, joints: &[JointId], k: usize) -> Result<(), WorldError> {
+        let Some(g) = self.gears.get(k) else {
+            return Err(WorldError::BadValue {
+                field: "scene.gears",
+                message: format!("no gear {k} (the scene has {})", self.gears.len()),
+            });
+        };
+        let bad = |message: String| WorldError::BadValue {
+            field: "scene.gears",
+            message: format!(
+                "gear {k} (joint {} follows joint {}): {message}",
+                g.follower, g.leader
+            ),
+        };
+        let id = |i: usize| {
+            joints.get(i).copied().ok_or_else(|| {
+                bad(format!(
+                    "joint index {i} is out of range (the scene has {} joints)",
+                    joints.len()
+                ))
+            })
+        };
+        let gear = Gear::new(id(g.leader)?, g.ratio).with_offset(g.offset);
+        world
+            .set_joint_gear(id(g.follower)?, Some(gear))
+            .map_err(|e| bad(e.to_string()))
     }
 
     /// Keeps the `no_contact` pairs of the scene's bodies `ids` apart in

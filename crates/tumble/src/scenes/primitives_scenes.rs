@@ -148,6 +148,7 @@ pub fn cradle() -> Scene {
         steps: 240,
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }
 
@@ -183,6 +184,7 @@ pub fn incline(mu: f64) -> Scene {
         steps: 240,
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }
 
@@ -226,5 +228,6 @@ pub fn ball_drop(height: f64, e: f64) -> Scene {
         steps: 1200,
         joints: Vec::new(),
         no_contact: Vec::new(),
+        gears: Vec::new(),
     }
 }

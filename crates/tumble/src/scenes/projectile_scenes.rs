@@ -172,6 +172,7 @@ impl ProjectileCase {
             steps: PROJECTILE_STEPS,
             joints: Vec::new(),
             no_contact: Vec::new(),
+            gears: Vec::new(),
         }
     }
 

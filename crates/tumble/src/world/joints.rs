@@ -5,7 +5,7 @@
 use super::step::velocities as body_velocities;
 use super::{BodyId, JointId, World, WorldError};
 use crate::body::BodyKind;
-use crate::joint::{frame_rotation, JointDesc, JointKind, JointPose, JointState};
+use crate::joint::{frame_rotation, unwrap_coordinate, Gear, JointDesc, JointKind, JointPose, JointState};
 use crate::solver::contact_solver::{JointLaw, JOINT_ROWS};
 use tumble_collide::{DQuat, DVec3, Pose};
 
@@ -25,6 +25,20 @@ pub(crate) struct JointEntry {
     pub force: DVec3,
     /// Torque on A about its anchor over the last step (N m, world).
     pub torque: DVec3,
+    /// The gear that holds this joint's coordinate at a ratio of another's.
+    pub gear: Option<GearState>,
+}
+
+/// A follower joint's gear as the world keeps it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct GearState {
+    /// What it holds.
+    pub gear: Gear,
+    /// Its impulse over the last sub-step (warm start of the next step).
+    pub impulse: f64,
+    /// The leader's and the follower's coordinates after the last step,
+    /// followed across a hinge's wrap (`unwrap_coordinate`).
+    pub coordinates: [f64; 2],
 }
 
 /// Where a joint's side is when the joint is made.
@@ -96,6 +110,7 @@ impl World {
             impulses: [0.0; JOINT_ROWS],
             force: DVec3::ZERO,
             torque: DVec3::ZERO,
+            gear: None,
         };
         let id = self.joints.insert(entry);
         for body in [Some(desc.body_a), desc.body_b].into_iter().flatten() {
@@ -104,9 +119,139 @@ impl World {
         Ok(id)
     }
 
-    /// Removes a joint; its bodies wake.
+    /// Holds joint `follower`'s coordinate at a ratio of another joint's
+    /// ([`Gear`]: gear pairs, racks and pinions, URDF's mimic joints), or
+    /// with `None` lets it go. Both joints are hinges or sliders, and
+    /// distinct; the gear holds the coordinates as they are now (measured
+    /// from each joint's creation: a hinge's angle followed across its wrap
+    /// from here on) to `q_follower = ratio q_leader + offset`, closing any
+    /// difference as the push-out closes a joint's drift. Removing either
+    /// joint removes the gear. Refused at its field, the world unchanged;
+    /// the joints' bodies wake.
+    pub fn set_joint_gear(&mut self, follower: JointId, gear: Option<Gear>) -> Result<(), WorldError> {
+        let entry = self
+            .joints
+            .get(follower)
+            .ok_or(WorldError::StaleJoint(follower))?;
+        let state = match gear {
+            None => None,
+            Some(gear) => {
+                gear.validate()?;
+                let leader = self
+                    .joints
+                    .get(gear.leader)
+                    .ok_or(WorldError::StaleJoint(gear.leader))?;
+                if gear.leader == follower {
+                    return Err(WorldError::BadValue {
+                        field: "gear.leader",
+                        message: "a joint cannot follow itself".into(),
+                    });
+                }
+                for (field, e) in [("gear.leader", leader), ("gear.follower", entry)] {
+                    if !matches!(e.desc.kind, JointKind::Hinge | JointKind::Slider) {
+                        return Err(WorldError::BadValue {
+                            field,
+                            message: format!(
+                                "a gear joins hinges and sliders, not a {:?} joint",
+                                e.desc.kind
+                            ),
+                        });
+                    }
+                }
+                let coordinate = |e: &JointEntry| self.place(e).coordinate(e.desc.kind);
+                Some(GearState {
+                    gear,
+                    impulse: 0.0,
+                    coordinates: [coordinate(leader), coordinate(entry)],
+                })
+            }
+        };
+        let mut wake = vec![entry.desc.body_a];
+        wake.extend(entry.desc.body_b);
+        if let Some(leader) = gear.and_then(|g| self.joints.get(g.leader)) {
+            wake.push(leader.desc.body_a);
+            wake.extend(leader.desc.body_b);
+        }
+        self.joints.get_mut(follower).expect("checked above").gear = state;
+        for body in wake {
+            self.wake(body)?;
+        }
+        Ok(())
+    }
+
+    /// The gear of joint `id` (see [`World::set_joint_gear`]).
+    pub fn joint_gear(&self, id: JointId) -> Result<Option<Gear>, WorldError> {
+        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
+        Ok(entry.gear.map(|g| g.gear))
+    }
+
+    /// How far joint `id`'s coordinate is from where its gear holds it (rad
+    /// or m; 0 without a gear).
+    pub fn gear_error(&self, id: JointId) -> Result<f64, WorldError> {
+        let entry = self.joints.get(id).ok_or(WorldError::StaleJoint(id))?;
+        Ok(self.gear_error_of(entry))
+    }
+
+    /// [`World::gear_error`] of an entry (0 where its leader is gone).
+    fn gear_error_of(&self, entry: &JointEntry) -> f64 {
+        let Some(state) = entry.gear else { return 0.0 };
+        let Some(leader) = self.joints.get(state.gear.leader) else {
+            return 0.0;
+        };
+        let [q_leader, q_follower] = self.gear_coordinates(leader, entry, &state);
+        state.gear.error(q_leader, q_follower).abs()
+    }
+
+    /// The leader's and follower's coordinates now, followed from those the
+    /// gear kept after the last step.
+    pub(crate) fn gear_coordinates(
+        &self,
+        leader: &JointEntry,
+        follower: &JointEntry,
+        state: &GearState,
+    ) -> [f64; 2] {
+        let now = |e: &JointEntry, last: f64| {
+            unwrap_coordinate(e.desc.kind, last, self.place(e).coordinate(e.desc.kind))
+        };
+        [
+            now(leader, state.coordinates[0]),
+            now(follower, state.coordinates[1]),
+        ]
+    }
+
+    /// After a step: each gear's coordinates followed to the bodies' poses
+    /// (so that a hinge's turn is counted across its wrap).
+    pub(crate) fn follow_gear_coordinates(&mut self) {
+        for k in 0..self.joints.slot_count() as u32 {
+            let Some(follower) = self.joints.at(k) else {
+                continue;
+            };
+            let Some(state) = follower.gear else { continue };
+            let Some(leader) = self.joints.get(state.gear.leader) else {
+                continue;
+            };
+            let coordinates = self.gear_coordinates(leader, follower, &state);
+            if let Some(g) = self.joints.at_mut(k).and_then(|e| e.gear.as_mut()) {
+                g.coordinates = coordinates;
+            }
+        }
+    }
+
+    /// Removes the gears that follow joint `leader` (it is being removed).
+    fn remove_gears_led_by(&mut self, leader: JointId) {
+        for k in 0..self.joints.slot_count() as u32 {
+            if let Some(e) = self.joints.at_mut(k) {
+                if e.gear.is_some_and(|g| g.gear.leader == leader) {
+                    e.gear = None;
+                }
+            }
+        }
+    }
+
+    /// Removes a joint (and the gears that follow it); its bodies wake.
     pub fn remove_joint(&mut self, id: JointId) -> Result<(), WorldError> {
         let entry = self.joints.remove(id).ok_or(WorldError::StaleJoint(id))?;
+        self.remove_gears_led_by(id);
         for body in [Some(entry.desc.body_a), entry.desc.body_b].into_iter().flatten() {
             // The body may have gone first (removing a body removes its joints).
             let _ = self.wake(body);
@@ -186,7 +331,7 @@ impl World {
         Ok(self.place(entry))
     }
 
-    fn place(&self, entry: &JointEntry) -> JointPose {
+    pub(crate) fn place(&self, entry: &JointEntry) -> JointPose {
         let side = |id: Option<BodyId>| match id.and_then(|id| self.bodies.get(id)) {
             Some(e) => (e.body.position(), e.body.orientation()),
             None => (DVec3::ZERO, DQuat::IDENTITY),
@@ -253,6 +398,12 @@ impl World {
                 (len, rate, error, 0.0)
             }
         };
+        // A follower off its gear is off where it is held, along its coordinate.
+        let off_gear = self.gear_error_of(entry);
+        let (linear_error, angular_error) = match law.kind {
+            JointKind::Slider => (linear_error.max(off_gear), angular_error),
+            _ => (linear_error, angular_error.max(off_gear)),
+        };
         Ok(JointState {
             position,
             rate,
@@ -280,13 +431,21 @@ impl World {
     /// Body slot pairs linked by a joint (both bodies, not the world), in
     /// joint order: they share an island.
     pub(crate) fn joint_links(&self) -> Vec<(u32, u32)> {
-        self.joints
+        let mut links: Vec<(u32, u32)> = self
+            .joints
             .iter()
             .filter_map(|(_, j)| {
                 let (a, b) = j.slots();
                 b.map(|b| (a, b))
             })
-            .collect()
+            .collect();
+        // A gear links its follower's bodies with its leader's.
+        for (_, j) in self.joints.iter() {
+            if let Some(leader) = j.gear.and_then(|g| self.joints.get(g.gear.leader)) {
+                links.push((leader.slots().0, j.slots().0));
+            }
+        }
+        links
     }
 
     /// The body slots of every joint (`None`: the world).
@@ -322,6 +481,9 @@ impl World {
                     entry.impulses = [0.0; JOINT_ROWS];
                     entry.force = DVec3::ZERO;
                     entry.torque = DVec3::ZERO;
+                    if let Some(g) = entry.gear.as_mut() {
+                        g.impulse = 0.0;
+                    }
                 }
             }
         }
@@ -339,6 +501,7 @@ impl World {
             .collect();
         for id in attached {
             self.joints.remove(id);
+            self.remove_gears_led_by(id);
         }
     }
 }

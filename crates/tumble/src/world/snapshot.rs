@@ -25,12 +25,12 @@
 //! in (a corrupt or hand-edited file gives a typed error, never a world that
 //! panics or holds NaN).
 
-use super::handles::{Arena, BodyId};
-use super::joints::JointEntry;
+use super::handles::{Arena, BodyId, JointId};
+use super::joints::{GearState, JointEntry};
 use super::manifold::{self, CachedContact, CachedPatch, SearchedPair};
 use super::{check_settings, BodyEntry, Collider, World, WorldSettings};
 use crate::body::{BodyKind, BodyState, Material, RigidBody};
-use crate::joint::JointDesc;
+use crate::joint::{Gear, JointDesc, JointKind};
 use crate::solver::contact_solver::{JointLaw, JOINT_ROWS};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -41,7 +41,7 @@ use tumble_collide::{DVec3, Pose};
 
 /// The snapshot format this build writes and reads. Raised whenever the
 /// layout of [`Snapshot`] changes; older snapshots are then rejected.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 11;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 12;
 
 /// First bytes of a binary snapshot.
 pub const SNAPSHOT_MAGIC: &[u8; 8] = b"TMBLSNAP";
@@ -147,6 +147,19 @@ struct JointRecord {
     rest_length: f64,
     impulses: Vec<f64>,
     reaction: [DVec3; 2],
+    /// The gear that holds this joint's coordinate, with its warm-start
+    /// impulse and the coordinates it followed.
+    #[serde(default)]
+    gear: Option<GearRecord>,
+}
+
+/// A follower's gear in a snapshot (`GearState`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GearRecord {
+    gear: Gear,
+    impulse: f64,
+    coordinates: [f64; 2],
 }
 
 impl JointRecord {
@@ -157,6 +170,11 @@ impl JointRecord {
             rest_length: j.law.length,
             impulses: j.impulses.to_vec(),
             reaction: [j.force, j.torque],
+            gear: j.gear.map(|g| GearRecord {
+                gear: g.gear,
+                impulse: g.impulse,
+                coordinates: g.coordinates,
+            }),
         }
     }
 
@@ -183,6 +201,21 @@ impl JointRecord {
         if !finite {
             return Err("impulses, reaction and rest length must be finite".into());
         }
+        let gear = match self.gear {
+            None => None,
+            Some(g) => {
+                g.gear.validate().map_err(|e| e.to_string())?;
+                if !(g.impulse.is_finite() && g.coordinates.iter().all(|c| c.is_finite())) {
+                    return Err("gear impulse and coordinates must be finite".into());
+                }
+                // (Its leader is checked once every joint is in.)
+                Some(GearState {
+                    gear: g.gear,
+                    impulse: g.impulse,
+                    coordinates: g.coordinates,
+                })
+            }
+        };
         Ok(JointEntry {
             law: JointLaw::of(&desc, self.rest_length),
             desc,
@@ -190,6 +223,7 @@ impl JointRecord {
             impulses,
             force: self.reaction[0],
             torque: self.reaction[1],
+            gear,
         })
     }
 }
@@ -686,8 +720,21 @@ impl World {
                     .map_err(|m| invalid(format!("joint_slots[{i}]: {m}"))),
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let joints = Arena::from_raw_parts(joint_slots, snapshot.joint_free.clone())
-            .map_err(|m| invalid(format!("joints: {m}")))?;
+        let joints: Arena<JointEntry, JointId> =
+            Arena::from_raw_parts(joint_slots, snapshot.joint_free.clone())
+                .map_err(|m| invalid(format!("joints: {m}")))?;
+        // A gear's leader: another live hinge or slider, as `set_joint_gear` asks.
+        for (id, e) in joints.iter() {
+            let Some(g) = e.gear else { continue };
+            let leader = joints.get(g.gear.leader);
+            let kinds = |e: &JointEntry| matches!(e.desc.kind, JointKind::Hinge | JointKind::Slider);
+            if g.gear.leader == id || !leader.is_some_and(kinds) || !kinds(e) {
+                return Err(invalid(format!(
+                    "joint_slots[{}]: its gear's leader {:?} must be another live hinge or slider, and it one",
+                    id.index, g.gear.leader
+                )));
+            }
+        }
         Ok(World {
             settings: snapshot.settings.clone(),
             bodies,

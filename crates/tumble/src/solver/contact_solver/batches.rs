@@ -9,6 +9,7 @@
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::gear::GearConstraint;
 use super::island_contacts::PatchArrays;
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
 use super::joint_island::JointIsland;
@@ -49,6 +50,8 @@ pub(crate) struct SolverArrays<'a> {
     pub coloring: &'a Coloring,
     /// The joints' colours.
     pub joint_coloring: &'a Coloring,
+    /// Gears between joints (`super::gear`).
+    pub gears: Shared<'a, GearConstraint>,
 }
 
 /// Runs `kernel` on every item of `items`, colour by colour, this
@@ -349,6 +352,24 @@ impl SolverArrays<'_> {
                 },
             );
         }
+    }
+
+    /// The gears' part of a pass (`super::gear`): thread 0 runs `pass` over
+    /// every gear, in order, while the others wait at the barriers around
+    /// it (a gear's four bodies fit no colour). Nothing without gears.
+    ///
+    /// # Safety
+    /// Every thread of `team` calls this after the same pass.
+    pub unsafe fn gear_pass(&self, team: &Team, pass: impl FnOnce(&mut [GearConstraint])) {
+        if self.gears.len() == 0 {
+            return;
+        }
+        team.barrier();
+        if team.index() == 0 {
+            // SAFETY: the other threads wait at the barrier meanwhile.
+            pass(unsafe { self.gears.range_mut(0..self.gears.len()) });
+        }
+        team.barrier();
     }
 
     /// The largest violation of the non-penetration rows by the current

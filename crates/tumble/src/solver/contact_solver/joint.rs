@@ -274,6 +274,31 @@ pub struct JointConstraint {
 }
 
 impl JointConstraint {
+    /// Centre of mass and orientation of each side where the bodies `a` and
+    /// `b` (the joint's) are now: the step's start moved by the body's
+    /// displacement since (solver body 0, immovable, stays put).
+    fn sides_now(&self, a: &SolverBody, b: &SolverBody) -> [(DVec3, DQuat); 2] {
+        let side = |k: usize, i: u32, body: &SolverBody| {
+            if i == 0 {
+                (self.x0[k], self.q0[k])
+            } else {
+                (self.x0[k] + body.dp, body.q)
+            }
+        };
+        [side(0, self.a, a), side(1, self.b, b)]
+    }
+
+    /// The joint's frames where its bodies are now.
+    ///
+    /// # Safety
+    /// No other thread writes the joint's bodies meanwhile.
+    pub(super) unsafe fn pose_now(&self, bodies: &Shared<SolverBody>) -> JointPose {
+        // SAFETY: the caller's promise.
+        let (a, b) = unsafe { (bodies.get(self.a as usize), bodies.get(self.b as usize)) };
+        let [(xa, qa), (xb, qb)] = self.sides_now(a, b);
+        JointPose::new(xa, qa, &self.local[0], xb, qb, &self.local[1])
+    }
+
     /// A joint between solver bodies `a` and `b` with their step-start
     /// poses, its frames and law, and the impulses of the last step.
     pub fn new(
@@ -1100,14 +1125,7 @@ unsafe fn store(j: &JointConstraint, bodies: &Shared<SolverBody>, p: &Pair, push
 pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<SolverBody>, h: f64, warm: bool) {
     // SAFETY: the caller's promise.
     let (a, b) = unsafe { (*bodies.get(j.a as usize), *bodies.get(j.b as usize)) };
-    let side = |k: usize, i: u32, body: &SolverBody| {
-        if i == 0 {
-            (j.x0[k], j.q0[k])
-        } else {
-            (j.x0[k] + body.dp, body.q)
-        }
-    };
-    let ((xa, qa), (xb, qb)) = (side(0, j.a, &a), side(1, j.b, &b));
+    let [(xa, qa), (xb, qb)] = j.sides_now(&a, &b);
     let pose = JointPose::new(xa, qa, &j.local[0], xb, qb, &j.local[1]);
     j.build(&pose);
     j.condition(a.inv_mass, &a.inv_inertia, b.inv_mass, &b.inv_inertia, h);

@@ -48,6 +48,7 @@ mod collisions;
 mod coloring;
 mod constraint;
 mod exact;
+mod gear;
 mod island_contacts;
 mod island_factor;
 mod joint;
@@ -70,6 +71,8 @@ pub use constraint::{
     RowJacobian, SolverParams, BLOCK_POINTS, BLOCK_REFRESH,
 };
 pub use exact::{solve_normals_exactly, ExactSolveError, EXACT_MAX_CONTACTS};
+pub use gear::GearConstraint;
+pub(crate) use gear::{begin_gears, push_gears, solve_gears};
 pub use joint::{
     begin_joints, push_joints, solve_joints, JointConstraint, JointLaw, JointRow, JOINT_PUSH_FRACTION,
     JOINT_ROWS,

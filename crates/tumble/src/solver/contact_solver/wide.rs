@@ -1536,6 +1536,7 @@ mod tests {
             wide: &wide,
             coloring: &coloring,
             joint_coloring: &empty,
+            gears: Shared::new(&mut []),
         };
         let pushed = AtomicUsize::new(0);
         WorkerPool::new(threads).team(|team| {

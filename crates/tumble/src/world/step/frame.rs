@@ -5,7 +5,8 @@
 use crate::body::BodyState;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    Coloring, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint, SolverBody, WideBatches,
+    Coloring, GearConstraint, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint, SolverBody,
+    WideBatches,
 };
 use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
@@ -68,6 +69,11 @@ pub(crate) struct SolverFrame {
     pub joints: Vec<JointConstraint>,
     /// Joint arena slot of each record of `joints`.
     pub joint_slots: Vec<u32>,
+    /// Gears between two records of `joints`, in joint slot order of their
+    /// followers.
+    pub gears: Vec<GearConstraint>,
+    /// Joint arena slot of each gear's follower.
+    pub gear_slots: Vec<u32>,
     /// The joints' colours (the order of `joints`).
     pub joint_coloring: Coloring,
     /// Islands of joints whose equality rows are solved directly.

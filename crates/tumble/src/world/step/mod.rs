@@ -103,6 +103,9 @@ impl World {
             }
             frame.report.stage_time[stage as usize] += start.elapsed();
         }
+        // The gears count their hinges' turns across the wrap (from poses
+        // the step has settled, quarantine included).
+        self.follow_gear_coordinates();
         self.scratch.frame = frame.recycle();
         frame.report
     }

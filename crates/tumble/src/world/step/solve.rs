@@ -12,8 +12,8 @@ use crate::body::BodyKind;
 use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    self, Coloring, JointConstraint, ManifoldConstraint, PointConstraint, Shared, SolverArrays, SolverBody,
-    SolverParams,
+    self, begin_gears, push_gears, solve_gears, Coloring, GearConstraint, JointConstraint,
+    ManifoldConstraint, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::patches::PreparedPatch;
@@ -181,6 +181,7 @@ impl World {
                 joint_islands: Shared::new(&mut sf.joint_islands),
                 coloring: &coloring,
                 joint_coloring: &joint_coloring,
+                gears: Shared::new(&mut sf.gears),
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
@@ -238,10 +239,16 @@ impl World {
                     lap(SolveStage::IntegrateVelocities);
                     // SAFETY (every pass): the whole team calls it with the
                     // same colouring; nothing else touches the arrays.
-                    unsafe { arrays.begin_substep(team, h, true) };
+                    unsafe {
+                        arrays.begin_substep(team, h, true);
+                        arrays.gear_pass(team, |g| begin_gears(g, &arrays.joints, &arrays.bodies, true));
+                    }
                     lap(SolveStage::WarmStart);
                     for _ in 0..iterations {
-                        unsafe { arrays.solve(team, h) };
+                        unsafe {
+                            arrays.solve(team, h);
+                            arrays.gear_pass(team, |g| solve_gears(g, &arrays.bodies));
+                        }
                     }
                     if sub + 1 == substeps {
                         // SAFETY: the whole team reads; nothing writes.
@@ -258,7 +265,14 @@ impl World {
                     for pass in 1..=push_out_iterations {
                         let first = pass == 1;
                         let pass = (sub * push_out_iterations + pass) as usize;
-                        unsafe { arrays.push_out(team, &params, h, pass, first, &pushed) };
+                        unsafe {
+                            arrays.push_out(team, &params, h, pass, first, &pushed);
+                            arrays.gear_pass(team, |g| {
+                                if push_gears(g, &arrays.bodies, 1.0 / h) {
+                                    pushed.fetch_max(pass, Ordering::Relaxed);
+                                }
+                            });
+                        }
                         // `<`, not `!=`: a thread that went on may already
                         // have raised `pushed` to `pass + 1` while a slower
                         // one reads it; only a thread that saw `pass` goes
@@ -526,7 +540,43 @@ impl World {
         }
         sf.joint_coloring = coloring;
         sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &sf.bodies, contacts);
+        self.prepare_gears(sf);
         self.geometric_stiffness(sf);
+    }
+
+    /// One gear record per follower joint whose gear's leader is among the
+    /// solver's joints too (their bodies share an island, so both are there
+    /// or neither), with the coordinates at the step's start.
+    fn prepare_gears(&self, sf: &mut SolverFrame) {
+        sf.gears.clear();
+        sf.gear_slots.clear();
+        let mut record_of = vec![u32::MAX; self.joints.slot_count()];
+        for (k, &slot) in sf.joint_slots.iter().enumerate() {
+            record_of[slot as usize] = k as u32;
+        }
+        for (id, follower) in self.joints.iter() {
+            let Some(state) = follower.gear else { continue };
+            let Some(leader) = self.joints.get(state.gear.leader) else {
+                continue;
+            };
+            let records = [
+                record_of[state.gear.leader.index as usize],
+                record_of[id.index as usize],
+            ];
+            if records.contains(&u32::MAX) {
+                continue;
+            }
+            let followed = self.gear_coordinates(leader, follower, &state);
+            let raw = [leader, follower].map(|e| self.place(e).coordinate(e.desc.kind));
+            sf.gears.push(GearConstraint::new(
+                records,
+                [leader.desc.kind, follower.desc.kind],
+                state.gear,
+                [(raw[0], followed[0]), (raw[1], followed[1])],
+                state.impulse,
+            ));
+            sf.gear_slots.push(id.index);
+        }
     }
 
     /// Geometric stiffness (Andrews, Teichmann and Kry, "Geometric stiffness
@@ -579,6 +629,11 @@ impl World {
             };
             entry.impulses = j.impulses();
             (entry.force, entry.torque) = j.reaction(h);
+        }
+        for (g, &slot) in sf.gears.iter().zip(&sf.gear_slots) {
+            if let Some(state) = self.joints.at_mut(slot).and_then(|e| e.gear.as_mut()) {
+                state.impulse = g.impulse;
+            }
         }
     }
 
@@ -703,6 +758,28 @@ fn anchor_to_keep(
 /// the Coulomb disc's radius (`mu` times its normal impulse).
 const STICKING: f64 = 0.95;
 
+/// A pass of the gears ([`serial_gears`]).
+enum GearPass {
+    Begin,
+    Solve,
+    Push { inv_h: f64 },
+}
+
+/// The gears' `pass` on this thread (the exact path's sub-steps); whether
+/// a push-out pass had an error to remove.
+fn serial_gears(sf: &mut SolverFrame, pass: GearPass) -> bool {
+    let (joints, bodies) = (Shared::new(&mut sf.joints), Shared::new(&mut sf.bodies));
+    // SAFETY (each pass): one thread, nothing else holds the arrays.
+    unsafe {
+        match pass {
+            GearPass::Begin => begin_gears(&mut sf.gears, &joints, &bodies, true),
+            GearPass::Solve => solve_gears(&mut sf.gears, &bodies),
+            GearPass::Push { inv_h } => return push_gears(&mut sf.gears, &bodies, inv_h),
+        }
+    }
+    false
+}
+
 /// The sub-steps with the exact normal solve (`SolverKind::Lemke`): serial,
 /// small systems; falls back to the PGS passes if Lemke fails.
 #[allow(clippy::too_many_arguments)]
@@ -728,6 +805,7 @@ fn exact_substeps(
         }
         clock.lap(report, SolveStage::IntegrateVelocities);
         contact_solver::begin_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies, h, true);
+        serial_gears(sf, GearPass::Begin);
         contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, !exact);
         if exact {
             for p in sf.points.iter_mut() {
@@ -743,6 +821,7 @@ fn exact_substeps(
                 Ok(()) => {
                     for _ in 0..iterations {
                         contact_solver::solve_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies);
+                        serial_gears(sf, GearPass::Solve);
                         contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
                     }
                 }
@@ -757,6 +836,7 @@ fn exact_substeps(
         if !exact {
             for _ in 0..iterations {
                 contact_solver::solve_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies);
+                serial_gears(sf, GearPass::Solve);
                 contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
             }
         }
@@ -767,6 +847,7 @@ fn exact_substeps(
         for pass in 0..push_out_iterations {
             let joints =
                 contact_solver::push_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies, h);
+            let joints = serial_gears(sf, GearPass::Push { inv_h: 1.0 / h }) || joints;
             let first = pass == 0;
             if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h, first)
                 && !joints

@@ -479,3 +479,84 @@ fn a_gear_holds_under_the_exact_contact_solver_too() {
     );
     assert!(w.step().contacts > 0, "the exact path ran");
 }
+
+#[test]
+fn a_gear_counts_the_turns_of_a_wheel_faster_than_half_a_turn_a_step() {
+    // 250 rad/s is 4.2 rad a step at 60 Hz, more than pi: counted step to
+    // step the leader's turn would come out 2 pi short every step and the
+    // follower at -1/2 of it pi off. Counted sub-step to sub-step (0.52
+    // rad each) it is right: the follower stays at -1/2 of the leader's
+    // turn (the turn summed from the leader's speed, which its motor holds).
+    let (mut w, bodies, joints) = gear_pair([1.0, 1.0], [0.0, 0.0], -0.5, 1);
+    w.set_joint_motor(
+        joints[0],
+        Some(Motor::Velocity {
+            target: 250.0,
+            max_force: 1e6,
+        }),
+    )
+    .unwrap();
+    let dt = w.settings().dt;
+    let mut turn = 0.0;
+    for step in 0..60 {
+        w.step();
+        turn += w.angular_velocity(bodies[0]).unwrap().z * dt;
+        let follower = angle_about_z(w.orientation(bodies[1]).unwrap());
+        let off = wrap(follower + 0.5 * turn);
+        assert!(
+            off.abs() < 1e-2,
+            "step {step}: follower {off} rad off half the leader's turn"
+        );
+        assert!(w.gear_error(joints[1]).unwrap() < 1e-6);
+    }
+    assert!(turn > 240.0, "{turn}");
+}
+
+#[test]
+fn a_scene_with_a_gear_builds_it_and_resolves_to_plain_data() {
+    use tumble::scenes::{Scene, SceneGear};
+    let wheel = |x: f64| {
+        BodyDesc::dynamic(Sphere::new(0.1).unwrap())
+            .at(DVec3::new(x, 0.0, 0.0))
+            .with_mass(1.0)
+    };
+    let scene = Scene {
+        name: "gears".into(),
+        settings: WorldSettings::default(),
+        bodies: vec![wheel(0.0), wheel(0.3)],
+        steps: 10,
+        joints: vec![
+            JointDesc::hinge(0, None, DVec3::ZERO, DVec3::Z),
+            JointDesc::hinge(1, None, DVec3::new(0.3, 0.0, 0.0), DVec3::Z),
+        ],
+        no_contact: Vec::new(),
+        gears: vec![SceneGear {
+            follower: 1,
+            leader: 0,
+            ratio: 3.0,
+            offset: 0.0,
+        }],
+    };
+    let (w, _) = scene.build().unwrap();
+    let ids = w.joint_ids();
+    assert_eq!(w.joint_gear(ids[1]).unwrap(), Some(Gear::new(ids[0], 3.0)));
+    // The bodies' plain data (for the other engines) leaves joints, and so gears, out.
+    assert_eq!(scene.plain().unwrap().bodies.len(), 2);
+    // A gear naming a joint the scene does not have is refused, not a panic.
+    let bad = Scene {
+        gears: vec![SceneGear {
+            follower: 1,
+            leader: 5,
+            ratio: 1.0,
+            offset: 0.0,
+        }],
+        ..scene
+    };
+    assert!(matches!(
+        bad.build(),
+        Err(WorldError::BadValue {
+            field: "scene.gears",
+            ..
+        })
+    ));
+}

@@ -9,10 +9,12 @@
 //! The constraint couples four bodies (each joint's two), one scalar row
 //! `J = J_follower - ratio J_leader` over the joints' rate Jacobians
 //! (`solver::contact_solver::gear`), as Jolt's gear and rack-and-pinion
-//! constraints and PhysX's gear joint do. It does no work: the torque it
-//! applies through the follower's bodies is `ratio` times the one it
-//! applies through the leader's, against the coordinates' rates in the
-//! same ratio.
+//! constraints and PhysX's gear joint do. It does no work: an impulse
+//! `lambda` on the follower's coordinate comes with `-ratio lambda` on the
+//! leader's (a 2:1 follower carries half the leader's torque, the other
+//! way), against rates in the ratio `ratio`. A hinge's coordinate is its
+//! angle followed across its wrap (by up to pi a sub-step), not the wrapped
+//! angle `JointState::position` reads.
 
 use crate::world::{JointId, WorldError};
 use serde::{Deserialize, Serialize};

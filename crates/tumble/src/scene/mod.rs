@@ -231,7 +231,8 @@ impl LoadedScene {
             .keep_apart(&mut world, &ids)
             .map_err(|e| locate(&e, None))?;
         // A gear is refused at its follower's `gear` (a robot's mimic
-        // joints were checked in the robot's own file).
+        // joints were checked in the robot's own file when it was read:
+        // `read_urdf_parts` adds the robot to a scratch world).
         for g in &self.scene.gears {
             let path = self
                 .joint_paths

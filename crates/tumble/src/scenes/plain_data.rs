@@ -103,6 +103,7 @@ impl Scene {
         let mut scene = self.clone();
         scene.settings.threads = 1;
         scene.joints.clear();
+        scene.gears.clear();
         let (world, ids) = scene.build()?;
         let bodies = ids
             .iter()

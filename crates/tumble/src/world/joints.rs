@@ -439,10 +439,14 @@ impl World {
                 b.map(|b| (a, b))
             })
             .collect();
-        // A gear links its follower's bodies with its leader's.
+        // A gear links its follower's bodies with its leader's (every pair:
+        // a link with a static end is dropped, and either side may be one).
         for (_, j) in self.joints.iter() {
             if let Some(leader) = j.gear.and_then(|g| self.joints.get(g.gear.leader)) {
-                links.push((leader.slots().0, j.slots().0));
+                let sides = |(a, b): (u32, Option<u32>)| [Some(a), b].into_iter().flatten();
+                for l in sides(leader.slots()) {
+                    links.extend(sides(j.slots()).map(|f| (l, f)));
+                }
             }
         }
         links
@@ -474,6 +478,24 @@ impl World {
     /// runaway solve leaves impulses of 1e308 or NaN that the next step
     /// would warm start from.
     pub(crate) fn reset_joints_of(&mut self, slot: u32) {
+        // A gear's impulse acts on its leader's bodies too: forgotten where
+        // either joint holds the body.
+        let held: Vec<JointId> = self
+            .joints
+            .iter()
+            .filter(|(_, e)| {
+                let (a, b) = e.slots();
+                a == slot || b == Some(slot)
+            })
+            .map(|(id, _)| id)
+            .collect();
+        for k in 0..self.joints.slot_count() as u32 {
+            if let Some(g) = self.joints.at_mut(k).and_then(|e| e.gear.as_mut()) {
+                if held.contains(&g.gear.leader) {
+                    g.impulse = 0.0;
+                }
+            }
+        }
         for k in 0..self.joints.slot_count() as u32 {
             if let Some(entry) = self.joints.at_mut(k) {
                 let (a, b) = entry.slots();

@@ -29,9 +29,9 @@ pub struct GearConstraint {
     kinds: [JointKind; 2],
     /// What is held.
     gear: Gear,
-    /// Each joint's coordinate at the step's start as its pose reads it
-    /// (a hinge's wrapped) and followed across the wrap since the gear was
-    /// made (`GearState::coordinates` brought to the step's start).
+    /// Each joint's coordinate at the last sub-step's start (the step's
+    /// before the first) as its pose reads it (a hinge's wrapped) and
+    /// followed across the wrap since the gear was made.
     start: [(f64, f64); 2],
     /// The row's distinct bodies (solver indices, at most four) with its
     /// linear and angular parts on each, and the angular part through the
@@ -82,6 +82,12 @@ impl GearConstraint {
         }
     }
 
+    /// The leader's and the follower's coordinates at the last sub-step's
+    /// start, followed across a hinge's wrap (for the world to follow on).
+    pub fn followed(&self) -> [f64; 2] {
+        [self.start[0].1, self.start[1].1]
+    }
+
     /// The sub-step's start: the row for the joints' poses now, the error,
     /// and (`warm`) the impulse so far applied again.
     ///
@@ -102,12 +108,14 @@ impl GearConstraint {
             let pose: JointPose = unsafe { j.pose_now(bodies) };
             let (raw0, followed0) = self.start[k];
             let raw = pose.coordinate(self.kinds[k]);
-            // A hinge's turn since the step's start, added to the
-            // coordinate followed up to then (a slider's reads as it is).
+            // A hinge's turn since the last sub-step's start, added to the
+            // coordinate followed up to then (a slider's reads as it is): a
+            // wheel may turn by up to pi a sub-step, not only a step.
             coordinate[k] = match self.kinds[k] {
                 JointKind::Hinge => followed0 + wrap_angle(raw - raw0),
                 _ => raw,
             };
+            self.start[k] = (raw, coordinate[k]);
             let scale = if k == 0 { -self.gear.ratio } else { 1.0 };
             for ((lin, ang), body) in pose.coordinate_rows(self.kinds[k]).into_iter().zip([j.a, j.b]) {
                 // SAFETY: the caller's promise.
@@ -139,7 +147,10 @@ impl GearConstraint {
             k += p.inv_mass * p.lin.length_squared() + p.ang.dot(p.ia);
         }
         self.inv_k = if k > 1e-300 && k.is_finite() { 1.0 / k } else { 0.0 };
-        self.c = self.gear.error(coordinate[0], coordinate[1]);
+        // (A ratio so large that the error overflows pushes nothing: an
+        // infinite error times a zero effective mass would be NaN.)
+        let c = self.gear.error(coordinate[0], coordinate[1]);
+        self.c = if c.is_finite() { c } else { 0.0 };
         self.push = 0.0;
         if warm {
             // SAFETY: the caller's promise.

@@ -546,7 +546,9 @@ impl World {
 
     /// One gear record per follower joint whose gear's leader is among the
     /// solver's joints too (their bodies share an island, so both are there
-    /// or neither), with the coordinates at the step's start.
+    /// or neither, unless the leader moves no dynamic body: a gear does
+    /// not follow a static or kinematic leader), with the coordinates at
+    /// the step's start.
     fn prepare_gears(&self, sf: &mut SolverFrame) {
         sf.gears.clear();
         sf.gear_slots.clear();
@@ -630,9 +632,14 @@ impl World {
             entry.impulses = j.impulses();
             (entry.force, entry.torque) = j.reaction(h);
         }
+        // The coordinates as the last sub-step followed them (the step's
+        // end is followed from there, `follow_gear_coordinates`).
         for (g, &slot) in sf.gears.iter().zip(&sf.gear_slots) {
             if let Some(state) = self.joints.at_mut(slot).and_then(|e| e.gear.as_mut()) {
                 state.impulse = g.impulse;
+                if g.followed().iter().all(|c| c.is_finite()) {
+                    state.coordinates = g.followed();
+                }
             }
         }
     }

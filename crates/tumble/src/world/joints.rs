@@ -62,6 +62,12 @@ impl JointEntry {
     pub fn slots(&self) -> (u32, Option<u32>) {
         (self.desc.body_a.index, self.desc.body_b.map(|b| b.index))
     }
+
+    /// Whether the joint holds body slot `slot` (either side).
+    pub fn holds(&self, slot: u32) -> bool {
+        let (a, b) = self.slots();
+        a == slot || b == Some(slot)
+    }
 }
 
 impl World {
@@ -483,10 +489,7 @@ impl World {
         let held: Vec<JointId> = self
             .joints
             .iter()
-            .filter(|(_, e)| {
-                let (a, b) = e.slots();
-                a == slot || b == Some(slot)
-            })
+            .filter(|(_, e)| e.holds(slot))
             .map(|(id, _)| id)
             .collect();
         for k in 0..self.joints.slot_count() as u32 {
@@ -498,8 +501,7 @@ impl World {
         }
         for k in 0..self.joints.slot_count() as u32 {
             if let Some(entry) = self.joints.at_mut(k) {
-                let (a, b) = entry.slots();
-                if a == slot || b == Some(slot) {
+                if entry.holds(slot) {
                     entry.impulses = [0.0; JOINT_ROWS];
                     entry.force = DVec3::ZERO;
                     entry.torque = DVec3::ZERO;
@@ -515,10 +517,7 @@ impl World {
         let attached: Vec<JointId> = self
             .joints
             .iter()
-            .filter(|(_, j)| {
-                let (a, b) = j.slots();
-                a == slot || b == Some(slot)
-            })
+            .filter(|(_, j)| j.holds(slot))
             .map(|(id, _)| id)
             .collect();
         for id in attached {

@@ -17,7 +17,7 @@
 use super::body::SolverBody;
 use super::coloring::Shared;
 use super::joint::{JointConstraint, JOINT_PUSH_FRACTION};
-use crate::joint::{wrap_angle, Gear, JointKind, JointPose};
+use crate::joint::{unwrap_coordinate, Gear, JointKind, JointPose};
 use tumble_collide::DVec3;
 
 /// A gear between two of the solver's joints.
@@ -30,9 +30,9 @@ pub struct GearConstraint {
     /// What is held.
     gear: Gear,
     /// Each joint's coordinate at the last sub-step's start (the step's
-    /// before the first) as its pose reads it (a hinge's wrapped) and
-    /// followed across the wrap since the gear was made.
-    start: [(f64, f64); 2],
+    /// before the first), followed across a hinge's wrap since the gear
+    /// was made.
+    start: [f64; 2],
     /// The row's distinct bodies (solver indices, at most four) with its
     /// linear and angular parts on each, and the angular part through the
     /// body's inverse inertia.
@@ -60,15 +60,9 @@ struct Part {
 
 impl GearConstraint {
     /// A gear of solver joints `joints` (leader, follower) of `kinds`, with
-    /// the coordinates at the step's start `start` (read, followed) and the
+    /// the coordinates at the step's start `start` (followed) and the
     /// impulse of the last step.
-    pub fn new(
-        joints: [u32; 2],
-        kinds: [JointKind; 2],
-        gear: Gear,
-        start: [(f64, f64); 2],
-        warm: f64,
-    ) -> Self {
+    pub fn new(joints: [u32; 2], kinds: [JointKind; 2], gear: Gear, start: [f64; 2], warm: f64) -> Self {
         GearConstraint {
             joints,
             kinds,
@@ -85,7 +79,7 @@ impl GearConstraint {
     /// The leader's and the follower's coordinates at the last sub-step's
     /// start, followed across a hinge's wrap (for the world to follow on).
     pub fn followed(&self) -> [f64; 2] {
-        [self.start[0].1, self.start[1].1]
+        self.start
     }
 
     /// The sub-step's start: the row for the joints' poses now, the error,
@@ -106,16 +100,10 @@ impl GearConstraint {
             let j = unsafe { joints.get(ji as usize) };
             // SAFETY: the caller's promise.
             let pose: JointPose = unsafe { j.pose_now(bodies) };
-            let (raw0, followed0) = self.start[k];
-            let raw = pose.coordinate(self.kinds[k]);
-            // A hinge's turn since the last sub-step's start, added to the
-            // coordinate followed up to then (a slider's reads as it is): a
-            // wheel may turn by up to pi a sub-step, not only a step.
-            coordinate[k] = match self.kinds[k] {
-                JointKind::Hinge => followed0 + wrap_angle(raw - raw0),
-                _ => raw,
-            };
-            self.start[k] = (raw, coordinate[k]);
+            // Followed from the last sub-step's start: a wheel may turn by
+            // up to pi a sub-step, not only a step.
+            coordinate[k] = unwrap_coordinate(self.kinds[k], self.start[k], pose.coordinate(self.kinds[k]));
+            self.start[k] = coordinate[k];
             let scale = if k == 0 { -self.gear.ratio } else { 1.0 };
             for ((lin, ang), body) in pose.coordinate_rows(self.kinds[k]).into_iter().zip([j.a, j.b]) {
                 // SAFETY: the caller's promise.

@@ -568,13 +568,11 @@ impl World {
             if records.contains(&u32::MAX) {
                 continue;
             }
-            let followed = self.gear_coordinates(leader, follower, &state);
-            let raw = [leader, follower].map(|e| self.place(e).coordinate(e.desc.kind));
             sf.gears.push(GearConstraint::new(
                 records,
                 [leader.desc.kind, follower.desc.kind],
                 state.gear,
-                [(raw[0], followed[0]), (raw[1], followed[1])],
+                self.gear_coordinates(leader, follower, &state),
                 state.impulse,
             ));
             sf.gear_slots.push(id.index);

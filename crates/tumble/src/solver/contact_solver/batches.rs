@@ -266,7 +266,14 @@ impl SolverArrays<'_> {
                 }
             });
             self.each_island(team, |island| {
-                island.begin(&self.joints, &self.bodies, Some(&self.patch_arrays()), h, warm);
+                island.begin(
+                    &self.joints,
+                    &self.gears,
+                    &self.bodies,
+                    Some(&self.patch_arrays()),
+                    h,
+                    warm,
+                );
                 false
             });
             self.each_patch(
@@ -287,7 +294,12 @@ impl SolverArrays<'_> {
         // SAFETY: the caller's promise.
         unsafe {
             self.each_island(team, |island| {
-                island.solve(&self.joints, &self.bodies, Some(&self.patch_arrays()));
+                island.solve(
+                    &self.joints,
+                    &self.gears,
+                    &self.bodies,
+                    Some(&self.patch_arrays()),
+                );
                 false
             });
             each(team, self.joint_coloring, &self.joints, |j| {
@@ -326,7 +338,7 @@ impl SolverArrays<'_> {
         unsafe {
             let owned = (&self.patch_arrays(), params);
             if self.each_island(team, |island| {
-                island.push(&self.joints, &self.bodies, Some(owned), inv_h)
+                island.push(&self.joints, &self.gears, &self.bodies, Some(owned), inv_h)
             }) {
                 pushed.fetch_max(pass, Ordering::Relaxed);
             }

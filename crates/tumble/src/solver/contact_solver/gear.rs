@@ -7,15 +7,23 @@
 //! contacts, and pushed with the joints' push-out towards
 //! `q_follower = ratio q_leader + offset`.
 //!
-//! A row of four bodies does not fit the colour batches (two bodies a
-//! row), so the gears run on one thread between two barriers, in gear
-//! order: a robot has a handful (a gripper's fingers), and their cost is a
-//! few dozen operations each. Bodies that appear twice (two joints on one
-//! parent, the usual gripper) are merged first, so that the effective mass
-//! counts their two parts together.
+//! A gear whose two joints are in a joint island solved directly
+//! (`joint_island`) is a row of that island's system (`direct`): relaxed
+//! beside the island, a gear of a light follower (a robot's 2 mg finger
+//! geared to its 5 kg body's hand) and the island's contacts undo each
+//! other, the contact turning the finger as if nothing held it and the
+//! gear turning it back, and the robot blew apart. In the system, the
+//! finger's contact moves the hand it is geared to.
+//!
+//! Other gears run on one thread between two barriers, in gear order (a
+//! row of four bodies fits no colour batch, two bodies a row): a robot has
+//! a handful, and their cost is a few dozen operations each. Bodies that
+//! appear twice (two joints on one parent, the usual gripper) are merged
+//! first, so that the effective mass counts their two parts together.
 
 use super::body::SolverBody;
 use super::coloring::Shared;
+use super::island_factor::SideRow;
 use super::joint::{JointConstraint, JOINT_PUSH_FRACTION};
 use crate::joint::{unwrap_coordinate, Gear, JointKind, JointPose};
 use tumble_collide::DVec3;
@@ -45,6 +53,9 @@ pub struct GearConstraint {
     pub impulse: f64,
     /// Accumulated push-out impulse of the sub-step.
     push: f64,
+    /// The row is in its joints' island's system (`joint_island`), which
+    /// begins, relaxes and pushes it; the gear passes leave it alone.
+    pub direct: bool,
 }
 
 /// The row on one body.
@@ -73,6 +84,7 @@ impl GearConstraint {
             c: 0.0,
             impulse: if warm.is_finite() { warm } else { 0.0 },
             push: 0.0,
+            direct: false,
         }
     }
 
@@ -149,7 +161,7 @@ impl GearConstraint {
     }
 
     /// The row's rate over the bodies' velocities (`push`: pseudo-velocities).
-    unsafe fn rate(&self, bodies: &Shared<SolverBody>, push: bool) -> f64 {
+    pub(super) unsafe fn rate(&self, bodies: &Shared<SolverBody>, push: bool) -> f64 {
         self.parts
             .iter()
             .map(|p| {
@@ -162,7 +174,7 @@ impl GearConstraint {
     }
 
     /// Applies impulse `l` along the row.
-    unsafe fn apply(&self, bodies: &Shared<SolverBody>, l: f64, push: bool) {
+    pub(super) unsafe fn apply(&self, bodies: &Shared<SolverBody>, l: f64, push: bool) {
         for p in &self.parts {
             // SAFETY: the caller's promise.
             let b = unsafe { bodies.get_mut(p.body as usize) };
@@ -175,6 +187,49 @@ impl GearConstraint {
                 b.w += dw;
             }
         }
+    }
+
+    /// The row on each of its bodies, as one-sided rows of an island's
+    /// system (`joint_island`): (body, row on side 0).
+    pub(super) fn side_rows(&self) -> impl Iterator<Item = (u32, SideRow<f64>)> + '_ {
+        self.parts
+            .iter()
+            .map(|p| (p.body, SideRow::one_side(p.lin, p.ang, p.inv_mass, p.ia)))
+    }
+
+    /// The right-hand side of the row in its island's system: the rate to
+    /// remove, or (`push`: `fraction` and `1 / h`) the push-out towards
+    /// that fraction of the error over `h`; and whether there is an error
+    /// to push.
+    ///
+    /// # Safety
+    /// As [`GearConstraint::begin`].
+    pub(super) unsafe fn island_rhs(
+        &self,
+        bodies: &Shared<SolverBody>,
+        push: Option<(f64, f64)>,
+    ) -> (f64, bool) {
+        // SAFETY: the caller's promise.
+        let rate = unsafe { self.rate(bodies, push.is_some()) };
+        match push {
+            None => (-rate, false),
+            Some((fraction, inv_h)) => (-fraction * self.c * inv_h - rate, self.c.abs() > 1e-9),
+        }
+    }
+
+    /// Adds `dl` (solved by its island) to the row's impulse (`push`: its
+    /// push-out impulse) and applies it to the bodies.
+    ///
+    /// # Safety
+    /// As [`GearConstraint::begin`].
+    pub(super) unsafe fn take(&mut self, bodies: &Shared<SolverBody>, dl: f64, push: bool) {
+        if push {
+            self.push += dl;
+        } else {
+            self.impulse += dl;
+        }
+        // SAFETY: the caller's promise.
+        unsafe { self.apply(bodies, dl, push) };
     }
 
     /// One velocity pass: the coordinates' rates brought to the ratio.
@@ -206,7 +261,8 @@ impl GearConstraint {
     }
 }
 
-/// [`GearConstraint::begin`] over `gears`, in order (one thread).
+/// [`GearConstraint::begin`] over the gears not in an island's system
+/// (`direct`), in order (one thread).
 ///
 /// # Safety
 /// No other thread touches the gears' bodies meanwhile.
@@ -216,25 +272,26 @@ pub(crate) unsafe fn begin_gears(
     bodies: &Shared<SolverBody>,
     warm: bool,
 ) {
-    for g in gears {
+    for g in gears.iter_mut().filter(|g| !g.direct) {
         // SAFETY: the caller's promise.
         unsafe { g.begin(joints, bodies, warm) };
     }
 }
 
-/// [`GearConstraint::solve`] over `gears`, in order (one thread).
+/// [`GearConstraint::solve`] over the gears not in an island's system,
+/// in order (one thread).
 ///
 /// # Safety
 /// As [`begin_gears`].
 pub(crate) unsafe fn solve_gears(gears: &mut [GearConstraint], bodies: &Shared<SolverBody>) {
-    for g in gears {
+    for g in gears.iter_mut().filter(|g| !g.direct) {
         // SAFETY: the caller's promise.
         unsafe { g.solve(bodies) };
     }
 }
 
-/// [`GearConstraint::push`] over `gears`, in order (one thread); whether
-/// any had an error to remove.
+/// [`GearConstraint::push`] over the gears not in an island's system, in
+/// order (one thread); whether any had an error to remove.
 ///
 /// # Safety
 /// As [`begin_gears`].
@@ -244,7 +301,7 @@ pub(crate) unsafe fn push_gears(
     inv_h: f64,
 ) -> bool {
     let mut any = false;
-    for g in gears {
+    for g in gears.iter_mut().filter(|g| !g.direct) {
         // SAFETY: the caller's promise.
         any |= unsafe { g.push(bodies, inv_h) };
     }

@@ -80,25 +80,26 @@ impl OwnedPatch {
     }
 
     /// Builds `W` for this sub-step, after the island's rows are begun:
-    /// `rows` and `bodies` are the island's rows by side and each row's two
-    /// solver bodies. Each point's response holds its column of `W` until
-    /// the island solves it in place (`U = K^-1 W`).
-    pub fn couple(
+    /// the island's system has `n` rows, given by side as (row, its sides,
+    /// the sides' two solver bodies); a row on more than two bodies (a
+    /// gear) comes as several entries of the same row. Each point's
+    /// response holds its column of `W` until the island solves it in
+    /// place (`U = K^-1 W`).
+    pub fn couple<'r>(
         &mut self,
         m: &ManifoldConstraint,
         pts: &[PointConstraint],
-        rows: &[SideRow<f64>],
-        bodies: &[[u32; 2]],
+        n: usize,
+        rows: impl Iterator<Item = (usize, &'r SideRow<f64>, [u32; 2])>,
     ) {
-        let n = rows.len();
         self.rows = n;
         let [ima, imb] = m.inv_mass;
         self.coupling.clear();
         self.coupling.resize(n * pts.len(), 0.0);
         self.response.clear();
         self.response.resize(n * pts.len(), 0.0);
-        // Only the rows of joints on the patch's two bodies are not zero.
-        for (r, (row, pair)) in rows.iter().zip(bodies).enumerate() {
+        // Only the rows on the patch's two bodies are not zero.
+        for (r, row, pair) in rows {
             for (s, &joint_body) in pair.iter().enumerate() {
                 let (sign, ima, a) = match joint_body {
                     b if b == m.a => (1.0, ima, true),

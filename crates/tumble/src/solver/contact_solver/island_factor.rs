@@ -117,6 +117,27 @@ impl SideRow<f64> {
 }
 
 impl SideRow<f64> {
+    /// A row on one body only (side 0; side 1 moves nothing): a gear's
+    /// part on one of its bodies (`gear`), of Jacobian `lin`, `ang` on a
+    /// body of inverse mass `inv_mass`, with `ia = I^-1 ang`.
+    pub fn one_side(lin: DVec3, ang: DVec3, inv_mass: f64, ia: DVec3) -> SideRow<f64> {
+        SideRow {
+            lin: [lin.into(), P3::default()],
+            ang: [ang.into(), P3::default()],
+            m_lin: [(lin * inv_mass).into(), P3::default()],
+            m_ang: [ia.into(), P3::default()],
+            gamma: 0.0,
+        }
+    }
+
+    /// `K`'s entry between this row on side `s` and `other` on side `t`
+    /// of the same body (`J_s M^-1 J_t^T`).
+    pub fn meets(&self, s: usize, other: &SideRow<f64>, t: usize) -> f64 {
+        self.lin[s].dot(other.m_lin[t]) + self.ang[s].dot(other.m_ang[t])
+    }
+}
+
+impl SideRow<f64> {
     /// The velocity a unit impulse of this row gives, on side `s`, to a
     /// contact row of normal `n` and angular part `r_x_n` on that body
     /// (`n . dv + (r x n) . dw`).
@@ -187,6 +208,12 @@ impl Profile {
     pub fn rows(&self) -> usize {
         self.first.len()
     }
+
+    /// Where `K`'s entry (i, j), `first[i] <= j <= i`, lies in the factor.
+    pub fn at(&self, i: usize, j: usize) -> usize {
+        debug_assert!(self.first[i] <= j && j <= i);
+        self.start[i] + j - self.first[i]
+    }
 }
 
 /// The Cholesky factor of an island's system (or of one per lane).
@@ -202,8 +229,15 @@ impl<N: Num> Factor<N> {
     /// Assembles `K` from `rows` (one per row of `profile`) and factors it
     /// in place. A small regularization on the diagonal (a degenerate pose
     /// makes rows dependent).
-    #[allow(clippy::needless_range_loop)] // profile indices (i, j) address K and rows at once
     pub fn factor(&mut self, profile: &Profile, rows: &[SideRow<N>]) {
+        self.factor_adding(profile, rows, |_| {});
+    }
+
+    /// [`Factor::factor`], with `add` adding to `K` (stored as
+    /// [`Profile::at`] places it) the entries of rows that are not joint
+    /// rows (gears), before the diagonal is regularized and `K` factored.
+    #[allow(clippy::needless_range_loop)] // profile indices (i, j) address K and rows at once
+    pub fn factor_adding(&mut self, profile: &Profile, rows: &[SideRow<N>], add: impl FnOnce(&mut [N])) {
         let n = profile.rows();
         let (first, start) = (&profile.first, &profile.start);
         self.values.clear();
@@ -225,6 +259,7 @@ impl<N: Num> Factor<N> {
                 }
             }
         }
+        add(k);
         for (i, r) in rows.iter().enumerate() {
             let d = &mut k[start[i] + i - first[i]];
             *d = *d + (r.gamma + N::splat(1e-12) * d.abs() + N::splat(1e-300));

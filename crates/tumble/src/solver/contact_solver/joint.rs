@@ -1269,10 +1269,11 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
     any
 }
 
-/// The islands (`JointIsland::begin`), then `begin_joint` over every other
-/// joint, in order (serial).
+/// The islands (`JointIsland::begin`, their gears with them), then
+/// `begin_joint` over every other joint, in order (serial).
 pub fn begin_joints(
     joints: &mut [JointConstraint],
+    gears: &mut [super::GearConstraint],
     islands: &mut [super::JointIsland],
     bodies: &mut [SolverBody],
     h: f64,
@@ -1280,9 +1281,10 @@ pub fn begin_joints(
 ) {
     let bodies = Shared::new(bodies);
     let joints = Shared::new(joints);
+    let gears = Shared::new(gears);
     for island in islands {
         // SAFETY: one thread.
-        unsafe { island.begin(&joints, &bodies, None, h, warm) };
+        unsafe { island.begin(&joints, &gears, &bodies, None, h, warm) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
@@ -1293,18 +1295,20 @@ pub fn begin_joints(
     }
 }
 
-/// The islands (`JointIsland::solve`), then `solve_joint` over every other
-/// joint, in order (serial).
+/// The islands (`JointIsland::solve`, their gears with them), then
+/// `solve_joint` over every other joint, in order (serial).
 pub fn solve_joints(
     joints: &mut [JointConstraint],
+    gears: &mut [super::GearConstraint],
     islands: &mut [super::JointIsland],
     bodies: &mut [SolverBody],
 ) {
     let bodies = Shared::new(bodies);
     let joints = Shared::new(joints);
+    let gears = Shared::new(gears);
     for island in islands {
         // SAFETY: one thread.
-        unsafe { island.solve(&joints, &bodies, None) };
+        unsafe { island.solve(&joints, &gears, &bodies, None) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.
@@ -1315,20 +1319,22 @@ pub fn solve_joints(
     }
 }
 
-/// The islands (`JointIsland::push`), then `push_joint` over every other
-/// joint, in order (serial); whether any pushed.
+/// The islands (`JointIsland::push`, their gears with them), then
+/// `push_joint` over every other joint, in order (serial); whether any pushed.
 pub fn push_joints(
     joints: &mut [JointConstraint],
+    gears: &mut [super::GearConstraint],
     islands: &mut [super::JointIsland],
     bodies: &mut [SolverBody],
     h: f64,
 ) -> bool {
     let bodies = Shared::new(bodies);
     let joints = Shared::new(joints);
+    let gears = Shared::new(gears);
     let mut any = false;
     for island in islands {
         // SAFETY: one thread.
-        any |= unsafe { island.push(&joints, &bodies, None, 1.0 / h) };
+        any |= unsafe { island.push(&joints, &gears, &bodies, None, 1.0 / h) };
     }
     for k in 0..joints.len() {
         // SAFETY: one thread, one joint at a time.

@@ -36,10 +36,16 @@
 //! A contact patch between two bodies of one island (a loop the contact
 //! closes) is the island's own: begun, relaxed and pushed with its system
 //! (`island_contacts`), in its island's lane.
+//!
+//! A gear between two joints (`gear`) links their islands into one, and
+//! its row, on up to four bodies, is one of the system's last rows (the
+//! unit then has one lane): a light follower (a robot's 2 mg finger geared
+//! to its hand) is then held by the whole chain, contacts included.
 
 use super::body::SolverBody;
 use super::coloring::Shared;
 use super::constraint::SolverParams;
+use super::gear::GearConstraint;
 use super::island_contacts::{OwnedPatch, PatchArrays};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
@@ -97,6 +103,12 @@ pub struct JointIsland {
     row_bodies: Vec<[u32; 2]>,
     /// `1 / h` of the sub-step (the owned patches' speculative bias).
     inv_h: f64,
+    /// Gears between the island's joints (indices into the solver's
+    /// gears), the system's last rows in this order (one lane).
+    gears: Vec<u32>,
+    /// Per sub-step, each gear's row on each of its bodies: (row of the
+    /// system, body, the row on that body as side 0).
+    gear_sides: Vec<(usize, u32, SideRow<f64>)>,
 }
 
 impl JointIsland {
@@ -134,6 +146,7 @@ impl JointIsland {
     pub(super) unsafe fn begin(
         &mut self,
         joints: &Shared<JointConstraint>,
+        gears: &Shared<GearConstraint>,
         bodies: &Shared<SolverBody>,
         patches: Option<&PatchArrays>,
         h: f64,
@@ -144,6 +157,10 @@ impl JointIsland {
                 // SAFETY: the caller's promise.
                 unsafe { begin_joint(joints.get_mut(ji as usize), bodies, h, warm) };
             }
+        }
+        for &g in &self.gears {
+            // SAFETY: the caller's promise (the island's gears are its own).
+            unsafe { gears.get_mut(g as usize).begin(joints, bodies, warm) };
         }
         self.inv_h = 1.0 / h;
         let patches = patches.filter(|_| !self.owned.is_empty());
@@ -156,7 +173,7 @@ impl JointIsland {
                 }
             }
         }
-        self.factor(joints, bodies);
+        self.factor(joints, gears, bodies);
         if let Some(c) = patches {
             // SAFETY (all accesses): the caller's promise.
             let patch = |o: &OwnedPatch| unsafe {
@@ -164,10 +181,13 @@ impl JointIsland {
                 (m, &*c.points.range_mut(m.range()))
             };
             let n = self.rows();
+            let (rows, row_bodies, gear_sides) = (&self.rows, &self.row_bodies, &self.gear_sides);
             for o in &mut self.owned {
                 let (m, pts) = patch(o);
-                let rows = o.lane * n..(o.lane + 1) * n;
-                o.couple(m, pts, &self.rows[rows.clone()], &self.row_bodies[rows]);
+                let lane = o.lane * n;
+                let joint_rows = (0..n).map(|r| (r, &rows[lane + r], row_bodies[lane + r]));
+                let gear_rows = gear_sides.iter().map(|(r, b, side)| (*r, side, [*b, NO_BODY]));
+                o.couple(m, pts, n, joint_rows.chain(gear_rows));
             }
             self.solve_responses();
             for o in &mut self.owned {
@@ -232,6 +252,7 @@ impl JointIsland {
     pub(super) unsafe fn solve(
         &mut self,
         joints: &Shared<JointConstraint>,
+        gears: &Shared<GearConstraint>,
         bodies: &Shared<SolverBody>,
         patches: Option<&PatchArrays>,
     ) {
@@ -244,7 +265,7 @@ impl JointIsland {
                 }
             }
             let pass = OwnedPass::Velocity { inv_h: self.inv_h };
-            self.relax(joints, bodies, patches.map(|c| (c, pass)), None);
+            self.relax(joints, gears, bodies, patches.map(|c| (c, pass)), None);
             for lane in &self.lanes {
                 for &ji in lane {
                     solve_joint(joints.get_mut(ji as usize), bodies);
@@ -261,6 +282,7 @@ impl JointIsland {
     pub(super) unsafe fn push(
         &mut self,
         joints: &Shared<JointConstraint>,
+        gears: &Shared<GearConstraint>,
         bodies: &Shared<SolverBody>,
         patches: Option<(&PatchArrays, &SolverParams)>,
         inv_h: f64,
@@ -269,6 +291,7 @@ impl JointIsland {
         unsafe {
             let mut any = self.relax(
                 joints,
+                gears,
                 bodies,
                 patches.map(|(c, params)| (c, OwnedPass::Push { params, inv_h })),
                 Some((JOINT_PUSH_FRACTION, inv_h)),
@@ -283,12 +306,17 @@ impl JointIsland {
     }
 
     /// Factors `K` of each lane for the joints' rows of this sub-step
-    /// (after their `begin_joint`).
-    fn factor(&mut self, joints: &Shared<JointConstraint>, bodies: &Shared<SolverBody>) {
+    /// (after their `begin_joint`) and the gears' (after their `begin`).
+    fn factor(
+        &mut self,
+        joints: &Shared<JointConstraint>,
+        gears: &Shared<GearConstraint>,
+        bodies: &Shared<SolverBody>,
+    ) {
         // Each row as its two sides. Immovable bodies have zero inverse
         // mass and inertia, so they add nothing.
-        // SAFETY (all accesses): the islands' joints and bodies are this
-        // thread's alone during the call (islands share no dynamic body).
+        // SAFETY (all accesses): the islands' joints, gears and bodies are
+        // this thread's alone during the call (islands share no dynamic body).
         self.rows.clear();
         for lane in &self.lanes {
             for &ji in lane {
@@ -304,7 +332,17 @@ impl JointIsland {
                 }
             }
         }
-        if !self.owned.is_empty() {
+        let joint_rows = self.rows.len();
+        // A gear's row is on up to four bodies: a placeholder here, its
+        // parts in `gear_sides`.
+        self.gear_sides.clear();
+        for (e, &g) in self.gears.iter().enumerate() {
+            let g = unsafe { gears.get(g as usize) };
+            self.rows.push(SideRow::default());
+            self.gear_sides
+                .extend(g.side_rows().map(|(body, side)| (joint_rows + e, body, side)));
+        }
+        if !self.owned.is_empty() || !self.gears.is_empty() {
             self.row_bodies.clear();
             for lane in &self.lanes {
                 for &ji in lane {
@@ -312,10 +350,15 @@ impl JointIsland {
                     self.row_bodies.extend(island_slots(j).map(|_| [j.a, j.b]));
                 }
             }
+            self.row_bodies.extend(self.gears.iter().map(|_| [NO_BODY; 2]));
         }
         let n = self.rows();
         if self.lanes.len() == 1 {
-            self.factor.factor(&self.profile, &self.rows);
+            let (profile, rows, row_bodies, gear_sides) =
+                (&self.profile, &self.rows, &self.row_bodies, &self.gear_sides);
+            self.factor.factor_adding(profile, rows, |k| {
+                add_gear_entries(k, profile, rows, row_bodies, gear_sides, joint_rows)
+            });
             return;
         }
         // Lanes beyond the islands repeat the last (and are never read).
@@ -340,6 +383,7 @@ impl JointIsland {
     unsafe fn relax(
         &mut self,
         joints: &Shared<JointConstraint>,
+        gears: &Shared<GearConstraint>,
         bodies: &Shared<SolverBody>,
         patches: Option<(&PatchArrays, OwnedPass)>,
         push: Option<(f64, f64)>,
@@ -375,6 +419,14 @@ impl JointIsland {
                     };
                 }
             }
+        }
+        // The gears' rows, last (a unit with gears has one lane).
+        let joint_rows = n - self.gears.len();
+        for (e, &g) in self.gears.iter().enumerate() {
+            // SAFETY: the caller's promise.
+            let (r, pushes) = unsafe { gears.get(g as usize).island_rhs(bodies, push) };
+            rhs[joint_rows + e] = r;
+            any |= pushes;
         }
         if self.lanes.len() == 1 {
             self.factor.solve(&self.profile, &mut rhs);
@@ -429,6 +481,14 @@ impl JointIsland {
                 }
                 unsafe { p.store(j, bodies, push.is_some()) };
             }
+        }
+        for (e, &g) in self.gears.iter().enumerate() {
+            // SAFETY: the caller's promise.
+            unsafe {
+                gears
+                    .get_mut(g as usize)
+                    .take(bodies, rhs[joint_rows + e], push.is_some())
+            };
         }
         self.rhs = rhs;
         any
@@ -651,6 +711,40 @@ fn clear_non_finite(x: &mut [f64]) {
     }
 }
 
+/// Stands for no body in a row's pair of bodies (a gear's part is on one).
+const NO_BODY: u32 = u32::MAX;
+
+/// Adds the gears' rows to `K` (stored as `profile` lays it out): each
+/// gear part (row `g`, on body `b`) against every joint row on `b` and
+/// every part of the same or an earlier gear on `b` (the rows before
+/// `joint_rows` are joint rows, by side, with their two bodies in
+/// `row_bodies`).
+fn add_gear_entries(
+    k: &mut [f64],
+    profile: &Profile,
+    rows: &[SideRow<f64>],
+    row_bodies: &[[u32; 2]],
+    gear_sides: &[(usize, u32, SideRow<f64>)],
+    joint_rows: usize,
+) {
+    for (p, (g, body, side)) in gear_sides.iter().enumerate() {
+        for (i, (row, pair)) in rows[..joint_rows].iter().zip(row_bodies).enumerate() {
+            for (s, &b) in pair.iter().enumerate() {
+                if b == *body {
+                    k[profile.at(*g, i)] += side.meets(0, row, s);
+                }
+            }
+        }
+        // Parts of one gear are on distinct bodies: a part meets only
+        // itself within its gear.
+        for (h, other_body, other) in &gear_sides[..=p] {
+            if other_body == body {
+                k[profile.at(*g, *h)] += side.meets(0, other, 0);
+            }
+        }
+    }
+}
+
 /// Row `slot`'s accumulated impulse (or push-out impulse) and its bounds.
 fn bounds(j: &JointConstraint, slot: usize, push: bool) -> (f64, f64, f64) {
     let r = &j.rows[slot];
@@ -730,17 +824,22 @@ fn island_mask(j: &JointConstraint) -> u16 {
 /// `contacts` lists the patches an island may own, as (patch, body A,
 /// body B): an island owns those whose two bodies are both its own (see
 /// `island_contacts`).
+///
+/// A gear links its two joints as a shared body does; the gears of an
+/// island's joints are rows of its system, marked `direct`.
 pub fn joint_islands(
     joints: &mut [JointConstraint],
+    gears: &mut [GearConstraint],
     bodies: &[SolverBody],
     contacts: &[(u32, u32, u32)],
 ) -> Vec<JointIsland> {
-    joint_islands_in_lanes(joints, bodies, contacts, LANES)
+    joint_islands_in_lanes(joints, gears, bodies, contacts, LANES)
 }
 
 /// [`joint_islands`], at most `max_lanes` islands to a unit.
 fn joint_islands_in_lanes(
     joints: &mut [JointConstraint],
+    gears: &mut [GearConstraint],
     bodies: &[SolverBody],
     contacts: &[(u32, u32, u32)],
     max_lanes: usize,
@@ -762,6 +861,13 @@ fn joint_islands_in_lanes(
             }
         }
     }
+    // Gears of each joint (leader or follower), in gear order.
+    let mut gears_of: Vec<Vec<u32>> = vec![Vec::new(); joints.len()];
+    for (g, gear) in gears.iter().enumerate() {
+        for k in gear.joints {
+            gears_of[k as usize].push(g as u32);
+        }
+    }
     let mut seen = vec![false; joints.len()];
     // Position of each joint in its island's order (each joint is in one island).
     let mut position = vec![usize::MAX; joints.len()];
@@ -776,12 +882,17 @@ fn joint_islands_in_lanes(
         let mut head = 0;
         while head < order.len() {
             let j = &joints[order[head] as usize];
-            for b in [j.a, j.b] {
-                for &k in &of_body[b as usize] {
-                    if !seen[k as usize] {
-                        seen[k as usize] = true;
-                        order.push(k);
-                    }
+            let geared = gears_of[order[head] as usize]
+                .iter()
+                .flat_map(|&g| gears[g as usize].joints);
+            for k in [j.a, j.b]
+                .into_iter()
+                .flat_map(|b| of_body[b as usize].iter().copied())
+                .chain(geared)
+            {
+                if !seen[k as usize] {
+                    seen[k as usize] = true;
+                    order.push(k);
                 }
             }
             head += 1;
@@ -813,6 +924,15 @@ fn joint_islands_in_lanes(
             total += r;
         }
         offsets.push(total);
+        // The island's gears, in gear order (both joints are here: the
+        // search follows gears).
+        let mut island_gears: Vec<u32> = order
+            .iter()
+            .flat_map(|&k| gears_of[k as usize].iter().copied())
+            .collect();
+        island_gears.sort_unstable();
+        island_gears.dedup();
+        let total = total + island_gears.len();
         let mut first = Vec::with_capacity(total);
         let mut start = Vec::with_capacity(total);
         let mut size = 0usize;
@@ -857,6 +977,24 @@ fn joint_islands_in_lanes(
                 size += i - offsets[earliest] + 1;
             }
         }
+        // A gear's row reaches back to the earliest joint on any of its
+        // bodies (and holds every row after it, earlier gears' included).
+        for (e, &g) in island_gears.iter().enumerate() {
+            let i = offsets[order.len()] + e;
+            let earliest = gears[g as usize]
+                .joints
+                .iter()
+                .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
+                .filter(|&b| bodies[b as usize].dynamic)
+                .flat_map(|b| of_body[b as usize].iter().map(|&other| position[other as usize]))
+                .min()
+                .unwrap_or(order.len());
+            let from = offsets[earliest];
+            first.push(from);
+            start.push(size);
+            size += i - from + 1;
+        }
+        debug_assert_eq!(first.len(), total);
         if size > MAX_PROFILE {
             continue;
         }
@@ -899,6 +1037,9 @@ fn joint_islands_in_lanes(
             joints[k as usize].direct = true;
             joints[k as usize].island_rows = mask;
         }
+        for &g in &island_gears {
+            gears[g as usize].direct = true;
+        }
         let profile = Profile {
             offsets,
             couplings,
@@ -908,7 +1049,7 @@ fn joint_islands_in_lanes(
         };
         // Scalar rows in the system (motors, springs) keep the island in a
         // unit of its own; only a motor's force bound is held.
-        let single = masks.iter().any(|&m| m != 0);
+        let single = masks.iter().any(|&m| m != 0) || !island_gears.is_empty();
         let bounded = order.iter().zip(&masks).any(|(&k, &m)| {
             m & (1 << MOTOR) != 0
                 && joints[k as usize]
@@ -937,6 +1078,7 @@ fn joint_islands_in_lanes(
             bounded,
             aim: vec![aim],
             owned,
+            gears: island_gears,
             ..JointIsland::default()
         });
     }
@@ -959,6 +1101,19 @@ mod tests {
             rng.range(-size, size),
             rng.range(-size, size),
         )
+    }
+
+    /// A joint of `kind` without limits, motor, spring or friction.
+    fn plain_law(kind: JointKind) -> JointLaw {
+        JointLaw {
+            kind,
+            limits: None,
+            swing_limit: None,
+            motor: None,
+            spring: None,
+            friction: None,
+            length: 0.0,
+        }
     }
 
     fn rotation(rng: &mut SplitMix64) -> DQuat {
@@ -1035,9 +1190,9 @@ mod tests {
         q0: &[DQuat],
         h: f64,
     ) {
-        solve_joints(joints, islands, bodies);
-        solve_joints(joints, islands, bodies);
-        push_joints(joints, islands, bodies, h);
+        solve_joints(joints, &mut [], islands, bodies);
+        solve_joints(joints, &mut [], islands, bodies);
+        push_joints(joints, &mut [], islands, bodies, h);
         integrate_positions(bodies, q0, h);
     }
 
@@ -1049,11 +1204,11 @@ mod tests {
         let (bodies, joints) = trees(&mut SplitMix64(5), 5);
         let run = |max_lanes: usize| {
             let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
-            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, &[], max_lanes);
+            let mut islands = joint_islands_in_lanes(&mut joints, &mut [], &bodies, &[], max_lanes);
             let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
             let h = 1.0 / 480.0;
             for _ in 0..6 {
-                begin_joints(&mut joints, &mut islands, &mut bodies, h, true);
+                begin_joints(&mut joints, &mut [], &mut islands, &mut bodies, h, true);
                 passes(&mut joints, &mut islands, &mut bodies, &q0, h);
             }
             let lanes: Vec<usize> = islands.iter().map(JointIsland::lanes).collect();
@@ -1085,6 +1240,122 @@ mod tests {
         }
     }
 
+    /// A gear in its island's system is solved exactly with the joints'
+    /// equality rows: after one pass every hinge row and the gear's row
+    /// meet their targets (`J v + bias = 0`, the gear's rate 0), where one
+    /// pass with the gear relaxed after the island leaves the joints open
+    /// again. A frame on a hinge to the world carries two wheels on hinges,
+    /// the second geared to the first; random masses 20:1 apart (so the
+    /// island does not aim its rows), poses and velocities.
+    #[test]
+    fn a_gear_in_its_islands_system_is_solved_exactly_with_the_joints() {
+        use super::super::gear::{begin_gears, solve_gears};
+        use crate::joint::Gear;
+        use crate::world::JointId;
+        // The largest miss of a target over the joints' equality rows,
+        // and the gear's rate.
+        let misses = |joints: &[JointConstraint], gear: &GearConstraint, bodies: &mut [SolverBody]| {
+            let rows = joints
+                .iter()
+                .flat_map(|j| {
+                    let (a, b) = (&bodies[j.a as usize], &bodies[j.b as usize]);
+                    j.rows[..j.n_eq].iter().map(move |r| {
+                        (r.lin.dot(a.v - b.v) + r.ang_a.dot(a.w) + r.ang_b.dot(b.w) + r.bias).abs()
+                    })
+                })
+                .fold(0.0, f64::max);
+            let bs = Shared::new(bodies);
+            // SAFETY: one thread.
+            (rows, unsafe { gear.rate(&bs, false) }.abs())
+        };
+        for seed in 0..5 {
+            let mut rng = SplitMix64(40 + seed);
+            let mut bodies = vec![SolverBody::fixed()];
+            for inv_mass in [0.1, 1.0, 2.0] {
+                let inv_inertia =
+                    DVec3::new(rng.range(0.5, 2.0), rng.range(0.5, 2.0), rng.range(0.5, 2.0)) * inv_mass;
+                bodies.push(SolverBody::new(
+                    vector(&mut rng, 1.0),
+                    vector(&mut rng, 3.0),
+                    inv_mass,
+                    inv_inertia,
+                    rotation(&mut rng),
+                ));
+            }
+            let x0 = [
+                DVec3::ZERO,
+                vector(&mut rng, 0.2),
+                vector(&mut rng, 0.5),
+                vector(&mut rng, 0.5),
+            ];
+            let hinge = plain_law(JointKind::Hinge);
+            let mut joints: Vec<JointConstraint> = [(2, 1), (3, 1), (1, 0)]
+                .into_iter()
+                .map(|(a, b): (u32, u32)| {
+                    let local = |rng: &mut SplitMix64| Pose {
+                        position: vector(rng, 0.3),
+                        rotation: rotation(rng),
+                    };
+                    JointConstraint::new(
+                        (a, b),
+                        [x0[a as usize], x0[b as usize]],
+                        [bodies[a as usize].q, bodies[b as usize].q],
+                        [local(&mut rng), local(&mut rng)],
+                        hinge,
+                        &[0.0; JOINT_ROWS],
+                    )
+                })
+                .collect();
+            let leader = JointId {
+                index: 0,
+                generation: 0,
+            };
+            let ratio = rng.range(-2.0, 2.0);
+            let mut gears = vec![GearConstraint::new(
+                [0, 1],
+                [JointKind::Hinge; 2],
+                Gear::new(leader, ratio),
+                [0.0; 2],
+                0.0,
+            )];
+            let h = 1.0 / 240.0;
+            // The gear relaxed after the island (its joints' island alone).
+            let (mut beside, mut beside_joints, mut beside_gears) =
+                (bodies.clone(), joints.clone(), gears.clone());
+            let mut islands = joint_islands(&mut beside_joints, &mut [], &beside, &[]);
+            begin_joints(&mut beside_joints, &mut [], &mut islands, &mut beside, h, false);
+            let (js, bs) = (Shared::new(&mut beside_joints), Shared::new(&mut beside));
+            // SAFETY: one thread.
+            unsafe { begin_gears(&mut beside_gears, &js, &bs, false) };
+            solve_joints(&mut beside_joints, &mut [], &mut islands, &mut beside);
+            let bs = Shared::new(&mut beside);
+            // SAFETY: one thread.
+            unsafe { solve_gears(&mut beside_gears, &bs) };
+            let (open, _) = misses(&beside_joints, &beside_gears[0], &mut beside);
+            assert!(
+                open > 1e-3,
+                "seed {seed}: the gear beside left the joints within {open}"
+            );
+            // In the system: one pass.
+            let mut islands = joint_islands(&mut joints, &mut gears, &bodies, &[]);
+            assert_eq!(islands.len(), 1);
+            assert!(gears[0].direct && joints.iter().all(|j| j.direct));
+            assert_eq!(islands[0].rows(), 3 * 5 + 1);
+            begin_joints(&mut joints, &mut gears, &mut islands, &mut bodies, h, false);
+            let (before, rate_before) = misses(&joints, &gears[0], &mut bodies);
+            assert!(
+                before > 0.1 && rate_before > 0.1,
+                "seed {seed}: {before}, {rate_before}"
+            );
+            solve_joints(&mut joints, &mut gears, &mut islands, &mut bodies);
+            let (rows, rate) = misses(&joints, &gears[0], &mut bodies);
+            assert!(
+                rows < 1e-9 && rate < 1e-9,
+                "seed {seed}: rows {rows}, gear {rate}"
+            );
+        }
+    }
+
     /// A joint solved with its island holds its own equality block (the
     /// effective masses of its limits with the equality rows held) only in
     /// the sub-steps where one of its limits acts; holding it at every
@@ -1095,12 +1366,12 @@ mod tests {
         let (bodies, joints) = trees(&mut SplitMix64(11), 4);
         let run = |eager: bool| {
             let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
-            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, &[], LANES);
+            let mut islands = joint_islands_in_lanes(&mut joints, &mut [], &bodies, &[], LANES);
             let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
             let h = 1.0 / 480.0;
             let (mut held, mut skipped) = (0, 0);
             for _ in 0..8 {
-                begin_joints(&mut joints, &mut islands, &mut bodies, h, true);
+                begin_joints(&mut joints, &mut [], &mut islands, &mut bodies, h, true);
                 if eager {
                     for j in joints.iter_mut().filter(|j| j.direct) {
                         let m_sum = bodies[j.a as usize].inv_mass + bodies[j.b as usize].inv_mass;
@@ -1138,7 +1409,7 @@ mod tests {
     /// How many joints with limits [`joint_islands`] solves with an island.
     fn joints_with_limits_in_islands(bodies: &[SolverBody], joints: &[JointConstraint]) -> usize {
         let mut joints = joints.to_vec();
-        joint_islands_in_lanes(&mut joints, bodies, &[], LANES);
+        joint_islands_in_lanes(&mut joints, &mut [], bodies, &[], LANES);
         joints
             .iter()
             .filter(|j| j.direct && j.law.limits.is_some())
@@ -1163,15 +1434,7 @@ mod tests {
         let mut bodies = vec![SolverBody::fixed()];
         let (mut joints, mut manifolds, mut points, mut contacts) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let law = JointLaw {
-            kind: JointKind::Ball,
-            limits: None,
-            swing_limit: None,
-            motor: None,
-            spring: None,
-            friction: None,
-            length: 0.0,
-        };
+        let law = plain_law(JointKind::Ball);
         for t in 0..count {
             let first = bodies.len() as u32;
             let origin = DVec3::new(3.0 * t as f64, 0.0, 0.0);
@@ -1250,12 +1513,13 @@ mod tests {
         for seed in 0..20 {
             let (mut bodies, mut joints, mut manifolds, mut points, contacts) =
                 looped_chains(&mut SplitMix64(seed), 1);
-            let mut islands = joint_islands(&mut joints, &bodies, &contacts);
+            let mut islands = joint_islands(&mut joints, &mut [], &bodies, &contacts);
             assert_eq!(islands.len(), 1);
             assert_eq!(islands[0].owned_patches().collect::<Vec<_>>(), vec![0]);
             let h = 1.0 / 480.0;
             {
                 let (js, bs) = (Shared::new(&mut joints), Shared::new(&mut bodies));
+                let no_gears = Shared::new(&mut [] as &mut [GearConstraint]);
                 let (ms, ps) = (Shared::new(&mut manifolds), Shared::new(&mut points));
                 let patches = PatchArrays {
                     manifolds: &ms,
@@ -1263,8 +1527,8 @@ mod tests {
                 };
                 // SAFETY: one thread.
                 unsafe {
-                    islands[0].begin(&js, &bs, Some(&patches), h, false);
-                    islands[0].solve(&js, &bs, Some(&patches));
+                    islands[0].begin(&js, &no_gears, &bs, Some(&patches), h, false);
+                    islands[0].solve(&js, &no_gears, &bs, Some(&patches));
                 }
             }
             let scale = bodies.iter().map(|b| b.v.length()).fold(1.0, f64::max);
@@ -1310,12 +1574,13 @@ mod tests {
         let run = |max_lanes: usize| {
             let (mut bodies, mut joints) = (bodies.clone(), joints.clone());
             let (mut manifolds, mut points) = (manifolds.clone(), points.clone());
-            let mut islands = joint_islands_in_lanes(&mut joints, &bodies, &contacts, max_lanes);
+            let mut islands = joint_islands_in_lanes(&mut joints, &mut [], &bodies, &contacts, max_lanes);
             let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
             let h = 1.0 / 480.0;
             for sub in 0..6 {
                 {
                     let (js, bs) = (Shared::new(&mut joints), Shared::new(&mut bodies));
+                    let no_gears = Shared::new(&mut [] as &mut [GearConstraint]);
                     let (ms, ps) = (Shared::new(&mut manifolds), Shared::new(&mut points));
                     let patches = PatchArrays {
                         manifolds: &ms,
@@ -1324,10 +1589,10 @@ mod tests {
                     for island in &mut islands {
                         // SAFETY: one thread.
                         unsafe {
-                            island.begin(&js, &bs, Some(&patches), h, sub > 0);
-                            island.solve(&js, &bs, Some(&patches));
-                            island.solve(&js, &bs, Some(&patches));
-                            island.push(&js, &bs, Some((&patches, &params)), 1.0 / h);
+                            island.begin(&js, &no_gears, &bs, Some(&patches), h, sub > 0);
+                            island.solve(&js, &no_gears, &bs, Some(&patches));
+                            island.solve(&js, &no_gears, &bs, Some(&patches));
+                            island.push(&js, &no_gears, &bs, Some((&patches, &params)), 1.0 / h);
                         }
                     }
                 }

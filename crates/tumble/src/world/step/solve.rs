@@ -539,8 +539,8 @@ impl World {
             sf.joint_slots.push(slot);
         }
         sf.joint_coloring = coloring;
-        sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &sf.bodies, contacts);
         self.prepare_gears(sf);
+        sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &mut sf.gears, &sf.bodies, contacts);
         self.geometric_stiffness(sf);
     }
 
@@ -809,7 +809,14 @@ fn exact_substeps(
             b.w = (b.w + b.inv_inertia * tau * h) / (1.0 + ad * h);
         }
         clock.lap(report, SolveStage::IntegrateVelocities);
-        contact_solver::begin_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies, h, true);
+        contact_solver::begin_joints(
+            &mut sf.joints,
+            &mut sf.gears,
+            &mut sf.joint_islands,
+            &mut sf.bodies,
+            h,
+            true,
+        );
         serial_gears(sf, GearPass::Begin);
         contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, !exact);
         if exact {
@@ -825,7 +832,12 @@ fn exact_substeps(
             match contact_solver::solve_normals_exactly(&sf.manifolds, &mut sf.points, &mut sf.bodies, h) {
                 Ok(()) => {
                     for _ in 0..iterations {
-                        contact_solver::solve_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies);
+                        contact_solver::solve_joints(
+                            &mut sf.joints,
+                            &mut sf.gears,
+                            &mut sf.joint_islands,
+                            &mut sf.bodies,
+                        );
                         serial_gears(sf, GearPass::Solve);
                         contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
                     }
@@ -840,7 +852,12 @@ fn exact_substeps(
         }
         if !exact {
             for _ in 0..iterations {
-                contact_solver::solve_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies);
+                contact_solver::solve_joints(
+                    &mut sf.joints,
+                    &mut sf.gears,
+                    &mut sf.joint_islands,
+                    &mut sf.bodies,
+                );
                 serial_gears(sf, GearPass::Solve);
                 contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
             }
@@ -850,8 +867,13 @@ fn exact_substeps(
         }
         clock.lap(report, SolveStage::Iterate);
         for pass in 0..push_out_iterations {
-            let joints =
-                contact_solver::push_joints(&mut sf.joints, &mut sf.joint_islands, &mut sf.bodies, h);
+            let joints = contact_solver::push_joints(
+                &mut sf.joints,
+                &mut sf.gears,
+                &mut sf.joint_islands,
+                &mut sf.bodies,
+                h,
+            );
             let joints = serial_gears(sf, GearPass::Push { inv_h: 1.0 / h }) || joints;
             let first = pass == 0;
             if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h, first)

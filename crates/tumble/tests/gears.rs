@@ -274,15 +274,28 @@ fn bad_gears_are_refused_at_their_field_with_the_world_unchanged() {
         WorldError::StaleJoint(_) => "stale".to_string(),
         other => format!("{other:?}"),
     };
-    let cases: [(JointId, Gear, &str); 5] = [
+    // (Ratios and offsets beyond 1e6: at f64::MAX the error overflowed to
+    // infinity, found by the fuzzer.)
+    let cases: [(JointId, Gear, &str); 8] = [
         (joints[1], Gear::new(joints[1], 1.0), "gear.leader"),
         (joints[1], Gear::new(ball, 1.0), "gear.leader"),
         (ball, Gear::new(joints[0], 1.0), "gear.follower"),
         (joints[1], Gear::new(joints[0], f64::NAN), "gear.ratio"),
+        (joints[1], Gear::new(joints[0], -2e6), "gear.ratio"),
         (
             joints[1],
             Gear::new(joints[0], 1.0).with_offset(f64::INFINITY),
             "gear.offset",
+        ),
+        (
+            joints[1],
+            Gear::new(joints[0], 1.0).with_offset(1.5e6),
+            "gear.offset",
+        ),
+        (
+            joints[1],
+            Gear::new(joints[0], f64::MAX).with_offset(f64::MAX),
+            "gear.ratio",
         ),
     ];
     for (follower, gear, expected) in cases {

@@ -1390,4 +1390,14 @@ fn a_mimic_of_a_joint_the_robot_does_not_move_is_refused_at_the_mimic_element() 
         element == "mimic" && message.contains("joint="),
         "{element} {message}"
     );
+    // A multiplier or offset beyond what a gear takes (1e6 either way).
+    for mimic in [
+        "<mimic joint=\"left_slide\" multiplier=\"-1e7\"/>",
+        "<mimic joint=\"left_slide\" multiplier=\"-1\" offset=\"2e6\"/>",
+    ] {
+        let text = GRIPPER.replace("<mimic joint=\"left_slide\" multiplier=\"-1\"/>", mimic);
+        let (line, element, message) = error_of(&text);
+        assert_eq!((line, element.as_str()), (15, "mimic"), "{message}");
+        assert!(message.contains("gear."), "{message}");
+    }
 }

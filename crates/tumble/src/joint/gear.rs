@@ -19,6 +19,13 @@
 use crate::world::{JointId, WorldError};
 use serde::{Deserialize, Serialize};
 
+/// Largest ratio and offset a gear takes, either way: a million turns of
+/// the follower per turn of the leader (real gear trains reach thousands),
+/// a million rad or m of offset. Beyond, `ratio q_leader + offset` leaves
+/// the numbers a coordinate can be told apart in (at `f64::MAX` the error
+/// itself overflowed).
+pub const MAX_GEAR_NUMBER: f64 = 1e6;
+
 /// A joint's coordinate held at a ratio of another joint's (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -49,13 +56,20 @@ impl Gear {
         Gear { offset, ..self }
     }
 
-    /// Checks the numbers (the joints are the world's to check).
+    /// Checks the numbers (the joints are the world's to check): finite
+    /// and within [`MAX_GEAR_NUMBER`] either way.
     pub fn validate(&self) -> Result<(), WorldError> {
-        for (field, value) in [("gear.ratio", self.ratio), ("gear.offset", self.offset)] {
-            if !value.is_finite() {
+        Gear::check_numbers(self.ratio, self.offset)
+    }
+
+    /// [`Gear::validate`]'s check of a ratio and an offset, before a gear
+    /// is made of them (a URDF `<mimic>`'s, checked at its element).
+    pub fn check_numbers(ratio: f64, offset: f64) -> Result<(), WorldError> {
+        for (field, value) in [("gear.ratio", ratio), ("gear.offset", offset)] {
+            if !value.is_finite() || value.abs() > MAX_GEAR_NUMBER {
                 return Err(WorldError::BadValue {
                     field,
-                    message: format!("must be finite, got {value}"),
+                    message: format!("must be finite and within +-{MAX_GEAR_NUMBER:e}, got {value}"),
                 });
             }
         }

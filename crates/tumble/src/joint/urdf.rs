@@ -826,12 +826,13 @@ impl<'a, 'input> Reader<'a, 'input> {
                     let leader = m
                         .attribute("joint")
                         .ok_or_else(|| self.err(m, "<mimic> needs joint=\"the joint it follows\""))?;
-                    Some((
-                        leader.to_string(),
+                    let (ratio, offset) = (
                         self.optional_number(m, "multiplier", 1.0)?,
                         self.optional_number(m, "offset", 0.0)?,
-                        m,
-                    ))
+                    );
+                    // The numbers checked here, at the element.
+                    Gear::check_numbers(ratio, offset).map_err(|e| self.err(m, world_message(&e)))?;
+                    Some((leader.to_string(), ratio, offset, m))
                 }
                 None => None,
             };

@@ -665,3 +665,50 @@ fn a_light_follower_stopped_by_a_contact_stops_its_heavy_leader() {
         assert!((l - l0).length() < 1e-4 * l0.length(), "{l} from {l0}");
     }
 }
+
+#[test]
+fn a_gear_measures_its_leader_against_a_turning_kinematic_base() {
+    // The leader wheel is hinged to a kinematic turntable spinning at 2
+    // rad/s, the follower to the world, ratio 1: the follower turns at the
+    // leader's rate against the turntable, not against the world (before
+    // 2026-12-02 the gear's row left the turntable's velocity out: the
+    // leader turned at -2 rad/s against it while the follower stood).
+    let mut w = world(false, 1);
+    let table = w
+        .add_body(
+            &BodyDesc::kinematic(Cuboid::new(DVec3::new(0.3, 0.3, 0.05)).unwrap())
+                .at(DVec3::ZERO)
+                .with_velocity(DVec3::ZERO, DVec3::Z * 2.0),
+        )
+        .unwrap();
+    let (leader_at, follower_at) = (DVec3::new(0.0, 0.0, 0.3), DVec3::new(1.0, 0.0, 0.0));
+    let leader_wheel = wheel(&mut w, leader_at, 1.0, 0.0);
+    let follower_wheel = wheel(&mut w, follower_at, 1.0, 0.0);
+    let leader = w
+        .add_joint(&JointDesc::hinge(leader_wheel, Some(table), leader_at, DVec3::Z))
+        .unwrap();
+    let follower = w
+        .add_joint(&JointDesc::hinge(follower_wheel, None, follower_at, DVec3::Z))
+        .unwrap();
+    w.set_joint_gear(follower, Some(Gear::new(leader, 1.0))).unwrap();
+    for step in 0..60 {
+        w.step();
+        let (l, f) = (
+            w.joint_state(leader).unwrap().rate,
+            w.joint_state(follower).unwrap().rate,
+        );
+        assert!(
+            (f - l).abs() < 1e-6 * (1.0 + l.abs()),
+            "step {step}: follower at {f}, leader at {l} rad/s"
+        );
+        let error = w.gear_error(follower).unwrap();
+        assert!(error.abs() < 1e-6, "step {step}: gear error {error} rad");
+    }
+    // Equal wheels, ratio 1, nothing else turning them: the gear's impulse
+    // gives the leader +w and the follower -w, with the follower at the
+    // leader's rate against the table, -w = w - 2: both joints at -1 rad/s.
+    for joint in [leader, follower] {
+        let rate = w.joint_state(joint).unwrap().rate;
+        assert!((rate + 1.0).abs() < 1e-6, "{rate} rad/s");
+    }
+}

@@ -14,7 +14,7 @@ pub mod urdf;
 pub use crate::world::JointId;
 pub use desc::{JointDesc, JointKind, Motor, Spring};
 pub use frame::{frame_rotation, unwrap_coordinate, wrap_angle, JointPose};
-pub use gear::Gear;
+pub use gear::{Gear, MAX_GEAR_NUMBER};
 
 use tumble_collide::DVec3;
 

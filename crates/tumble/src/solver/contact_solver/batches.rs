@@ -52,6 +52,9 @@ pub(crate) struct SolverArrays<'a> {
     pub joint_coloring: &'a Coloring,
     /// Gears between joints (`super::gear`).
     pub gears: Shared<'a, GearConstraint>,
+    /// Some gear is in no joint island's system (`GearConstraint::direct`),
+    /// so the gear passes have work.
+    pub loose_gears: bool,
 }
 
 /// Runs `kernel` on every item of `items`, colour by colour, this
@@ -367,13 +370,15 @@ impl SolverArrays<'_> {
     }
 
     /// The gears' part of a pass (`super::gear`): thread 0 runs `pass` over
-    /// every gear, in order, while the others wait at the barriers around
-    /// it (a gear's four bodies fit no colour). Nothing without gears.
+    /// the gears (which skips those in an island's system), in order, while
+    /// the others wait at the barriers around it (a gear's four bodies fit
+    /// no colour). Nothing, and no barrier, when every gear is in an
+    /// island's system.
     ///
     /// # Safety
     /// Every thread of `team` calls this after the same pass.
     pub unsafe fn gear_pass(&self, team: &Team, pass: impl FnOnce(&mut [GearConstraint])) {
-        if self.gears.len() == 0 {
+        if !self.loose_gears {
             return;
         }
         team.barrier();

@@ -62,6 +62,9 @@ pub struct GearConstraint {
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Part {
     body: u32,
+    /// The body moves under impulses; a kinematic body's part only reads
+    /// its velocity (zero inverse mass, nothing applied).
+    dynamic: bool,
     lin: DVec3,
     ang: DVec3,
     inv_mass: f64,
@@ -120,7 +123,10 @@ impl GearConstraint {
             for ((lin, ang), body) in pose.coordinate_rows(self.kinds[k]).into_iter().zip([j.a, j.b]) {
                 // SAFETY: the caller's promise.
                 let b = unsafe { bodies.get(body as usize) };
-                if !b.dynamic {
+                // A kinematic body's velocity counts in the rate (a wheel
+                // hinged to a turning base is measured against it; it is
+                // only read); a static body's is zero.
+                if !b.dynamic && !b.kinematic {
                     continue;
                 }
                 let (lin, ang) = (lin * scale, ang * scale);
@@ -131,16 +137,17 @@ impl GearConstraint {
                     }
                     None => self.parts.push(Part {
                         body,
+                        dynamic: b.dynamic,
                         lin,
                         ang,
-                        inv_mass: b.inv_mass,
+                        inv_mass: if b.dynamic { b.inv_mass } else { 0.0 },
                         ia: DVec3::ZERO,
                     }),
                 }
             }
         }
         let mut k = 0.0;
-        for p in &mut self.parts {
+        for p in self.parts.iter_mut().filter(|p| p.dynamic) {
             // SAFETY: the caller's promise.
             let b = unsafe { bodies.get(p.body as usize) };
             p.ia = b.inv_inertia * p.ang;
@@ -175,7 +182,7 @@ impl GearConstraint {
 
     /// Applies impulse `l` along the row.
     pub(super) unsafe fn apply(&self, bodies: &Shared<SolverBody>, l: f64, push: bool) {
-        for p in &self.parts {
+        for p in self.parts.iter().filter(|p| p.dynamic) {
             // SAFETY: the caller's promise.
             let b = unsafe { bodies.get_mut(p.body as usize) };
             let (dv, dw) = (p.lin * (p.inv_mass * l), p.ia * l);
@@ -194,6 +201,7 @@ impl GearConstraint {
     pub(super) fn side_rows(&self) -> impl Iterator<Item = (u32, SideRow<f64>)> + '_ {
         self.parts
             .iter()
+            .filter(|p| p.dynamic)
             .map(|p| (p.body, SideRow::one_side(p.lin, p.ang, p.inv_mass, p.ia)))
     }
 

@@ -421,6 +421,7 @@ impl JointIsland {
             }
         }
         // The gears' rows, last (a unit with gears has one lane).
+        debug_assert!(self.gears.is_empty() || self.lanes.len() == 1);
         let joint_rows = n - self.gears.len();
         for (e, &g) in self.gears.iter().enumerate() {
             // SAFETY: the caller's promise.

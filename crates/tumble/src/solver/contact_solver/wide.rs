@@ -1537,6 +1537,7 @@ mod tests {
             coloring: &coloring,
             joint_coloring: &empty,
             gears: Shared::new(&mut []),
+            loose_gears: false,
         };
         let pushed = AtomicUsize::new(0);
         WorkerPool::new(threads).team(|team| {

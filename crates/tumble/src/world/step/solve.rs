@@ -169,6 +169,7 @@ impl World {
                 std::mem::take(&mut wide.twos),
                 std::mem::take(&mut wide.fours),
             );
+            let loose_gears = sf.gears.iter().any(|g| !g.direct);
             let arrays = SolverArrays {
                 ones: Shared::new(&mut ones),
                 twos: Shared::new(&mut twos),
@@ -182,6 +183,7 @@ impl World {
                 coloring: &coloring,
                 joint_coloring: &joint_coloring,
                 gears: Shared::new(&mut sf.gears),
+                loose_gears,
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);

@@ -1270,7 +1270,8 @@ pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverB
 }
 
 /// The islands (`JointIsland::begin`, their gears with them), then
-/// `begin_joint` over every other joint, in order (serial).
+/// `begin_joint` over every other joint, then the other gears, in order
+/// (serial).
 pub fn begin_joints(
     joints: &mut [JointConstraint],
     gears: &mut [super::GearConstraint],
@@ -1293,10 +1294,13 @@ pub fn begin_joints(
             unsafe { begin_joint(j, &bodies, h, warm) };
         }
     }
+    // SAFETY: one thread; the gears in no island's system.
+    unsafe { super::gear::begin_gears(gears.range_mut(0..gears.len()), &joints, &bodies, warm) };
 }
 
 /// The islands (`JointIsland::solve`, their gears with them), then
-/// `solve_joint` over every other joint, in order (serial).
+/// `solve_joint` over every other joint, then the other gears, in order
+/// (serial).
 pub fn solve_joints(
     joints: &mut [JointConstraint],
     gears: &mut [super::GearConstraint],
@@ -1317,10 +1321,13 @@ pub fn solve_joints(
             unsafe { solve_joint(j, &bodies) };
         }
     }
+    // SAFETY: one thread; the gears in no island's system.
+    unsafe { super::gear::solve_gears(gears.range_mut(0..gears.len()), &bodies) };
 }
 
 /// The islands (`JointIsland::push`, their gears with them), then
-/// `push_joint` over every other joint, in order (serial); whether any pushed.
+/// `push_joint` over every other joint, then the other gears, in order
+/// (serial); whether any pushed.
 pub fn push_joints(
     joints: &mut [JointConstraint],
     gears: &mut [super::GearConstraint],
@@ -1343,5 +1350,7 @@ pub fn push_joints(
             any |= unsafe { push_joint(j, &bodies, 1.0 / h) };
         }
     }
+    // SAFETY: one thread; the gears in no island's system.
+    any |= unsafe { super::gear::push_gears(gears.range_mut(0..gears.len()), &bodies, 1.0 / h) };
     any
 }

@@ -765,28 +765,6 @@ fn anchor_to_keep(
 /// the Coulomb disc's radius (`mu` times its normal impulse).
 const STICKING: f64 = 0.95;
 
-/// A pass of the gears ([`serial_gears`]).
-enum GearPass {
-    Begin,
-    Solve,
-    Push { inv_h: f64 },
-}
-
-/// The gears' `pass` on this thread (the exact path's sub-steps); whether
-/// a push-out pass had an error to remove.
-fn serial_gears(sf: &mut SolverFrame, pass: GearPass) -> bool {
-    let (joints, bodies) = (Shared::new(&mut sf.joints), Shared::new(&mut sf.bodies));
-    // SAFETY (each pass): one thread, nothing else holds the arrays.
-    unsafe {
-        match pass {
-            GearPass::Begin => begin_gears(&mut sf.gears, &joints, &bodies, true),
-            GearPass::Solve => solve_gears(&mut sf.gears, &bodies),
-            GearPass::Push { inv_h } => return push_gears(&mut sf.gears, &bodies, inv_h),
-        }
-    }
-    false
-}
-
 /// The sub-steps with the exact normal solve (`SolverKind::Lemke`): serial,
 /// small systems; falls back to the PGS passes if Lemke fails.
 #[allow(clippy::too_many_arguments)]
@@ -819,7 +797,6 @@ fn exact_substeps(
             h,
             true,
         );
-        serial_gears(sf, GearPass::Begin);
         contact_solver::begin_substep(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, !exact);
         if exact {
             for p in sf.points.iter_mut() {
@@ -840,7 +817,6 @@ fn exact_substeps(
                             &mut sf.joint_islands,
                             &mut sf.bodies,
                         );
-                        serial_gears(sf, GearPass::Solve);
                         contact_solver::solve_friction(&mut sf.manifolds, &sf.points, &mut sf.bodies);
                     }
                 }
@@ -860,7 +836,6 @@ fn exact_substeps(
                     &mut sf.joint_islands,
                     &mut sf.bodies,
                 );
-                serial_gears(sf, GearPass::Solve);
                 contact_solver::solve(&mut sf.manifolds, &mut sf.points, &mut sf.bodies, h);
             }
         }
@@ -876,7 +851,6 @@ fn exact_substeps(
                 &mut sf.bodies,
                 h,
             );
-            let joints = serial_gears(sf, GearPass::Push { inv_h: 1.0 / h }) || joints;
             let first = pass == 0;
             if !contact_solver::push_out(&sf.manifolds, &mut sf.points, &mut sf.bodies, params, h, first)
                 && !joints

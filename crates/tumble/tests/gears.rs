@@ -5,25 +5,12 @@
 //! thread counts; bad gears refused with the world unchanged, and a gear
 //! goes with either of its joints.
 
+mod common;
+
+use common::{joint_world, G};
 use tumble::collide::{Cuboid, DQuat, DVec3, Sphere};
 use tumble::joint::{Gear, JointDesc, Motor};
 use tumble::world::{BodyDesc, BodyId, JointId, Snapshot, World, WorldError, WorldSettings};
-
-const G: f64 = 9.81;
-
-fn world(gravity: bool, threads: u32) -> World {
-    World::new(WorldSettings {
-        gravity: if gravity {
-            DVec3::new(0.0, 0.0, -G)
-        } else {
-            DVec3::ZERO
-        },
-        sleeping: false,
-        threads,
-        ..WorldSettings::default()
-    })
-    .unwrap()
-}
 
 /// A uniform sphere of `mass` kg and radius 0.1 m at `at` (moment of inertia
 /// `2/5 m r^2` about any axis), spinning at `spin` about z.
@@ -50,7 +37,7 @@ fn gear_pair(
     ratio: f64,
     threads: u32,
 ) -> (World, [BodyId; 2], [JointId; 2]) {
-    let mut w = world(false, threads);
+    let mut w = joint_world(false, threads);
     let centres = [DVec3::ZERO, DVec3::new(0.3, 0.0, 0.0)];
     let bodies = [0, 1].map(|k| wheel(&mut w, centres[k], masses[k], spins[k]));
     let joints = [0, 1].map(|k| {
@@ -151,7 +138,7 @@ fn a_free_gear_pair_shares_its_spin_as_the_reduced_inertia_says_and_keeps_its_en
 /// vertical slider), the rack's height held at `ratio` times the pinion's
 /// angle. Returns the world, the rack and the pinion's joint.
 fn rack_and_pinion(ratio: f64, rack_mass: f64, pinion_mass: f64, threads: u32) -> (World, BodyId, BodyId) {
-    let mut w = world(true, threads);
+    let mut w = joint_world(true, threads);
     let pinion = w
         .add_body(
             &BodyDesc::dynamic(Sphere::new(0.1).unwrap())
@@ -211,10 +198,16 @@ fn a_rack_falls_on_its_pinion_with_the_acceleration_of_the_reduced_mass() {
 }
 
 #[test]
-fn a_geared_world_continues_bit_for_bit_through_snapshots_and_on_any_thread_count() {
+fn a_geared_world_continues_bit_for_bit_through_snapshots_and_on_1_2_3_and_8_threads() {
     let run = |threads: u32, through: Option<bool>| {
         let (mut w, _, _) = rack_and_pinion(0.1, 2.0, 1.0, threads);
-        // Enough bodies for the step to use its threads, far from the gear.
+        // Every step on the threads (never moved to one thread for speed),
+        // with enough bodies to share out, far from the gear.
+        let settings = WorldSettings {
+            adaptive_threads: false,
+            ..w.settings().clone()
+        };
+        w.set_settings(settings).unwrap();
         for k in 0..200 {
             w.add_body(&BodyDesc::dynamic(Sphere::new(0.05).unwrap()).at(DVec3::new(
                 10.0 + 0.2 * k as f64,
@@ -223,9 +216,11 @@ fn a_geared_world_continues_bit_for_bit_through_snapshots_and_on_any_thread_coun
             )))
             .unwrap();
         }
-        for _ in 0..30 {
-            w.step();
-        }
+        let threaded = (0..30).filter(|_| w.step().threads > 1).count();
+        assert!(
+            threads == 1 || threaded > 0,
+            "{threads} threads: no step ran on them"
+        );
         if let Some(json) = through {
             let snap = w.snapshot();
             let snap = if json {
@@ -246,6 +241,7 @@ fn a_geared_world_continues_bit_for_bit_through_snapshots_and_on_any_thread_coun
     for (threads, through) in [
         (2, None),
         (3, None),
+        (8, None),
         (1, Some(false)),
         (1, Some(true)),
         (2, Some(false)),
@@ -355,7 +351,7 @@ fn a_gear_goes_with_either_of_its_joints_and_can_be_let_go() {
 /// angle at 0.05 m/rad unless `geared` is false. Returns the world, the
 /// frame, wheel and block, and the two joints.
 fn flying_rack(geared: bool) -> (World, [BodyId; 3], [JointId; 2]) {
-    let mut w = world(false, 1);
+    let mut w = joint_world(false, 1);
     let frame = w
         .add_body(
             &BodyDesc::dynamic(Cuboid::new(DVec3::new(0.3, 0.1, 0.05)).unwrap())
@@ -591,7 +587,7 @@ fn a_light_follower_stopped_by_a_contact_stops_its_heavy_leader() {
     // back, and the flap went 4 mm into the stop; now the gear and the
     // contact are rows of one system (the frame's joint island).
     for threads in [1, 2] {
-        let mut w = world(false, threads);
+        let mut w = joint_world(false, threads);
         let frame = w
             .add_body(
                 &BodyDesc::dynamic(Cuboid::new(DVec3::new(0.3, 0.3, 0.05)).unwrap())
@@ -673,7 +669,7 @@ fn a_gear_measures_its_leader_against_a_turning_kinematic_base() {
     // leader's rate against the turntable, not against the world (before
     // 2026-12-02 the gear's row left the turntable's velocity out: the
     // leader turned at -2 rad/s against it while the follower stood).
-    let mut w = world(false, 1);
+    let mut w = joint_world(false, 1);
     let table = w
         .add_body(
             &BodyDesc::kinematic(Cuboid::new(DVec3::new(0.3, 0.3, 0.05)).unwrap())

@@ -4,32 +4,16 @@
 //! period, welds that move as one body, and the same bits on any thread
 //! count; bad joints refused with the world unchanged.
 //!
-//! Each test builds and steps its own joint (only `world` and `cube` are
-//! shared), so tests open alike by design.
+//! Each test builds and steps its own joint (only `cube` here and
+//! `common::joint_world` are shared), so tests open alike by design.
 
 mod common;
 
-use common::elliptic_k;
+use common::{elliptic_k, joint_world, G};
 use std::f64::consts::PI;
 use tumble::collide::{Cuboid, DQuat, DVec3, HalfSpace, Pose, Sphere};
 use tumble::joint::{JointDesc, JointKind, Motor};
 use tumble::world::{BodyDesc, BodyId, World, WorldError, WorldSettings};
-
-const G: f64 = 9.81;
-
-fn world(gravity: bool) -> World {
-    World::new(WorldSettings {
-        gravity: if gravity {
-            DVec3::new(0.0, 0.0, -G)
-        } else {
-            DVec3::ZERO
-        },
-        sleeping: false,
-        threads: 1,
-        ..WorldSettings::default()
-    })
-    .unwrap()
-}
 
 /// A 1 kg uniform cube of side 0.1 m at `at`.
 fn cube(w: &mut World, at: DVec3) -> BodyId {
@@ -46,7 +30,7 @@ fn cube(w: &mut World, at: DVec3) -> BodyId {
 /// period (from the zero crossings of the angle) and the largest relative
 /// energy change.
 fn pendulum_period(kind: JointKind, theta0: f64, d: f64) -> (f64, f64) {
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let at = DVec3::new(d * theta0.sin(), 0.0, -d * theta0.cos());
     let bob = cube(&mut w, at);
     let desc = JointDesc::new(kind, bob, None, DVec3::ZERO, DVec3::Y);
@@ -135,7 +119,7 @@ fn hinge_limits_stop_the_swing() {
     // measured from where it starts: the hinge's zero is the pose at
     // creation, so the pendulum starts at angle 0 with limits [-0.3, 1.2]
     // (it would swing to pi: the limit at 1.2 rad stops it).
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(&JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Y).with_limits(-0.3, 1.2))
@@ -174,7 +158,7 @@ fn a_velocity_motor_turns_at_its_speed_and_stalls_at_its_torque() {
     // A horizontal arm (cube 0.5 m from the hinge) lifted against gravity:
     // the holding torque is m g d = 4.905 N m.
     for (max_torque, lifts) in [(20.0, true), (3.0, false)] {
-        let mut w = world(true);
+        let mut w = joint_world(true, 1);
         let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
         // Positive angle about -y lifts the arm (x towards z).
         let j = w
@@ -212,7 +196,7 @@ fn a_velocity_motor_turns_at_its_speed_and_stalls_at_its_torque() {
 
 #[test]
 fn a_position_motor_settles_on_its_target() {
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let arm = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(
@@ -236,7 +220,7 @@ fn a_position_motor_settles_on_its_target() {
 fn a_slider_slides_along_its_axis_and_stops_at_its_limit() {
     // Axis down a 30 degree incline: acceleration g sin 30 along it.
     let axis = DVec3::new(30f64.to_radians().cos(), 0.0, -30f64.to_radians().sin());
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let c = cube(&mut w, DVec3::ZERO);
     let j = w
         .add_joint(&JointDesc::slider(c, None, DVec3::ZERO, axis).with_limits(-1.0, 2.0))
@@ -268,7 +252,7 @@ fn a_slider_slides_along_its_axis_and_stops_at_its_limit() {
 
 #[test]
 fn a_slider_motor_drives_at_its_speed() {
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let c = cube(&mut w, DVec3::ZERO);
     // Built and stepped in full like a_position_motor_settles_on_its_target: the
     // joint kind and motor under test stay beside their assertions.
@@ -298,7 +282,7 @@ fn a_weld_moves_two_bodies_as_one() {
     // Two cubes welded side by side, thrown spinning in zero gravity:
     // linear and angular momentum of the pair are conserved and they keep
     // their relative pose.
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let a = cube(&mut w, DVec3::new(-0.05, 0.0, 0.0));
     let b = cube(&mut w, DVec3::new(0.05, 0.0, 0.0));
     let j = w.add_joint(&JointDesc::fixed(a, Some(b), DVec3::ZERO)).unwrap();
@@ -335,7 +319,7 @@ fn a_weld_moves_two_bodies_as_one() {
 fn a_rope_is_slack_until_taut_and_a_rod_keeps_its_length() {
     // Rope of 1 m from a point 0.5 m above the cube: free fall for 0.5 m,
     // then the cube hangs 1 m below the anchor.
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let c = cube(&mut w, DVec3::ZERO);
     let anchor = DVec3::new(0.0, 0.0, 0.5);
     let j = w
@@ -367,7 +351,7 @@ fn a_rope_is_slack_until_taut_and_a_rod_keeps_its_length() {
     assert!((s.force.z - G).abs() < 0.05 * G, "{:?}", s.force);
 
     // A rod between two cubes spinning in zero gravity keeps its length.
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let a = cube(&mut w, DVec3::new(-0.5, 0.0, 0.0));
     let b = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let rod = w
@@ -391,7 +375,7 @@ fn a_rope_is_slack_until_taut_and_a_rod_keeps_its_length() {
 #[test]
 fn a_spring_joint_oscillates_with_the_analytic_period() {
     // m = 1 kg, k = 100 N/m: T = 2 pi sqrt(m / k) = 0.628 s.
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let c = cube(&mut w, DVec3::new(1.1, 0.0, 0.0));
     let j = w
         .add_joint(
@@ -420,7 +404,7 @@ fn a_spring_joint_oscillates_with_the_analytic_period() {
 /// on an arm hinged about z in zero gravity (`I` about the hinge), kicked
 /// at 1 rad/s, sampled every step for `steps` steps.
 fn ringing_hinge(stiffness: f64, damping: f64, steps: usize) -> Vec<f64> {
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(&JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Z).with_spring(stiffness, damping))
@@ -521,7 +505,7 @@ fn a_ball_spring_rings_as_the_torsional_oscillator_about_any_axis() {
     let i = 1.0 / 600.0;
     let u = DVec3::new(1.0, 2.0, -0.5).normalize();
     let ring = |k: f64, c: f64, steps: usize| {
-        let mut w = world(false);
+        let mut w = joint_world(false, 1);
         let cube = cube(&mut w, DVec3::ZERO);
         w.add_joint(&JointDesc::ball(cube, None, DVec3::ZERO).with_spring(k, c))
             .unwrap();
@@ -563,7 +547,7 @@ fn two_sprung_ball_joints_ring_in_the_chains_normal_mode() {
     let k = 0.1;
     let phi = (1.0 + 5.0f64.sqrt()) / 2.0;
     let w_slow = (k / i * (3.0 - 5.0f64.sqrt()) / 2.0).sqrt();
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let a = cube(&mut w, DVec3::ZERO);
     let b = cube(&mut w, DVec3::ZERO);
     w.add_joint(&JointDesc::ball(a, None, DVec3::ZERO).with_spring(k, 0.0))
@@ -599,7 +583,7 @@ fn a_damped_ball_jointed_arm_comes_to_rest_hanging() {
     // A 0.5 m arm on a damped ball joint, let go level in gravity: the
     // damper takes energy out at every instant (c w^2 >= 0), so the total
     // energy never rises, and the arm ends hanging straight down, at rest.
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let arm = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     w.add_joint(&JointDesc::ball(arm, None, DVec3::ZERO).with_spring(0.0, 0.5))
         .unwrap();
@@ -627,7 +611,7 @@ fn slider_friction_holds_below_its_load_and_slips_above_it_by_the_analytic_law()
     // t^2 / 2 (0.5 % after 1 s).
     let axis = DVec3::new(30f64.to_radians().cos(), 0.0, 30f64.to_radians().sin());
     let slide = |friction: f64| {
-        let mut w = world(true);
+        let mut w = joint_world(true, 1);
         let c = cube(&mut w, DVec3::ZERO);
         let j = w
             .add_joint(&JointDesc::slider(c, None, DVec3::ZERO, axis).with_friction(friction))
@@ -665,7 +649,7 @@ fn hinge_friction_acts_beside_a_motor() {
     // which it then holds (1 %).
     let i = 1.0 / 600.0 + 0.25;
     let turn = |max_force: f64, steps: usize| {
-        let mut w = world(false);
+        let mut w = joint_world(false, 1);
         let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
         let j = w
             .add_joint(
@@ -742,7 +726,7 @@ fn ball_friction_stops_a_spin_at_the_same_rate_about_any_axis() {
 /// turned with it, with the options `with` gives it (whose vectors the
 /// caller turns too).
 fn cube_on_a_turned_ball(turn: DQuat, with: impl FnOnce(JointDesc) -> JointDesc) -> (World, BodyId) {
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let c = w
         .add_body(
             &BodyDesc::dynamic(Cuboid::new(DVec3::splat(0.05)).unwrap())
@@ -825,7 +809,7 @@ fn a_ball_velocity_motors_target_turns_with_body_b() {
     // momentum I (wA + wB) is kept (the motor's torque is internal; 1e-9
     // relative).
     let i = 1.0 / 600.0;
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let a = cube(&mut w, DVec3::ZERO);
     let b = cube(&mut w, DVec3::ZERO);
     let w_t = DVec3::new(0.4, -1.0, 0.7);
@@ -940,7 +924,7 @@ fn a_ball_orientation_motor_holds_an_arm_against_gravity_where_its_torque_balanc
     // about y). Solved by bisection (1e-4 rad), and the arm does not turn
     // about any other axis (1e-9).
     let (k, d) = (20.0, 0.5);
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let arm = cube(&mut w, DVec3::new(d, 0.0, 0.0));
     let j = w
         .add_joint(
@@ -982,7 +966,7 @@ fn ball_motors_in_a_joint_island_bring_an_arm_to_its_pose() {
     // gravity, orientation motors aimed at turns about different slanted
     // axes, critically damped for the outer link's inertia: each joint ends
     // at its target (1e-6 rad) and the arm at rest.
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let a = cube(&mut w, DVec3::new(0.25, 0.0, 0.0));
     let b = cube(&mut w, DVec3::new(0.75, 0.0, 0.0));
     let targets = [DVec3::new(0.2, -0.5, 0.3), DVec3::new(-0.6, 0.1, 0.4)];
@@ -1032,7 +1016,7 @@ fn a_ball_motors_torque_is_bounded_in_length_where_its_rows_are_coupled() {
         max_force: tau,
     };
     for island in [false, true] {
-        let mut w = world(false);
+        let mut w = joint_world(false, 1);
         let (pivot, parent) = if island {
             let base = cube(&mut w, DVec3::new(-0.3, 0.0, 0.0));
             w.add_joint(&JointDesc::ball(base, None, DVec3::new(-0.6, 0.0, 0.0)))
@@ -1062,7 +1046,7 @@ fn a_ball_motors_torque_is_bounded_in_length_where_its_rows_are_coupled() {
 
 #[test]
 fn a_ball_motor_is_changed_or_refused() {
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let bob = cube(&mut w, DVec3::ZERO);
     let j = w.add_joint(&JointDesc::ball(bob, None, DVec3::ZERO)).unwrap();
     let spin = Motor::AngularVelocity {
@@ -1148,7 +1132,7 @@ fn a_ball_motor_is_changed_or_refused() {
 
 #[test]
 fn a_joints_friction_is_changed_or_refused() {
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(&JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Z).with_friction(100.0))
@@ -1192,7 +1176,7 @@ fn a_joints_friction_is_changed_or_refused() {
         "a rope's"
     );
     let swing = |friction: Option<f64>| {
-        let mut w = world(true);
+        let mut w = joint_world(true, 1);
         let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
         let mut hinge = JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Y);
         hinge.friction = friction;
@@ -1210,7 +1194,7 @@ fn a_joints_spring_is_changed_or_taken_off_between_steps() {
     // Kicked at 1 rad/s about a sprung hinge: taken off, the arm turns on at
     // its rate; put back stiffer, it turns back towards its start; a bad
     // spring is refused and the joint keeps its own.
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(&JointDesc::hinge(bob, None, DVec3::ZERO, DVec3::Z).with_spring(2.5, 0.0))
@@ -1263,7 +1247,7 @@ fn stiff_springs_sharing_a_body_stay_bounded() {
     // 5.7, past the explicit stiffness's bound of 4 (a spring taken
     // explicitly by its own measure alone would be, and they would ring
     // up). Released 1 cm from rest, the cube never swings further.
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let c = cube(&mut w, DVec3::new(1.01, 0.0, 0.0));
     let k = 1.9 * 480.0 * 480.0;
     for _ in 0..3 {
@@ -1289,7 +1273,7 @@ fn a_spring_acts_beside_a_motor_and_a_slider_spring_carries_its_load() {
     // is its own, 0.3 rad.
     let i: f64 = 1.0 / 600.0 + 0.25;
     let k: f64 = 2.0;
-    let mut w = world(false);
+    let mut w = joint_world(false, 1);
     let bob = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(
@@ -1312,7 +1296,7 @@ fn a_spring_acts_beside_a_motor_and_a_slider_spring_carries_its_load() {
     // the joint carries only the part of its weight across the slope.
     let slope = 30f64.to_radians();
     let axis = DVec3::new(slope.cos(), 0.0, slope.sin());
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let c = cube(&mut w, DVec3::ZERO);
     let k: f64 = 50.0;
     let j = w
@@ -1338,7 +1322,7 @@ fn a_spring_acts_beside_a_motor_and_a_slider_spring_carries_its_load() {
 fn a_swing_cone_holds_a_ball_joint() {
     // Released horizontal (90 degrees from the axis pointing down) with a
     // 30 degree cone: it swings towards the axis and never beyond the cone.
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let bob = cube(&mut w, DVec3::new(0.0, 0.0, -0.5));
     let j = w
         .add_joint(&JointDesc::ball(bob, None, DVec3::ZERO).with_swing_limit(30f64.to_radians()))
@@ -1362,7 +1346,7 @@ fn a_swing_cone_holds_a_ball_joint() {
 fn a_hanging_chain_holds_and_carries_its_weight() {
     // 10 cubes on ball joints from a fixed point: every link's joint force
     // carries the weight of the links below it (at rest).
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let n = 10;
     let mut links = Vec::new();
     let mut joints = Vec::new();
@@ -1394,7 +1378,7 @@ fn a_hanging_chain_holds_and_carries_its_weight() {
 #[test]
 fn jointed_bodies_do_not_collide_unless_asked() {
     for collide in [false, true] {
-        let mut w = world(false);
+        let mut w = joint_world(false, 1);
         let a = cube(&mut w, DVec3::ZERO);
         let b = cube(&mut w, DVec3::new(0.09, 0.0, 0.0)); // overlapping by 1 cm
         w.add_joint(&JointDesc::hinge(a, Some(b), DVec3::new(0.045, 0.0, 0.0), DVec3::Z).colliding(collide))
@@ -1442,7 +1426,7 @@ fn joint_chains_give_the_same_bits_on_every_thread_count() {
 
 #[test]
 fn bad_joints_are_refused_and_leave_the_world_unchanged() {
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let ground = w
         .add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
         .unwrap();
@@ -1554,7 +1538,7 @@ fn bad_joints_are_refused_and_leave_the_world_unchanged() {
 
 #[test]
 fn a_snapshot_with_joints_continues_bit_for_bit() {
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let a = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let b = cube(&mut w, DVec3::new(1.0, 0.0, 0.0));
     w.add_joint(
@@ -1645,7 +1629,7 @@ fn a_resting_jointed_pair_sleeps_together_and_wakes_together() {
 fn a_hanging_chain_with_a_hundred_times_heavier_end_stretches_less_than_a_millimetre() {
     // 20 links of 0.1 kg hanging straight down, a 10 kg weight below: at
     // rest the weight hangs where the links' lengths put it.
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let n = 20;
     let mut prev = None;
     for i in 0..n {
@@ -1680,7 +1664,7 @@ fn a_light_chain_holds_a_hundred_times_heavier_weight() {
     // released horizontal: the chain's joints are solved as one system and
     // the light links are stiffened against their tension, so it neither
     // stretches nor blows up at the default 8 sub-steps.
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let n = 20;
     let mut prev = None;
     let mut joints = Vec::new();
@@ -1728,7 +1712,7 @@ fn a_chain_slipping_on_the_friction_of_every_joint_loses_energy_and_holds() {
 }
 
 fn slipping_chain(as_motor: bool) {
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let n = 30;
     let mut prev = None;
     for i in 0..n {
@@ -1815,7 +1799,7 @@ fn a_position_motor_holds_an_arm_under_load_with_the_analytic_sag() {
     // A PD servo of stiffness k holds a horizontal arm (1 kg at 0.5 m):
     // at rest k (target - angle) = m g d cos(angle), the damping idle.
     let k = 500.0;
-    let mut w = world(true);
+    let mut w = joint_world(true, 1);
     let arm = cube(&mut w, DVec3::new(0.5, 0.0, 0.0));
     let j = w
         .add_joint(

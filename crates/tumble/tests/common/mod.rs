@@ -29,6 +29,26 @@ pub fn weightless_world(continuous: bool) -> tumble::world::World {
     .unwrap()
 }
 
+/// Standard gravity (m/s^2), as the joint tests' worlds have it.
+pub const G: f64 = 9.81;
+
+/// A world for joint and gear tests: gravity `G` along -z or none,
+/// sleeping off (a test's pendulum must not fall asleep at a turning
+/// point), stepped on `threads` threads.
+pub fn joint_world(gravity: bool, threads: u32) -> tumble::world::World {
+    tumble::world::World::new(tumble::world::WorldSettings {
+        gravity: if gravity {
+            DVec3::new(0.0, 0.0, -G)
+        } else {
+            DVec3::ZERO
+        },
+        sleeping: false,
+        threads,
+        ..tumble::world::WorldSettings::default()
+    })
+    .unwrap()
+}
+
 /// A test pose with a generic orientation.
 pub fn tilted_pose() -> Pose {
     Pose::new(

@@ -2,9 +2,11 @@
 (python3 -m unittest bench/test_common.py;
 stdlib only; needs target/release/tumble, which bench-quick builds first)."""
 
+import json
 import math
 import os
 import sys
+import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "peers"))
@@ -142,6 +144,35 @@ class SceneData(unittest.TestCase):
                 del os.environ["TUMBLE_BIN"]
             else:
                 os.environ["TUMBLE_BIN"] = old
+
+    def test_gears_and_pairs_kept_apart_are_refused_not_left_out(self):
+        # A stand-in for the CLI that exports a scene with one of them (no standard scene has
+        # either): a peer without a twin for them would run other work than tumble's.
+        old = os.environ.get("TUMBLE_BIN")
+        with tempfile.TemporaryDirectory() as d:
+            exe = os.path.join(d, "tumble")
+            for key, entry, what in [
+                ("gears", {"follower": 1, "leader": 0, "ratio": 2.0, "offset": 0.0}, "gears"),
+                ("no_contact", [0, 1], "pairs of bodies kept apart"),
+            ]:
+                scene = {"format": C.PLAIN_SCENE_FORMAT, "bodies": [], "joints": [], key: [entry]}
+                with open(exe, "w") as f:
+                    f.write("#!/bin/sh\ncat <<'EOF'\n" + json.dumps(scene) + "\nEOF\n")
+                os.chmod(exe, 0o755)
+                os.environ["TUMBLE_BIN"] = exe
+                try:
+                    with self.assertRaisesRegex(RuntimeError, f"{what} \\({key}\\)"):
+                        C.load_scene("pyramid")
+                    # Empty lists are no such parts.
+                    scene[key] = []
+                    with open(exe, "w") as f:
+                        f.write("#!/bin/sh\ncat <<'EOF'\n" + json.dumps(scene) + "\nEOF\n")
+                    self.assertEqual(C.load_scene("pyramid")[key], [])
+                finally:
+                    if old is None:
+                        del os.environ["TUMBLE_BIN"]
+                    else:
+                        os.environ["TUMBLE_BIN"] = old
 
     def test_timing_stats(self):
         s = C.timing_stats([k * 1e-3 for k in (7, 1, 11, 3, 9, 5, 2, 10, 4, 8, 6)])

@@ -49,6 +49,11 @@ def load_scene(name, n=None, poses=None):
     want = TORI_PLAIN_FORMAT if name == "tori" else PLAIN_SCENE_FORMAT
     if scene.get("format") != want:
         raise RuntimeError(f"{' '.join(cmd)}: format {scene.get('format')!r}, expected {want!r}")
+    # Parts of a scene no peer here builds a twin of: refused, not left out (that would be
+    # other work than tumble's).
+    for key, what in [("gears", "gears"), ("no_contact", "pairs of bodies kept apart")]:
+        if scene.get(key):
+            raise RuntimeError(f"scene {name}: {what} ({key}) have no twin in the peers")
     return scene
 
 

@@ -109,6 +109,12 @@ pub fn build_with(scene: &Scene, multibody: bool, decompose: bool) -> Result<Sce
             scene.name
         ));
     }
+    if !scene.gears.is_empty() {
+        return Err(format!(
+            "{}: gears (a joint held at a ratio of another's coordinate) have no Rapier twin here",
+            scene.name
+        ));
+    }
     let plain = scene.plain().map_err(|e| format!("{}: {e}", scene.name))?;
     let mut w = world();
     w.gravity = v(plain.gravity.to_array());
@@ -280,5 +286,31 @@ impl SceneWorld {
             }
             None => [f64::NAN; 3],
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::build_with;
+    use tumble::scenes::{self, SceneGear};
+
+    #[test]
+    fn gears_and_pairs_kept_apart_are_refused_not_left_out() {
+        let mut geared = scenes::heavy_chain();
+        geared.gears.push(SceneGear {
+            follower: 1,
+            leader: 0,
+            ratio: 2.0,
+            offset: 0.0,
+        });
+        let mut apart = scenes::heavy_chain();
+        apart.no_contact.push((1, 3));
+        for (scene, what) in [(geared, "gears"), (apart, "no_contact")] {
+            for multibody in [false, true] {
+                let err = build_with(&scene, multibody, false).err().expect("refused");
+                assert!(err.contains(what), "{err}");
+            }
+        }
+        assert!(build_with(&scenes::heavy_chain(), false, false).is_ok());
     }
 }

@@ -231,3 +231,31 @@ fn json_form_says_what_the_plain_form_says() {
         scenes::CONCAVE_BIN_INNER_HALF_WIDTH
     );
 }
+
+#[test]
+fn json_form_carries_gears_and_pairs_kept_apart_by_index() {
+    let mut s = scenes::heavy_chain();
+    s.gears.push(scenes::SceneGear {
+        follower: 1,
+        leader: 0,
+        ratio: -2.0,
+        offset: 0.25,
+    });
+    s.no_contact.push((1, 3));
+    let j = s.to_plain_json().unwrap();
+    let gear = &j["gears"][0];
+    assert_eq!(
+        (
+            &gear["follower"],
+            &gear["leader"],
+            &gear["ratio"],
+            &gear["offset"]
+        ),
+        (&1.into(), &0.into(), &(-2.0).into(), &0.25.into())
+    );
+    assert_eq!(j["no_contact"], serde_json::json!([[1, 3]]));
+    // The standard scenes have neither: empty lists, which the peers accept.
+    let pyramid = scenes::pyramid().to_plain_json().unwrap();
+    assert_eq!(pyramid["gears"], serde_json::json!([]));
+    assert_eq!(pyramid["no_contact"], serde_json::json!([]));
+}

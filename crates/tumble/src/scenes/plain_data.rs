@@ -146,13 +146,17 @@ impl Scene {
     }
 
     /// The JSON form of [`Scene::plain`]: `{format, name, dt, gravity,
-    /// steps, limits, meshes, bodies, joints}`. Vectors are `[x, y, z]`,
+    /// steps, limits, meshes, bodies, joints, gears, no_contact}`. Vectors are `[x, y, z]`,
     /// quaternions `[x, y, z, w]`; a mesh shape names its entry of
     /// `meshes` (each distinct mesh is written once); capsules lie along
     /// their local z axis; `limits` holds the scene's pass marks
     /// ([`PILE_INSIDE_HALF_WIDTH`], [`CHAIN_MAX_CENTRE_DISTANCE`]); `joints`
     /// are the scene's [`JointDesc`](crate::joint::JointDesc)s as written,
-    /// their bodies named by index.
+    /// their bodies named by index; `gears` the scene's
+    /// [`SceneGear`](super::SceneGear)s (`{follower, leader, ratio,
+    /// offset}`, joints by index) and `no_contact` its pairs of bodies kept
+    /// apart (`[a, b]`, by index): a peer that has no twin for them must
+    /// refuse the scene rather than run other work.
     pub fn to_plain_json(&self) -> Result<Value, WorldError> {
         let plain = self.plain()?;
         let mut meshes: Vec<Value> = Vec::new();
@@ -249,6 +253,13 @@ impl Scene {
                 field: "joints",
                 message: e.to_string(),
             })?,
+            "gears": self.gears.iter().map(|g| json!({
+                "follower": g.follower,
+                "leader": g.leader,
+                "ratio": g.ratio,
+                "offset": g.offset,
+            })).collect::<Vec<_>>(),
+            "no_contact": self.no_contact.iter().map(|&(a, b)| json!([a, b])).collect::<Vec<_>>(),
         }))
     }
 }

@@ -152,7 +152,11 @@ class SceneData(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             exe = os.path.join(d, "tumble")
             for key, entry, what in [
-                ("gears", {"follower": 1, "leader": 0, "ratio": 2.0, "offset": 0.0}, "gears"),
+                (
+                    "gears",
+                    {"follower": 1, "leader": 0, "ratio": 2.0, "offset": 0.0},
+                    "joints held at a ratio of another's coordinate",
+                ),
                 ("no_contact", [0, 1], "pairs of bodies kept apart"),
             ]:
                 scene = {"format": C.PLAIN_SCENE_FORMAT, "bodies": [], "joints": [], key: [entry]}

@@ -29,7 +29,7 @@ fi
 # The package: rebuilt when a source it is made of changes.
 sources="$(
     cd "$root" &&
-        find Cargo.toml Cargo.lock pyproject.toml crates/tumble-collide crates/tumble crates/tumble-py \
+        find Cargo.toml Cargo.lock pyproject.toml rust-toolchain.toml .cargo/config.toml crates/tumble-collide crates/tumble crates/tumble-py \
             -type f \( -name '*.rs' -o -name '*.toml' -o -name '*.py' -o -name '*.pyi' -o -name 'py.typed' \) \
             -not -path '*/tests/*' -not -path '*/benches/*' -not -path '*/__pycache__/*' |
         LC_ALL=C sort | xargs sha256sum | sha256sum | cut -d' ' -f1

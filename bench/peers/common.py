@@ -51,7 +51,10 @@ def load_scene(name, n=None, poses=None):
         raise RuntimeError(f"{' '.join(cmd)}: format {scene.get('format')!r}, expected {want!r}")
     # Parts of a scene no peer here builds a twin of: refused, not left out (that would be
     # other work than tumble's).
-    for key, what in [("gears", "gears"), ("no_contact", "pairs of bodies kept apart")]:
+    for key, what in [
+        ("gears", "joints held at a ratio of another's coordinate"),
+        ("no_contact", "pairs of bodies kept apart"),
+    ]:
         if scene.get(key):
             raise RuntimeError(f"scene {name}: {what} ({key}) have no twin in the peers")
     return scene

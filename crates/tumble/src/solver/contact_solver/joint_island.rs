@@ -795,12 +795,12 @@ fn is_soft(j: &JointConstraint, slot: usize) -> bool {
 /// their bounds, each solve exact to 1e-14) blew up as its end whipped
 /// round at 2.3 s, where with the pass it loses energy and holds (the
 /// joints open 1.1 mm at the whip, 1.3 mm without friction). (Limits stay
-/// with the joint-by-joint pass: solved with the island, as rows of the
-/// system held one-sided by `hold_at_bounds` or on its Schur complement as
-/// the owned contacts are, a quadruped crouching off its knee limits
-/// collapsed and NAO's fingers came apart: the limits and the owned
-/// contacts need one LCP together; docs/pipeline.md, "Measured and not
-/// kept".)
+/// with the joint-by-joint pass. As rows of the system held one-sided by
+/// `hold_at_bounds`, a quadruped crouching off its knee limits collapsed
+/// and NAO blew apart; on the system's Schur complement, as the owned
+/// contacts are, NAO's ungeared fingers came apart: the limits and the
+/// owned contacts need one LCP together; docs/pipeline.md, "Measured and
+/// not kept".)
 fn island_mask(j: &JointConstraint) -> u16 {
     let motor = match j.law.motor {
         Some(Motor::Position { .. }) => 1 << MOTOR,

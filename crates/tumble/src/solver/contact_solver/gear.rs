@@ -140,7 +140,8 @@ impl GearConstraint {
                         dynamic: b.dynamic,
                         lin,
                         ang,
-                        inv_mass: if b.dynamic { b.inv_mass } else { 0.0 },
+                        // (0 for a kinematic body, as the solver keeps it.)
+                        inv_mass: b.inv_mass,
                         ia: DVec3::ZERO,
                     }),
                 }

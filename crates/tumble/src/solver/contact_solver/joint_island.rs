@@ -1092,6 +1092,7 @@ fn joint_islands_in_lanes(
 mod tests {
     use super::super::body::integrate_positions;
     use super::super::constraint::{ManifoldConstraint, PointConstraint};
+    use super::super::island_contacts::COMPLIANCE_SHARE;
     use super::super::joint::{begin_joints, push_joints, solve_joints, JointLaw, JOINT_ROWS};
     use super::*;
     use crate::joint::JointKind;
@@ -1508,9 +1509,12 @@ mod tests {
     /// After one velocity pass of an island that owns the patch closing its
     /// loop, the joints and the contact together satisfy the conditions
     /// that define the exact answer: every joint row at its target, and at
-    /// every contact point `lambda >= 0`, `w = v_n >= 0`, `lambda w = 0`.
-    /// (Relaxed one after the other, the contact's last update leaves the
-    /// joint rows off by what it moved the light link.)
+    /// every contact point `lambda >= 0`, `w + c lambda >= 0` and
+    /// `lambda (w + c lambda) = 0`, with `w = v_n` and `c` the point's compliance
+    /// (`COMPLIANCE_SHARE` of its own inverse mass; the pass starts from no
+    /// impulse, so its change is all of `lambda`). (Relaxed one after the
+    /// other, the contact's last update leaves the joint rows off by what it
+    /// moved the light link.)
     #[test]
     fn an_owned_patch_and_its_islands_joints_are_solved_exactly() {
         for seed in 0..20 {
@@ -1550,7 +1554,9 @@ mod tests {
             let (a, c) = (&bodies[m.a as usize], &bodies[m.b as usize]);
             let mut pressed = 0.0;
             for p in &points {
-                let w = p.normal.dot(a.v - c.v) + p.row.ra_x_d.dot(a.w) - p.row.rb_x_d.dot(c.w);
+                let own = p.row.inverse_mass(p.normal, m.inv_mass[0], m.inv_mass[1]);
+                let w = p.normal.dot(a.v - c.v) + p.row.ra_x_d.dot(a.w) - p.row.rb_x_d.dot(c.w)
+                    + COMPLIANCE_SHARE * own * p.normal_impulse;
                 assert!(
                     p.normal_impulse >= 0.0 && w > -1e-9 * scale,
                     "seed {seed}: {} {w}",

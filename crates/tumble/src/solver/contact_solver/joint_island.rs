@@ -197,20 +197,36 @@ impl JointIsland {
         }
     }
 
-    /// `U = K^-1 W` for the owned patches' points: one solve per point in
-    /// a unit of one lane; in a unit of more, the lanes' points taken side
-    /// by side, a lane set per solve (a lane with no point left solves
-    /// zeros), each lane getting the bits its island gets alone.
+    /// `U = K^-1 W` for the owned patches' points: in a unit of one lane,
+    /// four points a solve, one a lane (`Factor::solve_columns`: NAO's hands
+    /// own 200-390 points a sub-step, a solve each took 28 % of its step);
+    /// in a unit of more, the lanes' points taken side by side, a lane set
+    /// per solve (a lane with no point left solves zeros). Either way each
+    /// point gets the bits a solve of its own gives it.
     fn solve_responses(&mut self) {
         let n = self.rows();
         if self.lanes.len() == 1 {
-            for o in &mut self.owned {
-                for i in 0..o.points() {
-                    let x = o.response_mut(i);
-                    self.factor.solve(&self.profile, x);
-                    clear_non_finite(x);
+            let points: Vec<(usize, usize)> = (self.owned.iter().enumerate())
+                .flat_map(|(k, o)| (0..o.points()).map(move |i| (k, i)))
+                .collect();
+            let mut x = std::mem::take(&mut self.rhs_lanes);
+            for four in points.chunks(LANES) {
+                x.clear();
+                x.extend((0..n).map(|r| {
+                    Lane::new(std::array::from_fn(|l| {
+                        four.get(l).map_or(0.0, |&(k, i)| self.owned[k].response(i)[r])
+                    }))
+                }));
+                self.factor.solve_columns(&self.profile, &mut x);
+                for (l, &(k, i)) in four.iter().enumerate() {
+                    let u = self.owned[k].response_mut(i);
+                    for (u, x) in u.iter_mut().zip(&x) {
+                        *u = x.to_array()[l];
+                    }
+                    clear_non_finite(u);
                 }
             }
+            self.rhs_lanes = x;
             return;
         }
         // Each lane's points in patch order: (owned patch, point).
@@ -1506,6 +1522,25 @@ mod tests {
         (bodies, joints, manifolds, points, contacts)
     }
 
+    /// Runs `f` with the shared views the island passes take of one
+    /// thread's joints, bodies and contact arrays (no gears).
+    fn with_views(
+        joints: &mut [JointConstraint],
+        bodies: &mut [SolverBody],
+        manifolds: &mut [ManifoldConstraint],
+        points: &mut [PointConstraint],
+        f: impl FnOnce(&Shared<JointConstraint>, &Shared<GearConstraint>, &Shared<SolverBody>, &PatchArrays),
+    ) {
+        let (js, bs) = (Shared::new(joints), Shared::new(bodies));
+        let no_gears = Shared::new(&mut [] as &mut [GearConstraint]);
+        let (ms, ps) = (Shared::new(manifolds), Shared::new(points));
+        let patches = PatchArrays {
+            manifolds: &ms,
+            points: &ps,
+        };
+        f(&js, &no_gears, &bs, &patches);
+    }
+
     /// After one velocity pass of an island that owns the patch closing its
     /// loop, the joints and the contact together satisfy the conditions
     /// that define the exact answer: every joint row at its target, and at
@@ -1524,20 +1559,19 @@ mod tests {
             assert_eq!(islands.len(), 1);
             assert_eq!(islands[0].owned_patches().collect::<Vec<_>>(), vec![0]);
             let h = 1.0 / 480.0;
-            {
-                let (js, bs) = (Shared::new(&mut joints), Shared::new(&mut bodies));
-                let no_gears = Shared::new(&mut [] as &mut [GearConstraint]);
-                let (ms, ps) = (Shared::new(&mut manifolds), Shared::new(&mut points));
-                let patches = PatchArrays {
-                    manifolds: &ms,
-                    points: &ps,
-                };
-                // SAFETY: one thread.
-                unsafe {
-                    islands[0].begin(&js, &no_gears, &bs, Some(&patches), h, false);
-                    islands[0].solve(&js, &no_gears, &bs, Some(&patches));
-                }
-            }
+            with_views(
+                &mut joints,
+                &mut bodies,
+                &mut manifolds,
+                &mut points,
+                |js, no_gears, bs, patches| {
+                    // SAFETY: one thread.
+                    unsafe {
+                        islands[0].begin(js, no_gears, bs, Some(patches), h, false);
+                        islands[0].solve(js, no_gears, bs, Some(patches));
+                    }
+                },
+            );
             let scale = bodies.iter().map(|b| b.v.length()).fold(1.0, f64::max);
             for j in &joints {
                 let (a, b) = (&bodies[j.a as usize], &bodies[j.b as usize]);
@@ -1569,6 +1603,54 @@ mod tests {
         }
     }
 
+    /// Solves of three columns at once (`Factor::solve_columns`, the fourth
+    /// lane padding) give each column the bits of a solve of its own, with
+    /// the factor of a real island (a looped chain's, begun as a sub-step
+    /// begins it).
+    #[test]
+    fn columns_solved_side_by_side_get_the_bits_of_one_solve_each() {
+        for seed in 0..10 {
+            let mut rng = SplitMix64(seed);
+            let (mut bodies, mut joints, mut manifolds, mut points, contacts) = looped_chains(&mut rng, 1);
+            let mut islands = joint_islands(&mut joints, &mut [], &bodies, &contacts);
+            with_views(
+                &mut joints,
+                &mut bodies,
+                &mut manifolds,
+                &mut points,
+                |js, no_gears, bs, patches| {
+                    // SAFETY: one thread.
+                    unsafe { islands[0].begin(js, no_gears, bs, Some(patches), 1.0 / 480.0, false) };
+                },
+            );
+            let island = &islands[0];
+            let n = island.rows();
+            assert!(n >= 9, "three ball joints make nine rows");
+            let columns: Vec<Vec<f64>> = (0..3)
+                .map(|_| (0..n).map(|_| rng.range(-5.0, 5.0)).collect())
+                .collect();
+            let mut side_by_side: Vec<Lane> = (0..n)
+                .map(|r| Lane::new([columns[0][r], columns[1][r], columns[2][r], 0.0]))
+                .collect();
+            island.factor.solve_columns(&island.profile, &mut side_by_side);
+            for (l, column) in columns.iter().enumerate() {
+                let mut alone = column.clone();
+                island.factor.solve(&island.profile, &mut alone);
+                for (r, x) in alone.iter().enumerate() {
+                    assert_eq!(
+                        side_by_side[r].to_array()[l].to_bits(),
+                        x.to_bits(),
+                        "seed {seed}, row {r}"
+                    );
+                }
+            }
+            assert!(
+                side_by_side.iter().all(|x| x.to_array()[3] == 0.0),
+                "zeros solve to zeros"
+            );
+        }
+    }
+
     /// Islands that own patches get, in the lanes of one unit, the bits
     /// they get alone (velocity passes and push-out, several sub-steps).
     #[test]
@@ -1587,24 +1669,23 @@ mod tests {
             let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
             let h = 1.0 / 480.0;
             for sub in 0..6 {
-                {
-                    let (js, bs) = (Shared::new(&mut joints), Shared::new(&mut bodies));
-                    let no_gears = Shared::new(&mut [] as &mut [GearConstraint]);
-                    let (ms, ps) = (Shared::new(&mut manifolds), Shared::new(&mut points));
-                    let patches = PatchArrays {
-                        manifolds: &ms,
-                        points: &ps,
-                    };
-                    for island in &mut islands {
-                        // SAFETY: one thread.
-                        unsafe {
-                            island.begin(&js, &no_gears, &bs, Some(&patches), h, sub > 0);
-                            island.solve(&js, &no_gears, &bs, Some(&patches));
-                            island.solve(&js, &no_gears, &bs, Some(&patches));
-                            island.push(&js, &no_gears, &bs, Some((&patches, &params)), 1.0 / h);
+                with_views(
+                    &mut joints,
+                    &mut bodies,
+                    &mut manifolds,
+                    &mut points,
+                    |js, no_gears, bs, patches| {
+                        for island in &mut islands {
+                            // SAFETY: one thread.
+                            unsafe {
+                                island.begin(js, no_gears, bs, Some(patches), h, sub > 0);
+                                island.solve(js, no_gears, bs, Some(patches));
+                                island.solve(js, no_gears, bs, Some(patches));
+                                island.push(js, no_gears, bs, Some((patches, &params)), 1.0 / h);
+                            }
                         }
-                    }
-                }
+                    },
+                );
                 integrate_positions(&mut bodies, &q0, h);
             }
             let lanes: Vec<usize> = islands.iter().map(JointIsland::lanes).collect();

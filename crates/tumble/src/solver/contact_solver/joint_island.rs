@@ -206,27 +206,22 @@ impl JointIsland {
     fn solve_responses(&mut self) {
         let n = self.rows();
         if self.lanes.len() == 1 {
-            let points: Vec<(usize, usize)> = (self.owned.iter().enumerate())
-                .flat_map(|(k, o)| (0..o.points()).map(move |i| (k, i)))
-                .collect();
-            let mut x = std::mem::take(&mut self.rhs_lanes);
-            for four in points.chunks(LANES) {
-                x.clear();
-                x.extend((0..n).map(|r| {
-                    Lane::new(std::array::from_fn(|l| {
-                        four.get(l).map_or(0.0, |&(k, i)| self.owned[k].response(i)[r])
-                    }))
-                }));
-                self.factor.solve_columns(&self.profile, &mut x);
-                for (l, &(k, i)) in four.iter().enumerate() {
-                    let u = self.owned[k].response_mut(i);
-                    for (u, x) in u.iter_mut().zip(&x) {
-                        *u = x.to_array()[l];
+            // (owned patch, point), in patch order, up to four at a time.
+            let mut four = [(0, 0); LANES];
+            let mut filled = 0;
+            for k in 0..self.owned.len() {
+                for i in 0..self.owned[k].points() {
+                    four[filled] = (k, i);
+                    filled += 1;
+                    if filled == LANES {
+                        self.solve_columns(&four);
+                        filled = 0;
                     }
-                    clear_non_finite(u);
                 }
             }
-            self.rhs_lanes = x;
+            if filled > 0 {
+                self.solve_columns(&four[..filled]);
+            }
             return;
         }
         // Each lane's points in patch order: (owned patch, point).
@@ -254,6 +249,28 @@ impl JointIsland {
                     clear_non_finite(u);
                 }
             }
+        }
+        self.rhs_lanes = x;
+    }
+
+    /// The responses of up to four owned points `(patch, point)` of a unit
+    /// of one lane, one a lane, solved at once in place.
+    fn solve_columns(&mut self, points: &[(usize, usize)]) {
+        let n = self.rows();
+        let mut x = std::mem::take(&mut self.rhs_lanes);
+        x.clear();
+        x.extend((0..n).map(|r| {
+            Lane::new(std::array::from_fn(|l| {
+                points.get(l).map_or(0.0, |&(k, i)| self.owned[k].response(i)[r])
+            }))
+        }));
+        self.factor.solve_columns(&self.profile, &mut x);
+        for (l, &(k, i)) in points.iter().enumerate() {
+            let u = self.owned[k].response_mut(i);
+            for (u, x) in u.iter_mut().zip(&x) {
+                *u = x.to_array()[l];
+            }
+            clear_non_finite(u);
         }
         self.rhs_lanes = x;
     }
@@ -1564,11 +1581,11 @@ mod tests {
                 &mut bodies,
                 &mut manifolds,
                 &mut points,
-                |js, no_gears, bs, patches| {
+                |js, gs, bs, cs| {
                     // SAFETY: one thread.
                     unsafe {
-                        islands[0].begin(js, no_gears, bs, Some(patches), h, false);
-                        islands[0].solve(js, no_gears, bs, Some(patches));
+                        islands[0].begin(js, gs, bs, Some(cs), h, false);
+                        islands[0].solve(js, gs, bs, Some(cs));
                     }
                 },
             );
@@ -1618,9 +1635,9 @@ mod tests {
                 &mut bodies,
                 &mut manifolds,
                 &mut points,
-                |js, no_gears, bs, patches| {
+                |js, gs, bs, cs| {
                     // SAFETY: one thread.
-                    unsafe { islands[0].begin(js, no_gears, bs, Some(patches), 1.0 / 480.0, false) };
+                    unsafe { islands[0].begin(js, gs, bs, Some(cs), 1.0 / 480.0, false) };
                 },
             );
             let island = &islands[0];
@@ -1674,14 +1691,14 @@ mod tests {
                     &mut bodies,
                     &mut manifolds,
                     &mut points,
-                    |js, no_gears, bs, patches| {
+                    |js, gs, bs, cs| {
                         for island in &mut islands {
                             // SAFETY: one thread.
                             unsafe {
-                                island.begin(js, no_gears, bs, Some(patches), h, sub > 0);
-                                island.solve(js, no_gears, bs, Some(patches));
-                                island.solve(js, no_gears, bs, Some(patches));
-                                island.push(js, no_gears, bs, Some((patches, &params)), 1.0 / h);
+                                island.begin(js, gs, bs, Some(cs), h, sub > 0);
+                                island.solve(js, gs, bs, Some(cs));
+                                island.solve(js, gs, bs, Some(cs));
+                                island.push(js, gs, bs, Some((cs, &params)), 1.0 / h);
                             }
                         }
                     },

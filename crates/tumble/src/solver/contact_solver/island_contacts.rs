@@ -1,7 +1,10 @@
 //! Contact patches inside a joint island: a patch whose two bodies belong
 //! to the same island (a chain folding onto its own weight, a ragdoll's arm
 //! on its chest) closes a loop through the island's joints, and is solved
-//! with the island's system instead of beside it.
+//! with the island's system instead of beside it; so is a patch between one
+//! of the island's bodies and an immovable one (a ragdoll's hand on the
+//! ground, a finger pressed by its hand onto a table), whose loop closes
+//! through the world.
 //!
 //! Why: relaxed one after the other, the island's direct solve and such a
 //! contact undo each other. The heavy chain's last light link struck the
@@ -25,13 +28,25 @@
 //! stays a plain pass before the island's system, which takes up what it
 //! disturbs.
 //!
-//! Known to fail: many owned patches on links a million times lighter than
-//! their island (NAO's 2 mg fingers against each other and their wrists:
-//! 200-390 points a sub-step, blocks keeping 0.3-20 % of a point's own
-//! inverse mass, some near rank one). Taken one after the other, they can
-//! run away: dropped with self-collision, the robot opens its joints by up
-//! to 0.43 m (it blew apart before [`COMPLIANCE_SHARE`]); solved beside the
-//! island it holds (docs/pipeline.md, "Measured and not kept", 2026-12-02).
+//! The loop through the world matters as much: a 20 mg finger hinged to a
+//! 185 g hand that presses it onto a static plank (the hand's ball joint
+//! to the world) opened its hinge by 26 mm with the patch relaxed beside
+//! the island, and holds it within 0.06 mm owned (test
+//! `joints::a_light_finger_pressed_onto_a_plank_by_its_hand_keeps_its_hinge`);
+//! the ragdoll pile, whose limbs lie on the ground, went from 8.3 to 1.7 mm
+//! of largest joint error and from 14 steps gaining energy (one by 122 J)
+//! to none, for a third more time a step (docs/pipeline.md, 2026-12-02).
+//!
+//! Not owned: patches on a body lighter than [`LIGHTEST_OWNER`] of the
+//! island's heaviest. There the owned solve runs away: many owned patches
+//! on NAO's 2 mg fingers (a millionth of the robot's heaviest link) against
+//! each other, their wrists and the ground, 200-390 points a sub-step with
+//! blocks keeping 0.3-20 % of a point's own inverse mass, some near rank
+//! one, opened the robot's joints by up to 0.43 m dropped with
+//! self-collision (it blew apart before [`COMPLIANCE_SHARE`]), and the
+//! finger above weighing 2 mg opened its hinge by 1.8 m on a hinged plank.
+//! Relaxed beside the island, such a patch costs the joints millimetres to
+//! centimetres instead (docs/pipeline.md, "Measured and not kept").
 
 use super::coloring::Shared;
 use super::constraint::{regularised_inverse, ManifoldConstraint, PatchBlock, PointConstraint, BLOCK_POINTS};
@@ -64,6 +79,15 @@ pub(super) struct ArticulatedBlock {
 /// with the share added; the heavy chain's joint error stayed 0.11 mm
 /// (docs/pipeline.md, "Measured and not kept", 2026-12-02).
 pub(super) const COMPLIANCE_SHARE: f64 = 1e-3;
+
+/// Patches on a dynamic body lighter than this share of its island's
+/// heaviest body are not owned (module docs): NAO's fingers (a millionth)
+/// are not, a ragdoll's hands (a tenth of its torso) and the heavy chain's
+/// links (a hundredth of its weight) are. Over sixteen drops of NAO with
+/// self-collision the largest joint error was 24-193 mm with this bound and
+/// the ground's patches owned, 41-425 mm with neither (docs/pipeline.md,
+/// 2026-12-02); owning the ground's patches without it blew NAO apart.
+pub(super) const LIGHTEST_OWNER: f64 = 1e-5;
 
 /// One island-owned patch and its coupling to the island's rows.
 #[derive(Debug, Clone, Default, PartialEq)]

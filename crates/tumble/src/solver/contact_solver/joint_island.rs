@@ -46,7 +46,7 @@ use super::body::SolverBody;
 use super::coloring::Shared;
 use super::constraint::SolverParams;
 use super::gear::GearConstraint;
-use super::island_contacts::{OwnedPatch, PatchArrays};
+use super::island_contacts::{OwnedPatch, PatchArrays, LIGHTEST_OWNER};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::joint::{
     begin_joint, push_joint, solve_joint, JointConstraint, Pair, BALL_SPRING, BALL_SPRING_LAST,
@@ -858,8 +858,9 @@ fn island_mask(j: &JointConstraint) -> u16 {
 /// solver's SIMD type.
 ///
 /// `contacts` lists the patches an island may own, as (patch, body A,
-/// body B): an island owns those whose two bodies are both its own (see
-/// `island_contacts`).
+/// body B), A dynamic: an island owns those whose two bodies are both its
+/// own, and those between one of its own and an immovable body (static or
+/// kinematic; see `island_contacts`).
 ///
 /// A gear links its two joints as a shared body does; the gears of an
 /// island's joints are rows of its system, marked `direct`.
@@ -1034,27 +1035,6 @@ fn joint_islands_in_lanes(
         if size > MAX_PROFILE {
             continue;
         }
-        let mut owned = Vec::new();
-        if !contacts.is_empty() {
-            let dynamic_bodies = || {
-                order
-                    .iter()
-                    .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
-                    .filter(|&b| bodies[b as usize].dynamic)
-            };
-            dynamic_bodies().for_each(|b| member[b as usize] = root);
-            for b in dynamic_bodies() {
-                for &c in &contacts_of[b as usize] {
-                    let (patch, _, other) = contacts[c as usize];
-                    if member[other as usize] == root {
-                        owned.push(OwnedPatch::new(patch, 0));
-                    }
-                }
-                // A body is met once per joint: its patches are taken once.
-                contacts_of[b as usize].clear();
-            }
-            owned.sort_by_key(|o| o.patch);
-        }
         // The aim is a fixed-point iteration through the whole island; its
         // gain grows with the mass ratio across it: a 20-link rope of 0.1 kg
         // links holding 10 kg came apart with it (and holds without), while
@@ -1068,6 +1048,40 @@ fn joint_islands_in_lanes(
         let (lightest, heaviest) = masses
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), &m| (lo.min(m), hi.max(m)));
+        let mut owned = Vec::new();
+        if !contacts.is_empty() {
+            let dynamic_bodies = || {
+                order
+                    .iter()
+                    .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
+                    .filter(|&b| bodies[b as usize].dynamic)
+            };
+            dynamic_bodies().for_each(|b| member[b as usize] = root);
+            for b in dynamic_bodies() {
+                for &c in &contacts_of[b as usize] {
+                    let (patch, _, other) = contacts[c as usize];
+                    // Between two of its bodies, or one of its bodies and
+                    // an immovable one (the ground under a ragdoll's hand:
+                    // a loop through the world, island_contacts).
+                    // Not on a body far lighter than the island's
+                    // heaviest, where the owned solve runs away
+                    // (`island_contacts::LIGHTEST_OWNER`).
+                    let light = |b: u32| {
+                        bodies[b as usize].dynamic
+                            && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
+                    };
+                    if (member[other as usize] == root || !bodies[other as usize].dynamic)
+                        && !light(b)
+                        && !light(other)
+                    {
+                        owned.push(OwnedPatch::new(patch, 0));
+                    }
+                }
+                // A body is met once per joint: its patches are taken once.
+                contacts_of[b as usize].clear();
+            }
+            owned.sort_by_key(|o| o.patch);
+        }
         let aim = heaviest <= AIM_MASS_RATIO * lightest;
         for (&k, &mask) in order.iter().zip(&masks) {
             joints[k as usize].direct = true;

@@ -404,12 +404,18 @@ impl World {
             Vec::new()
         } else {
             let dynamic = |b: u32| sf.bodies[b as usize].dynamic;
+            // A patch an island may own: on two dynamic bodies, or on a
+            // dynamic body and a static or kinematic one (which then comes
+            // second: the island looks a patch up by its dynamic body).
             (0..pairs.len())
                 .filter(|&k| {
                     let (a, b) = pairs[k];
-                    dynamic(a) && dynamic(b) && f.patches[k].count as usize <= contact_solver::BLOCK_POINTS
+                    (dynamic(a) || dynamic(b)) && f.patches[k].count as usize <= contact_solver::BLOCK_POINTS
                 })
-                .map(|k| (k as u32, pairs[k].0, pairs[k].1))
+                .map(|k| match pairs[k] {
+                    (a, b) if dynamic(a) => (k as u32, a, b),
+                    (a, b) => (k as u32, b, a),
+                })
                 .collect()
         };
         self.prepare_joints(sf, &candidates);

@@ -115,8 +115,8 @@ fn a_hinge_keeps_its_anchor_and_axis_under_a_spinning_load() {
 
 /// A 20 mg finger hinged to a 185 g hand whose ball joint is 8 cm to one
 /// side, so that the hand's weight presses the finger's tip onto a plank
-/// (a lever: the finger passes on about half the hand's weight, ten
-/// thousand times its own); the plank static, or a 300 g plank lying on the
+/// (a lever: the finger passes on about half the hand's weight, thousands
+/// of times its own); the plank static, or a 300 g plank lying on the
 /// ground and hinged to the world (the hand's ball then on the plank). The
 /// finger's patch closes a loop through its hinge and the hand's ball,
 /// through the world or through the plank. Returns the largest joint error
@@ -159,7 +159,8 @@ fn finger_pressed_onto_a_plank(plank_static: bool) -> (f64, f64) {
         DVec3::Z,
     ))
     .unwrap();
-    // Hanging from the hand's far end, its tip 0.5 mm above the plank.
+    // Hanging from the hand's far end, its tip 11 mm above the plank: the
+    // hand tips down about its ball until the finger meets the plank.
     let half = 0.0195;
     let finger = w
         .add_body(

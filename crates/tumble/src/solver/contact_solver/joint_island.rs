@@ -1035,10 +1035,8 @@ fn joint_islands_in_lanes(
         if size > MAX_PROFILE {
             continue;
         }
-        // The aim is a fixed-point iteration through the whole island; its
-        // gain grows with the mass ratio across it: a 20-link rope of 0.1 kg
-        // links holding 10 kg came apart with it (and holds without), while
-        // a double pendulum of equal masses keeps its energy only with it.
+        // The island's lightest and heaviest bodies (for the owned patches
+        // and the aim, below).
         let masses: Vec<f64> = order
             .iter()
             .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
@@ -1057,19 +1055,18 @@ fn joint_islands_in_lanes(
                     .filter(|&b| bodies[b as usize].dynamic)
             };
             dynamic_bodies().for_each(|b| member[b as usize] = root);
+            // A dynamic body far lighter than the island's heaviest, where
+            // the owned solve runs away (`island_contacts::LIGHTEST_OWNER`).
+            let light = |b: u32| {
+                bodies[b as usize].dynamic && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
+            };
             for b in dynamic_bodies() {
                 for &c in &contacts_of[b as usize] {
                     let (patch, _, other) = contacts[c as usize];
                     // Between two of its bodies, or one of its bodies and
                     // an immovable one (the ground under a ragdoll's hand:
-                    // a loop through the world, island_contacts).
-                    // Not on a body far lighter than the island's
-                    // heaviest, where the owned solve runs away
-                    // (`island_contacts::LIGHTEST_OWNER`).
-                    let light = |b: u32| {
-                        bodies[b as usize].dynamic
-                            && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
-                    };
+                    // a loop through the world, island_contacts), neither
+                    // of them light.
                     if (member[other as usize] == root || !bodies[other as usize].dynamic)
                         && !light(b)
                         && !light(other)
@@ -1082,6 +1079,10 @@ fn joint_islands_in_lanes(
             }
             owned.sort_by_key(|o| o.patch);
         }
+        // The aim is a fixed-point iteration through the whole island; its
+        // gain grows with the mass ratio across it: a 20-link rope of 0.1 kg
+        // links holding 10 kg came apart with it (and holds without), while
+        // a double pendulum of equal masses keeps its energy only with it.
         let aim = heaviest <= AIM_MASS_RATIO * lightest;
         for (&k, &mask) in order.iter().zip(&masks) {
             joints[k as usize].direct = true;

@@ -2,7 +2,7 @@
 //! to the same island (a chain folding onto its own weight, a ragdoll's arm
 //! on its chest) closes a loop through the island's joints, and is solved
 //! with the island's system instead of beside it; so is a patch between one
-//! of the island's bodies and an immovable one (a ragdoll's hand on the
+//! of the island's bodies and an immovable one (a ragdoll's forearm on the
 //! ground, a finger pressed by its hand onto a table), whose loop closes
 //! through the world.
 //!
@@ -82,8 +82,8 @@ pub(super) const COMPLIANCE_SHARE: f64 = 1e-3;
 
 /// Patches on a dynamic body lighter than this share of its island's
 /// heaviest body are not owned (module docs): NAO's fingers (a millionth)
-/// are not, a ragdoll's hands (a tenth of its torso) and the heavy chain's
-/// links (a hundredth of its weight) are. Over sixteen drops of NAO with
+/// are not, a ragdoll's forearms (a sixteenth of its torso) and the heavy
+/// chain's links (a hundredth of its weight) are. Over sixteen drops of NAO with
 /// self-collision the largest joint error was 24-193 mm with this bound and
 /// the ground's patches owned, 41-425 mm with neither (docs/pipeline.md,
 /// 2026-12-02); owning the ground's patches without it blew NAO apart.

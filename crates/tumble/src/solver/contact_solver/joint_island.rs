@@ -1064,7 +1064,7 @@ fn joint_islands_in_lanes(
                 for &c in &contacts_of[b as usize] {
                     let (patch, _, other) = contacts[c as usize];
                     // Between two of its bodies, or one of its bodies and
-                    // an immovable one (the ground under a ragdoll's hand:
+                    // an immovable one (the ground under a ragdoll's forearm:
                     // a loop through the world, island_contacts), neither
                     // of them light.
                     if (member[other as usize] == root || !bodies[other as usize].dynamic)

@@ -294,14 +294,19 @@ impl<N: Num> Factor<N> {
     }
 
     /// Solves `K x = rhs` in place with the factor (entries that are not
-    /// finite are the caller's to clear).
-    pub fn solve(&self, profile: &Profile, x: &mut [N]) {
+    /// finite are the caller's to clear). `x` holds numbers of the factor's
+    /// kind, or, for a factor of one island (`f64`), [`LANES`] right-hand
+    /// sides at once, one a lane (`x[r]` holds row `r` of each): every lane
+    /// performs the IEEE operations of the one-column solve in its order, so
+    /// each column gets the bits it gets alone (an island's owned contact
+    /// points are solved this way, four at a time).
+    pub fn solve<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X]) {
         let (first, start, l) = (&profile.first, &profile.start, &self.values);
         for i in 0..profile.rows() {
             let (fi, si) = (first[i], start[i]);
-            let mut dot = N::default();
+            let mut dot = X::default();
             for (v, w) in l[si..si + i - fi].iter().zip(&x[fi..i]) {
-                dot = dot + *v * *w;
+                dot = dot + *w * *v;
             }
             x[i] = (x[i] - dot) * self.inv_diagonal[i];
         }
@@ -310,34 +315,7 @@ impl<N: Num> Factor<N> {
             x[i] = x[i] * self.inv_diagonal[i];
             let xi = x[i];
             for (v, w) in x[fi..i].iter_mut().zip(&l[si..si + i - fi]) {
-                *v = *v - *w * xi;
-            }
-        }
-    }
-}
-
-impl Factor<f64> {
-    /// [`Factor::solve`] for [`LANES`] right-hand sides at once, one a
-    /// lane (`x[r]` holds row `r` of each): every lane performs the IEEE
-    /// operations of the one-column solve in its order, so each column gets
-    /// the bits it gets alone. An island's owned contact points are solved
-    /// this way, four at a time.
-    pub fn solve_columns(&self, profile: &Profile, x: &mut [Lane]) {
-        let (first, start, l) = (&profile.first, &profile.start, &self.values);
-        for i in 0..profile.rows() {
-            let (fi, si) = (first[i], start[i]);
-            let mut dot = Lane::ZERO;
-            for (v, w) in l[si..si + i - fi].iter().zip(&x[fi..i]) {
-                dot += Lane::splat(*v) * *w;
-            }
-            x[i] = (x[i] - dot) * Lane::splat(self.inv_diagonal[i]);
-        }
-        for i in (0..profile.rows()).rev() {
-            let (fi, si) = (first[i], start[i]);
-            x[i] *= Lane::splat(self.inv_diagonal[i]);
-            let xi = x[i];
-            for (v, w) in x[fi..i].iter_mut().zip(&l[si..si + i - fi]) {
-                *v -= Lane::splat(*w) * xi;
+                *v = *v - xi * *w;
             }
         }
     }

@@ -198,29 +198,29 @@ impl JointIsland {
     }
 
     /// `U = K^-1 W` for the owned patches' points: in a unit of one lane,
-    /// four points a solve, one a lane (`Factor::solve_columns`: NAO's hands
+    /// four points a solve, one a lane (`Factor::solve` on lanes: NAO's hands
     /// own 200-390 points a sub-step, a solve each took 28 % of its step);
     /// in a unit of more, the lanes' points taken side by side, a lane set
     /// per solve (a lane with no point left solves zeros). Either way each
     /// point gets the bits a solve of its own gives it.
     fn solve_responses(&mut self) {
-        let n = self.rows();
         if self.lanes.len() == 1 {
             // (owned patch, point), in patch order, up to four at a time.
-            let mut four = [(0, 0); LANES];
+            let mut four = [None; LANES];
             let mut filled = 0;
             for k in 0..self.owned.len() {
                 for i in 0..self.owned[k].points() {
-                    four[filled] = (k, i);
+                    four[filled] = Some((k, i));
                     filled += 1;
                     if filled == LANES {
-                        self.solve_columns(&four);
+                        self.solve_columns(four);
+                        four = [None; LANES];
                         filled = 0;
                     }
                 }
             }
             if filled > 0 {
-                self.solve_columns(&four[..filled]);
+                self.solve_columns(four);
             }
             return;
         }
@@ -230,47 +230,37 @@ impl JointIsland {
             queue[o.lane].extend((0..o.points()).map(|i| (k, i)));
         }
         let rounds = queue.iter().map(Vec::len).max().unwrap_or(0);
-        let mut x = std::mem::take(&mut self.rhs_lanes);
         for round in 0..rounds {
-            let at = |l: usize| queue[l].get(round).copied();
-            x.clear();
-            x.extend((0..n).map(|r| {
-                Lane::new(std::array::from_fn(|l| {
-                    at(l).map_or(0.0, |(k, i)| self.owned[k].response(i)[r])
-                }))
-            }));
-            self.factor_lanes.solve(&self.profile, &mut x);
-            for l in 0..LANES {
-                if let Some((k, i)) = at(l) {
-                    let u = self.owned[k].response_mut(i);
-                    for (u, x) in u.iter_mut().zip(&x) {
-                        *u = x.to_array()[l];
-                    }
-                    clear_non_finite(u);
-                }
-            }
+            self.solve_columns(std::array::from_fn(|l| queue[l].get(round).copied()));
         }
-        self.rhs_lanes = x;
     }
 
-    /// The responses of up to four owned points `(patch, point)` of a unit
-    /// of one lane, one a lane, solved at once in place.
-    fn solve_columns(&mut self, points: &[(usize, usize)]) {
+    /// The responses of up to four owned points `(patch, point)`, one a
+    /// lane, solved at once in place: with the factor of a unit of one lane
+    /// (four points of its island), or with each lane's own factor (a point
+    /// of each lane's island). A lane without a point solves zeros.
+    fn solve_columns(&mut self, points: [Option<(usize, usize)>; LANES]) {
         let n = self.rows();
         let mut x = std::mem::take(&mut self.rhs_lanes);
         x.clear();
         x.extend((0..n).map(|r| {
             Lane::new(std::array::from_fn(|l| {
-                points.get(l).map_or(0.0, |&(k, i)| self.owned[k].response(i)[r])
+                points[l].map_or(0.0, |(k, i)| self.owned[k].response(i)[r])
             }))
         }));
-        self.factor.solve_columns(&self.profile, &mut x);
-        for (l, &(k, i)) in points.iter().enumerate() {
-            let u = self.owned[k].response_mut(i);
-            for (u, x) in u.iter_mut().zip(&x) {
-                *u = x.to_array()[l];
+        if self.lanes.len() == 1 {
+            self.factor.solve(&self.profile, &mut x);
+        } else {
+            self.factor_lanes.solve(&self.profile, &mut x);
+        }
+        for (l, point) in points.into_iter().enumerate() {
+            if let Some((k, i)) = point {
+                let u = self.owned[k].response_mut(i);
+                for (u, x) in u.iter_mut().zip(&x) {
+                    *u = x.to_array()[l];
+                }
+                clear_non_finite(u);
             }
-            clear_non_finite(u);
         }
         self.rhs_lanes = x;
     }
@@ -1554,6 +1544,34 @@ mod tests {
         (bodies, joints, manifolds, points, contacts)
     }
 
+    /// One looped chain drawn from `rng`, its island found and begun as a
+    /// sub-step of 1/480 s begins it: bodies, joints, patches, points and
+    /// islands.
+    #[allow(clippy::type_complexity)]
+    fn begun_looped_chain(
+        rng: &mut SplitMix64,
+    ) -> (
+        Vec<SolverBody>,
+        Vec<JointConstraint>,
+        Vec<ManifoldConstraint>,
+        Vec<PointConstraint>,
+        Vec<JointIsland>,
+    ) {
+        let (mut bodies, mut joints, mut manifolds, mut points, contacts) = looped_chains(rng, 1);
+        let mut islands = joint_islands(&mut joints, &mut [], &bodies, &contacts);
+        with_views(
+            &mut joints,
+            &mut bodies,
+            &mut manifolds,
+            &mut points,
+            |js, gs, bs, cs| {
+                // SAFETY: one thread.
+                unsafe { islands[0].begin(js, gs, bs, Some(cs), 1.0 / 480.0, false) };
+            },
+        );
+        (bodies, joints, manifolds, points, islands)
+    }
+
     /// Runs `f` with the shared views the island passes take of one
     /// thread's joints, bodies and contact arrays (no gears).
     fn with_views(
@@ -1585,12 +1603,10 @@ mod tests {
     #[test]
     fn an_owned_patch_and_its_islands_joints_are_solved_exactly() {
         for seed in 0..20 {
-            let (mut bodies, mut joints, mut manifolds, mut points, contacts) =
-                looped_chains(&mut SplitMix64(seed), 1);
-            let mut islands = joint_islands(&mut joints, &mut [], &bodies, &contacts);
+            let (mut bodies, mut joints, mut manifolds, mut points, mut islands) =
+                begun_looped_chain(&mut SplitMix64(seed));
             assert_eq!(islands.len(), 1);
             assert_eq!(islands[0].owned_patches().collect::<Vec<_>>(), vec![0]);
-            let h = 1.0 / 480.0;
             with_views(
                 &mut joints,
                 &mut bodies,
@@ -1598,10 +1614,7 @@ mod tests {
                 &mut points,
                 |js, gs, bs, cs| {
                     // SAFETY: one thread.
-                    unsafe {
-                        islands[0].begin(js, gs, bs, Some(cs), h, false);
-                        islands[0].solve(js, gs, bs, Some(cs));
-                    }
+                    unsafe { islands[0].solve(js, gs, bs, Some(cs)) };
                 },
             );
             let scale = bodies.iter().map(|b| b.v.length()).fold(1.0, f64::max);
@@ -1635,7 +1648,7 @@ mod tests {
         }
     }
 
-    /// Solves of three columns at once (`Factor::solve_columns`, the fourth
+    /// Solves of three columns at once (`Factor::solve` on lanes, the fourth
     /// lane padding) give each column the bits of a solve of its own, with
     /// the factor of a real island (a looped chain's, begun as a sub-step
     /// begins it).
@@ -1643,18 +1656,7 @@ mod tests {
     fn columns_solved_side_by_side_get_the_bits_of_one_solve_each() {
         for seed in 0..10 {
             let mut rng = SplitMix64(seed);
-            let (mut bodies, mut joints, mut manifolds, mut points, contacts) = looped_chains(&mut rng, 1);
-            let mut islands = joint_islands(&mut joints, &mut [], &bodies, &contacts);
-            with_views(
-                &mut joints,
-                &mut bodies,
-                &mut manifolds,
-                &mut points,
-                |js, gs, bs, cs| {
-                    // SAFETY: one thread.
-                    unsafe { islands[0].begin(js, gs, bs, Some(cs), 1.0 / 480.0, false) };
-                },
-            );
+            let islands = begun_looped_chain(&mut rng).4;
             let island = &islands[0];
             let n = island.rows();
             assert!(n >= 9, "three ball joints make nine rows");
@@ -1664,7 +1666,7 @@ mod tests {
             let mut side_by_side: Vec<Lane> = (0..n)
                 .map(|r| Lane::new([columns[0][r], columns[1][r], columns[2][r], 0.0]))
                 .collect();
-            island.factor.solve_columns(&island.profile, &mut side_by_side);
+            island.factor.solve(&island.profile, &mut side_by_side);
             for (l, column) in columns.iter().enumerate() {
                 let mut alone = column.clone();
                 island.factor.solve(&island.profile, &mut alone);

@@ -21,7 +21,7 @@ mod crew;
 
 use crew::Crew;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// Largest accepted `WorldSettings::threads`.
@@ -294,7 +294,7 @@ impl WorkerPool {
             if size == 1 {
                 return f(&Team::alone());
             }
-            let sync = Arc::new(BarrierState::default());
+            let sync = Arc::new(BarrierState::new(size));
             let lead = Mutex::new(None);
             crew.run_job(size, &|index| {
                 let me = Team {
@@ -322,7 +322,7 @@ impl WorkerPool {
         let team = Team {
             size: self.threads,
             index: 0,
-            sync: Arc::new(BarrierState::default()),
+            sync: Arc::new(BarrierState::new(self.threads)),
         };
         let mut results = shared.pool.broadcast(|ctx| {
             let me = Team {
@@ -336,14 +336,27 @@ impl WorkerPool {
     }
 }
 
-/// Arrivals and generation of a spin barrier.
+/// Arrivals and generation of a spin barrier, and each member's run of
+/// slices ([`Team::slices`]).
 #[derive(Default)]
 struct BarrierState {
     arrived: AtomicUsize,
     generation: AtomicUsize,
+    /// Per member, the slices of its run not yet taken: `front << 32 |
+    /// back` (`front..back`).
+    runs: Box<[AtomicU64]>,
     /// A member panicked: the others leave their barriers by panicking
     /// too, instead of waiting for it forever.
     poisoned: std::sync::atomic::AtomicBool,
+}
+
+impl BarrierState {
+    fn new(size: usize) -> BarrierState {
+        BarrierState {
+            runs: (0..size).map(|_| AtomicU64::new(0)).collect(),
+            ..BarrierState::default()
+        }
+    }
 }
 
 /// Poisons a team's barriers when the member holding it unwinds.
@@ -374,7 +387,7 @@ impl Team {
         Team {
             size: 1,
             index: 0,
-            sync: Arc::new(BarrierState::default()),
+            sync: Arc::new(BarrierState::new(1)),
         }
     }
 
@@ -427,6 +440,71 @@ impl Team {
         }
         let cut = |i: usize| n * i / self.size;
         cut(self.index)..cut(self.index + 1)
+    }
+
+    /// Runs `work` once for every slice below `n`, the slices spread over
+    /// the team as they are done: each thread begins on its own run (the
+    /// runs of [`Team::share`]) from the front, then takes what is left of
+    /// the others' runs from their back ends, one slice at a time, until no
+    /// slice is left. Every thread must call it (with the same `n`) before
+    /// the next barrier, and no thread returns while its own run has a slice
+    /// left; the caller's barrier follows.
+    ///
+    /// Why: the solver's joint islands cost unequally (by their rows and
+    /// the contact points they own, which change step by step); dealt
+    /// round-robin, the ragdoll pile's left one thread waiting 0.7 ms a step
+    /// at their barriers (docs/pipeline.md, "Threads"). Taking from the back
+    /// of another's run keeps each thread on its own stretch of the items,
+    /// and so of their bodies' cache lines, pass after pass, moving only the
+    /// meeting point. Which thread does a slice never changes what it
+    /// computes, so the result is the same bits.
+    pub fn slices(&self, n: usize, mut work: impl FnMut(usize)) {
+        if self.size == 1 {
+            (0..n).for_each(work);
+            return;
+        }
+        assert!(n < 1 << 32, "at most 2^32 slices");
+        let runs = &self.sync.runs;
+        let own = self.share(n, 1);
+        // A run left by the last call is empty (its owner took or saw taken
+        // every slice before the barrier since), so another thread that
+        // reads it before this reset finds nothing to take, which is right.
+        runs[self.index].store(((own.start as u64) << 32) | own.end as u64, Ordering::Release);
+        let split = |v: u64| ((v >> 32) as usize, (v & 0xffff_ffff) as usize);
+        // Own run, from the front.
+        let mine = &runs[self.index];
+        let mut v = mine.load(Ordering::Acquire);
+        loop {
+            let (front, back) = split(v);
+            if front >= back {
+                break;
+            }
+            match mine.compare_exchange_weak(v, v + (1 << 32), Ordering::AcqRel, Ordering::Acquire) {
+                Ok(_) => {
+                    work(front);
+                    v = mine.load(Ordering::Acquire);
+                }
+                Err(now) => v = now,
+            }
+        }
+        // The others' runs, from the back.
+        for k in 1..self.size {
+            let theirs = &runs[(self.index + k) % self.size];
+            let mut v = theirs.load(Ordering::Acquire);
+            loop {
+                let (front, back) = split(v);
+                if front >= back {
+                    break;
+                }
+                match theirs.compare_exchange_weak(v, v - 1, Ordering::AcqRel, Ordering::Acquire) {
+                    Ok(_) => {
+                        work(back - 1);
+                        v = theirs.load(Ordering::Acquire);
+                    }
+                    Err(now) => v = now,
+                }
+            }
+        }
     }
 
     /// This thread's share of `n` items cut in blocks of `block`: blocks

@@ -86,6 +86,49 @@ fn a_team_in_a_run_has_each_member_once_and_meets_at_barriers() {
 }
 
 #[test]
+fn a_team_takes_every_slice_exactly_once_call_after_call() {
+    // Slices of unequal cost (the first thread's own run is slow, so the
+    // others take from its back), several calls between barriers as the
+    // solver's passes make them, with and without a crew.
+    for threads in [1, 2, 3, 8] {
+        let pool = WorkerPool::new(threads);
+        for crewed in [false, true] {
+            let check = |pool: &WorkerPool| {
+                for n in [0, 1, 2, 5, 64, 1000] {
+                    let taken: Vec<AtomicUsize> = (0..n).map(|_| AtomicUsize::new(0)).collect();
+                    let by = Mutex::new(vec![usize::MAX; n]);
+                    pool.team(|team: &Team| {
+                        for call in 0..4 {
+                            team.slices(n, |k| {
+                                taken[k].fetch_add(1, Ordering::SeqCst);
+                                by.lock().unwrap()[k] = team.index();
+                                if team.index() == 0 && call % 2 == 0 {
+                                    std::thread::sleep(std::time::Duration::from_micros(20));
+                                }
+                            });
+                            team.barrier();
+                        }
+                    });
+                    for (k, t) in taken.iter().enumerate() {
+                        assert_eq!(
+                            t.load(Ordering::SeqCst),
+                            4,
+                            "{threads} threads, {n} slices: slice {k}"
+                        );
+                    }
+                    assert!(by.into_inner().unwrap().iter().all(|&t| t < threads as usize));
+                }
+            };
+            if crewed {
+                pool.run(|c| check(c));
+            } else {
+                check(&pool);
+            }
+        }
+    }
+}
+
+#[test]
 fn a_run_takes_no_more_helpers_than_the_machine_has_cores() {
     // Eight threads asked for: the pool has eight, a run's teams at most
     // as many members as cores (a helper without a core spins on one that

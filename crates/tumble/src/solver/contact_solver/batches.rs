@@ -195,12 +195,12 @@ impl SolverArrays<'_> {
             return false;
         }
         let mut any = false;
-        for r in team.blocks(n, 1) {
-            // SAFETY: islands are dealt to one thread each.
-            for island in unsafe { self.joint_islands.range_mut(r) } {
-                any |= kernel(island);
-            }
-        }
+        // Islands cost unequally (by their rows and the points they own):
+        // taken as the threads are free.
+        team.slices(n, |k| {
+            // SAFETY: each island is taken by one thread.
+            any |= kernel(unsafe { self.joint_islands.get_mut(k) });
+        });
         team.barrier();
         any
     }

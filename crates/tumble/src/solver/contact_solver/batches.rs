@@ -89,8 +89,7 @@ where
     }
 }
 
-/// Runs `kernel` on the bundles `range`, calling `pushed` for each on which
-/// it returned `true`.
+/// Runs `kernel` on the bundles `range`; whether it returned `true` for any.
 ///
 /// # Safety
 /// No other thread touches these bundles or their dynamic bodies meanwhile.
@@ -99,14 +98,13 @@ unsafe fn bundles<const N: usize>(
     items: &Shared<WidePatch<N>>,
     range: std::ops::Range<usize>,
     kernel: impl Fn(&mut WidePatch<N>) -> bool,
-    pushed: impl Fn(),
-) {
+) -> bool {
+    let mut any = false;
     // SAFETY: the caller's promise.
     for w in unsafe { items.range_mut(range) } {
-        if kernel(w) {
-            pushed();
-        }
+        any |= kernel(w);
     }
+    any
 }
 
 impl SolverArrays<'_> {
@@ -208,14 +206,21 @@ impl SolverArrays<'_> {
     /// Runs `kernel` on every patch with its points, and `pass` on every
     /// bundle: colour by colour, this thread's run of each of the colour's
     /// bundle arrays and of its large patches, a barrier after each colour,
-    /// then the overflow batch on thread 0. `pushed` is called (before the
-    /// colour's barrier) for every bundle whose pass returned `true`.
+    /// then the overflow batch on thread 0. `pushed` is called once per
+    /// colour (before its barrier) by a thread for which `kernel` or `pass`
+    /// returned `true` on a patch or bundle of it.
+    ///
+    /// Why once per colour: a shared counter raised for every bundle that
+    /// pushed bounced its cache line between the cores hundreds of times a
+    /// pass; the pile of 1,000's push-out passes took 0.27-0.28 ms a step on
+    /// two threads so, 0.20-0.21 now, against 0.23 on one
+    /// (`profile_stages pile1000 300 2`, four interleaved runs each).
     ///
     /// # Safety
     /// As [`each`].
     unsafe fn each_patch<F, P>(&self, team: &Team, kernel: F, pass: BundlePass, pushed: P)
     where
-        F: Fn(&mut ManifoldConstraint, &mut [PointConstraint]),
+        F: Fn(&mut ManifoldConstraint, &mut [PointConstraint]) -> bool,
         P: Fn(),
     {
         let run = |k: usize| {
@@ -229,16 +234,21 @@ impl SolverArrays<'_> {
         let run_color = |[ones, twos, fours, large]: [std::ops::Range<usize>; 4]| {
             // SAFETY (each array): the runs of one colour are disjoint
             // between threads and share no dynamic body.
-            unsafe {
-                bundles(&self.ones, ones, |w| pass.run(w, &self.bodies), &pushed);
-                bundles(&self.twos, twos, |w| pass.run(w, &self.bodies), &pushed);
-                bundles(&self.fours, fours, |w| pass.run(w, &self.bodies), &pushed);
+            let mut any = unsafe {
+                bundles(&self.ones, ones, |w| pass.run(w, &self.bodies))
+                    | bundles(&self.twos, twos, |w| pass.run(w, &self.bodies))
+                    | bundles(&self.fours, fours, |w| pass.run(w, &self.bodies))
+            };
+            for &k in &self.wide.large[large] {
+                any |= run(k as usize);
             }
-            self.wide.large[large].iter().for_each(|&k| run(k as usize));
+            any
         };
         let (heavy, light) = self.wide.colors.split_at(self.wide.split);
         for color in heavy {
-            run_color(color.share(team.index(), team.size()));
+            if run_color(color.share(team.index(), team.size())) {
+                pushed();
+            }
             team.barrier();
         }
         // The light colours, then the overflow batch, on thread 0 in colour
@@ -246,8 +256,16 @@ impl SolverArrays<'_> {
         // between each.
         let overflow = self.coloring.overflow.clone();
         if team.index() == 0 {
-            light.iter().for_each(|color| run_color(color.share(0, 1)));
-            overflow.clone().for_each(run);
+            let mut any = false;
+            for color in light {
+                any |= run_color(color.share(0, 1));
+            }
+            for k in overflow.clone() {
+                any |= run(k);
+            }
+            if any {
+                pushed();
+            }
         }
         if !light.is_empty() || !overflow.is_empty() {
             team.barrier();
@@ -281,7 +299,10 @@ impl SolverArrays<'_> {
             });
             self.each_patch(
                 team,
-                |m, pts| begin_patch(m, pts, &self.bodies, warm),
+                |m, pts| {
+                    begin_patch(m, pts, &self.bodies, warm);
+                    false
+                },
                 BundlePass::Begin { warm },
                 || {},
             );
@@ -312,7 +333,10 @@ impl SolverArrays<'_> {
             });
             self.each_patch(
                 team,
-                |m, pts| solve_patch(m, pts, &self.bodies, inv_h),
+                |m, pts| {
+                    solve_patch(m, pts, &self.bodies, inv_h);
+                    false
+                },
                 BundlePass::Solve { inv_h },
                 || {},
             );
@@ -352,11 +376,7 @@ impl SolverArrays<'_> {
             });
             self.each_patch(
                 team,
-                |m, pts| {
-                    if push_patch(m, pts, &self.bodies, params, inv_h, first) {
-                        pushed.fetch_max(pass, Ordering::Relaxed);
-                    }
-                },
+                |m, pts| push_patch(m, pts, &self.bodies, params, inv_h, first),
                 BundlePass::Push {
                     params,
                     inv_h,

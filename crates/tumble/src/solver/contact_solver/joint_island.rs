@@ -24,9 +24,11 @@
 //! O(rows x block^2), not O(rows^3). Islands whose profile would be too
 //! large for a sub-step budget stay with the joint-by-joint passes. `K`
 //! is assembled only where it is not zero, block by block over the pairs of
-//! joints that share a dynamic body (found once per step), and an island's
-//! joints are begun, relaxed and pushed together (their limits after the
-//! system), so that a thread works through one island's rows at a time.
+//! joints that share a dynamic body (found with the island's shape, which
+//! is kept from step to step while its joints and bodies stay the same:
+//! `keep_joint_islands`), and an island's joints are begun, relaxed and
+//! pushed together (their limits after the system), so that a thread works
+//! through one island's rows at a time.
 //!
 //! Consecutive islands of the same shape (the same joints between the same
 //! kinds of bodies: a pile of ragdolls) without motors share one unit and
@@ -106,6 +108,9 @@ pub struct JointIsland {
     /// Gears between the island's joints (indices into the solver's
     /// gears), the system's last rows in this order (one lane).
     gears: Vec<u32>,
+    /// Per lane, the mass of the island's heaviest body (kg): patches on
+    /// a body lighter than [`LIGHTEST_OWNER`] of it are not owned.
+    heaviest: Vec<f64>,
     /// Per sub-step, each gear's row on each of its bodies: (row of the
     /// system, body, the row on that body as side 0).
     gear_sides: Vec<(usize, u32, SideRow<f64>)>,
@@ -863,6 +868,66 @@ pub fn joint_islands(
     joint_islands_in_lanes(joints, gears, bodies, contacts, LANES)
 }
 
+/// [`joint_islands`] for this step, into `islands`, which hold last step's:
+/// where the islands' shapes would be found from the same joints, gears
+/// and bodies (`key`, what they were found from last time, is the same),
+/// last step's units are kept (their joints marked `direct` again) and only
+/// the patches they own are found anew. The same islands as
+/// [`joint_islands`] gives, so the same bits; the shapes' search, a
+/// breadth-first walk with lists per body and joint, was 2 % of the ragdoll
+/// pile's instructions and a seventh of its step's serial prepare (0.98-1.04
+/// -> 0.86-0.90 ms, `profile_stages ragdoll_pile 200 1`, builds alternated).
+pub fn keep_joint_islands(
+    islands: &mut Vec<JointIsland>,
+    key: &mut Vec<u64>,
+    joints: &mut [JointConstraint],
+    gears: &mut [GearConstraint],
+    bodies: &[SolverBody],
+    contacts: &[(u32, u32, u32)],
+) {
+    let now = shape_key(joints, gears, bodies);
+    if now == *key {
+        for unit in islands.iter() {
+            for &k in unit.lanes.iter().flatten() {
+                let j = &mut joints[k as usize];
+                j.direct = true;
+                j.island_rows = island_mask(j);
+            }
+            for &g in &unit.gears {
+                gears[g as usize].direct = true;
+            }
+        }
+        own_patches(islands, joints, bodies, contacts);
+    } else {
+        *islands = joint_islands(joints, gears, bodies, contacts);
+        *key = now;
+    }
+}
+
+/// Everything the shapes of the joint islands are found from (the units
+/// of [`joint_islands`] without the patches they own): per joint its two
+/// bodies, rows and kind of row in the system, whether a motor bounds its
+/// force, and whether each body is dynamic and its mass; per gear its two
+/// joints.
+fn shape_key(joints: &[JointConstraint], gears: &[GearConstraint], bodies: &[SolverBody]) -> Vec<u64> {
+    let mut key = Vec::with_capacity(2 + 4 * joints.len() + gears.len());
+    key.push(joints.len() as u64);
+    key.push(gears.len() as u64);
+    for j in joints {
+        let bounded = j.law.motor.is_some_and(|m| m.max_force().is_finite());
+        key.push(((j.a as u64) << 32) | j.b as u64);
+        key.push(((j.law.equality_rows() as u64) << 32) | ((island_mask(j) as u64) << 1) | bounded as u64);
+        for b in [j.a, j.b] {
+            let b = &bodies[b as usize];
+            key.push(if b.dynamic { b.inv_mass.to_bits() } else { u64::MAX });
+        }
+    }
+    for g in gears {
+        key.push(((g.joints[0] as u64) << 32) | g.joints[1] as u64);
+    }
+    key
+}
+
 /// [`joint_islands`], at most `max_lanes` islands to a unit.
 fn joint_islands_in_lanes(
     joints: &mut [JointConstraint],
@@ -871,14 +936,20 @@ fn joint_islands_in_lanes(
     contacts: &[(u32, u32, u32)],
     max_lanes: usize,
 ) -> Vec<JointIsland> {
+    let mut islands = island_shapes(joints, gears, bodies, max_lanes);
+    own_patches(&mut islands, joints, bodies, contacts);
+    islands
+}
+
+/// The units of [`joint_islands`] without the patches they own; marks
+/// their joints and gears `direct`.
+fn island_shapes(
+    joints: &mut [JointConstraint],
+    gears: &mut [GearConstraint],
+    bodies: &[SolverBody],
+    max_lanes: usize,
+) -> Vec<JointIsland> {
     let n_bodies = bodies.len();
-    // The candidate patches by their first body, and each body's island
-    // (its root joint) once the island is found.
-    let mut contacts_of: Vec<Vec<u32>> = vec![Vec::new(); if contacts.is_empty() { 0 } else { n_bodies }];
-    for (c, &(_, a, _)) in contacts.iter().enumerate() {
-        contacts_of[a as usize].push(c as u32);
-    }
-    let mut member = vec![usize::MAX; contacts_of.len()];
     // Joints of each dynamic body, in joint order.
     let mut of_body: Vec<Vec<u32>> = vec![Vec::new(); n_bodies];
     for (k, j) in joints.iter().enumerate() {
@@ -1036,39 +1107,6 @@ fn joint_islands_in_lanes(
         let (lightest, heaviest) = masses
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), &m| (lo.min(m), hi.max(m)));
-        let mut owned = Vec::new();
-        if !contacts.is_empty() {
-            let dynamic_bodies = || {
-                order
-                    .iter()
-                    .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
-                    .filter(|&b| bodies[b as usize].dynamic)
-            };
-            dynamic_bodies().for_each(|b| member[b as usize] = root);
-            // A dynamic body far lighter than the island's heaviest, where
-            // the owned solve runs away (`island_contacts::LIGHTEST_OWNER`).
-            let light = |b: u32| {
-                bodies[b as usize].dynamic && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
-            };
-            for b in dynamic_bodies() {
-                for &c in &contacts_of[b as usize] {
-                    let (patch, _, other) = contacts[c as usize];
-                    // Between two of its bodies, or one of its bodies and
-                    // an immovable one (the ground under a ragdoll's forearm:
-                    // a loop through the world, island_contacts), neither
-                    // of them light.
-                    if (member[other as usize] == root || !bodies[other as usize].dynamic)
-                        && !light(b)
-                        && !light(other)
-                    {
-                        owned.push(OwnedPatch::new(patch, 0));
-                    }
-                }
-                // A body is met once per joint: its patches are taken once.
-                contacts_of[b as usize].clear();
-            }
-            owned.sort_by_key(|o| o.patch);
-        }
         // The aim is a fixed-point iteration through the whole island; its
         // gain grows with the mass ratio across it: a 20-link rope of 0.1 kg
         // links holding 10 kg came apart with it (and holds without), while
@@ -1103,13 +1141,9 @@ fn joint_islands_in_lanes(
         if let Some(unit) = islands.last_mut().filter(|u: &&mut JointIsland| {
             !single && !u.single && u.lanes.len() < max_lanes && u.profile == profile
         }) {
-            let lane = unit.lanes.len();
-            unit.owned.extend(owned.into_iter().map(|mut o| {
-                o.lane = lane;
-                o
-            }));
             unit.lanes.push(order);
             unit.aim.push(aim);
+            unit.heaviest.push(heaviest);
             continue;
         }
         islands.push(JointIsland {
@@ -1118,12 +1152,77 @@ fn joint_islands_in_lanes(
             single,
             bounded,
             aim: vec![aim],
-            owned,
             gears: island_gears,
+            heaviest: vec![heaviest],
             ..JointIsland::default()
         });
     }
     islands
+}
+
+/// Gives each island the patches it owns this step (`contacts`, as in
+/// [`joint_islands`]): those between two of its bodies and those between
+/// one of its bodies and an immovable one, neither body lighter than
+/// [`LIGHTEST_OWNER`] of the island's heaviest; in a unit, lane by lane,
+/// each lane's in patch order.
+fn own_patches(
+    islands: &mut [JointIsland],
+    joints: &[JointConstraint],
+    bodies: &[SolverBody],
+    contacts: &[(u32, u32, u32)],
+) {
+    for unit in islands.iter_mut() {
+        unit.owned.clear();
+    }
+    if contacts.is_empty() {
+        return;
+    }
+    // The candidate patches by their first body.
+    let mut contacts_of: Vec<Vec<u32>> = vec![Vec::new(); bodies.len()];
+    for (c, &(_, a, _)) in contacts.iter().enumerate() {
+        contacts_of[a as usize].push(c as u32);
+    }
+    // Each dynamic body's island, numbered in unit and lane order.
+    let mut member = vec![usize::MAX; bodies.len()];
+    let mut island = 0;
+    for unit in islands.iter_mut() {
+        for (lane, order) in unit.lanes.iter().enumerate() {
+            let heaviest = unit.heaviest[lane];
+            let dynamic_bodies = || {
+                order
+                    .iter()
+                    .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
+                    .filter(|&b| bodies[b as usize].dynamic)
+            };
+            dynamic_bodies().for_each(|b| member[b as usize] = island);
+            // A dynamic body far lighter than the island's heaviest, where
+            // the owned solve runs away (`island_contacts::LIGHTEST_OWNER`).
+            let light = |b: u32| {
+                bodies[b as usize].dynamic && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
+            };
+            let mut owned = Vec::new();
+            for b in dynamic_bodies() {
+                for &c in &contacts_of[b as usize] {
+                    let (patch, _, other) = contacts[c as usize];
+                    // Between two of its bodies, or one of its bodies and
+                    // an immovable one (the ground under a ragdoll's forearm:
+                    // a loop through the world, island_contacts), neither
+                    // of them light.
+                    if (member[other as usize] == island || !bodies[other as usize].dynamic)
+                        && !light(b)
+                        && !light(other)
+                    {
+                        owned.push(OwnedPatch::new(patch, lane));
+                    }
+                }
+                // A body is met once per joint: its patches are taken once.
+                contacts_of[b as usize].clear();
+            }
+            owned.sort_by_key(|o| o.patch);
+            unit.owned.extend(owned);
+            island += 1;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -1133,7 +1232,7 @@ mod tests {
     use super::super::island_contacts::COMPLIANCE_SHARE;
     use super::super::joint::{begin_joints, push_joints, solve_joints, JointLaw, JOINT_ROWS};
     use super::*;
-    use crate::joint::JointKind;
+    use crate::joint::{JointKind, Spring};
     use tumble_collide::{DQuat, DVec3, Pose};
     use tumble_testkit::{RandomSource, SplitMix64};
 
@@ -1280,6 +1379,70 @@ mod tests {
         for (k, (a, b)) in impulses.iter().zip(&impulses_alone).enumerate() {
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "joint {k}");
         }
+    }
+
+    /// Islands kept from the last step are the islands found afresh: the
+    /// same units, joints marked `direct` alike, and this step's patches
+    /// owned (contacts that change from step to step with the same joints;
+    /// then a body's mass and a joint's kind changed, which change the
+    /// shapes).
+    #[test]
+    fn kept_islands_are_the_islands_found_afresh() {
+        let (bodies, joints) = trees(&mut SplitMix64(9), 6);
+        let mut rng = SplitMix64(17);
+        // Random patches from a dynamic body to the ground or another body.
+        let mut contacts = |n: usize| -> Vec<(u32, u32, u32)> {
+            (0..n as u32)
+                .map(|patch| {
+                    let a = 1 + (rng.range(0.0, 29.999) as u32);
+                    let b = if rng.range(0.0, 1.0) < 0.4 {
+                        0
+                    } else {
+                        1 + (rng.range(0.0, 29.999) as u32)
+                    };
+                    (patch, a, b)
+                })
+                .filter(|&(_, a, b)| a != b)
+                .collect()
+        };
+        // Kept islands against fresh ones; the patches owned.
+        fn check(
+            (kept, key): (&mut Vec<JointIsland>, &mut Vec<u64>),
+            bodies: &[SolverBody],
+            joints: &[JointConstraint],
+            contacts: &[(u32, u32, u32)],
+        ) -> usize {
+            let (mut fresh_joints, mut kept_joints) = (joints.to_vec(), joints.to_vec());
+            let fresh = joint_islands(&mut fresh_joints, &mut [], bodies, contacts);
+            keep_joint_islands(kept, key, &mut kept_joints, &mut [], bodies, contacts);
+            assert_eq!(*kept, fresh);
+            for (a, b) in kept_joints.iter().zip(&fresh_joints) {
+                assert_eq!((a.direct, a.island_rows), (b.direct, b.island_rows));
+            }
+            kept.iter().map(|u| u.owned.len()).sum()
+        }
+        let (mut kept, mut key) = (Vec::new(), Vec::new());
+        let mut owned = Vec::new();
+        for _ in 0..4 {
+            owned.push(check((&mut kept, &mut key), &bodies, &joints, &contacts(40)));
+        }
+        // Each step owned patches of its own, with the shapes kept.
+        assert!(owned.iter().all(|&n| n > 0), "{owned:?}");
+        assert!(owned.windows(2).any(|w| w[0] != w[1]), "{owned:?}");
+        let shape = key.clone();
+        let mut heavier = bodies.clone();
+        heavier[7].inv_mass *= 0.01;
+        check((&mut kept, &mut key), &heavier, &joints, &contacts(40));
+        assert_ne!(key, shape);
+        let mut springy = joints.clone();
+        springy[3].law.spring = Some(Spring {
+            stiffness: 100.0,
+            damping: 1.0,
+        });
+        check((&mut kept, &mut key), &bodies, &springy, &contacts(40));
+        check((&mut kept, &mut key), &bodies, &joints[..20], &contacts(40));
+        check((&mut kept, &mut key), &bodies, &joints, &contacts(40));
+        assert_eq!(key, shape);
     }
 
     /// A gear in its island's system is solved exactly with the joints'

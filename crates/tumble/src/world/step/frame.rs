@@ -76,8 +76,12 @@ pub(crate) struct SolverFrame {
     pub gear_slots: Vec<u32>,
     /// The joints' colours (the order of `joints`).
     pub joint_coloring: Coloring,
-    /// Islands of joints whose equality rows are solved directly.
+    /// Islands of joints whose equality rows are solved directly (kept
+    /// from step to step while their shapes hold).
     pub joint_islands: Vec<JointIsland>,
+    /// What `joint_islands`' shapes were found from
+    /// (`contact_solver::keep_joint_islands`).
+    pub joint_island_key: Vec<u64>,
     /// Per solver body: rotational inertia added by joint geometric
     /// stiffness (kg m^2; 0 for most bodies).
     pub geometric: Vec<f64>,
@@ -112,11 +116,14 @@ impl StepFrame {
         frame.solver.manifolds = buffers.manifolds;
         frame.solver.bodies = buffers.bodies;
         frame.solver.joints = buffers.joints;
+        frame.solver.joint_islands = buffers.joint_islands;
+        frame.solver.joint_island_key = buffers.joint_island_key;
         frame
     }
 
     /// The frame's largest arrays for the next step's frame: emptied, but
-    /// for the solver's point and patch records, which keep their length
+    /// for the joint islands (kept while their shapes hold) and the
+    /// solver's point and patch records, which keep their length
     /// (`World::prepare_solver` cuts or grows them to the step's and
     /// overwrites every record before one is read, so that it writes each
     /// record once instead of clearing and pushing).
@@ -128,6 +135,8 @@ impl StepFrame {
             manifolds: std::mem::take(&mut self.solver.manifolds),
             bodies: std::mem::take(&mut self.solver.bodies),
             joints: std::mem::take(&mut self.solver.joints),
+            joint_islands: std::mem::take(&mut self.solver.joint_islands),
+            joint_island_key: std::mem::take(&mut self.solver.joint_island_key),
         };
         take.points.clear();
         take.patches.clear();
@@ -189,6 +198,10 @@ pub(crate) struct FrameBuffers {
     manifolds: Vec<ManifoldConstraint>,
     bodies: Vec<SolverBody>,
     joints: Vec<JointConstraint>,
+    /// The joint islands and what their shapes were found from: kept
+    /// whole while the shapes hold (`contact_solver::keep_joint_islands`).
+    joint_islands: Vec<JointIsland>,
+    joint_island_key: Vec<u64>,
 }
 
 impl Clone for StepScratch {

@@ -548,7 +548,14 @@ impl World {
         }
         sf.joint_coloring = coloring;
         self.prepare_gears(sf);
-        sf.joint_islands = contact_solver::joint_islands(&mut sf.joints, &mut sf.gears, &sf.bodies, contacts);
+        contact_solver::keep_joint_islands(
+            &mut sf.joint_islands,
+            &mut sf.joint_island_key,
+            &mut sf.joints,
+            &mut sf.gears,
+            &sf.bodies,
+            contacts,
+        );
         self.geometric_stiffness(sf);
     }
 

@@ -18,6 +18,7 @@
 
 use crate::math::DVec3;
 use crate::mesh::TriMesh;
+use crate::triangle::orient::orient3d;
 
 /// Relative tolerance of the hull predicates: points within this fraction of
 /// the bounding-box diagonal of a face's plane count as on it.
@@ -56,7 +57,13 @@ pub fn convex_hull(points: &[DVec3]) -> Result<TriMesh, HullError> {
         vertices.push(points[old as usize]);
     }
     let triangles = faces.iter().map(|f| f.map(|i| remap[i as usize])).collect();
-    TriMesh::new(vertices, triangles).map_err(|e| HullError::Numerical(format!("hull mesh rejected: {e}")))
+    let mesh = TriMesh::new(vertices, triangles)
+        .map_err(|e| HullError::Numerical(format!("hull mesh rejected: {e}")))?;
+    // What round-off on extreme input could still break is refused, never
+    // handed out as a hull.
+    mesh.check_solid()
+        .map_err(|e| HullError::Numerical(format!("hull is not a closed outward solid: {e}")))?;
+    Ok(mesh)
 }
 
 /// The hull's triangles as indices into `points` (outward, counter-clockwise).
@@ -190,7 +197,11 @@ impl<'a> Quickhull<'a> {
         }
         let dir = (p[i1] - p[i0]).normalize();
         let (mut i2, mut d2) = (0usize, -1.0f64);
-        for (i, v) in p.iter().enumerate() {
+        // The base points themselves are skipped: round-off gives them a
+        // distance from their own line or plane, which a cloud flat within
+        // the tolerance can make the largest (the apex chosen as one of
+        // the base's corners: a "tetrahedron" with a corner twice).
+        for (i, v) in p.iter().enumerate().filter(|&(i, _)| i != i0 && i != i1) {
             let w = *v - p[i0];
             let d = (w - dir * w.dot(dir)).length();
             if d > d2 {
@@ -202,17 +213,27 @@ impl<'a> Quickhull<'a> {
         }
         let n = (p[i1] - p[i0]).cross(p[i2] - p[i0]).normalize();
         let (mut i3, mut d3) = (0usize, 0.0f64);
-        for (i, v) in p.iter().enumerate() {
+        for (i, v) in p
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != i0 && i != i1 && i != i2)
+        {
             let d = n.dot(*v - p[i0]);
             if d.abs() > d3.abs() {
                 (i3, d3) = (i, d);
             }
         }
-        if d3.abs() <= eps {
+        // The side of the base plane i3 lies on, with its sign exact: the
+        // rounded normal of a thin base triangle (one point 6e37 m away, the
+        // others within 1.5e28 m of each other:
+        // fuzz/regressions/stl/hull_far_sliver) can point the wrong way, and
+        // the simplex came out inside out.
+        let side = orient3d(p[i0], p[i1], p[i2], p[i3]);
+        if d3.abs() <= eps || side == 0.0 {
             return Err(HullError::Degenerate("all points coplanar".into()));
         }
         // Base triangle wound so that its outward normal points away from i3.
-        let (a, b, c, d) = if d3 > 0.0 {
+        let (a, b, c, d) = if side > 0.0 {
             (i0 as u32, i2 as u32, i1 as u32, i3 as u32)
         } else {
             (i0 as u32, i1 as u32, i2 as u32, i3 as u32)
@@ -481,6 +502,40 @@ mod tests {
         let pts: Vec<DVec3> = (0..300).map(|_| off + DVec3::new(r(), r(), r())).collect();
         let hull = convex_hull(&pts).unwrap();
         check_hull(&pts, &hull);
+    }
+
+    /// A sliver 6e37 m long whose other three corners lie within 1.5e28 m
+    /// of each other (libFuzzer, `fuzz/regressions/stl/hull_far_sliver`):
+    /// the apex search took a corner of the base for the apex (its distance
+    /// from its own plane was round-off, and the largest) and the hull came
+    /// out an inside-out "tetrahedron" with a corner twice. It is the
+    /// tetrahedron of the four points, outward, of the exact volume
+    /// (computed in rationals: 4.5464369807174845e64 / 6 m^3).
+    #[test]
+    fn a_far_thin_sliver_is_wound_outward() {
+        let pts = [
+            DVec3::new(
+                -1.0695807010028086e37,
+                -4.2201683186052844e37,
+                -4.2201683186052844e37,
+            ),
+            DVec3::new(
+                2.2009032374370463e-9,
+                1.4564867919235908e28,
+                1.2971819884254832e-41,
+            ),
+            DVec3::new(-6.499999761581421e-1, 1.1258330345153809, 0.0),
+            DVec3::new(-0.5, 8.660215735435486e-1, 3.0000001192092896e-1),
+        ];
+        let hull = convex_hull(&pts).unwrap();
+        hull.check_solid().unwrap();
+        assert_eq!((hull.vertices().len(), hull.triangles().len()), (4, 4));
+        let exact = 4.5464369807174845e64 / 6.0;
+        assert!(
+            (hull.signed_volume() - exact).abs() <= 1e-9 * exact,
+            "{}",
+            hull.signed_volume()
+        );
     }
 
     #[test]

@@ -20,6 +20,7 @@ use super::margins::{
 };
 use super::StepFrame;
 use crate::body::BodyKind;
+use crate::pool::WorkerPool;
 use crate::world::manifold::{self, SearchedPair};
 use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
 use crate::world::{Collider, MaterialDesc, World};
@@ -184,31 +185,25 @@ impl World {
             searches.sort_by_key(|s| s.key);
         }
         self.searches = searches;
-        for chunk in chunks {
+        for chunk in &chunks {
             if let (false, Some((k, err))) = (warned, &chunk.error) {
                 let (a, b) = f.pairs[*k];
                 f.report.warnings.push(format!("bodies {a} and {b}: {err}"));
                 warned = true;
             }
-            let (mut points, mut patches) = (chunk.points, chunk.patches);
-            if f.points.is_empty() && f.patches.is_empty() && f.points.capacity() <= points.capacity() {
-                // The chunk's buffers become the frame's, the frame's kept
-                // ones the chunk's.
-                std::mem::swap(&mut f.points, &mut points);
-                std::mem::swap(&mut f.patches, &mut patches);
-            } else {
-                let offset = f.points.len() as u32;
-                f.patches.extend(patches.drain(..).map(|mut p| {
-                    p.first += offset;
-                    p
-                }));
-                f.points.append(&mut points);
-            }
             f.report.warm_started += chunk.warm_started;
             f.report.max_penetration = f.report.max_penetration.max(chunk.max_penetration);
-            if several {
-                spare.push((points, patches));
+        }
+        if let [chunk] = &mut chunks[..] {
+            if !several {
+                // The lone chunk's arrays are the frame's.
+                std::mem::swap(&mut f.points, &mut chunk.points);
+                std::mem::swap(&mut f.patches, &mut chunk.patches);
             }
+        }
+        if several {
+            join_chunks(&f.pool, &mut chunks, &mut f.points, &mut f.patches);
+            spare.extend(chunks.into_iter().map(|c| (c.points, c.patches)));
         }
         self.scratch.narrow_chunks = spare;
         f.report.contacts = f.points.len();
@@ -365,6 +360,60 @@ impl World {
                 }
             }
         }
+    }
+}
+
+/// Moves the chunks' points and patches, in chunk order, into `points`
+/// and `patches` (emptied first), each patch's `first` made an index of
+/// `points`; the chunks keep their emptied buffers for the next step. The
+/// chunks are copied on the pool, each into its own run of the joined
+/// arrays: copied by one thread, the 1,000-body pile's 3,000 points and
+/// 1,500 patches (about a megabyte) took 0.3-0.4 ms of its 1.2 ms narrow
+/// phase on two threads.
+fn join_chunks(
+    pool: &WorkerPool,
+    chunks: &mut [ChunkContacts],
+    points: &mut Vec<PreparedPoint>,
+    patches: &mut Vec<PreparedPatch>,
+) {
+    let n_points: usize = chunks.iter().map(|c| c.points.len()).sum();
+    let n_patches: usize = chunks.iter().map(|c| c.patches.len()).sum();
+    points.clear();
+    patches.clear();
+    points.reserve(n_points);
+    patches.reserve(n_patches);
+    {
+        // Each chunk with its slots in the joined arrays and the index of
+        // its first point there.
+        let mut point_slots = &mut points.spare_capacity_mut()[..n_points];
+        let mut patch_slots = &mut patches.spare_capacity_mut()[..n_patches];
+        let mut runs = Vec::with_capacity(chunks.len());
+        let mut offset = 0u32;
+        for chunk in chunks.iter_mut() {
+            let (run_points, rest) = std::mem::take(&mut point_slots).split_at_mut(chunk.points.len());
+            point_slots = rest;
+            let (run_patches, rest) = std::mem::take(&mut patch_slots).split_at_mut(chunk.patches.len());
+            patch_slots = rest;
+            let next = offset + run_points.len() as u32;
+            runs.push((chunk, run_points, run_patches, offset));
+            offset = next;
+        }
+        pool.for_each_mut(&mut runs, |_, (chunk, run_points, run_patches, offset)| {
+            for (slot, point) in run_points.iter_mut().zip(chunk.points.drain(..)) {
+                slot.write(point);
+            }
+            for (slot, mut patch) in run_patches.iter_mut().zip(chunk.patches.drain(..)) {
+                patch.first += *offset;
+                slot.write(patch);
+            }
+        });
+    }
+    // SAFETY: every slot below the lengths was written above: the runs
+    // cover them end to end, each as long as its chunk's list, which
+    // `drain` yields whole.
+    unsafe {
+        points.set_len(n_points);
+        patches.set_len(n_patches);
     }
 }
 

@@ -129,10 +129,18 @@ fn clip<const N: usize, R: Polytope + ?Sized, I: Polytope + ?Sized>(
         };
     }
     let nr = refp.face_len(ref_face);
+    // The reference face's corners, placed once (each begins one side and
+    // ends the one before).
+    let mut corners = [DVec3::ZERO; N];
+    for (j, corner) in corners.iter_mut().enumerate().take(nr) {
+        *corner = ref_pose.transform_point(refp.vertex(refp.face_vertex(ref_face, j)));
+    }
+    // Each point's distance from the current side plane, computed once.
+    let mut side = [0.0f64; N];
     let (mut src, mut dst) = (&mut buf_a, &mut buf_b);
     for j in 0..nr {
-        let v0 = ref_pose.transform_point(refp.vertex(refp.face_vertex(ref_face, j)));
-        let v1 = ref_pose.transform_point(refp.vertex(refp.face_vertex(ref_face, (j + 1) % nr)));
+        let v0 = corners[j];
+        let v1 = corners[if j + 1 == nr { 0 } else { j + 1 }];
         // Outward side-plane normal: the face is counter-clockwise around n_ref,
         // so its interior is to the left of each edge and (v1 - v0) x n points out.
         let s = (v1 - v0).cross(n_ref);
@@ -140,12 +148,15 @@ fn clip<const N: usize, R: Polytope + ?Sized, I: Polytope + ?Sized>(
         // Points within ON_SIDE_PLANE of the side plane (relative to the
         // reference edge's length; `s` is as long as the edge) lie on it.
         let on = ON_SIDE_PLANE * s.length_squared();
+        for (d, pt) in side.iter_mut().zip(src.iter()).take(len) {
+            *d = s.dot(pt.p) - c;
+        }
         let mut m = 0;
         for i in 0..len {
             let pt = src[i];
-            let q = src[(i + 1) % len];
-            let dp = s.dot(pt.p) - c;
-            let dq = s.dot(q.p) - c;
+            let next = if i + 1 == len { 0 } else { i + 1 };
+            let q = src[next];
+            let (dp, dq) = (side[i], side[next]);
             let p_in = dp <= on;
             if p_in {
                 dst[m] = pt;

@@ -37,7 +37,9 @@
 //! body's motion and the contacts on it; with `TRACE_LIFT=1`, after every
 //! step the three bodies whose potential energy changed most in it, how far
 //! each rose and its speed at the end: where a settled pile's energy goes up
-//! and down while its kinetic energy stays small).
+//! and down while its kinetic energy stays small); with `TRACE_HASH=1`, a hash
+//! of every body's state bits at the end (two builds that should step alike
+//! give the same hash).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 use tumble_collide::DVec3;
@@ -496,6 +498,27 @@ fn main() {
         world.settings().substeps,
         world.settings().iterations
     );
+    if std::env::var("TRACE_HASH").is_ok() {
+        // FNV-1a over the bits of every body's position, orientation and
+        // momenta, in body order.
+        let mut hash = 0xcbf2_9ce4_8422_2325u64;
+        for id in world.body_ids() {
+            let s = world.body(id).unwrap().state();
+            let numbers = s
+                .position
+                .to_array()
+                .into_iter()
+                .chain(s.orientation.to_array())
+                .chain(s.linear_momentum.to_array())
+                .chain(s.angular_momentum.to_array());
+            for x in numbers {
+                for byte in x.to_bits().to_le_bytes() {
+                    hash = (hash ^ byte as u64).wrapping_mul(0x0100_0000_01b3);
+                }
+            }
+        }
+        println!("state hash {hash:016x}");
+    }
     if std::env::var("TRACE_MOVING").is_ok() {
         let mut v: Vec<(f64, String, DVec3, DVec3, DVec3)> = world
             .body_ids()

@@ -123,7 +123,9 @@ impl World {
     /// islands (the unit of sleeping).
     fn islands_stage(&mut self, f: &mut StepFrame) {
         use crate::body::BodyKind;
-        let mut links: Vec<(u32, u32)> = f.points.iter().map(|p| (p.key.0, p.key.1)).collect();
+        // One link per patch (its points share it); an island's label is
+        // its smallest slot, whatever the links' order or repeats.
+        let mut links: Vec<(u32, u32)> = f.patches.iter().map(|p| (p.key.0, p.key.1)).collect();
         links.dedup();
         links.extend(self.joint_links());
         let dynamic_awake: Vec<bool> = (0..f.n_slots as u32)

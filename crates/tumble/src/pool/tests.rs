@@ -4,9 +4,9 @@
 //! with two runs on one shared pool at once, not with a run inside a run,
 //! not when a member of a team panics (the panic reaches the caller).
 
-use super::{Team, WorkerPool};
+use super::{BarrierState, Team, WorkerPool};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 /// Sum of squares of each chunk, with the chunk's first index: what a
 /// caller of `map_chunks` sees, cut in chunks of `chunk`.
@@ -249,5 +249,44 @@ fn a_member_that_panics_fails_the_team_instead_of_hanging_it() {
             failed,
             "member {panicking}'s panic did not reach the caller of the run"
         );
+    }
+}
+
+#[test]
+fn blocks_give_each_thread_one_run_of_whole_blocks_covering_every_item_once() {
+    for size in 1..=5usize {
+        for n in [0usize, 1, 63, 64, 127, 128, 129, 1000, 1025] {
+            let mut seen = vec![0u32; n];
+            let mut previous_end = 0;
+            for index in 0..size {
+                let team = Team {
+                    size,
+                    index,
+                    sync: Arc::new(BarrierState::new(size)),
+                };
+                let ranges: Vec<_> = team.blocks(n, 64).collect();
+                for (k, r) in ranges.iter().enumerate() {
+                    // Whole blocks (only the last one of all may be short),
+                    // each run contiguous and after the previous thread's.
+                    assert_eq!(r.start % 64, 0, "n {n}, size {size}, thread {index}");
+                    assert!(r.len() == 64 || r.end == n, "n {n}, size {size}: {r:?}");
+                    if k == 0 {
+                        assert_eq!(r.start, previous_end, "n {n}, size {size}, thread {index}");
+                    } else {
+                        assert_eq!(r.start, ranges[k - 1].end);
+                    }
+                    seen[r.clone()].iter_mut().for_each(|s| *s += 1);
+                }
+                if let Some(last) = ranges.last() {
+                    previous_end = last.end;
+                }
+                // The runs differ by at most one block.
+                let blocks = n.div_ceil(64);
+                if n >= 128 && size > 1 {
+                    assert!(ranges.len() >= blocks / size && ranges.len() <= blocks.div_ceil(size));
+                }
+            }
+            assert!(seen.iter().all(|&s| s == 1), "n {n}, size {size}: {seen:?}");
+        }
     }
 }

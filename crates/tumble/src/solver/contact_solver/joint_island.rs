@@ -785,26 +785,31 @@ fn bounds(j: &JointConstraint, slot: usize, push: bool) -> (f64, f64, f64) {
 }
 
 /// The row slots of joint `j` in its island's system: its equality rows,
-/// then its scalar rows the island solves (`island_mask`).
+/// then its scalar rows the island solves (`island_mask`), in the order of
+/// [`ISLAND_SCALAR_SLOTS`].
+#[inline]
 fn island_slots(j: &JointConstraint) -> impl Iterator<Item = usize> + use<> {
     let (n_eq, mask) = (j.n_eq, j.island_rows);
-    (0..n_eq).chain(
-        [
-            MOTOR,
-            SPRING,
-            BALL_SPRING,
-            BALL_SPRING + 1,
-            BALL_SPRING_LAST,
-            LOWER,
-            UPPER,
-            SWING,
-        ]
-        .into_iter()
-        // (`island_mask` sets a ball's spring slots on balls alone, whose
-        // equality rows end below them.)
-        .filter(move |&s| mask & (1 << s) != 0),
-    )
+    // Most joints of an island have no scalar row in it (a ragdoll's): the
+    // candidates are then not looked at, in a walk done three times a pass.
+    let scalar: &'static [usize] = if mask == 0 { &[] } else { &ISLAND_SCALAR_SLOTS };
+    // (`island_mask` sets a ball's spring slots on balls alone, whose
+    // equality rows end below them.)
+    (0..n_eq).chain(scalar.iter().copied().filter(move |&s| mask & (1 << s) != 0))
 }
+
+/// The scalar slots a joint's rows may have in its island's system, in
+/// the system's order.
+const ISLAND_SCALAR_SLOTS: [usize; 8] = [
+    MOTOR,
+    SPRING,
+    BALL_SPRING,
+    BALL_SPRING + 1,
+    BALL_SPRING_LAST,
+    LOWER,
+    UPPER,
+    SWING,
+];
 
 /// Whether row `slot` of `j` is soft (a motor's or a spring's): it takes
 /// part in the push-out only to keep it off the joint's free axes. (A

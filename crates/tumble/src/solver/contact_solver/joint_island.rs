@@ -248,11 +248,8 @@ impl JointIsland {
         let n = self.rows();
         let mut x = std::mem::take(&mut self.rhs_lanes);
         x.clear();
-        x.extend((0..n).map(|r| {
-            Lane::new(std::array::from_fn(|l| {
-                points[l].map_or(0.0, |(k, i)| self.owned[k].response(i)[r])
-            }))
-        }));
+        let columns: [Option<&[f64]>; LANES] = points.map(|p| p.map(|(k, i)| self.owned[k].response(i)));
+        x.extend((0..n).map(|r| Lane::new(std::array::from_fn(|l| columns[l].map_or(0.0, |c| c[r])))));
         if self.lanes.len() == 1 {
             self.factor.solve(&self.profile, &mut x);
         } else {

@@ -102,6 +102,9 @@ pub(super) struct OwnedPatch {
     /// Per point, `rows` entries: the point's normal velocity per unit
     /// impulse of each island row (`W` as the contact sees the joints).
     coupling: Vec<f64>,
+    /// The rows on the patch's two bodies, in increasing order: the only
+    /// entries of `coupling` that can be other than zero.
+    touching: Vec<u32>,
     /// Per point, `rows` entries: `K^-1` times the island rows' velocities
     /// per unit impulse at the point (`U`).
     response: Vec<f64>,
@@ -140,6 +143,7 @@ impl OwnedPatch {
         self.coupling.resize(n * pts.len(), 0.0);
         self.response.clear();
         self.response.resize(n * pts.len(), 0.0);
+        self.touching.clear();
         // Only the rows on the patch's two bodies are not zero.
         for (r, row, pair) in rows {
             for (s, &joint_body) in pair.iter().enumerate() {
@@ -148,6 +152,12 @@ impl OwnedPatch {
                     b if b == m.b => (-1.0, imb, false),
                     _ => continue,
                 };
+                // (A row comes again for its other side, or a gear's for
+                // each of its bodies, right after itself.)
+                debug_assert!(self.touching.last().is_none_or(|&t| t as usize <= r));
+                if self.touching.last() != Some(&(r as u32)) {
+                    self.touching.push(r as u32);
+                }
                 for (i, p) in pts.iter().enumerate() {
                     // The contact's unit impulse: +n on A, -n on B.
                     let (r_x_n, dw) = if a {
@@ -231,12 +241,18 @@ impl OwnedPatch {
 
     /// The normal velocity each point gains from the island's row impulses
     /// `x` (row `r` of this patch's lane at `x[r * stride + lane]`).
+    ///
+    /// Over the rows on the patch's bodies only: every other row's term is
+    /// `0 x`, a zero that leaves the sum as it is (the sum starts at +0 and
+    /// is never -0; `x` is finite), so the sum has the bits of the sum
+    /// over every row.
     pub fn coupled(&self, x: &[f64], stride: usize) -> [f64; BLOCK_POINTS] {
         let n = self.rows;
         let mut v = [0.0; BLOCK_POINTS];
         for (i, w) in self.coupling.chunks_exact(n.max(1)).enumerate() {
-            for (r, w) in w.iter().enumerate() {
-                v[i] += w * x[r * stride + self.lane];
+            for &r in &self.touching {
+                let r = r as usize;
+                v[i] += w[r] * x[r * stride + self.lane];
             }
         }
         v

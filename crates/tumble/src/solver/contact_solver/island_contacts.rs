@@ -244,8 +244,10 @@ impl OwnedPatch {
     ///
     /// Over the rows on the patch's bodies only: every other row's term is
     /// `0 x`, a zero that leaves the sum as it is (the sum starts at +0 and
-    /// is never -0; `x` is finite), so the sum has the bits of the sum
-    /// over every row.
+    /// is never -0), so the sum has the bits of the sum over every row
+    /// while `x` is finite, as the island's solve leaves it (were another
+    /// row's entry not finite, it is now left out instead of making the
+    /// points' velocities NaN).
     pub fn coupled(&self, x: &[f64], stride: usize) -> [f64; BLOCK_POINTS] {
         let n = self.rows;
         let mut v = [0.0; BLOCK_POINTS];

@@ -59,7 +59,8 @@ pub(crate) struct SolverFrame {
     pub has_contact: Vec<bool>,
     /// Per solver body: quarantined before the solve (restored afterwards).
     pub frozen: Vec<bool>,
-    /// Normal rows, one per contact point, in the order of `StepFrame::points`.
+    /// Normal rows, one per contact point: each patch record's points after
+    /// the last one's, so in the order of `manifolds`.
     pub points: Vec<PointConstraint>,
     /// Patch rows, one per contact patch, sorted by colour.
     pub manifolds: Vec<ManifoldConstraint>,
@@ -165,6 +166,9 @@ impl StepFrame {
 pub(crate) struct StepScratch {
     /// The colour batches in bundles of four patches.
     pub wide: WideBatches,
+    /// The solver's records compacted for the write-back
+    /// (`World::store_impulses`).
+    pub solved: super::solve::SolvedPatches,
     /// The last step's frame arrays, emptied (see [`StepFrame::recycle`]).
     pub frame: FrameBuffers,
     /// The walks that mesh pairs remember (`narrow::MeshPairMemory`: a

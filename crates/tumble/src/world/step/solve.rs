@@ -660,12 +660,48 @@ impl World {
     /// [`SolveStage::StoreImpulses`]: every point's normal impulse and every
     /// patch's friction go to the warm-start cache (sorted by pair), and the
     /// step's contacts are reported with the impulses of the whole step.
-    /// Written by the pool a run of patches at a time, each run its own
-    /// stretch of the three arrays (a record depends on its patch alone);
-    /// the arrays keep their length from the last step and are only cut or
-    /// grown, so that each record is written once.
+    ///
+    /// Two passes. The first reads the solver's records in their own
+    /// (colour) order and keeps what the write-back needs of each in
+    /// `StepScratch::solved` (a patch in 56 bytes, a point in 8). The
+    /// second writes the cache and the contacts in patch order, which is
+    /// the records' order shuffled: read there directly, a patch record
+    /// (about 1 KB) and each of its points (about 250 bytes) was a miss
+    /// from memory on the large pyramid, most of this stage's time.
+    /// Each pass is written by the pool a run at a time, each run its own
+    /// stretch of the arrays it writes (a record depends on its patch
+    /// alone); the arrays keep their length from the last step and are
+    /// only cut or grown, so that each record is written once.
     fn store_impulses(&mut self, f: &StepFrame, substeps: u32) {
         let sf = &f.solver;
+        let solved = &mut self.scratch.solved;
+        solved.patches.resize(sf.manifolds.len(), SolvedPatch::default());
+        solved.normals.resize(sf.points.len(), 0.0);
+        let run = (sf.manifolds.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
+        let mut runs = Vec::with_capacity(sf.manifolds.len().div_ceil(run));
+        let (mut patches, mut normals) = (&mut solved.patches[..], &mut solved.normals[..]);
+        for records in sf.manifolds.chunks(run) {
+            // `prepare_solver` lays each record's points out after the last's.
+            let count: usize = records.iter().map(|m| m.point_count as usize).sum();
+            let (run_normals, rest) = std::mem::take(&mut normals).split_at_mut(count);
+            normals = rest;
+            let (run_patches, rest) = std::mem::take(&mut patches).split_at_mut(records.len());
+            patches = rest;
+            runs.push((records, run_patches, run_normals));
+        }
+        f.pool
+            .for_each_mut(&mut runs, |_, (records, run_patches, run_normals)| {
+                let mut at = 0;
+                for (m, out) in records.iter().zip(run_patches.iter_mut()) {
+                    let points = &sf.points[m.range()];
+                    for (n, c) in run_normals[at..at + points.len()].iter_mut().zip(points) {
+                        *n = c.normal_impulse;
+                    }
+                    at += points.len();
+                    *out = SolvedPatch::of(m, points);
+                }
+            });
+        let solved = &self.scratch.solved;
         let n_points: usize = f.patches.iter().map(|p| p.count as usize).sum();
         let (point, patch, contact) = cache_placeholders();
         self.cache.resize(n_points, point);
@@ -696,22 +732,21 @@ impl World {
                 let mut at = 0;
                 for (j, cached) in run_patches.iter_mut().enumerate() {
                     let patch = &f.patches[*first + j];
-                    let m = &sf.manifolds[sf.position[*first + j] as usize];
-                    let tangent = m.tangent_impulse();
-                    // The patch's friction is reported on its points in
-                    // proportion to their normal impulses.
-                    let total: f64 = sf.points[m.range()].iter().map(|c| c.normal_impulse).sum();
+                    let s = &solved.patches[sf.position[*first + j] as usize];
                     *cached = CachedPatch {
                         key: patch.key,
                         normal: patch.normal,
-                        tangent_impulse: tangent,
-                        twist_impulse: m.impulses[2],
-                        anchor: anchor_to_keep(bodies, f, patch, m, total),
+                        tangent_impulse: s.tangent,
+                        twist_impulse: s.twist,
+                        anchor: anchor_to_keep(bodies, f, patch, s),
                     };
-                    let points = f.points[patch.range()].iter().zip(&sf.points[m.range()]);
-                    for (k, (p, c)) in points.enumerate() {
-                        let share = if total > 0.0 {
-                            c.normal_impulse / total
+                    // The patch's friction is reported on its points in
+                    // proportion to their normal impulses.
+                    let normals = &solved.normals[s.first as usize..][..patch.count as usize];
+                    let points = f.points[patch.range()].iter().zip(normals);
+                    for (k, (p, &normal_impulse)) in points.enumerate() {
+                        let share = if s.total > 0.0 {
+                            normal_impulse / s.total
                         } else {
                             0.0
                         };
@@ -720,14 +755,14 @@ impl World {
                             feature_a: p.contact.feature_a,
                             feature_b: p.contact.feature_b,
                             local_a: p.local_a,
-                            normal_impulse: c.normal_impulse,
+                            normal_impulse,
                         };
                         run_contacts[at + k] = WorldContact {
                             body_a: p.ids.0,
                             body_b: p.ids.1,
                             contact: p.contact,
-                            normal_impulse: c.normal_impulse * scale,
-                            tangent_impulse: tangent * (share * scale),
+                            normal_impulse: normal_impulse * scale,
+                            tangent_impulse: s.tangent * (share * scale),
                         };
                     }
                     at += patch.count as usize;
@@ -735,6 +770,51 @@ impl World {
             });
         manifold::finish(&mut self.cache, &mut self.patch_cache);
     }
+}
+
+/// What the write-back reads of a patch's solver record
+/// (`World::store_impulses`), kept compact so that its reads in patch order
+/// stay in the cache.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SolvedPatch {
+    /// The tangential friction impulse as a world vector (N s).
+    tangent: DVec3,
+    /// The twist friction impulse (N m s).
+    twist: f64,
+    /// The sum of the points' normal impulses (N s).
+    total: f64,
+    /// The first of the patch's points in `SolvedPatches::normals`.
+    first: u32,
+    /// Solver bodies A and B.
+    bodies: [u32; 2],
+    /// The friction impulse stayed within [`STICKING`] of the Coulomb disc
+    /// while the patch pressed.
+    sticks: bool,
+}
+
+impl SolvedPatch {
+    fn of(m: &ManifoldConstraint, points: &[PointConstraint]) -> SolvedPatch {
+        let total: f64 = points.iter().map(|c| c.normal_impulse).sum();
+        let used = m.impulses[0].hypot(m.impulses[1]);
+        SolvedPatch {
+            tangent: m.tangent_impulse(),
+            twist: m.impulses[2],
+            total,
+            first: m.first_point,
+            bodies: [m.a, m.b],
+            sticks: total > 0.0 && used < STICKING * m.friction * total,
+        }
+    }
+}
+
+/// The solver's records after the solve, compacted for the write-back
+/// (`World::store_impulses`): a patch per solver patch record, a normal
+/// impulse per solver point, both in the records' order. Scratch kept
+/// from step to step.
+#[derive(Debug, Default)]
+pub(crate) struct SolvedPatches {
+    patches: Vec<SolvedPatch>,
+    normals: Vec<f64>,
 }
 
 /// What a patch remembers of where it stuck (`CachedPatch::anchor`):
@@ -746,12 +826,9 @@ fn anchor_to_keep(
     bodies: &Arena<BodyEntry>,
     f: &StepFrame,
     patch: &PreparedPatch,
-    m: &ManifoldConstraint,
-    total: f64,
+    solved: &SolvedPatch,
 ) -> Option<[DVec3; 2]> {
-    let used = m.impulses[0].hypot(m.impulses[1]);
-    let sticks = total > 0.0 && used < STICKING * m.friction * total;
-    if !sticks || !patch.holds {
+    if !solved.sticks || !patch.holds {
         return None;
     }
     if let Some(anchor) = &patch.anchor {
@@ -764,7 +841,7 @@ fn anchor_to_keep(
         bodies.at(patch.key.0)?.body.pose(),
         bodies.at(patch.key.1)?.body.pose(),
     ];
-    let moved = [&sf.bodies[m.a as usize], &sf.bodies[m.b as usize]];
+    let moved = solved.bodies.map(|k| &sf.bodies[k as usize]);
     // Each body's copy of the centre at the step's end, and their midpoint.
     let ends = [0, 1].map(|k| poses[k].position + moved[k].dp + moved[k].turn * (centre - poses[k].position));
     let meet = 0.5 * (ends[0] + ends[1]);

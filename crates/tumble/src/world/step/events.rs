@@ -18,16 +18,22 @@ const SLOTS_PER_TASK: usize = 512;
 impl World {
     pub(super) fn events_stage(&mut self, f: &mut StepFrame) {
         // The pairs touching now, found on the pool a run of patches at a
-        // time and joined in patch order.
+        // time and joined in patch order, from what the solve stage kept of
+        // its records (`SolvedPatches`: compact, where the records
+        // themselves, read in patch order, are misses from memory).
         let sf = &f.solver;
+        let solved = &self.scratch.solved;
         let mut touching: Vec<(BodyId, BodyId)> =
             f.pool
                 .flat_map_chunks(&sf.position, PATCHES_PER_TASK, |first, run| {
                     let mut found = Vec::with_capacity(4 * run.len());
                     for (patch, &k) in f.patches[first..first + run.len()].iter().zip(run) {
-                        let m = &sf.manifolds[k as usize];
-                        for (p, c) in f.points[patch.range()].iter().zip(&sf.points[m.range()]) {
-                            if c.max_normal_impulse > 0.0 || p.contact.distance <= 0.0 {
+                        let s = solved.patch(k);
+                        for (p, c) in f.points[patch.range()]
+                            .iter()
+                            .zip(solved.points_of(s, patch.count))
+                        {
+                            if c.pressed || p.contact.distance <= 0.0 {
                                 found.push(p.ids);
                             }
                         }

@@ -663,7 +663,7 @@ impl World {
     ///
     /// Two passes. The first reads the solver's records in their own
     /// (colour) order and keeps what the write-back needs of each in
-    /// `StepScratch::solved` (a patch in 56 bytes, a point in 8). The
+    /// `StepScratch::solved` (a patch in 56 bytes, a point in 16). The
     /// second writes the cache and the contacts in patch order, which is
     /// the records' order shuffled: read there directly, a patch record
     /// (about 1 KB) and each of its points (about 250 bytes) was a miss
@@ -676,26 +676,29 @@ impl World {
         let sf = &f.solver;
         let solved = &mut self.scratch.solved;
         solved.patches.resize(sf.manifolds.len(), SolvedPatch::default());
-        solved.normals.resize(sf.points.len(), 0.0);
+        solved.points.resize(sf.points.len(), SolvedPoint::default());
         let run = (sf.manifolds.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
         let mut runs = Vec::with_capacity(sf.manifolds.len().div_ceil(run));
-        let (mut patches, mut normals) = (&mut solved.patches[..], &mut solved.normals[..]);
+        let (mut patches, mut points) = (&mut solved.patches[..], &mut solved.points[..]);
         for records in sf.manifolds.chunks(run) {
             // `prepare_solver` lays each record's points out after the last's.
             let count: usize = records.iter().map(|m| m.point_count as usize).sum();
-            let (run_normals, rest) = std::mem::take(&mut normals).split_at_mut(count);
-            normals = rest;
+            let (run_points, rest) = std::mem::take(&mut points).split_at_mut(count);
+            points = rest;
             let (run_patches, rest) = std::mem::take(&mut patches).split_at_mut(records.len());
             patches = rest;
-            runs.push((records, run_patches, run_normals));
+            runs.push((records, run_patches, run_points));
         }
         f.pool
-            .for_each_mut(&mut runs, |_, (records, run_patches, run_normals)| {
+            .for_each_mut(&mut runs, |_, (records, run_patches, run_points)| {
                 let mut at = 0;
                 for (m, out) in records.iter().zip(run_patches.iter_mut()) {
                     let points = &sf.points[m.range()];
-                    for (n, c) in run_normals[at..at + points.len()].iter_mut().zip(points) {
-                        *n = c.normal_impulse;
+                    for (n, c) in run_points[at..at + points.len()].iter_mut().zip(points) {
+                        *n = SolvedPoint {
+                            normal_impulse: c.normal_impulse,
+                            pressed: c.max_normal_impulse > 0.0,
+                        };
                     }
                     at += points.len();
                     *out = SolvedPatch::of(m, points);
@@ -732,7 +735,7 @@ impl World {
                 let mut at = 0;
                 for (j, cached) in run_patches.iter_mut().enumerate() {
                     let patch = &f.patches[*first + j];
-                    let s = &solved.patches[sf.position[*first + j] as usize];
+                    let s = solved.patch(sf.position[*first + j]);
                     *cached = CachedPatch {
                         key: patch.key,
                         normal: patch.normal,
@@ -742,9 +745,10 @@ impl World {
                     };
                     // The patch's friction is reported on its points in
                     // proportion to their normal impulses.
-                    let normals = &solved.normals[s.first as usize..][..patch.count as usize];
-                    let points = f.points[patch.range()].iter().zip(normals);
-                    for (k, (p, &normal_impulse)) in points.enumerate() {
+                    let points = f.points[patch.range()]
+                        .iter()
+                        .zip(solved.points_of(s, patch.count));
+                    for (k, (p, &SolvedPoint { normal_impulse, .. })) in points.enumerate() {
                         let share = if s.total > 0.0 {
                             normal_impulse / s.total
                         } else {
@@ -783,7 +787,7 @@ pub(crate) struct SolvedPatch {
     twist: f64,
     /// The sum of the points' normal impulses (N s).
     total: f64,
-    /// The first of the patch's points in `SolvedPatches::normals`.
+    /// The first of the patch's points in `SolvedPatches::points`.
     first: u32,
     /// Solver bodies A and B.
     bodies: [u32; 2],
@@ -807,14 +811,36 @@ impl SolvedPatch {
     }
 }
 
+/// What the write-back and the events read of a solver point.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SolvedPoint {
+    /// Its normal impulse at the end of the solve (N s, per sub-step).
+    pub normal_impulse: f64,
+    /// It carried a normal impulse at some moment of the step (it touched).
+    pub pressed: bool,
+}
+
 /// The solver's records after the solve, compacted for the write-back
-/// (`World::store_impulses`): a patch per solver patch record, a normal
-/// impulse per solver point, both in the records' order. Scratch kept
-/// from step to step.
+/// (`World::store_impulses`) and the events (`World::events_stage`): a
+/// patch per solver patch record, a point per solver point, both in the
+/// records' order. Scratch kept from step to step.
 #[derive(Debug, Default)]
 pub(crate) struct SolvedPatches {
     patches: Vec<SolvedPatch>,
-    normals: Vec<f64>,
+    points: Vec<SolvedPoint>,
+}
+
+impl SolvedPatches {
+    /// The solved record of the patch at `position` in the solver's order
+    /// (`SolverFrame::position`).
+    pub fn patch(&self, position: u32) -> &SolvedPatch {
+        &self.patches[position as usize]
+    }
+
+    /// The `count` points of patch `s`.
+    pub fn points_of(&self, s: &SolvedPatch, count: u32) -> &[SolvedPoint] {
+        &self.points[s.first as usize..][..count as usize]
+    }
 }
 
 /// What a patch remembers of where it stuck (`CachedPatch::anchor`):

@@ -176,9 +176,10 @@ pub(crate) fn build_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
 
 /// The manifold for the winning axis. When the shapes are apart, the SAT
 /// value is only a lower bound of the distance, so GJK supplies the exact
-/// distance: nothing is reported beyond the margin, and if the face or edge
-/// contacts miss the closest features (corner against corner), a single
-/// contact at the GJK closest points replaces them.
+/// distance (unless the points made already pin it down: see the body):
+/// nothing is reported beyond the margin, and if the face or edge contacts
+/// miss the closest features (corner against corner), a single contact at
+/// the GJK closest points replaces them.
 #[allow(clippy::too_many_arguments)] // as `build_manifold`
 fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     a: &A,
@@ -209,6 +210,21 @@ fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     if max_sep <= 0.0 {
         return;
     }
+    let got = out[start..]
+        .iter()
+        .map(|c| c.distance)
+        .fold(f64::INFINITY, f64::min);
+    // Each point made above is a pair of surface points (a clipped corner
+    // of the incident face and its foot on the reference face, or the
+    // nearest points of two edges) at its distance, so the true distance
+    // lies between the SAT bound and the nearest point's. Where those two
+    // meet, well inside the margin, the check below would keep the points
+    // whatever GJK says (its distance is never below the true one): a
+    // pile's boxes about to land face on face skip it.
+    let sure = SURE_DISTANCE * sat.scale;
+    if got <= max_sep + sure && max_sep + 2.0 * sure <= margin {
+        return;
+    }
     let ra = DMat3::from_quat(pose_a.rotation);
     let rb = DMat3::from_quat(pose_b.rotation);
     let g = gjk_distance(
@@ -231,10 +247,6 @@ fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         out.truncate(start);
         return;
     }
-    let got = out[start..]
-        .iter()
-        .map(|c| c.distance)
-        .fold(f64::INFINITY, f64::min);
     if got <= g.distance + 1e-9 * sat.scale {
         return;
     }
@@ -251,9 +263,14 @@ fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     });
 }
 
+/// How far (times the shapes' size) the nearest point made may lie beyond
+/// the SAT bound for GJK's check to be skipped: half the slack that check
+/// allows (1e-9), leaving the rest to rounding.
+const SURE_DISTANCE: f64 = 0.5e-9;
+
 /// Distances within this (times the shapes' size) are the same: GJK's
 /// closest points carry its tolerance.
-const SAME_DISTANCE: f64 = 1e-6;
+pub(super) const SAME_DISTANCE: f64 = 1e-6;
 
 /// For a manifold of one point (an edge-edge contact, or the closest
 /// points of two apart polytopes), from `start` in `out`: adds every vertex

@@ -592,3 +592,67 @@ fn a_slanted_capsule_holds_its_upper_end_within_the_margin() {
         }
     }
 }
+
+/// Two boxes of random sizes nearly face to face, apart by up to the margin
+/// and turned a little: the pairs whose GJK check `axis_manifold` skips (the
+/// points already pin the distance) are most of them.
+fn near_boxes() -> impl Strategy<Value = (Cuboid, Cuboid, Pose, f64)> {
+    (
+        prop::array::uniform3(0.1f64..1.0),
+        prop::array::uniform3(0.1f64..1.0),
+        prop::array::uniform2(-0.6f64..0.6),
+        -0.02f64..0.2,
+        prop::array::uniform3(-0.05f64..0.05),
+    )
+        .prop_map(|(ha, hb, slide, gap, turn)| {
+            let (ha, hb) = (DVec3::from_array(ha), DVec3::from_array(hb));
+            let z = ha.z + hb.z + gap;
+            (
+                Cuboid::new(ha).unwrap(),
+                Cuboid::new(hb).unwrap(),
+                pose([slide[0], slide[1], z], turn),
+                gap,
+            )
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+    /// What GJK's check in `axis_manifold` decides for apart boxes holds of
+    /// the contacts made, whether or not the check ran: nothing when GJK's
+    /// distance is beyond the margin, and otherwise points no farther
+    /// apart than that distance (or GJK's one closest point pair).
+    #[test]
+    fn apart_boxes_keep_what_the_gjk_check_keeps((a, b, pb, _gap) in near_boxes()) {
+        use super::gjk::{gjk_distance, PolytopeSupport};
+        let pa = Pose::IDENTITY;
+        let margin = MARGIN;
+        let mut out = Vec::new();
+        contact_cuboid_cuboid::contact_cuboid_cuboid(&a, &pa, &b, &pb, margin, &mut out);
+        let scale = a.half_extents().max_element().max(b.half_extents().max_element());
+        fn support<'a>(c: &'a Cuboid, p: &Pose) -> PolytopeSupport<'a, Cuboid> {
+            PolytopeSupport {
+                poly: c,
+                rot: crate::math::DMat3::from_quat(p.rotation),
+                trans: p.position,
+            }
+        }
+        let (sa, sb) = (support(&a, &pa), support(&b, &pb));
+        let g = gjk_distance(&sa, &sb, scale);
+        if g.overlap || g.distance <= 1e-9 {
+            return Ok(());
+        }
+        if g.distance > margin + 1e-9 * scale {
+            prop_assert!(out.is_empty(), "{} beyond the margin, yet {:?}", g.distance, out);
+        } else if g.distance < margin - 1e-9 * scale {
+            prop_assert!(!out.is_empty(), "{} within the margin, yet nothing", g.distance);
+            let got = out.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min);
+            // A manifold of one point may trade it for a corner as near to
+            // touching within `SAME_DISTANCE` (`hold_near_vertices`).
+            let faces = out.iter().any(|c| c.kind == ContactKind::FaceFace);
+            let slack = if faces { 1e-9 } else { super::contact_polytope_polytope::SAME_DISTANCE } * scale;
+            prop_assert!(got <= g.distance + slack, "nearest point {} against GJK's {}", got, g.distance);
+            prop_assert!(got >= g.distance - 1e-9 * scale, "nearest point {} nearer than GJK's {}", got, g.distance);
+        }
+    }
+}

@@ -30,6 +30,41 @@ use tumble_collide::narrow::{
 };
 use tumble_collide::{Contact, DVec3, Drift, Pose, Shape};
 
+/// What the narrow stage finds of every body slot once a step, for its
+/// pairs: velocities, bounds on how much a neighbour can change them and on
+/// its neighbours' speeds (`margins`), and its colliders' world poses.
+type StepMotion<'a> = (&'a [(DVec3, DVec3)], &'a [f64], &'a [f64], &'a ColliderPoses);
+
+/// Every collider's world pose at the step's start (its body's pose times
+/// its own local pose), body slot after body slot: found once a step, not
+/// once per pair (a body of a pile is in about eight).
+struct ColliderPoses {
+    /// Index in `poses` of each slot's first collider (one more entry at the end).
+    first: Vec<u32>,
+    poses: Vec<Pose>,
+}
+
+impl ColliderPoses {
+    fn of(world: &World, n_slots: usize) -> ColliderPoses {
+        let mut first = Vec::with_capacity(n_slots + 1);
+        let mut poses = Vec::with_capacity(n_slots);
+        for slot in 0..n_slots as u32 {
+            first.push(poses.len() as u32);
+            if let Some(e) = world.bodies.at(slot) {
+                let pose = e.body.pose();
+                poses.extend(e.colliders.iter().map(|c| pose.mul_pose(&c.local)));
+            }
+        }
+        first.push(poses.len() as u32);
+        ColliderPoses { first, poses }
+    }
+
+    /// Collider `index` of the body in `slot`.
+    fn get(&self, slot: u32, index: usize) -> &Pose {
+        &self.poses[self.first[slot as usize] as usize + index]
+    }
+}
+
 /// What one chunk of candidate pairs produced.
 #[derive(Default)]
 struct ChunkContacts {
@@ -84,6 +119,7 @@ const LOOK_AHEAD_STEPS: f64 = 2.0;
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
         let velocity = slot_velocities(&self.bodies, f.n_slots);
+        let poses = ColliderPoses::of(self, f.n_slots);
         let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs);
         // Only mesh pairs re-evaluate (`resting_pair`).
         let stirred = if f.meshes {
@@ -120,7 +156,7 @@ impl World {
             for (k, &pair) in pairs.iter().enumerate() {
                 self.pair_contacts(
                     frame,
-                    (&velocity, &shock, &stirred),
+                    (&velocity, &shock, &stirred, &poses),
                     memory_read,
                     first + k,
                     pair,
@@ -216,7 +252,7 @@ impl World {
     fn pair_contacts(
         &self,
         f: &StepFrame,
-        (velocity, shock, stirred): (&[(DVec3, DVec3)], &[f64], &[f64]),
+        (velocity, shock, stirred, poses): StepMotion,
         memory: &[(MeshPairKey, Option<MeshPairMemory>)],
         k: usize,
         (a, b): (u32, u32),
@@ -264,7 +300,7 @@ impl World {
         for (ia, ca) in ea.colliders.iter().enumerate() {
             for (ib, cb) in eb.colliders.iter().enumerate() {
                 buffer.clear();
-                let (wpa, wpb) = (pa.mul_pose(&ca.local), pb.mul_pose(&cb.local));
+                let (wpa, wpb) = (*poses.get(a, ia), *poses.get(b, ib));
                 let key = (a, b, ia as u16, ib as u16);
                 // Struck by a neighbour within the look-ahead, either body
                 // moves by about the neighbour's approach (twice, for a

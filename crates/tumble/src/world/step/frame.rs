@@ -167,7 +167,8 @@ pub(crate) struct StepScratch {
     /// The colour batches in bundles of four patches.
     pub wide: WideBatches,
     /// The solver's records compacted for the write-back
-    /// (`World::store_impulses`).
+    /// (`World::store_impulses`) and the events: written and read within
+    /// each step.
     pub solved: super::solve::SolvedPatches,
     /// The last step's frame arrays, emptied (see [`StepFrame::recycle`]).
     pub frame: FrameBuffers,

@@ -680,6 +680,7 @@ impl World {
         let run = (sf.manifolds.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
         let mut runs = Vec::with_capacity(sf.manifolds.len().div_ceil(run));
         let (mut patches, mut points) = (&mut solved.patches[..], &mut solved.points[..]);
+        let mut base = 0;
         for records in sf.manifolds.chunks(run) {
             // `prepare_solver` lays each record's points out after the last's.
             let count: usize = records.iter().map(|m| m.point_count as usize).sum();
@@ -687,12 +688,18 @@ impl World {
             points = rest;
             let (run_patches, rest) = std::mem::take(&mut patches).split_at_mut(records.len());
             patches = rest;
-            runs.push((records, run_patches, run_points));
+            runs.push((base, records, run_patches, run_points));
+            base += count;
         }
         f.pool
-            .for_each_mut(&mut runs, |_, (records, run_patches, run_points)| {
+            .for_each_mut(&mut runs, |_, (base, records, run_patches, run_points)| {
                 let mut at = 0;
                 for (m, out) in records.iter().zip(run_patches.iter_mut()) {
+                    debug_assert_eq!(
+                        m.first_point as usize,
+                        *base + at,
+                        "points laid out in record order"
+                    );
                     let points = &sf.points[m.range()];
                     for (n, c) in run_points[at..at + points.len()].iter_mut().zip(points) {
                         *n = SolvedPoint {

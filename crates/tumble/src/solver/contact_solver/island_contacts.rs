@@ -15,18 +15,26 @@
 //! How (the Schur complement of the island's system, the way Baraff's
 //! "Linear-time dynamics using Lagrange multipliers", 1996, treats the
 //! constraints that close loops):
-//! with `K = J M^-1 J^T` the island's factored system, `G` the patch's
-//! normal rows, `W = J M^-1 G^T` (a joint row's velocity per unit impulse
-//! at each contact point) and `U = K^-1 W`, an impulse `d` at the points
-//! with the joint impulse change `-U d` leaves every joint row's velocity
+//! with `K = J M^-1 J^T = L L^T` the island's factored system, `G` the
+//! patch's normal rows and `W = J M^-1 G^T` (a joint row's velocity per
+//! unit impulse at each contact point), an impulse `d` at the points with
+//! the joint impulse change `-K^-1 W d` leaves every joint row's velocity
 //! as it was and changes the points' normal velocities by `S d`,
-//! `S = G M^-1 G^T - W^T U`: the patch's block as the joints let it act.
-//! Each pass the island solves its joint rows (`x`), then the patch's block
-//! LCP on `S` with the velocities that `x` will bring (`W^T x`), then takes
-//! `U d` back out of `x`. Joints and contact are then solved together
-//! exactly (one patch; several are taken one after the other). Friction
-//! stays a plain pass before the island's system, which takes up what it
-//! disturbs.
+//! `S = G M^-1 G^T - W^T K^-1 W`: the patch's block as the joints let it
+//! act. Each pass the island solves its joint rows (`x = K^-1 rhs`), then
+//! the patch's block LCP on `S` with the velocities that `x` will bring
+//! (`W^T x`), then takes `K^-1 W d` back out of `x`. Joints and contact are
+//! then solved together exactly (one patch; several are taken one after
+//! the other). Friction stays a plain pass before the island's system,
+//! which takes up what it disturbs.
+//!
+//! All of it runs in the factor's half-way space: with `V = L^-1 W` (a
+//! forward substitution per point, no backward one) and `z = L^-1 rhs`,
+//! `W^T x = V^T z`, taking `K^-1 W d` out of `x` is taking `V d` out of
+//! `z`, and `W^T K^-1 W = V^T V`; one backward substitution after the last
+//! patch turns `z` into the joints' impulses. A point's `W` is zero above
+//! the first row of a joint on its body, and so is its `V`: the forward
+//! substitution starts there (a ragdoll's hand reaches 14 of its 38 rows).
 //!
 //! The loop through the world matters as much: a 20 mg finger hinged to a
 //! 185 g hand that presses it onto a static plank (the hand's ball joint
@@ -56,7 +64,7 @@ use super::island_factor::SideRow;
 /// `passes::solve_owned_normals` solves on.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct ArticulatedBlock {
-    /// `S = G M^-1 G^T - W^T U`.
+    /// `S = G M^-1 G^T - V^T V` (`= G M^-1 G^T - W^T K^-1 W`).
     pub block: PatchBlock,
     /// Its regularised inverse (`constraint::regularised_inverse`).
     pub inverse: PatchBlock,
@@ -99,14 +107,12 @@ pub(super) struct OwnedPatch {
     pub lane: usize,
     /// Rows of the island's system.
     rows: usize,
-    /// Per point, `rows` entries: the point's normal velocity per unit
-    /// impulse of each island row (`W` as the contact sees the joints).
-    coupling: Vec<f64>,
-    /// The rows on the patch's two bodies, in increasing order: the only
-    /// entries of `coupling` that can be other than zero.
-    touching: Vec<u32>,
-    /// Per point, `rows` entries: `K^-1` times the island rows' velocities
-    /// per unit impulse at the point (`U`).
+    /// The first row on one of the patch's two bodies: every row before it
+    /// is zero in each point's column of `W` and of `V`.
+    first_row: usize,
+    /// Per point, `rows` entries: the island rows' velocities per unit
+    /// impulse at the point (its column of `W`), replaced by `L^-1` times
+    /// it (`V`) once the island's factor has solved it.
     response: Vec<f64>,
     /// `S`, its inverse and masses.
     block: ArticulatedBlock,
@@ -114,7 +120,7 @@ pub(super) struct OwnedPatch {
 
 impl OwnedPatch {
     /// The patch at index `patch` of the island in `lane`, to be coupled
-    /// to it each sub-step ([`OwnedPatch::couple`], then `K^-1` applied to
+    /// to it each sub-step ([`OwnedPatch::couple`], then `L^-1` applied to
     /// each [`OwnedPatch::response_mut`], then [`OwnedPatch::finish`]).
     pub fn new(patch: u32, lane: usize) -> OwnedPatch {
         OwnedPatch {
@@ -129,7 +135,7 @@ impl OwnedPatch {
     /// the sides' two solver bodies); a row on more than two bodies (a
     /// gear) comes as several entries of the same row. Each point's
     /// response holds its column of `W` until the island solves it in
-    /// place (`U = K^-1 W`).
+    /// place (`V = L^-1 W`).
     pub fn couple<'r>(
         &mut self,
         m: &ManifoldConstraint,
@@ -138,12 +144,10 @@ impl OwnedPatch {
         rows: impl Iterator<Item = (usize, &'r SideRow<f64>, [u32; 2])>,
     ) {
         self.rows = n;
+        self.first_row = n;
         let [ima, imb] = m.inv_mass;
-        self.coupling.clear();
-        self.coupling.resize(n * pts.len(), 0.0);
         self.response.clear();
         self.response.resize(n * pts.len(), 0.0);
-        self.touching.clear();
         // Only the rows on the patch's two bodies are not zero.
         for (r, row, pair) in rows {
             for (s, &joint_body) in pair.iter().enumerate() {
@@ -152,20 +156,10 @@ impl OwnedPatch {
                     b if b == m.b => (-1.0, imb, false),
                     _ => continue,
                 };
-                // (A row comes again for its other side, or a gear's for
-                // each of its bodies, right after itself.)
-                debug_assert!(self.touching.last().is_none_or(|&t| t as usize <= r));
-                if self.touching.last() != Some(&(r as u32)) {
-                    self.touching.push(r as u32);
-                }
+                self.first_row = self.first_row.min(r);
                 for (i, p) in pts.iter().enumerate() {
                     // The contact's unit impulse: +n on A, -n on B.
-                    let (r_x_n, dw) = if a {
-                        (p.row.ra_x_d, p.row.ia_ra_x_d)
-                    } else {
-                        (p.row.rb_x_d, p.row.ib_rb_x_d)
-                    };
-                    self.coupling[i * n + r] += sign * row.moves(s, p.normal, r_x_n);
+                    let dw = if a { p.row.ia_ra_x_d } else { p.row.ib_rb_x_d };
                     self.response[i * n + r] += sign * row.measures(s, p.normal * ima, dw);
                 }
             }
@@ -177,45 +171,47 @@ impl OwnedPatch {
         self.response.len() / self.rows.max(1)
     }
 
-    /// Point `i`'s column of `W` (or of `U`, once solved).
+    /// The first row of the island's system on one of the patch's bodies
+    /// (the rows of `W` and `V` before it are zero).
+    pub fn first_row(&self) -> usize {
+        self.first_row
+    }
+
+    /// Point `i`'s column of `W` (or of `V`, once solved).
     pub fn response(&self, i: usize) -> &[f64] {
         let n = self.rows;
         &self.response[i * n..(i + 1) * n]
     }
 
-    /// Point `i`'s column of `W`, to be replaced by `K^-1` times it.
+    /// Point `i`'s column of `W`, to be replaced by `L^-1` times it.
     pub fn response_mut(&mut self, i: usize) -> &mut [f64] {
         let n = self.rows;
         &mut self.response[i * n..(i + 1) * n]
     }
 
-    /// `S`, its inverse and the points' masses, once `U` is in place.
+    /// `S`, its inverse and the points' masses, once `V` is in place.
     #[allow(clippy::needless_range_loop)] // a symmetric matrix reads best indexed
     pub fn finish(&mut self, m: &ManifoldConstraint, pts: &[PointConstraint]) {
-        let n = self.rows;
+        let (n, from) = (self.rows, self.first_row);
         let [ima, imb] = m.inv_mass;
         let mut s = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
         for (i, pi) in pts.iter().enumerate() {
-            for (j, pj) in pts.iter().enumerate() {
+            for (j, pj) in pts.iter().enumerate().take(i + 1) {
                 let plain = pi.normal.dot(pj.normal) * (ima + imb)
                     + pi.row.ra_x_d.dot(pj.row.ia_ra_x_d)
                     + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
-                let through_joints: f64 = self.coupling[i * n..(i + 1) * n]
-                    .iter()
-                    .zip(&self.response[j * n..(j + 1) * n])
-                    .map(|(w, u)| w * u)
-                    .sum();
+                let (vi, vj) = (self.response(i), self.response(j));
+                let mut through_joints = 0.0;
+                for (a, b) in vi[from..n].iter().zip(&vj[from..n]) {
+                    through_joints += a * b;
+                }
                 s[i][j] = plain - through_joints;
+                s[j][i] = s[i][j];
             }
         }
-        // Symmetric (the two sides of `W` differ only by rounding: 1e-9 of
-        // the diagonal at most, over NAO's first 60 steps), each diagonal
-        // softened by its share of the point's own inverse mass.
+        // Each diagonal softened by its share of the point's own inverse
+        // mass.
         for i in 0..pts.len() {
-            for j in 0..i {
-                let mean = 0.5 * (s[i][j] + s[j][i]);
-                (s[i][j], s[j][i]) = (mean, mean);
-            }
             let own = pts[i].row.inverse_mass(pts[i].normal, ima, imb);
             s[i][i] += COMPLIANCE_SHARE * own;
         }
@@ -240,36 +236,28 @@ impl OwnedPatch {
     }
 
     /// The normal velocity each point gains from the island's row impulses
-    /// `x` (row `r` of this patch's lane at `x[r * stride + lane]`).
-    ///
-    /// Over the rows on the patch's bodies only: every other row's term is
-    /// `0 x`, a zero that leaves the sum as it is (the sum starts at +0 and
-    /// is never -0), so the sum has the bits of the sum over every row
-    /// while `x` is finite, as the island's solve leaves it (were another
-    /// row's entry not finite, it is now left out instead of making the
-    /// points' velocities NaN).
-    pub fn coupled(&self, x: &[f64], stride: usize) -> [f64; BLOCK_POINTS] {
-        let n = self.rows;
+    /// `x = L^-T z`, given `z` (row `r` of this patch's lane at
+    /// `z[r * stride + lane]`): `V^T z`.
+    pub fn coupled(&self, z: &[f64], stride: usize) -> [f64; BLOCK_POINTS] {
         let mut v = [0.0; BLOCK_POINTS];
-        for (i, w) in self.coupling.chunks_exact(n.max(1)).enumerate() {
-            for &r in &self.touching {
-                let r = r as usize;
-                v[i] += w[r] * x[r * stride + self.lane];
+        for (i, u) in self.response.chunks_exact(self.rows.max(1)).enumerate() {
+            for (r, u) in u.iter().enumerate().skip(self.first_row) {
+                v[i] += u * z[r * stride + self.lane];
             }
         }
         v
     }
 
     /// Takes the joints' share of the points' impulses `d` out of the
-    /// island's row impulses (laid out as for [`OwnedPatch::coupled`]):
-    /// `x -= U d`.
-    pub fn take_back(&self, d: &[f64; BLOCK_POINTS], x: &mut [f64], stride: usize) {
+    /// island's row impulses, given as `z` (laid out as for
+    /// [`OwnedPatch::coupled`]): `z -= V d`.
+    pub fn take_back(&self, d: &[f64; BLOCK_POINTS], z: &mut [f64], stride: usize) {
         for (u, &di) in self.response.chunks_exact(self.rows.max(1)).zip(d) {
             if di == 0.0 {
                 continue;
             }
-            for (r, u) in u.iter().enumerate() {
-                x[r * stride + self.lane] -= u * di;
+            for (r, u) in u.iter().enumerate().skip(self.first_row) {
+                z[r * stride + self.lane] -= u * di;
             }
         }
     }

@@ -138,13 +138,6 @@ impl SideRow<f64> {
 }
 
 impl SideRow<f64> {
-    /// The velocity a unit impulse of this row gives, on side `s`, to a
-    /// contact row of normal `n` and angular part `r_x_n` on that body
-    /// (`n . dv + (r x n) . dw`).
-    pub fn moves(&self, s: usize, n: DVec3, r_x_n: DVec3) -> f64 {
-        P3::from(n).dot(self.m_lin[s]) + P3::from(r_x_n).dot(self.m_ang[s])
-    }
-
     /// This row's velocity from a change `dv`, `dw` of side `s`'s body.
     pub fn measures(&self, s: usize, dv: DVec3, dw: DVec3) -> f64 {
         self.lin[s].dot(dv.into()) + self.ang[s].dot(dw.into())
@@ -191,7 +184,8 @@ pub(super) struct Coupling {
 /// the same shape can share a lane set.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(super) struct Profile {
-    /// First row of each joint (and the number of rows last).
+    /// First row of each joint (and the number of joint rows last; gear
+    /// rows follow them).
     pub offsets: Vec<usize>,
     /// The blocks of `K` that are not zero.
     pub couplings: Vec<Coupling>,
@@ -201,9 +195,169 @@ pub(super) struct Profile {
     pub start: Vec<usize>,
     /// Entries of the factor.
     pub size: usize,
+    /// Which joint blocks of the factor can be other than zero within the
+    /// profile.
+    pattern: Pattern,
+}
+
+/// The joint blocks of an island's factor that can be other than zero,
+/// found once per shape by a symbolic factorization over joints: block
+/// `(p, q)`, `q < p`, of `L` is not zero where `K`'s is not, or where an
+/// earlier block `r < q` is not zero in both `p`'s and `q`'s rows (fill).
+///
+/// Why: the profile holds every entry from a row's first column to its
+/// diagonal, and a tree of joints leaves most of it zero: a ragdoll's
+/// shoulder reaches back past the other limbs' joints to its elbow, and 170
+/// of its factor's 363 entries are zeros the factorization and each solve
+/// multiplied through. A skipped entry is an exact zero (a `+0` that the
+/// factorization computes as `(0 - 0) / d`, every product in its dot
+/// having a zero factor) and a skipped term of a dot or a solve is a
+/// product with that zero, which leaves a finite sum's bits as they are
+/// (the sums start at `+0`): the factor and every solve have the bits of
+/// the full profile's.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+struct Pattern {
+    /// Per joint `p`, a range of `before`: the earlier joints whose blocks
+    /// in `p`'s rows can be other than zero, in order.
+    before_at: Vec<usize>,
+    /// `(q, range of segments)`: joint `q` and the columns, before `q`'s,
+    /// that can be other than zero in both `p`'s and `q`'s rows (the terms
+    /// of a dot product of the two rows).
+    before: Vec<(usize, usize, usize)>,
+    /// Per joint `p`, a range of `segments`: the columns before `p`'s own
+    /// that can be other than zero in `p`'s rows.
+    own: Vec<(usize, usize)>,
+    /// Column ranges `[from, to)`, each list in increasing order.
+    segments: Vec<(usize, usize)>,
+    /// Per row, a range of `row_runs`: the row's columns before its
+    /// diagonal that can be other than zero (what a solve reads).
+    row_runs_at: Vec<usize>,
+    /// Per run, `[from, to)` in columns.
+    row_runs: Vec<(usize, usize)>,
+}
+
+impl Pattern {
+    /// The pattern of a profile's joints (`offsets`, `couplings`).
+    fn new(offsets: &[usize], couplings: &[Coupling]) -> Pattern {
+        let joints = offsets.len().saturating_sub(1);
+        // Per joint, the earlier joints whose blocks can be other than
+        // zero, in increasing order.
+        let mut blocks: Vec<Vec<usize>> = vec![Vec::new(); joints];
+        let mut here = vec![false; joints];
+        for p in 0..joints {
+            for c in couplings.iter().filter(|c| c.p as usize == p && c.q < c.p) {
+                here[c.q as usize] = true;
+            }
+            let earliest = here.iter().position(|&h| h).unwrap_or(p);
+            for q in earliest..p {
+                if !here[q] && blocks[q].iter().any(|&r| here[r]) {
+                    here[q] = true;
+                }
+            }
+            blocks[p] = (earliest..p).filter(|&q| here[q]).collect();
+            here[earliest..p].iter_mut().for_each(|h| *h = false);
+        }
+        let mut pattern = Pattern::default();
+        let push_runs = |segments: &mut Vec<(usize, usize)>, list: &mut dyn Iterator<Item = usize>| {
+            let begin = segments.len();
+            for q in list {
+                let (from, to) = (offsets[q], offsets[q + 1]);
+                let len = segments.len();
+                match segments.last_mut() {
+                    Some(last) if len > begin && last.1 == from => last.1 = to,
+                    _ => segments.push((from, to)),
+                }
+            }
+            (begin, segments.len())
+        };
+        for p in 0..joints {
+            pattern.before_at.push(pattern.before.len());
+            for &q in &blocks[p] {
+                let common = &mut blocks[p]
+                    .iter()
+                    .copied()
+                    .filter(|r| *r < q && blocks[q].contains(r));
+                let (from, to) = push_runs(&mut pattern.segments, common);
+                pattern.before.push((q, from, to));
+            }
+            let own = push_runs(&mut pattern.segments, &mut blocks[p].iter().copied());
+            pattern.own.push(own);
+        }
+        pattern.before_at.push(pattern.before.len());
+        pattern
+    }
 }
 
 impl Profile {
+    /// The profile of joints whose rows start at `offsets` (with the
+    /// number of joint rows last), of `K` blocks `couplings`, with each
+    /// row's first column and start in the factor (gear rows after the
+    /// joints' rows) and `size` entries.
+    pub fn new(
+        offsets: Vec<usize>,
+        couplings: Vec<Coupling>,
+        first: Vec<usize>,
+        start: Vec<usize>,
+        size: usize,
+    ) -> Profile {
+        let mut pattern = Pattern::new(&offsets, &couplings);
+        // Each row's runs: its joint's segments and its own joint's columns
+        // before it, merged where they meet; a gear row's whole profile.
+        let joint_rows = offsets.last().copied().unwrap_or(0);
+        let mut p = 0;
+        for (i, &fi) in first.iter().enumerate() {
+            pattern.row_runs_at.push(pattern.row_runs.len());
+            let tail = if i < joint_rows {
+                while offsets[p + 1] <= i {
+                    p += 1;
+                }
+                let (from, to) = pattern.own[p];
+                pattern.row_runs.extend_from_slice(&pattern.segments[from..to]);
+                (offsets[p], i)
+            } else {
+                (fi, i)
+            };
+            let this_row = pattern.row_runs.len() > pattern.row_runs_at[i];
+            match pattern.row_runs.last_mut() {
+                Some(last) if this_row && last.1 == tail.0 => last.1 = tail.1,
+                _ if tail.0 < tail.1 => pattern.row_runs.push(tail),
+                _ => {}
+            }
+        }
+        pattern.row_runs_at.push(pattern.row_runs.len());
+        Profile {
+            offsets,
+            couplings,
+            first,
+            start,
+            size,
+            pattern,
+        }
+    }
+
+    /// Entries of the factor that can be other than zero.
+    #[cfg(test)]
+    pub fn entries(&self) -> usize {
+        let (o, pat) = (&self.offsets, &self.pattern);
+        let own_rows = |p: usize| {
+            let rows = o[p + 1] - o[p];
+            let before: usize = pat.segments[pat.own[p].0..pat.own[p].1]
+                .iter()
+                .map(|s| s.1 - s.0)
+                .sum();
+            rows * before + rows * (rows + 1) / 2
+        };
+        let joint_rows = *o.last().unwrap_or(&0);
+        let gears: usize = (joint_rows..self.rows()).map(|i| i + 1 - self.first[i]).sum();
+        (0..o.len().saturating_sub(1)).map(own_rows).sum::<usize>() + gears
+    }
+
+    /// The column ranges before row `i`'s own joint that can be other than
+    /// zero in the rows of joint `p`.
+    fn own_segments(&self, p: usize) -> &[(usize, usize)] {
+        let (from, to) = self.pattern.own[p];
+        &self.pattern.segments[from..to]
+    }
     /// Rows of the system.
     pub fn rows(&self) -> usize {
         self.first.len()
@@ -267,29 +421,53 @@ impl<N: Num> Factor<N> {
         // Profile Cholesky, in place: entries before a row's first column
         // are zero and stay zero in the factor. Row i's entry p >= first[i]
         // lies at start[i] + p - first[i]; the rows before i lie before
-        // start[i] (`done`).
-        for i in 0..n {
+        // start[i] (`done`). A joint's rows skip the blocks its pattern
+        // holds to be zero (left at +0); gear rows take their whole profile.
+        let (offsets, pattern) = (&profile.offsets, &profile.pattern);
+        let joints = offsets.len().saturating_sub(1);
+        let inv_diagonal = &mut self.inv_diagonal;
+        for p in 0..joints {
+            let own_from = offsets[p];
+            let own = profile.own_segments(p);
+            let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
+            for i in own_from..offsets[p + 1] {
+                let (fi, si) = (first[i], start[i]);
+                let (done, row_i) = k.split_at_mut(si);
+                let row_i = &mut row_i[..i + 1 - fi];
+                let entry = |row_i: &mut [N], j: usize, common: &[(usize, usize)], block_from: usize| {
+                    let (fj, sj) = (first[j], start[j]);
+                    let dot = dot_over(row_i, fi, &done[sj..], fj, common, (block_from, j));
+                    row_i[j - fi] = (row_i[j - fi] - dot) * inv_diagonal[j];
+                };
+                for &(q, from, to) in before {
+                    let common = &pattern.segments[from..to];
+                    for j in offsets[q]..offsets[q + 1] {
+                        entry(row_i, j, common, offsets[q]);
+                    }
+                }
+                for j in own_from..i {
+                    entry(row_i, j, own, own_from);
+                }
+                let dot = dot_over(row_i, fi, row_i, fi, own, (own_from, i));
+                let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
+                inv_diagonal[i] = N::splat(1.0) / d;
+                row_i[i - fi] = d;
+            }
+        }
+        for i in offsets.last().copied().unwrap_or(0)..n {
             let (fi, si) = (first[i], start[i]);
             let (done, row_i) = k.split_at_mut(si);
             let row_i = &mut row_i[..i + 1 - fi];
             for j in fi..i {
                 let (fj, sj) = (first[j], start[j]);
                 let lo = fi.max(fj);
-                let (ours, theirs) = row_i.split_at_mut(j - fi);
-                let mut dot = N::default();
-                for (a, b) in ours[lo - fi..].iter().zip(&done[sj + lo - fj..sj + j - fj]) {
-                    dot = dot + *a * *b;
-                }
-                theirs[0] = (theirs[0] - dot) * self.inv_diagonal[j];
+                let dot = dot_over(row_i, fi, &done[sj..], fj, &[], (lo, j));
+                row_i[j - fi] = (row_i[j - fi] - dot) * inv_diagonal[j];
             }
-            let (ours, diagonal) = row_i.split_at_mut(i - fi);
-            let mut dot = N::default();
-            for a in ours.iter() {
-                dot = dot + *a * *a;
-            }
-            let d = (diagonal[0] - dot).max(N::splat(1e-300)).sqrt();
-            self.inv_diagonal[i] = N::splat(1.0) / d;
-            diagonal[0] = d;
+            let dot = dot_over(row_i, fi, row_i, fi, &[], (fi, i));
+            let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
+            inv_diagonal[i] = N::splat(1.0) / d;
+            row_i[i - fi] = d;
         }
     }
 
@@ -301,22 +479,298 @@ impl<N: Num> Factor<N> {
     /// each column gets the bits it gets alone (an island's owned contact
     /// points are solved this way, four at a time).
     pub fn solve<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X]) {
+        self.forward(profile, x, 0);
+        self.backward(profile, x);
+    }
+
+    /// The first half of [`Factor::solve`]: `x <- L^-1 x`, for an `x`
+    /// whose rows before `from` are zero (and stay zero: they are skipped,
+    /// which leaves the other rows' bits as the whole forward pass would).
+    pub fn forward<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X], from: usize) {
         let (first, start, l) = (&profile.first, &profile.start, &self.values);
-        for i in 0..profile.rows() {
-            let (fi, si) = (first[i], start[i]);
+        let (runs_at, runs) = (&profile.pattern.row_runs_at, &profile.pattern.row_runs);
+        for i in from..profile.rows() {
+            let base = start[i] - first[i];
             let mut dot = X::default();
-            for (v, w) in l[si..si + i - fi].iter().zip(&x[fi..i]) {
-                dot = dot + *w * *v;
+            for &(from, to) in &runs[runs_at[i]..runs_at[i + 1]] {
+                for (v, w) in l[base + from..base + to].iter().zip(&x[from..to]) {
+                    dot = dot + *w * *v;
+                }
             }
             x[i] = (x[i] - dot) * self.inv_diagonal[i];
         }
+    }
+
+    /// The second half of [`Factor::solve`]: `x <- L^-T x`.
+    pub fn backward<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X]) {
+        let (first, start, l) = (&profile.first, &profile.start, &self.values);
+        let (runs_at, runs) = (&profile.pattern.row_runs_at, &profile.pattern.row_runs);
         for i in (0..profile.rows()).rev() {
-            let (fi, si) = (first[i], start[i]);
+            let base = start[i] - first[i];
             x[i] = x[i] * self.inv_diagonal[i];
             let xi = x[i];
-            for (v, w) in x[fi..i].iter_mut().zip(&l[si..si + i - fi]) {
-                *v = *v - xi * *w;
+            for &(from, to) in &runs[runs_at[i]..runs_at[i + 1]] {
+                for (v, w) in x[from..to].iter_mut().zip(&l[base + from..base + to]) {
+                    *v = *v - xi * *w;
+                }
             }
         }
+    }
+}
+
+impl Factor<f64> {
+    /// `x <- L^T x`, the inverse of [`Factor::backward`] (up to rounding):
+    /// back from the solution of `K x = rhs` to the forward pass's `L^-1
+    /// rhs`.
+    pub fn multiply_transposed(&self, profile: &Profile, x: &mut [f64]) {
+        let (first, start, l) = (&profile.first, &profile.start, &self.values);
+        let (runs_at, runs) = (&profile.pattern.row_runs_at, &profile.pattern.row_runs);
+        // Row i of L^T x sums column i of L below the diagonal: rows in
+        // increasing order, each read before a later row adds to it.
+        for i in 0..profile.rows() {
+            let base = start[i] - first[i];
+            let xi = x[i];
+            x[i] = xi * l[base + i];
+            for &(from, to) in &runs[runs_at[i]..runs_at[i + 1]] {
+                for (v, w) in x[from..to].iter_mut().zip(&l[base + from..base + to]) {
+                    *v += xi * *w;
+                }
+            }
+        }
+    }
+}
+
+/// `sum a[k] b[k]` over the columns `k` of `segments`, then of `tail`
+/// (`[from, to)` each), in increasing order from `+0`, with row `a` stored
+/// from column `fa` and row `b` from column `fb`.
+#[inline(always)]
+fn dot_over<N: Num>(
+    a: &[N],
+    fa: usize,
+    b: &[N],
+    fb: usize,
+    segments: &[(usize, usize)],
+    tail: (usize, usize),
+) -> N {
+    let mut dot = N::default();
+    for &(from, to) in segments {
+        for (x, y) in a[from - fa..to - fa].iter().zip(&b[from - fb..to - fb]) {
+            dot = dot + *x * *y;
+        }
+    }
+    let (from, to) = tail;
+    for (x, y) in a[from - fa..to - fa].iter().zip(&b[from - fb..to - fb]) {
+        dot = dot + *x * *y;
+    }
+    dot
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// The profile of joints `(body a, body b, rows)` in this order, every
+    /// body dynamic, as `joint_island` lays one out (couplings between
+    /// joints on a shared body, each row back to the earliest such joint).
+    fn profile_of(joints: &[(usize, usize, usize)]) -> Profile {
+        let mut offsets = vec![0];
+        for &(_, _, rows) in joints {
+            offsets.push(offsets.last().unwrap() + rows);
+        }
+        let (mut couplings, mut first, mut start, mut size) = (Vec::new(), Vec::new(), Vec::new(), 0);
+        for (p, &(a, b, rows)) in joints.iter().enumerate() {
+            let mut earliest = p;
+            for (side_p, body) in [a, b].into_iter().enumerate() {
+                for (q, &(qa, qb, _)) in joints.iter().enumerate() {
+                    let side_q = match body {
+                        x if x == qa => 0,
+                        x if x == qb => 1,
+                        _ => continue,
+                    };
+                    earliest = earliest.min(q);
+                    if q < p || (q == p && side_q == side_p) {
+                        couplings.push(Coupling {
+                            p: p as u32,
+                            q: q as u32,
+                            side_p: side_p as u8,
+                            side_q: side_q as u8,
+                        });
+                    }
+                }
+            }
+            for i in offsets[p]..offsets[p] + rows {
+                first.push(offsets[earliest]);
+                start.push(size);
+                size += i - offsets[earliest] + 1;
+            }
+        }
+        Profile::new(offsets, couplings, first, start, size)
+    }
+
+    /// Random rows for a profile: Jacobians on each side, a body's inverse
+    /// mass and (isotropic) inverse inertia per body, so that `K` is `J
+    /// M^-1 J^T` of real bodies.
+    fn rows_of(rng: &mut SplitMix64, joints: &[(usize, usize, usize)], bodies: usize) -> Vec<SideRow<f64>> {
+        let masses: Vec<(f64, f64)> = (0..bodies)
+            .map(|_| (rng.range(0.05, 5.0), rng.range(0.1, 20.0)))
+            .collect();
+        let mut rows = Vec::new();
+        for &(a, b, n) in joints {
+            for _ in 0..n {
+                let p = |rng: &mut SplitMix64| {
+                    P3::from(DVec3::new(
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                    ))
+                };
+                let (lin, ang) = ([p(rng), p(rng)], [p(rng), p(rng)]);
+                let scale = |v: P3<f64>, s: f64| P3 {
+                    x: v.x * s,
+                    y: v.y * s,
+                    z: v.z * s,
+                };
+                rows.push(SideRow {
+                    lin,
+                    ang,
+                    m_lin: [scale(lin[0], masses[a].0), scale(lin[1], masses[b].0)],
+                    m_ang: [scale(ang[0], masses[a].1), scale(ang[1], masses[b].1)],
+                    gamma: 0.0,
+                });
+            }
+        }
+        rows
+    }
+
+    /// A ragdoll's joints, leaves first as `joint_island` orders them
+    /// (pelvis 0, chest 1, arms 2-5, legs 6-9): elbows and knees (hinges,
+    /// five rows), shoulders and hips, the spine (balls, three).
+    const RAGDOLL: [(usize, usize, usize); 9] = [
+        (2, 3, 5),
+        (4, 5, 5),
+        (6, 7, 5),
+        (8, 9, 5),
+        (1, 2, 3),
+        (1, 4, 3),
+        (0, 6, 3),
+        (0, 8, 3),
+        (0, 1, 3),
+    ];
+
+    /// A random tree of `joints + 1` bodies, its joints in a random order.
+    fn random_tree(rng: &mut SplitMix64, joints: usize) -> Vec<(usize, usize, usize)> {
+        let mut tree: Vec<(usize, usize, usize)> = (1..=joints)
+            .map(|b| (rng.below(b), b, 1 + rng.below(6)))
+            .collect();
+        for k in (1..tree.len()).rev() {
+            tree.swap(k, rng.below(k + 1));
+        }
+        tree
+    }
+
+    /// The pattern's symbolic factorization against a dense Cholesky of the
+    /// same `K` (the brute-force oracle): every entry the pattern skips is
+    /// an exact zero of the dense factor, the others agree, and solves with
+    /// the factor agree with dense ones; `L^T` undoes the backward half.
+    #[test]
+    fn the_pattern_skips_only_zeros_of_the_factor() {
+        let mut rng = SplitMix64(3);
+        let mut skipped = 0;
+        for case in 0..40 {
+            let size = 2 + rng.below(12);
+            let joints = if case == 0 {
+                RAGDOLL.to_vec()
+            } else {
+                random_tree(&mut rng, size)
+            };
+            let bodies = joints.iter().map(|j| j.0.max(j.1)).max().unwrap() + 1;
+            let profile = profile_of(&joints);
+            let rows = rows_of(&mut rng, &joints, bodies);
+            let mut factor = Factor::default();
+            factor.factor(&profile, &rows);
+            let n = profile.rows();
+            // K by brute force: rows on a shared body meet through it.
+            let row_joint: Vec<usize> = (0..joints.len())
+                .flat_map(|p| std::iter::repeat_n(p, joints[p].2))
+                .collect();
+            let mut k = vec![vec![0.0; n]; n];
+            for i in 0..n {
+                for j in 0..=i {
+                    let (ji, jj) = (joints[row_joint[i]], joints[row_joint[j]]);
+                    for (s, bi) in [ji.0, ji.1].into_iter().enumerate() {
+                        for (t, bj) in [jj.0, jj.1].into_iter().enumerate() {
+                            if bi == bj {
+                                k[i][j] += rows[i].lin[s].dot(rows[j].m_lin[t])
+                                    + rows[i].ang[s].dot(rows[j].m_ang[t]);
+                            }
+                        }
+                    }
+                }
+                k[i][i] += 1e-12 * k[i][i].abs() + 1e-300;
+            }
+            let mut l = vec![vec![0.0; n]; n];
+            for i in 0..n {
+                for j in 0..=i {
+                    let dot: f64 = (0..j).map(|c| l[i][c] * l[j][c]).sum();
+                    l[i][j] = if i == j {
+                        (k[i][i] - dot).max(1e-300).sqrt()
+                    } else {
+                        (k[i][j] - dot) / l[j][j]
+                    };
+                }
+            }
+            let mut live = 0;
+            for i in 0..n {
+                assert!(
+                    (0..profile.first[i]).all(|j| l[i][j] == 0.0),
+                    "case {case}: row {i} outside its profile"
+                );
+                let mut kept = vec![false; i + 1];
+                let (at, runs) = (&profile.pattern.row_runs_at, &profile.pattern.row_runs);
+                for &(from, to) in &runs[at[i]..at[i + 1]] {
+                    kept[from..to].iter_mut().for_each(|k| *k = true);
+                }
+                kept[i] = true;
+                for j in profile.first[i]..=i {
+                    let ours = factor.values[profile.at(i, j)];
+                    if kept[j] {
+                        live += 1;
+                        assert!(
+                            (ours - l[i][j]).abs() <= 1e-9 * l[j][j].abs().max(1.0),
+                            "case {case}: ({i}, {j})"
+                        );
+                    } else {
+                        assert_eq!(l[i][j], 0.0, "case {case}: ({i}, {j}) skipped but not zero");
+                        assert_eq!(ours.to_bits(), 0.0f64.to_bits());
+                    }
+                }
+            }
+            assert_eq!(live, profile.entries(), "case {case}");
+            skipped += profile.size - live;
+            // Solves against the dense factor, and L^T after L^-T.
+            let rhs: Vec<f64> = (0..n).map(|_| rng.range(-1.0, 1.0)).collect();
+            let mut x = rhs.clone();
+            factor.solve(&profile, &mut x);
+            let residual = (0..n)
+                .map(|i| (0..n).map(|j| k[i.max(j)][i.min(j)] * x[j]).sum::<f64>() - rhs[i])
+                .fold(0.0f64, |m, r| m.max(r.abs()));
+            let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            assert!(residual < 1e-9 * scale, "case {case}: residual {residual}");
+            let mut z = rhs.clone();
+            factor.backward(&profile, &mut z);
+            factor.multiply_transposed(&profile, &mut z);
+            for (a, b) in z.iter().zip(&rhs) {
+                assert!((a - b).abs() < 1e-9, "case {case}: L^T L^-T is not the identity");
+            }
+        }
+        assert!(skipped > 0, "no profile held a zero");
+        let ragdoll = profile_of(&RAGDOLL);
+        assert!(
+            ragdoll.entries() * 10 < ragdoll.size * 7,
+            "{} of {}",
+            ragdoll.entries(),
+            ragdoll.size
+        );
     }
 }

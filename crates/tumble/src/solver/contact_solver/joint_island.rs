@@ -202,7 +202,7 @@ impl JointIsland {
         }
     }
 
-    /// `U = K^-1 W` for the owned patches' points: in a unit of one lane,
+    /// `V = L^-1 W` for the owned patches' points (`island_contacts`): in a unit of one lane,
     /// four points a solve, one a lane (`Factor::solve` on lanes: NAO's hands
     /// own 200-390 points a sub-step, a solve each took 28 % of its step);
     /// in a unit of more, the lanes' points taken side by side, a lane set
@@ -250,10 +250,17 @@ impl JointIsland {
         x.clear();
         let columns: [Option<&[f64]>; LANES] = points.map(|p| p.map(|(k, i)| self.owned[k].response(i)));
         x.extend((0..n).map(|r| Lane::new(std::array::from_fn(|l| columns[l].map_or(0.0, |c| c[r])))));
+        // Rows before the first on any point's body are zero in every column.
+        let from = points
+            .iter()
+            .flatten()
+            .map(|&(k, _)| self.owned[k].first_row())
+            .min()
+            .unwrap_or(n);
         if self.lanes.len() == 1 {
-            self.factor.solve(&self.profile, &mut x);
+            self.factor.forward(&self.profile, &mut x, from);
         } else {
-            self.factor_lanes.solve(&self.profile, &mut x);
+            self.factor_lanes.forward(&self.profile, &mut x, from);
         }
         for (l, point) in points.into_iter().enumerate() {
             if let Some((k, i)) = point {
@@ -454,22 +461,24 @@ impl JointIsland {
             rhs[joint_rows + e] = r;
             any |= pushes;
         }
-        if self.lanes.len() == 1 {
-            self.factor.solve(&self.profile, &mut rhs);
-        } else {
-            self.rhs_lanes.clear();
-            self.rhs_lanes.extend(
-                rhs.chunks_exact(LANES)
-                    .map(|row| Lane::new([row[0], row[1], row[2], row[3]])),
-            );
-            self.factor_lanes.solve(&self.profile, &mut self.rhs_lanes);
-            for (row, x) in rhs.chunks_exact_mut(LANES).zip(&self.rhs_lanes) {
-                row.copy_from_slice(&x.to_array());
+        let patches = patches.filter(|_| !self.owned.is_empty());
+        if patches.is_none() {
+            self.substitute(&mut rhs, true, true);
+            clear_non_finite(&mut rhs);
+            if self.bounded {
+                self.hold_at_bounds(joints, &mut rhs, push.is_some());
             }
-        }
-        clear_non_finite(&mut rhs);
-        if self.bounded {
-            self.hold_at_bounds(joints, &mut rhs, push.is_some());
+        } else {
+            // The owned patches work on z = L^-1 rhs (`island_contacts`).
+            self.substitute(&mut rhs, true, false);
+            clear_non_finite(&mut rhs);
+            if self.bounded {
+                // Bounds hold on the impulses: to x and back (one lane).
+                self.factor.backward(&self.profile, &mut rhs);
+                clear_non_finite(&mut rhs);
+                self.hold_at_bounds(joints, &mut rhs, push.is_some());
+                self.factor.multiply_transposed(&self.profile, &mut rhs);
+            }
         }
         if let Some((c, pass)) = patches {
             for o in &self.owned {
@@ -489,6 +498,8 @@ impl JointIsland {
                 any |= pushed;
                 o.take_back(&d, &mut rhs, stride);
             }
+            self.substitute(&mut rhs, false, true);
+            clear_non_finite(&mut rhs);
         }
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
@@ -518,6 +529,35 @@ impl JointIsland {
         }
         self.rhs = rhs;
         any
+    }
+
+    /// The forward (`L^-1`) and/or backward (`L^-T`) substitution of
+    /// [`Factor::solve`] over right-hand sides laid out row by row with the
+    /// unit's lanes side by side.
+    fn substitute(&mut self, x: &mut [f64], forward: bool, backward: bool) {
+        if self.lanes.len() == 1 {
+            if forward {
+                self.factor.forward(&self.profile, x, 0);
+            }
+            if backward {
+                self.factor.backward(&self.profile, x);
+            }
+            return;
+        }
+        self.rhs_lanes.clear();
+        self.rhs_lanes.extend(
+            x.chunks_exact(LANES)
+                .map(|row| Lane::new([row[0], row[1], row[2], row[3]])),
+        );
+        if forward {
+            self.factor_lanes.forward(&self.profile, &mut self.rhs_lanes, 0);
+        }
+        if backward {
+            self.factor_lanes.backward(&self.profile, &mut self.rhs_lanes);
+        }
+        for (row, v) in x.chunks_exact_mut(LANES).zip(&self.rhs_lanes) {
+            row.copy_from_slice(&v.to_array());
+        }
     }
 
     /// `K x = rhs` for a unit of one lane, entries that are not finite
@@ -1121,13 +1161,7 @@ fn island_shapes(
         for &g in &island_gears {
             gears[g as usize].direct = true;
         }
-        let profile = Profile {
-            offsets,
-            couplings,
-            first,
-            start,
-            size,
-        };
+        let profile = Profile::new(offsets, couplings, first, start, size);
         // Scalar rows in the system (motors, springs) keep the island in a
         // unit of its own; only a motor's force bound is held.
         let single = masks.iter().any(|&m| m != 0) || !island_gears.is_empty();

@@ -33,8 +33,9 @@
 //! `W^T x = V^T z`, taking `K^-1 W d` out of `x` is taking `V d` out of
 //! `z`, and `W^T K^-1 W = V^T V`; one backward substitution after the last
 //! patch turns `z` into the joints' impulses. A point's `W` is zero above
-//! the first row of a joint on its body, and so is its `V`: the forward
-//! substitution starts there (a ragdoll's hand reaches 14 of its 38 rows).
+//! the first row of a joint on its bodies, and so is its `V`: the forward
+//! substitution starts there (the limbs' joints come first in an island's
+//! order, so a point on a ragdoll's torso skips them).
 //!
 //! The loop through the world matters as much: a 20 mg finger hinged to a
 //! 185 g hand that presses it onto a static plank (the hand's ball joint

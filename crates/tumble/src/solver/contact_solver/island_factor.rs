@@ -1,7 +1,9 @@
 //! The numbers of a joint island's direct solve (`joint_island`): the
 //! system `K = J M^-1 J^T` assembled block by block over the pairs of
 //! joints that share a dynamic body, its Cholesky factor over the system's
-//! profile (skyline), and solves with that factor.
+//! profile (skyline) less the blocks a symbolic factorization over joints
+//! finds zero (`Pattern`), and solves with that factor (whole, or its
+//! forward and backward halves).
 //!
 //! Written once over the number type [`Num`]: `f64` for one island, and
 //! the solver's [`Lane`] for four islands of the same shape at once (a pile

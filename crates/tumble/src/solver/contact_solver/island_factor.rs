@@ -209,7 +209,7 @@ pub(super) struct Profile {
 ///
 /// Why: the profile holds every entry from a row's first column to its
 /// diagonal, and a tree of joints leaves most of it zero: a ragdoll's
-/// shoulder reaches back past the other limbs' joints to its elbow, and 170
+/// shoulder reaches back past the other limbs' joints to its elbow, and 126
 /// of its factor's 363 entries are zeros the factorization and each solve
 /// multiplied through. A skipped entry is an exact zero (a `+0` that the
 /// factorization computes as `(0 - 0) / d`, every product in its dot
@@ -354,8 +354,8 @@ impl Profile {
         (0..o.len().saturating_sub(1)).map(own_rows).sum::<usize>() + gears
     }
 
-    /// The column ranges before row `i`'s own joint that can be other than
-    /// zero in the rows of joint `p`.
+    /// The column ranges before joint `p`'s own columns that can be other
+    /// than zero in its rows.
     fn own_segments(&self, p: usize) -> &[(usize, usize)] {
         let (from, to) = self.pattern.own[p];
         &self.pattern.segments[from..to]

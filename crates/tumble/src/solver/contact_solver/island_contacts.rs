@@ -132,38 +132,73 @@ impl OwnedPatch {
     }
 
     /// Builds `W` for this sub-step, after the island's rows are begun:
-    /// the island's system has `n` rows, given by side as (row, its sides,
-    /// the sides' two solver bodies); a row on more than two bodies (a
-    /// gear) comes as several entries of the same row. Each point's
+    /// the island's system has `rows.len()` rows, given by side with each
+    /// row's two solver bodies (`row_bodies`), joint after joint from
+    /// `joints` (each joint's first row, and the end of the last); a row on
+    /// more than two bodies (a gear, after the joints' rows) is given by
+    /// its parts instead, as (row, body, the part as side 0). Each point's
     /// response holds its column of `W` until the island solves it in
     /// place (`V = L^-1 W`).
-    pub fn couple<'r>(
+    pub fn couple(
         &mut self,
         m: &ManifoldConstraint,
         pts: &[PointConstraint],
-        n: usize,
-        rows: impl Iterator<Item = (usize, &'r SideRow<f64>, [u32; 2])>,
+        rows: &[SideRow<f64>],
+        row_bodies: &[[u32; 2]],
+        joints: &[usize],
+        gear_parts: &[(usize, u32, SideRow<f64>)],
     ) {
+        let n = rows.len();
         self.rows = n;
         self.first_row = n;
-        let [ima, imb] = m.inv_mass;
         self.response.clear();
         self.response.resize(n * pts.len(), 0.0);
-        // Only the rows on the patch's two bodies are not zero.
-        for (r, row, pair) in rows {
-            for (s, &joint_body) in pair.iter().enumerate() {
-                let (sign, ima, a) = match joint_body {
-                    b if b == m.a => (1.0, ima, true),
-                    b if b == m.b => (-1.0, imb, false),
-                    _ => continue,
-                };
-                self.first_row = self.first_row.min(r);
-                for (i, p) in pts.iter().enumerate() {
-                    // The contact's unit impulse: +n on A, -n on B.
-                    let dw = if a { p.row.ia_ra_x_d } else { p.row.ib_rb_x_d };
-                    self.response[i * n + r] += sign * row.measures(s, p.normal * ima, dw);
+        // Only the rows of joints on the patch's two bodies are not zero
+        // (a ragdoll's patch is on two or three of its ten joints).
+        let (a, b) = (m.a, m.b);
+        for joint in joints.windows(2) {
+            if joint[0] == joint[1] {
+                continue;
+            }
+            let pair = row_bodies[joint[0]];
+            if pair[0] != a && pair[0] != b && pair[1] != a && pair[1] != b {
+                continue;
+            }
+            for (r, row) in (joint[0]..).zip(&rows[joint[0]..joint[1]]) {
+                for (s, &body) in pair.iter().enumerate() {
+                    if body == a || body == b {
+                        self.add_side(m, pts, r, s, row, body == a);
+                    }
                 }
             }
+        }
+        for (r, body, part) in gear_parts {
+            if *body == a || *body == b {
+                self.add_side(m, pts, *r, 0, part, *body == a);
+            }
+        }
+    }
+
+    /// Adds side `s` of row `r` (on the patch's body A if `on_a`, else B)
+    /// to each point's column of `W`.
+    #[inline(always)]
+    fn add_side(
+        &mut self,
+        m: &ManifoldConstraint,
+        pts: &[PointConstraint],
+        r: usize,
+        s: usize,
+        row: &SideRow<f64>,
+        on_a: bool,
+    ) {
+        let n = self.rows;
+        let [ima, imb] = m.inv_mass;
+        let (sign, im) = if on_a { (1.0, ima) } else { (-1.0, imb) };
+        self.first_row = self.first_row.min(r);
+        for (i, p) in pts.iter().enumerate() {
+            // The contact's unit impulse: +n on A, -n on B.
+            let dw = if on_a { p.row.ia_ra_x_d } else { p.row.ib_rb_x_d };
+            self.response[i * n + r] += sign * row.measures(s, p.normal * im, dw);
         }
     }
 
@@ -241,9 +276,20 @@ impl OwnedPatch {
     /// `z[r * stride + lane]`): `V^T z`.
     pub fn coupled(&self, z: &[f64], stride: usize) -> [f64; BLOCK_POINTS] {
         let mut v = [0.0; BLOCK_POINTS];
+        let (from, lane) = (self.first_row, self.lane);
+        let z = &z[(from * stride).min(z.len())..];
         for (i, u) in self.response.chunks_exact(self.rows.max(1)).enumerate() {
-            for (r, u) in u.iter().enumerate().skip(self.first_row) {
-                v[i] += u * z[r * stride + self.lane];
+            let u = &u[from..];
+            // The same sums either way, row after row: one lane read
+            // straight, or this lane of each row's set.
+            if stride == 1 {
+                for (u, z) in u.iter().zip(z) {
+                    v[i] += u * z;
+                }
+            } else {
+                for (u, z) in u.iter().zip(z.chunks_exact(stride)) {
+                    v[i] += u * z[lane];
+                }
             }
         }
         v
@@ -253,12 +299,22 @@ impl OwnedPatch {
     /// island's row impulses, given as `z` (laid out as for
     /// [`OwnedPatch::coupled`]): `z -= V d`.
     pub fn take_back(&self, d: &[f64; BLOCK_POINTS], z: &mut [f64], stride: usize) {
+        let (from, lane) = (self.first_row, self.lane);
+        let start = (from * stride).min(z.len());
+        let z = &mut z[start..];
         for (u, &di) in self.response.chunks_exact(self.rows.max(1)).zip(d) {
             if di == 0.0 {
                 continue;
             }
-            for (r, u) in u.iter().enumerate().skip(self.first_row) {
-                z[r * stride + self.lane] -= u * di;
+            let u = &u[from..];
+            if stride == 1 {
+                for (u, z) in u.iter().zip(z.iter_mut()) {
+                    *z -= u * di;
+                }
+            } else {
+                for (u, z) in u.iter().zip(z.chunks_exact_mut(stride)) {
+                    z[lane] -= u * di;
+                }
             }
         }
     }

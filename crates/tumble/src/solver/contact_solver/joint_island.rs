@@ -189,10 +189,9 @@ impl JointIsland {
             let (rows, row_bodies, gear_sides) = (&self.rows, &self.row_bodies, &self.gear_sides);
             for o in &mut self.owned {
                 let (m, pts) = patch(o);
-                let lane = o.lane * n;
-                let joint_rows = (0..n).map(|r| (r, &rows[lane + r], row_bodies[lane + r]));
-                let gear_rows = gear_sides.iter().map(|(r, b, side)| (*r, side, [*b, NO_BODY]));
-                o.couple(m, pts, n, joint_rows.chain(gear_rows));
+                let lane = o.lane * n..(o.lane + 1) * n;
+                let joints = &self.profile.offsets;
+                o.couple(m, pts, &rows[lane.clone()], &row_bodies[lane], joints, gear_sides);
             }
             self.solve_responses();
             for o in &mut self.owned {

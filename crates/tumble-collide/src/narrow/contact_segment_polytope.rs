@@ -65,6 +65,24 @@ const ABS_BIAS: f64 = 1e-6;
 /// its axis and the face is at most this (about 3 degrees).
 pub(crate) const PARALLEL_SIN: f64 = 0.05;
 
+/// Whether segment `s0 s1` and polytope `b` (both in B's frame) are more
+/// than `reach` apart along one of B's axes: their distance is then larger
+/// still, and GJK's larger again (its distance is the length of a point of
+/// A - B, never shorter than the true distance), so the pair has no
+/// contact within the margin and GJK (three quarters of the cost of a
+/// capsule near a box, and most such pairs of a ragdoll pile have no
+/// contact) can be skipped. `reach` carries a hair of slack over the
+/// radius and margin so that rounding in GJK cannot bring it back in.
+fn apart_along_axes<P: Polytope + ?Sized>(s0: DVec3, s1: DVec3, b: &P, reach: f64) -> bool {
+    let (lo, hi) = (s0.min(s1), s0.max(s1));
+    (0..3).any(|axis| {
+        let e = DVec3::AXES[axis];
+        let top = b.vertex(b.support_vertex(e))[axis];
+        let bottom = b.vertex(b.support_vertex(-e))[axis];
+        lo[axis] - top > reach || bottom - hi[axis] > reach
+    })
+}
+
 #[allow(clippy::too_many_arguments)]
 fn segment_polytope<P: Polytope + ?Sized>(
     seg_world: [DVec3; 2],
@@ -81,6 +99,9 @@ fn segment_polytope<P: Polytope + ?Sized>(
     let scale = (0..b.vertex_count().min(8))
         .map(|i| b.vertex(i).length())
         .fold(radius, f64::max);
+    if apart_along_axes(s0, s1, b, radius + margin + 1e-9 * scale) {
+        return;
+    }
     let poly = PolytopeSupport {
         poly: b,
         rot: DMat3::IDENTITY,

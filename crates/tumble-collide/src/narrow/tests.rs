@@ -656,3 +656,60 @@ proptest! {
         }
     }
 }
+
+/// A capsule of random size and direction near a random box: its lowest
+/// core point along a face normal of the box at `gap` beyond its radius
+/// from that face's plane, slid along the face up to past its edges.
+fn capsules_near_boxes() -> impl Strategy<Value = (Capsule, Pose, Cuboid)> {
+    (
+        prop::array::uniform3(0.1f64..1.0),
+        (0.02f64..0.3, 0.05f64..0.8),
+        (0usize..6, prop::array::uniform2(-1.3f64..1.3)),
+        -0.05f64..0.3,
+        prop::array::uniform3(-3.2f64..3.2),
+    )
+        .prop_map(|(h, (radius, half), (face, slide), gap, turn)| {
+            let h = DVec3::from_array(h);
+            let capsule = Capsule::new(radius, half).unwrap();
+            let (axis, sign) = (face / 2, if face % 2 == 0 { 1.0 } else { -1.0 });
+            let normal = DVec3::AXES[axis] * sign;
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let mut at = normal * h[axis];
+            at[u] += slide[0] * h[u];
+            at[v] += slide[1] * h[v];
+            let turned = pose([0.0; 3], turn);
+            let [s0, s1] = capsule.world_segment(&turned);
+            let lowest = s0.dot(normal).min(s1.dot(normal));
+            let centre = at + normal * (radius + gap - lowest);
+            let p = Pose::new(centre, turned.rotation).unwrap();
+            (capsule, p, Cuboid::new(h).unwrap())
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(600))]
+    /// A capsule near a box gets a contact exactly when GJK puts its core
+    /// within its radius plus the margin of the box, whether or not the
+    /// pair was found apart along the box's axes first (the check that
+    /// skips GJK): nothing beyond, something within.
+    #[test]
+    fn capsules_near_boxes_keep_what_gjk_finds((capsule, pc, cuboid) in capsules_near_boxes()) {
+        use super::gjk::{gjk_distance, PolytopeSupport, SegmentSupport};
+        let margin = 0.05;
+        let mut out = Vec::new();
+        contact_segment_polytope::contact_capsule_polytope(&capsule, &pc, &cuboid, &Pose::IDENTITY, margin, &mut out);
+        let scale = cuboid.half_extents().max_element().max(capsule.radius());
+        let core = SegmentSupport(capsule.world_segment(&pc));
+        let poly = PolytopeSupport { poly: &cuboid, rot: crate::math::DMat3::IDENTITY, trans: DVec3::ZERO };
+        let g = gjk_distance(&core, &poly, scale);
+        if g.overlap {
+            return Ok(());
+        }
+        let gap = g.distance - capsule.radius();
+        if gap > margin + 1e-9 * scale {
+            prop_assert!(out.is_empty(), "{gap} beyond the margin, yet {out:?}");
+        } else if gap < margin - 1e-9 * scale {
+            prop_assert!(!out.is_empty(), "{gap} within the margin, yet nothing");
+        }
+    }
+}

@@ -248,14 +248,16 @@ impl JointIsland {
         let mut x = std::mem::take(&mut self.rhs_lanes);
         x.clear();
         let columns: [Option<&[f64]>; LANES] = points.map(|p| p.map(|(k, i)| self.owned[k].response(i)));
-        x.extend((0..n).map(|r| Lane::new(std::array::from_fn(|l| columns[l].map_or(0.0, |c| c[r])))));
-        // Rows before the first on any point's body are zero in every column.
+        // Rows before the first on any point's body are zero in every column
+        // (and stay zero, so they are neither read nor written back).
         let from = points
             .iter()
             .flatten()
             .map(|&(k, _)| self.owned[k].first_row())
             .min()
             .unwrap_or(n);
+        x.resize(from, Lane::splat(0.0));
+        x.extend((from..n).map(|r| Lane::new(std::array::from_fn(|l| columns[l].map_or(0.0, |c| c[r])))));
         if self.lanes.len() == 1 {
             self.factor.forward(&self.profile, &mut x, from);
         } else {
@@ -263,8 +265,8 @@ impl JointIsland {
         }
         for (l, point) in points.into_iter().enumerate() {
             if let Some((k, i)) = point {
-                let u = self.owned[k].response_mut(i);
-                for (u, x) in u.iter_mut().zip(&x) {
+                let u = &mut self.owned[k].response_mut(i)[from..];
+                for (u, x) in u.iter_mut().zip(&x[from..]) {
                     *u = x.to_array()[l];
                 }
                 clear_non_finite(u);

@@ -60,6 +60,7 @@
 use super::coloring::Shared;
 use super::constraint::{regularised_inverse, ManifoldConstraint, PatchBlock, PointConstraint, BLOCK_POINTS};
 use super::island_factor::SideRow;
+use tumble_collide::DVec3;
 
 /// A patch's normal block as the island's joints let it act, what
 /// `passes::solve_owned_normals` solves on.
@@ -132,23 +133,25 @@ impl OwnedPatch {
     }
 
     /// Builds `W` for this sub-step, after the island's rows are begun:
-    /// the island's system has `rows.len()` rows, given by side with each
-    /// row's two solver bodies (`row_bodies`), joint after joint from
-    /// `joints` (each joint's first row, and the end of the last); a row on
-    /// more than two bodies (a gear, after the joints' rows) is given by
-    /// its parts instead, as (row, body, the part as side 0). Each point's
-    /// response holds its column of `W` until the island solves it in
-    /// place (`V = L^-1 W`).
+    /// the island's system has `n` rows, row `r`'s Jacobian on side `s`
+    /// is `side(r, s)` (linear, angular), and `row_bodies` gives each
+    /// row's two solver bodies, joint
+    /// after joint from `joints` (each joint's first row, and the end of
+    /// the last); a row on more than two bodies (a gear, after the joints'
+    /// rows) is given by its parts instead, as (row, body, the part as
+    /// side 0). Each point's response holds its column of `W` until the
+    /// island solves it in place (`V = L^-1 W`).
+    #[allow(clippy::too_many_arguments)] // the patch, and the island's rows as it lays them out
     pub fn couple(
         &mut self,
         m: &ManifoldConstraint,
         pts: &[PointConstraint],
-        rows: &[SideRow<f64>],
+        n: usize,
+        side: impl Fn(usize, usize) -> (DVec3, DVec3),
         row_bodies: &[[u32; 2]],
         joints: &[usize],
         gear_parts: &[(usize, u32, SideRow<f64>)],
     ) {
-        let n = rows.len();
         self.rows = n;
         self.first_row = n;
         self.response.clear();
@@ -164,41 +167,42 @@ impl OwnedPatch {
             if pair[0] != a && pair[0] != b && pair[1] != a && pair[1] != b {
                 continue;
             }
-            for (r, row) in (joint[0]..).zip(&rows[joint[0]..joint[1]]) {
+            for r in joint[0]..joint[1] {
                 for (s, &body) in pair.iter().enumerate() {
                     if body == a || body == b {
-                        self.add_side(m, pts, r, s, row, body == a);
+                        self.add_side(m, pts, r, body == a, side(r, s));
                     }
                 }
             }
         }
         for (r, body, part) in gear_parts {
             if *body == a || *body == b {
-                self.add_side(m, pts, *r, 0, part, *body == a);
+                self.add_side(m, pts, *r, *body == a, part.side(0));
             }
         }
     }
 
-    /// Adds side `s` of row `r` (on the patch's body A if `on_a`, else B)
-    /// to each point's column of `W`.
+    /// Adds a side of row `r` (on the patch's body A if `on_a`, else B),
+    /// of Jacobian `(lin, ang)` on that body, to each point's column of
+    /// `W`.
     #[inline(always)]
     fn add_side(
         &mut self,
         m: &ManifoldConstraint,
         pts: &[PointConstraint],
         r: usize,
-        s: usize,
-        row: &SideRow<f64>,
         on_a: bool,
+        side: (DVec3, DVec3),
     ) {
         let n = self.rows;
         let [ima, imb] = m.inv_mass;
         let (sign, im) = if on_a { (1.0, ima) } else { (-1.0, imb) };
+        let (lin, ang) = side;
         self.first_row = self.first_row.min(r);
         for (i, p) in pts.iter().enumerate() {
             // The contact's unit impulse: +n on A, -n on B.
             let dw = if on_a { p.row.ia_ra_x_d } else { p.row.ib_rb_x_d };
-            self.response[i * n + r] += sign * row.measures(s, p.normal * im, dw);
+            self.response[i * n + r] += sign * (lin.dot(p.normal * im) + ang.dot(dw));
         }
     }
 

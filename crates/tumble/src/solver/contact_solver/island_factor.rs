@@ -140,18 +140,22 @@ impl SideRow<f64> {
 }
 
 impl SideRow<f64> {
-    /// This row's velocity from a change `dv`, `dw` of side `s`'s body.
-    pub fn measures(&self, s: usize, dv: DVec3, dw: DVec3) -> f64 {
-        self.lin[s].dot(dv.into()) + self.ang[s].dot(dw.into())
+    /// Its Jacobian on side `s`, linear and angular: the row's velocity
+    /// from a change `dv`, `dw` of the side's body is `lin . dv + ang . dw`.
+    pub fn side(&self, s: usize) -> (DVec3, DVec3) {
+        let v = |p: P3<f64>| DVec3::new(p.x, p.y, p.z);
+        (v(self.lin[s]), v(self.ang[s]))
     }
 }
 
 impl SideRow<Lane> {
-    /// One row per lane.
+    /// Joint row `rows[l]` (between bodies of inverse masses `ma`, `mb`
+    /// in lane `l`) in each lane, as [`SideRow::new`] builds it (the same
+    /// bits), without the rows of `f64` in between.
     #[inline(always)]
-    pub fn from_lanes(rows: [&SideRow<f64>; LANES]) -> SideRow<Lane> {
+    pub fn new_lanes(rows: [&JointRow; LANES], ma: Lane, mb: Lane) -> SideRow<Lane> {
         #[inline(always)]
-        fn pick<F: Fn(&SideRow<f64>) -> P3<f64>>(rows: &[&SideRow<f64>; LANES], f: F) -> P3<Lane> {
+        fn gather(rows: &[&JointRow; LANES], f: impl Fn(&JointRow) -> DVec3) -> P3<Lane> {
             let v = rows.map(f);
             P3 {
                 x: Lane::new(v.map(|p| p.x)),
@@ -159,13 +163,37 @@ impl SideRow<Lane> {
                 z: Lane::new(v.map(|p| p.z)),
             }
         }
+        let lin = gather(&rows, |r| r.lin);
+        let neg = P3 {
+            x: -lin.x,
+            y: -lin.y,
+            z: -lin.z,
+        };
         SideRow {
-            lin: [pick(&rows, |r| r.lin[0]), pick(&rows, |r| r.lin[1])],
-            ang: [pick(&rows, |r| r.ang[0]), pick(&rows, |r| r.ang[1])],
-            m_lin: [pick(&rows, |r| r.m_lin[0]), pick(&rows, |r| r.m_lin[1])],
-            m_ang: [pick(&rows, |r| r.m_ang[0]), pick(&rows, |r| r.m_ang[1])],
+            lin: [lin, neg],
+            ang: [gather(&rows, |r| r.ang_a), gather(&rows, |r| r.ang_b)],
+            m_lin: [
+                P3 {
+                    x: lin.x * ma,
+                    y: lin.y * ma,
+                    z: lin.z * ma,
+                },
+                P3 {
+                    x: neg.x * mb,
+                    y: neg.y * mb,
+                    z: neg.z * mb,
+                },
+            ],
+            m_ang: [gather(&rows, |r| r.ia), gather(&rows, |r| r.ib)],
             gamma: Lane::new(rows.map(|r| r.gamma)),
         }
+    }
+
+    /// Lane `l`'s Jacobian on side `s`, linear and angular.
+    #[inline(always)]
+    pub fn side_lane(&self, l: usize, s: usize) -> (DVec3, DVec3) {
+        let pick = |p: &P3<Lane>| DVec3::new(p.x.as_array()[l], p.y.as_array()[l], p.z.as_array()[l]);
+        (pick(&self.lin[s]), pick(&self.ang[s]))
     }
 }
 

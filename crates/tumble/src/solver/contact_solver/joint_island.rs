@@ -89,9 +89,10 @@ pub struct JointIsland {
     factor: Factor<f64>,
     /// The factors of a unit of more lanes.
     factor_lanes: Factor<Lane>,
-    /// Per lane, the rows of the system by side (reused between sub-steps).
+    /// A unit of one lane: the rows of its system by side (reused between
+    /// sub-steps).
     rows: Vec<SideRow<f64>>,
-    /// The same, a lane set per row.
+    /// A unit of more lanes: the same, a lane set per row.
     rows_lanes: Vec<SideRow<Lane>>,
     /// The right-hand side of each lane's system, row by row with the
     /// lanes of a row side by side (reused between passes).
@@ -186,12 +187,20 @@ impl JointIsland {
                 (m, &*c.points.range_mut(m.range()))
             };
             let n = self.rows();
-            let (rows, row_bodies, gear_sides) = (&self.rows, &self.row_bodies, &self.gear_sides);
+            let single = self.lanes.len() == 1;
+            let (rows, rows_lanes, row_bodies) = (&self.rows, &self.rows_lanes, &self.row_bodies);
+            let (joints, gear_sides) = (&self.profile.offsets, &self.gear_sides);
             for o in &mut self.owned {
                 let (m, pts) = patch(o);
-                let lane = o.lane * n..(o.lane + 1) * n;
-                let joints = &self.profile.offsets;
-                o.couple(m, pts, &rows[lane.clone()], &row_bodies[lane], joints, gear_sides);
+                let lane = o.lane;
+                let sides = &row_bodies[lane * n..(lane + 1) * n];
+                if single {
+                    let side = |r: usize, s| rows[r].side(s);
+                    o.couple(m, pts, n, side, sides, joints, gear_sides);
+                } else {
+                    let side = |r: usize, s| rows_lanes[r].side_lane(lane, s);
+                    o.couple(m, pts, n, side, sides, joints, gear_sides);
+                }
             }
             self.solve_responses();
             for o in &mut self.owned {
@@ -267,7 +276,7 @@ impl JointIsland {
             if let Some((k, i)) = point {
                 let u = &mut self.owned[k].response_mut(i)[from..];
                 for (u, x) in u.iter_mut().zip(&x[from..]) {
-                    *u = x.to_array()[l];
+                    *u = x.as_array()[l];
                 }
                 clear_non_finite(u);
             }
@@ -340,6 +349,7 @@ impl JointIsland {
 
     /// Factors `K` of each lane for the joints' rows of this sub-step
     /// (after their `begin_joint`) and the gears' (after their `begin`).
+    #[allow(clippy::needless_range_loop)] // the shape's joint k of every lane at once
     fn factor(
         &mut self,
         joints: &Shared<JointConstraint>,
@@ -350,19 +360,51 @@ impl JointIsland {
         // mass and inertia, so they add nothing.
         // SAFETY (all accesses): the islands' joints, gears and bodies are
         // this thread's alone during the call (islands share no dynamic body).
-        self.rows.clear();
-        for lane in &self.lanes {
-            for &ji in lane {
-                let j = unsafe { joints.get(ji as usize) };
-                let (ma, mb) = unsafe {
-                    (
-                        bodies.get(j.a as usize).inv_mass,
-                        bodies.get(j.b as usize).inv_mass,
-                    )
-                };
-                for slot in island_slots(j) {
-                    self.rows.push(SideRow::new(&j.rows[slot], ma, mb));
+        if !self.owned.is_empty() || !self.gears.is_empty() {
+            self.row_bodies.clear();
+            for lane in &self.lanes {
+                for &ji in lane {
+                    let j = unsafe { joints.get(ji as usize) };
+                    self.row_bodies.extend(island_slots(j).map(|_| [j.a, j.b]));
                 }
+            }
+            self.row_bodies.extend(self.gears.iter().map(|_| [NO_BODY; 2]));
+        }
+        if self.lanes.len() > 1 {
+            // Each row's lane set gathered straight from the lanes' joints:
+            // the islands of a unit share their shape (the same joints in
+            // the same order, each with its equality rows alone in the
+            // system). Lanes beyond the islands repeat the last (and are
+            // never read).
+            let last = self.lanes.len() - 1;
+            let lanes = &self.lanes;
+            self.rows_lanes.clear();
+            for k in 0..lanes[0].len() {
+                let js: [&JointConstraint; LANES] =
+                    std::array::from_fn(|l| unsafe { joints.get(lanes[l.min(last)][k] as usize) });
+                debug_assert!(js.iter().all(|j| j.n_eq == js[0].n_eq && j.island_rows == 0));
+                let ma = Lane::new(js.map(|j| unsafe { bodies.get(j.a as usize).inv_mass }));
+                let mb = Lane::new(js.map(|j| unsafe { bodies.get(j.b as usize).inv_mass }));
+                for slot in island_slots(js[0]) {
+                    self.rows_lanes
+                        .push(SideRow::new_lanes(js.map(|j| &j.rows[slot]), ma, mb));
+                }
+            }
+            debug_assert_eq!(self.rows_lanes.len(), self.rows());
+            self.factor_lanes.factor(&self.profile, &self.rows_lanes);
+            return;
+        }
+        self.rows.clear();
+        for &ji in &self.lanes[0] {
+            let j = unsafe { joints.get(ji as usize) };
+            let (ma, mb) = unsafe {
+                (
+                    bodies.get(j.a as usize).inv_mass,
+                    bodies.get(j.b as usize).inv_mass,
+                )
+            };
+            for slot in island_slots(j) {
+                self.rows.push(SideRow::new(&j.rows[slot], ma, mb));
             }
         }
         let joint_rows = self.rows.len();
@@ -375,32 +417,11 @@ impl JointIsland {
             self.gear_sides
                 .extend(g.side_rows().map(|(body, side)| (joint_rows + e, body, side)));
         }
-        if !self.owned.is_empty() || !self.gears.is_empty() {
-            self.row_bodies.clear();
-            for lane in &self.lanes {
-                for &ji in lane {
-                    let j = unsafe { joints.get(ji as usize) };
-                    self.row_bodies.extend(island_slots(j).map(|_| [j.a, j.b]));
-                }
-            }
-            self.row_bodies.extend(self.gears.iter().map(|_| [NO_BODY; 2]));
-        }
-        let n = self.rows();
-        if self.lanes.len() == 1 {
-            let (profile, rows, row_bodies, gear_sides) =
-                (&self.profile, &self.rows, &self.row_bodies, &self.gear_sides);
-            self.factor.factor_adding(profile, rows, |k| {
-                add_gear_entries(k, profile, rows, row_bodies, gear_sides, joint_rows)
-            });
-            return;
-        }
-        // Lanes beyond the islands repeat the last (and are never read).
-        let last = self.lanes.len() - 1;
-        let rows = &self.rows;
-        self.rows_lanes.clear();
-        self.rows_lanes
-            .extend((0..n).map(|i| SideRow::from_lanes(std::array::from_fn(|l| &rows[l.min(last) * n + i]))));
-        self.factor_lanes.factor(&self.profile, &self.rows_lanes);
+        let (profile, rows, row_bodies, gear_sides) =
+            (&self.profile, &self.rows, &self.row_bodies, &self.gear_sides);
+        self.factor.factor_adding(profile, rows, |k| {
+            add_gear_entries(k, profile, rows, row_bodies, gear_sides, joint_rows)
+        });
     }
 
     /// One pass over the islands' equality rows: velocities (the rows

@@ -69,10 +69,9 @@ pub(crate) const PARALLEL_SIN: f64 = 0.05;
 /// than `reach` apart along one of B's axes: their distance is then larger
 /// still, and GJK's larger again (its distance is the length of a point of
 /// A - B, never shorter than the true distance), so the pair has no
-/// contact within the margin and GJK (three quarters of the cost of a
-/// capsule near a box, and most such pairs of a ragdoll pile have no
-/// contact) can be skipped. `reach` carries a hair of slack over the
-/// radius and margin so that rounding in GJK cannot bring it back in.
+/// contact within the margin and GJK (most of the cost of a capsule near
+/// a box) can be skipped. `reach` carries a hair of slack over the radius
+/// and margin so that rounding in GJK cannot bring it back in.
 fn apart_along_axes<P: Polytope + ?Sized>(s0: DVec3, s1: DVec3, b: &P, reach: f64) -> bool {
     let (lo, hi) = (s0.min(s1), s0.max(s1));
     (0..3).any(|axis| {

@@ -135,12 +135,12 @@ impl OwnedPatch {
     /// Builds `W` for this sub-step, after the island's rows are begun:
     /// the island's system has `n` rows, row `r`'s Jacobian on side `s`
     /// is `side(r, s)` (linear, angular), and `row_bodies` gives each
-    /// row's two solver bodies, joint
-    /// after joint from `joints` (each joint's first row, and the end of
-    /// the last); a row on more than two bodies (a gear, after the joints'
-    /// rows) is given by its parts instead, as (row, body, the part as
-    /// side 0). Each point's response holds its column of `W` until the
-    /// island solves it in place (`V = L^-1 W`).
+    /// row's two solver bodies, joint after joint from `joints` (each
+    /// joint's first row, and the end of the last); a row on more than two
+    /// bodies (a gear, after the joints' rows) is given by its parts
+    /// instead, as (row, body, the part as side 0). Each point's response
+    /// holds its column of `W` until the island solves it in place
+    /// (`V = L^-1 W`).
     #[allow(clippy::too_many_arguments)] // the patch, and the island's rows as it lays them out
     pub fn couple(
         &mut self,

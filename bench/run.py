@@ -204,10 +204,11 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                     results += python_peer(eng, f"{eng}_peer.py", ["--scene", "chain", "--decomposed"] + step_args(),
                                            timeout, "chain-decomposed")
             if on("rapier3d"):
-                # The heavy chain also on Rapier's multibody (reduced-coordinate) joints.
+                # The heavy chain and the ragdoll pile also on Rapier's multibody (reduced-coordinate)
+                # joints: like tumble's joint islands, solved in one piece rather than joint by joint.
                 # The bowl also on Rapier's plain TriMesh (default flags), as tumble reports its bare facets.
                 # The concave pile also as Rapier's own convex decomposition of each body (V-HACD).
-                variants = ([scene] + (["heavy_chain-multibody"] if scene == "heavy_chain" else [])
+                variants = ([scene] + ([f"{scene}-multibody"] if scene in ("heavy_chain", "ragdoll_pile") else [])
                             + (["bowl-facets"] if scene == "bowl" else [])
                             + (["concave_pile-vhacd"] if scene == "concave_pile" else []))
                 for t in threads:

@@ -313,4 +313,25 @@ mod tests {
         }
         assert!(build_with(&scenes::heavy_chain(), false, false).is_ok());
     }
+
+    /// The ragdoll pile on Rapier's multibody joints (the harness's
+    /// `ragdoll_pile-multibody`): each ragdoll is a tree, so Rapier takes
+    /// it as one multibody of eleven links, and its joints, in reduced
+    /// coordinates, stay closed through the first steps to f32 rounding.
+    #[test]
+    fn the_ragdoll_pile_is_a_hundred_multibodies_with_closed_joints() {
+        let mut sw = build_with(&scenes::ragdoll_pile(), true, false).unwrap();
+        assert_eq!(sw.world.impulse_joints.len(), 0);
+        assert_eq!(sw.world.multibody_joints.multibodies().count(), 100);
+        assert!(sw
+            .world
+            .multibody_joints
+            .multibodies()
+            .all(|m| m.num_links() == 11));
+        assert!(sw.largest_joint_error() < 1e-5, "{}", sw.largest_joint_error());
+        for _ in 0..5 {
+            sw.world.step();
+        }
+        assert!(sw.largest_joint_error() < 1e-4, "{}", sw.largest_joint_error());
+    }
 }

@@ -8,11 +8,12 @@
 //! materials combined as tumble combines them (friction: geometric mean; restitution:
 //! maximum), sleeping off, Rapier's default solver iterations and sub-steps. The chain's links
 //! are the plain 768-triangle mesh (`TriMesh`, default flags): no convex decomposition.
-//! `heavy_chain-multibody` runs the heavy chain on Rapier's multibody joints;
+//! `heavy_chain-multibody` and `ragdoll_pile-multibody` run the heavy chain and the ragdoll
+//! pile on Rapier's multibody (reduced-coordinate) joints;
 //! `concave_pile-vhacd` the concave pile with each body's mesh as Rapier's own convex
 //! decomposition (`concave_pile`: plain `TriMesh`es).
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile|concave_pile|concave_pile-vhacd [--steps K] [--n N] [--threads T]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile|ragdoll_pile-multibody|concave_pile|concave_pile-vhacd [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -71,12 +72,12 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
         "bowl" => scenes::bowl_swing(true),
         "bowl-facets" => scenes::bowl_swing(false),
         "heavy_chain" | "heavy_chain-multibody" => scenes::heavy_chain(),
-        "ragdoll_pile" => scenes::ragdoll_pile(),
+        "ragdoll_pile" | "ragdoll_pile-multibody" => scenes::ragdoll_pile(),
         "concave_pile" | "concave_pile-vhacd" => scenes::concave_pile(scenes::CONCAVE_PILE_BODIES),
         other => {
             return Err(format!(
             "--scene must be pyramid, large_pyramid, pile, chain, cradle, bowl, bowl-facets, heavy_chain, \
-                 heavy_chain-multibody, ragdoll_pile, concave_pile or concave_pile-vhacd, got {other:?}"
+                 heavy_chain-multibody, ragdoll_pile, ragdoll_pile-multibody, concave_pile or concave_pile-vhacd, got {other:?}"
         ))
         }
     })

@@ -464,19 +464,15 @@ impl<N: Num> Factor<N> {
                 let (fi, si) = (first[i], start[i]);
                 let (done, row_i) = k.split_at_mut(si);
                 let row_i = &mut row_i[..i + 1 - fi];
-                let entry = |row_i: &mut [N], j: usize, common: &[(usize, usize)], block_from: usize| {
-                    let (fj, sj) = (first[j], start[j]);
-                    let dot = dot_over(row_i, fi, &done[sj..], fj, common, (block_from, j));
-                    row_i[j - fi] = (row_i[j - fi] - dot) * inv_diagonal[j];
-                };
+                let done = &*done;
                 for &(q, from, to) in before {
                     let common = &pattern.segments[from..to];
                     for j in offsets[q]..offsets[q + 1] {
-                        entry(row_i, j, common, offsets[q]);
+                        entry(row_i, fi, done, profile, inv_diagonal, j, common, offsets[q]);
                     }
                 }
                 for j in own_from..i {
-                    entry(row_i, j, own, own_from);
+                    entry(row_i, fi, done, profile, inv_diagonal, j, own, own_from);
                 }
                 let dot = dot_over(row_i, fi, row_i, fi, own, (own_from, i));
                 let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
@@ -568,6 +564,28 @@ impl Factor<f64> {
             }
         }
     }
+}
+
+/// Entry `j` of row `i` of the factor (row `i` stored from column `fi`,
+/// the rows before it in `done`): `K`'s entry less the dot of the two rows
+/// over the columns `common` and `block_from..j`, over the diagonal of `j`.
+/// A function, not a closure of `factor_adding`: the closure was not
+/// inlined, and its call cost more than the two-term dot of a chain's entry.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the loop's state, passed through
+fn entry<N: Num>(
+    row_i: &mut [N],
+    fi: usize,
+    done: &[N],
+    profile: &Profile,
+    inv_diagonal: &[N],
+    j: usize,
+    common: &[(usize, usize)],
+    block_from: usize,
+) {
+    let (fj, sj) = (profile.first[j], profile.start[j]);
+    let dot = dot_over(row_i, fi, &done[sj..], fj, common, (block_from, j));
+    row_i[j - fi] = (row_i[j - fi] - dot) * inv_diagonal[j];
 }
 
 /// `sum a[k] b[k]` over the columns `k` of `segments`, then of `tail`

@@ -21,6 +21,9 @@ DYN_FIGURES = {
     "ragdoll_pile": ["largest_joint_error_m", "final_joint_error_m", "deepest_penetration_m",
                      "bodies_below_ground", "simulation_unstable_at_s"],
 }
+# What a tumble run with `--paired` adds (bench/run.py --paired): the same run's steps timed on one
+# thread, and the one-thread steps' total time over the threaded steps'.
+PAIRED_FIGURES = ["paired_speedup"]
 TORI_QUERIES = [("first_contact", "first contact"), ("all_pairs", "all pairs"),
                 ("all_pairs_with_contacts", "all pairs + contacts")]
 
@@ -117,8 +120,9 @@ def markdown(doc):
             base = "pile" if s.startswith("pile") else s.split("-")[0]
             # (A figure only some engines report, such as MuJoCo's instability time, is left
             # out of the rows without it.)
+            # A paired tumble run (`--paired`) also timed its one-thread steps.
             q = "; ".join(f"{k.replace('_m', '')}={_fmt(r['figures'][k])}"
-                          for k in DYN_FIGURES.get(base, []) if k in r["figures"])
+                          for k in DYN_FIGURES.get(base, []) + PAIRED_FIGURES if k in r["figures"])
             ratio = "-" if _is_tumble(r) else _ratio(tmed, st.get("median"))
             lines.append(
                 f"| {s} | {_label(r)} | ok ({st.get('count')} steps) | {_fmt(st.get('median'))} | "

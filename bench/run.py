@@ -125,7 +125,7 @@ def relabel(records, label):
     return records
 
 
-def run_tumble(scene, steps=None, n=None, poses=None, timeout=600, threads=1):
+def run_tumble(scene, steps=None, n=None, poses=None, timeout=600, threads=1, paired=False):
     """Runs one scene in tumble: `target/release/tumble bench --scene S [--steps K] [--n N]
     [--poses P] [--threads T]` must print the same JSON shape as the peers (one object per line,
     engine "tumble", relabelled "tumble (T threads)" for T > 1). Until that verb exists the result
@@ -149,11 +149,15 @@ def run_tumble(scene, steps=None, n=None, poses=None, timeout=600, threads=1):
         args += ["--poses", str(poses)]
     if scene != "tori":
         args += ["--threads", str(threads)]
+    if paired and threads > 1:
+        # One run timed on one thread and on T in alternating blocks of steps (cmd_bench.rs):
+        # the speed-up with the machine's drift cancelled.
+        args += ["--paired"]
     return relabel(run_json("tumble", args, timeout, hint), threaded("tumble", threads))
 
 
 # ---------------------------------------------------------------- the run
-def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)):
+def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,), paired=False):
     steps = QUICK_STEPS if quick else max_steps
     timeout = 300 if quick else 7200
     piles = pile_n or (PILE_N_QUICK if quick else PILE_N_FULL)
@@ -179,7 +183,7 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
             if on("tumble"):
                 for t in threads:
                     print(f"[bench] {threaded('tumble', t)} {hint}", file=sys.stderr, flush=True)
-                    results += run_tumble(scene, scene_steps, n, threads=t)
+                    results += run_tumble(scene, scene_steps, n, threads=t, paired=paired)
             # The Python peers have no large pyramid yet (tumble and Rapier run it); they run the
             # concave pile as CoACD's convex pieces (common.decomposed).
             for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene != "large_pyramid"
@@ -301,6 +305,10 @@ def main():
                     help="subset of: tumble pybullet mujoco rapier3d fcl fcl-native coal-obbrss coal-obb parry3d")
     ap.add_argument("--threads", type=int, nargs="*",
                     help="thread counts for tumble and Rapier on the dynamics scenes (default 1 2; quick 1)")
+    ap.add_argument("--paired", action="store_true",
+                    help="time tumble's runs on T > 1 threads paired with one thread: one run whose "
+                         "blocks of steps alternate between 1 and T threads (its record adds "
+                         "one_thread_step_time and paired_speedup; step_time is the T-thread steps')")
     ap.add_argument("--append", action="store_true",
                     help="merge into an existing results-<date>.json of <out>, replacing records of the same "
                          "engine, scene and BV type")
@@ -324,7 +332,7 @@ def main():
         ap.error("--threads values must be positive")
     threads = tuple(a.threads or ((1,) if a.quick else (1, 2)))
     results = collect(a.quick, set(a.only) if a.only else None, a.max_steps, a.pile_n,
-                      set(a.engines) if a.engines else None, threads)
+                      set(a.engines) if a.engines else None, threads, a.paired)
     path = os.path.join(out, f"results-{date}.json")
     if a.append and os.path.exists(path):
         results = merge(json.load(open(path))["results"], results)

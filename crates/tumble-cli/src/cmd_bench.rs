@@ -27,6 +27,15 @@ pub struct BenchArgs {
     /// figures compare with single-threaded peers unless asked otherwise.
     #[arg(long, default_value_t = 1)]
     threads: u32,
+    /// With --threads T > 1: time one thread and T threads on the same run,
+    /// in alternating blocks of steps (1, T, T, 1, 1, T, ...; adaptive
+    /// threads off), so that a machine whose speed drifts over minutes
+    /// slows both alike. The trajectory is the one any thread count gives
+    /// (bit-identical). `step_time` is then the T-thread steps', beside
+    /// `one_thread_step_time` and `paired_speedup` (the one-thread steps'
+    /// total time over the T-thread steps').
+    #[arg(long)]
+    paired: bool,
     /// Tori poses: P poses spread evenly over the 200 (default all).
     #[arg(long)]
     poses: Option<usize>,
@@ -52,23 +61,72 @@ pub(crate) fn peak_rss_bytes() -> u64 {
         .unwrap_or(0)
 }
 
-/// Steps the world, timing each step call (s); `each` sees the world after every step;
-/// `on_threads` counts the steps that ran on more than one thread.
+/// Steps of one block of `--paired`: long enough that a switch of thread
+/// count (the data moving to another core's cache) is a small part of it.
+const PAIRED_BLOCK: usize = 10;
+
+/// The step times of a run (s), and with `--paired` the thread count of
+/// each block.
+struct Timer {
+    /// `Some(T)` with `--paired`: blocks alternate between 1 and T threads.
+    paired: Option<u32>,
+    /// With `--paired`, each step's time by the thread count of its block.
+    one_thread: Vec<f64>,
+    threaded: Vec<f64>,
+    /// Steps that ran on more than one thread.
+    on_threads: usize,
+}
+
+impl Timer {
+    /// Threads of step `i` with `--paired`: blocks in the order 1, T, T, 1,
+    /// 1, T, ..., so that a steady trend in the step's cost (a pile coming
+    /// to rest) favours neither.
+    fn threads_of(&self, i: usize) -> Option<u32> {
+        self.paired.map(|t| {
+            let block = i / PAIRED_BLOCK;
+            if matches!(block % 4, 1 | 2) {
+                t
+            } else {
+                1
+            }
+        })
+    }
+}
+
+/// Steps the world, timing each step call (s); `each` sees the world after
+/// every step. With `--paired`, sets the thread count of each block first.
 fn run_timed(
     world: &mut World,
     steps: usize,
-    on_threads: &mut usize,
+    timer: &mut Timer,
     mut each: impl FnMut(usize, &World, f64),
-) -> Vec<f64> {
+) -> Result<Vec<f64>, CliError> {
     let mut times = Vec::with_capacity(steps);
     for i in 0..steps {
+        if let Some(threads) = timer.threads_of(i) {
+            if world.settings().threads != threads {
+                let mut settings = world.settings().clone();
+                settings.threads = threads;
+                world
+                    .set_settings(settings)
+                    .map_err(|e| CliError::Internal(e.to_string()))?;
+            }
+        }
         let t = Instant::now();
         let report = world.step();
-        times.push(t.elapsed().as_secs_f64());
-        *on_threads += usize::from(report.threads > 1);
+        let t = t.elapsed().as_secs_f64();
+        times.push(t);
+        timer.on_threads += usize::from(report.threads > 1);
+        // By the count the block asked for: a step too small for the
+        // threads runs on one thread either way (`World::step`).
+        if timer.threads_of(i).is_some_and(|t| t > 1) {
+            timer.threaded.push(t);
+        } else {
+            timer.one_thread.push(t);
+        }
         each(i, world, report.max_penetration);
     }
-    times
+    Ok(times)
 }
 
 fn centre(world: &World, id: BodyId) -> tumble_collide::DVec3 {
@@ -152,17 +210,28 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     }
     let steps = args.steps.unwrap_or(scene.steps);
     scene.settings.threads = args.threads;
+    if args.paired {
+        if args.threads == 1 {
+            return Err(CliError::Input(
+                "--paired compares one thread with --threads T: give T > 1 (or 0, every core)".into(),
+            ));
+        }
+        scene.settings.adaptive_threads = false;
+    }
     let (mut world, ids) = scene.build().map_err(|e| CliError::Input(e.to_string()))?;
     let settings = world.settings().clone();
     let start: Vec<_> = ids.iter().map(|&id| centre(&world, id)).collect();
     let mut deepest: f64 = 0.0;
     let mut figures = serde_json::Map::new();
-    let mut on_threads = 0;
+    let mut timer = Timer {
+        paired: args.paired.then(|| world.threads() as u32),
+        one_thread: Vec::new(),
+        threaded: Vec::new(),
+        on_threads: 0,
+    };
     let times = match name.as_str() {
         "pyramid" | "large_pyramid" => {
-            let t = run_timed(&mut world, steps, &mut on_threads, |_, _, p| {
-                deepest = deepest.max(p)
-            });
+            let t = run_timed(&mut world, steps, &mut timer, |_, _, p| deepest = deepest.max(p))?;
             let moved: Vec<f64> = ids
                 .iter()
                 .zip(&start)
@@ -183,7 +252,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             // The goal is "at rest within 5 s": the energy then.
             let five_seconds = (5.0 / settings.dt).round() as usize;
             let mut at_five = None;
-            let t = run_timed(&mut world, steps, &mut on_threads, |i, w, p| {
+            let t = run_timed(&mut world, steps, &mut timer, |i, w, p| {
                 deepest = deepest.max(p);
                 if i + 1 == five_seconds {
                     at_five = Some(w.kinetic_energy());
@@ -196,7 +265,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                     most_points = most_points.max(per_pair.values().copied().max().unwrap_or(0));
                     points = points.max(w.contacts().len());
                 }
-            });
+            })?;
             let centres: Vec<_> = ids.iter().skip(1).map(|&id| centre(&world, id)).collect();
             figures.insert(
                 "bodies_escaped".into(),
@@ -211,14 +280,14 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "chain" | "chain_decomposed" => {
             let reach = scenes::CHAIN_MAX_CENTRE_DISTANCE;
             let mut widest: f64 = 0.0;
-            let t = run_timed(&mut world, steps, &mut on_threads, |i, w, p| {
+            let t = run_timed(&mut world, steps, &mut timer, |i, w, p| {
                 deepest = deepest.max(p);
                 if i % 10 == 0 {
                     for pair in ids.windows(2) {
                         widest = widest.max((centre(w, pair[0]) - centre(w, pair[1])).length());
                     }
                 }
-            });
+            })?;
             let broken = ids
                 .windows(2)
                 .filter(|p| (centre(&world, p[0]) - centre(&world, p[1])).length() > reach)
@@ -234,13 +303,13 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "heavy_chain" | "ragdoll_pile" => {
             // The largest joint gap (m) and misalignment (rad), every 10 steps.
             let mut worst = (0.0f64, 0.0f64);
-            let t = run_timed(&mut world, steps, &mut on_threads, |i, w, p| {
+            let t = run_timed(&mut world, steps, &mut timer, |i, w, p| {
                 deepest = deepest.max(p);
                 if i % 10 == 9 || i + 1 == steps {
                     let (l, a) = w.max_joint_error();
                     worst = (worst.0.max(l), worst.1.max(a));
                 }
-            });
+            })?;
             figures.insert("largest_joint_error_m".into(), json!(worst.0));
             figures.insert("largest_joint_angle_error_rad".into(), json!(worst.1));
             figures.insert("final_joint_error_m".into(), json!(world.max_joint_error().0));
@@ -267,10 +336,10 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             // facets (a second, untimed run of the same scene without it).
             let swing = |w: &World| scenes::swing_angle(centre(w, ids[1]), false);
             let mut meter = scenes::SwingMeter::new(settings.dt, swing(&world));
-            let t = run_timed(&mut world, steps, &mut on_threads, |_, w, p| {
+            let t = run_timed(&mut world, steps, &mut timer, |_, w, p| {
                 deepest = deepest.max(p);
                 meter.observe(swing(w));
-            });
+            })?;
             let phi0 = scenes::BOWL_START_DEG.to_radians();
             let want = tumble::analytic::rolling_period(
                 scenes::BOWL_RADIUS - scenes::BOWL_BALL_RADIUS,
@@ -309,9 +378,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 .map(|&id| mass(&world, id) * world.linear_velocity(id).unwrap_or_default().x)
                 .sum();
             let e0 = world.kinetic_energy();
-            let t = run_timed(&mut world, steps, &mut on_threads, |_, _, p| {
-                deepest = deepest.max(p)
-            });
+            let t = run_timed(&mut world, steps, &mut timer, |_, _, p| deepest = deepest.max(p))?;
             let vx: Vec<f64> = ids
                 .iter()
                 .map(|&id| world.linear_velocity(id).unwrap_or_default().x)
@@ -330,9 +397,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             t
         }
         _ => {
-            let t = run_timed(&mut world, steps, &mut on_threads, |_, _, p| {
-                deepest = deepest.max(p)
-            });
+            let t = run_timed(&mut world, steps, &mut timer, |_, _, p| deepest = deepest.max(p))?;
             let dynamic: Vec<_> = ids.iter().skip(5).map(|&id| centre(&world, id)).collect();
             figures.insert("bodies_outside".into(), json!(scenes::pile_outside(&dynamic)));
             figures.insert(
@@ -347,10 +412,28 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
     };
     figures.insert("deepest_penetration_m".into(), json!(deepest));
-    figures.insert("step_time".into(), json!(scenes::TimingStats::ms(&times)));
+    if timer.paired.is_some() {
+        // The same run's steps on one thread and on the threads (adaptive
+        // threads off, so every step ran on the count its block asked for).
+        figures.insert(
+            "step_time".into(),
+            json!(scenes::TimingStats::ms(&timer.threaded)),
+        );
+        figures.insert(
+            "one_thread_step_time".into(),
+            json!(scenes::TimingStats::ms(&timer.one_thread)),
+        );
+        let total = |t: &[f64]| t.iter().sum::<f64>();
+        figures.insert(
+            "paired_speedup".into(),
+            json!(total(&timer.one_thread) / total(&timer.threaded)),
+        );
+    } else {
+        figures.insert("step_time".into(), json!(scenes::TimingStats::ms(&times)));
+    }
     // With `adaptive_threads` a step runs on one thread while the threads
     // are measured slower: how many ran on the threads.
-    figures.insert("steps_on_threads".into(), json!(on_threads));
+    figures.insert("steps_on_threads".into(), json!(timer.on_threads));
     let out = json!({
         "engine": "tumble",
         "version": env!("CARGO_PKG_VERSION"),
@@ -358,7 +441,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         "status": "ok",
         "settings": {"dt": settings.dt, "steps": steps, "n": ids.len(), "substeps": settings.substeps,
                      "iterations": settings.iterations, "threads": world.threads(),
-                     "adaptive_threads": settings.adaptive_threads},
+                     "adaptive_threads": settings.adaptive_threads, "paired": args.paired},
         "figures": figures,
         "peak_rss_bytes": peak_rss_bytes(),
     });

@@ -1,8 +1,9 @@
 //! The built `tumble` binary end to end: `collide` and `mass` give
 //! physically right answers in their JSON (known overlap depth, gap,
 //! closest points, the box mass formulas), `bench --scene tori` prints the
-//! harness record, `bench --export-scene` writes the scene the peers build
-//! from, and bad input exits with status 2 and one line.
+//! harness record, `bench --paired` times one run on one thread and on two,
+//! `bench --export-scene` writes the scene the peers build from, and bad
+//! input exits with status 2 and one line.
 
 use serde_json::Value;
 use std::process::{Command, Output};
@@ -262,6 +263,33 @@ fn bench_tori_prints_the_harness_record() {
             f["all_pairs_check"]["truth_total_pairs"]
         );
     }
+}
+
+/// `bench --paired` times one run on one thread and on two in alternating
+/// blocks of ten steps (1, 2, 2, 1): the trajectory is the one thread's to
+/// the bit (every figure equal), and each count timed half the steps.
+#[test]
+fn bench_paired_times_the_same_run_on_one_thread_and_on_two() {
+    let args = ["bench", "--scene", "pyramid", "--steps", "40"];
+    let alone = json_of(&args);
+    let paired = json_of(&[&args[..], &["--threads", "2", "--paired"]].concat());
+    let (f, g) = (&alone["figures"], &paired["figures"]);
+    for key in [
+        "top_box_displacement_m",
+        "largest_displacement_m",
+        "deepest_penetration_m",
+    ] {
+        assert!(f[key].as_f64().is_some(), "{key}");
+        assert_eq!(f[key], g[key], "{key}");
+    }
+    assert_eq!(g["step_time"]["count"], 20);
+    assert_eq!(g["one_thread_step_time"]["count"], 20);
+    assert!(g["steps_on_threads"].as_u64().unwrap() <= 20);
+    let speedup = g["paired_speedup"].as_f64().unwrap();
+    assert!(speedup.is_finite() && speedup > 0.0, "{speedup}");
+    assert_eq!(paired["settings"]["paired"], true);
+    assert_eq!(paired["settings"]["adaptive_threads"], false);
+    assert_input_error(&[&args[..], &["--paired"]].concat(), "--paired");
 }
 
 #[test]

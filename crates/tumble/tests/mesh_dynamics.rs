@@ -576,7 +576,8 @@ fn resting_mesh_pairs_re_evaluate_their_kept_points_and_miss_nothing_a_search_fi
 #[test]
 fn resting_mesh_pairs_give_the_same_bits_after_a_snapshot_and_on_any_thread_count() {
     // Where each pair was last searched is state: a snapshot taken while
-    // the tori rest (re-evaluating) continues as the original does.
+    // the tori rest (re-evaluating) continues as the original does, and so
+    // does a world switched to another thread count.
     let (mut world, _) = stacked_fine_tori(WorldSettings {
         threads: 1,
         ..WorldSettings::default()
@@ -600,6 +601,25 @@ fn resting_mesh_pairs_give_the_same_bits_after_a_snapshot_and_on_any_thread_coun
         assert_eq!(world.state_hash(), copy.state_hash(), "step {step}");
         assert_eq!(world.state_hash(), threaded.state_hash(), "step {step}");
     }
+    // Another thread count alone (`tumble bench --paired` switches every
+    // ten steps) keeps that memory: the pairs go on re-evaluating, with the
+    // same bits. A new margin makes every pair search again.
+    let settings = copy.settings().clone();
+    copy.set_settings(WorldSettings {
+        threads: 2,
+        adaptive_threads: false,
+        ..settings.clone()
+    })
+    .unwrap();
+    assert_eq!(copy.step().revalidated_mesh_pairs, 3);
+    world.step();
+    assert_eq!(world.state_hash(), copy.state_hash());
+    copy.set_settings(WorldSettings {
+        mesh_contact_margin: settings.mesh_contact_margin * 1.5,
+        ..copy.settings().clone()
+    })
+    .unwrap();
+    assert_eq!(copy.step().revalidated_mesh_pairs, 0);
 }
 
 #[test]

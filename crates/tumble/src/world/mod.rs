@@ -310,9 +310,19 @@ impl World {
         if settings.threads != self.settings.threads {
             self.pool = crate::pool::WorkerPool::new(settings.threads);
         }
-        self.settings = settings;
         // A new margin or resting motion: every mesh pair searches again.
-        self.searches.clear();
+        // Not for another thread count alone, which changes no bit of the
+        // step (a benchmark switching between one thread and two keeps the
+        // work of the run it times).
+        let threads_only = WorldSettings {
+            threads: self.settings.threads,
+            adaptive_threads: self.settings.adaptive_threads,
+            ..settings.clone()
+        } == self.settings;
+        self.settings = settings;
+        if !threads_only {
+            self.searches.clear();
+        }
         Ok(())
     }
 

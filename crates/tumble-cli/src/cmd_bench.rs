@@ -434,13 +434,16 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     // With `adaptive_threads` a step runs on one thread while the threads
     // are measured slower: how many ran on the threads.
     figures.insert("steps_on_threads".into(), json!(timer.on_threads));
+    // A paired run ends on whichever count its last block had: it ran
+    // for the T of `--threads`.
+    let threads = timer.paired.map_or(world.threads(), |t| t as usize);
     let out = json!({
         "engine": "tumble",
         "version": env!("CARGO_PKG_VERSION"),
         "scene": name,
         "status": "ok",
         "settings": {"dt": settings.dt, "steps": steps, "n": ids.len(), "substeps": settings.substeps,
-                     "iterations": settings.iterations, "threads": world.threads(),
+                     "iterations": settings.iterations, "threads": threads,
                      "adaptive_threads": settings.adaptive_threads, "paired": args.paired},
         "figures": figures,
         "peak_rss_bytes": peak_rss_bytes(),

@@ -288,6 +288,8 @@ fn bench_paired_times_the_same_run_on_one_thread_and_on_two() {
     let speedup = g["paired_speedup"].as_f64().unwrap();
     assert!(speedup.is_finite() && speedup > 0.0, "{speedup}");
     assert_eq!(paired["settings"]["paired"], true);
+    // The threads it ran for, not those of its last block (one thread).
+    assert_eq!(paired["settings"]["threads"], 2);
     assert_eq!(paired["settings"]["adaptive_threads"], false);
     assert_input_error(&[&args[..], &["--paired"]].concat(), "--paired");
 }

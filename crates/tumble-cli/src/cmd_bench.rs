@@ -216,6 +216,12 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 "--paired compares one thread with --threads T: give T > 1 (or 0, every core)".into(),
             ));
         }
+        if steps < 2 * PAIRED_BLOCK {
+            return Err(CliError::Input(format!(
+                "--paired times blocks of {PAIRED_BLOCK} steps on each thread count: give --steps {} or more, got {steps}",
+                2 * PAIRED_BLOCK
+            )));
+        }
         scene.settings.adaptive_threads = false;
     }
     let (mut world, ids) = scene.build().map_err(|e| CliError::Input(e.to_string()))?;

@@ -292,6 +292,19 @@ fn bench_paired_times_the_same_run_on_one_thread_and_on_two() {
     assert_eq!(paired["settings"]["threads"], 2);
     assert_eq!(paired["settings"]["adaptive_threads"], false);
     assert_input_error(&[&args[..], &["--paired"]].concat(), "--paired");
+    assert_input_error(
+        &[
+            "bench",
+            "--scene",
+            "pyramid",
+            "--steps",
+            "5",
+            "--threads",
+            "2",
+            "--paired",
+        ],
+        "--steps 20 or more",
+    );
 }
 
 #[test]

@@ -119,10 +119,10 @@ fn run_timed(
         timer.on_threads += usize::from(report.threads > 1);
         // By the count the block asked for: a step too small for the
         // threads runs on one thread either way (`World::step`).
-        if timer.threads_of(i).is_some_and(|t| t > 1) {
-            timer.threaded.push(t);
-        } else {
-            timer.one_thread.push(t);
+        match timer.threads_of(i) {
+            Some(threads) if threads > 1 => timer.threaded.push(t),
+            Some(_) => timer.one_thread.push(t),
+            None => {}
         }
         each(i, world, report.max_penetration);
     }

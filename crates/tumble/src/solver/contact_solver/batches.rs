@@ -143,14 +143,18 @@ impl SolverArrays<'_> {
         // writes its own run of bundles.
         unsafe {
             let (manifolds, points) = (self.manifolds.as_slice(), self.points.as_slice());
-            for w in self.ones.range_mut(team.share(self.ones.len(), 1)) {
-                w.fill(manifolds, points);
+            let [ones, twos, fours] = &self.wide.sources;
+            let r = team.share(self.ones.len(), 1);
+            for (w, &source) in self.ones.range_mut(r.clone()).iter_mut().zip(&ones[r]) {
+                w.fill(source, manifolds, points);
             }
-            for w in self.twos.range_mut(team.share(self.twos.len(), 1)) {
-                w.fill(manifolds, points);
+            let r = team.share(self.twos.len(), 1);
+            for (w, &source) in self.twos.range_mut(r.clone()).iter_mut().zip(&twos[r]) {
+                w.fill(source, manifolds, points);
             }
-            for w in self.fours.range_mut(team.share(self.fours.len(), 1)) {
-                w.fill(manifolds, points);
+            let r = team.share(self.fours.len(), 1);
+            for (w, &source) in self.fours.range_mut(r.clone()).iter_mut().zip(&fours[r]) {
+                w.fill(source, manifolds, points);
             }
         }
         team.barrier();

@@ -200,14 +200,14 @@ pub fn bundle_points(m: &ManifoldConstraint) -> Option<usize> {
 }
 
 impl<const N: usize> WidePatch<N> {
-    /// A bundle for the patches `sources` (at most [`LANES`], indices into
-    /// the patch array; the other lanes empty), to be
-    /// [`filled`](WidePatch::fill) from their records.
-    fn planned(sources: &[u32]) -> WidePatch<N> {
+    /// A bundle for the patches `source` (each lane's index into the patch
+    /// array, [`EMPTY`] for none), to be [`filled`](WidePatch::fill) from
+    /// their records.
+    fn planned(source: [u32; LANES]) -> WidePatch<N> {
         WidePatch {
             a: [0; LANES],
             b: [0; LANES],
-            source: lane_sources(sources),
+            source,
             friction: Lane::ZERO,
             twist_radius: Lane::ZERO,
             roll: RollLanes::default(),
@@ -232,13 +232,18 @@ impl<const N: usize> WidePatch<N> {
         }
     }
 
-    /// Sets every lane from its patch's record (a planned bundle, once):
-    /// first everything but the sources to zero (the empty lanes and the
-    /// unused points stay so), here rather than when planned, so that the
-    /// team clears the bundles it fills while they are in its cache.
-    pub(super) fn fill(&mut self, manifolds: &[ManifoldConstraint], points: &[PointConstraint]) {
-        let source = self.source;
-        *self = WidePatch::planned(&source);
+    /// Sets every lane from its patch's record, the lanes' patches being
+    /// `source` (as [`WideBatches::plan`] planned them): first everything
+    /// else to zero (the empty lanes and the unused points stay so), here
+    /// rather than when planned, so that the team clears the bundles it
+    /// fills while they are in its cache.
+    pub(super) fn fill(
+        &mut self,
+        source: [u32; LANES],
+        manifolds: &[ManifoldConstraint],
+        points: &[PointConstraint],
+    ) {
+        *self = WidePatch::planned(source);
         let w = self;
         for (l, k) in w.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
             let m = &manifolds[k as usize];
@@ -433,6 +438,10 @@ pub(crate) struct WideBatches {
     pub twos: Vec<WidePatch<2>>,
     /// Bundles of three- and four-point patches.
     pub fours: Vec<WidePatch<4>>,
+    /// The lanes' patches (indices into the patch array, [`EMPTY`] for
+    /// none) of each bundle of `ones`, `twos` and `fours`, by index: set
+    /// by [`Self::plan`], copied into each bundle as it is filled.
+    pub sources: [Vec<[u32; LANES]>; 3],
     /// Per colour of the colouring: its bundles and large patches.
     pub colors: Vec<ColorBundles>,
     /// Patches of more than four points, colour after colour (indices into
@@ -445,60 +454,58 @@ pub(crate) struct WideBatches {
 
 impl WideBatches {
     /// Plans the bundles of the colours of `coloring` (the overflow batch
-    /// stays out), reusing this value's buffers.
+    /// stays out), reusing this value's buffers, from each patch record's
+    /// [`bundle_points`] (0 for none), in record order.
     ///
     /// Only the lanes' sources are set here; each bundle is then
     /// [`filled`](WidePatch::fill) from the records, by the solver's team
     /// (`SolverArrays::fill`).
-    pub fn plan(&mut self, coloring: &Coloring, manifolds: &[ManifoldConstraint]) {
-        // The bundle arrays keep last step's bundles: only their sources are
-        // set here (`fill` clears the rest), sparing a serial pass that
-        // built every bundle on the stack and copied it into place.
+    pub fn plan(&mut self, coloring: &Coloring, bundle_points: &[u8]) {
+        // From each record's bundle size alone (written with the records,
+        // on the pool), writing only the small lists of sources: the
+        // records (some 200 bytes each) and the bundles (about 7 KB each
+        // for faces) are touched by the team that fills them, not here
+        // (this serial pass read every record twice and wrote into every
+        // bundle: 1.3-1.8 ms a step of the pile of 10,000).
         self.colors.clear();
         self.large.clear();
-        // Sized first: bundles are large, and a vector that doubles its way
-        // up moves them several times and faults in fresh pages each step.
-        let mut counts = [0usize; 3];
-        for range in &coloring.colors {
-            let mut per_color = [0usize; 3];
-            for m in &manifolds[range.clone()] {
-                match bundle_points(m) {
-                    Some(1) => per_color[0] += 1,
-                    Some(2) => per_color[1] += 1,
-                    Some(_) => per_color[2] += 1,
-                    None => {}
-                }
-            }
-            for (c, n) in counts.iter_mut().zip(per_color) {
-                *c += n.div_ceil(LANES);
-            }
-        }
-        self.ones.reserve(counts[0].saturating_sub(self.ones.len()));
-        self.twos.reserve(counts[1].saturating_sub(self.twos.len()));
-        self.fours.reserve(counts[2].saturating_sub(self.fours.len()));
-        let mut used = [0usize; 3];
+        self.sources.iter_mut().for_each(Vec::clear);
         let mut by_size: [Vec<u32>; 3] = Default::default();
         for range in &coloring.colors {
             by_size.iter_mut().for_each(Vec::clear);
             let first_large = self.large.len();
             for k in range.clone() {
-                match bundle_points(&manifolds[k]) {
-                    Some(1) => by_size[0].push(k as u32),
-                    Some(2) => by_size[1].push(k as u32),
-                    Some(_) => by_size[2].push(k as u32),
-                    None => self.large.push(k as u32),
+                match bundle_points[k] {
+                    1 => by_size[0].push(k as u32),
+                    2 => by_size[1].push(k as u32),
+                    0 => self.large.push(k as u32),
+                    _ => by_size[2].push(k as u32),
                 }
             }
+            let [ones, twos, fours] = std::array::from_fn(|kind| {
+                let sources = &mut self.sources[kind];
+                let first = sources.len();
+                sources.extend(by_size[kind].chunks(LANES).map(lane_sources));
+                first..sources.len()
+            });
             self.colors.push(ColorBundles {
-                ones: bundle_run(&mut self.ones, &mut used[0], &by_size[0]),
-                twos: bundle_run(&mut self.twos, &mut used[1], &by_size[1]),
-                fours: bundle_run(&mut self.fours, &mut used[2], &by_size[2]),
+                ones,
+                twos,
+                fours,
                 large: first_large..self.large.len(),
             });
         }
-        self.ones.truncate(used[0]);
-        self.twos.truncate(used[1]);
-        self.fours.truncate(used[2]);
+        // The bundle arrays keep last step's bundles (`fill` rewrites each
+        // whole); grown, sized first: bundles are large, and a vector that
+        // doubles its way up moves them several times.
+        fn size<const N: usize>(bundles: &mut Vec<WidePatch<N>>, n: usize) {
+            bundles.truncate(n);
+            bundles.reserve(n - bundles.len());
+            bundles.resize_with(n, || WidePatch::planned([EMPTY; LANES]));
+        }
+        size(&mut self.ones, self.sources[0].len());
+        size(&mut self.twos, self.sources[1].len());
+        size(&mut self.fours, self.sources[2].len());
         // Levels of a small problem run on one thread (`coloring`).
         self.split = if coloring.levels {
             0
@@ -509,25 +516,6 @@ impl WideBatches {
                 .map_or(0, |c| c + 1)
         };
     }
-}
-
-/// Plans bundles of four of the patches `sources` in `out` from its
-/// entry `used` on (reusing the entries there, appending beyond); their
-/// range.
-fn bundle_run<const N: usize>(
-    out: &mut Vec<WidePatch<N>>,
-    used: &mut usize,
-    sources: &[u32],
-) -> Range<usize> {
-    let first = *used;
-    for chunk in sources.chunks(LANES) {
-        match out.get_mut(*used) {
-            Some(w) => w.source = lane_sources(chunk),
-            None => out.push(WidePatch::planned(chunk)),
-        }
-        *used += 1;
-    }
-    first..*used
 }
 
 /// The patch of each lane: `sources` in order, then [`EMPTY`].
@@ -1535,7 +1523,11 @@ mod tests {
         );
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         let mut wide = WideBatches::default();
-        wide.plan(&coloring, manifolds);
+        let sizes: Vec<u8> = manifolds
+            .iter()
+            .map(|m| bundle_points(m).map_or(0, |n| n as u8))
+            .collect();
+        wide.plan(&coloring, &sizes);
         let (mut ones, mut twos, mut fours) = (
             std::mem::take(&mut wide.ones),
             std::mem::take(&mut wide.twos),

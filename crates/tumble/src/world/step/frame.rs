@@ -64,6 +64,10 @@ pub(crate) struct SolverFrame {
     pub points: Vec<PointConstraint>,
     /// Patch rows, one per contact patch, sorted by colour.
     pub manifolds: Vec<ManifoldConstraint>,
+    /// Per patch row: the points of the bundles it goes to
+    /// (`contact_solver::bundle_points`, 0 for none), written with the
+    /// rows, so that the bundles are planned from this list alone.
+    pub bundle_points: Vec<u8>,
     /// Per contact patch (`StepFrame::patches` order): its index in `manifolds`.
     pub position: Vec<u32>,
     /// Joint rows, one record per joint with a movable body, sorted by colour.

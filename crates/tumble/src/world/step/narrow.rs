@@ -120,7 +120,7 @@ impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
         let velocity = slot_velocities(&self.bodies, f.n_slots);
         let poses = ColliderPoses::of(self, f.n_slots);
-        let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs);
+        let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs, f.meshes);
         // Only mesh pairs re-evaluate (`resting_pair`).
         let stirred = if f.meshes {
             neighbour_speeds(&self.bodies, &velocity, &f.pairs, &f.swept)

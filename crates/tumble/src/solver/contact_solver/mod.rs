@@ -79,4 +79,4 @@ pub use joint::{
 };
 pub use joint_island::{joint_islands, keep_joint_islands, JointIsland, MAX_PROFILE};
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};
-pub(crate) use wide::{bundle_points, WideBatches};
+pub(crate) use wide::{BundleKind, WideBatches};

@@ -182,20 +182,35 @@ struct RollLanes {
     share_b: Lane,
 }
 
-/// The bundle a patch travels in: the point count of its kernel, or `None`
-/// for a patch of more than [`BLOCK_POINTS`](super::constraint::BLOCK_POINTS)
-/// points (scalar kernels).
-#[inline]
-pub fn bundle_points(m: &ManifoldConstraint) -> Option<usize> {
-    if m.is_curved() {
-        // Its normals turn every sub-step: rare, and scalar.
-        return None;
-    }
-    match m.point_count {
-        0 | 1 => Some(1),
-        2 => Some(2),
-        3 | 4 => Some(4),
-        _ => None,
+/// The bundle a patch travels in, by the point count of its kernel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BundleKind {
+    /// Bundles of lone points.
+    Ones,
+    /// Bundles of two-point patches.
+    Twos,
+    /// Bundles of three- and four-point patches.
+    Fours,
+    /// No bundle: a patch of more than
+    /// [`BLOCK_POINTS`](super::constraint::BLOCK_POINTS) points, or a curved
+    /// one (scalar kernels).
+    Large,
+}
+
+impl BundleKind {
+    /// The bundle of patch `m`.
+    #[inline]
+    pub fn of(m: &ManifoldConstraint) -> BundleKind {
+        if m.is_curved() {
+            // Its normals turn every sub-step: rare, and scalar.
+            return BundleKind::Large;
+        }
+        match m.point_count {
+            0 | 1 => BundleKind::Ones,
+            2 => BundleKind::Twos,
+            3 | 4 => BundleKind::Fours,
+            _ => BundleKind::Large,
+        }
     }
 }
 
@@ -455,13 +470,13 @@ pub(crate) struct WideBatches {
 impl WideBatches {
     /// Plans the bundles of the colours of `coloring` (the overflow batch
     /// stays out), reusing this value's buffers, from each patch record's
-    /// [`bundle_points`] (0 for none), in record order.
+    /// [`BundleKind`], in record order.
     ///
     /// Only the lanes' sources are set here; each bundle is then
     /// [`filled`](WidePatch::fill) from the records, by the solver's team
     /// (`SolverArrays::fill`).
-    pub fn plan(&mut self, coloring: &Coloring, bundle_points: &[u8]) {
-        // From each record's bundle size alone (written with the records,
+    pub fn plan(&mut self, coloring: &Coloring, kinds: &[BundleKind]) {
+        // From each record's bundle kind alone (written with the records,
         // on the pool), writing only the small lists of sources: the
         // records (some 200 bytes each) and the bundles (about 7 KB each
         // for faces) are touched by the team that fills them, not here
@@ -475,11 +490,11 @@ impl WideBatches {
             by_size.iter_mut().for_each(Vec::clear);
             let first_large = self.large.len();
             for k in range.clone() {
-                match bundle_points[k] {
-                    1 => by_size[0].push(k as u32),
-                    2 => by_size[1].push(k as u32),
-                    0 => self.large.push(k as u32),
-                    _ => by_size[2].push(k as u32),
+                match kinds[k] {
+                    BundleKind::Ones => by_size[0].push(k as u32),
+                    BundleKind::Twos => by_size[1].push(k as u32),
+                    BundleKind::Fours => by_size[2].push(k as u32),
+                    BundleKind::Large => self.large.push(k as u32),
                 }
             }
             let [ones, twos, fours] = std::array::from_fn(|kind| {
@@ -1523,11 +1538,8 @@ mod tests {
         );
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         let mut wide = WideBatches::default();
-        let sizes: Vec<u8> = manifolds
-            .iter()
-            .map(|m| bundle_points(m).map_or(0, |n| n as u8))
-            .collect();
-        wide.plan(&coloring, &sizes);
+        let kinds: Vec<BundleKind> = manifolds.iter().map(BundleKind::of).collect();
+        wide.plan(&coloring, &kinds);
         let (mut ones, mut twos, mut fours) = (
             std::mem::take(&mut wide.ones),
             std::mem::take(&mut wide.twos),

@@ -5,8 +5,8 @@
 use crate::body::BodyState;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    Coloring, GearConstraint, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint, SolverBody,
-    WideBatches,
+    BundleKind, Coloring, GearConstraint, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint,
+    SolverBody, WideBatches,
 };
 use crate::world::patches::{PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
@@ -64,10 +64,9 @@ pub(crate) struct SolverFrame {
     pub points: Vec<PointConstraint>,
     /// Patch rows, one per contact patch, sorted by colour.
     pub manifolds: Vec<ManifoldConstraint>,
-    /// Per patch row: the points of the bundles it goes to
-    /// (`contact_solver::bundle_points`, 0 for none), written with the
-    /// rows, so that the bundles are planned from this list alone.
-    pub bundle_points: Vec<u8>,
+    /// Per patch row: the bundles it goes to, written with the rows, so
+    /// that the bundles are planned from this list alone.
+    pub bundle_kinds: Vec<BundleKind>,
     /// Per contact patch (`StepFrame::patches` order): its index in `manifolds`.
     pub position: Vec<u32>,
     /// Joint rows, one record per joint with a movable body, sorted by colour.

@@ -12,7 +12,7 @@ use crate::body::BodyKind;
 use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    self, begin_gears, push_gears, solve_gears, Coloring, GearConstraint, JointConstraint,
+    self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
     ManifoldConstraint, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
@@ -163,7 +163,7 @@ impl World {
         } else {
             let joint_coloring = std::mem::take(&mut sf.joint_coloring);
             let mut wide = std::mem::take(&mut self.scratch.wide);
-            wide.plan(&coloring, &sf.bundle_points);
+            wide.plan(&coloring, &sf.bundle_kinds);
             let (mut ones, mut twos, mut fours) = (
                 std::mem::take(&mut wide.ones),
                 std::mem::take(&mut wide.twos),
@@ -447,11 +447,11 @@ impl World {
         let (placeholder_point, placeholder_patch) = placeholders();
         sf.points.resize(total as usize, placeholder_point);
         sf.manifolds.resize(order.len(), placeholder_patch);
-        sf.bundle_points.resize(order.len(), 0);
+        sf.bundle_kinds.resize(order.len(), BundleKind::Large);
         let run = (order.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
         let mut runs = Vec::with_capacity(order.len().div_ceil(run));
         let (mut points, mut manifolds) = (&mut sf.points[..], &mut sf.manifolds[..]);
-        let mut bundle_points = &mut sf.bundle_points[..];
+        let mut bundle_kinds = &mut sf.bundle_kinds[..];
         for (c, patches) in order.chunks(run).enumerate() {
             let start = c * run;
             let count = (firsts[start + patches.len()] - firsts[start]) as usize;
@@ -459,20 +459,15 @@ impl World {
             points = rest;
             let (run_patches, rest) = std::mem::take(&mut manifolds).split_at_mut(patches.len());
             manifolds = rest;
-            let (run_bundle_points, rest) = std::mem::take(&mut bundle_points).split_at_mut(patches.len());
-            bundle_points = rest;
-            runs.push((start, run_points, run_patches, run_bundle_points));
+            let (run_kinds, rest) = std::mem::take(&mut bundle_kinds).split_at_mut(patches.len());
+            bundle_kinds = rest;
+            runs.push((start, run_points, run_patches, run_kinds));
         }
         let (patches, prepared) = (&f.patches, &f.points);
-        f.pool.for_each_mut(
-            &mut runs,
-            |_, (start, run_points, run_patches, run_bundle_points)| {
+        f.pool
+            .for_each_mut(&mut runs, |_, (start, run_points, run_patches, run_kinds)| {
                 let mut at = 0;
-                for (j, (m, bundle)) in run_patches
-                    .iter_mut()
-                    .zip(run_bundle_points.iter_mut())
-                    .enumerate()
-                {
+                for (j, (m, kind)) in run_patches.iter_mut().zip(run_kinds.iter_mut()).enumerate() {
                     let i = order[*start + j] as usize;
                     let p = &patches[i];
                     let n = p.count as usize;
@@ -499,10 +494,9 @@ impl World {
                         m.anchor_r = anchor.r;
                         m.anchor_offset = anchor.offset;
                     }
-                    *bundle = contact_solver::bundle_points(m).map_or(0, |n| n as u8);
+                    *kind = BundleKind::of(m);
                 }
-            },
-        );
+            });
         let position = &sf.position;
         for island in &mut sf.joint_islands {
             island.renumber_patches(|k| position[k as usize]);

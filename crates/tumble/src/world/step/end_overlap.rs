@@ -609,9 +609,9 @@ impl World {
             // Each pair's floor, whether it is deeper than its trigger, and
             // its points within `reach` (see `end_overlaps`), in pair order
             // by runs of pairs. Read through the runs, not joined into one
-            // list: the join moved each of the pile of 10,000's 110,000
-            // results a landing step once more (1.3 ms on one thread, 2.7
-            // on two, serial).
+            // list: the join moved every result once more (1.3 ms a step of
+            // the pile of 10,000's landing on one thread, 2.7 on two,
+            // serial).
             let collide = |pairs: &[(u32, u32)], reach: f64, keep: bool| -> Vec<Vec<Collided>> {
                 frame
                     .pool
@@ -658,9 +658,8 @@ impl World {
             // has collided already takes its points from here (most of
             // them: the stage collided pairs 112,000 times a step of the
             // pile of 10,000's landing, now 76,000, with the same bits).
-            // Mesh pairs keep colliding
-            // with no reach, as their walks' fronts are kept for the next
-            // step.
+            // Mesh pairs keep colliding with no reach, as their walks'
+            // fronts are kept for the next step.
             let reuse = !f.meshes && pass < PASSES;
             debug_assert!(active.is_sorted(), "pairs in pair order");
             let mut collided = collide(&active, if reuse { margin } else { 0.0 }, pass == 0);

@@ -719,21 +719,27 @@ impl World {
                         && may_take_part(a, b)
                         && pairs.binary_search(&(a, b)).is_err()
                 });
-                // Those this pass has not collided yet, then all in order
-                // (`shallow` is in pair order, as `active` is).
+                // Each guard's entry in `shallow` (in pair order, as
+                // `active` is), if this pass collided it; those it did not
+                // are collided now, then all taken in order.
+                let reused: Vec<Option<usize>> = beside
+                    .iter()
+                    .map(|p| shallow.binary_search_by_key(p, |s| s.0).ok())
+                    .collect();
                 let fresh: Vec<(u32, u32)> = beside
                     .iter()
-                    .copied()
-                    .filter(|&p| shallow.binary_search_by_key(&p, |s| s.0).is_err())
+                    .zip(&reused)
+                    .filter(|(_, r)| r.is_none())
+                    .map(|(&p, _)| p)
                     .collect();
                 let mut fresh_collided = collide(&fresh, margin, false).into_iter().flatten();
-                for &pair in &beside {
-                    let (floor, contacts) = match shallow.binary_search_by_key(&pair, |s| s.0) {
-                        Ok(i) => {
+                for (&pair, &reused) in beside.iter().zip(&reused) {
+                    let (floor, contacts) = match reused {
+                        Some(i) => {
                             let s = &mut shallow[i];
                             (s.1, std::mem::take(&mut s.2))
                         }
-                        Err(_) => {
+                        None => {
                             let (floor, _, contacts, _) = fresh_collided.next().expect("one per fresh pair");
                             (floor, contacts)
                         }

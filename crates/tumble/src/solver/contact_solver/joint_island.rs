@@ -30,6 +30,16 @@
 //! pushed together (their limits after the system), so that a thread works
 //! through one island's rows at a time.
 //!
+//! An island is a tree of joints: a joint that closes a loop (a rope
+//! bridge's second anchor, a net's cross links, a door's second hinge) is
+//! left out of it and relaxed beside it in its colour, as a joint of no
+//! island is ([`island_shapes`]). A loop's rows can depend on each other
+//! (a taut chain between two fixed points has one row along it too many, a
+//! net's in-plane rows outnumber its bodies' in-plane freedoms), and `K`
+//! is then singular or nearly so: solved directly, any error in the
+//! right-hand side (the push-out's targets, the aim) became an impulse
+//! without bound. A tree's rows never depend on each other.
+//!
 //! Consecutive islands of the same shape (the same joints between the same
 //! kinds of bodies: a pile of ragdolls) without motors share one unit and
 //! are factored and solved four at a time, one per SIMD lane
@@ -1034,6 +1044,9 @@ fn island_shapes(
     // Position of each joint in its island's order (each joint is in one island).
     let mut position = vec![usize::MAX; joints.len()];
     let mut islands = Vec::new();
+    // Dynamic bodies reached by the joints of the islands so far (islands
+    // share none).
+    let mut reached = vec![false; n_bodies];
     for root in 0..joints.len() {
         if seen[root] {
             continue;
@@ -1059,6 +1072,7 @@ fn island_shapes(
             }
             head += 1;
         }
+        let mut order = spanning_tree(order, joints, bodies, &gears_of, &mut reached);
         // Leaves first (the breadth-first order reversed): a joint's rows
         // then reach back only to joints further out on the same bodies, and
         // a tree's hub (a ragdoll's torso) comes last, so the profile stays
@@ -1216,6 +1230,45 @@ fn island_shapes(
         });
     }
     islands
+}
+
+/// The joints of `order` (an island's, breadth-first) that form a tree:
+/// in order, each joint that reaches a body the joints kept before it have
+/// not (the world, every immovable body, counting as one body), and a
+/// joint with a gear, whose row the gear's coupling needs in the system.
+/// The others close loops and are left out, to be relaxed beside the
+/// island (module header). `reached` marks the kept joints' dynamic
+/// bodies.
+///
+/// Each joint after the first was found through a body of an earlier one,
+/// which a kept joint reached: every kept joint adds one body, and every
+/// body of the island is reached, so the kept joints span it.
+fn spanning_tree(
+    order: Vec<u32>,
+    joints: &[JointConstraint],
+    bodies: &[SolverBody],
+    gears_of: &[Vec<u32>],
+    reached: &mut [bool],
+) -> Vec<u32> {
+    let mut world = false;
+    let mut tree = Vec::with_capacity(order.len());
+    for k in order {
+        let j = &joints[k as usize];
+        let sides = [j.a, j.b].map(|b| (b, bodies[b as usize].dynamic));
+        let seen = |&(b, dynamic): &(u32, bool)| if dynamic { reached[b as usize] } else { world };
+        if !tree.is_empty() && sides.iter().all(seen) && gears_of[k as usize].is_empty() {
+            continue;
+        }
+        for (b, dynamic) in sides {
+            if dynamic {
+                reached[b as usize] = true;
+            } else {
+                world = true;
+            }
+        }
+        tree.push(k);
+    }
+    tree
 }
 
 /// Gives each island the patches it owns this step (`contacts`, as in
@@ -1395,7 +1448,42 @@ mod tests {
         integrate_positions(bodies, q0, h);
     }
 
-    /// Four islands of one shape solved in the lanes of one unit give the
+    /// An island keeps a tree of its joints: of [`trees`]' six joints on
+    /// five bodies and the world (body 4 jointed to both 2 and 3 closes the
+    /// loop 0-2-4-3-1-0), the last one the breadth-first walk meets is left
+    /// to be relaxed beside the island, and the five kept reach every body
+    /// and the world once each; a joint to the world from a body the
+    /// island has reached closes a loop through the world.
+    #[test]
+    fn an_island_keeps_a_tree_and_leaves_the_joint_that_closes_a_loop() {
+        let (bodies, mut joints) = trees(&mut SplitMix64(3), 1);
+        let islands = joint_islands(&mut joints, &mut [], &bodies, &[]);
+        assert_eq!(islands.len(), 1);
+        let kept = &islands[0].lanes[0];
+        assert_eq!(kept.len(), 5);
+        let relaxed: Vec<usize> = (0..joints.len()).filter(|&k| !joints[k].direct).collect();
+        assert_eq!(relaxed, vec![5], "the slider from 4 to 3 closes the loop");
+        let mut reached: Vec<u32> = kept
+            .iter()
+            .flat_map(|&k| [joints[k as usize].a, joints[k as usize].b])
+            .collect();
+        reached.sort_unstable();
+        reached.dedup();
+        assert_eq!(reached, vec![0, 1, 2, 3, 4, 5]);
+
+        // Without the slider, a ball joint from the leaf 5 (body 4 of the
+        // tree) to the world, which the root's joint reached.
+        let (bodies, mut joints) = trees(&mut SplitMix64(3), 1);
+        let mut to_world = joints[0].clone();
+        to_world.a = 5;
+        joints.truncate(5);
+        joints.push(to_world);
+        let islands = joint_islands(&mut joints, &mut [], &bodies, &[]);
+        assert_eq!(islands[0].lanes[0].len(), 5);
+        assert!(!joints[5].direct && joints[..5].iter().all(|j| j.direct));
+    }
+
+    /// Four islands of one shape solved in the lanes of one unit give the    /// Four islands of one shape solved in the lanes of one unit give the
     /// bits each gets in a unit of its own: sub-steps of the joints' start,
     /// two velocity passes, a push-out pass and the position update.
     #[test]

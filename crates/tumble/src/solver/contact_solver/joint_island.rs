@@ -30,10 +30,10 @@
 //! pushed together (their limits after the system), so that a thread works
 //! through one island's rows at a time.
 //!
-//! An island is a tree of joints: a joint that closes a loop (a rope
-//! bridge's second anchor, a net's cross links, a door's second hinge) is
-//! left out of it and relaxed beside it in its colour, as a joint of no
-//! island is ([`island_shapes`]). A loop's rows can depend on each other
+//! An island's joints with equality rows form a tree: a joint that closes
+//! a loop (a rope bridge's second anchor, a net's cross links, a door's
+//! second hinge) is left out of it and relaxed beside it in its colour, as
+//! a joint of no island is (`spanning_tree`). A loop's rows can depend on each other
 //! (a taut chain between two fixed points has one row along it too many, a
 //! net's in-plane rows outnumber its bodies' in-plane freedoms), and `K`
 //! is then singular or nearly so: solved directly, any error in the
@@ -1232,17 +1232,15 @@ fn island_shapes(
     islands
 }
 
-/// The joints of `order` (an island's, breadth-first) that form a tree:
-/// in order, each joint that reaches a body the joints kept before it have
-/// not (the world, every immovable body, counting as one body), and a
-/// joint with a gear, whose row the gear's coupling needs in the system.
-/// The others close loops and are left out, to be relaxed beside the
-/// island (module header). `reached` marks the kept joints' dynamic
-/// bodies.
-///
-/// Each joint after the first was found through a body of an earlier one,
-/// which a kept joint reached: every kept joint adds one body, and every
-/// body of the island is reached, so the kept joints span it.
+/// The joints of `order` (an island's, breadth-first) whose equality rows
+/// form a tree: in order, each joint with equality rows that reaches a
+/// body the joints kept before it have not (the world, every immovable
+/// body, counting as one body), a joint with a gear (whose row the gear's
+/// coupling needs in the system), and every joint without equality rows (a
+/// rope, a spring: its rows in the system, if any, are soft, and cannot
+/// depend on others). The others close loops and are left out, to be
+/// relaxed beside the island (module header). `reached` marks the
+/// dynamic bodies the kept joints with equality rows reach.
 fn spanning_tree(
     order: Vec<u32>,
     joints: &[JointConstraint],
@@ -1254,9 +1252,13 @@ fn spanning_tree(
     let mut tree = Vec::with_capacity(order.len());
     for k in order {
         let j = &joints[k as usize];
+        if j.law.equality_rows() == 0 {
+            tree.push(k);
+            continue;
+        }
         let sides = [j.a, j.b].map(|b| (b, bodies[b as usize].dynamic));
         let seen = |&(b, dynamic): &(u32, bool)| if dynamic { reached[b as usize] } else { world };
-        if !tree.is_empty() && sides.iter().all(seen) && gears_of[k as usize].is_empty() {
+        if sides.iter().all(seen) && gears_of[k as usize].is_empty() {
             continue;
         }
         for (b, dynamic) in sides {
@@ -1453,7 +1455,8 @@ mod tests {
     /// loop 0-2-4-3-1-0), the last one the breadth-first walk meets is left
     /// to be relaxed beside the island, and the five kept reach every body
     /// and the world once each; a joint to the world from a body the
-    /// island has reached closes a loop through the world.
+    /// island has reached closes a loop through the world; a rope (no
+    /// equality rows) closes none.
     #[test]
     fn an_island_keeps_a_tree_and_leaves_the_joint_that_closes_a_loop() {
         let (bodies, mut joints) = trees(&mut SplitMix64(3), 1);
@@ -1481,6 +1484,20 @@ mod tests {
         let islands = joint_islands(&mut joints, &mut [], &bodies, &[]);
         assert_eq!(islands[0].lanes[0].len(), 5);
         assert!(!joints[5].direct && joints[..5].iter().all(|j| j.direct));
+
+        // Without the slider, a rope (a distance joint with limits: no
+        // equality rows) from 5 to 4 (bodies 4 and 3 of the tree): no loop
+        // of rows, the island keeps it.
+        let (bodies, mut joints) = trees(&mut SplitMix64(3), 1);
+        let mut rope = joints[4].clone();
+        rope.b = 4;
+        rope.law.limits = Some([0.0, 0.5]);
+        assert_eq!(rope.law.equality_rows(), 0);
+        joints.truncate(5);
+        joints.push(rope);
+        let islands = joint_islands(&mut joints, &mut [], &bodies, &[]);
+        assert_eq!(islands[0].lanes[0].len(), 6);
+        assert!(joints.iter().all(|j| j.direct));
     }
 
     /// Four islands of one shape solved in the lanes of one unit give the    /// Four islands of one shape solved in the lanes of one unit give the

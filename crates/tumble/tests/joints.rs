@@ -1767,15 +1767,11 @@ fn a_parallelogram_linkage_swings_at_the_exact_period_with_its_coupler_level() {
     let e0 = w.kinetic_energy() + w.potential_energy();
     let scale = (crank_mass + coupler_mass) * G * l * (1.0 - theta0.cos());
     let (mut tilt, mut drift, mut apart) = (0.0f64, 0.0f64, 0.0f64);
-    let mut crossings = Vec::new();
-    let mut last_x = w.center_of_mass(bar).unwrap().x - 0.5;
+    // The coupler's offset from the middle: l sin(theta).
+    let mut offset = Vec::new();
     for _ in 0..600 {
         w.step();
-        let x = w.center_of_mass(bar).unwrap().x - 0.5;
-        if (last_x > 0.0) != (x > 0.0) {
-            crossings.push(w.time() - w.settings().dt * x.abs() / (x - last_x).abs());
-        }
-        last_x = x;
+        offset.push(w.center_of_mass(bar).unwrap().x - 0.5);
         let q = w.body(bar).unwrap().orientation();
         tilt = tilt.max(q.angle_between(DQuat::IDENTITY));
         drift = drift.max((w.kinetic_energy() + w.potential_energy() - e0).abs() / scale);
@@ -1784,6 +1780,7 @@ fn a_parallelogram_linkage_swings_at_the_exact_period_with_its_coupler_level() {
     let inertia = 2.0 * crank_mass * (l * l / 3.0 + thick * thick / 12.0) + coupler_mass * l * l;
     let moment = (crank_mass + coupler_mass) * l;
     let exact = 4.0 * (inertia / (moment * G)).sqrt() * elliptic_k((theta0 / 2.0).sin().powi(2));
+    let (crossings, _) = crossings_and_peaks(&offset, w.settings().dt);
     assert!(crossings.len() >= 6, "the linkage swings: {crossings:?}");
     let n = crossings.len() - 1;
     let period = 2.0 * (crossings[n] - crossings[0]) / n as f64;

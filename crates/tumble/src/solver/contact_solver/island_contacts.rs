@@ -46,6 +46,12 @@
 //! of largest joint error and from 14 steps gaining energy (one by 122 J)
 //! to none, for a third more time a step (docs/pipeline.md, 2026-12-02).
 //!
+//! Not owned either: beyond `joint_island::MAX_OWNED_SUBSTITUTION` of
+//! forward substitution a sub-step (a point's costs the factor's entries
+//! from its first row on), the island's dearest patches; a large net lying
+//! on a box owned thousands of points, each a substitution over a profile
+//! of 167,000 entries.
+//!
 //! Not owned: patches on a body lighter than [`LIGHTEST_OWNER`] of the
 //! island's heaviest. There the owned solve runs away: many owned patches
 //! on NAO's 2 mg fingers (a millionth of the robot's heaviest link) against

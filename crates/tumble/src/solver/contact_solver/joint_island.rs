@@ -77,6 +77,33 @@ pub const AIM_MASS_RATIO: f64 = 4.0;
 /// millisecond per factorization on one core.
 pub const MAX_PROFILE: usize = 200_000;
 
+/// Largest work of the forward substitutions of an island's owned patches
+/// in a sub-step, in factor entries: each owned point's column of `V =
+/// L^-1 W` is a substitution over the profile from the first row on the
+/// patch's bodies to the end (and its later passes read as many rows). An
+/// island whose candidates would cost more owns the cheapest of them that
+/// fit (`own_patches`); the others are solved beside it as plain patches.
+/// `MAX_PROFILE` bounds the factor but not this: a 30 x 30 net of ball
+/// joints lying on a box, one island of 2,697 rows, owned up to 3,384 points a
+/// sub-step, 313 million entries (155 ms a step against 45 without them).
+/// A ragdoll owns at most 32,000 in the ragdoll pile, NAO with
+/// self-collision 385,000.
+pub const MAX_OWNED_SUBSTITUTION: usize = 5 * MAX_PROFILE;
+
+/// A contact patch a joint island may own (`own_patches`): on a dynamic
+/// body and another body, dynamic or immovable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OwnableContact {
+    /// The patch (index into the step's patches).
+    pub patch: u32,
+    /// Its dynamic body (solver index).
+    pub body: u32,
+    /// Its other body (solver index): dynamic, static or kinematic.
+    pub other: u32,
+    /// Its contact points.
+    pub points: u32,
+}
+
 /// One to four islands of joints of the same shape whose equality rows are
 /// solved together, each island in its own lane.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -926,10 +953,10 @@ fn island_mask(j: &JointConstraint) -> u16 {
 /// relaxed joint by joint) share a unit, up to one per lane of the
 /// solver's SIMD type.
 ///
-/// `contacts` lists the patches an island may own, as (patch, body A,
-/// body B), A dynamic: an island owns those whose two bodies are both its
-/// own, and those between one of its own and an immovable body (static or
-/// kinematic; see `island_contacts`).
+/// `contacts` lists the patches an island may own: it owns those whose two
+/// bodies are both its own, and those between one of its own and an
+/// immovable body (static or kinematic; see `island_contacts`), within
+/// [`MAX_OWNED_SUBSTITUTION`].
 ///
 /// A gear links its two joints as a shared body does; the gears of an
 /// island's joints are rows of its system, marked `direct`.
@@ -937,7 +964,7 @@ pub fn joint_islands(
     joints: &mut [JointConstraint],
     gears: &mut [GearConstraint],
     bodies: &[SolverBody],
-    contacts: &[(u32, u32, u32)],
+    contacts: &[OwnableContact],
 ) -> Vec<JointIsland> {
     joint_islands_in_lanes(joints, gears, bodies, contacts, LANES)
 }
@@ -957,7 +984,7 @@ pub fn keep_joint_islands(
     joints: &mut [JointConstraint],
     gears: &mut [GearConstraint],
     bodies: &[SolverBody],
-    contacts: &[(u32, u32, u32)],
+    contacts: &[OwnableContact],
 ) {
     let now = shape_key(joints, gears, bodies);
     if now == *key {
@@ -1007,7 +1034,7 @@ fn joint_islands_in_lanes(
     joints: &mut [JointConstraint],
     gears: &mut [GearConstraint],
     bodies: &[SolverBody],
-    contacts: &[(u32, u32, u32)],
+    contacts: &[OwnableContact],
     max_lanes: usize,
 ) -> Vec<JointIsland> {
     let mut islands = island_shapes(joints, gears, bodies, max_lanes);
@@ -1276,13 +1303,29 @@ fn spanning_tree(
 /// Gives each island the patches it owns this step (`contacts`, as in
 /// [`joint_islands`]): those between two of its bodies and those between
 /// one of its bodies and an immovable one, neither body lighter than
-/// [`LIGHTEST_OWNER`] of the island's heaviest; in a unit, lane by lane,
-/// each lane's in patch order.
+/// [`LIGHTEST_OWNER`] of the island's heaviest, and together within
+/// [`MAX_OWNED_SUBSTITUTION`]; in a unit, lane by lane, each lane's in
+/// patch order.
 fn own_patches(
     islands: &mut [JointIsland],
     joints: &[JointConstraint],
     bodies: &[SolverBody],
-    contacts: &[(u32, u32, u32)],
+    contacts: &[OwnableContact],
+) {
+    own_patches_within(islands, joints, bodies, contacts, MAX_OWNED_SUBSTITUTION);
+}
+
+/// [`own_patches`] with a budget of `budget` factor entries of forward
+/// substitution a sub-step per island: where its candidates would cost
+/// more ([`owned_cost`]), it owns the cheapest (ties in patch order) while
+/// their sum stays within the budget. Cheapest first owns the most points
+/// for the work; which of a net's patches matter most is not known here.
+fn own_patches_within(
+    islands: &mut [JointIsland],
+    joints: &[JointConstraint],
+    bodies: &[SolverBody],
+    contacts: &[OwnableContact],
+    budget: usize,
 ) {
     for unit in islands.iter_mut() {
         unit.owned.clear();
@@ -1290,15 +1333,18 @@ fn own_patches(
     if contacts.is_empty() {
         return;
     }
-    // The candidate patches by their first body.
+    // The candidate patches by their dynamic body.
     let mut contacts_of: Vec<Vec<u32>> = vec![Vec::new(); bodies.len()];
-    for (c, &(_, a, _)) in contacts.iter().enumerate() {
-        contacts_of[a as usize].push(c as u32);
+    for (c, contact) in contacts.iter().enumerate() {
+        contacts_of[contact.body as usize].push(c as u32);
     }
-    // Each dynamic body's island, numbered in unit and lane order.
+    // Each dynamic body's island, numbered in unit and lane order, and its
+    // first row in that island's system.
     let mut member = vec![usize::MAX; bodies.len()];
+    let mut first_row = vec![usize::MAX; bodies.len()];
     let mut island = 0;
     for unit in islands.iter_mut() {
+        let offsets = &unit.profile.offsets;
         for (lane, order) in unit.lanes.iter().enumerate() {
             let heaviest = unit.heaviest[lane];
             let dynamic_bodies = || {
@@ -1308,15 +1354,28 @@ fn own_patches(
                     .filter(|&b| bodies[b as usize].dynamic)
             };
             dynamic_bodies().for_each(|b| member[b as usize] = island);
+            for (p, &k) in order.iter().enumerate() {
+                let j = &joints[k as usize];
+                // As `OwnedPatch::couple` finds it: the rows of any joint
+                // on either body (an immovable one's too).
+                if offsets[p] < offsets[p + 1] {
+                    for b in [j.a, j.b] {
+                        first_row[b as usize] = first_row[b as usize].min(offsets[p]);
+                    }
+                }
+            }
             // A dynamic body far lighter than the island's heaviest, where
             // the owned solve runs away (`island_contacts::LIGHTEST_OWNER`).
             let light = |b: u32| {
                 bodies[b as usize].dynamic && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
             };
-            let mut owned = Vec::new();
+            // (cost, patch) of each patch it may own.
+            let mut candidates = Vec::new();
             for b in dynamic_bodies() {
                 for &c in &contacts_of[b as usize] {
-                    let (patch, _, other) = contacts[c as usize];
+                    let OwnableContact {
+                        patch, other, points, ..
+                    } = contacts[c as usize];
                     // Between two of its bodies, or one of its bodies and
                     // an immovable one (the ground under a ragdoll's forearm:
                     // a loop through the world, island_contacts), neither
@@ -1325,17 +1384,47 @@ fn own_patches(
                         && !light(b)
                         && !light(other)
                     {
-                        owned.push(OwnedPatch::new(patch, lane));
+                        let first = first_row[b as usize].min(first_row[other as usize]);
+                        candidates.push((owned_cost(&unit.profile, first, points), patch));
                     }
                 }
                 // A body is met once per joint: its patches are taken once.
                 contacts_of[b as usize].clear();
             }
+            if candidates.iter().map(|c| c.0).sum::<usize>() > budget {
+                candidates.sort_unstable();
+                let mut spent = 0;
+                let fit = candidates
+                    .iter()
+                    .take_while(|&&(cost, _)| {
+                        spent += cost;
+                        spent <= budget
+                    })
+                    .count();
+                candidates.truncate(fit);
+            }
+            let mut owned: Vec<OwnedPatch> = candidates
+                .iter()
+                .map(|&(_, patch)| OwnedPatch::new(patch, lane))
+                .collect();
             owned.sort_by_key(|o| o.patch);
             unit.owned.extend(owned);
+            for &k in order {
+                first_row[joints[k as usize].a as usize] = usize::MAX;
+                first_row[joints[k as usize].b as usize] = usize::MAX;
+            }
             island += 1;
         }
     }
+}
+
+/// The forward substitutions an owned patch of `points` points costs its
+/// island each sub-step, in factor entries: one per point over the rows
+/// from `first_row` (the first on the patch's bodies) to the end
+/// (`JointIsland::solve_columns`).
+fn owned_cost(profile: &Profile, first_row: usize, points: u32) -> usize {
+    let from = profile.start.get(first_row).copied().unwrap_or(profile.size);
+    points as usize * (profile.size - from)
 }
 
 #[cfg(test)]
@@ -1544,6 +1633,93 @@ mod tests {
         }
     }
 
+    /// `n` random patches (up to four points) from one of bodies 1..=`bodies`
+    /// to the ground (body 0) or another of them.
+    fn random_contacts(rng: &mut SplitMix64, n: usize, bodies: u32) -> Vec<OwnableContact> {
+        (0..n as u32)
+            .map(|patch| {
+                let body = 1 + (rng.range(0.0, bodies as f64 - 0.001) as u32);
+                let other = if rng.range(0.0, 1.0) < 0.4 {
+                    0
+                } else {
+                    1 + (rng.range(0.0, bodies as f64 - 0.001) as u32)
+                };
+                let points = 1 + (rng.range(0.0, 3.999) as u32);
+                OwnableContact {
+                    patch,
+                    body,
+                    other,
+                    points,
+                }
+            })
+            .filter(|c| c.body != c.other)
+            .collect()
+    }
+
+    /// Within a budget of substitution work, an island owns the cheapest
+    /// of the patches it may own, as many as fit: a patch's cost counted
+    /// here by brute force over the island's rows (its points times the
+    /// factor's entries from the first row of a joint on either of its
+    /// bodies), against the owners with no budget. Every patch it owns is
+    /// one it owns without a budget, none it leaves out costs less than
+    /// one it owns, their cost is within the budget and one more would
+    /// not be.
+    #[test]
+    fn an_island_over_its_substitution_budget_owns_its_cheapest_patches() {
+        let (bodies, mut joints) = trees(&mut SplitMix64(5), 6);
+        let contacts = random_contacts(&mut SplitMix64(23), 120, 30);
+        let free = joint_islands(&mut joints, &mut [], &bodies, &contacts);
+        assert!(free.iter().map(|u| u.owned.len()).sum::<usize>() > 20);
+        let mut tight = free.clone();
+        // Per island (unit, lane): each owned patch's cost without a budget.
+        let cost_of = |unit: &JointIsland, lane: usize, patch: u32| {
+            let c = contacts.iter().find(|c| c.patch == patch).unwrap();
+            let mut first = usize::MAX;
+            for (p, &k) in unit.lanes[lane].iter().enumerate() {
+                let j = &joints[k as usize];
+                let rows = unit.profile.offsets[p]..unit.profile.offsets[p + 1];
+                if !rows.is_empty() && [j.a, j.b].iter().any(|&b| b == c.body || b == c.other) {
+                    first = first.min(rows.start);
+                }
+            }
+            // A body reached by a rope alone has no row in the system.
+            unit.profile
+                .start
+                .get(first)
+                .map_or(0, |&from| c.points as usize * (unit.profile.size - from))
+        };
+        let owned_by = |unit: &JointIsland, lane: usize| -> Vec<u32> {
+            unit.owned
+                .iter()
+                .filter(|o| o.lane == lane)
+                .map(|o| o.patch)
+                .collect()
+        };
+        for budget in [usize::MAX, 2_000, 700, 150, 0] {
+            own_patches_within(&mut tight, &joints, &bodies, &contacts, budget);
+            let mut cut = 0;
+            for (unit, whole) in tight.iter().zip(&free) {
+                for lane in 0..unit.lanes.len() {
+                    let (kept, all) = (owned_by(unit, lane), owned_by(whole, lane));
+                    assert!(kept.iter().all(|p| all.contains(p)));
+                    assert!(kept.windows(2).all(|w| w[0] < w[1]), "in patch order");
+                    let spent: usize = kept.iter().map(|&p| cost_of(unit, lane, p)).sum();
+                    assert!(spent <= budget, "{spent} > {budget}");
+                    let dearest_kept = kept.iter().map(|&p| cost_of(unit, lane, p)).max().unwrap_or(0);
+                    for &p in all.iter().filter(|p| !kept.contains(p)) {
+                        let cost = cost_of(unit, lane, p);
+                        assert!(cost >= dearest_kept && spent + cost > budget, "{p}: {cost}");
+                        cut += 1;
+                    }
+                }
+            }
+            assert_eq!(cut == 0, budget == usize::MAX, "budget {budget}: {cut} left out");
+        }
+        // Back to no budget: the owners as found afresh.
+        own_patches_within(&mut tight, &joints, &bodies, &contacts, usize::MAX);
+        assert_eq!(tight, free);
+    }
+
     /// Islands kept from the last step are the islands found afresh: the
     /// same units, joints marked `direct` alike, and this step's patches
     /// owned (contacts that change from step to step with the same joints;
@@ -1554,26 +1730,13 @@ mod tests {
         let (bodies, joints) = trees(&mut SplitMix64(9), 6);
         let mut rng = SplitMix64(17);
         // Random patches from a dynamic body to the ground or another body.
-        let mut contacts = |n: usize| -> Vec<(u32, u32, u32)> {
-            (0..n as u32)
-                .map(|patch| {
-                    let a = 1 + (rng.range(0.0, 29.999) as u32);
-                    let b = if rng.range(0.0, 1.0) < 0.4 {
-                        0
-                    } else {
-                        1 + (rng.range(0.0, 29.999) as u32)
-                    };
-                    (patch, a, b)
-                })
-                .filter(|&(_, a, b)| a != b)
-                .collect()
-        };
+        let mut contacts = |n: usize| random_contacts(&mut rng, n, 30);
         // Kept islands against fresh ones; the patches owned.
         fn check(
             (kept, key): (&mut Vec<JointIsland>, &mut Vec<u64>),
             bodies: &[SolverBody],
             joints: &[JointConstraint],
-            contacts: &[(u32, u32, u32)],
+            contacts: &[OwnableContact],
         ) -> usize {
             let (mut fresh_joints, mut kept_joints) = (joints.to_vec(), joints.to_vec());
             let fresh = joint_islands(&mut fresh_joints, &mut [], bodies, contacts);
@@ -1797,7 +1960,7 @@ mod tests {
         Vec<JointConstraint>,
         Vec<ManifoldConstraint>,
         Vec<PointConstraint>,
-        Vec<(u32, u32, u32)>,
+        Vec<OwnableContact>,
     ) {
         let mut bodies = vec![SolverBody::fixed()];
         let (mut joints, mut manifolds, mut points, mut contacts) =
@@ -1864,7 +2027,12 @@ mod tests {
             }
             let mut m = ManifoldConstraint::new(a, c, at, 2, normal, 0.0, 0.0, DVec3::ZERO, 0.0);
             super::super::constraint::prepare(&mut m, &mut points, &bodies);
-            contacts.push((manifolds.len() as u32, a, c));
+            contacts.push(OwnableContact {
+                patch: manifolds.len() as u32,
+                body: a,
+                other: c,
+                points: 2,
+            });
             manifolds.push(m);
         }
         (bodies, joints, manifolds, points, contacts)

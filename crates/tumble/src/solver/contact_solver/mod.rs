@@ -77,6 +77,8 @@ pub use joint::{
     begin_joints, push_joints, solve_joints, JointConstraint, JointLaw, JointRow, JOINT_PUSH_FRACTION,
     JOINT_ROWS,
 };
-pub use joint_island::{joint_islands, keep_joint_islands, JointIsland, MAX_PROFILE};
+pub use joint_island::{
+    joint_islands, keep_joint_islands, JointIsland, OwnableContact, MAX_OWNED_SUBSTITUTION, MAX_PROFILE,
+};
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};
 pub(crate) use wide::{BundleKind, WideBatches};

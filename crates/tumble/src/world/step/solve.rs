@@ -13,7 +13,7 @@ use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
     self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
-    ManifoldConstraint, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
+    ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::patches::PreparedPatch;
@@ -398,7 +398,7 @@ impl World {
             .iter()
             .map(|p| (slot_to_solver[p.key.0 as usize], slot_to_solver[p.key.1 as usize]))
             .collect();
-        let candidates: Vec<(u32, u32, u32)> = if f.settings.solver == SolverKind::Lemke
+        let candidates: Vec<OwnableContact> = if f.settings.solver == SolverKind::Lemke
             || self.joints.is_empty()
         {
             Vec::new()
@@ -412,9 +412,17 @@ impl World {
                     let (a, b) = pairs[k];
                     (dynamic(a) || dynamic(b)) && f.patches[k].count as usize <= contact_solver::BLOCK_POINTS
                 })
-                .map(|k| match pairs[k] {
-                    (a, b) if dynamic(a) => (k as u32, a, b),
-                    (a, b) => (k as u32, b, a),
+                .map(|k| {
+                    let (body, other) = match pairs[k] {
+                        (a, b) if dynamic(a) => (a, b),
+                        (a, b) => (b, a),
+                    };
+                    OwnableContact {
+                        patch: k as u32,
+                        body,
+                        other,
+                        points: f.patches[k].count,
+                    }
                 })
                 .collect()
         };
@@ -507,7 +515,7 @@ impl World {
     /// The joint rows: one record per joint that has a body the solver
     /// moves (a joint between two resting bodies waits), with the sides'
     /// step-start poses, coloured like the patches.
-    fn prepare_joints(&self, sf: &mut SolverFrame, contacts: &[(u32, u32, u32)]) {
+    fn prepare_joints(&self, sf: &mut SolverFrame, contacts: &[OwnableContact]) {
         // Coloured first, from the body pairs alone, so that each record is
         // built once, in colour order, into the kept array (a joint record
         // is large: built and then copied into place, they cost a ragdoll

@@ -84,10 +84,10 @@ pub const MAX_PROFILE: usize = 200_000;
 /// island whose candidates would cost more owns the cheapest of them that
 /// fit (`own_patches`); the others are solved beside it as plain patches.
 /// `MAX_PROFILE` bounds the factor but not this: a 30 x 30 net of ball
-/// joints lying on a box, one island of 2,697 rows, owned up to 3,384 points a
-/// sub-step, 313 million entries (155 ms a step against 45 without them).
-/// A ragdoll owns at most 32,000 in the ragdoll pile, NAO with
-/// self-collision 385,000.
+/// joints lying on a box, one island of 2,697 rows, owned up to 3,384
+/// points a sub-step, 313 million entries (132 ms a step; 38 within this
+/// budget). A ragdoll owns at most 32,000 in the ragdoll pile, NAO with
+/// self-collision 385,000 (docs/pipeline.md, 2026-12-04, night).
 pub const MAX_OWNED_SUBSTITUTION: usize = 5 * MAX_PROFILE;
 
 /// A contact patch a joint island may own (`own_patches`): on a dynamic

@@ -46,12 +46,6 @@
 //! of largest joint error and from 14 steps gaining energy (one by 122 J)
 //! to none, for a third more time a step (docs/pipeline.md, 2026-12-02).
 //!
-//! Not owned either: beyond `joint_island::MAX_OWNED_SUBSTITUTION` of
-//! forward substitution a sub-step (a point's costs the factor's entries
-//! from its first row on), the island's dearest patches; a large net lying
-//! on a box owned thousands of points, each a substitution over a profile
-//! of 167,000 entries.
-//!
 //! Not owned: patches on a body lighter than [`LIGHTEST_OWNER`] of the
 //! island's heaviest. There the owned solve runs away: many owned patches
 //! on NAO's 2 mg fingers (a millionth of the robot's heaviest link) against
@@ -62,6 +56,11 @@
 //! finger above weighing 2 mg opened its hinge by 1.8 m on a hinged plank.
 //! Relaxed beside the island, such a patch costs the joints millimetres to
 //! centimetres instead (docs/pipeline.md, "Measured and not kept").
+//!
+//! Nor an island's dearest patches beyond `joint_island::MAX_OWNED_SUBSTITUTION`
+//! of forward substitution a sub-step (a point costs the factor's entries
+//! from its first row on): a 30 x 30 net lying on a box owned thousands of
+//! points, each a substitution over a profile of 167,000 entries.
 
 use super::coloring::Shared;
 use super::constraint::{regularised_inverse, ManifoldConstraint, PatchBlock, PointConstraint, BLOCK_POINTS};

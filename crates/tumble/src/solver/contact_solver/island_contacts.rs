@@ -126,13 +126,16 @@ pub(super) struct OwnedPatch {
 }
 
 impl OwnedPatch {
-    /// The patch at index `patch` of the island in `lane`, to be coupled
+    /// The patch at index `patch` of the island in `lane`, whose first
+    /// row of the island's system on one of the patch's bodies is
+    /// `first_row` (`joint_island::own_patches` finds it), to be coupled
     /// to it each sub-step ([`OwnedPatch::couple`], then `L^-1` applied to
     /// each [`OwnedPatch::response_mut`], then [`OwnedPatch::finish`]).
-    pub fn new(patch: u32, lane: usize) -> OwnedPatch {
+    pub fn new(patch: u32, lane: usize, first_row: usize) -> OwnedPatch {
         OwnedPatch {
             patch,
             lane,
+            first_row,
             ..OwnedPatch::default()
         }
     }
@@ -158,7 +161,7 @@ impl OwnedPatch {
         gear_parts: &[(usize, u32, SideRow<f64>)],
     ) {
         self.rows = n;
-        self.first_row = n;
+        self.first_row = self.first_row.min(n);
         self.response.clear();
         self.response.resize(n * pts.len(), 0.0);
         // Only the rows of joints on the patch's two bodies are not zero
@@ -203,7 +206,7 @@ impl OwnedPatch {
         let [ima, imb] = m.inv_mass;
         let (sign, im) = if on_a { (1.0, ima) } else { (-1.0, imb) };
         let (lin, ang) = side;
-        self.first_row = self.first_row.min(r);
+        debug_assert!(r >= self.first_row, "row {r} before the patch's first row");
         for (i, p) in pts.iter().enumerate() {
             // The contact's unit impulse: +n on A, -n on B.
             let dw = if on_a { p.row.ia_ra_x_d } else { p.row.ib_rb_x_d };

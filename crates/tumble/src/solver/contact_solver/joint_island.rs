@@ -1356,8 +1356,9 @@ fn own_patches_within(
             dynamic_bodies().for_each(|b| member[b as usize] = island);
             for (p, &k) in order.iter().enumerate() {
                 let j = &joints[k as usize];
-                // As `OwnedPatch::couple` finds it: the rows of any joint
-                // on either body (an immovable one's too).
+                // The rows of any joint on either body, an immovable one's
+                // too (`OwnedPatch::couple` adds its rows, zeros there):
+                // where the patch's substitutions start.
                 if offsets[p] < offsets[p + 1] {
                     for b in [j.a, j.b] {
                         first_row[b as usize] = first_row[b as usize].min(offsets[p]);
@@ -1369,7 +1370,7 @@ fn own_patches_within(
             let light = |b: u32| {
                 bodies[b as usize].dynamic && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
             };
-            // (cost, patch) of each patch it may own.
+            // (cost, patch, first row) of each patch it may own.
             let mut candidates = Vec::new();
             for b in dynamic_bodies() {
                 for &c in &contacts_of[b as usize] {
@@ -1385,7 +1386,7 @@ fn own_patches_within(
                         && !light(other)
                     {
                         let first = first_row[b as usize].min(first_row[other as usize]);
-                        candidates.push((owned_cost(&unit.profile, first, points), patch));
+                        candidates.push((owned_cost(&unit.profile, first, points), patch, first));
                     }
                 }
                 // A body is met once per joint: its patches are taken once.
@@ -1396,7 +1397,7 @@ fn own_patches_within(
                 let mut spent = 0;
                 let fit = candidates
                     .iter()
-                    .take_while(|&&(cost, _)| {
+                    .take_while(|&&(cost, ..)| {
                         spent += cost;
                         spent <= budget
                     })
@@ -1405,7 +1406,7 @@ fn own_patches_within(
             }
             let mut owned: Vec<OwnedPatch> = candidates
                 .iter()
-                .map(|&(_, patch)| OwnedPatch::new(patch, lane))
+                .map(|&(_, patch, first)| OwnedPatch::new(patch, lane, first))
                 .collect();
             owned.sort_by_key(|o| o.patch);
             unit.owned.extend(owned);

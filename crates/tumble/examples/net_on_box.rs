@@ -1,20 +1,15 @@
-//! A square net of ball joints dropped onto a box on the ground, the case
-//! that sizes `MAX_OWNED_SUBSTITUTION` (docs/pipeline.md, 2026-12-04, night):
+//! A square net of ball joints dropped onto a box on the ground
+//! (`tumble::scenes::net_drop`), the case that sizes
+//! `MAX_OWNED_SUBSTITUTION` (docs/pipeline.md, 2026-12-04, night):
 //! `cargo run --release -p tumble --example net_on_box -- [size [steps [threads]]]`
-//! (default 30 x 30, 300 steps, one thread). Spheres of 0.1 kg and radius
-//! 0.04 m, 0.1 m apart, dropped from 0.8 m onto a 0.6 m cube; one island of
-//! `2 size (size - 1)` ball joints whose loops are closed beside it. Prints
+//! (default 30 x 30, 300 steps, one thread). Prints
 //! the mean time per step, the largest gain of total energy in one step
 //! against the energy the net holds above the ground, the largest joint
 //! opening after any step, and the state hash (the same for any thread
 //! count).
 
 use std::time::Instant;
-use tumble::collide::{Cuboid, DVec3, HalfSpace, Sphere};
-use tumble::joint::JointDesc;
-use tumble::world::{BodyDesc, World, WorldSettings};
-
-const G: f64 = 9.81;
+use tumble::scenes::net_drop;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: usize| -> Result<usize, Box<dyn std::error::Error>> {
@@ -24,45 +19,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
     };
     let (n, steps, threads) = (arg(1, 30)?.max(2), arg(2, 300)?.max(1), arg(3, 1)?);
-    let mut w = World::new(WorldSettings {
-        gravity: DVec3::new(0.0, 0.0, -G),
-        sleeping: false,
-        threads: u32::try_from(threads)?,
-        ..WorldSettings::default()
-    })?;
-    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0)?))?;
-    w.add_body(&BodyDesc::fixed(Cuboid::new(DVec3::splat(0.3))?).at(DVec3::new(0.0, 0.0, 0.3)))?;
-    let gap = 0.1;
-    let half = (n - 1) as f64 * gap / 2.0;
-    let mut ids = Vec::with_capacity(n * n);
-    for i in 0..n {
-        for k in 0..n {
-            let at = DVec3::new(i as f64 * gap - half, k as f64 * gap - half, 0.8);
-            ids.push(w.add_body(&BodyDesc::dynamic(Sphere::new(0.04)?).at(at).with_mass(0.1))?);
-        }
-    }
-    for i in 0..n {
-        for k in 0..n {
-            let a = ids[i * n + k];
-            let at = w.center_of_mass(a)?;
-            if i + 1 < n {
-                w.add_joint(&JointDesc::ball(
-                    a,
-                    Some(ids[(i + 1) * n + k]),
-                    at + DVec3::X * gap / 2.0,
-                ))?;
-            }
-            if k + 1 < n {
-                w.add_joint(&JointDesc::ball(
-                    a,
-                    Some(ids[i * n + k + 1]),
-                    at + DVec3::Y * gap / 2.0,
-                ))?;
-            }
-        }
-    }
-    let energy = |w: &World| w.kinetic_energy() + w.potential_energy();
-    let held = (n * n) as f64 * 0.1 * G * 0.8;
+    let mut scene = net_drop(n, true);
+    scene.settings.threads = u32::try_from(threads)?;
+    let (mut w, _) = scene.build()?;
+    let energy = |w: &tumble::world::World| w.kinetic_energy() + w.potential_energy();
+    let held = (n * n) as f64 * 0.1 * -scene.settings.gravity.z * 0.8;
     let (mut before, mut gain, mut apart) = (energy(&w), 0.0f64, 0.0f64);
     let clock = Instant::now();
     for _ in 0..steps {

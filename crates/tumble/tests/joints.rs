@@ -1941,42 +1941,11 @@ fn a_nearly_taut_rope_bridge_holds_a_heavy_weight_half_on_each_anchor() {
 #[test]
 fn a_net_of_ball_joints_lands_flat_or_on_a_box_without_gaining_energy() {
     for on_box in [false, true] {
-        let mut w = joint_world(true, 1);
-        w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
-            .unwrap();
-        if on_box {
-            let block =
-                BodyDesc::fixed(Cuboid::new(DVec3::splat(0.3)).unwrap()).at(DVec3::new(0.0, 0.0, 0.3));
-            w.add_body(&block).unwrap();
-        }
-        let (n, gap) = (10, 0.1);
-        let half = (n - 1) as f64 * gap / 2.0;
-        let mut ids = Vec::new();
-        for i in 0..n {
-            for k in 0..n {
-                let at = DVec3::new(i as f64 * gap - half, k as f64 * gap - half, 0.8);
-                let body = BodyDesc::dynamic(Sphere::new(0.04).unwrap())
-                    .at(at)
-                    .with_mass(0.1);
-                ids.push(w.add_body(&body).unwrap());
-            }
-        }
-        for i in 0..n {
-            for k in 0..n {
-                let a = ids[i * n + k];
-                let at = w.center_of_mass(a).unwrap();
-                if i + 1 < n {
-                    let b = ids[(i + 1) * n + k];
-                    w.add_joint(&JointDesc::ball(a, Some(b), at + DVec3::X * gap / 2.0))
-                        .unwrap();
-                }
-                if k + 1 < n {
-                    let b = ids[i * n + k + 1];
-                    w.add_joint(&JointDesc::ball(a, Some(b), at + DVec3::Y * gap / 2.0))
-                        .unwrap();
-                }
-            }
-        }
+        let n = 10;
+        let mut scene = tumble::scenes::net_drop(n, on_box);
+        scene.settings.threads = 1;
+        assert_eq!(scene.settings.gravity, DVec3::new(0.0, 0.0, -G));
+        let (mut w, _) = scene.build().unwrap();
         let energy = |w: &World| w.kinetic_energy() + w.potential_energy();
         let start = energy(&w);
         // The net's energy above the ground it lands on.

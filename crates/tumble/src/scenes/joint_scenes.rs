@@ -1,5 +1,6 @@
 //! Scenes with joints, for the benchmark harness and the tests: the heavy
-//! chain (a 1:100 mass ratio on ball joints) and a pile of 100 ragdolls.
+//! chain (a 1:100 mass ratio on ball joints), a pile of 100 ragdolls, and a
+//! net of ball joints dropped onto a box.
 //! Defined once here; the Rapier peer builds its world from these
 //! descriptions (`tumble-bench`), so both engines run the same bodies and
 //! joints.
@@ -7,7 +8,7 @@
 use super::{no_sleep, Scene};
 use crate::joint::JointDesc;
 use crate::world::BodyDesc;
-use tumble_collide::shape::{Capsule, Cuboid, Shape, Sphere};
+use tumble_collide::shape::{Capsule, Cuboid, HalfSpace, Shape, Sphere};
 use tumble_collide::{DQuat, DVec3, Pose};
 
 fn sphere(r: f64) -> Shape {
@@ -179,6 +180,72 @@ pub fn ragdoll_pile() -> Scene {
     }
 }
 
+/// net_drop: an `n` x `n` net of spheres (radius 0.04 m, 0.1 kg) 0.1 m
+/// apart, centred over the origin at z = 0.8 m, each on a ball joint to its
+/// neighbour in +x and in +y at their midpoint (`2 n (n - 1)` joints,
+/// `(n - 1)^2` loops), dropped onto a static ground half-space at z = 0 and,
+/// `on_box`, onto a static 0.6 m cube standing on it under the net's middle;
+/// dt 1/60, 300 steps. The net is the last `n * n` bodies, row by row
+/// (sphere `(i, k)` at x = `0.1 i - half`, y = `0.1 k - half`). A net's
+/// in-plane rows outnumber its bodies' in-plane freedoms, which is the case
+/// that sizes `MAX_OWNED_SUBSTITUTION` (docs/pipeline.md).
+pub fn net_drop(n: usize, on_box: bool) -> Scene {
+    let mut bodies = vec![BodyDesc::fixed(Shape::HalfSpace(
+        HalfSpace::new(DVec3::Z, 0.0).expect("unit normal"),
+    ))
+    .named("ground")];
+    if on_box {
+        bodies.push(
+            BodyDesc::fixed(cuboid([0.3; 3]))
+                .at(DVec3::new(0.0, 0.0, 0.3))
+                .named("box"),
+        );
+    }
+    let first = bodies.len();
+    let gap = 0.1;
+    let half = n.saturating_sub(1) as f64 * gap / 2.0;
+    let centre = |i: usize, k: usize| DVec3::new(i as f64 * gap - half, k as f64 * gap - half, 0.8);
+    for i in 0..n {
+        for k in 0..n {
+            bodies.push(
+                BodyDesc::dynamic(sphere(0.04))
+                    .at(centre(i, k))
+                    .with_mass(0.1)
+                    .named(format!("node{i}_{k}")),
+            );
+        }
+    }
+    let mut joints = Vec::new();
+    for i in 0..n {
+        for k in 0..n {
+            let a = first + i * n + k;
+            if i + 1 < n {
+                joints.push(JointDesc::ball(
+                    a,
+                    Some(a + n),
+                    centre(i, k) + DVec3::X * gap / 2.0,
+                ));
+            }
+            if k + 1 < n {
+                joints.push(JointDesc::ball(
+                    a,
+                    Some(a + 1),
+                    centre(i, k) + DVec3::Y * gap / 2.0,
+                ));
+            }
+        }
+    }
+    Scene {
+        name: "net_drop".into(),
+        settings: no_sleep(),
+        bodies,
+        steps: 300,
+        joints,
+        no_contact: Vec::new(),
+        gears: Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,6 +254,12 @@ mod tests {
     fn the_joint_scenes_build_with_their_counts() {
         let (w, ids) = heavy_chain().build().unwrap();
         assert_eq!((ids.len(), w.joint_count()), (21, 21));
+        for (n, on_box) in [(3, false), (10, true)] {
+            let (w, ids) = net_drop(n, on_box).build().unwrap();
+            let fixed = 1 + usize::from(on_box);
+            assert_eq!((ids.len(), w.joint_count()), (fixed + n * n, 2 * n * (n - 1)));
+            assert!(w.max_joint_error().0 < 1e-12);
+        }
         let pile = ragdoll_pile();
         assert_eq!((pile.bodies.len(), pile.joints.len()), (1 + 1100, 1000));
         let (w, _) = pile.build().unwrap();

@@ -19,7 +19,7 @@ pub use concave_pile::{
     concave_bin, concave_kind_meshes, concave_pile, concave_pile_escaped, CONCAVE_BIN_INNER_HALF_WIDTH,
     CONCAVE_BIN_WALL_HEIGHT, CONCAVE_KINDS, CONCAVE_PILE_BODIES,
 };
-pub use joint_scenes::{heavy_chain, ragdoll, ragdoll_pile};
+pub use joint_scenes::{heavy_chain, net_drop, ragdoll, ragdoll_pile};
 pub use mesh_scenes::{chain, chain_decomposed, tori_pass, torus_on_ground};
 pub use plain_data::{
     pile_outside, PlainBody, PlainScene, PlainShape, CHAIN_MAX_CENTRE_DISTANCE, PILE_INSIDE_HALF_WIDTH,

@@ -57,14 +57,27 @@
 //! Relaxed beside the island, such a patch costs the joints millimetres to
 //! centimetres instead (docs/pipeline.md, "Measured and not kept").
 //!
-//! Nor an island's dearest patches beyond `joint_island::MAX_OWNED_SUBSTITUTION`
-//! of forward substitution a sub-step (a point costs the factor's entries
-//! from its first row on): a 30 x 30 net lying on a box owned thousands of
-//! points, each a substitution over a profile of 167,000 entries.
+//! Nor an island's dearest patches on immovable bodies beyond
+//! `joint_island::MAX_OWNED_SUBSTITUTION` of forward substitution a
+//! sub-step, less what its own patches cost (a point costs the factor's
+//! entries from its first row on): a 30 x 30 net lying on a box owned
+//! thousands of points, each a substitution over a profile of 167,000
+//! entries.
+//!
+//! A patch between two of an island's bodies is always owned, however
+//! many points it has (in blocks of four) and whatever it costs. Left
+//! beside the island, such a patch pushes one link out while the island's
+//! direct solve pulls it back, pass after pass, and the passes over it
+//! added kinetic energy: NAO with its fingers made 1 g, whose finger meshes
+//! touch each other in patches of five to eight points and, once the hands
+//! close, in hundreds of patches (over the budget), blew apart in eight of
+//! nine drops; with every such patch owned it held its joints within 1.7-5.8
+//! mm in all five (docs/pipeline.md, 2026-12-05).
 
 use super::coloring::Shared;
 use super::constraint::{regularised_inverse, ManifoldConstraint, PatchBlock, PointConstraint, BLOCK_POINTS};
 use super::island_factor::SideRow;
+use std::ops::Range;
 use tumble_collide::DVec3;
 
 /// A patch's normal block as the island's joints let it act, what
@@ -104,11 +117,20 @@ pub(super) const COMPLIANCE_SHARE: f64 = 1e-3;
 /// 2026-12-02); owning the ground's patches without it blew NAO apart.
 pub(super) const LIGHTEST_OWNER: f64 = 1e-5;
 
-/// One island-owned patch and its coupling to the island's rows.
+/// One island-owned patch, or a block of up to [`BLOCK_POINTS`] of its
+/// points, and its coupling to the island's rows. A patch of more points (a
+/// mesh patch: the faces of two finger links) is owned as consecutive
+/// blocks, each solved exactly with the joints, one after the other as
+/// patches are; left beside the island instead, such patches fought its
+/// joints pass after pass and added energy (module docs).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub(super) struct OwnedPatch {
     /// The patch (index into the solver's patch array).
     pub patch: u32,
+    /// The block's first point within the patch (in patch order).
+    block_start: u32,
+    /// Points in the block (at most [`BLOCK_POINTS`]).
+    block_points: u32,
     /// The lane of the island whose bodies it touches (in a unit of more
     /// islands).
     pub lane: usize,
@@ -126,18 +148,37 @@ pub(super) struct OwnedPatch {
 }
 
 impl OwnedPatch {
-    /// The patch at index `patch` of the island in `lane`, whose first
-    /// row of the island's system on one of the patch's bodies is
-    /// `first_row` (`joint_island::own_patches` finds it), to be coupled
-    /// to it each sub-step ([`OwnedPatch::couple`], then `L^-1` applied to
-    /// each [`OwnedPatch::response_mut`], then [`OwnedPatch::finish`]).
-    pub fn new(patch: u32, lane: usize, first_row: usize) -> OwnedPatch {
+    /// Points `start..start + count` (count at most [`BLOCK_POINTS`]) of
+    /// the patch at index `patch`, owned as one block by the island in
+    /// `lane`, whose first row of the island's system on one of the
+    /// patch's bodies is `first_row` (`joint_island::own_patches` finds
+    /// it), to be coupled to it each sub-step ([`OwnedPatch::couple`], then
+    /// `L^-1` applied to each [`OwnedPatch::response_mut`], then
+    /// [`OwnedPatch::finish`]).
+    pub fn new(patch: u32, start: u32, count: u32, lane: usize, first_row: usize) -> OwnedPatch {
+        debug_assert!(count as usize <= BLOCK_POINTS);
         OwnedPatch {
             patch,
+            block_start: start,
+            block_points: count.min(BLOCK_POINTS as u32),
             lane,
             first_row,
             ..OwnedPatch::default()
         }
+    }
+
+    /// Whether this is the patch's first block: the one that begins the
+    /// patch (warm start) and solves its friction, once per patch.
+    pub fn leads(&self) -> bool {
+        self.block_start == 0
+    }
+
+    /// The block's points among the solver's points, given the patch's
+    /// (`ManifoldConstraint::range`): clipped to the patch, which may have
+    /// fewer points this step than when the block was laid out.
+    pub fn points_in(&self, patch: Range<usize>) -> Range<usize> {
+        let start = (patch.start + self.block_start as usize).min(patch.end);
+        start..(start + self.block_points as usize).min(patch.end)
     }
 
     /// Builds `W` for this sub-step, after the island's rows are begun:

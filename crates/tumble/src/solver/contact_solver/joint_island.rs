@@ -57,6 +57,7 @@
 use super::body::SolverBody;
 use super::coloring::Shared;
 use super::constraint::SolverParams;
+use super::constraint::BLOCK_POINTS;
 use super::gear::GearConstraint;
 use super::island_contacts::{OwnedPatch, PatchArrays, LIGHTEST_OWNER};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
@@ -80,13 +81,16 @@ pub const MAX_PROFILE: usize = 200_000;
 /// Largest work of the forward substitutions of an island's owned patches
 /// in a sub-step, in factor entries: each owned point's column of `V =
 /// L^-1 W` is a substitution over the profile from the first row on the
-/// patch's bodies to the end (and its later passes read as many rows). An
-/// island whose candidates would cost more owns the cheapest of them that
-/// fit (`own_patches`); the others are solved beside it as plain patches.
-/// `MAX_PROFILE` bounds the factor but not this: a 30 x 30 net of ball
-/// joints lying on a box, one island of 2,697 rows, owned up to 3,384
-/// points a sub-step, 313 million entries (132 ms a step; 38 within this
-/// budget). A ragdoll owns at most 32,000 in the ragdoll pile, NAO with
+/// patch's bodies to the end (and its later passes read as many rows). The
+/// patches between two of an island's bodies are owned whatever they cost
+/// (`island_contacts`: beside the island they add energy); an island whose
+/// patches on immovable bodies would cost more than what those leave owns
+/// the cheapest of them that fit (`own_patches`), the others solved beside
+/// it as plain patches. `MAX_PROFILE` bounds the factor but not this: a 30
+/// x 30 net of ball joints lying on a box, one island of 2,697 rows, owned
+/// up to 3,384 points a sub-step, 313 million entries (132 ms a step; 38
+/// within this budget, 75 with its nodes' patches on each other owned
+/// beyond it). A ragdoll owns at most 32,000 in the ragdoll pile, NAO with
 /// self-collision 385,000 (docs/pipeline.md, 2026-12-04, night).
 pub const MAX_OWNED_SUBSTITUTION: usize = 5 * MAX_PROFILE;
 
@@ -100,7 +104,8 @@ pub struct OwnableContact {
     pub body: u32,
     /// Its other body (solver index): dynamic, static or kinematic.
     pub other: u32,
-    /// Its contact points.
+    /// Its contact points (any number: owned in blocks of up to
+    /// [`BLOCK_POINTS`]).
     pub points: u32,
 }
 
@@ -208,7 +213,7 @@ impl JointIsland {
         self.inv_h = 1.0 / h;
         let patches = patches.filter(|_| !self.owned.is_empty());
         if let Some(c) = patches {
-            for o in &self.owned {
+            for o in self.owned.iter().filter(|o| o.leads()) {
                 // SAFETY: the caller's promise.
                 unsafe {
                     let m = c.manifolds.get_mut(o.patch as usize);
@@ -221,7 +226,7 @@ impl JointIsland {
             // SAFETY (all accesses): the caller's promise.
             let patch = |o: &OwnedPatch| unsafe {
                 let m = c.manifolds.get(o.patch as usize);
-                (m, &*c.points.range_mut(m.range()))
+                (m, &*c.points.range_mut(o.points_in(m.range())))
             };
             let n = self.rows();
             let single = self.lanes.len() == 1;
@@ -338,7 +343,7 @@ impl JointIsland {
         // SAFETY: the caller's promise.
         unsafe {
             if let Some(c) = patches {
-                for o in &self.owned {
+                for o in self.owned.iter().filter(|o| o.leads()) {
                     let m = c.manifolds.get_mut(o.patch as usize);
                     friction_patch(m, c.points.range_mut(m.range()), bodies);
                 }
@@ -547,7 +552,7 @@ impl JointIsland {
                     let coupled = o.coupled(&rhs, stride);
                     solve_owned_normals(
                         m,
-                        c.points.range_mut(m.range()),
+                        c.points.range_mut(o.points_in(m.range())),
                         bodies,
                         o.block(),
                         &coupled,
@@ -1303,9 +1308,10 @@ fn spanning_tree(
 /// Gives each island the patches it owns this step (`contacts`, as in
 /// [`joint_islands`]): those between two of its bodies and those between
 /// one of its bodies and an immovable one, neither body lighter than
-/// [`LIGHTEST_OWNER`] of the island's heaviest, and together within
-/// [`MAX_OWNED_SUBSTITUTION`]; in a unit, lane by lane, each lane's in
-/// patch order.
+/// [`LIGHTEST_OWNER`] of the island's heaviest, the latter within what
+/// the former leave of [`MAX_OWNED_SUBSTITUTION`]; each as blocks of up to
+/// [`BLOCK_POINTS`] points; in a unit, lane by lane, each lane's in patch
+/// order.
 fn own_patches(
     islands: &mut [JointIsland],
     joints: &[JointConstraint],
@@ -1316,9 +1322,10 @@ fn own_patches(
 }
 
 /// [`own_patches`] with a budget of `budget` factor entries of forward
-/// substitution a sub-step per island: where its candidates would cost
-/// more ([`owned_cost`]), it owns the cheapest (ties in patch order) while
-/// their sum stays within the budget. Cheapest first owns the most points
+/// substitution a sub-step per island: where its candidates on immovable
+/// bodies would cost more ([`owned_cost`]) than the budget less its own
+/// patches' cost, it owns the cheapest of them (ties in patch order) while
+/// their sum stays within that. Cheapest first owns the most points
 /// for the work; which of a net's patches matter most is not known here.
 fn own_patches_within(
     islands: &mut [JointIsland],
@@ -1370,8 +1377,10 @@ fn own_patches_within(
             let light = |b: u32| {
                 bodies[b as usize].dynamic && bodies[b as usize].inv_mass * heaviest * LIGHTEST_OWNER > 1.0
             };
-            // (cost, patch, first row) of each patch it may own.
-            let mut candidates = Vec::new();
+            // (cost, patch, first row, points) of each patch it may own
+            // on an immovable body; its own patches (between two of its
+            // bodies) apart, owned whatever they cost.
+            let (mut candidates, mut own) = (Vec::new(), Vec::new());
             for b in dynamic_bodies() {
                 for &c in &contacts_of[b as usize] {
                     let OwnableContact {
@@ -1386,27 +1395,47 @@ fn own_patches_within(
                         && !light(other)
                     {
                         let first = first_row[b as usize].min(first_row[other as usize]);
-                        candidates.push((owned_cost(&unit.profile, first, points), patch, first));
+                        let candidate = (owned_cost(&unit.profile, first, points), patch, first, points);
+                        if bodies[other as usize].dynamic {
+                            own.push(candidate);
+                        } else {
+                            candidates.push(candidate);
+                        }
                     }
                 }
                 // A body is met once per joint: its patches are taken once.
                 contacts_of[b as usize].clear();
             }
-            if candidates.iter().map(|c| c.0).sum::<usize>() > budget {
+            let cost = |c: &[(usize, u32, usize, u32)]| c.iter().map(|c| c.0).sum::<usize>();
+            let left = budget.saturating_sub(cost(&own));
+            if cost(&candidates) > left {
                 candidates.sort_unstable();
                 let mut spent = 0;
                 let fit = candidates
                     .iter()
                     .take_while(|&&(cost, ..)| {
                         spent += cost;
-                        spent <= budget
+                        spent <= left
                     })
                     .count();
                 candidates.truncate(fit);
             }
-            let mut owned: Vec<OwnedPatch> = candidates
+            // A patch of more points than a block, block after block (in
+            // point order: the sort below is stable).
+            let mut owned: Vec<OwnedPatch> = own
                 .iter()
-                .map(|&(_, patch, first)| OwnedPatch::new(patch, lane, first))
+                .chain(&candidates)
+                .flat_map(|&(_, patch, first, points)| {
+                    (0..points).step_by(BLOCK_POINTS).map(move |start| {
+                        OwnedPatch::new(
+                            patch,
+                            start,
+                            (points - start).min(BLOCK_POINTS as u32),
+                            lane,
+                            first,
+                        )
+                    })
+                })
                 .collect();
             owned.sort_by_key(|o| o.patch);
             unit.owned.extend(owned);
@@ -1645,7 +1674,8 @@ mod tests {
                 } else {
                     1 + (rng.range(0.0, bodies as f64 - 0.001) as u32)
                 };
-                let points = 1 + (rng.range(0.0, 3.999) as u32);
+                // Up to eight points: a mesh patch's are owned in blocks.
+                let points = 1 + (rng.range(0.0, 7.999) as u32);
                 OwnableContact {
                     patch,
                     body,
@@ -1657,14 +1687,17 @@ mod tests {
             .collect()
     }
 
-    /// Within a budget of substitution work, an island owns the cheapest
-    /// of the patches it may own, as many as fit: a patch's cost counted
-    /// here by brute force over the island's rows (its points times the
-    /// factor's entries from the first row of a joint on either of its
-    /// bodies), against the owners with no budget. Every patch it owns is
-    /// one it owns without a budget, none it leaves out costs less than
-    /// one it owns, their cost is within the budget and one more would
-    /// not be.
+    /// Within a budget of substitution work, an island owns every patch
+    /// between two of its bodies and the cheapest of its patches on an
+    /// immovable body, as many as fit in what its own leave of the budget:
+    /// a patch's cost counted here by brute force over the island's rows
+    /// (its points times the factor's entries from the first row of a joint
+    /// on either of its bodies), against the owners with no budget. Every
+    /// patch it owns is one it owns without a budget, none it leaves out is
+    /// its own or costs less than one on the world it owns, their cost is
+    /// within what is left and one more would not be. Each owned patch is
+    /// owned as blocks of up to four of its points, in order, covering
+    /// them all.
     #[test]
     fn an_island_over_its_substitution_budget_owns_its_cheapest_patches() {
         let (bodies, mut joints) = trees(&mut SplitMix64(5), 6);
@@ -1692,10 +1725,29 @@ mod tests {
         let owned_by = |unit: &JointIsland, lane: usize| -> Vec<u32> {
             unit.owned
                 .iter()
-                .filter(|o| o.lane == lane)
+                .filter(|o| o.lane == lane && o.leads())
                 .map(|o| o.patch)
                 .collect()
         };
+        let between_own =
+            |p: u32| bodies[contacts.iter().find(|c| c.patch == p).unwrap().other as usize].dynamic;
+        for unit in &free {
+            for o in &unit.owned {
+                let c = contacts.iter().find(|c| c.patch == o.patch).unwrap();
+                let blocks: Vec<_> = unit.owned.iter().filter(|b| b.patch == o.patch).collect();
+                let points = c.points as usize;
+                assert_eq!(blocks.len(), points.div_ceil(BLOCK_POINTS), "patch {}", o.patch);
+                for (k, b) in blocks.iter().enumerate() {
+                    // The patch's points at 10.. among the solver's.
+                    let start = 10 + k * BLOCK_POINTS;
+                    assert_eq!(
+                        b.points_in(10..10 + points),
+                        start..(start + BLOCK_POINTS).min(10 + points)
+                    );
+                    assert_eq!(b.leads(), k == 0);
+                }
+            }
+        }
         for budget in [usize::MAX, 2_000, 700, 150, 0] {
             own_patches_within(&mut tight, &joints, &bodies, &contacts, budget);
             let mut cut = 0;
@@ -1704,12 +1756,20 @@ mod tests {
                     let (kept, all) = (owned_by(unit, lane), owned_by(whole, lane));
                     assert!(kept.iter().all(|p| all.contains(p)));
                     assert!(kept.windows(2).all(|w| w[0] < w[1]), "in patch order");
-                    let spent: usize = kept.iter().map(|&p| cost_of(unit, lane, p)).sum();
-                    assert!(spent <= budget, "{spent} > {budget}");
-                    let dearest_kept = kept.iter().map(|&p| cost_of(unit, lane, p)).max().unwrap_or(0);
+                    let own: usize = all
+                        .iter()
+                        .filter(|&&p| between_own(p))
+                        .map(|&p| cost_of(unit, lane, p))
+                        .sum();
+                    let left = budget.saturating_sub(own);
+                    let on_world = || kept.iter().filter(|&&p| !between_own(p));
+                    let spent: usize = on_world().map(|&p| cost_of(unit, lane, p)).sum();
+                    assert!(spent <= left, "{spent} > {left}");
+                    let dearest_kept = on_world().map(|&p| cost_of(unit, lane, p)).max().unwrap_or(0);
                     for &p in all.iter().filter(|p| !kept.contains(p)) {
                         let cost = cost_of(unit, lane, p);
-                        assert!(cost >= dearest_kept && spent + cost > budget, "{p}: {cost}");
+                        assert!(!between_own(p), "{p} is between two of the island's bodies");
+                        assert!(cost >= dearest_kept && spent + cost > left, "{p}: {cost}");
                         cut += 1;
                     }
                 }

@@ -398,34 +398,34 @@ impl World {
             .iter()
             .map(|p| (slot_to_solver[p.key.0 as usize], slot_to_solver[p.key.1 as usize]))
             .collect();
-        let candidates: Vec<OwnableContact> = if f.settings.solver == SolverKind::Lemke
-            || self.joints.is_empty()
-        {
-            Vec::new()
-        } else {
-            let dynamic = |b: u32| sf.bodies[b as usize].dynamic;
-            // A patch an island may own: on two dynamic bodies, or on a
-            // dynamic body and a static or kinematic one (which then comes
-            // second: the island looks a patch up by its dynamic body).
-            (0..pairs.len())
-                .filter(|&k| {
-                    let (a, b) = pairs[k];
-                    (dynamic(a) || dynamic(b)) && f.patches[k].count as usize <= contact_solver::BLOCK_POINTS
-                })
-                .map(|k| {
-                    let (body, other) = match pairs[k] {
-                        (a, b) if dynamic(a) => (a, b),
-                        (a, b) => (b, a),
-                    };
-                    OwnableContact {
-                        patch: k as u32,
-                        body,
-                        other,
-                        points: f.patches[k].count,
-                    }
-                })
-                .collect()
-        };
+        let candidates: Vec<OwnableContact> =
+            if f.settings.solver == SolverKind::Lemke || self.joints.is_empty() {
+                Vec::new()
+            } else {
+                let dynamic = |b: u32| sf.bodies[b as usize].dynamic;
+                // A patch an island may own (of any number of points, in
+                // blocks of four): on two dynamic bodies, or on a
+                // dynamic body and a static or kinematic one (which then comes
+                // second: the island looks a patch up by its dynamic body).
+                (0..pairs.len())
+                    .filter(|&k| {
+                        let (a, b) = pairs[k];
+                        dynamic(a) || dynamic(b)
+                    })
+                    .map(|k| {
+                        let (body, other) = match pairs[k] {
+                            (a, b) if dynamic(a) => (a, b),
+                            (a, b) => (b, a),
+                        };
+                        OwnableContact {
+                            patch: k as u32,
+                            body,
+                            other,
+                            points: f.patches[k].count,
+                        }
+                    })
+                    .collect()
+            };
         self.prepare_joints(sf, &candidates);
         let mut owned = vec![false; pairs.len()];
         for island in &sf.joint_islands {

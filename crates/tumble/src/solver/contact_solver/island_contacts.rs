@@ -174,8 +174,7 @@ impl OwnedPatch {
     }
 
     /// The block's points among the solver's points, given the patch's
-    /// (`ManifoldConstraint::range`): clipped to the patch, which may have
-    /// fewer points this step than when the block was laid out.
+    /// (`ManifoldConstraint::range`), never past the patch's last.
     pub fn points_in(&self, patch: Range<usize>) -> Range<usize> {
         let start = (patch.start + self.block_start as usize).min(patch.end);
         start..(start + self.block_points as usize).min(patch.end)

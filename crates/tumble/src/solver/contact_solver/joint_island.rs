@@ -56,8 +56,7 @@
 
 use super::body::SolverBody;
 use super::coloring::Shared;
-use super::constraint::SolverParams;
-use super::constraint::BLOCK_POINTS;
+use super::constraint::{SolverParams, BLOCK_POINTS};
 use super::gear::GearConstraint;
 use super::island_contacts::{OwnedPatch, PatchArrays, LIGHTEST_OWNER};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};

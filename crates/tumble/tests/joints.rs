@@ -121,21 +121,11 @@ fn a_hinge_keeps_its_anchor_and_axis_under_a_spinning_load() {
 /// finger's patch closes a loop through its hinge and the hand's ball,
 /// through the world or through the plank. Returns the largest joint error
 /// (m) over 10 s and how deep the finger's tip ends below the plank's top.
-/// With `meshes`, the plank is of triangles and the finger a 12-sided
-/// prism (its end face meets the plank in a patch of more than four
-/// points).
-fn finger_pressed_onto_a_plank(plank_static: bool, meshes: bool) -> (f64, f64) {
-    use tumble::collide::mesh::{box_mesh, cylinder_mesh};
-    use tumble::collide::shape::{MeshShape, Shape};
+fn finger_pressed_onto_a_plank(plank_static: bool) -> (f64, f64) {
     let mut w = joint_world(true, 1);
     w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
         .unwrap();
-    let plank_half = DVec3::new(0.2, 0.05, 0.025);
-    let plank_shape = if meshes {
-        Shape::Mesh(MeshShape::new(box_mesh(plank_half).unwrap()).unwrap())
-    } else {
-        Shape::Cuboid(Cuboid::new(plank_half).unwrap())
-    };
+    let plank_shape = Cuboid::new(DVec3::new(0.2, 0.05, 0.025)).unwrap();
     let plank_at = DVec3::new(0.2, 0.0, 0.025);
     let plank = if plank_static {
         w.add_body(&BodyDesc::fixed(plank_shape).at(plank_at)).unwrap()
@@ -172,14 +162,9 @@ fn finger_pressed_onto_a_plank(plank_static: bool, meshes: bool) -> (f64, f64) {
     // Hanging from the hand's far end, its tip 11 mm above the plank: the
     // hand tips down about its ball until the finger meets the plank.
     let half = 0.0195;
-    let finger_shape = if meshes {
-        Shape::Mesh(MeshShape::new(cylinder_mesh(0.005, half, 12).unwrap()).unwrap())
-    } else {
-        Shape::Cuboid(Cuboid::new(DVec3::new(0.005, 0.005, half)).unwrap())
-    };
     let finger = w
         .add_body(
-            &BodyDesc::dynamic(finger_shape)
+            &BodyDesc::dynamic(Cuboid::new(DVec3::new(0.005, 0.005, half)).unwrap())
                 .at(DVec3::new(0.24, 0.0, 0.1 - half))
                 .with_mass(2e-5),
         )
@@ -213,26 +198,16 @@ fn a_light_finger_pressed_onto_a_plank_by_its_hand_keeps_its_hinge() {
     // patch pushes the finger out of the plank, the island's joints pull it
     // back towards the hand. Owned by the island, the patch is solved with
     // its joints (island_contacts), through the world or through the plank.
-    // Of meshes, the finger's end face meets the plank in a patch of more
-    // than four points, owned in blocks of four: left beside the island
-    // (as patches of more than four points were), the hinge opened by 13.6
-    // mm on the static plank and the finger came off the hinged one (0.75
-    // m).
-    for (plank_static, meshes) in [(true, false), (false, false), (true, true), (false, true)] {
-        let (error, depth) = finger_pressed_onto_a_plank(plank_static, meshes);
-        let what = format!("plank static {plank_static}, meshes {meshes}");
-        // On the hinged plank of meshes the finger stays on its hand (its
-        // hinge opens by less than the finger's length; 15 mm at present,
-        // docs/pipeline.md 2026-12-05); everywhere else within a millimetre.
-        let bound = if meshes && !plank_static { 0.039 } else { 1e-3 };
+    for plank_static in [true, false] {
+        let (error, depth) = finger_pressed_onto_a_plank(plank_static);
         assert!(
-            error < bound,
-            "{what}: the finger's joints open by {:.3} mm",
+            error < 1e-3,
+            "plank static {plank_static}: the finger's joints open by {:.3} mm",
             error * 1e3
         );
         assert!(
             depth < 2e-3,
-            "{what}: the finger's tip {:.3} mm into the plank",
+            "plank static {plank_static}: the finger's tip {:.3} mm into the plank",
             depth * 1e3
         );
     }

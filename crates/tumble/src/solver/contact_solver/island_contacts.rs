@@ -68,8 +68,7 @@
 //! many points it has (in blocks of four) and whatever it costs (one on an
 //! immovable body only with four points at most: owned in blocks, a car's
 //! wheels on a mesh terrain rolled 19 % slower than their motors drive
-//! them). Left
-//! beside the island, such a patch pushes one link out while the island's
+//! them). Left beside the island, such a patch pushes one link out while the island's
 //! direct solve pulls it back, pass after pass, and the passes over it
 //! added kinetic energy: NAO with its fingers made 1 g, whose finger meshes
 //! touch each other in patches of five to eight points and, once the hands

@@ -403,8 +403,8 @@ impl World {
                 Vec::new()
             } else {
                 let dynamic = |b: u32| sf.bodies[b as usize].dynamic;
-                // A patch an island may own (of any number of points, in
-                // blocks of four): on two dynamic bodies, or on a
+                // A patch an island may own (of any number of points:
+                // `joint_island::own_patches` decides): on two dynamic bodies, or on a
                 // dynamic body and a static or kinematic one (which then comes
                 // second: the island looks a patch up by its dynamic body).
                 (0..pairs.len())

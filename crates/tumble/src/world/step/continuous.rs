@@ -51,7 +51,9 @@ impl World {
         if !f.settings.continuous {
             return;
         }
-        // Jointed bodies stay where the solver left them (both parts).
+        // Jointed bodies stay where the solver left them in the sweeps, and
+        // in the end-overlap pass unless they have a triangle mesh
+        // (end_overlap.rs, "Jointed bodies").
         let jointed = self.jointed_flags(f.n_slots);
         self.sweep_fast_bodies(f, &jointed);
         self.separate_end_overlaps(f, &jointed);

@@ -275,13 +275,13 @@ fn chains_swung_into_each_other(link_mass: f64, angle: f64, meshes: bool) -> (f6
 
 #[test]
 fn chains_of_mesh_links_swung_into_each_other_gain_no_energy() {
-    // The tips of two chains that collide are whipped round within a step
-    // (45 degrees) past their speculative contacts. Jointed, they were left
-    // where the solver put them: mesh links ended 13-18 mm inside each
-    // other, their patches pointing every way (a crossing of two thin
-    // boxes), and the push-out and warm starts fought the joints through
-    // the palm until the chains, passive, gained up to 200 times the energy
-    // a link swings with. Now the end-of-step overlap pass takes a jointed
+    // Mesh links of the two chains cross within a step, past their
+    // speculative contacts (docs/pipeline.md, 2026-12-05: those are all at
+    // the links' upper ends). Jointed, they were left where the solver put
+    // them: 13-18 mm inside each other, their patches pointing every way (a
+    // crossing of two thin boxes), and the push-out and warm starts fought
+    // the joints through the palm until the chains, passive, gained up to
+    // 21 J, where a 100 g link swings with about 30 mJ. Now the end-of-step overlap pass takes a jointed
     // mesh body too (world/step/end_overlap.rs, "Jointed bodies"). Cuboid
     // links, whose contacts keep one normal a face, never sank so deep.
     for meshes in [true, false] {

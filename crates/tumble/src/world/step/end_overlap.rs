@@ -136,10 +136,10 @@
 //! joints). A jointed body with a triangle mesh takes part like any other.
 //! Two chains of three mesh links hung side by side from one palm and
 //! swung into each other (test `joints::chains_of_mesh_links_swung_into_
-//! each_other_gain_no_energy`) showed why: the first links' collision
-//! whips the tips round by about 45 degrees within a step, past their
-//! speculative contacts, and left where the solver put them the tips ended
-//! 13-18 mm inside each other. A crossing of two thin meshes has patches
+//! each_other_gain_no_energy`) showed why: their links cross within a
+//! step, past their speculative contacts (docs/pipeline.md, 2026-12-05),
+//! and left where the solver put them they ended 13-18 mm inside each
+//! other. A crossing of two thin meshes has patches
 //! that point every way; their push-out and warm starts fought the joints
 //! through the palm, and the chains, passive, gained up to 21 J (links of
 //! 100 g, which swing with about 30 mJ). Taken out here, the overlap is

@@ -468,11 +468,7 @@ impl World {
         };
         // Per body slot: has a triangle mesh.
         let meshy: Vec<bool> = (0..f.n_slots as u32)
-            .map(|slot| {
-                self.bodies
-                    .at(slot)
-                    .is_some_and(|e| e.colliders.iter().any(|c| matches!(c.shape, Shape::Mesh(_))))
-            })
+            .map(|slot| self.bodies.at(slot).is_some_and(super::margins::has_mesh))
             .collect();
         // Per body slot: dynamic, awake, and not jointed unless it has a
         // triangle mesh (a jointed body of primitives stays where the

@@ -21,6 +21,16 @@ pub enum ContactKind {
     FaceVertex,
     /// An edge of A against an edge of B; normal = edge A x edge B, oriented B to A.
     EdgeEdge,
+    /// A vertex of A against an edge of B (meshes); normal = the face
+    /// normal at the two features nearest the gap between them, distance
+    /// = the gap along it (`triangle::tri_vertex_edge`).
+    VertexEdge,
+    /// An edge of A against a vertex of B (meshes); normal and distance as
+    /// for `VertexEdge`.
+    EdgeVertex,
+    /// A vertex of A against a vertex of B (meshes); normal and distance as
+    /// for `VertexEdge`.
+    VertexVertex,
     /// Face against face (primitive manifolds: clipped polygon points).
     FaceFace,
     /// Triangles that intersect; the normal is a push-out direction.
@@ -112,6 +122,8 @@ impl Contact {
         let kind = match self.kind {
             ContactKind::VertexFace => ContactKind::FaceVertex,
             ContactKind::FaceVertex => ContactKind::VertexFace,
+            ContactKind::VertexEdge => ContactKind::EdgeVertex,
+            ContactKind::EdgeVertex => ContactKind::VertexEdge,
             k => k,
         };
         Contact {

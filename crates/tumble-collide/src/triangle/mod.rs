@@ -11,6 +11,8 @@
 //! - [`tri_contact`]: vertex/face, face/vertex and edge/edge contacts of a
 //!   triangle pair within a margin, and push-out contacts for intersecting pairs
 //!   (thesis 5.2, 7.1).
+//! - `tri_vertex_edge`: vertex/edge, edge/vertex and vertex/vertex contacts of
+//!   two meshes, from the features' owners (Voronoi regions of features).
 //! - [`phong`]: a point against the smooth surface a triangle with corner
 //!   normals stands for (Phong normals, Phong tessellation).
 //! - `tri_measure`: a triangle's box and longest edge, shared by the tests above.
@@ -29,6 +31,7 @@ pub mod tri_contact;
 pub mod tri_distance;
 mod tri_measure;
 pub mod tri_tri_overlap;
+mod tri_vertex_edge;
 
 pub use merge::{merge_contacts, MergeError, MergeParams};
 pub use orient::{orient2d, orient3d};

@@ -71,6 +71,7 @@
 use super::tri_distance::closest_points_segments;
 use super::tri_measure::{bounds, longest_edge_squared};
 use super::tri_tri_overlap::tri_tri_overlap;
+use super::tri_vertex_edge::vertex_edge_contacts;
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::DVec3;
 
@@ -342,7 +343,17 @@ fn features_of_pair(
             }
         }
     }
-    edge_edge_contacts((a, id_a, fa), (b, id_b, fb), b_margins, intersecting, owned, out);
+    edge_edge_contacts(
+        (a, id_a, fa),
+        (b, id_b, fb),
+        b_margins,
+        intersecting,
+        owned.as_deref_mut(),
+        out,
+    );
+    if let Some(o) = owned {
+        vertex_edge_contacts((a, id_a, da), (b, id_b, db), o, out);
+    }
     out.len() - start
 }
 

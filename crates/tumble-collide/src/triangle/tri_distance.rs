@@ -31,7 +31,7 @@ pub fn closest_point_on_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeature
 
 /// [`closest_point_on_triangle`] for input known to be finite.
 #[inline]
-fn closest_point_on_finite_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeature) {
+pub(crate) fn closest_point_on_finite_triangle(p: DVec3, t: &[DVec3; 3]) -> (DVec3, SubFeature) {
     let [a, b, c] = *t;
     let ab = b - a;
     let ac = c - a;

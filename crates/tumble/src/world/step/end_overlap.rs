@@ -147,7 +147,11 @@
 //! (14-18 mm, for that one step) are closed by the next step's push-out
 //! (to under a micron). Cuboid links keep one normal a face and their
 //! speculative contacts catch the tips (0.06 mm deep at most): they never
-//! need this.
+//! need this. The mesh links' crossing had a cause in the narrow phase,
+//! mended since: their closest features were corners against corners,
+//! which it did not report (`tumble_collide::triangle::tri_vertex_edge`).
+//! Now the mesh links never overlap either, and jointed mesh bodies stay
+//! in this pass as the safety net every other body has.
 //!
 //! Determinism: the contacts of a pass are computed from one set of poses
 //! (on the world's threads, merged in pair order); the positions are

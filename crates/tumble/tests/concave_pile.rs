@@ -188,14 +188,15 @@ fn four_layers_of_concave_bodies_come_to_rest_and_stay_still() {
     // Which way a pile of 100 tumbling bodies comes down is chaotic, and
     // one start alone says little about how still such piles lie (the
     // pile's own start had 5e-7 J in its sixth second, and 4.7e-5 and
-    // 1.6e-4 J after narrow-phase changes that moved no body's rest). So
+    // 1.6e-4 J with two versions of the corner contacts, each time one
+    // body twitching once at a few mm/s). So
     // the test counts the bodies still moving faster than 1 mm/s in the
     // sixth second over seven starts, the pile's own and six moved by up
     // to 2 mm, and takes the median: with the default, when this test was
     // written, 0, 0, 0, 1, 11, 12 and 31 bodies; with 10 um allowed 5, 10,
     // 12, 12, 12, 20 and 35. The starts with many are those where a
     // bracket lying across another's edges rocks on them at a few cm/s
-    // and does not stop (docs/pipeline.md, "Measured and not kept",
+    // and does not soon stop (docs/pipeline.md, "Measured and not kept",
     // 2026-12-05, third session), shaking its neighbours.
     let mut moving = Vec::new();
     for seed in 0..7 {

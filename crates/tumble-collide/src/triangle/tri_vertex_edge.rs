@@ -90,16 +90,13 @@ pub(super) fn vertex_edge_contacts(
         let v = a[k];
         let (near, on) = closest_point_on_finite_triangle(v, b);
         let gap = v - near;
-        let d2 = gap.length_squared();
         match on {
             // A's corner against B's owned edge.
             SubFeature::Edge(j) if owned.b & (8 << j) != 0 => {
                 let j = j as usize;
-                let m = margins[j].max(margins[(j + 1) % 3]);
-                if d2 > m * m || d2 == 0.0 {
+                let Some(up) = direction_within(gap, margins[j].max(margins[(j + 1) % 3])) else {
                     continue;
-                }
-                let up = gap / d2.sqrt();
+                };
                 let ends = (b[j], b[(j + 1) % 3]);
                 let (Some(axis_b), Some(axis_a)) = (
                     edge_cone(owned.copies, Side::B, (b, j), ends, up),
@@ -114,10 +111,9 @@ pub(super) fn vertex_edge_contacts(
             // A's corner against B's owned corner.
             SubFeature::Vertex(l) if owned.b & (1 << l) != 0 => {
                 let l = l as usize;
-                if d2 > margins[l] * margins[l] || d2 == 0.0 {
+                let Some(up) = direction_within(gap, margins[l]) else {
                     continue;
-                }
-                let up = gap / d2.sqrt();
+                };
                 let (Some(axis_b), Some(axis_a)) = (
                     vertex_cone(owned.copies, Side::B, (b, l), up),
                     vertex_cone(owned.copies, Side::A, (a, k), -up),
@@ -144,11 +140,9 @@ pub(super) fn vertex_edge_contacts(
         let i = i as usize;
         // From B's corner to A's edge: the contact's normal runs from B to A.
         let gap = near - w;
-        let d2 = gap.length_squared();
-        if owned.a & (8 << i) == 0 || d2 > margins[l] * margins[l] || d2 == 0.0 {
+        let Some(up) = direction_within(gap, margins[l]).filter(|_| owned.a & (8 << i) != 0) else {
             continue;
-        }
-        let up = gap / d2.sqrt();
+        };
         let ends = (a[i], a[(i + 1) % 3]);
         let (Some(axis_b), Some(axis_a)) = (
             vertex_cone(owned.copies, Side::B, (b, l), up),
@@ -179,6 +173,14 @@ fn contact(
         feature_a: fa,
         feature_b: fb,
     }
+}
+
+/// The unit direction of `gap` if it is not zero and no longer than
+/// `margin`.
+#[inline]
+fn direction_within(gap: DVec3, margin: f64) -> Option<DVec3> {
+    let d2 = gap.length_squared();
+    (d2 <= margin * margin && d2 > 0.0).then(|| gap / d2.sqrt())
 }
 
 /// The contact's normal (from B to A) and distance for the gap `gap`

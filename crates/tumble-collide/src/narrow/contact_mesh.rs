@@ -7,13 +7,16 @@
 //! "Shared features, once"); what copies remain (push-out contacts of
 //! neighbouring intersecting pairs, boundary and non-manifold edges, a vertex
 //! over the edge between two faces) are merged. Primitives against meshes:
-//! boxes and hulls as their faces' triangles against the tree, spheres by the
+//! boxes and hulls as their faces' triangles against the tree (each pair's
+//! vertex/face and edge/edge contacts, and a corner against an edge or a
+//! corner from the features' owners: `polytope_fans`), spheres by the
 //! closest point on each nearby triangle (or their centre's foot on the
 //! smooth surface the mesh stands for, when it has one:
 //! `shape::SmoothSurface`), half-spaces by the mesh vertices within the
 //! margin.
 
 use super::contact_halfspace::push_vertex_on_plane;
+use super::polytope_fans::{FanMeshCopies, POLYTOPE_FANS};
 use super::smooth_foot::{push_foot_contact, smooth_foot, SmoothFoot};
 use crate::bvh::{self, Obb, Traverse, WalkFront};
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
@@ -22,13 +25,13 @@ use crate::math::{DMat3, DVec3};
 use crate::pose::Pose;
 use crate::shape::{HalfSpace, MeshShape, Polytope, Sphere};
 use crate::triangle::{
-    closest_point_on_triangle, merge_contacts, triangle_contacts, triangle_contacts_owned, Copies,
-    MergeParams, Owned, Side,
+    closest_point_on_triangle, merge_contacts, triangle_contacts_and_corners, triangle_contacts_owned,
+    Copies, MergeParams, Owned, Side,
 };
 use std::cell::RefCell;
 
 #[inline]
-fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
+pub(super) fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
     m.mesh().triangle(t as usize).map(|v| pose.transform_point(v))
 }
 
@@ -440,7 +443,12 @@ pub fn contact_mesh_halfspace(
 }
 
 /// Polytope A (box or hull) against mesh B: the polytope's faces, fanned
-/// into triangles, against the mesh triangles near the polytope's box.
+/// into triangles, against the mesh triangles near the polytope's box:
+/// every pair's vertex/face and edge/edge contacts (`triangle_contacts`),
+/// and the vertex/edge, edge/vertex and vertex/vertex contacts of the
+/// corners and edges the pair owns (`polytope_fans`; a box's corner beside
+/// a mesh's edge, with the box's edges level and parallel to the mesh's,
+/// is seen by nothing else).
 pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
     a: &P,
     pose_a: &Pose,
@@ -463,21 +471,29 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
     // Polytope faces as triangles (world), named by face and fan index. The
     // fan's diagonals are internal edges: edge 0 of fan triangle k > 1 and
     // edge 2 of fan triangle k < len - 2.
-    let mut tris: Vec<([DVec3; 3], u32)> = Vec::new();
-    for f in 0..a.face_count() {
-        let len = a.face_len(f);
-        let corner = |k: usize| pose_a.transform_point(a.vertex(a.face_vertex(f, k)));
-        for k in 1..len.saturating_sub(1) {
-            tris.push(([corner(0), corner(k), corner(k + 1)], (f as u32) << 8 | k as u32));
-        }
-    }
     let start = out.len();
-    let _ = bvh::query_obb(b.tree(), pose_b, &query, margin, |tb| {
-        let wb = world_triangle(b, pose_b, tb);
-        for (wa, id) in &tris {
-            let _ = triangle_contacts(wa, *id, &wb, tb, margin, out);
-        }
-        Traverse::Continue
+    POLYTOPE_FANS.with_borrow_mut(|fans| {
+        fans.refill(a, pose_a);
+        let _ = bvh::query_obb(b.tree(), pose_b, &query, margin, |tb| {
+            let wb = world_triangle(b, pose_b, tb);
+            let owned_b = b.owned_features(tb);
+            for (t, (wa, id)) in fans.tris.iter().enumerate() {
+                let mut copies = FanMeshCopies {
+                    fans,
+                    mesh: b,
+                    pose_b,
+                    pair: (t as u32, tb),
+                };
+                let mut owned = Owned {
+                    a: fans.owned(t),
+                    b: owned_b,
+                    b_margins: [margin; 3],
+                    copies: &mut copies,
+                };
+                triangle_contacts_and_corners(wa, *id, &wb, tb, margin, &mut owned, out);
+            }
+            Traverse::Continue
+        });
     });
     let fan_diagonal = |f: Feature| {
         let (face, k) = ((f.index >> 8) as usize, (f.index & 0xff) as usize);

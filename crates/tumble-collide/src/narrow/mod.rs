@@ -33,6 +33,7 @@ mod dispatch;
 mod geometry;
 pub(crate) mod gjk;
 mod mesh_pair_memory;
+mod polytope_fans;
 mod reduce;
 mod smooth_foot;
 

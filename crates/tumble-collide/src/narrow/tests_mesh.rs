@@ -3,7 +3,7 @@
 use super::*;
 use crate::mesh::{box_mesh, icosphere_mesh};
 use crate::pose::Pose;
-use crate::shape::{Capsule, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
+use crate::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use crate::triangle::triangle_distance;
 use crate::DQuat;
 
@@ -134,10 +134,44 @@ fn mesh_mesh_distance_matches_brute_force() {
 /// farther features.
 #[test]
 fn the_closest_features_of_two_convex_meshes_are_found_at_random_poses() {
+    let boxy = MeshShape::new(box_mesh(DVec3::new(0.3, 0.2, 0.1)).unwrap()).unwrap();
+    let kinds = closest_features_are_found(&Shape::Mesh(boxy.clone()), &boxy, 23);
+    every_kind_met(&kinds, &["VertexVertex"]);
+}
+
+/// The same for a box or a convex hull against a mesh (the polytope-mesh
+/// routine, which fans the polytope's faces into triangles): A is a
+/// `Cuboid` of the mesh box's size, or the convex hull of the mesh ball,
+/// and the oracle is the brute-force distance from the same surface as a
+/// mesh.
+#[test]
+fn the_closest_features_of_a_polytope_and_a_mesh_are_found_at_random_poses() {
+    let half = DVec3::new(0.3, 0.2, 0.1);
+    let boxy = MeshShape::new(box_mesh(half).unwrap()).unwrap();
+    let mut kinds = closest_features_are_found(&Shape::Cuboid(Cuboid::new(half).unwrap()), &boxy, 29);
+    let ball_mesh = icosphere_mesh(0.25, 1).unwrap();
+    let hull = ConvexHull::from_mesh(&ball_mesh).unwrap();
+    let ball = MeshShape::new(ball_mesh).unwrap();
+    for (kind, n) in closest_features_are_found(&Shape::ConvexHull(hull), &ball, 31) {
+        *kinds.entry(kind).or_insert(0) += n;
+    }
+    // A corner closest to a corner was met in none of these 600 poses
+    // (once in the mesh-mesh test's 300):
+    // `a_corner_pointing_at_a_corner_gives_a_vertex_vertex_contact` has it.
+    every_kind_met(&kinds, &[]);
+}
+
+/// 300 random poses of `a` (whose surface is `a_mesh`) against a mesh box
+/// and a coarse mesh ball (`the_closest_features_of_two_convex_meshes_are_found_at_random_poses`).
+fn closest_features_are_found(
+    a: &Shape,
+    a_mesh: &MeshShape,
+    seed: u64,
+) -> std::collections::BTreeMap<String, usize> {
     use tumble_testkit::RandomSource;
     let boxy = MeshShape::new(box_mesh(DVec3::new(0.3, 0.2, 0.1)).unwrap()).unwrap();
     let ball = MeshShape::new(icosphere_mesh(0.25, 1).unwrap()).unwrap();
-    let mut rng = tumble_testkit::SplitMix64(23);
+    let mut rng = tumble_testkit::SplitMix64(seed);
     let margin = 0.02;
     let mut kinds = std::collections::BTreeMap::new();
     let face_normals = |m: &MeshShape, pose: &Pose| -> Vec<DVec3> {
@@ -155,13 +189,14 @@ fn the_closest_features_of_two_convex_meshes_are_found_at_random_poses() {
         // step keeps B apart and converges on the target gap.
         let mut at = dir * 1.0;
         for _ in 0..30 {
-            let d = brute_distance(&boxy, &pa, b, &Pose::new(at, turn_b).unwrap());
+            let d = brute_distance(a_mesh, &pa, b, &Pose::new(at, turn_b).unwrap());
             at -= dir * (d - target);
         }
         let pb = Pose::new(at, turn_b).unwrap();
-        let truth = brute_distance(&boxy, &pa, b, &pb);
+        let truth = brute_distance(a_mesh, &pa, b, &pb);
         assert!(truth > 0.0 && truth < margin, "case {case}: {truth}");
-        let out = mesh_contacts(&boxy, &pa, b, &pb, margin);
+        let mut out = Vec::new();
+        contact_shapes(a, &pa, &Shape::Mesh(b.clone()), &pb, margin, &mut out).unwrap();
         let closest = out
             .iter()
             .min_by(|x, y| x.distance.total_cmp(&y.distance))
@@ -184,7 +219,7 @@ fn the_closest_features_of_two_convex_meshes_are_found_at_random_poses() {
             );
         }
         *kinds.entry(format!("{:?}", closest.kind)).or_insert(0) += 1;
-        let faces: Vec<DVec3> = face_normals(&boxy, &pa)
+        let faces: Vec<DVec3> = face_normals(a_mesh, &pa)
             .into_iter()
             .map(|n| -n)
             .chain(face_normals(b, &pb))
@@ -202,18 +237,58 @@ fn the_closest_features_of_two_convex_meshes_are_found_at_random_poses() {
             }
         }
     }
-    // Every kind of closest pair was met (of 300: about 290 vertex/face,
-    // face/vertex and edge/edge, 11 vertex/edge and edge/vertex, 1
-    // vertex/vertex).
-    for kind in [
-        "VertexFace",
-        "FaceVertex",
-        "EdgeEdge",
-        "VertexEdge",
-        "EdgeVertex",
-        "VertexVertex",
-    ] {
+    kinds
+}
+
+/// Every kind of closest pair was met (of 300 mesh boxes against meshes:
+/// about 290 vertex/face, face/vertex and edge/edge, 11 vertex/edge and
+/// edge/vertex, 1 vertex/vertex), and the kinds in `rare` too.
+fn every_kind_met(kinds: &std::collections::BTreeMap<String, usize>, rare: &[&str]) {
+    for &kind in ["VertexFace", "FaceVertex", "EdgeEdge", "VertexEdge", "EdgeVertex"]
+        .iter()
+        .chain(rare)
+    {
         assert!(kinds.contains_key(kind), "{kinds:?}");
+    }
+}
+
+/// A corner of a box pointing at a corner of a mesh box, diagonally apart
+/// by `g` along each axis (true distance `g * sqrt(3)`): a vertex/vertex
+/// contact, along a face normal (the nearest face to the gap is at
+/// `acos(1 / sqrt(3))`, within the face axis's reach), at the gap's
+/// component along it, `g`. The same from a mesh box, and mirrored.
+#[test]
+fn a_corner_pointing_at_a_corner_gives_a_vertex_vertex_contact() {
+    let h = 0.1;
+    let g = 0.004;
+    let mesh = MeshShape::new(box_mesh(DVec3::splat(h)).unwrap()).unwrap();
+    let cuboid = Shape::Cuboid(Cuboid::new(DVec3::splat(h)).unwrap());
+    let pa = Pose::IDENTITY;
+    let pb = Pose::from_translation(DVec3::splat(2.0 * h + g));
+    for (a, b, sign) in [
+        (cuboid.clone(), Shape::Mesh(mesh.clone()), 1.0),
+        (Shape::Mesh(mesh.clone()), Shape::Mesh(mesh.clone()), 1.0),
+    ] {
+        for (x, y, pose_x, pose_y, s) in [(&a, &b, pa, pb, sign), (&b, &a, pb, pa, -sign)] {
+            let mut out = Vec::new();
+            contact_shapes(x, &pose_x, y, &pose_y, 0.01, &mut out).unwrap();
+            let vv: Vec<&Contact> = out
+                .iter()
+                .filter(|c| c.kind == ContactKind::VertexVertex)
+                .collect();
+            assert_eq!(vv.len(), 1, "{out:?}");
+            let c = vv[0];
+            assert!((c.distance - g).abs() < 1e-12, "{c:?}");
+            assert!((c.point - DVec3::splat(h + 0.5 * g)).length() < 1e-12, "{c:?}");
+            // From B to A: towards the origin for A at the origin.
+            let n = -s * c.normal;
+            assert!(
+                [DVec3::X, DVec3::Y, DVec3::Z]
+                    .iter()
+                    .any(|&e| (n - e).length() < 1e-12),
+                "{c:?}"
+            );
+        }
     }
 }
 
@@ -224,27 +299,51 @@ fn the_closest_features_of_two_convex_meshes_are_found_at_random_poses() {
 /// corner contacts can see the gap there (the links of two chains hung
 /// from one palm met so, and crossed 6 mm in one step). Both lower ends
 /// are reported, along a side face, at the brute-force distance to within
-/// the tilt's cosine.
+/// the tilt's cosine; and so for a box against a mesh box (a chain of
+/// cuboid links beside a chain of mesh links crossed 1.5 mm into it).
 #[test]
 fn level_parallel_edges_of_boxes_side_by_side_are_seen_at_both_ends() {
-    let link = MeshShape::new(box_mesh(DVec3::new(0.008, 0.005, 0.015)).unwrap()).unwrap();
+    let half = DVec3::new(0.008, 0.005, 0.015);
+    let link = MeshShape::new(box_mesh(half).unwrap()).unwrap();
     let tilt: f64 = 0.017410;
     let pa = Pose::new(DVec3::new(0.0, -0.0057215, 0.474), DQuat::from_rotation_x(tilt)).unwrap();
     let pb = Pose::new(DVec3::new(0.0, 0.0057215, 0.474), DQuat::from_rotation_x(-tilt)).unwrap();
     let truth = brute_distance(&link, &pa, &link, &pb);
     assert!(truth > 0.0 && truth < 0.002, "{truth}");
-    let out = mesh_contacts(&link, &pa, &link, &pb, 0.01);
-    for end in [-0.008, 0.008] {
-        let near = out
-            .iter()
-            .filter(|c| {
-                (c.point.x - end).abs() < 1e-6
-                    && c.distance <= truth + 1e-12
-                    && c.distance >= truth * (2.0 * tilt).cos()
-                    && c.normal.y.abs() >= (2.0 * tilt).cos()
-            })
-            .count();
-        assert!(near >= 1, "end x = {end}: none at {truth} among {out:?}");
+    // Two mesh links, and a `Cuboid` of the link's size against a mesh
+    // link either way round (the polytope-mesh routine); `sign` turns the
+    // normal (from B to A) to point from +y to -y.
+    for (a, pa, b, pb, sign) in [
+        (Shape::Mesh(link.clone()), pa, Shape::Mesh(link.clone()), pb, 1.0),
+        (
+            Shape::Cuboid(Cuboid::new(half).unwrap()),
+            pa,
+            Shape::Mesh(link.clone()),
+            pb,
+            1.0,
+        ),
+        (
+            Shape::Mesh(link.clone()),
+            pb,
+            Shape::Cuboid(Cuboid::new(half).unwrap()),
+            pa,
+            -1.0,
+        ),
+    ] {
+        let mut out = Vec::new();
+        contact_shapes(&a, &pa, &b, &pb, 0.01, &mut out).unwrap();
+        for end in [-0.008, 0.008] {
+            let near = out
+                .iter()
+                .filter(|c| {
+                    (c.point.x - end).abs() < 1e-6
+                        && c.distance <= truth + 1e-12
+                        && c.distance >= truth * (2.0 * tilt).cos()
+                        && sign * c.normal.y <= -(2.0 * tilt).cos()
+                })
+                .count();
+            assert!(near >= 1, "end x = {end}: none at {truth} among {out:?}");
+        }
     }
 }
 

@@ -38,7 +38,7 @@ pub use orient::{orient2d, orient3d};
 pub use phong::{phong_point, PhongPoint, OVER_TRIANGLE_TOLERANCE, PHONG_SHAPE_FACTOR};
 pub use tri_box::tri_box_overlap;
 pub use tri_contact::{triangle_contacts, TriContactError};
-pub(crate) use tri_contact::{triangle_contacts_owned, Copies, Owned, Side};
+pub(crate) use tri_contact::{triangle_contacts_and_corners, triangle_contacts_owned, Copies, Owned, Side};
 pub use tri_distance::{
     closest_point_on_triangle, closest_points_segments, triangle_distance, SegmentClosest, TriDistance,
 };

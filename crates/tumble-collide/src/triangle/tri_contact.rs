@@ -248,6 +248,28 @@ pub(crate) fn triangle_contacts_owned(
     contacts_of_pair(a, id_a, b, id_b, margin, Some(owned), out)
 }
 
+/// [`triangle_contacts`] (its checks left to the caller), and besides, the
+/// vertex/edge, edge/vertex and vertex/vertex contacts of the corners and
+/// edges the two triangles own (`tri_vertex_edge`; `owned.b_margins` must
+/// be `margin`): for a triangle set whose features cannot all be owned
+/// by one pair, but whose corners and edges have owners and neighbours
+/// (the polytope-mesh routine: a polytope's fan triangles against a mesh).
+#[inline]
+pub(crate) fn triangle_contacts_and_corners(
+    a: &[DVec3; 3],
+    id_a: u32,
+    b: &[DVec3; 3],
+    id_b: u32,
+    margin: f64,
+    owned: &mut Owned,
+    out: &mut Vec<Contact>,
+) -> usize {
+    if boxes_apart(a, b, margin) {
+        return 0;
+    }
+    features_of_pair(a, id_a, b, id_b, margin, (None, Some(owned)), out)
+}
+
 /// Every feature of both triangles, or (`owned`) the ones they own.
 #[inline]
 fn contacts_of_pair(
@@ -262,18 +284,22 @@ fn contacts_of_pair(
     if boxes_apart(a, b, margin) {
         return 0;
     }
-    features_of_pair(a, id_a, b, id_b, margin, owned, out)
+    features_of_pair(a, id_a, b, id_b, margin, (owned, None), out)
 }
 
-/// [`contacts_of_pair`] after its first early out.
+/// [`contacts_of_pair`] after its first early out. Of `(owned, corners)`,
+/// `owned` limits every kind of contact to the features the pair owns;
+/// `corners` (with `owned` `None`) keeps every feature for vertex/face and
+/// edge/edge contacts and adds the corner contacts of the owned ones
+/// ([`triangle_contacts_and_corners`]).
 #[inline(always)]
-fn features_of_pair(
+fn features_of_pair<'o, 'f>(
     a: &[DVec3; 3],
     id_a: u32,
     b: &[DVec3; 3],
     id_b: u32,
     margin: f64,
-    owned: Option<&mut Owned>,
+    (owned, corners): (Option<&'o mut Owned<'f>>, Option<&'o mut Owned<'f>>),
     out: &mut Vec<Contact>,
 ) -> usize {
     let fa = face(a);
@@ -295,6 +321,9 @@ fn features_of_pair(
         // intersecting one report them; an owner reports a feature from an
         // intersecting pair only when one of those would have (module docs).
         if owned.is_none() {
+            if let Some(c) = corners {
+                vertex_edge_contacts((a, id_a, da), (b, id_b, db), c, out);
+            }
             return out.len() - start;
         }
     }
@@ -351,7 +380,7 @@ fn features_of_pair(
         owned.as_deref_mut(),
         out,
     );
-    if let Some(o) = owned {
+    if let Some(o) = owned.or(corners) {
         vertex_edge_contacts((a, id_a, da), (b, id_b, db), o, out);
     }
     out.len() - start
@@ -1023,7 +1052,7 @@ mod tests {
             };
             let b = b.map(|p| p + DVec3::AXES[k] * shift);
             let mut full = Vec::new();
-            features_of_pair(&a, 7, &b, 9, margin, None, &mut full);
+            features_of_pair(&a, 7, &b, 9, margin, (None, None), &mut full);
             let far = triangle_distance(&a, &b).distance > margin;
             if boxes_apart(&a, &b, margin) {
                 apart += 1;

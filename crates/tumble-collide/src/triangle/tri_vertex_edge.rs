@@ -30,7 +30,9 @@
 //! need the triangles around a feature, so the contacts come from the
 //! owners of the features alone (`Owned`, `Copies`): the every-pair answer
 //! of `triangle_contacts`, which sees one pair at a time, has none of
-//! them.
+//! them. Two meshes give them from every owned pair; a box or hull against
+//! a mesh gives them from its faces' fan triangles, which have owners and
+//! neighbours too (`narrow::polytope_fans`).
 //!
 //! In a feature's cone of normals its point is outside both neighbouring
 //! faces' prisms (a vertex/face contact there would have the face normal

@@ -15,8 +15,8 @@ use tumble_collide::bvh::TraversalStats;
 use tumble_collide::mesh::{torus_mesh, MeshError, TriMesh};
 use tumble_collide::query::*;
 use tumble_collide::triangle::{
-    closest_point_on_triangle, tri_box_overlap, tri_tri_overlap, triangle_contacts, triangle_distance,
-    MergeParams,
+    closest_point_on_triangle, closest_points_segments, tri_box_overlap, tri_tri_overlap, triangle_contacts,
+    triangle_distance, MergeParams,
 };
 use tumble_collide::{
     Capsule, Contact, ContactKind, ConvexHull, Cuboid, DMat3, DQuat, DVec3, Feature, HalfSpace, Pose,
@@ -116,10 +116,135 @@ fn global(f: Feature, m: &TriMesh) -> Option<(u32, u32)> {
     }
 }
 
+/// A vertex or an edge of a mesh's triangle as a segment (a vertex as a
+/// segment of no length) in the world, and the triangles that hold it (by
+/// its global vertex ids).
+fn feature_in_world(f: Feature, m: &TriMesh, pose: &Pose) -> ((DVec3, DVec3), Vec<usize>) {
+    let t = m.triangles()[f.index as usize];
+    let (u, v) = match f.sub {
+        SubFeature::Vertex(k) => (t[k as usize], t[k as usize]),
+        SubFeature::Edge(k) => (t[k as usize], t[(k as usize + 1) % 3]),
+        _ => panic!("not a vertex or an edge: {f:?}"),
+    };
+    let at = |i: u32| pose.transform_point(m.vertices()[i as usize]);
+    let holders = (0..m.triangles().len())
+        .filter(|&i| m.triangles()[i].contains(&u) && m.triangles()[i].contains(&v))
+        .collect();
+    ((at(u), at(v)), holders)
+}
+
+/// `true` when the triangles `holders` that hold a feature are one fan the
+/// contact routines walk whole: none repeats a vertex, and an edge has at
+/// most two of them, a vertex's are joined through edges at the vertex
+/// held by exactly two triangles of the mesh (counted here over the whole
+/// mesh, not read from its neighbour table). Elsewhere (two fans meeting
+/// in a point, a non-manifold edge) the routines see the owner's fan alone
+/// (`MeshShape::any_around_corner`), and the brute-force cone check does
+/// not apply.
+fn one_fan(f: Feature, m: &TriMesh, holders: &[usize]) -> bool {
+    let tris = m.triangles();
+    if holders.iter().any(|&i| {
+        let t = tris[i];
+        t[0] == t[1] || t[1] == t[2] || t[2] == t[0]
+    }) {
+        return false;
+    }
+    let SubFeature::Vertex(k) = f.sub else {
+        return holders.len() <= 2;
+    };
+    let v = tris[f.index as usize][k as usize];
+    let held_by = |u: u32| tris.iter().filter(|t| t.contains(&u) && t.contains(&v)).count();
+    let mut reached = vec![holders[0]];
+    let mut next = 0;
+    while next < reached.len() {
+        let t = tris[reached[next]];
+        next += 1;
+        for &u in t.iter().filter(|&&u| u != v) {
+            if held_by(u) != 2 {
+                continue;
+            }
+            for &h in holders {
+                if !reached.contains(&h) && tris[h].contains(&u) {
+                    reached.push(h);
+                }
+            }
+        }
+    }
+    reached.len() == holders.len()
+}
+
+/// A vertex/edge, edge/vertex or vertex/vertex contact checked against its
+/// two features by brute force: the gap `g` between them is within the
+/// margin, the point is the middle of their closest points, the distance is
+/// between half the gap and the gap (the gap along the nearest face normal,
+/// or the gap itself), the normal is the gap's direction or a face normal
+/// of a triangle at either feature, and, where each feature's triangles are
+/// one fan ([`one_fan`]), no triangle at one feature comes nearer than `g`
+/// to a triangle at the other (the gap lies in both features' cones of
+/// normals, so the features are the closest points of the triangles
+/// around them).
+fn check_corner_contact(
+    c: &Contact,
+    (a, pa): (&TriMesh, &Pose),
+    (b, pb): (&TriMesh, &Pose),
+    margin: f64,
+    what: &str,
+) -> bool {
+    let ((p1, q1), around_a) = feature_in_world(c.feature_a, a, pa);
+    let ((p2, q2), around_b) = feature_in_world(c.feature_b, b, pb);
+    let closest = closest_points_segments(p1, q1, p2, q2);
+    let gap = closest.point_a - closest.point_b;
+    let g = gap.length();
+    let tol = 1e-9 * (1.0 + p1.abs().max_element());
+    assert!(g > 0.0 && g <= margin + tol, "{what}: {c:?} at {g}");
+    assert!(
+        (c.point - (closest.point_a + closest.point_b) * 0.5).length() <= tol,
+        "{what}: {c:?} not between its features"
+    );
+    assert!(
+        c.distance >= 0.5 * g - tol && c.distance <= g + tol,
+        "{what}: {c:?} against a gap of {g}"
+    );
+    let faces = around_a
+        .iter()
+        .map(|&t| -(pa.rotation * a.triangle_normal_scaled(t)))
+        .chain(
+            around_b
+                .iter()
+                .map(|&t| pb.rotation * b.triangle_normal_scaled(t)),
+        )
+        .filter_map(DVec3::try_normalize)
+        .chain([gap / g]);
+    assert!(
+        faces.into_iter().any(|n| (n - c.normal).length() <= 1e-9),
+        "{what}: {c:?} along no face at its features nor its gap"
+    );
+    if !(one_fan(c.feature_a, a, &around_a) && one_fan(c.feature_b, b, &around_b)) {
+        return false;
+    }
+    for &i in &around_a {
+        for &j in &around_b {
+            let d = triangle_distance(&world(a, pa, i), &world(b, pb, j)).distance;
+            assert!(
+                d >= g - tol,
+                "{what}: {c:?}: triangles {i} and {j} at its features are {d} apart, nearer than {g}"
+            );
+        }
+    }
+    true
+}
+
 /// Brute-force contacts: every pair, the same internal-edge rule, then the
 /// check that the query's merged list is a subset of them and covers each
 /// (a dropped contact duplicates a kept one at least as deep: same mesh
-/// feature or the same point, and an agreeing normal).
+/// feature or the same point, and an agreeing normal). The corner contacts
+/// (vertex/edge, edge/vertex, vertex/vertex), which no single pair can
+/// judge, are checked one by one against their features
+/// ([`check_corner_contact`]); and with them the smallest contact is
+/// between half the meshes' brute-force distance and that distance when
+/// the meshes are apart within the margin (the closest features are
+/// found, whatever they are). Returns the corner contacts whose features'
+/// fans were checked, by kind.
 fn check_contacts(
     got: &[Contact],
     sa: &MeshShape,
@@ -128,7 +253,7 @@ fn check_contacts(
     pb: &Pose,
     margin: f64,
     what: &str,
-) {
+) -> Vec<ContactKind> {
     let (a, b) = (sa.mesh(), sb.mesh());
     let mut raw = vec![];
     for i in 0..a.triangles().len() {
@@ -145,10 +270,31 @@ fn check_contacts(
     raw.retain(|c| {
         !(c.kind == ContactKind::EdgeEdge && (internal(sa, c.feature_a) || internal(sb, c.feature_b)))
     });
+    let corner = |c: &Contact| {
+        matches!(
+            c.kind,
+            ContactKind::VertexEdge | ContactKind::EdgeVertex | ContactKind::VertexVertex
+        )
+    };
+    let mut fans_checked = Vec::new();
     for c in got {
+        if corner(c) {
+            if check_corner_contact(c, (a, pa), (b, pb), margin, what) {
+                fans_checked.push(c.kind);
+            }
+        } else {
+            assert!(
+                raw.contains(c),
+                "{what}: reported contact not produced by any pair: {c:?}"
+            );
+        }
+    }
+    let apart = brute_distance(a, pa, b, pb);
+    if apart > 0.0 && apart <= margin {
+        let nearest = got.iter().map(|c| c.distance).fold(f64::INFINITY, f64::min);
         assert!(
-            raw.contains(c),
-            "{what}: reported contact not produced by any pair: {c:?}"
+            nearest >= 0.5 * apart - 1e-12 && nearest <= apart + 1e-9,
+            "{what}: the nearest contact at {nearest}, the meshes {apart} apart"
         );
     }
     let min_cos = MergeParams::default().normal_angle.cos();
@@ -166,7 +312,7 @@ fn check_contacts(
     }
     // Merging removed duplicates only: never more contacts than the pairs gave,
     // and no two kept contacts are duplicates of each other by position.
-    assert!(got.len() <= raw.len());
+    assert!(got.iter().filter(|c| !corner(c)).count() <= raw.len());
     for (i, x) in got.iter().enumerate() {
         for y in &got[i + 1..] {
             assert!(
@@ -175,6 +321,7 @@ fn check_contacts(
             );
         }
     }
+    fans_checked
 }
 
 fn options(report: ReportMode, stop_at_first: bool, contact_margin: f64) -> CollideOptions {
@@ -206,7 +353,7 @@ fn check_collide(sa: &MeshShape, pa: &Pose, sb: &MeshShape, pb: &Pose, what: &st
                 }
             }
             if mode == ReportMode::Contacts && !stop {
-                check_contacts(&rep.contacts, sa, pa, sb, pb, 0.0, &what);
+                assert!(check_contacts(&rep.contacts, sa, pa, sb, pb, 0.0, &what).is_empty());
                 // Every intersecting pair gives a penetrating contact before
                 // merging, so intersecting meshes have contacts.
                 assert_eq!(rep.contacts.is_empty(), want.is_empty(), "{what}");
@@ -220,7 +367,7 @@ fn check_collide(sa: &MeshShape, pa: &Pose, sb: &MeshShape, pb: &Pose, what: &st
     // Speculative contacts within a margin.
     let rep = collide(sa, pa, sb, pb, &options(ReportMode::Contacts, false, 0.3)).unwrap();
     assert_eq!(rep.pairs, want);
-    check_contacts(&rep.contacts, sa, pa, sb, pb, 0.3, what);
+    let _ = check_contacts(&rep.contacts, sa, pa, sb, pb, 0.3, what);
     want.len()
 }
 
@@ -276,6 +423,83 @@ fn check_distance(
             "{what}: tol {tol}, distance {}",
             d.distance
         );
+    }
+}
+
+/// The contacts mode within a margin finds the closest features of two
+/// closed convex meshes whatever they are: 300 random poses of a box
+/// against a box and against a coarse ball, brought to a random gap within
+/// a 2 cm margin, and one box's corner pointing at another's, checked by
+/// [`check_contacts`] (the nearest contact
+/// within [half, all] of the brute-force distance, each corner contact
+/// against its features). Before the query reported vertex/edge,
+/// edge/vertex and vertex/vertex contacts, the nearest contact in those
+/// poses was that of farther features.
+#[test]
+fn the_closest_features_of_convex_meshes_are_found_within_the_margin() {
+    use tumble_collide::mesh::{box_mesh, icosphere_mesh};
+    let boxy = MeshShape::new(box_mesh(DVec3::new(0.3, 0.2, 0.1)).unwrap()).unwrap();
+    let ball = MeshShape::new(icosphere_mesh(0.25, 1).unwrap()).unwrap();
+    let mut r = rng(41);
+    let margin = 0.02;
+    let mut kinds = Vec::new();
+    let turn = |r: &mut dyn FnMut() -> f64| {
+        DQuat::from_scaled_axis(DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 6.0)
+    };
+    for case in 0..300 {
+        let b = if case % 3 == 2 { &ball } else { &boxy };
+        let pa = Pose::new(DVec3::ZERO, turn(&mut r)).unwrap();
+        let turn_b = turn(&mut r);
+        let dir = turn(&mut r) * DVec3::X;
+        let target = 1e-4 + r() * (margin - 1e-4);
+        // The distance changes by at most the move along `dir`, so each
+        // step keeps B apart and converges on the target gap.
+        let mut at = dir;
+        for _ in 0..30 {
+            let d = brute_distance(boxy.mesh(), &pa, b.mesh(), &Pose::new(at, turn_b).unwrap());
+            at -= dir * (d - target);
+        }
+        let pb = Pose::new(at, turn_b).unwrap();
+        let rep = collide(&boxy, &pa, b, &pb, &options(ReportMode::Contacts, false, margin)).unwrap();
+        kinds.extend(check_contacts(
+            &rep.contacts,
+            &boxy,
+            &pa,
+            b,
+            &pb,
+            margin,
+            &format!("case {case}"),
+        ));
+    }
+    // A corner closest to a corner is rare at random poses: one box's
+    // corner pointing at the other's, 4 mm apart along each axis.
+    let (pa, pb) = (
+        Pose::IDENTITY,
+        Pose::from_translation(DVec3::new(0.604, 0.404, 0.204)),
+    );
+    let rep = collide(
+        &boxy,
+        &pa,
+        &boxy,
+        &pb,
+        &options(ReportMode::Contacts, false, margin),
+    )
+    .unwrap();
+    kinds.extend(check_contacts(
+        &rep.contacts,
+        &boxy,
+        &pa,
+        &boxy,
+        &pb,
+        margin,
+        "corner to corner",
+    ));
+    for kind in [
+        ContactKind::VertexEdge,
+        ContactKind::EdgeVertex,
+        ContactKind::VertexVertex,
+    ] {
+        assert!(kinds.contains(&kind), "{kind:?} never met: {kinds:?}");
     }
 }
 

@@ -27,7 +27,7 @@ use tumble_collide::{Contact, Feature, SubFeature};
 /// "vertex", "edge", "face" or "whole"; the corner or edge number within
 /// the triangle (edge k joins corners k and k + 1), -1 for a face or whole.
 pub const QUERY_CONTACT_FIELDS: &str = "[('point', '<f8', (3,)), ('normal', '<f8', (3,)), \
-    ('distance', '<f8'), ('depth', '<f8'), ('kind', '<U12'), \
+    ('distance', '<f8'), ('depth', '<f8'), ('kind', '<U16'), \
     ('feature_a', [('index', '<i8'), ('part', '<U6'), ('k', 'i1')]), \
     ('feature_b', [('index', '<i8'), ('part', '<U6'), ('k', 'i1')])]";
 

@@ -247,7 +247,7 @@ pub(crate) fn contact_kind_name(k: ContactKind) -> &'static str {
 /// The numpy dtype of `World.contacts()`.
 pub const CONTACT_FIELDS: &str = "[('body_a', '<i8'), ('body_b', '<i8'), ('point', '<f8', (3,)), \
     ('normal', '<f8', (3,)), ('distance', '<f8'), ('depth', '<f8'), ('normal_impulse', '<f8'), \
-    ('tangent_impulse', '<f8', (3,)), ('kind', '<U12')]";
+    ('tangent_impulse', '<f8', (3,)), ('kind', '<U16')]";
 
 /// The contacts of the last step as a structured array (see `World.contacts`).
 pub fn contacts_array<'py>(py: Python<'py>, w: &World) -> PyResult<Bound<'py, PyAny>> {

@@ -157,6 +157,24 @@ def test_contacts_structured_array() -> None:
     assert world.step_report.contacts == 4
 
 
+def test_contact_kinds_keep_their_whole_names() -> None:
+    # The longest kind, "vertex_vertex", once lost its last letter to a
+    # 12-character field. Two mesh cubes corner to corner, 1 mm apart along
+    # each axis (1.7 mm: within the 2 mm mesh contact margin), in zero
+    # gravity: the step's one contact is that corner pair.
+    world = tumble.World(gravity=(0, 0, 0), sleeping=False)
+    cube = tumble.TriMesh.box((0.5, 0.5, 0.5))
+    world.add_body(cube, kind="static")
+    world.add_body(cube, mass=1.0, position=(1.001, 1.001, 1.001))
+    world.step()
+    kinds = set(world.contacts()["kind"])
+    assert kinds == {"vertex_vertex"}, kinds
+    query = tumble.collide(
+        cube, None, cube, ((1.001,) * 3, (0, 0, 0, 1)), report="contacts", contact_margin=0.01
+    )
+    assert set(query.contacts["kind"]) == {"vertex_vertex"}
+
+
 def test_empty_world_arrays() -> None:
     world = tumble.World()
     assert world.positions.shape == (0, 3)

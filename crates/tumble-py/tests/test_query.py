@@ -125,6 +125,29 @@ def test_boxes_overlapping_by_a_known_depth() -> None:
     assert float(d) == d.distance
 
 
+def test_a_corner_pointing_at_a_corner_within_the_margin_is_a_vertex_vertex_contact() -> None:
+    # B's lowest corner 4 mm from A's highest along each axis: the meshes are
+    # 4 sqrt(3) mm apart, and the closest features are two corners, which no
+    # vertex/face or edge/edge contact sees. The contact lies between them,
+    # along a face normal of either box (from B to A), at the gap along it.
+    cube = tumble.TriMesh.box((0.5, 0.5, 0.5))
+    diagonal = ((1.004, 1.004, 1.004), (0, 0, 0, 1))
+    gap = 0.004 * math.sqrt(3.0)
+    assert tumble.distance(cube, None, cube, diagonal).distance == pytest.approx(gap, abs=1e-12)
+    for a in (cube, tumble.Box((0.5, 0.5, 0.5))):
+        contacts = tumble.collide(
+            a, None, cube, diagonal, report="contacts", contact_margin=0.01
+        ).contacts
+        corner = contacts[contacts["kind"] == "vertex_vertex"]
+        assert len(corner) == 1, contacts
+        assert corner["distance"][0] == pytest.approx(0.004, abs=1e-12)
+        np.testing.assert_allclose(corner["point"][0], (0.502, 0.502, 0.502), atol=1e-12)
+        assert sorted(np.round(corner["normal"][0], 12)) == [-1.0, 0.0, 0.0]
+        # Without a margin the query reports the contacts of touching
+        # triangles only: none here.
+        assert len(tumble.collide(a, None, cube, diagonal, report="contacts").contacts) == 0
+
+
 def test_half_space_against_a_box_mesh() -> None:
     cube = tumble.TriMesh.box((0.5, 0.5, 0.5))
     ground = tumble.HalfSpace()

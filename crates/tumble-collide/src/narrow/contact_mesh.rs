@@ -31,8 +31,40 @@ use crate::triangle::{
 use std::cell::RefCell;
 
 #[inline]
-pub(super) fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
+fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
     m.mesh().triangle(t as usize).map(|v| pose.transform_point(v))
+}
+
+/// A mesh placed at a pose: its triangles, and those around a triangle's
+/// corners and across its edges, in the world (the neighbours that the
+/// corner contacts' cones need: `triangle::Copies`).
+#[derive(Clone, Copy)]
+pub(crate) struct MeshAt<'m> {
+    pub mesh: &'m MeshShape,
+    pub pose: &'m Pose,
+}
+
+impl MeshAt<'_> {
+    /// Triangle `t` in the world.
+    #[inline]
+    pub(crate) fn triangle(&self, t: u32) -> [DVec3; 3] {
+        world_triangle(self.mesh, self.pose, t)
+    }
+
+    /// `MeshShape::any_around_corner`, the triangles placed.
+    pub(crate) fn any_around_corner(
+        &self,
+        t: u32,
+        k: usize,
+        visit: &mut dyn FnMut(&[DVec3; 3]) -> bool,
+    ) -> bool {
+        self.mesh.any_around_corner(t, k, |c| visit(&self.triangle(c)))
+    }
+
+    /// `MeshShape::across`, the triangle placed.
+    pub(crate) fn across(&self, t: u32, k: usize) -> Option<[DVec3; 3]> {
+        self.mesh.across(t, k).map(|c| self.triangle(c))
+    }
 }
 
 /// A contact on an internal feature of a mesh (a flat edge or a flat vertex)
@@ -480,8 +512,10 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
             for (t, (wa, id)) in fans.tris.iter().enumerate() {
                 let mut copies = FanMeshCopies {
                     fans,
-                    mesh: b,
-                    pose_b,
+                    mesh: MeshAt {
+                        mesh: b,
+                        pose: pose_b,
+                    },
                     pair: (t as u32, tb),
                 };
                 let mut owned = Owned {

@@ -53,6 +53,7 @@ pub use contact_features::contact_at_features;
 pub use contact_halfspace::{
     contact_capsule_halfspace, contact_polytope_halfspace, contact_sphere_halfspace,
 };
+pub(crate) use contact_mesh::MeshAt;
 pub use contact_mesh::{
     contact_mesh_halfspace, contact_mesh_mesh, contact_mesh_mesh_moving, contact_polytope_mesh,
     contact_sphere_mesh,

@@ -14,10 +14,10 @@
 //! is run once each way by its two faces). A fan's diagonals lie inside a
 //! flat face and are owned by no one: a flat edge has no normal of its own.
 
-use super::contact_mesh::world_triangle;
+use super::contact_mesh::MeshAt;
 use crate::math::DVec3;
 use crate::pose::Pose;
-use crate::shape::{MeshShape, Polytope};
+use crate::shape::Polytope;
 use crate::triangle::{Copies, Side};
 use std::cell::RefCell;
 
@@ -126,8 +126,7 @@ impl PolytopeFans {
 /// and a triangle of mesh B, both in the world (`triangle::Copies`).
 pub(super) struct FanMeshCopies<'a> {
     pub fans: &'a PolytopeFans,
-    pub mesh: &'a MeshShape,
-    pub pose_b: &'a Pose,
+    pub mesh: MeshAt<'a>,
     /// The pair: fan triangle of A, triangle of B.
     pub pair: (u32, u32),
 }
@@ -148,10 +147,7 @@ impl Copies for FanMeshCopies<'_> {
                     .iter()
                     .any(|&u| u != t && visit(&self.fans.tris[u as usize].0))
             }
-            Side::B => {
-                let (mesh, pose) = (self.mesh, self.pose_b);
-                mesh.any_around_corner(self.pair.1, k, |c| visit(&world_triangle(mesh, pose, c)))
-            }
+            Side::B => self.mesh.any_around_corner(self.pair.1, k, visit),
         }
     }
 
@@ -167,10 +163,7 @@ impl Copies for FanMeshCopies<'_> {
                     .find(|&&u| u != t && self.fans.corners[u as usize].contains(&q))
                     .map(|&u| self.fans.tris[u as usize].0)
             }
-            Side::B => self
-                .mesh
-                .across(self.pair.1, k)
-                .map(|c| world_triangle(self.mesh, self.pose_b, c)),
+            Side::B => self.mesh.across(self.pair.1, k),
         }
     }
 }

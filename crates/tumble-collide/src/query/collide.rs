@@ -2,8 +2,9 @@
 //! 5.1, 5.2; PQP's `PQP_Collide` with its first-contact and all-contacts
 //! flags): both OBBTrees are walked together and every candidate triangle
 //! pair goes through the exact closed triangle-triangle test
-//! ([`tri_tri_overlap`]), and, for contacts, through [`triangle_contacts`]
-//! and [`merge_contacts`].
+//! ([`tri_tri_overlap`]), and, for contacts, through the triangle contact
+//! routine (every pair's vertex/face and edge/edge contacts, and the corner
+//! contacts of the corners and edges each pair owns) and [`merge_contacts`].
 //!
 //! Its head (signature, then `checked_args`) reads like `distance`'s and the
 //! `_primitive` twins': one public shape in PQP's order, kept per query
@@ -16,9 +17,12 @@ use super::report::Report;
 use crate::bvh::{self, Traverse};
 use crate::contact::{Contact, ContactKind, SubFeature};
 use crate::math::DVec3;
+use crate::narrow::MeshAt;
 use crate::pose::Pose;
 use crate::shape::MeshShape;
-use crate::triangle::{merge_contacts, tri_tri_overlap, triangle_contacts, MergeParams};
+use crate::triangle::{
+    merge_contacts, tri_tri_overlap, triangle_contacts_and_corners, Copies, MergeParams, Owned, Side,
+};
 
 /// Collision query between mesh A at `pose_a` and mesh B at `pose_b`
 /// (meshes are surfaces: a mesh entirely inside another does not intersect
@@ -32,11 +36,17 @@ use crate::triangle::{merge_contacts, tri_tri_overlap, triangle_contacts, MergeP
 ///   really ends there: a first-contact query costs one root-to-leaf descent
 ///   when the meshes clearly intersect).
 /// - [`ReportMode::Contacts`]: the contacts of every candidate pair within
-///   `contact_margin` ([`triangle_contacts`]: vertex/face and edge/edge
-///   contacts with exact closest points, push-out contacts for intersecting
-///   pairs), without edge/edge contacts on internal edges between coplanar
-///   triangles (the faces' vertex contacts carry those points), and with
-///   the duplicates of shared vertices and edges merged.
+///   `contact_margin` ([`triangle_contacts`](crate::triangle::triangle_contacts):
+///   vertex/face and edge/edge contacts with exact closest points, push-out
+///   contacts for intersecting pairs), without edge/edge contacts on
+///   internal edges between coplanar triangles (the faces' vertex contacts
+///   carry those points), and with the duplicates of shared vertices and
+///   edges merged; and, within a margin, a corner closest to an edge or a
+///   corner of the other mesh (vertex/edge, edge/vertex and vertex/vertex
+///   contacts, which no single triangle pair can judge: each is found from
+///   the pair that owns both features, with the triangles around them,
+///   `triangle::tri_vertex_edge`), so that the nearest contact of two meshes
+///   apart within the margin is never farther than they are.
 ///
 /// # Errors
 /// [`QueryError::BadPose`] for a non-finite pose or a quaternion that is not
@@ -105,8 +115,24 @@ pub fn collide(
         // Disjoint closed triangles are apart by a positive distance, so
         // with no margin they have no contacts.
         if mode == ReportMode::Contacts && (hit || margin > 0.0) {
-            // Inputs are finite and the margin valid: this cannot fail.
-            let _ = triangle_contacts(&wa, ta, &wb, tb, margin, &mut report.contacts);
+            let mut copies = WorldPairCopies {
+                a: MeshAt {
+                    mesh: a,
+                    pose: &pose_a,
+                },
+                b: MeshAt {
+                    mesh: b,
+                    pose: &pose_b,
+                },
+                pair: (ta, tb),
+            };
+            let mut owned = Owned {
+                a: a.owned_features(ta),
+                b: b.owned_features(tb),
+                b_margins: [margin; 3],
+                copies: &mut copies,
+            };
+            triangle_contacts_and_corners(&wa, ta, &wb, tb, margin, &mut owned, &mut report.contacts);
         }
         if hit {
             report.record_hit((ta, tb), mode, stop_first)
@@ -128,7 +154,8 @@ pub fn collide(
 /// Why this is not `narrow::contact_mesh_mesh`: both walk the trees with
 /// `bvh::collide` and end in `triangle_contacts` and `merge_contacts`, but
 /// the query's contacts are a geometric answer, checked contact for contact
-/// against brute force (tests/query_oracle.rs): world-frame triangles (the
+/// against brute force (tests/query_oracle.rs; a corner contact against its
+/// two features): world-frame triangles (the
 /// frame the exact pair predicates and the truth file use), contacts only
 /// for intersecting pairs at margin 0, only internal *edge* contacts
 /// dropped. The narrow phase's are a physics manifold: triangles in A's
@@ -151,6 +178,35 @@ fn finish_contacts(contacts: &mut Vec<Contact>, a: &MeshShape, b: &MeshShape) {
         b.mesh().triangles(),
         &MergeParams::default(),
     );
+}
+
+/// Two meshes in the world, around one pair of their triangles: the
+/// neighbours of the pair's corners and edges (`triangle::Copies`).
+struct WorldPairCopies<'m> {
+    a: MeshAt<'m>,
+    b: MeshAt<'m>,
+    pair: (u32, u32),
+}
+
+impl Copies for WorldPairCopies<'_> {
+    fn any_around_corner(
+        &mut self,
+        side: Side,
+        k: usize,
+        visit: &mut dyn FnMut(&[DVec3; 3]) -> bool,
+    ) -> bool {
+        match side {
+            Side::A => self.a.any_around_corner(self.pair.0, k, visit),
+            Side::B => self.b.any_around_corner(self.pair.1, k, visit),
+        }
+    }
+
+    fn across(&mut self, side: Side, k: usize) -> Option<[DVec3; 3]> {
+        match side {
+            Side::A => self.a.across(self.pair.0, k),
+            Side::B => self.b.across(self.pair.1, k),
+        }
+    }
 }
 
 /// The axis-aligned bounding boxes of two triangles overlap (closed).

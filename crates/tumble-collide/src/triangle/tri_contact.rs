@@ -119,13 +119,13 @@ const PARALLEL_EPS: f64 = 1e-12;
 
 /// Unit normal of a triangle, and its unnormalised normal, if it has an area.
 #[derive(Clone, Copy)]
-struct Face {
-    unit: DVec3,
+pub(super) struct Face {
+    pub unit: DVec3,
     raw: DVec3,
 }
 
 #[inline]
-fn face(t: &[DVec3; 3]) -> Option<Face> {
+pub(super) fn face(t: &[DVec3; 3]) -> Option<Face> {
     let raw = (t[1] - t[0]).cross(t[2] - t[0]);
     let len = raw.length();
     (len > AREA_EPS * longest_edge_squared(t)).then(|| Face { unit: raw / len, raw })

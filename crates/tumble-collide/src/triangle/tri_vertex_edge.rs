@@ -42,7 +42,7 @@
 //! triangles intersect elsewhere: the features are apart, and their own
 //! distance is what the speculative solver needs.
 
-use super::tri_contact::{Copies, Owned, Side};
+use super::tri_contact::{face, Copies, Owned, Side};
 use super::tri_distance::closest_point_on_finite_triangle;
 use crate::contact::{Contact, ContactKind, Feature, SubFeature};
 use crate::math::DVec3;
@@ -246,17 +246,19 @@ impl Facing {
     }
 
     fn see(&mut self, t: &[DVec3; 3], up: DVec3) {
-        let raw = (t[1] - t[0]).cross(t[2] - t[0]);
-        let cos = raw.dot(up);
+        // A triangle without a usable normal (the contact routine's rule:
+        // a sliver's cross product is round-off) faces every way.
+        let Some(f) = face(t) else {
+            self.any = true;
+            return;
+        };
+        let cos = f.unit.dot(up);
         if cos < 0.0 {
             return;
         }
         self.any = true;
-        if let Some(unit) = raw.try_normalize() {
-            let cos = unit.dot(up);
-            if cos > self.nearest.0 {
-                self.nearest = (cos, unit);
-            }
+        if cos > self.nearest.0 {
+            self.nearest = (cos, f.unit);
         }
     }
 

@@ -251,9 +251,11 @@ pub(crate) fn triangle_contacts_owned(
 /// [`triangle_contacts`] (its checks left to the caller), and besides, the
 /// vertex/edge, edge/vertex and vertex/vertex contacts of the corners and
 /// edges the two triangles own (`tri_vertex_edge`; `owned.b_margins` must
-/// be `margin`): for a triangle set whose features cannot all be owned
-/// by one pair, but whose corners and edges have owners and neighbours
-/// (the polytope-mesh routine: a polytope's fan triangles against a mesh).
+/// be `margin`): for a caller that keeps every pair's vertex/face and
+/// edge/edge contacts and merges their copies, and has owners and
+/// neighbours for the corner contacts (the polytope-mesh routine, whose
+/// polytope is its faces' fan triangles, and the mesh query, whose answer
+/// is checked pair by pair against [`triangle_contacts`]).
 #[inline]
 pub(crate) fn triangle_contacts_and_corners(
     a: &[DVec3; 3],

@@ -2,6 +2,7 @@
 //! the dynamics. Triangles are wound counter-clockwise seen from outside.
 
 use crate::math::DVec3;
+use crate::pose::Pose;
 use serde::{Deserialize, Serialize};
 
 /// Why a mesh was rejected (or, for the closedness checks, why it cannot be
@@ -173,6 +174,15 @@ impl TriMesh {
     /// Triangles as vertex index triples, counter-clockwise seen from outside.
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles
+    }
+
+    /// The three corners of triangle `t` placed by `pose` (each through
+    /// `Pose::transform_point`): the one way a triangle is put in the world,
+    /// so that the narrow phase, every query and their brute-force oracles
+    /// evaluate the exact predicates on the same coordinates, bit for bit.
+    #[inline]
+    pub fn placed_triangle(&self, t: usize, pose: &Pose) -> [DVec3; 3] {
+        self.triangle(t).map(|v| pose.transform_point(v))
     }
 
     /// The three corners of triangle `t`.

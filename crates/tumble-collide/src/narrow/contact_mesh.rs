@@ -30,11 +30,6 @@ use crate::triangle::{
 };
 use std::cell::RefCell;
 
-#[inline]
-fn world_triangle(m: &MeshShape, pose: &Pose, t: u32) -> [DVec3; 3] {
-    m.mesh().triangle(t as usize).map(|v| pose.transform_point(v))
-}
-
 /// A mesh placed at a pose: its triangles, and those around a triangle's
 /// corners and across its edges, in the world (the neighbours that the
 /// corner contacts' cones need: `triangle::Copies`).
@@ -48,7 +43,7 @@ impl MeshAt<'_> {
     /// Triangle `t` in the world.
     #[inline]
     pub(crate) fn triangle(&self, t: u32) -> [DVec3; 3] {
-        world_triangle(self.mesh, self.pose, t)
+        self.mesh.mesh().placed_triangle(t as usize, self.pose)
     }
 
     /// `MeshShape::any_around_corner`, the triangles placed.
@@ -507,7 +502,7 @@ pub fn contact_polytope_mesh<P: Polytope + ?Sized>(
     POLYTOPE_FANS.with_borrow_mut(|fans| {
         fans.refill(a, pose_a);
         let _ = bvh::query_obb(b.tree(), pose_b, &query, margin, |tb| {
-            let wb = world_triangle(b, pose_b, tb);
+            let wb = b.mesh().placed_triangle(tb as usize, pose_b);
             let owned_b = b.owned_features(tb);
             for (t, (wa, id)) in fans.tris.iter().enumerate() {
                 let mut copies = FanMeshCopies {
@@ -572,7 +567,7 @@ pub fn contact_sphere_mesh(
                 SmoothFoot::Crease => {}
             }
         }
-        let wb = world_triangle(b, pose_b, tb);
+        let wb = b.mesh().placed_triangle(tb as usize, pose_b);
         let (q, sub) = closest_point_on_triangle(c, &wb);
         let delta = c - q;
         let dist = delta.length();

@@ -11,7 +11,7 @@
 //! because A's type and the options differ (query/mod.rs says more).
 
 use super::error::QueryError;
-use super::input::{checked_args, world_triangle, QueryArgs};
+use super::input::{checked_args, QueryArgs};
 use super::options::{bad_nonneg, CollideOptions, ReportMode};
 use super::report::Report;
 use crate::bvh::{self, Traverse};
@@ -106,8 +106,8 @@ pub fn collide(
     let mut report = Report::default();
     let mut tests = 0u64;
     let traversal = bvh::collide(a.tree(), &pose_a, b.tree(), &pose_b, margin, |ta, tb| {
-        let wa = world_triangle(ma, &pose_a, ta);
-        let wb = world_triangle(mb, &pose_b, tb);
+        let wa = ma.placed_triangle(ta as usize, &pose_a);
+        let wb = mb.placed_triangle(tb as usize, &pose_b);
         tests += 1;
         // Closed triangles that share a point have overlapping bounding
         // boxes (min / max are exact): a cheap, exact first rejection.

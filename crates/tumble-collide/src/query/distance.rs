@@ -8,7 +8,7 @@
 //! because A's type and the options differ (query/mod.rs says more).
 
 use super::error::QueryError;
-use super::input::{checked_args, world_triangle, QueryArgs};
+use super::input::{checked_args, QueryArgs};
 use super::options::{bad_nonneg, DistanceOptions};
 use super::report::{DistanceResult, QueryStats};
 use crate::bvh;
@@ -50,7 +50,10 @@ pub fn distance(
         f64::INFINITY,
         &options.tolerance(),
         |ta, tb, best_so_far| {
-            let (wa, wb) = (world_triangle(ma, &pose_a, ta), world_triangle(mb, &pose_b, tb));
+            let (wa, wb) = (
+                ma.placed_triangle(ta as usize, &pose_a),
+                mb.placed_triangle(tb as usize, &pose_b),
+            );
             // The gap between the triangles' bounding boxes bounds their
             // distance from below: a pair that cannot win is skipped.
             if aabb_gap(&wa, &wb) >= best_so_far {

@@ -7,7 +7,6 @@
 //! distance of every shape to a mesh.
 
 use super::error::QueryError;
-use super::input::world_triangle;
 use super::options::DistanceOptions;
 use super::report::{DistanceResult, QueryStats};
 use crate::bvh::sat::{obb_distance_lower_bound, RelFrame};
@@ -77,7 +76,7 @@ pub(crate) fn polytope_mesh_distance<P: Polytope + ?Sized>(
             tests += 1;
             let g = gjk_distance(
                 &support,
-                &TriangleSupport(world_triangle(b.mesh(), pose_b, t)),
+                &TriangleSupport(b.mesh().placed_triangle(t as usize, pose_b)),
                 scale,
             );
             let d = if g.overlap { 0.0 } else { g.distance };

@@ -1,9 +1,7 @@
-//! Checks every query runs on its input before any geometry, and the
-//! world-frame triangle access they share.
+//! Checks every query runs on its input before any geometry (triangles are
+//! placed in the world by `TriMesh::placed_triangle`).
 
 use super::error::QueryError;
-use crate::math::DVec3;
-use crate::mesh::TriMesh;
 use crate::pose::Pose;
 
 /// The pose re-validated (fields are public, so a `Pose` may have been built
@@ -46,18 +44,4 @@ pub(crate) fn checked_args(
         QueryArgs::Tolerance(tol) => super::options::nonneg_finite("within_tolerance tol", tol)?,
     }
     Ok(poses)
-}
-
-/// Triangle `t` of `mesh` placed by `pose` (world frame). Every query and
-/// its brute-force oracle evaluate the exact predicates on these very
-/// coordinates, so the answers agree bit for bit.
-#[inline]
-pub(crate) fn world_triangle(mesh: &TriMesh, pose: &Pose, t: u32) -> [DVec3; 3] {
-    let [a, b, c] = mesh.triangles()[t as usize];
-    let v = mesh.vertices();
-    [
-        pose.transform_point(v[a as usize]),
-        pose.transform_point(v[b as usize]),
-        pose.transform_point(v[c as usize]),
-    ]
 }

@@ -10,7 +10,7 @@
 //! in query/mod.rs says; the walk and the exact tests are the primitive's.
 
 use super::error::QueryError;
-use super::input::{checked_args, world_triangle, QueryArgs};
+use super::input::{checked_args, QueryArgs};
 use super::options::{bad_nonneg, CollideOptions, DistanceOptions, ReportMode};
 use super::primitive::{Placed, PrimDistance};
 use super::report::{DistanceResult, QueryStats, Report};
@@ -68,7 +68,7 @@ pub fn collide_primitive(
     let mut tests = 0u64;
     let traversal = walk(&prim, b, &pose_b, 0.0, |t| {
         tests += 1;
-        if !prim.intersects(&world_triangle(b.mesh(), &pose_b, t)) {
+        if !prim.intersects(&b.mesh().placed_triangle(t as usize, &pose_b)) {
             return Traverse::Continue;
         }
         report.record_hit((0, t), mode, stop_first)
@@ -134,7 +134,7 @@ pub fn distance_primitive(
         |node| local.node_lower_bound(node),
         |t, best_so_far| {
             tests += 1;
-            let d = world.distance(&world_triangle(b.mesh(), &pose_b, t));
+            let d = world.distance(&b.mesh().placed_triangle(t as usize, &pose_b));
             if d.distance < best_so_far {
                 best = Some((t, d));
             }
@@ -177,7 +177,11 @@ pub fn within_tolerance_primitive(
     // `within_tolerance`'s stop-at-first-close loop (tolerance.rs), around
     // one tree against the primitive's volume instead of two trees.
     walk(&prim, b, &pose_b, tol, |t| {
-        if prim.distance(&world_triangle(b.mesh(), &pose_b, t)).distance <= tol {
+        if prim
+            .distance(&b.mesh().placed_triangle(t as usize, &pose_b))
+            .distance
+            <= tol
+        {
             within = true;
             Traverse::Stop
         } else {

@@ -4,7 +4,7 @@
 //! that is close enough.
 
 use super::error::QueryError;
-use super::input::{checked_args, world_triangle, QueryArgs};
+use super::input::{checked_args, QueryArgs};
 use super::options::bad_nonneg;
 use crate::bvh::{self, Traverse};
 use crate::pose::Pose;
@@ -32,7 +32,10 @@ pub fn within_tolerance(
     // Boxes grown by tol / 2 each overlap whenever they are within tol: the
     // walk sees every pair that can be close enough.
     bvh::collide(a.tree(), &pose_a, b.tree(), &pose_b, tol, |ta, tb| {
-        let d = triangle_distance(&world_triangle(ma, &pose_a, ta), &world_triangle(mb, &pose_b, tb));
+        let d = triangle_distance(
+            &ma.placed_triangle(ta as usize, &pose_a),
+            &mb.placed_triangle(tb as usize, &pose_b),
+        );
         if d.distance <= tol {
             within = true;
             Traverse::Stop

@@ -155,10 +155,9 @@ pub fn collide(
 /// `bvh::collide` and end in `triangle_contacts` and `merge_contacts`, but
 /// the query's contacts are a geometric answer, checked contact for contact
 /// against brute force (tests/query_oracle.rs; a corner contact against its
-/// two features): world-frame triangles (the
-/// frame the exact pair predicates and the truth file use), contacts only
-/// for intersecting pairs at margin 0, only internal *edge* contacts
-/// dropped. The narrow phase's are a physics manifold: triangles in A's
+/// two features): world-frame triangles (the frame the exact pair
+/// predicates and the truth file use), contacts only for intersecting pairs
+/// at margin 0, only internal *edge* contacts dropped. The narrow phase's are a physics manifold: triangles in A's
 /// frame through a per-thread vertex cache (speed), every candidate pair
 /// within the margin, and ghost contacts on flat edges *and* vertices
 /// dropped unless they act along the face normal. Sharing the walk would

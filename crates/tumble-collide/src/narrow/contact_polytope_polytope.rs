@@ -8,11 +8,14 @@
 //! stable feature ids, which the winning face gives directly. The SAT value is
 //! the exact penetration depth when overlapping; when separated it is a lower
 //! bound of the distance, and every reported contact carries the true gap of
-//! its own point pair.
+//! its own point pair. Large hulls (where the test's work, faces times
+//! vertices and edges times edges, runs to millions) first ask GJK whether
+//! they are beyond the margin (`beyond_margin`): the same answer, no
+//! contact, 80 times sooner for two 600-point hulls 3 cm apart.
 
 use super::clip::face_manifold;
 use super::geometry::closest_points_segments;
-use super::gjk::{gjk_distance, PolytopeSupport};
+use super::gjk::{gjk_distance, PolytopeSupport, SupportMap};
 use crate::contact::{Contact, ContactKind, Feature};
 use crate::math::{first_max, DMat3, DVec3};
 use crate::pose::Pose;
@@ -79,12 +82,28 @@ pub fn contact_polytope_polytope<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     margin: f64,
     out: &mut Vec<Contact>,
 ) {
+    let scale = extent(a).max(extent(b));
+    if beyond_margin(a, pose_a, b, pose_b, scale, margin) {
+        return;
+    }
+    contact_by_sat(a, pose_a, b, pose_b, scale, margin, out);
+}
+
+/// [`contact_polytope_polytope`] by the separating axis test alone.
+fn contact_by_sat<A: Polytope + ?Sized, B: Polytope + ?Sized>(
+    a: &A,
+    pose_a: &Pose,
+    b: &B,
+    pose_b: &Pose,
+    scale: f64,
+    margin: f64,
+    out: &mut Vec<Contact>,
+) {
     // B in A's frame: x_A = r x_B + t.
     let rel = pose_a.inverse().mul_pose(pose_b);
     let r = DMat3::from_quat(rel.rotation);
     let t = rel.position;
     let rt = r.transpose();
-    let scale = extent(a).max(extent(b));
 
     let (sep_a, face_a) = face_query(a, b, r, t);
     if sep_a > margin {
@@ -112,6 +131,59 @@ pub fn contact_polytope_polytope<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         scale,
     };
     build_manifold(a, pose_a, b, pose_b, &sat, margin, out);
+}
+
+/// Work of the separating axis test (support queries over faces, edge
+/// pairs) above which [`beyond_margin`] is asked first.
+const SAT_WORK_FOR_GJK_FIRST: usize = 50_000;
+
+/// Whether polytopes `a` and `b` are certainly farther apart than `margin`,
+/// asked only where the separating axis test would be dear (large hulls:
+/// its work grows with faces times vertices and edges times edges, 1.1
+/// million Gauss-map tests between a robot head's hull of 3,353 edges and
+/// its torso's), for pairs whose boxes overlap while the solids are apart
+/// beyond the margin. GJK finds the direction of the closest
+/// points, and the separation of the two solids along it (their support
+/// points, exactly) bounds their distance from below: beyond the margin,
+/// the test would find no contact (its own GJK check drops every point
+/// then), so the answer is the same, only sooner.
+fn beyond_margin<A: Polytope + ?Sized, B: Polytope + ?Sized>(
+    a: &A,
+    pose_a: &Pose,
+    b: &B,
+    pose_b: &Pose,
+    scale: f64,
+    margin: f64,
+) -> bool {
+    let work = a.face_count() * b.vertex_count()
+        + b.face_count() * a.vertex_count()
+        + a.edge_count() * b.edge_count();
+    if work <= SAT_WORK_FOR_GJK_FIRST {
+        return false;
+    }
+    let (ra, rb) = (
+        DMat3::from_quat(pose_a.rotation),
+        DMat3::from_quat(pose_b.rotation),
+    );
+    let solid_a = PolytopeSupport {
+        poly: a,
+        rot: ra,
+        trans: pose_a.position,
+    };
+    let solid_b = PolytopeSupport {
+        poly: b,
+        rot: rb,
+        trans: pose_b.position,
+    };
+    let g = gjk_distance(&solid_a, &solid_b, scale);
+    if g.overlap || g.distance <= margin {
+        return false;
+    }
+    // The axis from B's closest point to A's: A lies beyond B along it by
+    // at least A's lowest support less B's highest.
+    let n = (g.point_a - g.point_b) / g.distance;
+    let separation = n.dot(solid_a.support(-n)) - n.dot(solid_b.support(n));
+    separation > margin
 }
 
 /// What the separating axis test found (shared with the box-box routine).
@@ -503,4 +575,101 @@ pub(crate) fn push_edge_edge<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         feature_a: a.edge_feature(ea[0], ea[1]),
         feature_b: b.edge_feature(eb[0], eb[1]),
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::DQuat;
+    use crate::mesh::icosphere_mesh;
+    use crate::shape::ConvexHull;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    #[test]
+    fn large_hulls_beyond_the_margin_are_answered_as_the_separating_axis_test_answers() {
+        // Hulls of 162 points (a round one and one stretched to a
+        // spindle), whose test is dear enough to ask GJK first, at random
+        // poses from overlapping to three margins apart.
+        let ball = ConvexHull::from_mesh(&icosphere_mesh(0.1, 2).unwrap()).unwrap();
+        let stretched: Vec<DVec3> = ball
+            .vertices()
+            .iter()
+            .map(|&v| v * DVec3::new(3.0, 1.0, 0.6))
+            .collect();
+        let spindle = ConvexHull::from_points(&stretched).unwrap();
+        let work = |a: &ConvexHull, b: &ConvexHull| {
+            a.face_count() * b.vertex_count()
+                + b.face_count() * a.vertex_count()
+                + a.edge_count() * b.edge_count()
+        };
+        assert!(work(&ball, &spindle) > SAT_WORK_FOR_GJK_FIRST);
+        let margin = 0.01;
+        let mut rng = SplitMix64(0x0005_eed0_fa11);
+        let (mut skipped, mut touching) = (0, 0);
+        for case in 0..120 {
+            let (a, b) = if case % 2 == 0 {
+                (&ball, &spindle)
+            } else {
+                (&spindle, &spindle)
+            };
+            let turn = |rng: &mut SplitMix64| {
+                DQuat::from_euler(
+                    glam::EulerRot::ZYX,
+                    rng.range(-3.0, 3.0),
+                    rng.range(-1.5, 1.5),
+                    rng.range(-3.0, 3.0),
+                )
+            };
+            let pose_a = Pose::new(DVec3::ZERO, turn(&mut rng)).unwrap();
+            let direction =
+                DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)).normalize();
+            let mut pose_b = Pose::new(DVec3::ZERO, turn(&mut rng)).unwrap();
+            // Slide B out along `direction` until it is `gap` away.
+            let gap = rng.range(-0.01, 0.03);
+            let solid = |p: &Pose| PolytopeSupport {
+                poly: b,
+                rot: DMat3::from_quat(p.rotation),
+                trans: p.position,
+            };
+            let reach_a = direction.dot(
+                PolytopeSupport {
+                    poly: a,
+                    rot: DMat3::from_quat(pose_a.rotation),
+                    trans: DVec3::ZERO,
+                }
+                .support(direction),
+            );
+            let reach_b = -direction.dot(solid(&pose_b).support(-direction));
+            pose_b.position = direction * (reach_a + reach_b + gap);
+            let scale = extent(a).max(extent(b));
+            // Apart, the distance may exceed the separation along
+            // `direction`: B slides back until its distance is `gap`.
+            for _ in 0..8 {
+                let solid_a = PolytopeSupport {
+                    poly: a,
+                    rot: DMat3::from_quat(pose_a.rotation),
+                    trans: DVec3::ZERO,
+                };
+                let g = gjk_distance(&solid_a, &solid(&pose_b), scale);
+                if gap <= 0.0 || g.overlap {
+                    break;
+                }
+                pose_b.position -= direction * (g.distance - gap);
+            }
+            let mut full = Vec::new();
+            contact_polytope_polytope(a, &pose_a, b, &pose_b, margin, &mut full);
+            let mut by_sat = Vec::new();
+            contact_by_sat(a, &pose_a, b, &pose_b, scale, margin, &mut by_sat);
+            assert_eq!(full, by_sat, "case {case}: gap {gap}");
+            if beyond_margin(a, &pose_a, b, &pose_b, scale, margin) {
+                skipped += 1;
+                assert!(by_sat.is_empty(), "case {case}");
+            }
+            touching += usize::from(!by_sat.is_empty());
+        }
+        assert!(
+            skipped > 20 && touching > 20,
+            "{skipped} skipped, {touching} touching"
+        );
+    }
 }

@@ -41,6 +41,11 @@ pub struct RunArgs {
     /// the same trace (as MuJoCo's balanceinertia), instead of refusing it.
     #[arg(long)]
     balance_inertia: bool,
+    /// URDF: give each mesh link shape as its convex hull, as PyBullet and
+    /// MuJoCo read them (fewer contacts between concave links such as
+    /// hands and fingers, their hollows filled), instead of the exact mesh.
+    #[arg(long)]
+    convex_meshes: bool,
     /// URDF: where the root link's frame goes, "x,y,z" in metres (default: x = y = 0,
     /// z such that the robot's lowest point rests on the ground).
     #[arg(long, value_name = "X,Y,Z", allow_negative_numbers = true)]
@@ -244,6 +249,7 @@ fn urdf_world(args: &RunArgs) -> Result<(World, String, usize), CliError> {
         fixed_base: args.fixed_base,
         self_collision: args.self_collision,
         balance_inertia: args.balance_inertia,
+        convex_meshes: args.convex_meshes,
         ..UrdfOptions::default()
     };
     if position.is_none() {

@@ -504,6 +504,54 @@ fn run_simulates_a_urdf_robot_and_locates_a_bad_one() {
         let line = "self-collision: links that overlap in the file's pose never touch (pairs kept apart: 1)";
         assert_eq!(summary.contains(line), said, "{summary}");
     }
+    // A ring (a torus mesh) with a ball hinged in its hole: apart as
+    // meshes, overlapping as convex hulls (the hull fills the hole), so
+    // --convex-meshes has the pair kept apart.
+    let mut obj = String::new();
+    let (n, m) = (16, 8);
+    for i in 0..n {
+        let u = std::f64::consts::TAU * i as f64 / n as f64;
+        for j in 0..m {
+            let v = std::f64::consts::TAU * j as f64 / m as f64;
+            let rho = 0.3 + 0.08 * v.cos();
+            obj += &format!("v {} {} {}\n", rho * u.cos(), rho * u.sin(), 0.08 * v.sin());
+        }
+    }
+    for i in 0..n {
+        for j in 0..m {
+            let at = |i: usize, j: usize| (i % n) * m + (j % m) + 1;
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    std::fs::write(dir.join("ring.obj"), obj).unwrap();
+    let ringed = dir.join("ringed.urdf");
+    std::fs::write(
+        &ringed,
+        "<robot name=\"r\">\
+         <link name=\"ring\"><collision><geometry><mesh filename=\"ring.obj\"/></geometry></collision></link>\
+         <link name=\"m\"><collision><origin xyz=\"0 0 0.5\"/><geometry><sphere radius=\"0.05\"/></geometry></collision></link>\
+         <link name=\"b\"><collision><origin xyz=\"0 0 -0.5\"/><geometry><sphere radius=\"0.1\"/></geometry></collision></link>\
+         <joint name=\"j1\" type=\"continuous\"><parent link=\"ring\"/><child link=\"m\"/></joint>\
+         <joint name=\"j2\" type=\"continuous\"><parent link=\"m\"/><child link=\"b\"/><origin xyz=\"0 0 0.5\"/></joint>\
+         </robot>\n",
+    )
+    .unwrap();
+    for (flags, said) in [
+        (&["--self-collision"][..], false),
+        (&["--self-collision", "--convex-meshes"][..], true),
+    ] {
+        let out = tumble()
+            .args(["run", "--steps", "5", "--fixed-base"])
+            .args(flags)
+            .arg(&ringed)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let summary = String::from_utf8_lossy(&out.stdout);
+        let line = "self-collision: links that overlap in the file's pose never touch (pairs kept apart: 1)";
+        assert_eq!(summary.contains(line), said, "{flags:?}: {summary}");
+    }
     let bad = dir.join("bad.urdf");
     std::fs::write(
         &bad,

@@ -607,6 +607,10 @@ impl Robot {
 ///     balance_inertia: replace an inertia no body could have by the
 ///         isotropic one of the same trace (as MuJoCo's balanceinertia),
 ///         with a warning, instead of refusing the file.
+///     convex_meshes: give each ``<mesh>`` link shape as its convex hull, as
+///         PyBullet and MuJoCo read them (concave links such as hands touch
+///         with a few points a pair, their hollows filled), instead of the
+///         exact triangle mesh.
 ///
 /// Returns:
 ///     Robot with ``world``, ``links`` and ``joints`` (dicts by name),
@@ -618,7 +622,7 @@ impl Robot {
 ///     FileError: the file cannot be read.
 #[pyfunction]
 #[pyo3(signature = (path, *, world=None, position=None, orientation=None, fixed_base=false,
-    self_collision=false, balance_inertia=false))]
+    self_collision=false, balance_inertia=false, convex_meshes=false))]
 #[allow(clippy::too_many_arguments)] // the Python signature
 pub fn load_urdf(
     py: Python<'_>,
@@ -629,6 +633,7 @@ pub fn load_urdf(
     fixed_base: bool,
     self_collision: bool,
     balance_inertia: bool,
+    convex_meshes: bool,
 ) -> PyResult<Robot> {
     let options = tumble::joint::urdf::UrdfOptions {
         position: convert::vec3_or(position, "position", DVec3::ZERO)?,
@@ -636,6 +641,7 @@ pub fn load_urdf(
         fixed_base,
         self_collision,
         balance_inertia,
+        convex_meshes,
     };
     let world = match world {
         Some(w) => w,

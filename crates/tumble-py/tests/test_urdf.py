@@ -174,3 +174,46 @@ def test_an_impossible_inertia_is_refused_or_balanced_on_request(tmp_path: Path)
     robot = tumble.load_urdf(urdf, balance_inertia=True)
     assert any("balance_inertia" in w for w in robot.warnings)
     assert robot.links["a"].mass == 2.0
+
+
+def _ring(tmp_path: Path) -> Path:
+    """A URDF ring: a torus mesh (major radius 0.3 m, tube 0.08 m) lying
+    flat, as an OBJ file beside it."""
+    n, m = 32, 16
+    u = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)[:, None]
+    v = np.linspace(0.0, 2.0 * np.pi, m, endpoint=False)[None, :]
+    rho = 0.3 + 0.08 * np.cos(v)
+    z = np.broadcast_to(0.08 * np.sin(v), (n, m))
+    vertices = np.stack([rho * np.cos(u), rho * np.sin(u), z], axis=-1).reshape(-1, 3)
+    lines = [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in vertices]
+    for i in range(n):
+        for j in range(m):
+            a, b = i * m + j + 1, (i + 1) % n * m + j + 1
+            c, d = (i + 1) % n * m + (j + 1) % m + 1, i * m + (j + 1) % m + 1
+            lines += [f"f {a} {b} {c}", f"f {a} {c} {d}"]
+    (tmp_path / "ring.obj").write_text("\n".join(lines) + "\n")
+    urdf = tmp_path / "ring.urdf"
+    urdf.write_text(
+        '<robot name="ring"><link name="ring"><collision><geometry>'
+        '<mesh filename="ring.obj"/></geometry></collision></link></robot>\n'
+    )
+    return urdf
+
+
+def test_mesh_links_are_exact_or_their_convex_hulls_on_request(tmp_path: Path) -> None:
+    # A ball dropped onto the ring's middle falls through its hole onto the
+    # ground, or rests on the lid its convex hull puts over the hole.
+    urdf = _ring(tmp_path)
+    for convex_meshes, rest in ((False, 0.1), (True, 0.5 + 0.08 + 0.1)):
+        world = tumble.World(sleeping=False)
+        world.add_body(tumble.HalfSpace(), kind="static")
+        tumble.load_urdf(
+            urdf,
+            world=world,
+            position=(0.0, 0.0, 0.5),
+            fixed_base=True,
+            convex_meshes=convex_meshes,
+        )
+        ball = world.add_body(tumble.Sphere(0.1), position=(0.0, 0.0, 1.0))
+        world.step(150)
+        assert ball.position[2] == pytest.approx(rest, abs=2e-3), convex_meshes

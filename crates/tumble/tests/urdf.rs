@@ -1401,3 +1401,128 @@ fn a_mimic_of_a_joint_the_robot_does_not_move_is_refused_at_the_mimic_element() 
         assert!(message.contains("gear."), "{message}");
     }
 }
+
+/// A URDF ring welded to the world (a torus mesh of major radius 0.3 m and tube radius
+/// 0.08 m, lying flat with its centre at z = 0.5 m) in a world with a
+/// ground plane, and a ball of radius 0.1 m dropped onto its middle from
+/// z = 1 m: `(world, ring, ball)`. Written as an OBJ file into `dir`.
+fn ring_and_ball(
+    dir: &std::path::Path,
+    convex_meshes: bool,
+) -> (World, tumble::world::BodyId, tumble::world::BodyId) {
+    let torus = tumble::collide::mesh::torus_mesh(0.3, 0.08, 32, 16).unwrap();
+    let mut obj = String::new();
+    for v in torus.vertices() {
+        obj += &format!("v {} {} {}\n", v.x, v.y, v.z);
+    }
+    for t in torus.triangles() {
+        obj += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::write(dir.join("ring.obj"), obj).unwrap();
+    let text = r#"<robot name="ring"><link name="ring">
+  <collision><geometry><mesh filename="ring.obj"/></geometry></collision>
+</link></robot>"#;
+    std::fs::write(dir.join("ring.urdf"), text).unwrap();
+    let mut w = world();
+    w.add_body(&BodyDesc::fixed(HalfSpace::new(DVec3::Z, 0.0).unwrap()))
+        .unwrap();
+    let options = UrdfOptions {
+        position: DVec3::new(0.0, 0.0, 0.5),
+        fixed_base: true,
+        convex_meshes,
+        ..UrdfOptions::default()
+    };
+    let robot = load_urdf(&mut w, dir.join("ring.urdf"), options).unwrap();
+    let ball = w
+        .add_body(
+            &BodyDesc::dynamic(tumble::collide::Sphere::new(0.1).unwrap()).at(DVec3::new(0.0, 0.0, 1.0)),
+        )
+        .unwrap();
+    (w, robot.links["ring"], ball)
+}
+
+#[test]
+fn mesh_links_are_exact_or_their_convex_hulls_on_request() {
+    let dir = std::env::temp_dir().join(format!("tumble-urdf-convex-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let torus = tumble::collide::mesh::torus_mesh(0.3, 0.08, 32, 16).unwrap();
+    for convex in [false, true] {
+        let (mut w, ring, ball) = ring_and_ball(&dir, convex);
+        let colliders = w.colliders(ring).unwrap();
+        assert_eq!(colliders.len(), 1);
+        match (&colliders[0].shape, convex) {
+            (tumble::collide::Shape::Mesh(_), false) => {}
+            (tumble::collide::Shape::ConvexHull(hull), true) => {
+                // The hull reaches exactly as far as the mesh in every
+                // direction (what a convex hull of its vertices is), and
+                // has no vertex the mesh does not.
+                use tumble::collide::shape::Polytope;
+                for k in 0..64 {
+                    let (a, b) = (k as f64 * 0.7, k as f64 * 1.3);
+                    let d = DVec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos());
+                    let reach = torus.vertices().iter().map(|v| v.dot(d)).fold(f64::MIN, f64::max);
+                    let hull_reach = hull.vertex(hull.support_vertex(d)).dot(d);
+                    assert!(
+                        (hull_reach - reach).abs() < 1e-12,
+                        "{d}: {hull_reach} against {reach}"
+                    );
+                }
+                for i in 0..hull.vertex_count() {
+                    assert!(torus.vertices().contains(&hull.vertex(i)));
+                }
+            }
+            (shape, _) => panic!("convex_meshes = {convex}: {shape:?}"),
+        }
+        // Through the hole onto the ground, or onto the hull's lid.
+        steps(&mut w, 150);
+        let z = w.pose(ball).unwrap().position.z;
+        let rest = if convex { 0.5 + 0.08 + 0.1 } else { 0.1 };
+        assert!(
+            (z - rest).abs() < 2e-3,
+            "convex_meshes = {convex}: the ball at z = {z}, not {rest}"
+        );
+        assert!(w.body(ball).unwrap().velocity().length() < 1e-2);
+    }
+    // A flat mesh has no hull: refused at its element, the world unchanged.
+    std::fs::write(
+        dir.join("flat.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nf 1 3 2\nf 2 3 4\n",
+    )
+    .unwrap();
+    let text = "<robot name=\"flat\"><link name=\"f\">\n  <collision><geometry><mesh filename=\"flat.obj\"/></geometry></collision>\n</link></robot>";
+    std::fs::write(dir.join("flat.urdf"), text).unwrap();
+    let mut w = world();
+    let before = w.body_ids().len();
+    let e = load_urdf(
+        &mut w,
+        dir.join("flat.urdf"),
+        UrdfOptions {
+            convex_meshes: true,
+            ..UrdfOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("flat.urdf:2:") && e.contains("<mesh") && e.contains("convex hull"),
+        "{e}"
+    );
+    assert_eq!(w.body_ids().len(), before);
+    // A scene file's robot takes the option too.
+    for convex in [false, true] {
+        let scene = format!(
+            "[[robots]]\nfile = \"{}\"\nconvex_meshes = {convex}\n",
+            dir.join("ring.urdf").display()
+        );
+        let scene =
+            tumble::scene::parse_scene(&scene, tumble::scene::Format::Toml, "s.toml".as_ref()).unwrap();
+        let (w, ids) = scene.build().unwrap();
+        let shape = &w.colliders(ids[0]).unwrap()[0].shape;
+        assert_eq!(
+            matches!(shape, tumble::collide::Shape::ConvexHull(_)),
+            convex,
+            "{shape:?}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

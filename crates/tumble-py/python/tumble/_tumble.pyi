@@ -265,6 +265,7 @@ def load_urdf(
     fixed_base: bool = False,
     self_collision: bool = False,
     balance_inertia: bool = False,
+    convex_meshes: bool = False,
 ) -> Robot: ...
 
 class StepReport:

@@ -36,7 +36,9 @@
 //! nothing. The robot's links do not touch each other unless
 //! `UrdfOptions::self_collision`, and then not where they overlap in the
 //! file's pose (`UrdfParts::no_contact`); an inertia no body could have is
-//! refused unless `UrdfOptions::balance_inertia`.
+//! refused unless `UrdfOptions::balance_inertia`. Meshes are exact triangle
+//! meshes, or their convex hulls with `UrdfOptions::convex_meshes` (as
+//! PyBullet and MuJoCo read them).
 //!
 //! Errors name the file, line, column and element (`arm.urdf:12:5: <joint
 //! name="elbow">: ...`). Nothing is added to the world unless the whole
@@ -154,6 +156,15 @@ pub struct UrdfOptions {
     /// warning, as MuJoCo's `balanceinertia` does; off, such a file is
     /// refused at its `<inertial>`.
     pub balance_inertia: bool,
+    /// Give each `<mesh>` link shape as its convex hull instead of the
+    /// triangle mesh itself, as PyBullet and MuJoCo take a moving link's
+    /// mesh: a concave link (a hand, a head with its cameras' recesses)
+    /// then touches with a few points a pair instead of every piece of its
+    /// surface, at the cost of the hollows, which the hull fills. The hull
+    /// is the link's shape for everything: its contacts and, where the file
+    /// gives no `<inertial>`, its mass properties. Off by default: meshes
+    /// are exact.
+    pub convex_meshes: bool,
 }
 
 impl Default for UrdfOptions {
@@ -164,6 +175,7 @@ impl Default for UrdfOptions {
             fixed_base: false,
             self_collision: false,
             balance_inertia: false,
+            convex_meshes: false,
         }
     }
 }
@@ -371,6 +383,7 @@ fn read<T>(
         doc: &doc,
         file,
         balance_inertia: options.balance_inertia,
+        convex_meshes: options.convex_meshes,
     };
     let model = reader.model()?;
     then(&model, &reader)
@@ -382,6 +395,8 @@ struct Reader<'a, 'input> {
     file: &'a Path,
     /// `UrdfOptions::balance_inertia`.
     balance_inertia: bool,
+    /// `UrdfOptions::convex_meshes`.
+    convex_meshes: bool,
 }
 
 struct Link<'a, 'input> {
@@ -613,6 +628,11 @@ impl<'a, 'input> Reader<'a, 'input> {
                     let vertices: Vec<DVec3> = mesh.vertices().iter().map(|&v| v * scale).collect();
                     mesh = tumble_collide::mesh::TriMesh::new(vertices, mesh.triangles().to_vec())
                         .map_err(|e| bad(&e))?;
+                }
+                if self.convex_meshes {
+                    return Ok(ConvexHull::from_points(mesh.vertices())
+                        .map_err(|e| self.err(shape, format!("{}: its convex hull: {e}", path.display())))?
+                        .into());
                 }
                 Ok(MeshShape::new(mesh).map_err(|e| bad(&e))?.into())
             }

@@ -221,6 +221,7 @@ fn resolve_robot(
         fixed_base: spec.fixed_base,
         self_collision: spec.self_collision,
         balance_inertia: spec.balance_inertia,
+        convex_meshes: spec.convex_meshes,
     };
     let group = unused_non_colliding_group(out.scene.bodies.iter().map(|b| b.non_colliding_group));
     let mut parts = read_urdf_parts(base_dir.join(&spec.file), options, group)

@@ -114,6 +114,10 @@ pub struct RobotSpec {
     /// same trace (MuJoCo's `balanceinertia`). Default false: refused.
     #[serde(default)]
     pub balance_inertia: bool,
+    /// Each `<mesh>` link shape as its convex hull (as PyBullet and MuJoCo
+    /// read them). Default false: the exact triangle mesh.
+    #[serde(default)]
+    pub convex_meshes: bool,
     /// Motors of the robot's joints by the file's joint names (`shoulder =
     /// { type = "position", target = 0.5, stiffness = 4000.0, damping =
     /// 200.0, max_force = 150.0 }`), beside the joint's `<dynamics damping>`

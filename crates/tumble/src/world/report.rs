@@ -71,11 +71,14 @@ pub enum SolveStage {
     Restitution,
     /// Gravity, forces and damping into the velocities (every sub-step).
     IntegrateVelocities,
-    /// Separations refreshed, accumulated impulses applied (every sub-step).
+    /// Separations refreshed, accumulated impulses applied (every sub-step;
+    /// a joint island's in its first velocity pass, timed in `Iterate`).
     WarmStart,
     /// Velocity iterations over the coloured rows (every sub-step).
     Iterate,
-    /// Position correction by split-impulse push-out (every sub-step).
+    /// Position correction by split-impulse push-out (every sub-step; a
+    /// joint island's first pass with its last velocity pass, timed in
+    /// `Iterate`).
     Relax,
     /// Orientations and displacements advanced (every sub-step).
     IntegratePositions,

@@ -1358,7 +1358,8 @@ mod tests {
     //! same coloured patches give the same bits, on any thread count.
     use super::super::constraint::BLOCK_POINTS;
     use super::super::{
-        begin_substep, color_patches, integrate_positions, prepare, push_out, solve, SolverArrays,
+        begin_substep, color_patches, integrate_positions, prepare, push_out, solve, IslandVisit,
+        SolverArrays,
     };
     use super::*;
     use crate::pool::WorkerPool;
@@ -1575,10 +1576,14 @@ mod tests {
                 // SAFETY: the whole team runs the same passes.
                 unsafe {
                     arrays.begin_substep(team, H, true);
-                    for _ in 0..2 {
-                        arrays.solve(team, H);
+                    for k in 0..2 {
+                        let visit = IslandVisit {
+                            begin: (k == 0).then_some((H, true)),
+                            push: None,
+                        };
+                        arrays.solve(team, H, visit);
                     }
-                    arrays.push_out(team, &params(), H, sub + 1, true, &pushed);
+                    arrays.push_out(team, &params(), H, sub + 1, true, &pushed, false);
                 }
                 if team.index() == 0 {
                     // SAFETY: the others wait at the barrier below.

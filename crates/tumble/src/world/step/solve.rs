@@ -12,8 +12,9 @@ use crate::body::BodyKind;
 use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
-    ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
+    self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, IslandVisit,
+    JointConstraint, ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody,
+    SolverParams,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::patches::PreparedPatch;
@@ -246,9 +247,18 @@ impl World {
                         arrays.gear_pass(team, |g| begin_gears(g, &arrays.joints, &arrays.bodies, true));
                     }
                     lap(SolveStage::WarmStart);
-                    for _ in 0..iterations {
+                    // The islands' first push-out pass rides on the last
+                    // velocity pass (`IslandVisit`), its number that of the
+                    // sub-step's first push-out pass below.
+                    let first_push = (sub * push_out_iterations + 1) as usize;
+                    for k in 0..iterations {
+                        let visit = IslandVisit {
+                            begin: (k == 0).then_some((h, true)),
+                            push: (k + 1 == iterations && push_out_iterations > 0)
+                                .then_some((&params, first_push, &pushed)),
+                        };
                         unsafe {
-                            arrays.solve(team, h);
+                            arrays.solve(team, h, visit);
                             arrays.gear_pass(team, |g| solve_gears(g, &arrays.bodies));
                         }
                     }
@@ -268,7 +278,7 @@ impl World {
                         let first = pass == 1;
                         let pass = (sub * push_out_iterations + pass) as usize;
                         unsafe {
-                            arrays.push_out(team, &params, h, pass, first, &pushed);
+                            arrays.push_out(team, &params, h, pass, first, &pushed, first);
                             arrays.gear_pass(team, |g| {
                                 if push_gears(g, &arrays.bodies, 1.0 / h) {
                                     pushed.fetch_max(pass, Ordering::Relaxed);

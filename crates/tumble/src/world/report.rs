@@ -76,8 +76,8 @@ pub enum SolveStage {
     WarmStart,
     /// Velocity iterations over the coloured rows (every sub-step).
     Iterate,
-    /// Position correction by split-impulse push-out (every sub-step; a
-    /// joint island's first pass with its last velocity pass, timed in
+    /// Position correction by split-impulse push-out (every sub-step; its
+    /// first pass is made with the last velocity pass, timed in
     /// `Iterate`).
     Relax,
     /// Orientations and displacements advanced (every sub-step).

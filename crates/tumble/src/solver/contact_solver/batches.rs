@@ -23,36 +23,43 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 /// colour is not worth a second thread's cache misses.
 pub const MIN_PATCHES_TO_SPLIT: usize = 32;
 
-/// What a velocity pass ([`SolverArrays::solve`]) does for each joint island
-/// besides relaxing it, in the same visit.
+/// What a velocity pass ([`SolverArrays::solve`]) does besides relaxing
+/// the rows, each part in the same visit as the relax.
 ///
-/// Why: an island's pass reads its joints' rows, its factor, the columns
-/// of its owned points and their patches (about 2 MB for the ragdoll pile's
-/// hundred islands, beyond a core's 2 MB of L2 on the Intel Xeon: a ragdoll
-/// cost 0.183 ms a step among 100 and 0.127 among 16 for 16 % more
-/// instructions), and a sub-step visited every island four times: its
-/// start, two velocity passes, its push-out pass. Begun in the first
-/// velocity pass and pushed in the last, an island is visited twice, each
-/// time working on what the visit just brought into the cache: the ragdoll
-/// pile 5-9 % faster a step (`profile_stages ragdoll_pile 400 1`, one
-/// thread, the standard start and five jittered ones).
+/// Why: a pass reads what it works on from memory, and a sub-step passed
+/// over everything four times (its start, two velocity passes, its first
+/// push-out pass). A joint island's pass alone reads its joints' rows,
+/// its factor, the columns of its owned points and their patches: about
+/// 2 MB for the ragdoll pile's hundred islands, beyond a core's 2 MB of
+/// L2 on the Intel Xeon (a ragdoll cost 0.183 ms a step among 100 and
+/// 0.127 among 16 for 16 % more instructions). Begun in the first
+/// velocity pass and pushed in the last, each island is visited twice a
+/// sub-step and each joint and patch three times, each time working on
+/// what the visit just brought into the cache, and the push-out's colours
+/// need no barriers of their own. (A patch's or a joint's start stays a
+/// pass of its own: begun in its colour's turn of the first velocity pass,
+/// it would be relaxed before the later colours' warm starts reach the
+/// bodies it shares with them, a cold start for a stack.)
 ///
 /// The push is the same bits either way: a sub-step's first push-out pass
-/// reads and writes only pseudo-velocities, the position errors found at
-/// the sub-step's start and the push impulses, which no velocity pass
-/// touches, and the islands take it first, as before. The begin is not:
-/// the patches' warm starts now come before the islands' instead of after
-/// (the same impulses, added in another order).
+/// reads and writes only pseudo-velocities, the position errors and
+/// separations found at the sub-step's start and the push impulses, which
+/// no velocity pass reads or writes, and it keeps its own order (the
+/// islands, the joints' colours, the patches' colours, the gears). The
+/// islands' begin is not: the patches' warm starts now come before the
+/// islands' instead of after (the same impulses, added in another order).
 #[derive(Clone, Copy)]
-pub(crate) struct IslandVisit<'p> {
-    /// The sub-step's first velocity pass: each island is begun first
-    /// ([`JointIsland::begin`], `warm`: warm-started), for sub-steps of `h`.
-    pub begin: Option<(f64, bool)>,
-    /// The last velocity pass before the sub-step's push-out: each island
-    /// then makes its part of the first push-out pass ([`JointIsland::push`])
-    /// with these parameters, as pass number `pass` of `pushed` (see
-    /// [`SolverArrays::push_out`], which then leaves the islands out).
-    pub push: Option<(&'p SolverParams, usize, &'p AtomicUsize)>,
+pub(crate) struct VelocityPass<'p> {
+    /// The sub-step's first velocity pass: each joint island is begun
+    /// first ([`JointIsland::begin`], `warm`: warm-started), for sub-steps
+    /// of `h` (its joints and patches are not begun by
+    /// [`SolverArrays::begin_substep`]).
+    pub begin_islands: Option<(f64, bool)>,
+    /// The last velocity pass of a sub-step with a push-out: each island,
+    /// joint and patch then makes its part of the sub-step's first push-out
+    /// pass ([`SolverArrays::push_out`]'s, which is not run again) with
+    /// these parameters, as pass number `pass` of `pushed`.
+    pub then_push: Option<(&'p SolverParams, usize, &'p AtomicUsize)>,
 }
 
 /// The solver's arrays, shared by a team. Each pass runs over the joints'
@@ -335,24 +342,22 @@ impl SolverArrays<'_> {
         }
     }
 
-    /// [`super::solve`] (and the joints) by the team; the joint islands
-    /// begun first or pushed after as `visit` says. Every pass of a sub-step
-    /// runs `begin_substep` first, and its first velocity pass begins the
-    /// islands.
+    /// [`super::solve`] (and the joints) by the team, with what `visit`
+    /// adds to it (islands begun, the first push-out pass).
     ///
     /// # Safety
     /// As [`SolverArrays::begin_substep`].
-    pub unsafe fn solve(&self, team: &Team, h: f64, visit: IslandVisit) {
+    pub unsafe fn solve(&self, team: &Team, h: f64, visit: VelocityPass) {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
             self.each_island(team, |island| {
                 let patches = self.patch_arrays();
-                if let Some((h, warm)) = visit.begin {
+                if let Some((h, warm)) = visit.begin_islands {
                     island.begin(&self.joints, &self.gears, &self.bodies, Some(&patches), h, warm);
                 }
                 island.solve(&self.joints, &self.gears, &self.bodies, Some(&patches));
-                if let Some((params, pass, pushed)) = visit.push {
+                if let Some((params, pass, pushed)) = visit.then_push {
                     let owned = (&patches, params);
                     if island.push(&self.joints, &self.gears, &self.bodies, Some(owned), inv_h) {
                         pushed.fetch_max(pass, Ordering::Relaxed);
@@ -362,18 +367,37 @@ impl SolverArrays<'_> {
             });
             each(team, self.joint_coloring, &self.joints, |j| {
                 if !j.direct {
-                    solve_joint(j, &self.bodies)
+                    solve_joint(j, &self.bodies);
+                    if let Some((_, pass, pushed)) = visit.then_push {
+                        if push_joint(j, &self.bodies, inv_h) {
+                            pushed.fetch_max(pass, Ordering::Relaxed);
+                        }
+                    }
                 }
             });
-            self.each_patch(
-                team,
-                |m, pts| {
-                    solve_patch(m, pts, &self.bodies, inv_h);
-                    false
-                },
-                BundlePass::Solve { inv_h },
-                || {},
-            );
+            match visit.then_push {
+                None => self.each_patch(
+                    team,
+                    |m, pts| {
+                        solve_patch(m, pts, &self.bodies, inv_h);
+                        false
+                    },
+                    BundlePass::Solve { inv_h },
+                    || {},
+                ),
+                // The sub-step's first push-out pass: it holds the anchors.
+                Some((params, pass, pushed)) => self.each_patch(
+                    team,
+                    |m, pts| {
+                        solve_patch(m, pts, &self.bodies, inv_h);
+                        push_patch(m, pts, &self.bodies, params, inv_h, true)
+                    },
+                    BundlePass::SolveThenPush { params, inv_h },
+                    || {
+                        pushed.fetch_max(pass, Ordering::Relaxed);
+                    },
+                ),
+            }
         }
     }
 
@@ -381,13 +405,12 @@ impl SolverArrays<'_> {
     /// `pass` (from 1, counted over the step), the sub-step's `first` or a
     /// later one: a thread whose patches or joints pushed raises `pushed`
     /// to `pass`. After the call every thread sees whether any pushed
-    /// (`pushed == pass`). `islands_pushed`: the joint islands made their
-    /// part of this pass with the last velocity pass (`IslandVisit::push`),
-    /// and are left out.
+    /// (`pushed == pass`). The step makes a sub-step's first pass with its
+    /// last velocity pass (`VelocityPass::then_push`) and this one for the
+    /// others; `first` (the anchors held) is for a first pass made alone.
     ///
     /// # Safety
     /// As [`SolverArrays::begin_substep`].
-    #[allow(clippy::too_many_arguments)] // the pass's numbers, each its own
     pub unsafe fn push_out(
         &self,
         team: &Team,
@@ -396,17 +419,14 @@ impl SolverArrays<'_> {
         pass: usize,
         first: bool,
         pushed: &AtomicUsize,
-        islands_pushed: bool,
     ) {
         let inv_h = 1.0 / h;
         // SAFETY: the caller's promise.
         unsafe {
             let owned = (&self.patch_arrays(), params);
-            if !islands_pushed
-                && self.each_island(team, |island| {
-                    island.push(&self.joints, &self.gears, &self.bodies, Some(owned), inv_h)
-                })
-            {
+            if self.each_island(team, |island| {
+                island.push(&self.joints, &self.gears, &self.bodies, Some(owned), inv_h)
+            }) {
                 pushed.fetch_max(pass, Ordering::Relaxed);
             }
             each(team, self.joint_coloring, &self.joints, |j| {

@@ -61,7 +61,7 @@ mod wide;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use batches::{IslandVisit, SolverArrays};
+pub(crate) use batches::{SolverArrays, VelocityPass};
 pub use body::{integrate_positions, SolverBody};
 pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
 pub(crate) use coloring::Shared;

@@ -1326,6 +1326,14 @@ pub(crate) enum BundlePass<'a> {
         /// Hold the anchors of sticking patches (the sub-step's first pass).
         hold: bool,
     },
+    /// [`solve`], then [`push`] as the sub-step's first push-out pass
+    /// (`batches::VelocityPass::then_push`).
+    SolveThenPush {
+        /// The solver's settings.
+        params: &'a SolverParams,
+        /// `1 / h`.
+        inv_h: f64,
+    },
 }
 
 impl BundlePass<'_> {
@@ -1347,6 +1355,10 @@ impl BundlePass<'_> {
                     false
                 }
                 BundlePass::Push { params, inv_h, hold } => push(w, bodies, params, inv_h, hold),
+                BundlePass::SolveThenPush { params, inv_h } => {
+                    solve(w, bodies, inv_h);
+                    push(w, bodies, params, inv_h, true)
+                }
             }
         }
     }
@@ -1358,8 +1370,8 @@ mod tests {
     //! same coloured patches give the same bits, on any thread count.
     use super::super::constraint::BLOCK_POINTS;
     use super::super::{
-        begin_substep, color_patches, integrate_positions, prepare, push_out, solve, IslandVisit,
-        SolverArrays,
+        begin_substep, color_patches, integrate_positions, prepare, push_out, solve, SolverArrays,
+        VelocityPass,
     };
     use super::*;
     use crate::pool::WorkerPool;
@@ -1524,8 +1536,11 @@ mod tests {
         }
     }
 
-    /// The same passes by a team of `threads`, bundled.
+    /// The same passes by a team of `threads`, bundled; with `fused`, the
+    /// push-out pass made with the last velocity pass, as the step makes it
+    /// (`VelocityPass::then_push`).
     fn bundled(
+        fused: bool,
         threads: u32,
         bodies: &mut [SolverBody],
         pairs: &[(u32, u32)],
@@ -1576,14 +1591,17 @@ mod tests {
                 // SAFETY: the whole team runs the same passes.
                 unsafe {
                     arrays.begin_substep(team, H, true);
+                    let params = params();
                     for k in 0..2 {
-                        let visit = IslandVisit {
-                            begin: (k == 0).then_some((H, true)),
-                            push: None,
+                        let visit = VelocityPass {
+                            begin_islands: (k == 0).then_some((H, true)),
+                            then_push: (fused && k == 1).then_some((&params, sub + 1, &pushed)),
                         };
                         arrays.solve(team, H, visit);
                     }
-                    arrays.push_out(team, &params(), H, sub + 1, true, &pushed, false);
+                    if !fused {
+                        arrays.push_out(team, &params, H, sub + 1, true, &pushed);
+                    }
                 }
                 if team.index() == 0 {
                     // SAFETY: the others wait at the barrier below.
@@ -1691,15 +1709,20 @@ mod tests {
         }
     }
 
+    /// Also with the push-out pass made together with the last velocity
+    /// pass, patch by patch, as the step makes it: the push-out reads and
+    /// writes only pseudo-velocities, separations and push impulses, which
+    /// the velocity passes never touch, so the bits are those of the two
+    /// passes one after the other (the scalar reference's).
     #[test]
     fn bundles_give_the_scalar_kernels_bits_on_any_thread_count() {
-        for seed in 1..4 {
+        for (seed, fused) in (1..4).flat_map(|seed| [(seed, false), (seed, true)]) {
             let (bodies, pairs, manifolds, points) = problem(seed);
             let (mut b0, mut m0, mut p0) = (bodies.clone(), manifolds.clone(), points.clone());
             scalar(&mut b0, &mut m0, &mut p0);
             for threads in [1, 2, 3] {
                 let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
-                let wide = bundled(threads, &mut b1, &pairs, &mut m1, &mut p1);
+                let wide = bundled(fused, threads, &mut b1, &pairs, &mut m1, &mut p1);
                 let sizes = [
                     wide.ones.len(),
                     wide.twos.len(),
@@ -1746,7 +1769,7 @@ mod tests {
             );
             for threads in [1, 2, 3] {
                 let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
-                let wide = bundled(threads, &mut b1, &pairs, &mut m1, &mut p1);
+                let wide = bundled(false, threads, &mut b1, &pairs, &mut m1, &mut p1);
                 assert!(!wide.ones.is_empty() || !wide.twos.is_empty() || !wide.fours.is_empty());
                 first_difference(&b1, &b0, "body", seed, threads);
                 // Patch k of the levels is patch order[k] of the patch order.

@@ -12,9 +12,9 @@ use crate::body::BodyKind;
 use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
-    self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, IslandVisit,
-    JointConstraint, ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody,
-    SolverParams,
+    self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
+    ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
+    VelocityPass,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::patches::PreparedPatch;
@@ -247,19 +247,32 @@ impl World {
                         arrays.gear_pass(team, |g| begin_gears(g, &arrays.joints, &arrays.bodies, true));
                     }
                     lap(SolveStage::WarmStart);
-                    // The islands' first push-out pass rides on the last
-                    // velocity pass (`IslandVisit`), its number that of the
-                    // sub-step's first push-out pass below.
+                    // The islands are begun in the first velocity pass, and
+                    // the sub-step's first push-out pass is made with the
+                    // last (`VelocityPass`), as pass number `first_push`.
                     let first_push = (sub * push_out_iterations + 1) as usize;
+                    let push_gears_as = |pass: usize| {
+                        // SAFETY: as every pass (the team calls it).
+                        unsafe {
+                            arrays.gear_pass(team, |g| {
+                                if push_gears(g, &arrays.bodies, 1.0 / h) {
+                                    pushed.fetch_max(pass, Ordering::Relaxed);
+                                }
+                            })
+                        };
+                    };
                     for k in 0..iterations {
-                        let visit = IslandVisit {
-                            begin: (k == 0).then_some((h, true)),
-                            push: (k + 1 == iterations && push_out_iterations > 0)
-                                .then_some((&params, first_push, &pushed)),
+                        let then_push = k + 1 == iterations && push_out_iterations > 0;
+                        let visit = VelocityPass {
+                            begin_islands: (k == 0).then_some((h, true)),
+                            then_push: then_push.then_some((&params, first_push, &pushed)),
                         };
                         unsafe {
                             arrays.solve(team, h, visit);
                             arrays.gear_pass(team, |g| solve_gears(g, &arrays.bodies));
+                        }
+                        if then_push {
+                            push_gears_as(first_push);
                         }
                     }
                     if sub + 1 == substeps {
@@ -277,13 +290,10 @@ impl World {
                     for pass in 1..=push_out_iterations {
                         let first = pass == 1;
                         let pass = (sub * push_out_iterations + pass) as usize;
-                        unsafe {
-                            arrays.push_out(team, &params, h, pass, first, &pushed, first);
-                            arrays.gear_pass(team, |g| {
-                                if push_gears(g, &arrays.bodies, 1.0 / h) {
-                                    pushed.fetch_max(pass, Ordering::Relaxed);
-                                }
-                            });
+                        // (The first was made with the last velocity pass.)
+                        if !first {
+                            unsafe { arrays.push_out(team, &params, h, pass, false, &pushed) };
+                            push_gears_as(pass);
                         }
                         // `<`, not `!=`: a thread that went on may already
                         // have raised `pushed` to `pass + 1` while a slower

@@ -324,7 +324,7 @@ impl SolverArrays<'_> {
         // SAFETY: the caller's promise.
         unsafe {
             // Joints in an island are begun with it, in the sub-step's first
-            // velocity pass (`IslandVisit`).
+            // velocity pass (`VelocityPass`).
             each(team, self.joint_coloring, &self.joints, |j| {
                 if !j.direct {
                     begin_joint(j, &self.bodies, h, warm)

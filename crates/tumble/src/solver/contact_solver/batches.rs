@@ -51,10 +51,10 @@ pub const MIN_PATCHES_TO_SPLIT: usize = 32;
 #[derive(Clone, Copy)]
 pub(crate) struct VelocityPass<'p> {
     /// The sub-step's first velocity pass: each joint island is begun
-    /// first ([`JointIsland::begin`], `warm`: warm-started), for sub-steps
-    /// of `h` (its joints and patches are not begun by
-    /// [`SolverArrays::begin_substep`]).
-    pub begin_islands: Option<(f64, bool)>,
+    /// first ([`JointIsland::begin`]; `Some(warm)`: warm-started or not),
+    /// for sub-steps of the pass's `h` (its joints and patches are not
+    /// begun by [`SolverArrays::begin_substep`]).
+    pub begin_islands: Option<bool>,
     /// The last velocity pass of a sub-step with a push-out: each island,
     /// joint and patch then makes its part of the sub-step's first push-out
     /// pass ([`SolverArrays::push_out`]'s, which is not run again) with
@@ -353,7 +353,7 @@ impl SolverArrays<'_> {
         unsafe {
             self.each_island(team, |island| {
                 let patches = self.patch_arrays();
-                if let Some((h, warm)) = visit.begin_islands {
+                if let Some(warm) = visit.begin_islands {
                     island.begin(&self.joints, &self.gears, &self.bodies, Some(&patches), h, warm);
                 }
                 island.solve(&self.joints, &self.gears, &self.bodies, Some(&patches));

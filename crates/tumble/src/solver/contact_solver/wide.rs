@@ -1594,7 +1594,7 @@ mod tests {
                     let params = params();
                     for k in 0..2 {
                         let visit = VelocityPass {
-                            begin_islands: (k == 0).then_some((H, true)),
+                            begin_islands: (k == 0).then_some(true),
                             then_push: (fused && k == 1).then_some((&params, sub + 1, &pushed)),
                         };
                         arrays.solve(team, H, visit);

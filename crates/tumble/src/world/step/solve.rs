@@ -264,7 +264,7 @@ impl World {
                     for k in 0..iterations {
                         let then_push = k + 1 == iterations && push_out_iterations > 0;
                         let visit = VelocityPass {
-                            begin_islands: (k == 0).then_some((h, true)),
+                            begin_islands: (k == 0).then_some(true),
                             then_push: then_push.then_some((&params, first_push, &pushed)),
                         };
                         unsafe {

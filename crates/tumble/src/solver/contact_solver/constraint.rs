@@ -324,18 +324,28 @@ fn recip_or_zero(k: f64) -> f64 {
 /// points), the twist radius, and the friction rows and masses.
 pub fn prepare(m: &mut ManifoldConstraint, points: &mut [PointConstraint], bodies: &[SolverBody]) {
     let range = m.range();
-    prepare_patch(m, &mut points[range], bodies);
+    prepare_patch(m, &mut points[range], bodies, true);
 }
 
-/// [`prepare`] given the patch's own points `pts`.
-pub(super) fn prepare_patch(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], bodies: &[SolverBody]) {
+/// [`prepare`] given the patch's own points `pts`; without `rows`, only
+/// what is not a row: the rows, their masses and the normal block are left
+/// as they were, for a patch whose bundle computes them itself
+/// (`wide::WidePatch::fill`, the same values lane by lane).
+pub(super) fn prepare_patch(
+    m: &mut ManifoldConstraint,
+    pts: &mut [PointConstraint],
+    bodies: &[SolverBody],
+    rows: bool,
+) {
     let a = &bodies[m.a as usize];
     let b = &bodies[m.b as usize];
     m.inv_mass = [a.inv_mass, b.inv_mass];
     let count = pts.len().max(1) as f64;
     let (mut ca, mut cb, mut gap) = (DVec3::ZERO, DVec3::ZERO, 0.0);
     for p in pts.iter_mut() {
-        p.row = RowJacobian::new(a, b, p.r_a, p.r_b, p.normal);
+        if rows {
+            p.row = RowJacobian::new(a, b, p.r_a, p.r_b, p.normal);
+        }
         p.separation_now = p.separation;
         p.max_normal_impulse = 0.0;
         p.push_impulse = 0.0;
@@ -355,11 +365,13 @@ pub(super) fn prepare_patch(m: &mut ManifoldConstraint, pts: &mut [PointConstrai
         })
         .sum::<f64>()
         / count;
-    for i in 0..2 {
-        m.rows[i] = RowJacobian::new(a, b, m.r_a, m.r_b, m.directions[i]);
+    if rows {
+        for i in 0..2 {
+            m.rows[i] = RowJacobian::new(a, b, m.r_a, m.r_b, m.directions[i]);
+        }
+        m.rows[2] = RowJacobian::twist(a, b, n);
+        refresh_masses(m, pts, true);
     }
-    m.rows[2] = RowJacobian::twist(a, b, n);
-    refresh_masses(m, pts, true);
 }
 
 /// Effective masses of a patch's rows and its normal block (with its

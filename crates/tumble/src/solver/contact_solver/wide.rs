@@ -251,12 +251,16 @@ impl<const N: usize> WidePatch<N> {
     /// `source` (as [`WideBatches::plan`] planned them): first everything
     /// else to zero (the empty lanes and the unused points stay so), here
     /// rather than when planned, so that the team clears the bundles it
-    /// fills while they are in its cache.
+    /// fills while they are in its cache. The rows, their masses and the
+    /// normal block are not read from the records but computed here from
+    /// `bodies` at the step start, as `constraint::prepare_patch` computes
+    /// them (see [`prepare_rows`]).
     pub(super) fn fill(
         &mut self,
         source: [u32; LANES],
         manifolds: &[ManifoldConstraint],
         points: &[PointConstraint],
+        bodies: &[SolverBody],
     ) {
         *self = WidePatch::planned(source);
         let w = self;
@@ -286,8 +290,6 @@ impl<const N: usize> WidePatch<N> {
             w.r_a.set_lane(l, m.r_a);
             w.r_b.set_lane(l, m.r_b);
             for r in 0..3 {
-                set_row(&mut w.rows[r], l, &m.rows[r]);
-                set(&mut w.masses[r], l, m.masses[r]);
                 set(&mut w.impulses[r], l, m.impulses[r]);
             }
             set(&mut w.inv_mass[0], l, m.inv_mass[0]);
@@ -298,27 +300,20 @@ impl<const N: usize> WidePatch<N> {
                 w.anchor_rb.set_lane(l, m.anchor_r[1]);
                 w.anchor_offset.set_lane(l, m.anchor_offset);
             }
-            for i in 0..N {
-                for j in 0..N {
-                    set(&mut w.block[i][j], l, m.block[i][j]);
-                    set(&mut w.block_inverse[i][j], l, m.block_inverse[i][j]);
-                }
-            }
             for ((wp, f), p) in w.points.iter_mut().zip(&mut w.frames).zip(&points[m.range()]) {
                 set(&mut f.real, l, f64::from_bits(u64::MAX));
                 wp.normal.set_lane(l, p.normal);
                 f.r_a.set_lane(l, p.r_a);
                 f.r_b.set_lane(l, p.r_b);
-                set_row(&mut wp.row, l, &p.row);
                 set(&mut f.separation, l, p.separation);
                 set(&mut wp.separation_now, l, p.separation_now);
-                set(&mut wp.normal_mass, l, p.normal_mass);
                 set(&mut wp.normal_impulse, l, p.normal_impulse);
                 set(&mut wp.max_normal_impulse, l, p.max_normal_impulse);
                 set(&mut f.push_impulse, l, p.push_impulse);
                 set(&mut f.half_gap, l, p.half_gap);
             }
         }
+        prepare_rows(w, bodies);
     }
 
     /// Writes every lane's impulses back to its records: what the step
@@ -363,13 +358,6 @@ fn set(x: &mut Lane, l: usize, v: f64) {
 #[inline(always)]
 fn get(x: Lane, l: usize) -> f64 {
     x.as_array()[l]
-}
-
-fn set_row(w: &mut WideRow, l: usize, r: &super::constraint::RowJacobian) {
-    w.ra_x_d.set_lane(l, r.ra_x_d);
-    w.rb_x_d.set_lane(l, r.rb_x_d);
-    w.ia_ra_x_d.set_lane(l, r.ia_ra_x_d);
-    w.ib_rb_x_d.set_lane(l, r.ib_rb_x_d);
 }
 
 #[cfg(test)]
@@ -462,6 +450,9 @@ pub(crate) struct WideBatches {
     /// Patches of more than four points, colour after colour (indices into
     /// the patch array).
     pub large: Vec<u32>,
+    /// Per patch: whether it travels in a bundle (not large, not in the
+    /// overflow batch).
+    pub in_bundle: Vec<bool>,
     /// Colours from this one on are all lighter than
     /// [`MIN_WEIGHT_TO_SPLIT`]: one thread runs them, back to back.
     pub split: usize,
@@ -517,6 +508,11 @@ impl WideBatches {
             bundles.truncate(n);
             bundles.reserve(n - bundles.len());
             bundles.resize_with(n, || WidePatch::planned([EMPTY; LANES]));
+        }
+        self.in_bundle.clear();
+        self.in_bundle.resize(kinds.len(), false);
+        for &k in self.sources.iter().flatten().flatten().filter(|&&k| k != EMPTY) {
+            self.in_bundle[k as usize] = true;
         }
         size(&mut self.ones, self.sources[0].len());
         size(&mut self.twos, self.sources[1].len());
@@ -720,7 +716,7 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         w.rows[2] = pick(WideRow::twist(&ia, &ib, w.normal), w.rows[2]);
     }
     if any_moved {
-        turned = refresh_masses(w, moved, all_moved);
+        turned = refresh_masses(w, moved, all_moved, Lane::ZERO);
     }
     if warm {
         // SAFETY: the caller's promise.
@@ -766,6 +762,27 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         // SAFETY: the caller's promise.
         unsafe { vel.store(bodies, w) };
     }
+}
+
+/// `constraint::prepare_patch`'s rows on four patches: each point's normal
+/// row, the friction and twist rows at the patch's centroid, their masses
+/// and the normal block with its inverse, from the lanes' bodies at the
+/// step start (empty lanes stay zero).
+fn prepare_rows<const N: usize>(w: &mut WidePatch<N>, bodies: &[SolverBody]) {
+    let real_lanes = w.source.map(|k| k != EMPTY);
+    let real = lanes::mask(real_lanes);
+    let (ia, ib) = (
+        M3::from_lanes(w.a.map(|k| bodies[k as usize].inv_inertia)),
+        M3::from_lanes(w.b.map(|k| bodies[k as usize].inv_inertia)),
+    );
+    for (p, f) in w.points.iter_mut().zip(&w.frames) {
+        p.row = WideRow::new(&ia, &ib, f.r_a, f.r_b, p.normal);
+    }
+    for i in 0..2 {
+        w.rows[i] = WideRow::new(&ia, &ib, w.r_a, w.r_b, w.directions[i]);
+    }
+    w.rows[2] = WideRow::twist(&ia, &ib, w.normal);
+    refresh_masses(w, real, !real_lanes.contains(&false), real);
 }
 
 /// `sum lambda_i u_i` over a bundle's rows (`passes::begin_patch`'s `work`).
@@ -855,11 +872,12 @@ fn shared_lever_arms(ra0: V3, rb0: V3, ra: V3, rb: V3, dpa: V3, dpb: V3) -> (V3,
     (ra_mid, ra_mid - ab)
 }
 
-/// `constraint::refresh_masses` (not forced) in the lanes of `moved`;
-/// returns the lanes whose points' masses moved by more than
-/// [`BLOCK_REFRESH`] (their block was rebuilt).
+/// `constraint::refresh_masses` in the lanes of `moved`, forced in the lanes
+/// of `forced` (within `moved`); returns the lanes whose block was rebuilt:
+/// those forced and those whose points' masses moved by more than
+/// [`BLOCK_REFRESH`].
 #[inline(always)]
-fn refresh_masses<const N: usize>(w: &mut WidePatch<N>, moved: Lane, all_moved: bool) -> Lane {
+fn refresh_masses<const N: usize>(w: &mut WidePatch<N>, moved: Lane, all_moved: bool, forced: Lane) -> Lane {
     let pick = |new: Lane, old: Lane| if all_moved { new } else { select(moved, new, old) };
     let [ima, imb] = w.inv_mass;
     let mut turned = Lane::ZERO;
@@ -869,7 +887,7 @@ fn refresh_masses<const N: usize>(w: &mut WidePatch<N>, moved: Lane, all_moved: 
         turned |= gt((k - reference).abs(), Lane::splat(BLOCK_REFRESH) * reference);
         p.normal_mass = pick(recip_or_zero(k), p.normal_mass);
     }
-    let turned = turned & moved;
+    let turned = (turned & moved) | forced;
     for i in 0..3 {
         let m = recip_or_zero(w.rows[i].inverse_mass(w.directions_or_zero(i), ima, imb));
         w.masses[i] = pick(m, w.masses[i]);

@@ -131,6 +131,7 @@ impl PointConstraint {
 
 /// One contact patch of a body pair: its points and its friction.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub struct ManifoldConstraint {
     /// Index of body A in the solver body array.
     pub a: u32,
@@ -172,15 +173,27 @@ pub struct ManifoldConstraint {
     /// Mean distance of the points from the anchor in the friction plane
     /// (m): the lever of the twist friction.
     pub twist_radius: f64,
-    /// Angular Jacobians of the two tangent rows and the twist row.
-    pub rows: [RowJacobian; 3],
-    /// Effective masses of the three friction rows (kg, kg m^2).
-    pub masses: [f64; 3],
     /// Accumulated friction impulses: two tangential (N s) and the twist
     /// (N m s), warm-started across steps.
     pub impulses: [f64; 3],
     /// Inverse masses of A and B (1/kg).
     pub inv_mass: [f64; 2],
+    /// Whether the patch holds an anchor from the last step (it stuck):
+    /// the push-out then also pulls its two anchor points back together
+    /// across the normal, within what friction has left (`passes::hold_anchor`).
+    pub anchored: bool,
+    /// The anchor points' lever arms from A's and B's centres of mass at the
+    /// step start (world, m).
+    pub anchor_r: [DVec3; 2],
+    /// A's anchor point less B's at the step start (world, m).
+    pub anchor_offset: DVec3,
+    // The rows: written by `prepare` (or by the patch's bundle, see
+    // `prepare_patch`) before anything reads them, so that laying out the
+    // records (`ManifoldConstraint::renew`) need not touch their lines.
+    /// Angular Jacobians of the two tangent rows and the twist row.
+    pub rows: [RowJacobian; 3],
+    /// Effective masses of the three friction rows (kg, kg m^2).
+    pub masses: [f64; 3],
     /// The patch's block of the Delassus matrix `K = J M^-1 J^T` over its
     /// normal rows (`K[i][j]`: relative normal velocity change at point `i`
     /// per unit impulse at point `j`), filled for patches of at most
@@ -191,15 +204,6 @@ pub struct ManifoldConstraint {
     /// direct all-points-pressing solve that `passes::solve_block` tries
     /// before its sweeps.
     pub block_inverse: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
-    /// Whether the patch holds an anchor from the last step (it stuck):
-    /// the push-out then also pulls its two anchor points back together
-    /// across the normal, within what friction has left (`passes::hold_anchor`).
-    pub anchored: bool,
-    /// The anchor points' lever arms from A's and B's centres of mass at the
-    /// step start (world, m).
-    pub anchor_r: [DVec3; 2],
-    /// A's anchor point less B's at the step start (world, m).
-    pub anchor_offset: DVec3,
 }
 
 /// Patches with at most this many points solve their normal rows as one
@@ -255,6 +259,50 @@ impl ManifoldConstraint {
             anchor_r: [DVec3::ZERO; 2],
             anchor_offset: DVec3::ZERO,
         }
+    }
+
+    /// This record made [`ManifoldConstraint::new`]'s patch, except for the
+    /// rows, their masses and the normal block (`rows`, `masses`, `block`,
+    /// `block_inverse`, last in the record), which keep whatever they held:
+    /// `prepare_patch` writes them before anything reads them, or, for a
+    /// patch in a bundle, leaves them unread (`wide::WidePatch::fill`).
+    ///
+    /// Why: the step lays its records out anew every step, and those
+    /// fields are over half of a record's lines.
+    #[allow(clippy::too_many_arguments)]
+    pub fn renew(
+        &mut self,
+        a: u32,
+        b: u32,
+        first_point: u32,
+        point_count: u32,
+        normal: DVec3,
+        friction: f64,
+        restitution: f64,
+        warm_tangent: DVec3,
+        warm_twist: f64,
+    ) {
+        let [t1, t2] = tangent_basis(normal);
+        self.a = a;
+        self.b = b;
+        self.first_point = first_point;
+        self.point_count = point_count;
+        self.friction = friction;
+        self.restitution = restitution;
+        self.normal = normal;
+        self.directions = [t1, t2, DVec3::ZERO];
+        self.curvature = DMat3::ZERO;
+        self.normal_start = normal;
+        self.rolling = [0.0; 2];
+        self.half_gap = 0.0;
+        self.r_a = DVec3::ZERO;
+        self.r_b = DVec3::ZERO;
+        self.twist_radius = 0.0;
+        self.impulses = [warm_tangent.dot(t1), warm_tangent.dot(t2), warm_twist];
+        self.inv_mass = [0.0; 2];
+        self.anchored = false;
+        self.anchor_r = [DVec3::ZERO; 2];
+        self.anchor_offset = DVec3::ZERO;
     }
 
     /// The points of this patch.
@@ -415,14 +463,17 @@ pub fn refresh_masses(m: &mut ManifoldConstraint, pts: &mut [PointConstraint], f
     }
     if stale && blocked {
         // K_ij = (n_i . n_j)(1/mA + 1/mB) + (rA_i x n_i) . IA^-1 (rA_j x n_j)
-        //      + (rB_i x n_i) . IB^-1 (rB_j x n_j)
+        //      + (rB_i x n_i) . IB^-1 (rB_j x n_j), zero beyond the points
+        // (whatever the record held there: `ManifoldConstraint::renew`).
+        let mut block = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
         for (i, pi) in pts.iter().enumerate() {
             for (j, pj) in pts.iter().enumerate() {
-                m.block[i][j] = pi.normal.dot(pj.normal) * (ima + imb)
+                block[i][j] = pi.normal.dot(pj.normal) * (ima + imb)
                     + pi.row.ra_x_d.dot(pj.row.ia_ra_x_d)
                     + pi.row.rb_x_d.dot(pj.row.ib_rb_x_d);
             }
         }
+        m.block = block;
         m.block_inverse = regularised_inverse(&m.block);
     }
     turned

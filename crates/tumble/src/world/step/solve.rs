@@ -504,7 +504,7 @@ impl World {
                     }
                     at += n;
                     let (a, b) = pairs[i];
-                    *m = ManifoldConstraint::new(
+                    m.renew(
                         a,
                         b,
                         firsts[*start + j],

@@ -35,19 +35,17 @@ pub(crate) struct PreparedPoint {
 }
 
 impl PreparedPoint {
-    /// The point's solver row (its inputs only: kept this small, the
-    /// record is written and read once per point and step, and a whole
-    /// row was two thirds of it).
-    pub fn constraint(&self) -> PointConstraint {
-        let mut point = PointConstraint::new(
+    /// The point's solver record, laid out in `dst`
+    /// (`PointConstraint::renew`: its row is left to the prepare).
+    pub fn renew_constraint(&self, dst: &mut PointConstraint) {
+        dst.renew(
             self.contact.normal,
             self.r_a,
             self.r_b,
             self.separation,
             self.normal_impulse,
+            0.5 * self.contact.distance,
         );
-        point.half_gap = 0.5 * self.contact.distance;
-        point
     }
 }
 

@@ -70,6 +70,7 @@ impl RowJacobian {
 
 /// One contact point: the normal row of the contact LCP (thesis 7.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub struct PointConstraint {
     /// Unit normal from B to A (for the current sub-step: on a curved
     /// patch it turns within the step, see `ManifoldConstraint::curvature`).
@@ -80,14 +81,10 @@ pub struct PointConstraint {
     pub r_a: DVec3,
     /// Anchor relative to B's centre of mass at the step start, world frame.
     pub r_b: DVec3,
-    /// Angular Jacobian of the normal row.
-    pub row: RowJacobian,
     /// Signed separation at the start of the step (m), < 0 when overlapping.
     pub separation: f64,
     /// Separation for the current sub-step's poses (m).
     pub separation_now: f64,
-    /// Effective mass along the normal (kg): 1 / (thesis 7.1 denominator).
-    pub normal_mass: f64,
     /// Accumulated normal impulse (N s), warm-started across steps.
     pub normal_impulse: f64,
     /// Largest normal impulse seen during the step (N s), bounces included.
@@ -99,9 +96,44 @@ pub struct PointConstraint {
     /// surface, so a round side's centre of curvature is its radius plus
     /// this away (`rolling::Rolling::reach`). Default 0.
     pub half_gap: f64,
+    // The row: written by `prepare` (or by the point's bundle, see
+    // `prepare_patch`) before anything reads it, so that laying out the
+    // records (`PointConstraint::renew`) need not touch its lines.
+    /// Angular Jacobian of the normal row.
+    pub row: RowJacobian,
+    /// Effective mass along the normal (kg): 1 / (thesis 7.1 denominator).
+    pub normal_mass: f64,
 }
 
 impl PointConstraint {
+    /// This record made [`PointConstraint::new`]'s point with `half_gap`,
+    /// except for its row and effective mass (`row`, `normal_mass`, last in
+    /// the record), which keep whatever they held: `prepare_patch` writes
+    /// them before anything reads them, or, for a point in a bundle, leaves
+    /// them unread (`wide::WidePatch::fill`). (Like
+    /// [`ManifoldConstraint::renew`]: the step lays its records out anew
+    /// every step.)
+    pub fn renew(
+        &mut self,
+        normal: DVec3,
+        r_a: DVec3,
+        r_b: DVec3,
+        separation: f64,
+        normal_impulse: f64,
+        half_gap: f64,
+    ) {
+        self.normal = normal;
+        self.normal_start = normal;
+        self.r_a = r_a;
+        self.r_b = r_b;
+        self.separation = separation;
+        self.separation_now = separation;
+        self.normal_impulse = normal_impulse;
+        self.max_normal_impulse = 0.0;
+        self.push_impulse = 0.0;
+        self.half_gap = half_gap;
+    }
+
     /// A point at lever arms `r_a`, `r_b` (world, from the centres of mass)
     /// with unit `normal` (B to A) and signed `separation` (m), carrying a
     /// warm-start `normal_impulse`. Derived fields are filled by [`prepare`].

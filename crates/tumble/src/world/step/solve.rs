@@ -500,7 +500,7 @@ impl World {
                     let p = &patches[i];
                     let n = p.count as usize;
                     for (dst, q) in run_points[at..at + n].iter_mut().zip(&prepared[p.range()]) {
-                        *dst = q.constraint();
+                        q.renew_constraint(dst);
                     }
                     at += n;
                     let (a, b) = pairs[i];

@@ -166,8 +166,8 @@ impl SolverArrays<'_> {
     /// four lanes at a time (`WidePatch::fill`), and not in its record,
     /// unless restitution reads them (its points' masses): computed one
     /// patch at a time in the record and then copied, they took a fifth of
-    /// the pile of 1,000's prepare part (0.77-0.79 ms a step, now
-    /// 0.59-0.65; `profile_stages pile1000 300 1`).
+    /// the pile of 1,000's prepare part (0.77-0.79 ms a step that way,
+    /// 0.59-0.65 in the lanes; `profile_stages pile1000 300 1`).
     ///
     /// # Safety
     /// Every thread of `team` calls this; nothing else touches the arrays.

@@ -69,7 +69,7 @@ impl RowJacobian {
 }
 
 /// One contact point: the normal row of the contact LCP (thesis 7.2).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[repr(C)]
 pub struct PointConstraint {
     /// Unit normal from B to A (for the current sub-step: on a curved
@@ -106,13 +106,13 @@ pub struct PointConstraint {
 }
 
 impl PointConstraint {
-    /// This record made [`PointConstraint::new`]'s point with `half_gap`,
-    /// except for its row and effective mass (`row`, `normal_mass`, last in
-    /// the record), which keep whatever they held: `prepare_patch` writes
-    /// them before anything reads them, or, for a point in a bundle, leaves
-    /// them unread (`wide::WidePatch::fill`). (Like
-    /// [`ManifoldConstraint::renew`]: the step lays its records out anew
-    /// every step.)
+    /// This record made the point [`PointConstraint::new`] makes (which
+    /// calls this on a zero record), with `half_gap`, except for its row
+    /// and effective mass (`row`, `normal_mass`, last in the record), which
+    /// keep whatever they held: `prepare_patch` writes them before anything
+    /// reads them, or, for a point in a bundle, leaves them unread
+    /// (`wide::WidePatch::fill`). (Like [`ManifoldConstraint::renew`]: the
+    /// step lays its records out anew every step.)
     pub fn renew(
         &mut self,
         normal: DVec3,
@@ -144,25 +144,14 @@ impl PointConstraint {
         separation: f64,
         normal_impulse: f64,
     ) -> PointConstraint {
-        PointConstraint {
-            normal,
-            normal_start: normal,
-            r_a,
-            r_b,
-            row: RowJacobian::default(),
-            separation,
-            separation_now: separation,
-            normal_mass: 0.0,
-            normal_impulse,
-            max_normal_impulse: 0.0,
-            push_impulse: 0.0,
-            half_gap: 0.0,
-        }
+        let mut point = PointConstraint::default();
+        point.renew(normal, r_a, r_b, separation, normal_impulse, 0.0);
+        point
     }
 }
 
 /// One contact patch of a body pair: its points and its friction.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[repr(C)]
 pub struct ManifoldConstraint {
     /// Index of body A in the solver body array.
@@ -264,38 +253,25 @@ impl ManifoldConstraint {
         warm_tangent: DVec3,
         warm_twist: f64,
     ) -> ManifoldConstraint {
-        let [t1, t2] = tangent_basis(normal);
-        ManifoldConstraint {
+        let mut m = ManifoldConstraint::default();
+        m.renew(
             a,
             b,
             first_point,
             point_count,
+            normal,
             friction,
             restitution,
-            normal,
-            directions: [t1, t2, DVec3::ZERO],
-            curvature: DMat3::ZERO,
-            normal_start: normal,
-            rolling: [0.0; 2],
-            half_gap: 0.0,
-            r_a: DVec3::ZERO,
-            r_b: DVec3::ZERO,
-            twist_radius: 0.0,
-            rows: [RowJacobian::default(); 3],
-            masses: [0.0; 3],
-            impulses: [warm_tangent.dot(t1), warm_tangent.dot(t2), warm_twist],
-            inv_mass: [0.0; 2],
-            block: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
-            block_inverse: [[0.0; BLOCK_POINTS]; BLOCK_POINTS],
-            anchored: false,
-            anchor_r: [DVec3::ZERO; 2],
-            anchor_offset: DVec3::ZERO,
-        }
+            warm_tangent,
+            warm_twist,
+        );
+        m
     }
 
-    /// This record made [`ManifoldConstraint::new`]'s patch, except for the
-    /// rows, their masses and the normal block (`rows`, `masses`, `block`,
-    /// `block_inverse`, last in the record), which keep whatever they held:
+    /// This record made the patch [`ManifoldConstraint::new`] makes (which
+    /// calls this on a zero record), except for the rows, their masses and
+    /// the normal block (`rows`, `masses`, `block`, `block_inverse`, last
+    /// in the record), which keep whatever they held:
     /// `prepare_patch` writes them before anything reads them, or, for a
     /// patch in a bundle, leaves them unread (`wide::WidePatch::fill`).
     ///

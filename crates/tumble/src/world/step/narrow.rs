@@ -16,10 +16,9 @@
 
 use super::frame::MeshPairKey;
 use super::margins::{
-    is_active, neighbour_speeds, relative_motion_bound, slot_velocities, velocity_change_bounds,
+    neighbour_speeds, relative_motion_bound, slot_motions, velocity_change_bounds, SlotMotion,
 };
 use super::StepFrame;
-use crate::body::BodyKind;
 use crate::pool::WorkerPool;
 use crate::world::manifold::{self, SearchedPair};
 use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
@@ -28,12 +27,13 @@ use std::sync::Mutex;
 use tumble_collide::narrow::{
     contact_at_features, contact_mesh_mesh_recalled, contact_shapes, moved_since, MeshPairMemory, Recall,
 };
-use tumble_collide::{Contact, DVec3, Drift, Pose, Shape};
+use tumble_collide::{Contact, Drift, Pose, Shape};
 
 /// What the narrow stage finds of every body slot once a step, for its
-/// pairs: velocities, bounds on how much a neighbour can change them and on
-/// its neighbours' speeds (`margins`), and its colliders' world poses.
-type StepMotion<'a> = (&'a [(DVec3, DVec3)], &'a [f64], &'a [f64], &'a ColliderPoses);
+/// pairs: its motion and what else a pair reads of it, bounds on how much
+/// a neighbour can change its velocity and on its neighbours' speeds
+/// (`margins`), and its colliders' world poses.
+type StepMotion<'a, 'w> = (&'a [SlotMotion<'w>], &'a [f64], &'a [f64], &'a ColliderPoses);
 
 /// Every collider's world pose at the step's start (its body's pose times
 /// its own local pose), body slot after body slot: found once a step, not
@@ -118,12 +118,12 @@ const LOOK_AHEAD_STEPS: f64 = 2.0;
 
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
-        let velocity = slot_velocities(&self.bodies, f.n_slots);
+        let slots = slot_motions(&self.bodies, f.n_slots, f.meshes);
         let poses = ColliderPoses::of(self, f.n_slots);
-        let shock = velocity_change_bounds(&self.bodies, &velocity, &f.pairs, f.meshes);
+        let shock = velocity_change_bounds(&slots, &f.pairs, f.meshes);
         // Only mesh pairs re-evaluate (`resting_pair`).
         let stirred = if f.meshes {
-            neighbour_speeds(&self.bodies, &velocity, &f.pairs, &f.swept)
+            neighbour_speeds(&slots, &f.pairs, &f.swept)
         } else {
             vec![0.0; f.n_slots]
         };
@@ -156,7 +156,7 @@ impl World {
             for (k, &pair) in pairs.iter().enumerate() {
                 self.pair_contacts(
                     frame,
-                    (&velocity, &shock, &stirred, &poses),
+                    (&slots, &shock, &stirred, &poses),
                     memory_read,
                     first + k,
                     pair,
@@ -252,7 +252,7 @@ impl World {
     fn pair_contacts(
         &self,
         f: &StepFrame,
-        (velocity, shock, stirred, poses): StepMotion,
+        (slots, shock, stirred, poses): StepMotion,
         memory: &[(MeshPairKey, Option<MeshPairMemory>)],
         k: usize,
         (a, b): (u32, u32),
@@ -260,27 +260,22 @@ impl World {
         scratch: &mut PatchScratch,
         out: &mut ChunkContacts,
     ) {
-        let (ea, eb) = (self.bodies.at(a).expect("live"), self.bodies.at(b).expect("live"));
-        if !is_active(ea) && !is_active(eb) {
+        let (sa, sb) = (&slots[a as usize], &slots[b as usize]);
+        if !sa.active && !sb.active {
             return;
         }
-        if ea.body.kind() != BodyKind::Dynamic && eb.body.kind() != BodyKind::Dynamic {
+        if !sa.dynamic && !sb.dynamic {
             return;
         }
-        let now = relative_motion_bound(
-            (ea, velocity[a as usize]),
-            (eb, velocity[b as usize]),
-            f.swept[a as usize],
-            f.swept[b as usize],
-        );
+        let now = relative_motion_bound(sa, sb, f.swept[a as usize], f.swept[b as usize]);
         let dt = f.settings.dt;
         let motion = (now + shock[a as usize] + shock[b as usize]) * dt;
         let margin = f.settings.contact_margin + motion;
         // Two meshes look ahead along B's own motion relative to A (a rigid
         // velocity field: vB + wB x (x - cB) - vA - wA x (x - cA) at x),
         // part by part, instead of by the pair's fastest point.
-        let ((va, wa), (vb, wb)) = (velocity[a as usize], velocity[b as usize]);
-        let (pa, pb) = (ea.body.pose(), eb.body.pose());
+        let ((va, wa), (vb, wb)) = (sa.velocity(), sb.velocity());
+        let (pa, pb) = (sa.pose, sb.pose);
         let drift = Drift {
             origin: pa.position,
             translation: (vb + wb.cross(pa.position - pb.position) - va) * dt * LOOK_AHEAD_STEPS,
@@ -291,14 +286,10 @@ impl World {
             self.bodies.id_at(a).expect("live"),
             self.bodies.id_at(b).expect("live"),
         );
-        let friction =
-            MaterialDesc::combine_friction(ea.body.material().friction(), eb.body.material().friction());
-        let restitution = MaterialDesc::combine_restitution(
-            ea.body.material().restitution(),
-            eb.body.material().restitution(),
-        );
-        for (ia, ca) in ea.colliders.iter().enumerate() {
-            for (ib, cb) in eb.colliders.iter().enumerate() {
+        let friction = MaterialDesc::combine_friction(sa.friction, sb.friction);
+        let restitution = MaterialDesc::combine_restitution(sa.restitution, sb.restitution);
+        for (ia, ca) in sa.colliders.iter().enumerate() {
+            for (ib, cb) in sb.colliders.iter().enumerate() {
                 buffer.clear();
                 let (wpa, wpb) = (*poses.get(a, ia), *poses.get(b, ib));
                 let key = (a, b, ia as u16, ib as u16);
@@ -378,8 +369,8 @@ impl World {
                         }
                         _ => None,
                     },
-                    velocity_a: velocity[a as usize],
-                    velocity_b: velocity[b as usize],
+                    velocity_a: sa.velocity(),
+                    velocity_b: sb.velocity(),
                     dt: f.settings.dt,
                 };
                 out.warm_started += add_pair(

@@ -126,8 +126,10 @@ pub(crate) struct SlotMotion<'a> {
     pub mesh: bool,
     /// Angular velocity as the step sees it.
     pub w: DVec3,
-    /// Largest distance of a collider point from the centre of mass (m).
-    pub radius: f64,
+    /// How fast the body's spin moves its farthest point (m/s): the length
+    /// of `w` times the body's bounding radius (once a body, not once a
+    /// pair: [`relative_motion_bound`]'s cap).
+    pub spin_reach: f64,
     /// Friction of the body's material.
     pub friction: f64,
     /// The body's colliders (empty for a free slot).
@@ -158,7 +160,7 @@ pub(crate) fn slot_motions(bodies: &Arena<BodyEntry>, n_slots: usize, meshes: bo
                     active: is_active(e),
                     mesh: meshes && has_mesh(e),
                     w,
-                    radius: e.radius,
+                    spin_reach: w.length() * e.radius,
                     friction: material.friction(),
                     colliders: &e.colliders,
                 }
@@ -171,7 +173,7 @@ pub(crate) fn slot_motions(bodies: &Arena<BodyEntry>, n_slots: usize, meshes: bo
                 active: false,
                 mesh: false,
                 w: DVec3::ZERO,
-                radius: 0.0,
+                spin_reach: 0.0,
                 friction: 0.0,
                 colliders: &[],
             },
@@ -196,7 +198,7 @@ pub(crate) fn relative_motion_bound(
     box_b: Option<Aabb>,
 ) -> f64 {
     let ((va, wa), (vb, wb)) = (a.velocity(), b.velocity());
-    let coarse = (va - vb).length() + wa.length() * a.radius + wb.length() * b.radius;
+    let coarse = (va - vb).length() + a.spin_reach + b.spin_reach;
     let region = match (box_a, box_b) {
         (Some(x), Some(y)) => {
             let (lo, hi) = (x.min().max(y.min()), x.max().min(y.max()));

@@ -106,9 +106,9 @@ pub(crate) fn core_radius(colliders: &[Collider]) -> f64 {
 /// eight pairs, and each pair read these from the two bodies' entries,
 /// where the pose, velocity, material, flags and collider list lie on
 /// different cache lines among much else. Read from here, the 1,000-body
-/// pile's narrow stage took 1.05-1.12 ms a step instead of 1.26-1.31
-/// (`profile_stages pile1000 300 1`, the last third, alternated). What
-/// [`velocity_change_bounds`] reads comes first.
+/// pile's narrow stage took 1.05-1.15 ms a step instead of 1.26-1.39
+/// (`profile_stages pile1000 300 1`, the last third, seven alternated
+/// runs). What [`velocity_change_bounds`] reads comes first.
 #[derive(Debug, Clone, Copy)]
 #[repr(C)]
 pub(crate) struct SlotMotion<'a> {

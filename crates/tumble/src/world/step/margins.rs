@@ -306,3 +306,171 @@ pub(crate) fn velocities(e: &BodyEntry) -> (DVec3, DVec3) {
         _ => (DVec3::ZERO, DVec3::ZERO),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The motion bounds against the rigid motions they bound: sampled
+    //! points of two moving bodies, and pairs closing along their centres.
+    use super::*;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// A body slot at `position` moving at `v`, spinning at `w`, whose
+    /// points lie within `radius` of its centre.
+    fn slot(position: DVec3, v: DVec3, w: DVec3, radius: f64, dynamic: bool) -> SlotMotion<'static> {
+        SlotMotion {
+            pose: Pose::from_translation(position),
+            v,
+            restitution: 0.0,
+            dynamic,
+            active: dynamic,
+            mesh: false,
+            w,
+            spin_reach: w.length() * radius,
+            friction: 0.5,
+            colliders: &[],
+        }
+    }
+
+    /// Velocity of the material point of `s` at `p`.
+    fn at(s: &SlotMotion, p: DVec3) -> DVec3 {
+        s.v + s.w.cross(p - s.pose.position)
+    }
+
+    #[test]
+    fn the_relative_motion_bound_holds_at_every_point_both_bodies_can_reach() {
+        let mut rng = SplitMix64(17);
+        let mut checked = 0;
+        for _ in 0..500 {
+            let radius = [rng.range(0.5, 2.0), rng.range(0.5, 2.0)];
+            let a = slot(rng.vec3(3.0), rng.vec3(5.0), rng.vec3(8.0), radius[0], true);
+            // Near enough that their reaches mostly meet.
+            let b = slot(
+                a.pose.position + rng.vec3(1.0),
+                rng.vec3(5.0),
+                rng.vec3(8.0),
+                radius[1],
+                true,
+            );
+            // Each body's box holds the ball of its points, as a swept box
+            // holds the body.
+            let boxed = |s: &SlotMotion, r: f64| {
+                Aabb::new(
+                    s.pose.position - DVec3::splat(r),
+                    s.pose.position + DVec3::splat(r),
+                )
+                .unwrap()
+            };
+            let (box_a, box_b) = (boxed(&a, radius[0]), boxed(&b, radius[1]));
+            let (lo, hi) = (box_a.min().max(box_b.min()), box_a.max().min(box_b.max()));
+            let bound = relative_motion_bound(&a, &b, Some(box_a), Some(box_b));
+            let coarse = (a.v - b.v).length() + a.spin_reach + b.spin_reach;
+            assert!(bound <= coarse, "the bound {bound} exceeds its cap {coarse}");
+            if !lo.cmple(hi).all() {
+                assert_eq!(bound, coarse, "apart boxes: the cap");
+                continue;
+            }
+            for _ in 0..20 {
+                let t = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+                let p = lo + (hi - lo) * t;
+                // Only points within both bodies' radii can be material
+                // points of both (the cap holds there; the box corners lie
+                // beyond a body's radius).
+                if (p - a.pose.position).length() > radius[0] || (p - b.pose.position).length() > radius[1] {
+                    continue;
+                }
+                let speed = (at(&a, p) - at(&b, p)).length();
+                assert!(
+                    speed <= bound * (1.0 + 1e-12) + 1e-12,
+                    "relative speed {speed} at {p} above the bound {bound}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 3000, "only {checked} points within both bodies' reach");
+    }
+
+    #[test]
+    fn the_bound_with_one_unbounded_body_covers_the_other_bodys_box() {
+        let mut rng = SplitMix64(3);
+        for _ in 0..200 {
+            let a = slot(rng.vec3(3.0), rng.vec3(5.0), rng.vec3(8.0), 1.0, true);
+            // A half-space (no box), at rest.
+            let ground = slot(DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, 0.0, false);
+            let box_a = Aabb::new(a.pose.position - DVec3::ONE, a.pose.position + DVec3::ONE).unwrap();
+            let bound = relative_motion_bound(&a, &ground, Some(box_a), None);
+            for _ in 0..20 {
+                // A material point of the body: within its radius (1 m).
+                let p = a.pose.position + rng.vec3(1.0).clamp_length_max(1.0);
+                let speed = (at(&a, p) - at(&ground, p)).length();
+                assert!(speed <= bound * (1.0 + 1e-12) + 1e-12, "{speed} above {bound}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_pair_closing_along_its_centres_bounds_the_change_of_its_dynamic_bodies() {
+        let e = 0.5;
+        let mut a = slot(DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::ZERO, 0.5, true);
+        let mut b = slot(
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::ZERO,
+            0.5,
+            true,
+        );
+        a.restitution = e;
+        b.restitution = 0.2;
+        let ground = slot(DVec3::new(0.0, 0.0, -1.0), DVec3::ZERO, DVec3::ZERO, 0.0, false);
+        let slots = [a, b, ground];
+        // Closing at 3 m/s along the line of centres: stopped, or bounced
+        // back with the larger restitution, each body's velocity changes
+        // by at most 3 (1 + e). A body falling onto the ground at rest
+        // closes along z only: a's x motion does not count there.
+        let shock = velocity_change_bounds(&slots, &[(0, 1), (0, 2)], false);
+        assert_eq!(shock[0], 3.0 * (1.0 + e));
+        assert_eq!(shock[1], 3.0 * (1.0 + e));
+        // The static ground is never struck.
+        assert_eq!(shock[2], 0.0);
+        // Separating: nothing to stop.
+        let apart = [
+            slot(DVec3::ZERO, DVec3::new(-2.0, 0.0, 0.0), DVec3::ZERO, 0.5, true),
+            slot(
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::ZERO,
+                0.5,
+                true,
+            ),
+        ];
+        assert_eq!(velocity_change_bounds(&apart, &[(0, 1)], false), vec![0.0, 0.0]);
+        // Two resting (inactive) bodies are skipped whatever they hold.
+        let mut idle = slots;
+        idle[0].active = false;
+        idle[1].active = false;
+        assert_eq!(velocity_change_bounds(&idle, &[(0, 1)], false)[..2], [0.0, 0.0]);
+        // A pair with a mesh is left to the mesh look-ahead.
+        let mut meshy = slots;
+        meshy[1].mesh = true;
+        assert_eq!(velocity_change_bounds(&meshy, &[(0, 1)], true)[..2], [0.0, 0.0]);
+    }
+
+    #[test]
+    fn neighbour_speeds_are_the_largest_bound_of_each_dynamic_bodys_pairs() {
+        let mut rng = SplitMix64(5);
+        let slots: Vec<SlotMotion> = (0..6)
+            .map(|i| slot(rng.vec3(2.0), rng.vec3(3.0), rng.vec3(3.0), 0.5, i != 5))
+            .collect();
+        let pairs = [(0, 1), (0, 2), (1, 3), (2, 5), (3, 4)];
+        let swept: Vec<Option<Aabb>> = vec![None; slots.len()];
+        let speed = neighbour_speeds(&slots, &pairs, &swept);
+        for (k, s) in slots.iter().enumerate() {
+            let expected = pairs
+                .iter()
+                .filter(|&&(a, b)| s.dynamic && (a == k as u32 || b == k as u32))
+                .map(|&(a, b)| relative_motion_bound(&slots[a as usize], &slots[b as usize], None, None))
+                .fold(0.0, f64::max);
+            assert_eq!(speed[k], expected, "slot {k}");
+        }
+        assert_eq!(speed[5], 0.0, "a static body is not struck");
+    }
+}

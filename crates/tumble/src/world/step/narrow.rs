@@ -45,15 +45,13 @@ struct ColliderPoses {
 }
 
 impl ColliderPoses {
-    fn of(world: &World, n_slots: usize) -> ColliderPoses {
-        let mut first = Vec::with_capacity(n_slots + 1);
-        let mut poses = Vec::with_capacity(n_slots);
-        for slot in 0..n_slots as u32 {
+    /// From the step's body slots (their poses and collider lists).
+    fn of(slots: &[SlotMotion]) -> ColliderPoses {
+        let mut first = Vec::with_capacity(slots.len() + 1);
+        let mut poses = Vec::with_capacity(slots.len());
+        for s in slots {
             first.push(poses.len() as u32);
-            if let Some(e) = world.bodies.at(slot) {
-                let pose = e.body.pose();
-                poses.extend(e.colliders.iter().map(|c| pose.mul_pose(&c.local)));
-            }
+            poses.extend(s.colliders.iter().map(|c| s.pose.mul_pose(&c.local)));
         }
         first.push(poses.len() as u32);
         ColliderPoses { first, poses }
@@ -119,7 +117,7 @@ const LOOK_AHEAD_STEPS: f64 = 2.0;
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
         let slots = slot_motions(&self.bodies, f.n_slots, f.meshes);
-        let poses = ColliderPoses::of(self, f.n_slots);
+        let poses = ColliderPoses::of(&slots);
         let shock = velocity_change_bounds(&slots, &f.pairs, f.meshes);
         // Only mesh pairs re-evaluate (`resting_pair`).
         let stirred = if f.meshes {

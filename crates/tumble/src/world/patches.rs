@@ -18,10 +18,8 @@ use tumble_collide::shape::MeshShape;
 use tumble_collide::{Contact, DMat3, DVec3, Pose};
 
 /// A contact point on its way to the solver, with what is needed to report
-/// and cache it.
+/// and cache it (its bodies and collider pair are its patch's).
 pub(crate) struct PreparedPoint {
-    pub ids: (BodyId, BodyId),
-    pub key: PairKey,
     pub contact: Contact,
     /// The contact point in A's body frame at the step start (m).
     pub local_a: DVec3,
@@ -51,6 +49,7 @@ impl PreparedPoint {
 
 /// A contact patch on its way to the solver: a run of prepared points.
 pub(crate) struct PreparedPatch {
+    pub ids: (BodyId, BodyId),
     pub key: PairKey,
     pub first: u32,
     pub count: u32,
@@ -60,18 +59,33 @@ pub(crate) struct PreparedPatch {
     pub restitution: f64,
     /// Radii of the round surfaces of A and B (`Shape::rolling_radius`).
     pub rolling: [f64; 2],
-    /// How the patch turns under a round body on a smooth mesh
-    /// (`ManifoldConstraint::curvature`; zero otherwise).
-    pub curvature: DMat3,
     /// Warm-start friction: tangential (world vector, N s) and twist (N m s).
     pub warm_tangent: DVec3,
     pub warm_twist: f64,
-    /// The patch's anchor from the last step, if it stuck and has not
-    /// drifted beyond [`ANCHOR_REACH`].
-    pub anchor: Option<PatchAnchor>,
+    /// The patch's [`PatchExtras`] in the step's list of them, or
+    /// [`NO_EXTRAS`].
+    pub extras: u32,
     /// Whether the patch may hold an anchor (`PairInfo::anchors`, not round).
     pub holds: bool,
 }
+
+/// What only some patches carry, kept beside the patches (a patch record
+/// is copied by the narrow phase's join, the solver's layout and the
+/// write-back, and these would be two thirds of its bytes): patches of a
+/// pair with a triangle mesh that stuck in the last step, and round bodies
+/// on a smooth mesh.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PatchExtras {
+    /// How the patch turns under a round body on a smooth mesh
+    /// (`ManifoldConstraint::curvature`; zero otherwise).
+    pub curvature: DMat3,
+    /// The patch's anchor from the last step, if it stuck and has not
+    /// drifted beyond [`ANCHOR_REACH`].
+    pub anchor: Option<PatchAnchor>,
+}
+
+/// [`PreparedPatch::extras`] of a patch without [`PatchExtras`].
+pub(crate) const NO_EXTRAS: u32 = u32::MAX;
 
 /// A sticking patch's anchor at the step start.
 #[derive(Clone, Copy, Debug)]
@@ -90,6 +104,24 @@ impl PreparedPatch {
     pub fn range(&self) -> std::ops::Range<usize> {
         self.first as usize..(self.first + self.count) as usize
     }
+
+    /// The patch's extras in the step's list of them (`extras`), if it has any.
+    pub fn extras<'a>(&self, extras: &'a [PatchExtras]) -> Option<&'a PatchExtras> {
+        (self.extras != NO_EXTRAS).then(|| &extras[self.extras as usize])
+    }
+
+    /// The patch's anchor from the last step (see [`PatchExtras::anchor`]).
+    pub fn anchor<'a>(&self, extras: &'a [PatchExtras]) -> Option<&'a PatchAnchor> {
+        self.extras(extras).and_then(|x| x.anchor.as_ref())
+    }
+}
+
+/// Where [`add_pair`] appends: the points, the patches (runs of them) and
+/// the patches' extras.
+pub(crate) struct PatchSink<'a> {
+    pub points: &'a mut Vec<PreparedPoint>,
+    pub patches: &'a mut Vec<PreparedPatch>,
+    pub extras: &'a mut Vec<PatchExtras>,
 }
 
 /// The per-pair inputs of [`add_pair`].
@@ -187,9 +219,13 @@ pub(crate) fn add_pair(
     point_cache: &[CachedContact],
     patch_cache: &[CachedPatch],
     scratch: &mut PatchScratch,
-    points: &mut Vec<PreparedPoint>,
-    patches: &mut Vec<PreparedPatch>,
+    out: PatchSink,
 ) -> usize {
+    let PatchSink {
+        points,
+        patches,
+        extras,
+    } = out;
     if contacts.is_empty() {
         return 0;
     }
@@ -254,8 +290,6 @@ pub(crate) fn add_pair(
             };
             sum += c.normal;
             points.push(PreparedPoint {
-                ids: pair.ids,
-                key: pair.key,
                 contact: *c,
                 local_a,
                 r_a,
@@ -279,7 +313,14 @@ pub(crate) fn add_pair(
                 let across = offset - normal * normal.dot(offset);
                 (across.length() <= ANCHOR_REACH).then_some(PatchAnchor { local, r, offset })
             });
+        let extras_at = if curvature != DMat3::ZERO || anchor.is_some() {
+            extras.push(PatchExtras { curvature, anchor });
+            extras.len() as u32 - 1
+        } else {
+            NO_EXTRAS
+        };
         patches.push(PreparedPatch {
+            ids: pair.ids,
             key: pair.key,
             first,
             count: points.len() as u32 - first,
@@ -287,10 +328,9 @@ pub(crate) fn add_pair(
             friction: pair.friction,
             restitution: pair.restitution,
             rolling: pair.rolling,
-            curvature,
             warm_tangent,
             warm_twist,
-            anchor,
+            extras: extras_at,
             holds,
         });
     }

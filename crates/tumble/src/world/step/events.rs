@@ -26,16 +26,16 @@ impl World {
         let mut touching: Vec<(BodyId, BodyId)> =
             f.pool
                 .flat_map_chunks(&sf.position, PATCHES_PER_TASK, |first, run| {
-                    let mut found = Vec::with_capacity(4 * run.len());
+                    let mut found = Vec::with_capacity(run.len());
                     for (patch, &k) in f.patches[first..first + run.len()].iter().zip(run) {
                         let s = solved.patch(k);
-                        for (p, c) in f.points[patch.range()]
+                        // A patch's points share its bodies: one pair a patch.
+                        let touches = f.points[patch.range()]
                             .iter()
                             .zip(solved.points_of(s, patch.count))
-                        {
-                            if c.pressed || p.contact.distance <= 0.0 {
-                                found.push(p.ids);
-                            }
+                            .any(|(p, c)| c.pressed || p.contact.distance <= 0.0);
+                        if touches {
+                            found.push(patch.ids);
                         }
                     }
                     found

@@ -8,7 +8,7 @@ use crate::solver::contact_solver::{
     BundleKind, Coloring, GearConstraint, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint,
     SolverBody, WideBatches,
 };
-use crate::world::patches::{PreparedPatch, PreparedPoint};
+use crate::world::patches::{PatchExtras, PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
 use crate::world::WorldSettings;
 use tumble_collide::broad::Aabb;
@@ -39,6 +39,8 @@ pub(crate) struct StepFrame {
     pub points: Vec<PreparedPoint>,
     /// Narrow: the contact patches, each a run of `points`.
     pub patches: Vec<PreparedPatch>,
+    /// Narrow: what only some patches carry (`PreparedPatch::extras`).
+    pub patch_extras: Vec<PatchExtras>,
     /// Islands: island label per body slot (`u32::MAX`: not in an island).
     pub labels: Vec<u32>,
     /// Solve: the solver's arrays.
@@ -111,11 +113,13 @@ impl StepFrame {
             pairs: Vec::new(),
             points: Vec::new(),
             patches: Vec::new(),
+            patch_extras: Vec::new(),
             labels: Vec::new(),
             solver: SolverFrame::default(),
         };
         frame.points = buffers.points;
         frame.patches = buffers.patches;
+        frame.patch_extras = buffers.patch_extras;
         frame.solver.points = buffers.solver_points;
         frame.solver.manifolds = buffers.manifolds;
         frame.solver.bodies = buffers.bodies;
@@ -135,6 +139,7 @@ impl StepFrame {
         let mut take = FrameBuffers {
             points: std::mem::take(&mut self.points),
             patches: std::mem::take(&mut self.patches),
+            patch_extras: std::mem::take(&mut self.patch_extras),
             solver_points: std::mem::take(&mut self.solver.points),
             manifolds: std::mem::take(&mut self.solver.manifolds),
             bodies: std::mem::take(&mut self.solver.bodies),
@@ -144,6 +149,7 @@ impl StepFrame {
         };
         take.points.clear();
         take.patches.clear();
+        take.patch_extras.clear();
         take.bodies.clear();
         take.joints.clear();
         take
@@ -187,11 +193,14 @@ pub(crate) struct StepScratch {
     /// The narrow phase's per-chunk buffers on several threads (points and
     /// patches of chunk k at entry k), emptied: what each chunk wrote last
     /// step, reused.
-    pub narrow_chunks: Vec<(Vec<PreparedPoint>, Vec<PreparedPatch>)>,
+    pub narrow_chunks: Vec<NarrowBuffers>,
     /// Whether steps run on the threads or on one (`thread_choice`): where
     /// the work is done, never what it gives.
     pub thread_choice: super::ThreadChoice,
 }
+
+/// One narrow-phase chunk's points, patches and patch extras.
+pub(crate) type NarrowBuffers = (Vec<PreparedPoint>, Vec<PreparedPatch>, Vec<PatchExtras>);
 
 /// A collider pair: body slots and collider indices `(a, b, ia, ib)`.
 pub(crate) type MeshPairKey = (u32, u32, u16, u16);
@@ -202,6 +211,7 @@ pub(crate) type MeshPairKey = (u32, u32, u16, u16);
 pub(crate) struct FrameBuffers {
     points: Vec<PreparedPoint>,
     patches: Vec<PreparedPatch>,
+    patch_extras: Vec<PatchExtras>,
     solver_points: Vec<PointConstraint>,
     manifolds: Vec<ManifoldConstraint>,
     bodies: Vec<SolverBody>,

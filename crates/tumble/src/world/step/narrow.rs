@@ -21,7 +21,9 @@ use super::margins::{
 use super::StepFrame;
 use crate::pool::WorkerPool;
 use crate::world::manifold::{self, SearchedPair};
-use crate::world::patches::{add_pair, PairInfo, PatchScratch, PreparedPatch, PreparedPoint};
+use crate::world::patches::{
+    add_pair, PairInfo, PatchExtras, PatchScratch, PatchSink, PreparedPatch, PreparedPoint, NO_EXTRAS,
+};
 use crate::world::{Collider, MaterialDesc, World};
 use std::sync::Mutex;
 use tumble_collide::narrow::{
@@ -67,8 +69,10 @@ impl ColliderPoses {
 #[derive(Default)]
 struct ChunkContacts {
     points: Vec<PreparedPoint>,
-    /// Patches; their `first` indexes this chunk's `points` until joined.
+    /// Patches; their `first` indexes this chunk's `points`, and their
+    /// `extras` its `extras`, until joined.
     patches: Vec<PreparedPatch>,
+    extras: Vec<PatchExtras>,
     warm_started: usize,
     max_penetration: f64,
     /// The first error of the chunk: (index in the step's pair list, message).
@@ -131,7 +135,11 @@ impl World {
             PAIRS_PER_TASK
         };
         // The frame's arrays, kept from the last step (empty).
-        let (mut points, mut patches) = (std::mem::take(&mut f.points), std::mem::take(&mut f.patches));
+        let (mut points, mut patches, mut extras) = (
+            std::mem::take(&mut f.points),
+            std::mem::take(&mut f.patches),
+            std::mem::take(&mut f.patch_extras),
+        );
         let mut memory = std::mem::take(&mut self.scratch.mesh_memory);
         // Each chunk's buffers on several threads, kept from the last step:
         // allocated afresh every step (and freed by the join, on another
@@ -169,13 +177,14 @@ impl World {
             spare.resize_with(frame.pairs.len().div_ceil(chunk), Default::default);
             let buffers: Vec<Mutex<_>> = spare.drain(..).map(Mutex::new).collect();
             frame.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
-                let (mut points, mut patches) =
+                let (mut points, mut patches, extras) =
                     std::mem::take(&mut *buffers[first / chunk].lock().unwrap_or_else(|e| e.into_inner()));
                 points.reserve((per_pair * pairs.len() as f64) as usize + 16);
                 patches.reserve((patches_per_pair * pairs.len() as f64) as usize + 16);
                 let mut out = ChunkContacts {
                     points,
                     patches,
+                    extras,
                     ..ChunkContacts::default()
                 };
                 run(first, pairs, &mut out);
@@ -187,6 +196,7 @@ impl World {
             let mut out = ChunkContacts {
                 points: std::mem::take(&mut points),
                 patches: std::mem::take(&mut patches),
+                extras: std::mem::take(&mut extras),
                 ..ChunkContacts::default()
             };
             run(0, &frame.pairs, &mut out);
@@ -194,7 +204,7 @@ impl World {
         };
 
         // Join in pair order, into the kept arrays (a lone chunk is them).
-        (f.points, f.patches) = (points, patches);
+        (f.points, f.patches, f.patch_extras) = (points, patches, extras);
         let mut warned = false;
         let mut kept = Vec::new();
         let mut searches = Vec::new();
@@ -233,11 +243,19 @@ impl World {
                 // The lone chunk's arrays are the frame's.
                 std::mem::swap(&mut f.points, &mut chunk.points);
                 std::mem::swap(&mut f.patches, &mut chunk.patches);
+                std::mem::swap(&mut f.patch_extras, &mut chunk.extras);
             }
         }
         if several {
             join_chunks(&f.pool, &mut chunks, &mut f.points, &mut f.patches);
-            spare.extend(chunks.into_iter().map(|c| (c.points, c.patches)));
+            // The extras are few (mesh patches that stuck, round bodies on
+            // smooth meshes): joined here, each chunk's indices moved by
+            // the extras before it.
+            f.patch_extras.clear();
+            for chunk in &mut chunks {
+                f.patch_extras.append(&mut chunk.extras);
+            }
+            spare.extend(chunks.into_iter().map(|c| (c.points, c.patches, c.extras)));
         }
         self.scratch.narrow_chunks = spare;
         f.report.contacts = f.points.len();
@@ -377,8 +395,11 @@ impl World {
                     &self.cache,
                     &self.patch_cache,
                     scratch,
-                    &mut out.points,
-                    &mut out.patches,
+                    PatchSink {
+                        points: &mut out.points,
+                        patches: &mut out.patches,
+                        extras: &mut out.extras,
+                    },
                 );
                 for contact in buffer.iter() {
                     out.max_penetration = out.max_penetration.max(-contact.distance);
@@ -413,25 +434,32 @@ fn join_chunks(
         let mut point_slots = &mut points.spare_capacity_mut()[..n_points];
         let mut patch_slots = &mut patches.spare_capacity_mut()[..n_patches];
         let mut runs = Vec::with_capacity(chunks.len());
-        let mut offset = 0u32;
+        let (mut offset, mut extras_offset) = (0u32, 0u32);
         for chunk in chunks.iter_mut() {
             let (run_points, rest) = std::mem::take(&mut point_slots).split_at_mut(chunk.points.len());
             point_slots = rest;
             let (run_patches, rest) = std::mem::take(&mut patch_slots).split_at_mut(chunk.patches.len());
             patch_slots = rest;
             let next = offset + run_points.len() as u32;
-            runs.push((chunk, run_points, run_patches, offset));
-            offset = next;
+            let next_extras = extras_offset + chunk.extras.len() as u32;
+            runs.push((chunk, run_points, run_patches, (offset, extras_offset)));
+            (offset, extras_offset) = (next, next_extras);
         }
-        pool.for_each_mut(&mut runs, |_, (chunk, run_points, run_patches, offset)| {
-            for (slot, point) in run_points.iter_mut().zip(chunk.points.drain(..)) {
-                slot.write(point);
-            }
-            for (slot, mut patch) in run_patches.iter_mut().zip(chunk.patches.drain(..)) {
-                patch.first += *offset;
-                slot.write(patch);
-            }
-        });
+        pool.for_each_mut(
+            &mut runs,
+            |_, (chunk, run_points, run_patches, (offset, extras_offset))| {
+                for (slot, point) in run_points.iter_mut().zip(chunk.points.drain(..)) {
+                    slot.write(point);
+                }
+                for (slot, mut patch) in run_patches.iter_mut().zip(chunk.patches.drain(..)) {
+                    patch.first += *offset;
+                    if patch.extras != NO_EXTRAS {
+                        patch.extras += *extras_offset;
+                    }
+                    slot.write(patch);
+                }
+            },
+        );
     }
     // SAFETY: every slot below the lengths was written above: the runs
     // cover them end to end, each as long as its chunk's list, which

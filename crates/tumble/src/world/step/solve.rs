@@ -491,7 +491,7 @@ impl World {
             bundle_kinds = rest;
             runs.push((start, run_points, run_patches, run_kinds));
         }
-        let (patches, prepared) = (&f.patches, &f.points);
+        let (patches, prepared, extras) = (&f.patches, &f.points, &f.patch_extras);
         f.pool
             .for_each_mut(&mut runs, |_, (start, run_points, run_patches, run_kinds)| {
                 let mut at = 0;
@@ -516,11 +516,13 @@ impl World {
                         p.warm_twist,
                     );
                     m.rolling = p.rolling;
-                    m.curvature = p.curvature;
-                    if let Some(anchor) = &p.anchor {
-                        m.anchored = true;
-                        m.anchor_r = anchor.r;
-                        m.anchor_offset = anchor.offset;
+                    if let Some(x) = p.extras(extras) {
+                        m.curvature = x.curvature;
+                        if let Some(anchor) = &x.anchor {
+                            m.anchored = true;
+                            m.anchor_r = anchor.r;
+                            m.anchor_offset = anchor.offset;
+                        }
                     }
                     *kind = BundleKind::of(m);
                 }
@@ -795,15 +797,15 @@ impl World {
                             0.0
                         };
                         run_cache[at + k] = CachedContact {
-                            key: p.key,
+                            key: patch.key,
                             feature_a: p.contact.feature_a,
                             feature_b: p.contact.feature_b,
                             local_a: p.local_a,
                             normal_impulse,
                         };
                         run_contacts[at + k] = WorldContact {
-                            body_a: p.ids.0,
-                            body_b: p.ids.1,
+                            body_a: patch.ids.0,
+                            body_b: patch.ids.1,
                             contact: p.contact,
                             normal_impulse: normal_impulse * scale,
                             tangent_impulse: s.tangent * (share * scale),
@@ -897,7 +899,7 @@ fn anchor_to_keep(
     if !solved.sticks || !patch.holds {
         return None;
     }
-    if let Some(anchor) = &patch.anchor {
+    if let Some(anchor) = patch.anchor(&f.patch_extras) {
         return Some(anchor.local);
     }
     let sf = &f.solver;

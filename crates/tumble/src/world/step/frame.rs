@@ -190,9 +190,9 @@ pub(crate) struct StepScratch {
     /// (`bvh::front`), by collider pair in key order: their next walks
     /// begin there. They change those walks' cost, never their contacts.
     pub end_fronts: Vec<(MeshPairKey, MeshPairMemory)>,
-    /// The narrow phase's per-chunk buffers on several threads (points and
-    /// patches of chunk k at entry k), emptied: what each chunk wrote last
-    /// step, reused.
+    /// The narrow phase's per-chunk buffers on several threads (points,
+    /// patches and patch extras of chunk k at entry k), emptied: what each
+    /// chunk wrote last step, reused.
     pub narrow_chunks: Vec<NarrowBuffers>,
     /// Whether steps run on the threads or on one (`thread_choice`): where
     /// the work is done, never what it gives.

@@ -18,6 +18,7 @@
 //! `passes::begin_substep` and [`refresh_masses`]).
 
 use super::body::SolverBody;
+use super::lanes::{Lane, LANES};
 use tumble_collide::{DMat3, DVec3};
 
 /// The angular part of one constraint row on both bodies, with the inverse
@@ -529,23 +530,36 @@ pub fn regularised_cholesky(k: &[[f64; BLOCK_POINTS]; BLOCK_POINTS]) -> [[f64; B
 }
 
 /// The inverse of `k + eps I` (as [`regularised_cholesky`] regularises),
-/// from the factor, one unit column at a time.
+/// from the factor: [`cholesky_solve`] on the four unit columns side by
+/// side, column `j` in lane `j`, each lane by the scalar solve's operations
+/// in its order (the bits of one column at a time, a quarter of the work).
 ///
 /// Why an explicit inverse: the solver applies it once or twice per patch
 /// per pass, and a product with a 4 x 4 matrix is four independent dot
 /// products, where the two triangular solves are a chain of dependent
 /// steps (a patch's direct solve was bound by that chain's latency).
-#[allow(clippy::needless_range_loop)]
+#[allow(clippy::needless_range_loop)] // index form mirrors `cholesky_solve`
 pub fn regularised_inverse(k: &[[f64; BLOCK_POINTS]; BLOCK_POINTS]) -> [[f64; BLOCK_POINTS]; BLOCK_POINTS] {
+    const _: () = assert!(BLOCK_POINTS == LANES, "one unit column a lane");
     let l = regularised_cholesky(k);
-    let mut inv = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
-    for j in 0..BLOCK_POINTS {
-        let col = cholesky_solve(&l, std::array::from_fn(|i| if i == j { 1.0 } else { 0.0 }));
-        for i in 0..BLOCK_POINTS {
-            inv[i][j] = col[i];
+    let mut y = [Lane::ZERO; BLOCK_POINTS];
+    for i in 0..BLOCK_POINTS {
+        let mut v = Lane::new(std::array::from_fn(|j| if i == j { 1.0 } else { 0.0 }));
+        for p in 0..i {
+            v -= Lane::splat(l[i][p]) * y[p];
         }
+        y[i] = v * Lane::splat(l[i][i]);
     }
-    inv
+    let mut x = [Lane::ZERO; BLOCK_POINTS];
+    for i in (0..BLOCK_POINTS).rev() {
+        let mut v = y[i];
+        for p in i + 1..BLOCK_POINTS {
+            v -= Lane::splat(l[p][i]) * x[p];
+        }
+        x[i] = v * Lane::splat(l[i][i]);
+    }
+    // Row i of the inverse is the lanes of x[i] (column j in lane j).
+    x.map(|row| row.to_array())
 }
 
 /// `m x` for a 4 x 4 matrix, each row's dot product on its own.
@@ -557,8 +571,10 @@ pub fn mat4_mul(m: &[[f64; BLOCK_POINTS]; BLOCK_POINTS], x: &[f64; BLOCK_POINTS]
     })
 }
 
-/// Solves `(k + eps I) x = rhs` with the factor from [`regularised_cholesky`].
-#[inline(always)]
+/// Solves `(k + eps I) x = rhs` with the factor from [`regularised_cholesky`]:
+/// the one-column solve that [`regularised_inverse`] runs on four columns at
+/// once (the tests hold the two to the same bits).
+#[cfg(test)]
 #[allow(clippy::needless_range_loop)]
 pub fn cholesky_solve(
     l: &[[f64; BLOCK_POINTS]; BLOCK_POINTS],
@@ -581,4 +597,88 @@ pub fn cholesky_solve(
         x[i] = v * l[i][i];
     }
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_testkit::{RandomSource, SplitMix64};
+
+    /// `regularised_inverse` gives, column by column, the bits of
+    /// `cholesky_solve` on the unit columns, and is the inverse of the
+    /// regularised block: on the blocks a patch makes (`G M^-1 G^T` of up to
+    /// four points, a face's singular one included, padding rows of zeros)
+    /// and on random positive definite ones. Checked to fail with a lane's
+    /// column taken from its neighbour.
+    #[test]
+    #[allow(clippy::needless_range_loop)] // (i, j) index k, inv and the columns at once
+    fn the_inverse_in_lanes_is_the_column_by_column_inverse() {
+        let mut rng = SplitMix64(7);
+        for case in 0..400 {
+            let points = 1 + case % BLOCK_POINTS;
+            // Rows of a patch's Jacobian on one body's six velocities (a
+            // face's four corners see only three motions: a singular block).
+            let normal = rng.vec3(1.0).normalize();
+            let rows: Vec<[f64; 6]> = (0..points)
+                .map(|_| {
+                    let r = if case % 2 == 0 {
+                        rng.vec3(0.5) - normal * 0.5
+                    } else {
+                        DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), -0.5)
+                    };
+                    let n = if case % 2 == 0 { normal } else { DVec3::Z };
+                    let a = r.cross(n);
+                    [n.x, n.y, n.z, a.x, a.y, a.z]
+                })
+                .collect();
+            let inv_mass = rng.range(0.1, 2.0);
+            let inv_inertia = rng.range(0.1, 5.0);
+            let mut k = [[0.0; BLOCK_POINTS]; BLOCK_POINTS];
+            for i in 0..points {
+                for j in 0..points {
+                    let lin: f64 = (0..3).map(|c| rows[i][c] * rows[j][c]).sum();
+                    let ang: f64 = (3..6).map(|c| rows[i][c] * rows[j][c]).sum();
+                    k[i][j] = inv_mass * lin + inv_inertia * ang;
+                }
+            }
+            if case % 5 == 0 {
+                // A random positive definite block instead.
+                let g: [[f64; BLOCK_POINTS]; BLOCK_POINTS] =
+                    std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-1.0, 1.0)));
+                for i in 0..BLOCK_POINTS {
+                    for j in 0..BLOCK_POINTS {
+                        k[i][j] = (0..BLOCK_POINTS).map(|c| g[i][c] * g[j][c]).sum::<f64>()
+                            + if i == j { 0.1 } else { 0.0 };
+                    }
+                }
+            }
+            let inv = regularised_inverse(&k);
+            let l = regularised_cholesky(&k);
+            for j in 0..BLOCK_POINTS {
+                let column = cholesky_solve(&l, std::array::from_fn(|i| if i == j { 1.0 } else { 0.0 }));
+                for i in 0..BLOCK_POINTS {
+                    assert_eq!(
+                        inv[i][j].to_bits(),
+                        column[i].to_bits(),
+                        "case {case}: entry ({i}, {j})"
+                    );
+                }
+            }
+            // (k + eps I) inv = I, to the factor's accuracy.
+            let largest = (0..BLOCK_POINTS).fold(0.0f64, |x, i| x.max(k[i][i]));
+            let eps = 1e-9 * largest + f64::MIN_POSITIVE;
+            let size = inv.iter().flatten().fold(0.0f64, |x, y| x.max(y.abs()));
+            for i in 0..BLOCK_POINTS {
+                for j in 0..BLOCK_POINTS {
+                    let kk = |a: usize, b: usize| k[a][b] + if a == b { eps } else { 0.0 };
+                    let product: f64 = (0..BLOCK_POINTS).map(|c| kk(i, c) * inv[c][j]).sum();
+                    let want = if i == j { 1.0 } else { 0.0 };
+                    assert!(
+                        (product - want).abs() <= 1e-6 * (1.0 + largest * size),
+                        "case {case}: ((k + eps) inv)[{i}][{j}] = {product}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -267,6 +267,12 @@ try {
       );
     }
     await live.waitForFunction((k) => window.tumbleViewer?.frames === k, n, { timeout: 10000 });
+    // The view moves to the newest frame on its next animation frame, which a
+    // loaded machine's software GL can take a while to run: wait for it (a view
+    // that does not follow still fails below, at the timeout).
+    await live
+      .waitForFunction((t) => Math.abs(window.tumbleViewer.time - t) < 1e-9, (n - 1) / 30, { timeout: 10000 })
+      .catch(() => {});
     const v = await live.evaluate(() => ({ bodies: window.tumbleViewer.bodies, time: window.tumbleViewer.time }));
     assert(v.bodies === 2, `expected 2 live bodies, got ${v.bodies}`);
     assert(Math.abs(v.time - (n - 1) / 30) < 1e-9, `live view should follow the newest frame, at ${v.time}`);

@@ -13,7 +13,7 @@
 //! lane gets the bits it gets alone.
 
 use super::joint::JointRow;
-use super::lanes::{Lane, LANES};
+use super::lanes::{Lane, LANES, V3};
 use std::ops::{Add, Div, Mul, Sub};
 use tumble_collide::DVec3;
 
@@ -79,6 +79,17 @@ impl<N: Num> P3<N> {
     #[inline(always)]
     fn dot(self, o: P3<N>) -> N {
         self.x * o.x + self.y * o.y + self.z * o.z
+    }
+}
+
+impl From<P3<Lane>> for V3 {
+    #[inline(always)]
+    fn from(p: P3<Lane>) -> V3 {
+        V3 {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        }
     }
 }
 
@@ -187,6 +198,20 @@ impl SideRow<Lane> {
             m_ang: [gather(&rows, |r| r.ia), gather(&rows, |r| r.ib)],
             gamma: Lane::new(rows.map(|r| r.gamma)),
         }
+    }
+
+    /// The Jacobian in every lane: `lin` (A's; B's is its negative),
+    /// `ang_a`, `ang_b`, as the joint rows hold them.
+    #[inline(always)]
+    pub fn jacobian_lanes(&self) -> (V3, V3, V3) {
+        (self.lin[0].into(), self.ang[0].into(), self.ang[1].into())
+    }
+
+    /// `I_A^-1 ang_a` and `I_B^-1 ang_b` in every lane, as the joint rows
+    /// hold them.
+    #[inline(always)]
+    pub fn inertia_lanes(&self) -> (V3, V3) {
+        (self.m_ang[0].into(), self.m_ang[1].into())
     }
 
     /// Lane `l`'s Jacobian on side `s`, linear and angular.

@@ -1048,6 +1048,19 @@ pub(super) struct Pair {
 }
 
 impl Pair {
+    /// The pair of velocities `[va, wa, vb, wb]` between bodies of inverse
+    /// masses `[ma, mb]`.
+    pub fn new([va, wa, vb, wb]: [DVec3; 4], [ma, mb]: [f64; 2]) -> Pair {
+        Pair {
+            va,
+            wa,
+            vb,
+            wb,
+            ma,
+            mb,
+        }
+    }
+
     /// [`load`] as a method.
     ///
     /// # Safety
@@ -1160,6 +1173,14 @@ pub(super) unsafe fn begin_joint(j: &mut JointConstraint, bodies: &Shared<Solver
 /// # Safety
 /// As [`begin_joint`].
 pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<SolverBody>) {
+    // Rows solved with the joint's island are not solved again here (nor
+    // are the equality rows, in the slots below `n_eq`).
+    let scalar = j.active & !j.island_rows & !((1u16 << j.n_eq) - 1);
+    if scalar == 0 && (j.n_eq == 0 || j.direct) {
+        // Nothing to solve (most joints of a ragdoll's islands, most
+        // passes): the bodies are not read.
+        return;
+    }
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, false) };
     if j.n_eq > 0 && !j.direct {
@@ -1175,9 +1196,6 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
             p.apply(&j.rows[i], d);
         }
     }
-    // Rows solved with the joint's island are not solved again here (nor
-    // are the equality rows, in the slots below `n_eq`).
-    let scalar = j.active & !j.island_rows & !((1u16 << j.n_eq) - 1);
     for i in SCALAR_SLOTS.into_iter().filter(|_| scalar != 0) {
         if scalar & (1 << i) == 0 {
             continue;
@@ -1226,6 +1244,11 @@ pub(super) unsafe fn solve_joint(j: &mut JointConstraint, bodies: &Shared<Solver
 pub(super) unsafe fn push_joint(j: &mut JointConstraint, bodies: &Shared<SolverBody>, inv_h: f64) -> bool {
     /// Errors below this (m or rad) are not worth another pass.
     const SLOP: f64 = 1e-9;
+    let limits = j.active & !j.island_rows & ((1 << LOWER) | (1 << UPPER) | (1 << SWING));
+    if limits == 0 && (j.n_eq == 0 || j.direct) {
+        // Nothing to push (the bodies are not read).
+        return false;
+    }
     // SAFETY: the caller's promise.
     let mut p = unsafe { load(j, bodies, true) };
     let mut any = false;

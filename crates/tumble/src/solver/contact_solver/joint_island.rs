@@ -60,6 +60,7 @@ use super::constraint::{SolverParams, BLOCK_POINTS};
 use super::gear::GearConstraint;
 use super::island_contacts::{OwnedPatch, PatchArrays, LIGHTEST_OWNER};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
+use super::island_lanes::UnitBodies;
 use super::joint::{
     begin_joint, push_joint, solve_joint, JointConstraint, Pair, BALL_SPRING, BALL_SPRING_LAST,
     BALL_SPRING_MASK, JOINT_PUSH_FRACTION, LOWER, MOTOR, SPRING, SWING, UPPER,
@@ -157,6 +158,8 @@ pub struct JointIsland {
     /// Per sub-step, each gear's row on each of its bodies: (row of the
     /// system, body, the row on that body as side 0).
     gear_sides: Vec<(usize, u32, SideRow<f64>)>,
+    /// A unit of more lanes: its bodies as lane sets, for its passes.
+    unit_bodies: UnitBodies,
 }
 
 impl JointIsland {
@@ -434,6 +437,7 @@ impl JointIsland {
             }
             debug_assert_eq!(self.rows_lanes.len(), self.rows());
             self.factor_lanes.factor(&self.profile, &self.rows_lanes);
+
             return;
         }
         self.rows.clear();
@@ -492,7 +496,13 @@ impl JointIsland {
         rhs.clear();
         rhs.resize(n * stride, 0.0);
         let mut any = false;
-        for (l, lane) in self.lanes.iter().enumerate() {
+        // A unit of more lanes: its bodies as lane sets (`island_lanes`).
+        let in_lanes = self.lanes.len() > 1 && self.unit_bodies.is_built();
+        if in_lanes {
+            // SAFETY: the caller's promise.
+            unsafe { any |= self.rhs_in_lanes(joints, bodies, push, &mut rhs) };
+        }
+        for (l, lane) in self.lanes.iter().enumerate().filter(|_| !in_lanes) {
             for (&ji, &at) in lane.iter().zip(&self.profile.offsets) {
                 // SAFETY: the caller's promise.
                 let j = unsafe { joints.get_mut(ji as usize) };
@@ -565,9 +575,13 @@ impl JointIsland {
             self.substitute(&mut rhs, false, true);
             clear_non_finite(&mut rhs);
         }
+        if in_lanes {
+            // SAFETY: the caller's promise.
+            unsafe { self.apply_in_lanes(joints, bodies, push.is_some(), patches.is_some(), &rhs) };
+        }
         // Apply joint by joint: each body's velocity is read and written
         // through its joints in turn.
-        for (l, lane) in self.lanes.iter().enumerate() {
+        for (l, lane) in self.lanes.iter().enumerate().filter(|_| !in_lanes) {
             for (&ji, &at) in lane.iter().zip(&self.profile.offsets) {
                 // SAFETY: the caller's promise.
                 let j = unsafe { joints.get_mut(ji as usize) };
@@ -593,6 +607,88 @@ impl JointIsland {
         }
         self.rhs = rhs;
         any
+    }
+
+    /// [`JointIsland::relax`]'s right-hand sides for a unit of more lanes,
+    /// the rows' velocities four islands at a time (`island_lanes`), each
+    /// lane's the bits of the joint-by-joint loop; whether a row had an
+    /// error to push.
+    ///
+    /// # Safety
+    /// As [`JointIsland::relax`].
+    unsafe fn rhs_in_lanes(
+        &mut self,
+        joints: &Shared<JointConstraint>,
+        bodies: &Shared<SolverBody>,
+        push: Option<(f64, f64)>,
+        rhs: &mut [f64],
+    ) -> bool {
+        let mut any = false;
+        // SAFETY (all accesses): the caller's promise.
+        unsafe { self.unit_bodies.gather(bodies, push.is_some()) };
+        for (k, &at) in self.profile.offsets[..self.lanes[0].len()].iter().enumerate() {
+            for (l, lane) in self.lanes.iter().enumerate() {
+                if push.is_none() && self.aim[l] {
+                    let j = unsafe { joints.get_mut(lane[k] as usize) };
+                    j.aim_equality_rows(&self.unit_bodies.pair(k, l));
+                }
+            }
+            let n_eq = unsafe { joints.get(self.lanes[0][k] as usize) }.n_eq;
+            for e in 0..n_eq {
+                let jv = self.unit_bodies.velocity(k, &self.rows_lanes[at + e]).to_array();
+                for (l, lane) in self.lanes.iter().enumerate() {
+                    let j = unsafe { joints.get(lane[k] as usize) };
+                    debug_assert!(j.n_eq == n_eq && j.island_rows == 0);
+                    let r = &j.rows[e];
+                    rhs[(at + e) * LANES + l] = match push {
+                        None => -jv[l] - r.bias - r.gamma * r.impulse,
+                        Some((fraction, inv_h)) => {
+                            any |= r.c.abs() > 1e-9;
+                            -fraction * r.c * inv_h - jv[l]
+                        }
+                    };
+                }
+            }
+        }
+        any
+    }
+
+    /// [`JointIsland::relax`]'s impulses `x` (row by row, the lanes side
+    /// by side) accumulated and applied for a unit of more lanes, four
+    /// islands at a time (`island_lanes`), each lane's the bits of the
+    /// joint-by-joint loop; after [`JointIsland::rhs_in_lanes`] (and the
+    /// owned patches, if `patches`) in the same pass.
+    ///
+    /// # Safety
+    /// As [`JointIsland::relax`].
+    unsafe fn apply_in_lanes(
+        &mut self,
+        joints: &Shared<JointConstraint>,
+        bodies: &Shared<SolverBody>,
+        push: bool,
+        patches: bool,
+        x: &[f64],
+    ) {
+        // SAFETY (all accesses): the caller's promise.
+        if patches {
+            // The owned patches moved the bodies since the right-hand
+            // sides read them.
+            unsafe { self.unit_bodies.gather(bodies, push) };
+        }
+        for (k, &at) in self.profile.offsets[..self.lanes[0].len()].iter().enumerate() {
+            let n_eq = unsafe { joints.get(self.lanes[0][k] as usize) }.n_eq;
+            for e in 0..n_eq {
+                let mut dl = [0.0; LANES];
+                for (l, lane) in self.lanes.iter().enumerate() {
+                    let j = unsafe { joints.get_mut(lane[k] as usize) };
+                    let (acc, lo, hi) = bounds(j, e, push);
+                    dl[l] = crate::solver::clamp_impulse(acc + x[(at + e) * LANES + l], lo, hi) - acc;
+                    j.accumulate(e, dl[l], push);
+                }
+                self.unit_bodies.apply(k, &self.rows_lanes[at + e], Lane::new(dl));
+            }
+        }
+        unsafe { self.unit_bodies.scatter(bodies, push) };
     }
 
     /// The forward (`L^-1`) and/or backward (`L^-T`) substitution of
@@ -1043,6 +1139,14 @@ fn joint_islands_in_lanes(
     max_lanes: usize,
 ) -> Vec<JointIsland> {
     let mut islands = island_shapes(joints, gears, bodies, max_lanes);
+    // The bodies of a unit of more lanes as lane sets (kept with the unit
+    // while its joints and bodies stay the same: `keep_joint_islands`).
+    for unit in islands.iter_mut().filter(|u| u.lanes.len() > 1) {
+        let ends = |k: u32| [joints[k as usize].a, joints[k as usize].b];
+        let body = |b: u32| (bodies[b as usize].dynamic, bodies[b as usize].inv_mass);
+        let built = unit.unit_bodies.build(&unit.lanes, ends, body);
+        debug_assert!(built, "the lanes of a unit link their bodies alike");
+    }
     own_patches(&mut islands, joints, bodies, contacts);
     islands
 }
@@ -1639,6 +1743,10 @@ mod tests {
                 passes(&mut joints, &mut islands, &mut bodies, &q0, h);
             }
             let lanes: Vec<usize> = islands.iter().map(JointIsland::lanes).collect();
+            // A unit of more lanes relaxes its bodies as lane sets.
+            assert!(islands
+                .iter()
+                .all(|u| (u.lanes() > 1) == u.unit_bodies.is_built()));
             let state: Vec<[DVec3; 3]> = bodies.iter().map(|b| [b.v, b.w, b.dp]).collect();
             let impulses: Vec<[f64; JOINT_ROWS]> = joints.iter().map(JointConstraint::impulses).collect();
             (lanes, state, impulses)

@@ -51,6 +51,7 @@ mod exact;
 mod gear;
 mod island_contacts;
 mod island_factor;
+mod island_lanes;
 mod joint;
 mod joint_island;
 mod lanes;

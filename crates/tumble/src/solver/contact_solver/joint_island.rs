@@ -43,7 +43,8 @@
 //! Consecutive islands of the same shape (the same joints between the same
 //! kinds of bodies: a pile of ragdolls) without motors share one unit and
 //! are factored and solved four at a time, one per SIMD lane
-//! (`island_factor`), with the bits each would get alone.
+//! (`island_factor`), and relaxed on their bodies gathered as lane sets
+//! (`island_lanes`), with the bits each would get alone.
 //!
 //! A contact patch between two bodies of one island (a loop the contact
 //! closes) is the island's own: begun, relaxed and pushed with its system
@@ -437,7 +438,6 @@ impl JointIsland {
             }
             debug_assert_eq!(self.rows_lanes.len(), self.rows());
             self.factor_lanes.factor(&self.profile, &self.rows_lanes);
-
             return;
         }
         self.rows.clear();

@@ -41,10 +41,11 @@ pub(super) struct UnitBodies {
 
 impl UnitBodies {
     /// The slots of a unit whose lane `l` holds the island of joints
-    /// `lanes[l]` (in the shape's order); each joint's bodies by `ends`.
-    /// `false` (and the slots cleared) if the lanes do not link their bodies
-    /// in the same way, which a shared profile should rule out: the unit is
-    /// then relaxed lane by lane.
+    /// `lanes[l]` (in the shape's order), given each joint's solver bodies
+    /// A and B (`ends`) and each body's dynamic flag and inverse mass
+    /// (`body`). `false` (and the slots cleared) if the lanes do not link
+    /// their bodies in the same way, which a shared profile should rule
+    /// out: the unit is then relaxed lane by lane.
     pub fn build(
         &mut self,
         lanes: &[Vec<u32>],

@@ -63,7 +63,7 @@ use super::island_contacts::{OwnedPatch, PatchArrays, LIGHTEST_OWNER};
 use super::island_factor::{Coupling, Factor, Profile, SideRow};
 use super::island_lanes::UnitBodies;
 use super::joint::{
-    begin_joint, push_joint, solve_joint, JointConstraint, Pair, BALL_SPRING, BALL_SPRING_LAST,
+    begin_joint, push_joint, solve_joint, JointConstraint, JointRow, Pair, BALL_SPRING, BALL_SPRING_LAST,
     BALL_SPRING_MASK, JOINT_PUSH_FRACTION, LOWER, MOTOR, SPRING, SWING, UPPER,
 };
 use super::lanes::{Lane, LANES};
@@ -513,16 +513,7 @@ impl JointIsland {
                 for (e, slot) in island_slots(j).enumerate() {
                     let r = &j.rows[slot];
                     let jv = r.lin.dot(p.va - p.vb) + r.ang_a.dot(p.wa) + r.ang_b.dot(p.wb);
-                    rhs[(at + e) * stride + l] = match push {
-                        None => -jv - r.bias - r.gamma * r.impulse,
-                        // A motor or spring does not push: its row only keeps
-                        // the push-out off the joint's free axis.
-                        Some(_) if is_soft(j, slot) => -jv - r.gamma * r.push,
-                        Some((fraction, inv_h)) => {
-                            any |= r.c.abs() > 1e-9;
-                            -fraction * r.c * inv_h - jv
-                        }
-                    };
+                    rhs[(at + e) * stride + l] = row_rhs(r, jv, push, is_soft(j, slot), &mut any);
                 }
             }
         }
@@ -587,11 +578,7 @@ impl JointIsland {
                 let j = unsafe { joints.get_mut(ji as usize) };
                 let mut p = unsafe { Pair::load(j, bodies, push.is_some()) };
                 for (e, slot) in island_slots(j).enumerate() {
-                    // Within the bounds (re-solved above; a last clamp for what
-                    // the re-solve could not hold).
-                    let (acc, lo, hi) = bounds(j, slot, push.is_some());
-                    let dl = crate::solver::clamp_impulse(acc + rhs[(at + e) * stride + l], lo, hi) - acc;
-                    j.accumulate(slot, dl, push.is_some());
+                    let dl = take_impulse(j, slot, rhs[(at + e) * stride + l], push.is_some());
                     p.apply(&j.rows[slot], dl);
                 }
                 unsafe { p.store(j, bodies, push.is_some()) };
@@ -639,14 +626,7 @@ impl JointIsland {
                 for (l, lane) in self.lanes.iter().enumerate() {
                     let j = unsafe { joints.get(lane[k] as usize) };
                     debug_assert!(j.n_eq == n_eq && j.island_rows == 0);
-                    let r = &j.rows[e];
-                    rhs[(at + e) * LANES + l] = match push {
-                        None => -jv[l] - r.bias - r.gamma * r.impulse,
-                        Some((fraction, inv_h)) => {
-                            any |= r.c.abs() > 1e-9;
-                            -fraction * r.c * inv_h - jv[l]
-                        }
-                    };
+                    rhs[(at + e) * LANES + l] = row_rhs(&j.rows[e], jv[l], push, false, &mut any);
                 }
             }
         }
@@ -681,9 +661,7 @@ impl JointIsland {
                 let mut dl = [0.0; LANES];
                 for (l, lane) in self.lanes.iter().enumerate() {
                     let j = unsafe { joints.get_mut(lane[k] as usize) };
-                    let (acc, lo, hi) = bounds(j, e, push);
-                    dl[l] = crate::solver::clamp_impulse(acc + x[(at + e) * LANES + l], lo, hi) - acc;
-                    j.accumulate(e, dl[l], push);
+                    dl[l] = take_impulse(j, e, x[(at + e) * LANES + l], push);
                 }
                 self.unit_bodies.apply(k, &self.rows_lanes[at + e], Lane::new(dl));
             }
@@ -969,6 +947,35 @@ fn add_gear_entries(
             }
         }
     }
+}
+
+/// A row's right-hand side in [`JointIsland::relax`], given its velocity
+/// `jv`: towards its target (velocity pass), or with `push` towards
+/// `fraction` of its position error over `h` (`any` set where there is an
+/// error to push); a `soft` row (a motor, a spring) does not push, it only
+/// keeps the push-out off the joint's free axis.
+#[inline(always)]
+fn row_rhs(r: &JointRow, jv: f64, push: Option<(f64, f64)>, soft: bool, any: &mut bool) -> f64 {
+    match push {
+        None => -jv - r.bias - r.gamma * r.impulse,
+        Some(_) if soft => -jv - r.gamma * r.push,
+        Some((fraction, inv_h)) => {
+            *any |= r.c.abs() > 1e-9;
+            -fraction * r.c * inv_h - jv
+        }
+    }
+}
+
+/// Impulse `x` solved for row `slot` of `j` added to its accumulated
+/// impulse (or push-out impulse) within the row's bounds (re-solved by
+/// `hold_at_bounds`; a last clamp for what the re-solve could not hold);
+/// the change applied.
+#[inline(always)]
+fn take_impulse(j: &mut JointConstraint, slot: usize, x: f64, push: bool) -> f64 {
+    let (acc, lo, hi) = bounds(j, slot, push);
+    let dl = crate::solver::clamp_impulse(acc + x, lo, hi) - acc;
+    j.accumulate(slot, dl, push);
+    dl
 }
 
 /// Row `slot`'s accumulated impulse (or push-out impulse) and its bounds.

@@ -35,7 +35,9 @@
 //! patch turns `z` into the joints' impulses. A point's `W` is zero above
 //! the first row of a joint on its bodies, and so is its `V`: the forward
 //! substitution starts there (the limbs' joints come first in an island's
-//! order, so a point on a ragdoll's torso skips them).
+//! order, so a point on a ragdoll's torso skips them), and works out only
+//! the rows the factor carries the point's joints to (`Profile::reach`: a
+//! forearm's column never reaches the legs' rows).
 //!
 //! The loop through the world matters as much: a 20 mg finger hinged to a
 //! 185 g hand that presses it onto a static plank (the hand's ball joint
@@ -141,6 +143,12 @@ pub(super) struct OwnedPatch {
     /// The first row on one of the patch's two bodies: every row before it
     /// is zero in each point's column of `W` and of `V`.
     first_row: usize,
+    /// The island's joints (bit `p` for joint `p`) whose rows of the
+    /// points' columns of `V` can be other than zero (`Profile::reach`:
+    /// those on the patch's bodies and those the factor carries them to;
+    /// gear rows always): `V` is an exact zero in the others, whose forward
+    /// substitution is skipped. `None`: every row from `first_row` on.
+    reach: Option<u64>,
     /// Per point, `rows` entries: the island rows' velocities per unit
     /// impulse at the point (its column of `W`), replaced by `L^-1` times
     /// it (`V`) once the island's factor has solved it.
@@ -153,11 +161,19 @@ impl OwnedPatch {
     /// Points `start..start + count` (count at most [`BLOCK_POINTS`]) of
     /// the patch at index `patch`, owned as one block by the island in
     /// `lane`, whose first row of the island's system on one of the
-    /// patch's bodies is `first_row` (`joint_island::own_patches` finds
-    /// it), to be coupled to it each sub-step ([`OwnedPatch::couple`], then
-    /// `L^-1` applied to each [`OwnedPatch::response_mut`], then
-    /// [`OwnedPatch::finish`]).
-    pub fn new(patch: u32, start: u32, count: u32, lane: usize, first_row: usize) -> OwnedPatch {
+    /// patch's bodies is `first_row` and whose points' columns of `V` can be
+    /// other than zero in the rows of the joints `reach` (both found by
+    /// `joint_island::own_patches`), to be coupled to it each sub-step
+    /// ([`OwnedPatch::couple`], then `L^-1` applied to each
+    /// [`OwnedPatch::response_mut`], then [`OwnedPatch::finish`]).
+    pub fn new(
+        patch: u32,
+        start: u32,
+        count: u32,
+        lane: usize,
+        first_row: usize,
+        reach: Option<u64>,
+    ) -> OwnedPatch {
         debug_assert!(count as usize <= BLOCK_POINTS);
         OwnedPatch {
             patch,
@@ -165,6 +181,7 @@ impl OwnedPatch {
             block_points: count.min(BLOCK_POINTS as u32),
             lane,
             first_row,
+            reach,
             ..OwnedPatch::default()
         }
     }
@@ -265,6 +282,13 @@ impl OwnedPatch {
     /// (the rows of `W` and `V` before it are zero).
     pub fn first_row(&self) -> usize {
         self.first_row
+    }
+
+    /// The joints whose rows of the points' columns of `V` can be other
+    /// than zero (bit `p` for joint `p`; gear rows always), or `None` for
+    /// every row from [`OwnedPatch::first_row`] on.
+    pub fn reach(&self) -> Option<u64> {
+        self.reach
     }
 
     /// Point `i`'s column of `W` (or of `V`, once solved).

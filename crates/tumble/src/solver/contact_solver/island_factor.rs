@@ -253,6 +253,9 @@ pub(super) struct Profile {
     /// Which joint blocks of the factor can be other than zero within the
     /// profile.
     pattern: Pattern,
+    /// Per joint `p` (islands of up to 64 joints): bit `q` set where block
+    /// `(p, q)`, `q < p`, can be other than zero (`Profile::reach`).
+    before_mask: Vec<u64>,
 }
 
 /// The joint blocks of an island's factor that can be other than zero,
@@ -380,6 +383,17 @@ impl Profile {
             }
         }
         pattern.row_runs_at.push(pattern.row_runs.len());
+        let joints = offsets.len().saturating_sub(1);
+        let before_mask = if joints <= 64 {
+            (0..joints)
+                .map(|p| {
+                    let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
+                    before.iter().fold(0u64, |mask, &(q, _, _)| mask | 1 << q)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Profile {
             offsets,
             couplings,
@@ -387,6 +401,55 @@ impl Profile {
             start,
             size,
             pattern,
+            before_mask,
+        }
+    }
+
+    /// The joints whose rows of `L^-1 w` can be other than zero, for a
+    /// column `w` that is zero outside the rows of the joints `touched`
+    /// (bit `p` for joint `p`); `None` for an island of more than 64
+    /// joints (whose columns are then worked out whole).
+    ///
+    /// Why: a forward substitution carries a row's value only to the rows
+    /// whose factor blocks reach back to it (the pattern): from a ragdoll's
+    /// forearm on the ground, its column reaches its elbow, both shoulders
+    /// (which meet on the chest) and the spine, not the other elbow, the
+    /// hips or the knees, though those come after the forearm's joint in
+    /// the island's order (about a third of the rows from the patches'
+    /// first rows on, in the ragdoll pile). A joint is reached when it is
+    /// touched or when a reached joint before it has a block in its rows
+    /// that can be other than zero.
+    pub fn reach(&self, touched: u64) -> Option<u64> {
+        if self.offsets.len() > 65 {
+            return None;
+        }
+        let mut reached = 0u64;
+        for (p, &before) in self.before_mask.iter().enumerate() {
+            if (touched >> p) & 1 != 0 || before & reached != 0 {
+                reached |= 1 << p;
+            }
+        }
+        Some(reached)
+    }
+
+    /// The rows of the joints `reached` (bit `p` for joint `p`) and every
+    /// gear row, as runs `[from, to)` in increasing order, merged where
+    /// they meet, written to `runs` (for `Factor::forward_runs`).
+    pub fn rows_of(&self, reached: u64, runs: &mut Vec<(usize, usize)>) {
+        runs.clear();
+        let o = &self.offsets;
+        for p in 0..o.len().saturating_sub(1) {
+            if (reached >> p) & 1 != 0 && o[p] < o[p + 1] {
+                match runs.last_mut() {
+                    Some(last) if last.1 == o[p] => last.1 = o[p + 1],
+                    _ => runs.push((o[p], o[p + 1])),
+                }
+            }
+        }
+        // Gear rows (after the joints' rows) have whole profiles.
+        let joint_rows = o.last().copied().unwrap_or(0);
+        if joint_rows < self.rows() {
+            runs.push((joint_rows, self.rows()));
         }
     }
 
@@ -530,17 +593,30 @@ impl<N: Num> Factor<N> {
     /// each column gets the bits it gets alone (an island's owned contact
     /// points are solved this way, four at a time).
     pub fn solve<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X]) {
-        self.forward(profile, x, 0);
+        self.forward(profile, x);
         self.backward(profile, x);
     }
 
-    /// The first half of [`Factor::solve`]: `x <- L^-1 x`, for an `x`
-    /// whose rows before `from` are zero (and stay zero: they are skipped,
-    /// which leaves the other rows' bits as the whole forward pass would).
-    pub fn forward<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X], from: usize) {
+    /// The first half of [`Factor::solve`]: `x <- L^-1 x`.
+    pub fn forward<X: Num + Mul<N, Output = X>>(&self, profile: &Profile, x: &mut [X]) {
+        self.forward_runs(profile, x, &[(0, profile.rows())]);
+    }
+
+    /// [`Factor::forward`] for an `x` whose result can be other than zero
+    /// only in the rows `rows` (runs `[from, to)` in increasing order:
+    /// [`Profile::reach`]), which are zero elsewhere. Only those rows are
+    /// worked out; the others stay zero, as the whole pass would leave
+    /// them (each term of their dots multiplies a zero, and the sums start
+    /// at `+0`), so the bits are the whole pass's.
+    pub fn forward_runs<X: Num + Mul<N, Output = X>>(
+        &self,
+        profile: &Profile,
+        x: &mut [X],
+        rows: &[(usize, usize)],
+    ) {
         let (first, start, l) = (&profile.first, &profile.start, &self.values);
         let (runs_at, runs) = (&profile.pattern.row_runs_at, &profile.pattern.row_runs);
-        for i in from..profile.rows() {
+        for i in rows.iter().flat_map(|&(from, to)| from..to) {
             let base = start[i] - first[i];
             let mut dot = X::default();
             for &(from, to) in &runs[runs_at[i]..runs_at[i + 1]] {
@@ -742,6 +818,83 @@ mod tests {
         tree
     }
 
+    /// Case `case` of a test over islands: the ragdoll first, then random
+    /// trees; its joints, bodies, profile, random rows and their factor.
+    #[allow(clippy::type_complexity)] // a test case's parts, taken apart at once
+    fn factored_case(
+        rng: &mut SplitMix64,
+        case: usize,
+    ) -> (
+        Vec<(usize, usize, usize)>,
+        usize,
+        Profile,
+        Vec<SideRow<f64>>,
+        Factor<f64>,
+    ) {
+        let size = 2 + rng.below(12);
+        let joints = if case == 0 {
+            RAGDOLL.to_vec()
+        } else {
+            random_tree(rng, size)
+        };
+        let bodies = joints.iter().map(|j| j.0.max(j.1)).max().unwrap() + 1;
+        let profile = profile_of(&joints);
+        let rows = rows_of(rng, &joints, bodies);
+        let mut factor = Factor::default();
+        factor.factor(&profile, &rows);
+        (joints, bodies, profile, rows, factor)
+    }
+
+    /// `Profile::reach` against brute force: for a column on one body's
+    /// joints, the forward substitution over only the reached rows has the
+    /// bits of the whole one, every row it skips is an exact zero of the
+    /// whole one, and (for the ragdoll) a forearm's column skips the legs.
+    #[test]
+    fn a_forward_substitution_over_the_reached_rows_has_the_whole_ones_bits() {
+        let mut rng = SplitMix64(11);
+        let mut skipped = 0;
+        for case in 0..40 {
+            let (joints, bodies, profile, _, factor) = factored_case(&mut rng, case);
+            let o = &profile.offsets;
+            for body in 0..bodies {
+                let on_body = |p: usize| joints[p].0 == body || joints[p].1 == body;
+                let touched = (0..joints.len())
+                    .filter(|&p| on_body(p))
+                    .fold(0u64, |m, p| m | 1 << p);
+                let reached = profile.reach(touched).unwrap();
+                let mut w = vec![0.0; profile.rows()];
+                for p in (0..joints.len()).filter(|&p| on_body(p)) {
+                    w[o[p]..o[p + 1]]
+                        .iter_mut()
+                        .for_each(|x| *x = rng.range(-1.0, 1.0));
+                }
+                let mut whole = w.clone();
+                factor.forward(&profile, &mut whole);
+                let mut runs = Vec::new();
+                profile.rows_of(reached, &mut runs);
+                let mut part = w.clone();
+                factor.forward_runs(&profile, &mut part, &runs);
+                for (i, (a, b)) in whole.iter().zip(&part).enumerate() {
+                    assert_eq!(a.to_bits(), b.to_bits(), "case {case}, body {body}, row {i}");
+                }
+                for p in (0..joints.len()).filter(|&p| (reached >> p) & 1 == 0) {
+                    assert!(
+                        whole[o[p]..o[p + 1]].iter().all(|&x| x.to_bits() == 0),
+                        "case {case}"
+                    );
+                    skipped += o[p + 1] - o[p];
+                }
+                if case == 0 && body == 3 {
+                    // The left forearm (body 3, joint 0): its elbow, both
+                    // shoulders (they meet on the chest) and the spine; not
+                    // the other elbow, the hips or the knees.
+                    assert_eq!(reached, 1 << 0 | 1 << 4 | 1 << 5 | 1 << 8, "{reached:b}");
+                }
+            }
+        }
+        assert!(skipped > 0);
+    }
+
     /// The pattern's symbolic factorization against a dense Cholesky of the
     /// same `K` (the brute-force oracle): every entry the pattern skips is
     /// an exact zero of the dense factor, the others agree, and solves with
@@ -751,17 +904,7 @@ mod tests {
         let mut rng = SplitMix64(3);
         let mut skipped = 0;
         for case in 0..40 {
-            let size = 2 + rng.below(12);
-            let joints = if case == 0 {
-                RAGDOLL.to_vec()
-            } else {
-                random_tree(&mut rng, size)
-            };
-            let bodies = joints.iter().map(|j| j.0.max(j.1)).max().unwrap() + 1;
-            let profile = profile_of(&joints);
-            let rows = rows_of(&mut rng, &joints, bodies);
-            let mut factor = Factor::default();
-            factor.factor(&profile, &rows);
+            let (joints, _, profile, rows, factor) = factored_case(&mut rng, case);
             let n = profile.rows();
             // K by brute force: rows on a shared body meet through it.
             let row_joint: Vec<usize> = (0..joints.len())

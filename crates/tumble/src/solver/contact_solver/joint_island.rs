@@ -143,6 +143,9 @@ pub struct JointIsland {
     rhs: Vec<f64>,
     /// The same, a lane set per row.
     rhs_lanes: Vec<Lane>,
+    /// The rows the owned points' columns solved together can reach
+    /// (`solve_columns`; reused).
+    reach_runs: Vec<(usize, usize)>,
     /// Contact patches between two bodies of one of the unit's islands,
     /// solved with its system in its lane.
     owned: Vec<OwnedPatch>,
@@ -313,21 +316,40 @@ impl JointIsland {
             .unwrap_or(n);
         x.resize(from, Lane::splat(0.0));
         x.extend((from..n).map(|r| Lane::new(std::array::from_fn(|l| columns[l].map_or(0.0, |c| c[r])))));
+        // Only the rows some point's column can reach are worked out (in
+        // every lane: a lane's rows that only another lane's point reaches
+        // come out as its exact zeros); the others stay zero.
+        let mut runs = std::mem::take(&mut self.reach_runs);
+        let reach = points
+            .iter()
+            .flatten()
+            .try_fold(0, |all, &(k, _)| Some(all | self.owned[k].reach()?));
+        match reach {
+            Some(joints) => self.profile.rows_of(joints, &mut runs),
+            None => {
+                runs.clear();
+                runs.push((from, n));
+            }
+        }
         if self.lanes.len() == 1 {
-            self.factor.forward(&self.profile, &mut x, from);
+            self.factor.forward_runs(&self.profile, &mut x, &runs);
         } else {
-            self.factor_lanes.forward(&self.profile, &mut x, from);
+            self.factor_lanes.forward_runs(&self.profile, &mut x, &runs);
         }
         for (l, point) in points.into_iter().enumerate() {
             if let Some((k, i)) = point {
-                let u = &mut self.owned[k].response_mut(i)[from..];
-                for (u, x) in u.iter_mut().zip(&x[from..]) {
-                    *u = x.as_array()[l];
+                let u = self.owned[k].response_mut(i);
+                for &(from, to) in &runs {
+                    let u = &mut u[from..to];
+                    for (u, x) in u.iter_mut().zip(&x[from..to]) {
+                        *u = x.as_array()[l];
+                    }
+                    clear_non_finite(u);
                 }
-                clear_non_finite(u);
             }
         }
         self.rhs_lanes = x;
+        self.reach_runs = runs;
     }
 
     /// One velocity pass: the owned patches' friction, the equality rows
@@ -675,7 +697,7 @@ impl JointIsland {
     fn substitute(&mut self, x: &mut [f64], forward: bool, backward: bool) {
         if self.lanes.len() == 1 {
             if forward {
-                self.factor.forward(&self.profile, x, 0);
+                self.factor.forward(&self.profile, x);
             }
             if backward {
                 self.factor.backward(&self.profile, x);
@@ -688,7 +710,7 @@ impl JointIsland {
                 .map(|row| Lane::new([row[0], row[1], row[2], row[3]])),
         );
         if forward {
-            self.factor_lanes.forward(&self.profile, &mut self.rhs_lanes, 0);
+            self.factor_lanes.forward(&self.profile, &mut self.rhs_lanes);
         }
         if backward {
             self.factor_lanes.backward(&self.profile, &mut self.rhs_lanes);
@@ -1460,6 +1482,9 @@ fn own_patches_within(
     // first row in that island's system.
     let mut member = vec![usize::MAX; bodies.len()];
     let mut first_row = vec![usize::MAX; bodies.len()];
+    // The same body's joints (bit `p` for joint `p` of the island's
+    // order, islands of up to 64 joints: `Profile::reach`).
+    let mut touching = vec![0u64; bodies.len()];
     let mut island = 0;
     for unit in islands.iter_mut() {
         let offsets = &unit.profile.offsets;
@@ -1480,6 +1505,9 @@ fn own_patches_within(
                 if offsets[p] < offsets[p + 1] {
                     for b in [j.a, j.b] {
                         first_row[b as usize] = first_row[b as usize].min(offsets[p]);
+                        if p < 64 {
+                            touching[b as usize] |= 1 << p;
+                        }
                     }
                 }
             }
@@ -1506,7 +1534,11 @@ fn own_patches_within(
                         && !light(other)
                     {
                         let first = first_row[b as usize].min(first_row[other as usize]);
-                        let candidate = (owned_cost(&unit.profile, first, points), patch, first, points);
+                        let cost = owned_cost(&unit.profile, first, points);
+                        let reach = unit
+                            .profile
+                            .reach(touching[b as usize] | touching[other as usize]);
+                        let candidate = (cost, patch, first, points, reach);
                         // On the world, a patch of more points than a block
                         // stays beside the island: owned, a car's wheels on a
                         // mesh terrain rolled 19 % slower than their motors
@@ -1521,7 +1553,7 @@ fn own_patches_within(
                 // A body is met once per joint: its patches are taken once.
                 contacts_of[b as usize].clear();
             }
-            let cost = |c: &[(usize, u32, usize, u32)]| c.iter().map(|c| c.0).sum::<usize>();
+            let cost = |c: &[(usize, u32, usize, u32, Option<u64>)]| c.iter().map(|c| c.0).sum::<usize>();
             let left = budget.saturating_sub(cost(&own));
             if cost(&candidates) > left {
                 candidates.sort_unstable();
@@ -1540,23 +1572,20 @@ fn own_patches_within(
             let mut owned: Vec<OwnedPatch> = own
                 .iter()
                 .chain(&candidates)
-                .flat_map(|&(_, patch, first, points)| {
+                .flat_map(|&(_, patch, first, points, reach)| {
                     (0..points).step_by(BLOCK_POINTS).map(move |start| {
-                        OwnedPatch::new(
-                            patch,
-                            start,
-                            (points - start).min(BLOCK_POINTS as u32),
-                            lane,
-                            first,
-                        )
+                        let count = (points - start).min(BLOCK_POINTS as u32);
+                        OwnedPatch::new(patch, start, count, lane, first, reach)
                     })
                 })
                 .collect();
             owned.sort_by_key(|o| o.patch);
             unit.owned.extend(owned);
             for &k in order {
-                first_row[joints[k as usize].a as usize] = usize::MAX;
-                first_row[joints[k as usize].b as usize] = usize::MAX;
+                for b in [joints[k as usize].a, joints[k as usize].b] {
+                    first_row[b as usize] = usize::MAX;
+                    touching[b as usize] = 0;
+                }
             }
             island += 1;
         }

@@ -91,7 +91,9 @@ def markdown(doc):
         f"# Benchmark run {doc['date']} ({doc['mode']})",
         "",
         f"Machine: {m['cpu_model']}, {m['nproc']} cores, kernel {m['kernel']}, "
-        f"load average at start {_fmt_load(m.get('load_average_at_start'))}. Started {doc['started_utc']}.",
+        f"load average at start {_fmt_load(m.get('load_average_at_start'))}, "
+        f"cores' round trip at start {_fmt(m.get('core_round_trip_ns_at_start'))} ns. "
+        f"Started {doc['started_utc']}.",
         "",
         "tumble built from: " + (f"commit {doc['source_commit']}" if doc.get("source_commit")
                                  else "binaries as found (--no-build)"),
@@ -123,6 +125,11 @@ def markdown(doc):
             # A paired tumble run (`--paired`) also timed its one-thread steps.
             q = "; ".join(f"{k.replace('_m', '')}={_fmt(r['figures'][k])}"
                           for k in DYN_FIGURES.get(base, []) + PAIRED_FIGURES if k in r["figures"])
+            # A multi-thread run's cores' round trip before and after it (run.core_round_trip).
+            trip = r.get("core_round_trip_ns")
+            if trip:
+                trip = "cores' round trip " + "/".join(_fmt(x) for x in trip) + " ns"
+                q = f"{q}; {trip}" if q else trip
             ratio = "-" if _is_tumble(r) else _ratio(tmed, st.get("median"))
             lines.append(
                 f"| {s} | {_label(r)} | ok ({st.get('count')} steps) | {_fmt(st.get('median'))} | "

@@ -66,7 +66,37 @@ def machine():
         "kernel": platform.release(),
         "python": platform.python_version(),
         "load_average_at_start": load,
+        "core_round_trip_ns_at_start": core_round_trip(),
     }
+
+
+def core_round_trip():
+    """The median time (ns) a cache line takes from one thread to another and back, where the
+    OS places two threads (`target/release/core-round-trip`, built with tumble-bench), or None
+    when it is not built or fails. Multi-thread step times follow it: on this project's 2-core
+    VM it moved between about 80 and 400 ns from hour to hour (crates/tumble-bench/src/bin/
+    core_round_trip.rs), so each multi-thread run records it next to its times."""
+    path = os.path.join(RELEASE, "core-round-trip")
+    if not os.path.exists(path):
+        return None
+    try:
+        p = subprocess.run([path], capture_output=True, text=True, timeout=60)
+        return json.loads(p.stdout)["core_round_trip_ns"] if p.returncode == 0 else None
+    except (OSError, subprocess.TimeoutExpired, ValueError, KeyError):
+        return None
+
+
+def with_round_trips(run, threads):
+    """The records of `run()`, each multi-thread one (`threads` > 1) with the cores' round trip
+    measured just before and just after it (`core_round_trip_ns`: [before, after])."""
+    if threads == 1:
+        return run()
+    before = core_round_trip()
+    records = run()
+    after = core_round_trip()
+    for r in records:
+        r["core_round_trip_ns"] = [before, after]
+    return records
 
 
 # ---------------------------------------------------------------- running one peer process
@@ -183,7 +213,8 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
             if on("tumble"):
                 for t in threads:
                     print(f"[bench] {threaded('tumble', t)} {hint}", file=sys.stderr, flush=True)
-                    results += run_tumble(scene, scene_steps, n, threads=t, paired=paired)
+                    results += with_round_trips(
+                        lambda: run_tumble(scene, scene_steps, n, threads=t, paired=paired), t)
             # The Python peers have no large pyramid yet (tumble and Rapier run it); they run the
             # concave pile as CoACD's convex pieces (common.decomposed).
             for eng in [e for e in ["pybullet", "mujoco"] if on(e) and scene != "large_pyramid"
@@ -219,9 +250,13 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                     label = threaded("rapier3d", t)
                     for variant in variants:
                         print(f"[bench] {label} {variant}", file=sys.stderr, flush=True)
-                        results += relabel(rust_peer(label, "peer-rapier", ["--scene", variant, "--threads", str(t)]
-                                                     + step_args(n, scene), timeout, variant if n is None else hint),
-                                           label)
+                        args = ["--scene", variant, "--threads", str(t)] + step_args(n, scene)
+                        name = variant if n is None else hint
+
+                        def rapier():
+                            return relabel(rust_peer(label, "peer-rapier", args, timeout, name), label)
+
+                        results += with_round_trips(rapier, t)
     if want("tori"):
         poses = QUICK_POSES if quick else 200
         if on("tumble"):

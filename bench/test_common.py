@@ -307,6 +307,49 @@ class Harness(unittest.TestCase):
         self.assertEqual(got, [("coal", "OBBRSS"), ("parry3d", "AABB"), ("coal", "OBB")])
 
 
+class CoreRoundTrip(unittest.TestCase):
+    """The cores' round trip recorded next to each multi-thread run (bench/run.py) and shown in
+    the report; the probe itself (target/release/core-round-trip, built by run.py --quick)."""
+
+    def setUp(self):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import report
+        import run
+
+        self.run, self.report = run, report
+
+    def test_the_probe_measures_a_round_trip(self):
+        self.assertTrue(os.path.exists(os.path.join(self.run.RELEASE, "core-round-trip")),
+                        "build it: cargo build --release -p tumble-bench")
+        ns = self.run.core_round_trip()
+        # A line to another core and back: more than a nanosecond, far less than a millisecond.
+        self.assertTrue(ns is not None and 1.0 < ns < 1e6, ns)
+
+    def test_multi_thread_runs_carry_the_round_trips_around_them_into_the_report(self):
+        trips = iter([100.0, 400.0])
+        real = self.run.core_round_trip
+        self.run.core_round_trip = lambda: next(trips)
+        try:
+            def records():
+                return [{"engine": "tumble (2 threads)", "scene": "pile1000", "status": "ok",
+                         "figures": {"step_time": {"median": 3.0, "count": 5}}}]
+
+            one = self.run.with_round_trips(records, 1)
+            two = self.run.with_round_trips(records, 2)
+        finally:
+            self.run.core_round_trip = real
+        self.assertNotIn("core_round_trip_ns", one[0])
+        self.assertEqual(two[0]["core_round_trip_ns"], [100.0, 400.0])
+        machine = {"cpu_model": "cpu", "nproc": 2, "kernel": "k"}
+        machine["core_round_trip_ns_at_start"] = 80.0
+        doc = {"date": "d", "mode": "full", "started_utc": "t", "versions": {},
+               "source_commit": "c", "machine": machine, "results": one + two}
+        table = self.report.markdown(doc)
+        self.assertIn("cores' round trip at start 80 ns", table)
+        self.assertIn("cores' round trip 100/400 ns", table)
+        self.assertEqual(table.count("cores' round trip 100/400 ns"), 1)
+
+
 class AnswerCheck(unittest.TestCase):
     """bench/run.py's check of tumble's answers: wrong answers are caught,
     right ones and peers pass."""

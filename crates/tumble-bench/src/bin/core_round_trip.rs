@@ -6,13 +6,13 @@
 //!
 //! Why the benchmark harness records it: a solver on two threads hands its
 //! bodies and barriers from core to core hundreds of times a step, so its
-//! step time follows this number. On this project's 2-core VM it was 80-140
-//! ns for some hours and 350-450 ns for others (the host placing the two
+//! step time follows this number. On this project's 2-core VM it was 55-140
+//! ns for some hours and 340-510 ns for others (the host placing the two
 //! virtual cores near each other or not; one thread's time does not move),
-//! and tumble's pile of 1,000 took 3.2 ms a step on two threads in the
-//! first case and 7.2 ms (slower than one thread's 4.7) in the second
-//! (docs/benchmarks.md, "What is measured"). A two-thread row is read
-//! against the round trip measured next to it.
+//! and tumble's pile of 1,000 took 3.2-3.3 ms a step on two threads in the
+//! first case and 7.1-7.4 ms (slower than one thread's 4.7) in the second
+//! (docs/benchmarks.md, "Reading the ratios"). A two-thread row is read
+//! against the round trips measured next to it.
 //!
 //! Usage: `core-round-trip [--rounds R] [--trips N]`
 
@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// The median round trip of one round of `trips` hand-overs, in ns.
+/// The mean round trip over one round of `trips` hand-overs, in ns.
 fn round(trips: u64) -> f64 {
     let ball = Arc::new(AtomicU64::new(0));
     let other = ball.clone();

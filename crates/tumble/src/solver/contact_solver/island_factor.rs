@@ -234,6 +234,11 @@ pub(super) struct Coupling {
     pub side_q: u8,
 }
 
+/// Most joints of an island whose owned points' reach is followed
+/// ([`Profile::reach`]: a bit per joint of a `u64`); a larger island's
+/// points are worked out over every row from their first.
+pub(super) const REACH_JOINTS: usize = 64;
+
 /// The shape of an island's system: which rows belong to which joint,
 /// which blocks are not zero, and the profile of the factor. Islands of
 /// the same shape can share a lane set.
@@ -253,8 +258,9 @@ pub(super) struct Profile {
     /// Which joint blocks of the factor can be other than zero within the
     /// profile.
     pattern: Pattern,
-    /// Per joint `p` (islands of up to 64 joints): bit `q` set where block
-    /// `(p, q)`, `q < p`, can be other than zero (`Profile::reach`).
+    /// Per joint `p` (islands of up to [`REACH_JOINTS`] joints): bit `q`
+    /// set where block `(p, q)`, `q < p`, can be other than zero
+    /// (`Profile::reach`).
     before_mask: Vec<u64>,
 }
 
@@ -384,7 +390,7 @@ impl Profile {
         }
         pattern.row_runs_at.push(pattern.row_runs.len());
         let joints = offsets.len().saturating_sub(1);
-        let before_mask = if joints <= 64 {
+        let before_mask = if joints <= REACH_JOINTS {
             (0..joints)
                 .map(|p| {
                     let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
@@ -407,8 +413,8 @@ impl Profile {
 
     /// The joints whose rows of `L^-1 w` can be other than zero, for a
     /// column `w` that is zero outside the rows of the joints `touched`
-    /// (bit `p` for joint `p`); `None` for an island of more than 64
-    /// joints (whose columns are then worked out whole).
+    /// (bit `p` for joint `p`); `None` for an island of more than
+    /// [`REACH_JOINTS`] joints (whose columns are then worked out whole).
     ///
     /// Why: a forward substitution carries a row's value only to the rows
     /// whose factor blocks reach back to it (the pattern): from a ragdoll's
@@ -420,7 +426,7 @@ impl Profile {
     /// touched or when a reached joint before it has a block in its rows
     /// that can be other than zero.
     pub fn reach(&self, touched: u64) -> Option<u64> {
-        if self.offsets.len() > 65 {
+        if self.offsets.len() > REACH_JOINTS + 1 {
             return None;
         }
         let mut reached = 0u64;

@@ -60,7 +60,7 @@ use super::coloring::Shared;
 use super::constraint::{SolverParams, BLOCK_POINTS};
 use super::gear::GearConstraint;
 use super::island_contacts::{OwnedPatch, PatchArrays, LIGHTEST_OWNER};
-use super::island_factor::{Coupling, Factor, Profile, SideRow};
+use super::island_factor::{Coupling, Factor, Profile, SideRow, REACH_JOINTS};
 use super::island_lanes::UnitBodies;
 use super::joint::{
     begin_joint, push_joint, solve_joint, JointConstraint, JointRow, Pair, BALL_SPRING, BALL_SPRING_LAST,
@@ -1483,7 +1483,7 @@ fn own_patches_within(
     let mut member = vec![usize::MAX; bodies.len()];
     let mut first_row = vec![usize::MAX; bodies.len()];
     // The same body's joints (bit `p` for joint `p` of the island's
-    // order, islands of up to 64 joints: `Profile::reach`).
+    // order, islands of up to `REACH_JOINTS` joints: `Profile::reach`).
     let mut touching = vec![0u64; bodies.len()];
     let mut island = 0;
     for unit in islands.iter_mut() {
@@ -1505,7 +1505,7 @@ fn own_patches_within(
                 if offsets[p] < offsets[p + 1] {
                     for b in [j.a, j.b] {
                         first_row[b as usize] = first_row[b as usize].min(offsets[p]);
-                        if p < 64 {
+                        if p < REACH_JOINTS {
                             touching[b as usize] |= 1 << p;
                         }
                     }

@@ -4,8 +4,9 @@
 
 use proptest::prelude::*;
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Mutex;
 use tumble_collide::broad::{
-    Aabb, AabbError, BroadPhaseError, PairEvent, ProxyId, SweepAndPrune, UpdateReport,
+    Aabb, AabbError, BroadJobs, BroadPhaseError, PairEvent, ProxyId, SweepAndPrune, UpdateReport,
 };
 use tumble_collide::DVec3;
 
@@ -221,6 +222,128 @@ fn coherent_motion_stays_incremental_and_teleport_rebuilds() {
             assert!(est < 3.0 * got && got < 3.0 * est, "{report:?}");
         }
     }
+}
+
+/// Runs every job of a batch on a thread of its own, the last first, and
+/// notes the batches' sizes (three for the axes, the parts for a sweep).
+struct ThreadPerItem {
+    batches: Mutex<Vec<usize>>,
+}
+
+impl BroadJobs for ThreadPerItem {
+    fn width(&self) -> usize {
+        4
+    }
+
+    fn each<T: Send>(&self, items: &mut [T], job: impl Fn(usize, &mut T) + Sync + Send) {
+        self.batches.lock().unwrap().push(items.len());
+        let job = &job;
+        std::thread::scope(|scope| {
+            for (k, item) in items.iter_mut().enumerate().rev() {
+                scope.spawn(move || job(k, item));
+            }
+        });
+    }
+}
+
+/// The jobs of an update (the axes' sorts, the parts of a rebuild's
+/// sweep) run on threads of their own give the events, pairs and reports
+/// of one thread, and the oracle's pairs: 5,000 boxes through coherent
+/// motion, removals and insertions, aborted insertion sorts and teleports.
+#[test]
+fn jobs_on_threads_give_the_pairs_and_events_of_one_thread() {
+    let mut rng = XorShift(5);
+    let unit = |r: &mut XorShift| (r.below(1 << 20) as f64) / (1u64 << 20) as f64;
+    let random_box = |r: &mut XorShift| {
+        let c = DVec3::new(unit(r), unit(r), unit(r)) * 60.0;
+        Aabb::from_center_half_extents(c, DVec3::new(unit(r), unit(r), unit(r)) + 0.1).unwrap()
+    };
+    let threads = ThreadPerItem {
+        batches: Mutex::new(Vec::new()),
+    };
+    let (mut one, mut many) = (SweepAndPrune::new(), SweepAndPrune::new());
+    let mut oracle = Oracle::default();
+    let mut ids = Vec::new();
+    let insert = |user: u32, b: Aabb, one: &mut SweepAndPrune, many: &mut SweepAndPrune, o: &mut Oracle| {
+        let id = one.insert(user, b).unwrap();
+        assert_eq!(many.insert(user, b).unwrap(), id);
+        o.boxes.insert(id, b);
+        id
+    };
+    // The first 3,000 boxes lie in one layer, their z intervals all [0, 1]:
+    // small moves reorder those endpoints wholesale (as a pyramid's layers).
+    let layer = |r: &mut XorShift| {
+        let b = random_box(r);
+        let (lo, hi) = (b.min(), b.max());
+        Aabb::new(DVec3::new(lo.x, lo.y, 0.0), DVec3::new(hi.x, hi.y, 1.0)).unwrap()
+    };
+    for user in 0..5000 {
+        let b = if user < 3000 {
+            layer(&mut rng)
+        } else {
+            random_box(&mut rng)
+        };
+        ids.push(insert(user, b, &mut one, &mut many, &mut oracle));
+    }
+    let (mut events_one, mut events_many) = (Vec::new(), Vec::new());
+    let mut rebuilt_after_first = false;
+    for frame in 0..10 {
+        // The boxes move across (the layer stays one); frame 4 moves every
+        // box by up to half a micrometre up or down (little motion
+        // predicts few swaps, but the layer's endpoints trade places: the
+        // insertion sorts run out of budget and the update rebuilds), frame
+        // 7 teleports them all (a rebuild predicted from the motion).
+        for &id in &ids {
+            let old = oracle.boxes[&id];
+            let mut step = || (unit(&mut rng) - 0.5) * 0.2;
+            let new = match frame {
+                7 => random_box(&mut rng),
+                4 => shifted(&old, DVec3::new(0.0, 0.0, (unit(&mut rng) - 0.5) * 1e-6)),
+                _ => shifted(&old, DVec3::new(step(), step(), 0.0)),
+            };
+            one.set_aabb(id, new).unwrap();
+            many.set_aabb(id, new).unwrap();
+            oracle.boxes.insert(id, new);
+        }
+        for _ in 0..frame * 10 {
+            let id = ids.swap_remove(rng.below(ids.len() as u64) as usize);
+            one.remove(id).unwrap();
+            many.remove(id).unwrap();
+            oracle.boxes.remove(&id);
+        }
+        for _ in 0..frame * 5 {
+            let b = random_box(&mut rng);
+            ids.push(insert(frame, b, &mut one, &mut many, &mut oracle));
+        }
+        let budget = one.swap_budget();
+        let report = one.update(&mut events_one);
+        assert_eq!(
+            many.update_on(&mut events_many, &threads),
+            report,
+            "frame {frame}"
+        );
+        assert_eq!(events_many, events_one, "frame {frame}");
+        assert_eq!(events_one, oracle.update(), "frame {frame}");
+        assert!(many.pairs().eq(one.pairs()), "frame {frame}");
+        rebuilt_after_first |= frame > 0 && report.rebuilt;
+        if frame == 4 {
+            assert!(
+                report.rebuilt && report.swaps > budget,
+                "an aborted insertion sort: {report:?}, budget {budget}"
+            );
+        }
+        if frame == 5 {
+            // After an aborted sort the next update rebuilds without trying.
+            assert!(report.rebuilt && report.swaps == 0, "{report:?}");
+        }
+        if frame == 6 {
+            // Then the sorts are tried again (and succeed).
+            assert!(!report.rebuilt && report.swaps > 0, "{report:?}");
+        }
+    }
+    assert!(rebuilt_after_first);
+    // The sweeps ran in more than one part.
+    assert!(threads.batches.lock().unwrap().iter().any(|&n| n != 3));
 }
 
 #[test]

@@ -25,6 +25,7 @@ use super::endpoint::Endpoint;
 use super::pairs::{pair_key, Changes};
 
 /// Output of one list's sort.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct SortOutcome {
     /// Endpoint swaps performed.
     pub swaps: u64,
@@ -34,14 +35,13 @@ pub(crate) struct SortOutcome {
 
 /// Insertion-sorts `list`, pushes
 /// candidate begins and ends to `changes` (pair keys, possibly repeated). Stops early, with
-/// `list` a valid permutation, once `swaps_before + swaps > budget`.
+/// `list` a valid permutation, once `swaps > budget`.
 pub(crate) fn sort_axis(
     list: &mut [Endpoint],
     boxes: &[Aabb],
     old_pairs: &[u64],
     pair_counts: &[u32],
     changes: &mut Changes,
-    swaps_before: u64,
     budget: u64,
 ) -> SortOutcome {
     let mut swaps = 0u64;
@@ -72,7 +72,7 @@ pub(crate) fn sort_axis(
         }
         list[j] = e;
         swaps += (i - j) as u64;
-        if swaps_before + swaps > budget {
+        if swaps > budget {
             return SortOutcome {
                 swaps,
                 finished: false,

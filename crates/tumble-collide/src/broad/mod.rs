@@ -31,9 +31,16 @@
 //!      (`2n` endpoints spread over the extent are passed in proportion), and
 //!      each new proxy counts `n`; a prediction over budget rebuilds at once
 //!      (teleports, first build, big batches);
-//!   2. otherwise the insertion sorts run, and if they still exceed the budget
-//!      (the prediction assumed an even spread) they stop and the update
-//!      rebuilds, discarding the partial results.
+//!   2. otherwise the insertion sorts run, each axis within the budget, and if
+//!      one exceeds it (the prediction assumed an even spread) they stop and
+//!      the update rebuilds, discarding the partial results; the next 1, 3, 7,
+//!      then 15 updates rebuild at once while the sorts keep failing (a stack's
+//!      layers, many equal values that any jitter reorders, fail them every
+//!      step).
+//!
+//!   The three axes' sorts, and the parts of a rebuild's sweep, are
+//!   independent jobs that [`SweepAndPrune::update_on`] hands to a
+//!   [`BroadJobs`] (the world's threads), with the same results.
 //!
 //!   [`UpdateReport`] says which path was taken, with the predicted and actual
 //!   swaps.
@@ -44,9 +51,11 @@
 //! of the same size); once the buffers have grown, updates do not allocate.
 
 mod aabb;
+mod axis;
 mod endpoint;
 mod error;
 mod incremental;
+mod jobs;
 mod pairs;
 mod proxy;
 mod rebuild;
@@ -54,6 +63,7 @@ mod sap;
 
 pub use aabb::{Aabb, AabbError};
 pub use error::BroadPhaseError;
+pub use jobs::{BroadJobs, InOrder};
 pub use pairs::PairEvent;
 pub use proxy::ProxyId;
 pub use sap::{SweepAndPrune, UpdateReport, DEFAULT_SWAP_BUDGET_FACTOR};

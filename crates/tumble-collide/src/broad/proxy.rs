@@ -49,9 +49,9 @@ pub(crate) enum SlotState {
     Free,
 }
 
-/// Position of a slot's min (`[axis][0]`) and max (`[axis][1]`) endpoint in
-/// each list.
-pub(crate) type EndIndex = [[u32; 2]; 3];
+/// Position of a slot's min (`[0]`) and max (`[1]`) endpoint in one axis's
+/// list.
+pub(crate) type EndIndex = [u32; 2];
 
 /// Identity and life cycle of a slot (its box and endpoint positions live in
 /// separate dense arrays, which the sorts touch far more often).

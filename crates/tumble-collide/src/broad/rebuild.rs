@@ -8,26 +8,16 @@
 //! (the `wide` crate): a branch per box test mispredicted about as often as
 //! not, and the sweep of the 10,000-body pile took 5.5-7 ms a step where it
 //! now takes 1.8-2.2 (`profile_stages pile10000 80 1`, the broad stage 8.2 ->
-//! 5.2 ms with the skipped wake pass of the world's broad stage).
+//! 5.2 ms with the skipped wake pass of the world's broad stage). The sweep
+//! can be cut into consecutive parts of the sorted list, each run on its own
+//! thread: a part starts by replaying the endpoints before it without tests,
+//! and the parts' pairs, joined and sorted, are the one sweep's.
 
 use super::aabb::Aabb;
 use super::endpoint::Endpoint;
 use super::pairs::pair_key;
-use super::proxy::EndIndex;
+use std::ops::Range;
 use wide::f64x4;
-
-/// Sorts `list` by the total endpoint order and refreshes `ends[..][axis]`.
-pub(crate) fn sort_full(list: &mut [Endpoint], axis: usize, ends: &mut [EndIndex]) {
-    list.sort_unstable_by_key(Endpoint::sort_key);
-    reindex(list, axis, ends);
-}
-
-/// Refreshes `ends[..][axis]` from the positions in `list`.
-pub(crate) fn reindex(list: &[Endpoint], axis: usize, ends: &mut [EndIndex]) {
-    for (pos, e) in list.iter().enumerate() {
-        ends[e.slot() as usize][axis][e.end()] = pos as u32;
-    }
-}
 
 /// Axis (0..3) along which the box centres in `list`'s owner slots spread most.
 pub(crate) fn widest_axis(list: &[Endpoint], boxes: &[Aabb]) -> usize {
@@ -143,36 +133,57 @@ impl ActiveList {
     }
 }
 
-/// Appends the key of every overlapping pair to `out` (unsorted, each once) by
-/// sweeping the sorted `list` of axis `axis`; returns the number of box tests
-/// done (the sweep's cost). `active` is scratch, reset for `slots` slots.
-pub(crate) fn sweep_pairs(
-    list: &[Endpoint],
-    axis: usize,
-    boxes: &[Aabb],
-    slots: usize,
-    active: &mut ActiveList,
-    out: &mut Vec<u64>,
-) -> u64 {
-    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-    let mut tests = 0u64;
-    active.reset(slots);
-    for e in list {
-        let s = e.slot();
-        if e.is_max() {
-            active.remove(s);
-        } else {
-            // Every active box starts at or before this one and has not ended,
-            // so they overlap on the sweep axis (touching included, as min
-            // endpoints sort before max endpoints); test the other two axes.
+/// One part of a rebuild's sweep and what it found (scratch, reused).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SweepPart {
+    active: ActiveList,
+    /// The keys of the pairs found (unsorted, each once).
+    pub pairs: Vec<u64>,
+    /// Box tests done, the part's cost.
+    pub tests: u64,
+}
+
+impl SweepPart {
+    /// Finds every overlapping pair whose later-starting box has its min
+    /// endpoint in `list[range]`, by sweeping the sorted `list` of axis
+    /// `axis` over `range` (the parts of one list cut into consecutive
+    /// ranges find every pair once between them). The boxes open where the
+    /// range starts are found first by replaying the endpoints before it,
+    /// which opens and closes boxes without testing them.
+    pub fn sweep(&mut self, list: &[Endpoint], axis: usize, boxes: &[Aabb], range: Range<usize>) {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        let others = |s: u32| {
             let b = &boxes[s as usize];
-            let (lo, hi) = ([b.min()[u], b.min()[v]], [b.max()[u], b.max()[v]]);
-            tests += active.len() as u64;
-            active.overlaps(s, lo, hi, out);
-            active.push(s, lo, hi);
+            ([b.min()[u], b.min()[v]], [b.max()[u], b.max()[v]])
+        };
+        let active = &mut self.active;
+        active.reset(boxes.len());
+        self.pairs.clear();
+        self.tests = 0;
+        for e in &list[..range.start] {
+            if e.is_max() {
+                active.remove(e.slot());
+            } else {
+                let (lo, hi) = others(e.slot());
+                active.push(e.slot(), lo, hi);
+            }
+        }
+        for e in &list[range] {
+            let s = e.slot();
+            if e.is_max() {
+                active.remove(s);
+            } else {
+                // Every active box starts at or before this one and has not
+                // ended, so they overlap on the sweep axis (touching included,
+                // as min endpoints sort before max endpoints); test the other
+                // two axes.
+                let (lo, hi) = others(s);
+                self.tests += active.len() as u64;
+                active.overlaps(s, lo, hi, &mut self.pairs);
+                active.push(s, lo, hi);
+            }
         }
     }
-    tests
 }
 
 #[cfg(test)]

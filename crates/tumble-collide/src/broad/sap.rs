@@ -2,18 +2,22 @@
 //! See the [module documentation](super) for the algorithm and its two modes.
 
 use super::aabb::Aabb;
-use super::endpoint::{Endpoint, MAX_SLOTS};
+use super::axis::AxisList;
+use super::endpoint::MAX_SLOTS;
 use super::error::BroadPhaseError;
-use super::incremental;
+use super::jobs::{BroadJobs, InOrder};
 use super::pairs::{diff_sets, merge_set, split_key, Changes, PairEvent};
-use super::proxy::{EndIndex, ProxyId, Slot, SlotState};
-use super::rebuild;
+use super::proxy::{ProxyId, Slot, SlotState};
+use super::rebuild::{self, SweepPart};
 
 /// Default of [`SweepAndPrune::with_swap_budget_factor`].
 pub const DEFAULT_SWAP_BUDGET_FACTOR: u32 = 1;
 
 /// Swaps always allowed, so that tiny scenes never rebuild for nothing.
 const MIN_SWAP_BUDGET: u64 = 64;
+
+/// Fewest endpoints in a part of a rebuild's sweep that runs on its own.
+const SWEEP_PART_ENDPOINTS: usize = 4096;
 
 /// What one [`SweepAndPrune::update`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -23,7 +27,7 @@ pub struct UpdateReport {
     /// without trying the insertion sort.
     pub estimated_swaps: u64,
     /// Endpoint swaps done by the insertion sorts (including the ones of an
-    /// attempt that ran out of budget).
+    /// attempt that ran out of budget on some axis).
     pub swaps: u64,
     /// `true` when the lists were re-sorted and the pairs found by a sweep
     /// (first build, large batch of insertions, or swap budget exceeded).
@@ -42,13 +46,13 @@ pub struct UpdateReport {
 pub struct SweepAndPrune {
     /// One record per slot ever used (live, removed or free).
     slots: Vec<Slot>,
-    /// Current box per slot (the values also sit in the endpoint lists).
+    /// Current box per slot (the values also sit in the endpoint lists,
+    /// from the next update on for the slots of `moved`).
     boxes: Vec<Aabb>,
-    /// Endpoint positions per slot.
-    ends: Vec<EndIndex>,
-    /// Endpoint lists for x, y, z; `2 * (live + removed)` entries each, sorted
-    /// after every update.
-    lists: [Vec<Endpoint>; 3],
+    /// Slots whose box `set_aabb` changed since the last update.
+    moved: Vec<u32>,
+    /// The endpoint lists of x, y, z and each slot's positions in them.
+    axes: [AxisList; 3],
     /// Slots ready for reuse.
     free: Vec<u32>,
     /// Slots removed since the last update.
@@ -71,10 +75,14 @@ pub struct SweepAndPrune {
     changes: Changes,
     /// Scratch: the next pair set.
     next_pairs: Vec<u64>,
-    /// Scratch for the rebuild sweep.
-    active: rebuild::ActiveList,
+    /// Scratch: the parts of the rebuild sweep.
+    sweeps: Vec<SweepPart>,
     /// Box tests done by the last rebuild sweep, a measure of what a rebuild costs.
     last_sweep_tests: u64,
+    /// Updates in a row whose insertion sorts ran out of budget.
+    aborts_in_a_row: u32,
+    /// Updates left that rebuild without trying the insertion sorts.
+    rebuilds_ahead: u32,
     swap_budget_factor: u32,
 }
 
@@ -101,8 +109,8 @@ impl SweepAndPrune {
         SweepAndPrune {
             slots: Vec::new(),
             boxes: Vec::new(),
-            ends: Vec::new(),
-            lists: [Vec::new(), Vec::new(), Vec::new()],
+            moved: Vec::new(),
+            axes: Default::default(),
             free: Vec::new(),
             removed: Vec::new(),
             inserted: 0,
@@ -113,8 +121,10 @@ impl SweepAndPrune {
             pair_counts: Vec::new(),
             changes: Changes::default(),
             next_pairs: Vec::new(),
-            active: rebuild::ActiveList::default(),
+            sweeps: Vec::new(),
             last_sweep_tests: 0,
+            aborts_in_a_row: 0,
+            rebuilds_ahead: 0,
             swap_budget_factor: factor,
         }
     }
@@ -152,7 +162,6 @@ impl SweepAndPrune {
                     return Err(BroadPhaseError::TooManyProxies { max: MAX_SLOTS });
                 }
                 self.boxes.push(aabb);
-                self.ends.push([[0; 2]; 3]);
                 self.slots.push(Slot {
                     user_id,
                     generation: 0,
@@ -168,11 +177,8 @@ impl SweepAndPrune {
         slot.state = SlotState::Live;
         // Appended after everything: as if the box had been at +infinity, separated
         // from all others, so the old pair set (without it) matches the list order.
-        for (axis, list) in self.lists.iter_mut().enumerate() {
-            let at = list.len() as u32;
-            list.push(Endpoint::new(aabb.min()[axis], index, false));
-            list.push(Endpoint::new(aabb.max()[axis], index, true));
-            self.ends[index as usize][axis] = [at, at + 1];
+        for (axis, a) in self.axes.iter_mut().enumerate() {
+            a.append(index, aabb.min()[axis], aabb.max()[axis]);
         }
         self.inserted += 1;
         self.live += 1;
@@ -196,11 +202,8 @@ impl SweepAndPrune {
         self.travel +=
             moved.x * self.inv_extent[0] + moved.y * self.inv_extent[1] + moved.z * self.inv_extent[2];
         self.boxes[index] = aabb;
-        let ends = &self.ends[index];
-        for (axis, list) in self.lists.iter_mut().enumerate() {
-            list[ends[axis][0] as usize].value = aabb.min()[axis];
-            list[ends[axis][1] as usize].value = aabb.max()[axis];
-        }
+        // Written into the axes' lists by the update, each axis on its own.
+        self.moved.push(index as u32);
         Ok(())
     }
 
@@ -251,45 +254,64 @@ impl SweepAndPrune {
     /// and replaces the contents of `events` with the changes of the pair set,
     /// sorted by pair (each pair at most once).
     pub fn update(&mut self, events: &mut Vec<PairEvent>) -> UpdateReport {
+        self.update_on(events, &InOrder)
+    }
+
+    /// [`Self::update`] with its independent jobs (each axis's sort, the parts
+    /// of a rebuild's sweep) run by `jobs`, side by side if it has threads:
+    /// the same pairs and events, in the same order, however they are run.
+    ///
+    /// Each axis's insertion sort has the whole swap budget to itself, and
+    /// the update rebuilds if any axis runs out of it.
+    pub fn update_on<J: BroadJobs>(&mut self, events: &mut Vec<PairEvent>, jobs: &J) -> UpdateReport {
         events.clear();
         self.changes.clear();
         if !self.removed.is_empty() {
-            self.purge_removed();
+            self.purge_removed(jobs);
         }
         let purged = self.changes.ends.len();
         let budget = self.swap_budget();
         let estimate = self.estimated_swaps();
-        let batch = estimate > budget as f64;
-        let mut swaps = 0;
-        let mut rebuilt = batch;
-        if !batch {
-            for axis in 0..3 {
-                let out = incremental::sort_axis(
-                    &mut self.lists[axis],
-                    &self.boxes,
-                    &self.pairs,
-                    &self.pair_counts,
-                    &mut self.changes,
-                    swaps,
-                    budget,
-                );
-                swaps += out.swaps;
-                if !out.finished {
-                    rebuilt = true;
-                    break;
-                }
-                if out.swaps > 0 {
-                    rebuild::reindex(&self.lists[axis], axis, &mut self.ends);
-                }
-            }
+        // After insertion sorts that ran out of budget, the next updates
+        // rebuild at once, 1, 3, 7 then 15 of them while the sorts keep
+        // failing: the prediction assumes evenly spread endpoints, and a
+        // stack's layers (many equal values, reordered by any jitter) break
+        // that every step, where each failed attempt costs a rebuild's work.
+        let batch = estimate > budget as f64 || self.rebuilds_ahead > 0;
+        self.rebuilds_ahead = self.rebuilds_ahead.saturating_sub(1);
+        let (boxes, slots, moved) = (&self.boxes, &self.slots, &self.moved);
+        let (old_pairs, pair_counts) = (&self.pairs, &self.pair_counts);
+        jobs.each(&mut self.axes, |axis, a| {
+            a.write_moved(axis, moved, boxes, slots);
+            a.outcome = if batch {
+                a.sort_full();
+                None
+            } else {
+                Some(a.sort_incremental(boxes, old_pairs, pair_counts, budget))
+            };
+        });
+        self.moved.clear();
+        let outcomes = self.axes.each_ref().map(|a| a.outcome);
+        let swaps = outcomes.iter().flatten().map(|o| o.swaps).sum();
+        let aborted = outcomes.iter().flatten().any(|o| !o.finished);
+        if aborted {
+            self.aborts_in_a_row = (self.aborts_in_a_row + 1).min(4);
+            self.rebuilds_ahead = (1 << self.aborts_in_a_row) - 1;
+        } else if !batch {
+            self.aborts_in_a_row = 0;
         }
+        let rebuilt = batch || aborted;
         if rebuilt {
-            // Drop what the aborted insertion sort found; keep removal ends.
+            // Drop what an aborted insertion sort found; keep removal ends.
             self.changes.begins.clear();
             self.changes.ends.truncate(purged);
-            self.rebuild();
+            self.rebuild(jobs, !batch);
             self.changes.normalize();
         } else {
+            for a in &self.axes {
+                self.changes.begins.extend_from_slice(&a.changes.begins);
+                self.changes.ends.extend_from_slice(&a.changes.ends);
+            }
             self.changes.normalize();
             merge_set(
                 &self.pairs,
@@ -307,8 +329,8 @@ impl SweepAndPrune {
         }
         self.inserted = 0;
         self.travel = 0.0;
-        for (axis, list) in self.lists.iter().enumerate() {
-            let extent = match (list.first(), list.last()) {
+        for (axis, a) in self.axes.iter().enumerate() {
+            let extent = match (a.list.first(), a.list.last()) {
                 (Some(lo), Some(hi)) => hi.value - lo.value,
                 _ => 0.0,
             };
@@ -361,13 +383,9 @@ impl SweepAndPrune {
 
     /// Drops the endpoints of removed proxies (O(n) per list, order kept) and
     /// ends their pairs.
-    fn purge_removed(&mut self) {
-        for axis in 0..3 {
-            let slots = &self.slots;
-            self.lists[axis].retain(|e| slots[e.slot() as usize].state == SlotState::Live);
-            rebuild::reindex(&self.lists[axis], axis, &mut self.ends);
-        }
+    fn purge_removed<J: BroadJobs>(&mut self, jobs: &J) {
         let slots = &self.slots;
+        jobs.each(&mut self.axes, |_, a| a.purge(slots));
         let ends = &mut self.changes.ends;
         self.pairs.retain(|&key| {
             let (a, b) = split_key(key);
@@ -380,22 +398,30 @@ impl SweepAndPrune {
         });
     }
 
-    /// Full sort of the three lists and a single-axis sweep; the events are the
+    /// Full sort of the three lists (unless `sort` is false: already
+    /// sorted) and a sweep along a single axis, in parts that each start
+    /// where the last ends (`SweepPart::sweep`); the events are the
     /// difference between the old and the new pair set.
-    fn rebuild(&mut self) {
-        for axis in 0..3 {
-            rebuild::sort_full(&mut self.lists[axis], axis, &mut self.ends);
+    fn rebuild<J: BroadJobs>(&mut self, jobs: &J, sort: bool) {
+        if sort {
+            jobs.each(&mut self.axes, |_, a| a.sort_full());
         }
-        let axis = rebuild::widest_axis(&self.lists[0], &self.boxes);
+        let axis = rebuild::widest_axis(&self.axes[0].list, &self.boxes);
+        let (list, boxes) = (&self.axes[axis].list, &self.boxes);
+        // Parts of at least `SWEEP_PART_ENDPOINTS` endpoints: a part's start
+        // replays the endpoints before it (no box tests, but not free).
+        let parts = jobs.width().min(list.len() / SWEEP_PART_ENDPOINTS).max(1);
+        self.sweeps.resize_with(parts, SweepPart::default);
+        let cuts = |k: usize| k * list.len() / parts;
+        jobs.each(&mut self.sweeps[..parts], |k, part| {
+            part.sweep(list, axis, boxes, cuts(k)..cuts(k + 1));
+        });
         self.next_pairs.clear();
-        self.last_sweep_tests = rebuild::sweep_pairs(
-            &self.lists[axis],
-            axis,
-            &self.boxes,
-            self.slots.len(),
-            &mut self.active,
-            &mut self.next_pairs,
-        );
+        self.last_sweep_tests = 0;
+        for part in &self.sweeps[..parts] {
+            self.next_pairs.extend_from_slice(&part.pairs);
+            self.last_sweep_tests += part.tests;
+        }
         self.next_pairs.sort_unstable();
         diff_sets(
             &self.pairs,

@@ -65,6 +65,18 @@ fn registry() -> &'static Registry {
     POOLS.get_or_init(|| Mutex::new(Vec::new()))
 }
 
+/// The broad phase's jobs (its axes' sorts, the parts of a rebuild's
+/// sweep) on the world's threads.
+impl tumble_collide::broad::BroadJobs for WorkerPool {
+    fn width(&self) -> usize {
+        self.threads
+    }
+
+    fn each<T: Send>(&self, items: &mut [T], job: impl Fn(usize, &mut T) + Sync + Send) {
+        self.for_each_mut(items, job);
+    }
+}
+
 impl WorkerPool {
     /// The pool for `requested` threads (0: every core). If the threads
     /// cannot be started, the world runs serially (with the same results).

@@ -43,7 +43,8 @@ impl World {
                     .push(format!("body slot {i}: broad phase: {err}"));
             }
         }
-        self.broad.update(&mut events);
+        // Its axes sorted side by side on the threads (the same pairs).
+        self.broad.update_on(&mut events, &f.pool);
         let mut pairs = Vec::new();
         self.broad.user_pairs(&mut pairs);
         for &u in &self.unbounded {

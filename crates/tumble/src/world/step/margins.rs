@@ -3,7 +3,6 @@
 //! active, and the runaway test of quarantine.
 
 use crate::body::BodyKind;
-use crate::pool::WorkerPool;
 use crate::world::handles::Arena;
 use crate::world::{BodyEntry, Collider, MaterialDesc};
 use tumble_collide::broad::Aabb;
@@ -145,51 +144,42 @@ impl SlotMotion<'_> {
 }
 
 /// [`SlotMotion`] of every body slot (a free slot: at rest at the origin,
-/// inactive, without colliders), found on the pool a run of slots at a
-/// time (a slot's motion reads its body alone); `meshes`: some body of the
-/// world has a triangle mesh (without one, no collider list is read for
-/// `mesh`).
-pub(crate) fn slot_motions<'w>(
-    bodies: &'w Arena<BodyEntry>,
-    n_slots: usize,
-    meshes: bool,
-    pool: &WorkerPool,
-) -> Vec<SlotMotion<'w>> {
-    pool.map_indices(n_slots, SLOTS_PER_TASK, |i| match bodies.at(i) {
-        Some(e) => {
-            let (v, w) = velocities(e);
-            let material = e.body.material();
-            SlotMotion {
-                pose: e.body.pose(),
-                v,
-                restitution: material.restitution(),
-                dynamic: e.body.kind() == BodyKind::Dynamic,
-                active: is_active(e),
-                mesh: meshes && has_mesh(e),
-                w,
-                spin_reach: w.length() * e.radius,
-                friction: material.friction(),
-                colliders: &e.colliders,
+/// inactive, without colliders); `meshes`: some body of the world has a
+/// triangle mesh (without one, no collider list is read for `mesh`).
+pub(crate) fn slot_motions(bodies: &Arena<BodyEntry>, n_slots: usize, meshes: bool) -> Vec<SlotMotion<'_>> {
+    (0..n_slots as u32)
+        .map(|i| match bodies.at(i) {
+            Some(e) => {
+                let (v, w) = velocities(e);
+                let material = e.body.material();
+                SlotMotion {
+                    pose: e.body.pose(),
+                    v,
+                    restitution: material.restitution(),
+                    dynamic: e.body.kind() == BodyKind::Dynamic,
+                    active: is_active(e),
+                    mesh: meshes && has_mesh(e),
+                    w,
+                    spin_reach: w.length() * e.radius,
+                    friction: material.friction(),
+                    colliders: &e.colliders,
+                }
             }
-        }
-        None => SlotMotion {
-            pose: Pose::IDENTITY,
-            v: DVec3::ZERO,
-            restitution: 0.0,
-            dynamic: false,
-            active: false,
-            mesh: false,
-            w: DVec3::ZERO,
-            spin_reach: 0.0,
-            friction: 0.0,
-            colliders: &[],
-        },
-    })
+            None => SlotMotion {
+                pose: Pose::IDENTITY,
+                v: DVec3::ZERO,
+                restitution: 0.0,
+                dynamic: false,
+                active: false,
+                mesh: false,
+                w: DVec3::ZERO,
+                spin_reach: 0.0,
+                friction: 0.0,
+                colliders: &[],
+            },
+        })
+        .collect()
 }
-
-/// Body slots per task of the step's per-slot gathers on the pool (a slot
-/// costs tens of nanoseconds: fewer would cost more to hand over).
-pub(crate) const SLOTS_PER_TASK: usize = 256;
 
 /// Bound on the speed at which a point of A approaches a point of B, for the
 /// points where the two can touch during the step (m/s).

@@ -16,7 +16,7 @@
 
 use super::frame::MeshPairKey;
 use super::margins::{
-    neighbour_speeds, relative_motion_bound, slot_motions, velocity_change_bounds, SlotMotion, SLOTS_PER_TASK,
+    neighbour_speeds, relative_motion_bound, slot_motions, velocity_change_bounds, SlotMotion,
 };
 use super::StepFrame;
 use crate::pool::WorkerPool;
@@ -47,21 +47,15 @@ struct ColliderPoses {
 }
 
 impl ColliderPoses {
-    /// From the step's body slots (their poses and collider lists), the
-    /// poses on the pool a run of slots at a time.
-    fn of(slots: &[SlotMotion], pool: &WorkerPool) -> ColliderPoses {
+    /// From the step's body slots (their poses and collider lists).
+    fn of(slots: &[SlotMotion]) -> ColliderPoses {
         let mut first = Vec::with_capacity(slots.len() + 1);
-        let mut count = 0;
+        let mut poses = Vec::with_capacity(slots.len());
         for s in slots {
-            first.push(count);
-            count += s.colliders.len() as u32;
+            first.push(poses.len() as u32);
+            poses.extend(s.colliders.iter().map(|c| s.pose.mul_pose(&c.local)));
         }
-        first.push(count);
-        let poses = pool.flat_map_chunks(slots, SLOTS_PER_TASK, |_, run| {
-            run.iter()
-                .flat_map(|s| s.colliders.iter().map(|c| s.pose.mul_pose(&c.local)))
-                .collect()
-        });
+        first.push(poses.len() as u32);
         ColliderPoses { first, poses }
     }
 
@@ -126,8 +120,8 @@ const LOOK_AHEAD_STEPS: f64 = 2.0;
 
 impl World {
     pub(super) fn narrow_stage(&mut self, f: &mut StepFrame) {
-        let slots = slot_motions(&self.bodies, f.n_slots, f.meshes, &f.pool);
-        let poses = ColliderPoses::of(&slots, &f.pool);
+        let slots = slot_motions(&self.bodies, f.n_slots, f.meshes);
+        let poses = ColliderPoses::of(&slots);
         let shock = velocity_change_bounds(&slots, &f.pairs, f.meshes);
         // Only mesh pairs re-evaluate (`resting_pair`).
         let stirred = if f.meshes {

@@ -293,7 +293,13 @@ fn jobs_on_threads_give_the_pairs_and_events_of_one_thread() {
         // predicts few swaps, but the layer's endpoints trade places: the
         // insertion sorts run out of budget and the update rebuilds), frame
         // 7 teleports them all (a rebuild predicted from the motion).
-        for &id in &ids {
+        for (k, &id) in ids.iter().enumerate() {
+            if frame == 2 && k < 50 {
+                // Moved twice before an update: the last box counts.
+                let detour = random_box(&mut rng);
+                one.set_aabb(id, detour).unwrap();
+                many.set_aabb(id, detour).unwrap();
+            }
             let old = oracle.boxes[&id];
             let mut step = || (unit(&mut rng) - 0.5) * 0.2;
             let new = match frame {

@@ -38,7 +38,7 @@ impl AxisList {
 
     /// Writes the boxes of the live slots of `moved` (this axis's
     /// coordinates) into their endpoints, where `set_aabb` left them for
-    /// the update (repeats and since-removed slots allowed).
+    /// the update (slots removed since are skipped).
     pub fn write_moved(&mut self, axis: usize, moved: &[u32], boxes: &[Aabb], slots: &[Slot]) {
         for &index in moved {
             if slots[index as usize].state != SlotState::Live {

@@ -63,4 +63,7 @@ pub(crate) struct Slot {
     pub generation: u32,
     /// Life cycle state.
     pub state: SlotState,
+    /// Listed among the boxes moved since the last update (listed once,
+    /// however often `set_aabb` is called).
+    pub moved: bool,
 }

@@ -166,6 +166,7 @@ impl SweepAndPrune {
                     user_id,
                     generation: 0,
                     state: SlotState::Free,
+                    moved: false,
                 });
                 self.pair_counts.push(0);
                 (self.slots.len() - 1) as u32
@@ -203,7 +204,10 @@ impl SweepAndPrune {
             moved.x * self.inv_extent[0] + moved.y * self.inv_extent[1] + moved.z * self.inv_extent[2];
         self.boxes[index] = aabb;
         // Written into the axes' lists by the update, each axis on its own.
-        self.moved.push(index as u32);
+        if !self.slots[index].moved {
+            self.slots[index].moved = true;
+            self.moved.push(index as u32);
+        }
         Ok(())
     }
 
@@ -290,6 +294,9 @@ impl SweepAndPrune {
                 Some(a.sort_incremental(boxes, old_pairs, pair_counts, budget))
             };
         });
+        for &index in &self.moved {
+            self.slots[index as usize].moved = false;
+        }
         self.moved.clear();
         let outcomes = self.axes.each_ref().map(|a| a.outcome);
         let swaps = outcomes.iter().flatten().map(|o| o.swaps).sum();

@@ -30,7 +30,8 @@ pub struct UpdateReport {
     /// attempt that ran out of budget on some axis).
     pub swaps: u64,
     /// `true` when the lists were re-sorted and the pairs found by a sweep
-    /// (first build, large batch of insertions, or swap budget exceeded).
+    /// (first build, large batch of insertions, swap budget exceeded, or
+    /// soon after an update whose insertion sorts exceeded it).
     pub rebuilt: bool,
     /// Number of [`PairEvent::Begin`] events emitted.
     pub begins: usize,

@@ -271,6 +271,12 @@ pub struct JointConstraint {
     /// The scalar rows' effective masses with the equality rows held, and
     /// their couplings, are this sub-step's (see `hold_equality_rows`).
     pub(super) held: bool,
+    /// Bit `i`: slot `i`'s impulse and push-out impulse are known to be
+    /// +0 (its warm start was, or it was inactive at the last build and
+    /// cleared then: nothing writes an inactive slot outside the island's
+    /// rows), so neither a build nor [`JointConstraint::renew`] need
+    /// write them.
+    cleared: u16,
 }
 
 impl JointConstraint {
@@ -288,6 +294,27 @@ impl JointConstraint {
         [side(0, self.a, a), side(1, self.b, b)]
     }
 
+    /// Asks the cache for the parts of the record that
+    /// [`begin_joint`] reads first (its bodies, its step-start poses and
+    /// frames: these lie past the rows, a few KB into the record).
+    #[inline(always)]
+    pub(super) fn prefetch_start(&self) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: a prefetch is a hint; it reads nothing and cannot fault.
+        unsafe {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            let lines = [
+                (self as *const Self).cast::<i8>(),
+                std::ptr::addr_of!(self.x0).cast::<i8>(),
+                std::ptr::addr_of!(self.local).cast::<i8>(),
+                std::ptr::addr_of!(self.law).cast::<i8>(),
+            ];
+            for p in lines {
+                _mm_prefetch(p, _MM_HINT_T0);
+            }
+        }
+    }
+
     /// The joint's frames where its bodies are now.
     ///
     /// # Safety
@@ -300,27 +327,24 @@ impl JointConstraint {
     }
 
     /// A joint between solver bodies `a` and `b` with their step-start
-    /// poses, its frames and law, and the impulses of the last step.
+    /// poses, its frames and law, and the impulses of the last step: a
+    /// blank record renewed ([`JointConstraint::renew`]).
     pub fn new(
-        (a, b): (u32, u32),
+        pair: (u32, u32),
         x0: [DVec3; 2],
         q0: [DQuat; 2],
         local: [Pose; 2],
         law: JointLaw,
         warm: &[f64; JOINT_ROWS],
     ) -> JointConstraint {
-        let mut rows = [JointRow::default(); JOINT_ROWS];
-        for (r, &w) in rows.iter_mut().zip(warm) {
-            r.impulse = if w.is_finite() { w } else { 0.0 };
-        }
-        JointConstraint {
-            a,
-            b,
+        let mut blank = JointConstraint {
+            a: 0,
+            b: 0,
             x0,
             q0,
             local,
             law,
-            rows,
+            rows: [JointRow::default(); JOINT_ROWS],
             active: 0,
             n_eq: 0,
             chol: [[0.0; 6]; 6],
@@ -331,7 +355,47 @@ impl JointConstraint {
             island_rows: 0,
             lever_a: DVec3::ZERO,
             held: false,
+            // Every slot's impulses are +0.
+            cleared: (1 << JOINT_ROWS) - 1,
+        };
+        blank.renew(pair, x0, q0, local, law, warm);
+        blank
+    }
+
+    /// This record made ready for a step of the joint these arguments
+    /// describe (as [`JointConstraint::new`]), in place, whatever joint it
+    /// served before, with the bits a new record gets: the joint's rows are
+    /// built at its first sub-step (`build`), whose rows are then whole,
+    /// and an inactive slot is read for its impulses alone, so only the
+    /// impulses of slots not known to be zero are written; the equality
+    /// block's factor and couplings are written (`hold_equality_rows`)
+    /// before they are read in every sub-step.
+    ///
+    /// Why: a record is about 4 KB (fifteen row slots), and a pile of a
+    /// hundred ragdolls' thousand joints built afresh every step wrote 4
+    /// MB that no core's cache holds, of which a ball joint's sub-steps
+    /// touch about half.
+    pub fn renew(
+        &mut self,
+        (a, b): (u32, u32),
+        x0: [DVec3; 2],
+        q0: [DQuat; 2],
+        local: [Pose; 2],
+        law: JointLaw,
+        warm: &[f64; JOINT_ROWS],
+    ) {
+        let zero = zero_slots(warm);
+        for (i, (r, &w)) in self.rows.iter_mut().zip(warm).enumerate() {
+            if (self.cleared & zero) & (1 << i) == 0 {
+                r.impulse = warm_impulse(w);
+                r.push = 0.0;
+            }
         }
+        self.cleared = zero;
+        (self.a, self.b, self.x0, self.q0, self.local, self.law) = (a, b, x0, q0, local, law);
+        (self.active, self.n_eq, self.direct, self.island_rows, self.held) = (0, 0, false, 0, false);
+        self.start = [(DVec3::ZERO, DQuat::IDENTITY); 2];
+        (self.h, self.lever_a) = (0.0, DVec3::ZERO);
     }
 
     /// The accumulated impulse of every row slot (0 for unused slots).
@@ -366,12 +430,18 @@ impl JointConstraint {
         let (active, n_eq) = rows_for(&self.law, pose, &mut self.rows);
         self.n_eq = n_eq;
         self.active = active;
-        for (i, slot) in self.rows.iter_mut().enumerate() {
-            if active & (1 << i) == 0 {
-                slot.impulse = 0.0;
-                slot.push = 0.0;
-            }
+        // Why not every inactive slot: the slots lie over some 40 cache
+        // lines of the record, and a pile of ragdolls' joints do not fit in
+        // a core's cache; a slot left inactive stays untouched.
+        let inactive = !active & ((1u16 << JOINT_ROWS) - 1);
+        for i in slots(inactive & !self.cleared) {
+            let slot = &mut self.rows[i];
+            slot.impulse = 0.0;
+            slot.push = 0.0;
         }
+        // The island's own rows (`island_rows`) are written by its solve
+        // whatever their state: never taken as cleared.
+        self.cleared = inactive & !self.island_rows;
     }
 
     /// Effective masses, bounds and soft coefficients for the bodies'
@@ -893,6 +963,23 @@ fn rows_for(law: &JointLaw, pose: &JointPose, rows: &mut [JointRow; JOINT_ROWS])
         }
     }
     (set.active, set.n_eq)
+}
+
+/// A slot's impulse at the step's start from the last step's (none if it
+/// was not finite).
+fn warm_impulse(w: f64) -> f64 {
+    if w.is_finite() {
+        w
+    } else {
+        0.0
+    }
+}
+
+/// The slots whose warm start leaves their impulse +0.
+fn zero_slots(warm: &[f64; JOINT_ROWS]) -> u16 {
+    (0..JOINT_ROWS)
+        .filter(|&i| warm_impulse(warm[i]).to_bits() == 0)
+        .fold(0, |m, i| m | 1 << i)
 }
 
 /// The rows of a joint being built, in place: equality rows fill slots

@@ -208,7 +208,11 @@ impl JointIsland {
         warm: bool,
     ) {
         for lane in &self.lanes {
-            for &ji in lane {
+            for (k, &ji) in lane.iter().enumerate() {
+                if let Some(&next) = lane.get(k + 1) {
+                    // SAFETY: the caller's promise.
+                    unsafe { joints.get(next as usize) }.prefetch_start();
+                }
                 // SAFETY: the caller's promise.
                 unsafe { begin_joint(joints.get_mut(ji as usize), bodies, h, warm) };
             }
@@ -1809,6 +1813,90 @@ mod tests {
         for (k, (a, b)) in impulses.iter().zip(&impulses_alone).enumerate() {
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "joint {k}");
         }
+    }
+
+    /// A record renewed in place (`JointConstraint::renew`) gives the bits
+    /// of one made afresh (`JointConstraint::new`) with the same joint and
+    /// warm start: each record first served another joint of another kind
+    /// for three sub-steps (its slots active, its impulses and push-out
+    /// impulses not zero), then six sub-steps of the trees in islands, with
+    /// warm starts of zeros, negative zeros, NaN and numbers.
+    #[test]
+    fn renewed_records_get_the_bits_of_new_ones() {
+        let (bodies, joints) = trees(&mut SplitMix64(7), 5);
+        let h = 1.0 / 480.0;
+        let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
+        let mut used = joints.clone();
+        {
+            let mut bodies = bodies.clone();
+            let mut islands = joint_islands_in_lanes(&mut used, &mut [], &bodies, &[], LANES);
+            for _ in 0..3 {
+                begin_joints(&mut used, &mut [], &mut islands, &mut bodies, h, true);
+                passes(&mut used, &mut islands, &mut bodies, &q0, h);
+            }
+        }
+        used.rotate_left(1);
+        let rng = &mut SplitMix64(8);
+        let warm: Vec<[f64; JOINT_ROWS]> = joints
+            .iter()
+            .map(|_| {
+                std::array::from_fn(|_| match rng.range(0.0, 4.0) as u32 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    2 => f64::NAN,
+                    _ => rng.range(-1.0, 1.0),
+                })
+            })
+            .collect();
+        // The renewed records held impulses where the new joint starts at
+        // zero.
+        assert!(used.iter().zip(&warm).any(|(u, w)| (0..JOINT_ROWS)
+            .any(|i| (u.rows[i].impulse != 0.0 || u.rows[i].push != 0.0) && w[i] == 0.0)));
+        let args = |j: &JointConstraint| ((j.a, j.b), j.x0, j.q0, j.local, j.law);
+        let fresh: Vec<JointConstraint> = joints
+            .iter()
+            .zip(&warm)
+            .map(|(j, w)| {
+                let (pair, x0, q0, local, law) = args(j);
+                JointConstraint::new(pair, x0, q0, local, law, w)
+            })
+            .collect();
+        let mut renewed = used;
+        for ((r, j), w) in renewed.iter_mut().zip(&joints).zip(&warm) {
+            let (pair, x0, q0, local, law) = args(j);
+            r.renew(pair, x0, q0, local, law, w);
+        }
+        let run = |mut joints: Vec<JointConstraint>| {
+            let mut bodies = bodies.clone();
+            let mut islands = joint_islands_in_lanes(&mut joints, &mut [], &bodies, &[], LANES);
+            for _ in 0..6 {
+                begin_joints(&mut joints, &mut [], &mut islands, &mut bodies, h, true);
+                passes(&mut joints, &mut islands, &mut bodies, &q0, h);
+            }
+            let state: Vec<[u64; 9]> = bodies
+                .iter()
+                .map(|b| {
+                    let mut s = [0; 9];
+                    for (k, v) in [b.v, b.w, b.dp].iter().enumerate() {
+                        s[3 * k..3 * k + 3].copy_from_slice(&v.to_array().map(f64::to_bits));
+                    }
+                    s
+                })
+                .collect();
+            let rows: Vec<[(u64, u64); JOINT_ROWS]> = joints
+                .iter()
+                .map(|j| std::array::from_fn(|i| (j.rows[i].impulse.to_bits(), j.rows[i].push.to_bits())))
+                .collect();
+            (state, rows)
+        };
+        let (state, rows) = run(fresh);
+        let (state_renewed, rows_renewed) = run(renewed);
+        assert!(
+            state.iter().skip(1).all(|s| s[6..] != [0; 3]),
+            "the joints pushed"
+        );
+        assert_eq!(state_renewed, state);
+        assert_eq!(rows_renewed, rows);
     }
 
     /// `n` random patches (up to four points) from one of bodies 1..=`bodies`

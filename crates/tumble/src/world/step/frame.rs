@@ -131,10 +131,11 @@ impl StepFrame {
 
     /// The frame's largest arrays for the next step's frame: emptied, but
     /// for the joint islands (kept while their shapes hold) and the
-    /// solver's point and patch records, which keep their length
+    /// solver's point, patch and joint records, which keep their length
     /// (`World::prepare_solver` cuts or grows them to the step's and
     /// overwrites every record before one is read, so that it writes each
-    /// record once instead of clearing and pushing).
+    /// record once instead of clearing and pushing; a joint record is
+    /// renewed, `JointConstraint::renew`).
     pub fn recycle(&mut self) -> FrameBuffers {
         let mut take = FrameBuffers {
             points: std::mem::take(&mut self.points),
@@ -151,7 +152,6 @@ impl StepFrame {
         take.patches.clear();
         take.patch_extras.clear();
         take.bodies.clear();
-        take.joints.clear();
         take
     }
 

@@ -563,24 +563,24 @@ impl World {
             sides.push((id.index, [xa, xb], [qa, qb]));
         }
         let (coloring, order) = contact_solver::color_joints(&pairs, &sf.bodies);
-        sf.joints.clear();
-        sf.joints.reserve(order.len());
+        // The last step's records renewed in place (`JointConstraint::renew`:
+        // whichever joint each was), new ones added after them.
         sf.joint_slots.clear();
         for &k in &order {
             let (slot, x0, q0) = sides[k as usize];
             let Some(j) = self.joints.at(slot) else {
                 continue;
             };
-            sf.joints.push(JointConstraint::new(
-                pairs[k as usize],
-                x0,
-                q0,
-                j.local,
-                j.law,
-                &j.impulses,
-            ));
+            let (pair, n) = (pairs[k as usize], sf.joint_slots.len());
+            match sf.joints.get_mut(n) {
+                Some(record) => record.renew(pair, x0, q0, j.local, j.law, &j.impulses),
+                None => sf
+                    .joints
+                    .push(JointConstraint::new(pair, x0, q0, j.local, j.law, &j.impulses)),
+            }
             sf.joint_slots.push(slot);
         }
+        sf.joints.truncate(sf.joint_slots.len());
         sf.joint_coloring = coloring;
         self.prepare_gears(sf);
         contact_solver::keep_joint_islands(

@@ -17,25 +17,41 @@
 # prints both totals and the change.
 # Extra environment (JITTER, TRACE_*, ...) passes through to profile_stages.
 #
+# With `--misses`, cachegrind instead: its model of the caches (the first
+# level's as this machine's, the last level's `MISSES_LL`, by default 1 MiB
+# 16-way: this machine's L2 per core) counts the data misses at the last
+# level, reads and writes, and the functions are sorted by them (exclusive).
+# A change to how much memory the solver touches (the ragdoll pile's joint
+# records, 2026-12-06) shows there, where the wall clock cannot see 6 %.
+# Prefetches are not modelled: a prefetch is timed, not counted.
+#
 #   scripts/instructions.sh ragdoll_pile 30            # total and top 25
 #   scripts/instructions.sh --base HEAD pile1000 60 10 # the working tree against HEAD
+#   scripts/instructions.sh --misses --base HEAD ragdoll_pile 40
 #
 # Needs valgrind (a developer's tool, not the project's: `apt-get install
 # valgrind`). The callgrind file stays in $CALLGRIND_OUT (the base's in
 # $CALLGRIND_OUT.base) for `callgrind_annotate --auto=yes` (line by line).
 set -euo pipefail
-usage="usage: scripts/instructions.sh [--base REV] SCENE STEPS [TOP]"
+usage="usage: scripts/instructions.sh [--misses] [--base REV] SCENE STEPS [TOP]"
 base=
-if [ "${1:-}" = --base ]; then
-    base=${2:?$usage}
-    shift 2
-fi
+misses=
+while [ "${1:-}" = --base ] || [ "${1:-}" = --misses ]; do
+    if [ "$1" = --misses ]; then
+        misses=1
+        shift
+    else
+        base=${2:?$usage}
+        shift 2
+    fi
+done
+ll=${MISSES_LL:-1048576,16,64}
 scene=${1:?$usage}
 steps=${2:?$usage}
 top=${3:-25}
 out=${CALLGRIND_OUT:-/tmp/tumble-callgrind.out}
 target=${INSTRUCTIONS_TARGET:-/tmp/tumble-instructions}
-for tool in valgrind callgrind_annotate; do
+for tool in valgrind callgrind_annotate cg_annotate; do
     command -v "$tool" > /dev/null || { echo "$tool not found (apt-get install valgrind)" >&2; exit 1; }
 done
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -46,8 +62,18 @@ build() {
         cargo build -q --release --example profile_stages -p tumble)
 }
 
-# count TARGET_DIR OUT: runs the scene under callgrind, prints the total.
+# count TARGET_DIR OUT: runs the scene under callgrind, prints the total
+# (with --misses: under cachegrind, prints the last level's data misses).
 count() {
+    if [ -n "$misses" ]; then
+        valgrind --tool=cachegrind --cache-sim=yes --LL="$ll" --cachegrind-out-file="$2" \
+            "$1/release/examples/profile_stages" "$scene" "$steps" 1 > /dev/null 2> "$2.log" || {
+            tail -20 "$2.log" >&2
+            exit 1
+        }
+        sed -n 's/.*LLd misses: *\([0-9,]*\).*/\1/p' "$2.log" | tr -d ,
+        return
+    fi
     valgrind --tool=callgrind --callgrind-out-file="$2" \
         "$1/release/examples/profile_stages" "$scene" "$steps" 1 > /dev/null 2> "$2.log" || {
         tail -20 "$2.log" >&2
@@ -55,10 +81,12 @@ count() {
     }
     sed -n 's/.*Collected : //p' "$2.log"
 }
+what=instructions
+[ -n "$misses" ] && what="data misses at a last level of $ll (size,ways,line)"
 
 build "$root" "$target"
 total=$(count "$target" "$out")
-echo "$scene, $steps steps, one thread: $total instructions (x86-64-v2 build of the working tree)"
+echo "$scene, $steps steps, one thread: $total $what (x86-64-v2 build of the working tree)"
 if [ -n "$base" ]; then
     rev=$(git -C "$root" rev-parse --verify "$base^{commit}")
     tree="$target-base-src"
@@ -69,8 +97,15 @@ if [ -n "$base" ]; then
     fi
     build "$tree" "$target-base"
     base_total=$(count "$target-base" "$out.base")
-    echo "base $base ($(git -C "$root" rev-parse --short "$rev")): $base_total instructions"
+    echo "base $base ($(git -C "$root" rev-parse --short "$rev")): $base_total $what"
     awk -v a="$base_total" -v b="$total" 'BEGIN { printf "change: %+.2f %%\n", 100 * (b - a) / a }'
+fi
+if [ -n "$misses" ]; then
+    # Functions by their own misses, reads then writes, heaviest first.
+    cg_annotate --show=DLmr,DLmw --sort=DLmr,DLmw "$out" 2> /dev/null |
+        grep -E "^ *[0-9,]+ \( *[0-9.]+%\) .*:" | grep -v "PROGRAM TOTALS" |
+        sed -e "s|$root/||" | awk -v n="$top" 'NR <= n'
+    exit 0
 fi
 # Functions of the workspace, inclusive, heaviest first (awk reads to the
 # end: `head` would close the pipe early, which pipefail reports).

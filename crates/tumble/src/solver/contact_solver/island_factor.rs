@@ -80,6 +80,16 @@ impl<N: Num> P3<N> {
     fn dot(self, o: P3<N>) -> N {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
+
+    /// Each component times `s`.
+    #[inline(always)]
+    fn scaled(self, s: N) -> P3<N> {
+        P3 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
 }
 
 impl From<P3<Lane>> for V3 {
@@ -103,16 +113,30 @@ impl From<DVec3> for P3<f64> {
     }
 }
 
-/// One row of an island's system by body side (A, B): its Jacobian, and
-/// the Jacobian times the side's inverse mass and inertia; the row's
-/// softness (motors).
+/// One row of an island's system by body side (A, B): its Jacobian, the
+/// side's inverse mass and the angular Jacobian times the side's inverse
+/// inertia; the row's softness (motors).
+///
+/// The linear Jacobian times the inverse mass is worked out where `K` is
+/// assembled (`SideRow::m_lin`, the same product) rather than kept: an
+/// island's rows in lanes are rebuilt every sub-step, and a pile of
+/// ragdolls' do not fit in a core's cache (four lanes' `m_lin` were 192
+/// of a row's 800 bytes).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct SideRow<N> {
     lin: [P3<N>; 2],
     ang: [P3<N>; 2],
-    m_lin: [P3<N>; 2],
+    mass: [N; 2],
     m_ang: [P3<N>; 2],
     gamma: N,
+}
+
+impl<N: Num> SideRow<N> {
+    /// The linear Jacobian on side `t` times the side's inverse mass.
+    #[inline(always)]
+    fn m_lin(&self, t: usize) -> P3<N> {
+        self.lin[t].scaled(self.mass[t])
+    }
 }
 
 impl SideRow<f64> {
@@ -122,7 +146,7 @@ impl SideRow<f64> {
         SideRow {
             lin: [r.lin.into(), (-r.lin).into()],
             ang: [r.ang_a.into(), r.ang_b.into()],
-            m_lin: [(r.lin * ma).into(), (-r.lin * mb).into()],
+            mass: [ma, mb],
             m_ang: [r.ia.into(), r.ib.into()],
             gamma: r.gamma,
         }
@@ -137,7 +161,7 @@ impl SideRow<f64> {
         SideRow {
             lin: [lin.into(), P3::default()],
             ang: [ang.into(), P3::default()],
-            m_lin: [(lin * inv_mass).into(), P3::default()],
+            mass: [inv_mass, 0.0],
             m_ang: [ia.into(), P3::default()],
             gamma: 0.0,
         }
@@ -146,7 +170,7 @@ impl SideRow<f64> {
     /// `K`'s entry between this row on side `s` and `other` on side `t`
     /// of the same body (`J_s M^-1 J_t^T`).
     pub fn meets(&self, s: usize, other: &SideRow<f64>, t: usize) -> f64 {
-        self.lin[s].dot(other.m_lin[t]) + self.ang[s].dot(other.m_ang[t])
+        self.lin[s].dot(other.m_lin(t)) + self.ang[s].dot(other.m_ang[t])
     }
 }
 
@@ -183,18 +207,7 @@ impl SideRow<Lane> {
         SideRow {
             lin: [lin, neg],
             ang: [gather(&rows, |r| r.ang_a), gather(&rows, |r| r.ang_b)],
-            m_lin: [
-                P3 {
-                    x: lin.x * ma,
-                    y: lin.y * ma,
-                    z: lin.z * ma,
-                },
-                P3 {
-                    x: neg.x * mb,
-                    y: neg.y * mb,
-                    z: neg.z * mb,
-                },
-            ],
+            mass: [ma, mb],
             m_ang: [gather(&rows, |r| r.ia), gather(&rows, |r| r.ib)],
             gamma: Lane::new(rows.map(|r| r.gamma)),
         }
@@ -533,7 +546,7 @@ impl<N: Num> Factor<N> {
                 // Within one joint, the lower triangle only.
                 let end = if c.p == c.q { i + 1 } else { q1 };
                 for (kij, rj) in k[at + q0..at + end].iter_mut().zip(&rows[q0..end]) {
-                    *kij = *kij + (ri_lin.dot(rj.m_lin[t]) + ri_ang.dot(rj.m_ang[t]));
+                    *kij = *kij + (ri_lin.dot(rj.m_lin(t)) + ri_ang.dot(rj.m_ang[t]));
                 }
             }
         }
@@ -789,7 +802,7 @@ mod tests {
                 rows.push(SideRow {
                     lin,
                     ang,
-                    m_lin: [scale(lin[0], masses[a].0), scale(lin[1], masses[b].0)],
+                    mass: [masses[a].0, masses[b].0],
                     m_ang: [scale(ang[0], masses[a].1), scale(ang[1], masses[b].1)],
                     gamma: 0.0,
                 });
@@ -923,7 +936,7 @@ mod tests {
                     for (s, bi) in [ji.0, ji.1].into_iter().enumerate() {
                         for (t, bj) in [jj.0, jj.1].into_iter().enumerate() {
                             if bi == bj {
-                                k[i][j] += rows[i].lin[s].dot(rows[j].m_lin[t])
+                                k[i][j] += rows[i].lin[s].dot(rows[j].m_lin(t))
                                     + rows[i].ang[s].dot(rows[j].m_ang[t]);
                             }
                         }

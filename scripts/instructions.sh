@@ -31,7 +31,8 @@
 #
 # Needs valgrind (a developer's tool, not the project's: `apt-get install
 # valgrind`). The callgrind file stays in $CALLGRIND_OUT (the base's in
-# $CALLGRIND_OUT.base) for `callgrind_annotate --auto=yes` (line by line).
+# $CALLGRIND_OUT.base) for `callgrind_annotate --auto=yes` (line by line);
+# with --misses it is cachegrind's, for `cg_annotate --auto=yes`.
 set -euo pipefail
 usage="usage: scripts/instructions.sh [--misses] [--base REV] SCENE STEPS [TOP]"
 base=
@@ -65,21 +66,18 @@ build() {
 # count TARGET_DIR OUT: runs the scene under callgrind, prints the total
 # (with --misses: under cachegrind, prints the last level's data misses).
 count() {
-    if [ -n "$misses" ]; then
-        valgrind --tool=cachegrind --cache-sim=yes --LL="$ll" --cachegrind-out-file="$2" \
-            "$1/release/examples/profile_stages" "$scene" "$steps" 1 > /dev/null 2> "$2.log" || {
-            tail -20 "$2.log" >&2
-            exit 1
-        }
-        sed -n 's/.*LLd misses: *\([0-9,]*\).*/\1/p' "$2.log" | tr -d ,
-        return
-    fi
-    valgrind --tool=callgrind --callgrind-out-file="$2" \
+    local tool=(--tool=callgrind --callgrind-out-file="$2")
+    [ -n "$misses" ] && tool=(--tool=cachegrind --cache-sim=yes --LL="$ll" --cachegrind-out-file="$2")
+    valgrind "${tool[@]}" \
         "$1/release/examples/profile_stages" "$scene" "$steps" 1 > /dev/null 2> "$2.log" || {
         tail -20 "$2.log" >&2
         exit 1
     }
-    sed -n 's/.*Collected : //p' "$2.log"
+    if [ -n "$misses" ]; then
+        sed -n 's/.*LLd misses: *\([0-9,]*\).*/\1/p' "$2.log" | tr -d ,
+    else
+        sed -n 's/.*Collected : //p' "$2.log"
+    fi
 }
 what=instructions
 [ -n "$misses" ] && what="data misses at a last level of $ll (size,ways,line)"

@@ -46,6 +46,10 @@ use tumble_collide::{DQuat, DVec3, Pose};
 /// for the joint's life, so its impulse is warm-started across sub-steps
 /// and steps by slot.
 pub const JOINT_ROWS: usize = 15;
+
+/// Every row slot's bit.
+const ALL_SLOTS: u16 = (1 << JOINT_ROWS) - 1;
+
 /// A ball joint's spring: three soft angular rows about the world axes, in
 /// the slots its three equality rows leave free (`BALL_SPRING..BALL_SPRING
 /// + 3`). Every other kind with equality rows fills these slots with them.
@@ -356,7 +360,7 @@ impl JointConstraint {
             lever_a: DVec3::ZERO,
             held: false,
             // Every slot's impulses are +0.
-            cleared: (1 << JOINT_ROWS) - 1,
+            cleared: ALL_SLOTS,
         };
         blank.renew(pair, x0, q0, local, law, warm);
         blank
@@ -433,7 +437,7 @@ impl JointConstraint {
         // Why not every inactive slot: the slots lie over some 40 cache
         // lines of the record, and a pile of ragdolls' joints do not fit in
         // a core's cache; a slot left inactive stays untouched.
-        let inactive = !active & ((1u16 << JOINT_ROWS) - 1);
+        let inactive = !active & ALL_SLOTS;
         for i in slots(inactive & !self.cleared) {
             let slot = &mut self.rows[i];
             slot.impulse = 0.0;

@@ -128,6 +128,15 @@ struct PointFrame {
 /// that those passes stream 5.2 of a face bundle's 7.3 KB. The bundles of
 /// a pile of 1,000 boxes (1.8 MB) outgrow a core's 1 MB second-level
 /// cache, and each pass reads them from the shared third level.
+///
+/// The twist row comes last of the first part: a bundle of lone points
+/// leaves it out and never touches its lines, so that its passes stream
+/// 1.9 of its 3.6 KB rather than 2.4. A lone point's twist row is bounded
+/// by `mu` times its normal impulse times its twist radius, which is zero;
+/// started at zero (the only lone points bundled, [`BundleKind::of`]), it
+/// only ever adds a signed zero to the angular velocities, which changes
+/// none unless a component is exactly `-0.0` (so the bits are the scalar
+/// kernels' in every scene measured).
 #[derive(Debug, Clone, PartialEq)]
 #[repr(C)]
 pub(crate) struct WidePatch<const N: usize> {
@@ -136,15 +145,18 @@ pub(crate) struct WidePatch<const N: usize> {
     /// Solver bodies B.
     b: [u32; LANES],
     friction: Lane,
-    twist_radius: Lane,
     inv_mass: [Lane; 2],
     directions: [V3; 2],
-    rows: [WideRow; 3],
-    masses: [Lane; 3],
-    impulses: [Lane; 3],
+    /// The two tangent rows of patch friction.
+    rows: [WideRow; 2],
+    masses: [Lane; 2],
+    impulses: [Lane; 2],
     block: Block<N>,
     block_inverse: Block<N>,
     points: [WidePoint; N],
+    /// The twist row, where `N > 1` (unused and never touched in bundles
+    /// of lone points: see above).
+    twist: TwistLanes,
     // What the velocity passes do not read.
     /// Index of each lane's patch in the patch array, [`EMPTY`] for none.
     source: [u32; LANES],
@@ -164,6 +176,16 @@ pub(crate) struct WidePatch<const N: usize> {
     anchor_rb: V3,
     anchor_offset: V3,
     frames: [PointFrame; N],
+}
+
+/// The twist row of four patches (`ManifoldConstraint::rows[2]`, its mass,
+/// impulse and `twist_radius`, widened).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct TwistLanes {
+    row: WideRow,
+    mass: Lane,
+    impulse: Lane,
+    radius: Lane,
 }
 
 /// `rolling::Rolling` of four patches, one per lane (zero in lanes without
@@ -192,8 +214,8 @@ pub enum BundleKind {
     /// Bundles of three- and four-point patches.
     Fours,
     /// No bundle: a patch of more than
-    /// [`BLOCK_POINTS`](super::constraint::BLOCK_POINTS) points, or a curved
-    /// one (scalar kernels).
+    /// [`BLOCK_POINTS`](super::constraint::BLOCK_POINTS) points, a curved
+    /// one, or a lone point that starts with a twist (scalar kernels).
     Large,
 }
 
@@ -206,7 +228,12 @@ impl BundleKind {
             return BundleKind::Large;
         }
         match m.point_count {
-            0 | 1 => BundleKind::Ones,
+            // A lone point's twist row only ever holds zero (its bound is
+            // zero) and the bundles of lone points leave it out; one that
+            // starts with a twist (carried over from a larger patch, and
+            // taken back by its first pass) is left to the scalar kernels.
+            0 | 1 if m.impulses[2] == 0.0 => BundleKind::Ones,
+            0 | 1 => BundleKind::Large,
             2 => BundleKind::Twos,
             3 | 4 => BundleKind::Fours,
             _ => BundleKind::Large,
@@ -224,7 +251,7 @@ impl<const N: usize> WidePatch<N> {
             b: [0; LANES],
             source,
             friction: Lane::ZERO,
-            twist_radius: Lane::ZERO,
+            twist: TwistLanes::default(),
             roll: RollLanes::default(),
             any_rolling: false,
             half_gap: Lane::ZERO,
@@ -232,9 +259,9 @@ impl<const N: usize> WidePatch<N> {
             directions: [V3::ZERO; 2],
             r_a: V3::ZERO,
             r_b: V3::ZERO,
-            rows: [WideRow::default(); 3],
-            masses: [Lane::ZERO; 3],
-            impulses: [Lane::ZERO; 3],
+            rows: [WideRow::default(); 2],
+            masses: [Lane::ZERO; 2],
+            impulses: [Lane::ZERO; 2],
             inv_mass: [Lane::ZERO; 2],
             block: [[Lane::ZERO; N]; N],
             block_inverse: [[Lane::ZERO; N]; N],
@@ -267,10 +294,11 @@ impl<const N: usize> WidePatch<N> {
         for (l, k) in w.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
             let m = &manifolds[k as usize];
             debug_assert!(m.point_count as usize <= N);
+            debug_assert!(N > 1 || m.impulses[2] == 0.0, "a lone point bundled with a twist");
             w.a[l] = m.a;
             w.b[l] = m.b;
             set(&mut w.friction, l, m.friction);
-            set(&mut w.twist_radius, l, m.twist_radius);
+            set(&mut w.twist.radius, l, m.twist_radius);
             if let Some(r) = Rolling::of(m.rolling) {
                 w.any_rolling = true;
                 let ([ra, rb], share) = r.parts();
@@ -289,9 +317,10 @@ impl<const N: usize> WidePatch<N> {
             w.directions[1].set_lane(l, m.directions[1]);
             w.r_a.set_lane(l, m.r_a);
             w.r_b.set_lane(l, m.r_b);
-            for r in 0..3 {
+            for r in 0..2 {
                 set(&mut w.impulses[r], l, m.impulses[r]);
             }
+            set(&mut w.twist.impulse, l, m.impulses[2]);
             set(&mut w.inv_mass[0], l, m.inv_mass[0]);
             set(&mut w.inv_mass[1], l, m.inv_mass[1]);
             if m.anchored {
@@ -339,8 +368,11 @@ impl<const N: usize> WidePatch<N> {
                 let pts = points.range_mut(m.range());
                 (m, pts)
             };
-            for r in 0..3 {
+            for r in 0..2 {
                 m.impulses[r] = get(self.impulses[r], l);
+            }
+            if N > 1 {
+                m.impulses[2] = get(self.twist.impulse, l);
             }
             for (wp, p) in self.points.iter().zip(pts) {
                 p.normal_impulse = get(wp.normal_impulse, l);
@@ -713,7 +745,9 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
         for i in 0..2 {
             w.rows[i] = pick(WideRow::new(&ia, &ib, ra, rb, w.directions[i]), w.rows[i]);
         }
-        w.rows[2] = pick(WideRow::twist(&ia, &ib, w.normal), w.rows[2]);
+        if N > 1 {
+            w.twist.row = pick(WideRow::twist(&ia, &ib, w.normal), w.twist.row);
+        }
     }
     if any_moved {
         turned = refresh_masses(w, moved, all_moved, Lane::ZERO);
@@ -734,17 +768,17 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
             );
         }
         for (i, row) in w.rows.iter().enumerate() {
-            if i == 2 {
-                vel.apply_angular(row.ia_ra_x_d, row.ib_rb_x_d, w.impulses[i]);
-            } else {
-                vel.apply(
-                    w.directions[i],
-                    row.ia_ra_x_d,
-                    row.ib_rb_x_d,
-                    w.inv_mass,
-                    w.impulses[i],
-                );
-            }
+            vel.apply(
+                w.directions[i],
+                row.ia_ra_x_d,
+                row.ib_rb_x_d,
+                w.inv_mass,
+                w.impulses[i],
+            );
+        }
+        if N > 1 {
+            let t = &w.twist;
+            vel.apply_angular(t.row.ia_ra_x_d, t.row.ib_rb_x_d, t.impulse);
         }
         if any_turned {
             let scale = select(turned, energy_safe_scale(work_before, work(&vel, w)), Lane::ONE);
@@ -756,6 +790,10 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
                 }
                 for impulse in &mut w.impulses {
                     *impulse = select(shrink, *impulse * scale, *impulse);
+                }
+                if N > 1 {
+                    let t = &mut w.twist.impulse;
+                    *t = select(shrink, *t * scale, *t);
                 }
             }
         }
@@ -781,7 +819,9 @@ fn prepare_rows<const N: usize>(w: &mut WidePatch<N>, bodies: &[SolverBody]) {
     for i in 0..2 {
         w.rows[i] = WideRow::new(&ia, &ib, w.r_a, w.r_b, w.directions[i]);
     }
-    w.rows[2] = WideRow::twist(&ia, &ib, w.normal);
+    if N > 1 {
+        w.twist.row = WideRow::twist(&ia, &ib, w.normal);
+    }
     refresh_masses(w, real, !real_lanes.contains(&false), real);
 }
 
@@ -791,21 +831,13 @@ fn work<const N: usize>(vel: &PairLanes, w: &WidePatch<N>) -> Lane {
     let p = &w.points;
     let term = |i: usize| p[i].normal_impulse * vel.along(p[i].normal, p[i].row.ra_x_d, p[i].row.rb_x_d);
     let normal = (1..N).fold(term(0), |sum, i| sum + term(i));
-    let row =
-        |i: usize| w.impulses[i] * vel.along(w.directions_or_zero(i), w.rows[i].ra_x_d, w.rows[i].rb_x_d);
-    let friction = row(0) + row(1) + row(2);
-    normal + friction
-}
-
-impl<const N: usize> WidePatch<N> {
-    /// The linear direction of friction row `i` (zero for the twist row).
-    #[inline(always)]
-    fn directions_or_zero(&self, i: usize) -> V3 {
-        if i < 2 {
-            self.directions[i]
-        } else {
-            V3::ZERO
-        }
+    let row = |i: usize| w.impulses[i] * vel.along(w.directions[i], w.rows[i].ra_x_d, w.rows[i].rb_x_d);
+    let friction = row(0) + row(1);
+    if N > 1 {
+        let t = &w.twist;
+        normal + (friction + t.impulse * vel.along(V3::ZERO, t.row.ra_x_d, t.row.rb_x_d))
+    } else {
+        normal + friction
     }
 }
 
@@ -888,9 +920,13 @@ fn refresh_masses<const N: usize>(w: &mut WidePatch<N>, moved: Lane, all_moved: 
         p.normal_mass = pick(recip_or_zero(k), p.normal_mass);
     }
     let turned = (turned & moved) | forced;
-    for i in 0..3 {
-        let m = recip_or_zero(w.rows[i].inverse_mass(w.directions_or_zero(i), ima, imb));
+    for i in 0..2 {
+        let m = recip_or_zero(w.rows[i].inverse_mass(w.directions[i], ima, imb));
         w.masses[i] = pick(m, w.masses[i]);
+    }
+    if N > 1 {
+        let m = recip_or_zero(w.twist.row.inverse_mass(V3::ZERO, ima, imb));
+        w.twist.mass = pick(m, w.twist.mass);
     }
     if turned.any() {
         let mut block = [[Lane::ZERO; N]; N];
@@ -1037,13 +1073,17 @@ fn solve_friction<const N: usize>(w: &mut WidePatch<N>, total: Lane, vel: &mut P
     }
     w.impulses[0] = t[0];
     w.impulses[1] = t[1];
-    let row = &w.rows[2];
-    let twist_limit = limit * w.twist_radius;
-    let before = w.impulses[2];
+    if N == 1 {
+        return;
+    }
+    let twist = &mut w.twist;
+    let row = &twist.row;
+    let twist_limit = limit * twist.radius;
+    let before = twist.impulse;
     let spin = row.ra_x_d.dot(vel.wa) - row.rb_x_d.dot(vel.wb);
-    let after = (before - w.masses[2] * spin).max(-twist_limit).min(twist_limit);
+    let after = (before - twist.mass * spin).max(-twist_limit).min(twist_limit);
     vel.apply_angular(row.ia_ra_x_d, row.ib_rb_x_d, after - before);
-    w.impulses[2] = after;
+    twist.impulse = after;
 }
 
 /// `passes::solve_block`, lane by lane: the direct solve with every point
@@ -1478,17 +1518,16 @@ mod tests {
                 points.push(PointConstraint::new(normal, ra, rb, rng.range(-0.03, 0.02), warm));
             }
             let (a, b) = pairs[k as usize];
-            let mut m = ManifoldConstraint::new(
-                a,
-                b,
-                first,
-                count,
-                normal,
-                rng.range(0.0, 0.6),
-                0.0,
-                rng.vec3(0.1),
-                rng.range(-0.01, 0.01),
-            );
+            let (mu, tangent) = (rng.range(0.0, 0.6), rng.vec3(0.1));
+            // Most lone points start without a twist (bundled), some with
+            // one carried over from a larger patch (scalar kernels).
+            let twist = rng.range(-0.01, 0.01);
+            let twist = if count > 1 || rng.next_f64() < 0.3 {
+                twist
+            } else {
+                0.0
+            };
+            let mut m = ManifoldConstraint::new(a, b, first, count, normal, mu, 0.0, tangent, twist);
             // Round sides (re-aimed by the scalar `Rolling` in the lanes)
             // and curved patches (scalar kernels only) among the others.
             let radius = rng.range(0.05, 0.5);
@@ -1648,9 +1687,13 @@ mod tests {
     ) {
         for l in (0..LANES).filter(|&l| w.source[l] != EMPTY) {
             let m = &mut manifolds[w.source[l] as usize];
-            for r in 0..3 {
+            for r in 0..2 {
                 m.rows[r] = get_row(&w.rows[r], l);
                 m.masses[r] = get(w.masses[r], l);
+            }
+            if N > 1 {
+                m.rows[2] = get_row(&w.twist.row, l);
+                m.masses[2] = get(w.twist.mass, l);
             }
             for i in 0..N {
                 for j in 0..N {
@@ -1671,9 +1714,15 @@ mod tests {
     /// kernel keeps a 4 x 4 inverse whose padding diagonal (`1 / eps`)
     /// follows the block's scale, where a bundle of `N` points keeps `N x
     /// N`; no kernel reads those entries (they meet zero rows), so they are
-    /// set aside before comparing.
+    /// set aside before comparing. So is a lone point's twist row and its
+    /// mass, which a bundle of lone points leaves out (its impulse stays
+    /// zero either way: compared with `==`, whatever its sign).
     fn inert_padding(mut m: Vec<ManifoldConstraint>) -> Vec<ManifoldConstraint> {
         for m in &mut m {
+            if m.point_count <= 1 {
+                m.rows[2] = Default::default();
+                m.masses[2] = 0.0;
+            }
             let n = m.point_count as usize;
             for i in 0..BLOCK_POINTS {
                 for j in 0..BLOCK_POINTS {
@@ -1750,6 +1799,14 @@ mod tests {
                 assert!(
                     sizes.iter().all(|&n| n > 0),
                     "every kind of bundle and large patches: {sizes:?}"
+                );
+                let twisting_lone_point = |&k: &u32| {
+                    let m = &manifolds[k as usize];
+                    m.point_count == 1 && m.impulses[2] != 0.0
+                };
+                assert!(
+                    wide.large.iter().any(twisting_lone_point),
+                    "a lone point with a twist, on the scalar kernels"
                 );
                 first_difference(&b1, &b0, "body", seed, threads);
                 first_difference(

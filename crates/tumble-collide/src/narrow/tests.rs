@@ -713,3 +713,65 @@ proptest! {
         }
     }
 }
+
+/// The corners of a rock (a hull of 15 vertices) from the falling pile of
+/// boxes and rocks (`a_falling_pile_of_boxes_and_rocks_never_gains_energy`).
+const ROCK: [[f64; 3]; 15] = [
+    [-0.03543428521579231, 0.025928594449200495, -0.05307212290443755],
+    [-0.08629023679856074, 0.038501721426860744, 0.01867977132152741],
+    [0.04579265831581005, 0.1219996885946937, 0.04237005794668525],
+    [0.10564455732629438, -0.01558714599591725, 0.12507350896423783],
+    [-0.06074880258907912, -0.07561937989310022, -0.08141977313676103],
+    [-0.06606227034617203, 0.016930367797264027, 0.0405251658476205],
+    [0.17771482999064947, 0.04648266936991431, 0.042438966168714086],
+    [-0.00595965450063923, -0.06296213630527597, 0.030990151152421277],
+    [-0.03760391103709442, 0.12402460743856326, 0.042203437332908135],
+    [0.02170124376176235, -0.09214479101732594, -0.03319457309746914],
+    [-0.06288858576973584, 0.07443209275072885, 0.04641568780843937],
+    [0.03393021202790639, 0.048978736050887955, -0.03890472517309007],
+    [0.10396829197380877, -0.007568008916610479, -0.05644061368844257],
+    [-0.12038140476622798, -0.04466939104724299, -0.08353684868211153],
+    [-0.11949693686535601, -0.0040371197375208044, -0.04923179216856509],
+];
+
+/// Two such rocks posed where they met in that pile, overlapping by about
+/// 1.6 mm: A's best face won on the edge pair's separation by the SAT's
+/// bias only, and it clips B's incident face to nothing (the rocks meet at
+/// an edge of that face and one of B's, off the face). No contact came out,
+/// and the rocks sank 3-6 mm into each other over the next steps. The edge
+/// pair is the contact now: one at least, as deep as the oracle's signed
+/// distance within the 5 % by which the SAT prefers a face.
+#[test]
+fn a_face_that_clips_to_nothing_gives_the_edge_pair() {
+    let rock: Shape = ConvexHull::from_points(&ROCK.map(DVec3::from_array))
+        .unwrap()
+        .into();
+    let posed = |p: [f64; 3], q: [f64; 4]| Pose::new(DVec3::from_array(p), DQuat::from_array(q)).unwrap();
+    let pa = posed(
+        [-0.06377796751392219, -0.03646340220630654, 0.133382202156154],
+        [
+            -0.6074670692896281,
+            -0.5112195790872701,
+            0.12730648869349537,
+            0.5945009332398374,
+        ],
+    );
+    let pb = posed(
+        [-0.05703121775975513, 0.11965064988265767, 0.3000183555913724],
+        [
+            -0.04169674520219047,
+            -0.49058283522829804,
+            0.41263712609148656,
+            0.7663683614227998,
+        ],
+    );
+    let depth = signed_distance(&oshape(&rock, &pa), &oshape(&rock, &pb));
+    assert!(depth < -1e-3, "the rocks overlap: {depth}");
+    let cs = contacts(&rock, &pa, &rock, &pb, 0.005);
+    let deepest = min_distance(&cs).expect("overlapping rocks get a contact");
+    assert!(
+        (deepest.distance - depth).abs() <= 0.05 * depth.abs(),
+        "contact {} m deep, the oracle's {depth}",
+        deepest.distance
+    );
+}

@@ -2,7 +2,9 @@
 //! test over face normals and Gauss-map-pruned edge pairs (Gregorius, "The
 //! Separating Axis Test between Convex Polyhedra", GDC 2013), then a face
 //! clipping manifold (see `clip`) or a single edge-edge contact, which then
-//! holds every vertex within the margin too (`hold_near_vertices`).
+//! holds every vertex within the margin too (`hold_near_vertices`); the
+//! edge-edge contact also where overlapping solids' winning face clips to
+//! nothing (`axis_manifold`).
 //!
 //! Why SAT and not GJK/EPA: resting stacks need multi-point manifolds with
 //! stable feature ids, which the winning face gives directly. The SAT value is

@@ -288,22 +288,18 @@ fn axis_manifold<A: Polytope + ?Sized, B: Polytope + ?Sized>(
         .sep_a
         .max(sat.sep_b)
         .max(sat.edge.map_or(f64::NEG_INFINITY, |e| e.0));
-    // A reference face can clip its incident face to nothing: where the
-    // solids meet at an edge of that face and one of the other's, off the
-    // face, and the face won on the edge's separation by the stability bias
-    // alone, or won by a hair. Overlapping, nothing was reported then (apart,
-    // the GJK check below finds the closest points), and the solids came
-    // together unopposed for steps until the edge won (two rocks teetering
-    // on each other sank 3-6 mm into each other, and the push-out's lift of
-    // them gained energy). The edge pair is the contact, as deep as the
-    // solids overlap (the SAT's value, exact when overlapping), which the
-    // edge axis's own separation can exceed.
-    if out.len() == start && max_sep <= 0.0 {
-        if let (Axis::Face { .. }, Some((_, ea, eb))) = (axis, sat.edge) {
+    if max_sep <= 0.0 {
+        // Overlapping. A reference face can clip its incident face to
+        // nothing where the solids meet at an edge of that face and one of
+        // the other's, off the face (the face won on the edge's separation by
+        // the stability bias, or by a hair): nothing was reported, and two
+        // rocks teetering on each other sank 3-6 mm in before the edge won.
+        // The edge pair is the contact then, as deep as the solids overlap
+        // (the SAT's value, exact when overlapping; the edge axis's own
+        // separation can be deeper). Apart, the GJK check below covers it.
+        if let (true, Axis::Face { .. }, Some((_, ea, eb))) = (out.len() == start, axis, sat.edge) {
             push_edge_edge(a, pose_a, ea, b, pose_b, eb, max_sep, margin, out);
         }
-    }
-    if max_sep <= 0.0 {
         return;
     }
     let got = out[start..]

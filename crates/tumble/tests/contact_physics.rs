@@ -430,13 +430,16 @@ fn off_centre_collision(e: f64) -> (f64, f64) {
 /// and not kept"); that solve gained in 2 of these 6 seeds.
 ///
 /// Known limit (2026-12-06): the claim holds for these six seeds, not for
-/// every seed. Over seeds 1-120, 20 gain energy in some step (up to 2.3 J
-/// at an impact, 2-20 mJ at rest), all through the push-out lifting bodies
-/// out of overlap (none with `push_out_fraction` 0): a change that only
-/// moves the trajectories can fail this test on a seed of its own.
-/// docs/pipeline.md's fourteenth-session entry traces the cases; the fix
-/// belongs to the push-out and to contact sets that alternate between
-/// steps, after which this test should run many seeds.
+/// every seed. Over seeds 1-120, 20 gain energy in some step: 26 steps, up
+/// to 18.6 J at an impact (seed 84, step 62), 2-40 mJ later on. In each of
+/// the 26, the same step taken from the same state without the warm start
+/// loses energy, and 24 of them still gain with the push-out off: the
+/// gains come from the warm start, which re-applies an impact's stopping
+/// impulses that two velocity passes a sub-step cannot take back through a
+/// stack. A change that only moves the trajectories can fail this test on
+/// a seed of its own. docs/pipeline.md, "Warm starts that add energy", has the
+/// cases and seven remedies measured (none kept: each cost a stack or
+/// pile figure); after a fix this test should run many seeds.
 #[test]
 fn a_falling_pile_of_boxes_and_rocks_never_gains_energy() {
     use tumble_collide::shape::ConvexHull;

@@ -438,7 +438,7 @@ fn off_centre_collision(e: f64) -> (f64, f64) {
 /// impulses that two velocity passes a sub-step cannot take back through a
 /// stack. A change that only moves the trajectories can fail this test on
 /// a seed of its own. docs/pipeline.md, "Warm starts that add energy", has the
-/// cases and nine remedies measured (none kept: each cost a stack or
+/// cases and ten remedies measured (none kept: each cost a stack or
 /// pile figure); after a fix this test should run many seeds.
 #[test]
 fn a_falling_pile_of_boxes_and_rocks_never_gains_energy() {

@@ -191,15 +191,25 @@ fn four_layers_of_concave_bodies_come_to_rest_and_stay_still() {
     // 1.6e-4 J with two versions of the corner contacts, each time one
     // body twitching once at a few mm/s). So
     // the test counts the bodies still moving faster than 1 mm/s in the
-    // sixth second over seven starts, the pile's own and six moved by up
-    // to 2 mm, and takes the median: with the default, when this test was
-    // written, 0, 0, 0, 1, 11, 12 and 31 bodies; with 10 um allowed 5, 10,
-    // 12, 12, 12, 20 and 35. The starts with many are those where a
-    // bracket lying across another's edges rocks on them at a few cm/s
-    // and does not soon stop (docs/pipeline.md, "Measured and not kept",
-    // 2026-12-05, third session), shaking its neighbours.
+    // sixth second over 21 starts, the pile's own and 20 moved by up to
+    // 2 mm, and takes the median. When the test was written, over its
+    // first seven starts: 0, 0, 0, 1, 11, 12 and 31 bodies with the
+    // default, and 5, 10, 12, 12, 12, 20 and 35 with 10 um allowed. The
+    // starts with many are those where a bracket lying across another's
+    // edges rocks on them at a few cm/s and does not soon stop
+    // (docs/pipeline.md, "Measured and not kept", 2026-12-05, third
+    // session), shaking its neighbours.
+    //
+    // Why 21 starts (2026-12-06): the median of seven did not separate
+    // a solver that leaves piles restless from one that does not. On 21
+    // starts main had a median of 1 (seven starts with none, six with
+    // one, the most nine); three or four velocity passes a sub-step
+    // instead of two gave 2; the warm-start remedies of docs/pipeline.md,
+    // "Warm starts that add energy", measured on 21 starts gave 5 to 8;
+    // another had a median of 3 over the first seven, which the old
+    // bound of 4 let through.
     let mut moving = Vec::new();
-    for seed in 0..7 {
+    for seed in 0..21 {
         let (count, revalidated, escaped) =
             pile_in_its_sixth_second(seed, WorldSettings::default().resting_motion);
         assert_eq!(escaped, 0, "start {seed}: {escaped} bodies left the bin");
@@ -213,9 +223,9 @@ fn four_layers_of_concave_bodies_come_to_rest_and_stay_still() {
     let mut sorted = moving.clone();
     sorted.sort_unstable();
     assert!(
-        sorted[3] <= 4,
+        sorted[10] <= 3,
         "a median of {} bodies moving faster than 1 mm/s between 5 s and 6 s ({moving:?} by start)",
-        sorted[3]
+        sorted[10]
     );
 }
 

@@ -1,6 +1,7 @@
 //! Analytic oracles and small helpers shared by the integration tests.
 #![allow(dead_code)] // each test binary uses a different subset
 
+pub mod falling_pile;
 pub mod leaning_bar;
 
 use tumble::collide::math::{DQuat, DVec3};

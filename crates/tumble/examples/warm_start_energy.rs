@@ -32,6 +32,10 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let first: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
     let last: u64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(120);
+    if first > last {
+        eprintln!("usage: warm_start_energy [FIRST LAST] (seeds FIRST..=LAST, FIRST <= LAST)");
+        std::process::exit(2);
+    }
     let mut settings = WorldSettings::default();
     if let Some(n) = std::env::var("ITERATIONS").ok().and_then(|v| v.parse().ok()) {
         settings.iterations = n;

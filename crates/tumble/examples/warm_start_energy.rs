@@ -11,7 +11,7 @@
 #[path = "../tests/common/falling_pile.rs"]
 mod falling_pile;
 
-use falling_pile::falling_pile;
+use falling_pile::{allowed_gain, falling_pile};
 use tumble::world::{World, WorldSettings};
 
 /// The pile's total energy (J).
@@ -47,13 +47,13 @@ fn main() {
     let mut largest = (0.0f64, 0u64, 0usize);
     for seed in first..=last {
         let (mut world, _) = falling_pile(seed, settings.clone());
-        let start = total(&world);
+        let allowed = allowed_gain(total(&world));
         let mut gained_here = false;
         for step in 1..=360 {
             let before = world.clone();
             world.step();
             let gain = total(&world) - total(&before);
-            if gain <= 1e-6 * start.abs() + 1e-9 {
+            if gain <= allowed {
                 continue;
             }
             let cold = retaken(&before, World::clear_contact_cache);
@@ -68,7 +68,7 @@ fn main() {
             gained_here = true;
             steps += 1;
             cold_loses += usize::from(cold <= 0.0);
-            still_without_push += usize::from(no_push > 1e-6 * start.abs() + 1e-9);
+            still_without_push += usize::from(no_push > allowed);
             if gain > largest.0 {
                 largest = (gain, seed, step);
             }

@@ -13,6 +13,12 @@ use tumble_testkit::{RandomSource, SplitMix64};
 /// Bodies in the pile (the ground not counted).
 pub const FALLING_PILE_BODIES: usize = 60;
 
+/// The most a step may add to the pile's total energy (J), given its total
+/// at the start `start`: the integrator's rounding, a millionth of it.
+pub fn allowed_gain(start: f64) -> f64 {
+    1e-6 * start.abs() + 1e-9
+}
+
 /// A standard normal deviate (Box-Muller).
 fn normal(rng: &mut SplitMix64) -> f64 {
     let (u, v) = (rng.next_f64().max(1e-300), rng.next_f64());

@@ -2,7 +2,8 @@
 //! system `K = J M^-1 J^T` assembled block by block over the pairs of
 //! joints that share a dynamic body, its Cholesky factor over the system's
 //! profile (skyline) less the blocks a symbolic factorization over joints
-//! finds zero (`Pattern`), and solves with that factor (whole, or its
+//! finds zero (`Pattern`), run from a list of its products compiled once
+//! per shape (`Program`), and solves with that factor (whole, or its
 //! forward and backward halves).
 //!
 //! Written once over the number type [`Num`]: `f64` for one island, and
@@ -311,6 +312,136 @@ struct Pattern {
     row_runs_at: Vec<usize>,
     /// Per run, `[from, to)` in columns.
     row_runs: Vec<(usize, usize)>,
+    /// The factorization of the joints' rows written out entry by entry
+    /// (`Program`), where it is small enough to keep.
+    program: Option<Program>,
+}
+
+/// The numeric factorization of an island's joint rows, compiled once per
+/// shape from its pattern: every entry of `L` in the order the
+/// factorization computes it, each with the positions in the factor of the
+/// pairs of entries its dot product sums, in the order it sums them.
+///
+/// Why: a chain's or a ragdoll's entries sum one to five products each,
+/// and walking the pattern for them (each row's segments, their offsets in
+/// two rows, the bounds of each slice) took six times the instructions of
+/// the arithmetic: the heavy chain's factorization was 30 % of its step.
+/// Run from the program, each product is two positions read from a list.
+/// The same operations in the same order (each dot from `+0`, term after
+/// term): the factor has the bits of the pattern's walk.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+struct Program {
+    /// The entries, in the order they are computed.
+    steps: Vec<Step>,
+    /// Each step's terms: positions `(a, b)` in the factor of the two
+    /// entries a product multiplies, a step's after the one before it.
+    terms: Vec<(u32, u32)>,
+}
+
+/// One entry of a [`Program`]: at position `at` of the factor, over the
+/// terms up to `end`; off the diagonal divided by row `row`'s diagonal,
+/// on it (`diagonal`) the square root that becomes row `row`'s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Step {
+    at: u32,
+    row: u32,
+    end: u32,
+    diagonal: bool,
+}
+
+/// Most terms a [`Program`] may hold (8 bytes each); a larger island's
+/// factor walks its pattern instead, whose runs are long enough there
+/// that the walk costs little beside the products.
+const MAX_PROGRAM_TERMS: usize = 1 << 18;
+
+impl Program {
+    /// The program of the joint rows of a profile (`offsets`, each row's
+    /// `first` column and `start` in the factor) with pattern `pattern`:
+    /// the loops of [`Factor::factor_adding`] over the pattern, recording
+    /// positions instead of computing. `None` when it would be too large.
+    fn new(
+        offsets: &[usize],
+        first: &[usize],
+        start: &[usize],
+        size: usize,
+        pattern: &Pattern,
+    ) -> Option<Program> {
+        if size > u32::MAX as usize {
+            return None;
+        }
+        let mut program = Program::default();
+        for p in 0..offsets.len().saturating_sub(1) {
+            let own_from = offsets[p];
+            let (own_at, own_to) = pattern.own[p];
+            let own = &pattern.segments[own_at..own_to];
+            let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
+            for i in own_from..offsets[p + 1] {
+                for &(q, from, to) in before {
+                    let common = &pattern.segments[from..to];
+                    for j in offsets[q]..offsets[q + 1] {
+                        program.entry(i, j, common, (offsets[q], j), (first, start))?;
+                    }
+                }
+                for j in own_from..i {
+                    program.entry(i, j, own, (own_from, j), (first, start))?;
+                }
+                program.entry(i, i, own, (own_from, i), (first, start))?;
+            }
+        }
+        Some(program)
+    }
+
+    /// Records entry `j` of row `i` (the diagonal where `j == i`): the
+    /// terms of the dot of rows `i` and `j` over the columns of
+    /// `segments`, then `tail`, in increasing order, as `dot_over` sums
+    /// them. `None` past [`MAX_PROGRAM_TERMS`].
+    fn entry(
+        &mut self,
+        i: usize,
+        j: usize,
+        segments: &[(usize, usize)],
+        tail: (usize, usize),
+        (first, start): (&[usize], &[usize]),
+    ) -> Option<()> {
+        let (a0, b0) = (start[i] - first[i], start[j] - first[j]);
+        for &(from, to) in segments.iter().chain([&tail]) {
+            self.terms
+                .extend((from..to).map(|k| ((a0 + k) as u32, (b0 + k) as u32)));
+        }
+        if self.terms.len() > MAX_PROGRAM_TERMS {
+            return None;
+        }
+        self.steps.push(Step {
+            at: (a0 + j) as u32,
+            row: j as u32,
+            end: self.terms.len() as u32,
+            diagonal: i == j,
+        });
+        Some(())
+    }
+
+    /// Factors the joint rows of `k` (assembled and regularized) in place,
+    /// step by step, each row's reciprocal diagonal into `inv_diagonal`.
+    #[inline(always)]
+    fn run<N: Num>(&self, k: &mut [N], inv_diagonal: &mut [N]) {
+        let mut from = 0;
+        for step in &self.steps {
+            let end = step.end as usize;
+            let mut dot = N::default();
+            for &(a, b) in &self.terms[from..end] {
+                dot = dot + k[a as usize] * k[b as usize];
+            }
+            from = end;
+            let (at, row) = (step.at as usize, step.row as usize);
+            if step.diagonal {
+                let d = (k[at] - dot).max(N::splat(1e-300)).sqrt();
+                inv_diagonal[row] = N::splat(1.0) / d;
+                k[at] = d;
+            } else {
+                k[at] = (k[at] - dot) * inv_diagonal[row];
+            }
+        }
+    }
 }
 
 impl Pattern {
@@ -402,6 +533,7 @@ impl Profile {
             }
         }
         pattern.row_runs_at.push(pattern.row_runs.len());
+        pattern.program = Program::new(&offsets, &first, &start, size, &pattern);
         let joints = offsets.len().saturating_sub(1);
         let before_mask = if joints <= REACH_JOINTS {
             (0..joints)
@@ -558,35 +690,16 @@ impl<N: Num> Factor<N> {
         // Profile Cholesky, in place: entries before a row's first column
         // are zero and stay zero in the factor. Row i's entry p >= first[i]
         // lies at start[i] + p - first[i]; the rows before i lie before
-        // start[i] (`done`). A joint's rows skip the blocks its pattern
-        // holds to be zero (left at +0); gear rows take their whole profile.
-        let (offsets, pattern) = (&profile.offsets, &profile.pattern);
-        let joints = offsets.len().saturating_sub(1);
+        // start[i] (`done`). The joints' rows skip the blocks their pattern
+        // holds to be zero (left at +0), run from their compiled `Program`
+        // (or, for an island too large for one, by walking the pattern);
+        // gear rows take their whole profile.
         let inv_diagonal = &mut self.inv_diagonal;
-        for p in 0..joints {
-            let own_from = offsets[p];
-            let own = profile.own_segments(p);
-            let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
-            for i in own_from..offsets[p + 1] {
-                let (fi, si) = (first[i], start[i]);
-                let (done, row_i) = k.split_at_mut(si);
-                let row_i = &mut row_i[..i + 1 - fi];
-                let done = &*done;
-                for &(q, from, to) in before {
-                    let common = &pattern.segments[from..to];
-                    for j in offsets[q]..offsets[q + 1] {
-                        entry(row_i, fi, done, profile, inv_diagonal, j, common, offsets[q]);
-                    }
-                }
-                for j in own_from..i {
-                    entry(row_i, fi, done, profile, inv_diagonal, j, own, own_from);
-                }
-                let dot = dot_over(row_i, fi, row_i, fi, own, (own_from, i));
-                let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
-                inv_diagonal[i] = N::splat(1.0) / d;
-                row_i[i - fi] = d;
-            }
+        match &profile.pattern.program {
+            Some(program) => program.run(k, inv_diagonal),
+            None => walk_pattern(profile, k, inv_diagonal),
         }
+        let offsets = &profile.offsets;
         for i in offsets.last().copied().unwrap_or(0)..n {
             let (fi, si) = (first[i], start[i]);
             let (done, row_i) = k.split_at_mut(si);
@@ -682,6 +795,39 @@ impl Factor<f64> {
                     *v += xi * *w;
                 }
             }
+        }
+    }
+}
+
+/// The joint rows of [`Factor::factor_adding`]'s `k` factored by walking
+/// the pattern row by row (an island too large for a [`Program`]): each
+/// row's entries over the blocks its pattern can hold other than zero,
+/// then its diagonal, into `inv_diagonal` as its reciprocal.
+fn walk_pattern<N: Num>(profile: &Profile, k: &mut [N], inv_diagonal: &mut [N]) {
+    let (first, start) = (&profile.first, &profile.start);
+    let (offsets, pattern) = (&profile.offsets, &profile.pattern);
+    for p in 0..offsets.len().saturating_sub(1) {
+        let own_from = offsets[p];
+        let own = profile.own_segments(p);
+        let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
+        for i in own_from..offsets[p + 1] {
+            let (fi, si) = (first[i], start[i]);
+            let (done, row_i) = k.split_at_mut(si);
+            let row_i = &mut row_i[..i + 1 - fi];
+            let done = &*done;
+            for &(q, from, to) in before {
+                let common = &pattern.segments[from..to];
+                for j in offsets[q]..offsets[q + 1] {
+                    entry(row_i, fi, done, profile, inv_diagonal, j, common, offsets[q]);
+                }
+            }
+            for j in own_from..i {
+                entry(row_i, fi, done, profile, inv_diagonal, j, own, own_from);
+            }
+            let dot = dot_over(row_i, fi, row_i, fi, own, (own_from, i));
+            let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
+            inv_diagonal[i] = N::splat(1.0) / d;
+            row_i[i - fi] = d;
         }
     }
 }
@@ -862,6 +1008,80 @@ mod tests {
         let mut factor = Factor::default();
         factor.factor(&profile, &rows);
         (joints, bodies, profile, rows, factor)
+    }
+
+    /// The compiled factorization (`Program`) against the pattern's walk it
+    /// replaces (kept for islands too large to compile): on the ragdoll
+    /// and random trees, in one lane and in four, every entry of the
+    /// factor and every reciprocal diagonal has the walk's bits.
+    #[test]
+    fn the_compiled_factorization_has_the_bits_of_the_patterns_walk() {
+        let mut rng = SplitMix64(29);
+        for case in 0..40 {
+            let (joints, bodies, profile, rows, compiled) = factored_case(&mut rng, case);
+            assert!(profile.pattern.program.is_some(), "case {case}: not compiled");
+            let mut walked_profile = profile.clone();
+            walked_profile.pattern.program = None;
+            let mut walked = Factor::default();
+            walked.factor(&walked_profile, &rows);
+            let bits = |f: &Factor<f64>| -> Vec<u64> {
+                f.values
+                    .iter()
+                    .chain(&f.inv_diagonal)
+                    .map(|x| x.to_bits())
+                    .collect()
+            };
+            assert_eq!(bits(&compiled), bits(&walked), "case {case}");
+            // Four lanes: this case's rows and three other draws for it.
+            let draws: Vec<Vec<SideRow<f64>>> = std::iter::once(rows)
+                .chain((0..LANES - 1).map(|_| rows_of(&mut rng, &joints, bodies)))
+                .collect();
+            let lanes: Vec<SideRow<Lane>> = (0..profile.rows())
+                .map(|r| {
+                    let l = |f: &dyn Fn(&SideRow<f64>) -> f64| {
+                        Lane::new(std::array::from_fn(|k| f(&draws[k][r])))
+                    };
+                    let p3 = |f: &dyn Fn(&SideRow<f64>) -> P3<f64>| P3 {
+                        x: l(&|row| f(row).x),
+                        y: l(&|row| f(row).y),
+                        z: l(&|row| f(row).z),
+                    };
+                    SideRow {
+                        lin: [p3(&|row| row.lin[0]), p3(&|row| row.lin[1])],
+                        ang: [p3(&|row| row.ang[0]), p3(&|row| row.ang[1])],
+                        mass: [l(&|row| row.mass[0]), l(&|row| row.mass[1])],
+                        m_ang: [p3(&|row| row.m_ang[0]), p3(&|row| row.m_ang[1])],
+                        gamma: l(&|row| row.gamma),
+                    }
+                })
+                .collect();
+            let (mut compiled, mut walked) = (Factor::<Lane>::default(), Factor::<Lane>::default());
+            compiled.factor(&profile, &lanes);
+            walked.factor(&walked_profile, &lanes);
+            let bits = |f: &Factor<Lane>| -> Vec<u64> {
+                let all = f.values.iter().chain(&f.inv_diagonal);
+                all.flat_map(|x| x.to_array().map(f64::to_bits)).collect()
+            };
+            assert_eq!(bits(&compiled), bits(&walked), "case {case}, four lanes");
+            // And each lane is the factor of its own rows alone.
+            for (k, draw) in draws.iter().enumerate() {
+                let mut alone = Factor::default();
+                alone.factor(&profile, draw);
+                let lane: Vec<u64> = compiled
+                    .values
+                    .iter()
+                    .chain(&compiled.inv_diagonal)
+                    .map(|x| x.to_array()[k].to_bits())
+                    .collect();
+                let alone: Vec<u64> = alone
+                    .values
+                    .iter()
+                    .chain(&alone.inv_diagonal)
+                    .map(|x| x.to_bits())
+                    .collect();
+                assert_eq!(lane, alone, "case {case}, lane {k}");
+            }
+        }
     }
 
     /// `Profile::reach` against brute force: for a column on one body's

@@ -697,8 +697,11 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
     // as `rolling::Rolling` re-aims them, by the same operations in the same
     // order (so the same bits), and selected into those lanes only.
     let roll = w.any_rolling.then_some(&w.roll);
+    // Where every lane rolls (a bundle of spheres' points), the plain
+    // anchors and arms would only be selected away: not computed.
+    let all_roll = roll.is_some_and(|k| k.mask.all());
     let anchors = |r_a: V3, r_b: V3, n: V3, half_gap: Lane| {
-        let plain = (ta.mul_vec(r_a), tb.mul_vec(r_b));
+        let plain = || (ta.mul_vec(r_a), tb.mul_vec(r_b));
         match roll {
             Some(k) => {
                 // `Rolling::reach`, then `anchors`' `n * reach[0]`, `n * -reach[1]`
@@ -707,26 +710,34 @@ pub(super) unsafe fn begin<const N: usize>(w: &mut WidePatch<N>, bodies: &Shared
                 let reach_b = select(k.round_b, k.radius_b + half_gap, Lane::ZERO);
                 let (ca, cb) = (n.scale(reach_a), n.scale(reach_b * Lane::splat(-1.0)));
                 let rolled = (ta.mul_vec(r_a + ca) - ca, tb.mul_vec(r_b + cb) - cb);
+                if all_roll {
+                    return rolled;
+                }
+                let plain = plain();
                 (
                     V3::select(k.mask, rolled.0, plain.0),
                     V3::select(k.mask, rolled.1, plain.1),
                 )
             }
-            None => plain,
+            None => plain(),
         }
     };
     let lever_arms = |r_a: V3, r_b: V3, ra_now: V3, rb_now: V3| {
-        let plain = shared_lever_arms(r_a, r_b, ra_now, rb_now, dpa, dpb);
+        let plain = || shared_lever_arms(r_a, r_b, ra_now, rb_now, dpa, dpb);
         match roll {
             Some(k) => {
                 let ab = r_a - r_b + dpb - dpa;
                 let shared = ra_now.scale(k.share_a) + (rb_now + ab).scale(k.share_b);
+                if all_roll {
+                    return (shared, shared - ab);
+                }
+                let plain = plain();
                 (
                     V3::select(k.mask, shared, plain.0),
                     V3::select(k.mask, shared - ab, plain.1),
                 )
             }
-            None => plain,
+            None => plain(),
         }
     };
     for (p, f) in w.points.iter_mut().zip(&mut w.frames) {

@@ -1795,6 +1795,9 @@ mod tests {
     /// passes one after the other (the scalar reference's).
     #[test]
     fn bundles_give_the_scalar_kernels_bits_on_any_thread_count() {
+        // Bundles whose every lane rolls (re-aimed without the plain
+        // anchors) must be among them.
+        let mut all_rolling = 0;
         for (seed, fused) in (1..4).flat_map(|seed| [(seed, false), (seed, true)]) {
             let (bodies, pairs, manifolds, points) = problem(seed);
             let (mut b0, mut m0, mut p0) = (bodies.clone(), manifolds.clone(), points.clone());
@@ -1820,6 +1823,9 @@ mod tests {
                     wide.large.iter().any(twisting_lone_point),
                     "a lone point with a twist, on the scalar kernels"
                 );
+                all_rolling += wide.ones.iter().filter(|w| w.roll.mask.all()).count()
+                    + wide.twos.iter().filter(|w| w.roll.mask.all()).count()
+                    + wide.fours.iter().filter(|w| w.roll.mask.all()).count();
                 first_difference(&b1, &b0, "body", seed, threads);
                 first_difference(
                     &inert_padding(m1),
@@ -1831,6 +1837,7 @@ mod tests {
                 first_difference(&p1, &p0, "point", seed, threads);
             }
         }
+        assert!(all_rolling > 0, "no bundle whose every lane rolls");
     }
 
     /// A small problem (under `MIN_PATCHES_TO_COLOR` patches) keeps its

@@ -358,8 +358,8 @@ const MAX_PROGRAM_TERMS: usize = 1 << 18;
 impl Program {
     /// The program of the joint rows of a profile (`offsets`, each row's
     /// `first` column and `start` in the factor) with pattern `pattern`:
-    /// the loops of [`Factor::factor_adding`] over the pattern, recording
-    /// positions instead of computing. `None` when it would be too large.
+    /// its entries in [`Pattern::for_each_entry`]'s order, positions
+    /// recorded instead of computed. `None` when it would be too large.
     fn new(
         offsets: &[usize],
         first: &[usize],
@@ -371,24 +371,9 @@ impl Program {
             return None;
         }
         let mut program = Program::default();
-        for p in 0..offsets.len().saturating_sub(1) {
-            let own_from = offsets[p];
-            let (own_at, own_to) = pattern.own[p];
-            let own = &pattern.segments[own_at..own_to];
-            let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
-            for i in own_from..offsets[p + 1] {
-                for &(q, from, to) in before {
-                    let common = &pattern.segments[from..to];
-                    for j in offsets[q]..offsets[q + 1] {
-                        program.entry(i, j, common, (offsets[q], j), (first, start))?;
-                    }
-                }
-                for j in own_from..i {
-                    program.entry(i, j, own, (own_from, j), (first, start))?;
-                }
-                program.entry(i, i, own, (own_from, i), (first, start))?;
-            }
-        }
+        pattern.for_each_entry(offsets, |i, j, segments, tail| {
+            program.entry(i, j, segments, tail, (first, start))
+        })?;
         Some(program)
     }
 
@@ -446,6 +431,38 @@ impl Program {
 }
 
 impl Pattern {
+    /// Calls `f(i, j, segments, tail)` for every entry of the joint rows'
+    /// factor that can be other than zero, in the order the factorization
+    /// computes them (row by row; in a row, the blocks of earlier joints,
+    /// then its own joint's entries, then its diagonal `j == i`): the dot
+    /// of rows `i` and `j` runs over the columns of `segments`, then
+    /// `tail`. The one home of that order, which `Program` records and
+    /// `walk_pattern` computes (the same order, so the same bits). Stops
+    /// at the first `None` from `f`, and returns it.
+    fn for_each_entry(
+        &self,
+        offsets: &[usize],
+        mut f: impl FnMut(usize, usize, &[(usize, usize)], (usize, usize)) -> Option<()>,
+    ) -> Option<()> {
+        for p in 0..offsets.len().saturating_sub(1) {
+            let own_from = offsets[p];
+            let own = &self.segments[self.own[p].0..self.own[p].1];
+            let before = &self.before[self.before_at[p]..self.before_at[p + 1]];
+            for i in own_from..offsets[p + 1] {
+                for &(q, from, to) in before {
+                    let common = &self.segments[from..to];
+                    for j in offsets[q]..offsets[q + 1] {
+                        f(i, j, common, (offsets[q], j))?;
+                    }
+                }
+                for j in own_from..=i {
+                    f(i, j, own, (own_from, j))?;
+                }
+            }
+        }
+        Some(())
+    }
+
     /// The pattern of a profile's joints (`offsets`, `couplings`).
     fn new(offsets: &[usize], couplings: &[Coupling]) -> Pattern {
         let joints = offsets.len().saturating_sub(1);
@@ -622,12 +639,6 @@ impl Profile {
         (0..o.len().saturating_sub(1)).map(own_rows).sum::<usize>() + gears
     }
 
-    /// The column ranges before joint `p`'s own columns that can be other
-    /// than zero in its rows.
-    fn own_segments(&self, p: usize) -> &[(usize, usize)] {
-        let (from, to) = self.pattern.own[p];
-        &self.pattern.segments[from..to]
-    }
     /// Rows of the system.
     pub fn rows(&self) -> usize {
         self.first.len()
@@ -806,31 +817,23 @@ impl Factor<f64> {
 /// then its diagonal, into `inv_diagonal` as its reciprocal.
 fn walk_pattern<N: Num>(profile: &Profile, k: &mut [N], inv_diagonal: &mut [N]) {
     let (first, start) = (&profile.first, &profile.start);
-    let (offsets, pattern) = (&profile.offsets, &profile.pattern);
-    for p in 0..offsets.len().saturating_sub(1) {
-        let own_from = offsets[p];
-        let own = profile.own_segments(p);
-        let before = &pattern.before[pattern.before_at[p]..pattern.before_at[p + 1]];
-        for i in own_from..offsets[p + 1] {
+    let walked = profile
+        .pattern
+        .for_each_entry(&profile.offsets, |i, j, segments, tail| {
             let (fi, si) = (first[i], start[i]);
             let (done, row_i) = k.split_at_mut(si);
             let row_i = &mut row_i[..i + 1 - fi];
-            let done = &*done;
-            for &(q, from, to) in before {
-                let common = &pattern.segments[from..to];
-                for j in offsets[q]..offsets[q + 1] {
-                    entry(row_i, fi, done, profile, inv_diagonal, j, common, offsets[q]);
-                }
+            if i == j {
+                let dot = dot_over(row_i, fi, row_i, fi, segments, tail);
+                let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
+                inv_diagonal[i] = N::splat(1.0) / d;
+                row_i[i - fi] = d;
+            } else {
+                entry(row_i, fi, done, profile, inv_diagonal, j, segments, tail.0);
             }
-            for j in own_from..i {
-                entry(row_i, fi, done, profile, inv_diagonal, j, own, own_from);
-            }
-            let dot = dot_over(row_i, fi, row_i, fi, own, (own_from, i));
-            let d = (row_i[i - fi] - dot).max(N::splat(1e-300)).sqrt();
-            inv_diagonal[i] = N::splat(1.0) / d;
-            row_i[i - fi] = d;
-        }
-    }
+            Some(())
+        });
+    debug_assert!(walked.is_some());
 }
 
 /// Entry `j` of row `i` of the factor (row `i` stored from column `fi`,

@@ -39,12 +39,20 @@
 //! each rose and its speed at the end: where a settled pile's energy goes up
 //! and down while its kinetic energy stays small); with `TRACE_HASH=1`, a hash
 //! of every body's state bits at the end (two builds that should step alike
-//! give the same hash).
+//! give the same hash); with `FLUSH_SUBNORMALS=1` (x86-64), subnormal
+//! operands and results taken as zero on the main thread (MXCSR's DAZ and
+//! FTZ; run it with one thread): where that makes a scene faster, some
+//! arithmetic meets subnormal numbers, which Intel cores handle in microcode
+//! (a diagnostic only: the engine never sets these flags, and the
+//! trajectory may differ).
 use tumble::scenes;
 use tumble::world::{SolveStage, Stage};
 use tumble_collide::DVec3;
 
 fn main() {
+    if std::env::var("FLUSH_SUBNORMALS").is_ok() {
+        flush_subnormals();
+    }
     let args: Vec<String> = std::env::args().collect();
     let name = args.get(1).map(String::as_str).unwrap_or("pyramid");
     let steps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(300);
@@ -778,4 +786,18 @@ fn trace_body_line(world: &tumble::world::World, step: usize, name: &str) {
             if n > 0.0 { t / n } else { 0.0 }
         );
     }
+}
+
+/// Sets MXCSR's DAZ (bit 6) and FTZ (bit 15) on this thread (`FLUSH_SUBNORMALS`).
+#[cfg(target_arch = "x86_64")]
+#[allow(deprecated)] // `_mm_setcsr`: the one way to set the flags from Rust
+fn flush_subnormals() {
+    use std::arch::x86_64::{_mm_getcsr, _mm_setcsr};
+    // SAFETY: the flags change how this thread rounds subnormals, nothing else.
+    unsafe { _mm_setcsr(_mm_getcsr() | 0x8040) };
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn flush_subnormals() {
+    eprintln!("FLUSH_SUBNORMALS: x86-64 only, ignored");
 }

@@ -454,73 +454,31 @@ impl JointConstraint {
     /// scalar row first acts in the sub-step).
     fn condition(&mut self, ma: f64, ia: &glam::DMat3, mb: f64, ib: &glam::DMat3, h: f64) {
         let m_sum = ma + mb;
-        for i in slots(self.active) {
+        let equality = (1u16 << self.n_eq) - 1;
+        for i in slots(self.active & equality) {
             let r = &mut self.rows[i];
             r.ia = *ia * r.ang_a;
             r.ib = *ib * r.ang_b;
             r.push = 0.0;
-            if i < self.n_eq {
-                // Equality rows are solved as a block (the joint's or its
-                // island's): unbounded, rigid, no effective mass of their own.
-                (r.lo, r.hi, r.gamma, r.bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
-                continue;
-            }
+            // Equality rows are solved as a block (the joint's or its
+            // island's): unbounded, rigid, no effective mass of their own.
+            (r.lo, r.hi, r.gamma, r.bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
+        }
+        // The other rows in a loop of their own. Why: in one loop with the
+        // equality rows, which skipped the rest of the body, the compiler
+        // computed the rest (`soft`'s divisions among it) for every row
+        // anyway, from the fields of laws the joint does not have, and
+        // threw it away: divisions by zero and subnormal results, each a
+        // microcode assist of some 150 cycles on Intel cores. Every ball
+        // joint of the heavy chain paid them in every sub-step, a third of
+        // the chain's step on a Xeon (MXCSR's sticky flags showed them).
+        for i in slots(self.active & !equality) {
+            let r = &mut self.rows[i];
+            r.ia = *ia * r.ang_a;
+            r.ib = *ib * r.ang_b;
+            r.push = 0.0;
             let k = m_sum * r.lin.length_squared() + r.ang_a.dot(r.ia) + r.ang_b.dot(r.ib);
-            let (mut lo, mut hi, mut gamma, mut bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
-            match i {
-                // A ball's motor: bounded together (`bound_ball_rows`).
-                SPRING | MOTOR | BALL_MOTOR_LAST if self.law.kind == JointKind::Ball => {
-                    let k = BALL_MOTOR
-                        .iter()
-                        .position(|&s| s == i)
-                        .expect("a ball motor slot");
-                    match self.law.motor.expect("ball motor row without a motor") {
-                        Motor::AngularVelocity { target, .. } => bias = -target[k],
-                        Motor::Orientation {
-                            stiffness, damping, ..
-                        } => {
-                            (gamma, bias) = soft(stiffness, damping, r.c, h, MOTOR_STIFFNESS_AT);
-                        }
-                        Motor::Velocity { .. } | Motor::Position { .. } => {}
-                    }
-                }
-                LOWER | UPPER | SWING => {
-                    lo = 0.0;
-                    // Speculative: a limit C away may be approached at C / h.
-                    bias = r.c.max(0.0) / h;
-                }
-                MOTOR => {
-                    let m = self.law.motor.expect("motor row without a motor");
-                    let f = m.max_force() * h;
-                    (lo, hi) = (-f, f);
-                    match m {
-                        Motor::Velocity { target, .. } => bias = -target,
-                        Motor::Position {
-                            stiffness, damping, ..
-                        } => {
-                            (gamma, bias) = soft(stiffness, damping, r.c, h, MOTOR_STIFFNESS_AT);
-                        }
-                        // (A ball's, above.)
-                        Motor::AngularVelocity { .. } | Motor::Orientation { .. } => {}
-                    }
-                }
-                // (Slots below `n_eq` were equality rows, above: a ball's.)
-                SPRING | BALL_SPRING..=BALL_SPRING_LAST => {
-                    let s = self.law.spring.expect("spring row without a spring");
-                    let at = spring_at(s.stiffness, k, h);
-                    (gamma, bias) = soft(s.stiffness, s.damping, r.c, h, at);
-                }
-                // Held at rest up to the friction, opposed by it in motion:
-                // a rigid row towards no relative motion, bounded by it
-                // (MuJoCo's `frictionloss`, per degree of freedom).
-                // (A ball's three rows are bounded together, by
-                // `bound_ball_friction`.)
-                FRICTION..=FRICTION_LAST if self.law.kind != JointKind::Ball => {
-                    let f = self.law.friction.expect("friction row without a friction") * h;
-                    (lo, hi) = (-f, f);
-                }
-                _ => {}
-            }
+            let (lo, hi, gamma, bias) = scalar_row_law(&self.law, i, r.c, k, h);
             r.lo = lo;
             r.hi = hi;
             r.gamma = gamma;
@@ -1037,6 +995,76 @@ fn slots(mut mask: u16) -> impl Iterator<Item = usize> {
             i
         })
     })
+}
+
+/// The bounds, softness and bias of scalar row slot `i` (not an equality
+/// row) of a joint with `law`, for the row's position error `c`, effective
+/// inverse mass `k` and the sub-step `h` (`JointConstraint::condition`).
+///
+/// Not inlined, on purpose: inlined into `condition`'s loop over the rows,
+/// the compiler computed every arm's arithmetic for every row, from the
+/// fields of motors and springs the joint does not have, and kept one; some
+/// of those values were subnormal, and an operation on a subnormal costs a
+/// microcode assist of some 150 cycles on Intel cores (the ragdoll pile's
+/// elbows and knees, every sub-step). Called, it computes one arm.
+#[inline(never)]
+fn scalar_row_law(law: &JointLaw, i: usize, c: f64, k: f64, h: f64) -> (f64, f64, f64, f64) {
+    let (mut lo, mut hi, mut gamma, mut bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
+    match i {
+        // A ball's motor: bounded together (`bound_ball_rows`).
+        SPRING | MOTOR | BALL_MOTOR_LAST if law.kind == JointKind::Ball => {
+            let k = BALL_MOTOR
+                .iter()
+                .position(|&s| s == i)
+                .expect("a ball motor slot");
+            match law.motor.expect("ball motor row without a motor") {
+                Motor::AngularVelocity { target, .. } => bias = -target[k],
+                Motor::Orientation {
+                    stiffness, damping, ..
+                } => {
+                    (gamma, bias) = soft(stiffness, damping, c, h, MOTOR_STIFFNESS_AT);
+                }
+                Motor::Velocity { .. } | Motor::Position { .. } => {}
+            }
+        }
+        LOWER | UPPER | SWING => {
+            lo = 0.0;
+            // Speculative: a limit C away may be approached at C / h.
+            bias = c.max(0.0) / h;
+        }
+        MOTOR => {
+            let m = law.motor.expect("motor row without a motor");
+            let f = m.max_force() * h;
+            (lo, hi) = (-f, f);
+            match m {
+                Motor::Velocity { target, .. } => bias = -target,
+                Motor::Position {
+                    stiffness, damping, ..
+                } => {
+                    (gamma, bias) = soft(stiffness, damping, c, h, MOTOR_STIFFNESS_AT);
+                }
+                // (A ball's, above.)
+                Motor::AngularVelocity { .. } | Motor::Orientation { .. } => {}
+            }
+        }
+        // (Slots below `n_eq` were equality rows, above: a ball's.)
+        SPRING | BALL_SPRING..=BALL_SPRING_LAST => {
+            let s = law.spring.expect("spring row without a spring");
+            let at = spring_at(s.stiffness, k, h);
+            (gamma, bias) = soft(s.stiffness, s.damping, c, h, at);
+        }
+        // Held at rest up to the friction, opposed by it in motion:
+        // a rigid row towards no relative motion, bounded by it
+        // (MuJoCo's `frictionloss`, per degree of freedom).
+        // (A ball's three rows are bounded together, by
+        // `bound_ball_friction`.)
+        FRICTION..=FRICTION_LAST if law.kind != JointKind::Ball => {
+            let f = law.friction.expect("friction row without a friction") * h;
+            (lo, hi) = (-f, f);
+        }
+        _ => {}
+    }
+    (lo, hi, gamma, bias)
 }
 
 /// Soft-constraint coefficients `(gamma, bias)` of a spring-damper of

@@ -50,6 +50,9 @@ use tumble::world::{SolveStage, Stage};
 use tumble_collide::DVec3;
 
 fn main() {
+    if std::env::var("TRAP_SUBNORMALS").is_ok() {
+        trap_subnormals();
+    }
     if std::env::var("FLUSH_SUBNORMALS").is_ok() {
         flush_subnormals();
     }
@@ -795,6 +798,21 @@ fn flush_subnormals() {
     use std::arch::x86_64::{_mm_getcsr, _mm_setcsr};
     // SAFETY: the flags change how this thread rounds subnormals, nothing else.
     unsafe { _mm_setcsr(_mm_getcsr() | 0x8040) };
+}
+
+/// Unmasks MXCSR's denormal-operand (bit 8) and underflow (bit 11)
+/// exceptions on this thread, its sticky flags cleared (`TRAP_SUBNORMALS`).
+#[cfg(target_arch = "x86_64")]
+#[allow(deprecated)] // `_mm_setcsr`: the one way to set the flags from Rust
+fn trap_subnormals() {
+    use std::arch::x86_64::{_mm_getcsr, _mm_setcsr};
+    // SAFETY: an unmasked exception raises SIGFPE, which ends the run.
+    unsafe { _mm_setcsr(_mm_getcsr() & !((1 << 8) | (1 << 11) | 0x3f)) };
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn trap_subnormals() {
+    eprintln!("TRAP_SUBNORMALS: x86-64 only, ignored");
 }
 
 #[cfg(not(target_arch = "x86_64"))]

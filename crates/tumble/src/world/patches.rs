@@ -163,26 +163,10 @@ impl PairInfo<'_> {
     /// curvature (a radius beyond its surface point along the normal), in
     /// the world; zero for other pairs and for contacts at a crease.
     fn curvature(&self, c: &Contact) -> DMat3 {
-        let Some((mesh, pose, mesh_is_a)) = self.smooth else {
-            return DMat3::ZERO;
-        };
-        let (feature, radius, away) = if mesh_is_a {
-            (c.feature_a, self.rolling[1], -c.normal)
-        } else {
-            (c.feature_b, self.rolling[0], c.normal)
-        };
-        let surface = mesh.smooth_surface();
-        if feature.sub != SubFeature::Face || surface.is_none() {
-            return DMat3::ZERO;
+        match &self.smooth {
+            Some(smooth) => smooth_curvature(smooth, self.rolling, c),
+            None => DMat3::ZERO,
         }
-        let centre = c.point + away * (radius + 0.5 * c.distance);
-        let local = pose.inverse_transform_point(centre);
-        surface
-            .and_then(|s| s.path_curvature(mesh.mesh(), feature.index, local))
-            .map_or(DMat3::ZERO, |k| {
-                let turn = DMat3::from_quat(pose.rotation);
-                turn * k * turn.transpose()
-            })
     }
 
     /// The gap of contact `c` at the end of the step if the bodies kept
@@ -209,6 +193,41 @@ pub(crate) struct PatchScratch {
     pub feature_cursor: usize,
     /// Where the last search of the patch cache ended.
     patch_cursor: usize,
+}
+
+/// [`PairInfo::curvature`] of a pair with a smooth mesh (`smooth`: the
+/// mesh, its collider's pose, whether it is body A's), the round side's
+/// radius in `rolling`.
+///
+/// Not inlined, on purpose: inlined, the compiler began the pose's
+/// arithmetic before it had looked whether the pair has a smooth mesh at
+/// all, on the bytes of an empty `Option` (pointers, read as f64, are
+/// subnormal), and every subnormal operand costs a microcode assist of
+/// some 150 cycles on Intel cores: every box pair of the pyramid paid
+/// them at every step (a trap on subnormal operands stopped there).
+#[inline(never)]
+fn smooth_curvature(
+    &(mesh, pose, mesh_is_a): &(&MeshShape, Pose, bool),
+    rolling: [f64; 2],
+    c: &Contact,
+) -> DMat3 {
+    let (feature, radius, away) = if mesh_is_a {
+        (c.feature_a, rolling[1], -c.normal)
+    } else {
+        (c.feature_b, rolling[0], c.normal)
+    };
+    let surface = mesh.smooth_surface();
+    if feature.sub != SubFeature::Face || surface.is_none() {
+        return DMat3::ZERO;
+    }
+    let centre = c.point + away * (radius + 0.5 * c.distance);
+    let local = pose.inverse_transform_point(centre);
+    surface
+        .and_then(|s| s.path_curvature(mesh.mesh(), feature.index, local))
+        .map_or(DMat3::ZERO, |k| {
+            let turn = DMat3::from_quat(pose.rotation);
+            turn * k * turn.transpose()
+        })
 }
 
 /// Appends the points and patches of one collider pair's `contacts`; points

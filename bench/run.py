@@ -39,6 +39,9 @@ OPT_IN = ["concave_pile"]
 # Scenes with joints: the Python peers run them on reduced coordinates (kinematic trees), and
 # MuJoCo also with as many steps of dt / 8 per scene step as tumble's sub-steps.
 JOINTED = ["heavy_chain", "ragdoll_pile"]
+# Scenes Rapier also runs with tumble's passes in a full run (`peer-rapier --scene S-passes`): those
+# of issue 13's and 14's speed goals.
+SAME_PASSES = ["pyramid", "large_pyramid", "pile", "heavy_chain", "ragdoll_pile"]
 PILE_N_FULL = [100, 1000, 10000]
 PILE_N_QUICK = [100]
 QUICK_STEPS = 5
@@ -243,15 +246,19 @@ def collect(quick, only, max_steps=None, pile_n=None, engines=None, threads=(1,)
                 # joints: like tumble's joint islands, solved in one piece rather than joint by joint.
                 # The bowl also on Rapier's plain TriMesh (default flags), as tumble reports its bare facets.
                 # The concave pile also as Rapier's own convex decomposition of each body (V-HACD).
+                # The scenes of issue 13's and 14's speed goals also with tumble's passes (`-passes`:
+                # tumble's sub-steps, iterations and push-out passes as Rapier's sub-steps, PGS and
+                # stabilization iterations), so that a ratio compares the same solver work too.
                 variants = ([scene] + ([f"{scene}-multibody"] if scene in ("heavy_chain", "ragdoll_pile") else [])
                             + (["bowl-facets"] if scene == "bowl" else [])
-                            + (["concave_pile-vhacd"] if scene == "concave_pile" else []))
+                            + (["concave_pile-vhacd"] if scene == "concave_pile" else [])
+                            + ([f"{scene}-passes"] if scene in SAME_PASSES and not quick else []))
                 for t in threads:
                     label = threaded("rapier3d", t)
                     for variant in variants:
                         print(f"[bench] {label} {variant}", file=sys.stderr, flush=True)
                         args = ["--scene", variant, "--threads", str(t)] + step_args(n, scene)
-                        name = variant if n is None else hint
+                        name = variant if n is None else hint + variant[len(scene):]
 
                         def rapier():
                             return relabel(rust_peer(label, "peer-rapier", args, timeout, name), label)

@@ -12,8 +12,13 @@
 //! pile on Rapier's multibody (reduced-coordinate) joints;
 //! `concave_pile-vhacd` the concave pile with each body's mesh as Rapier's own convex
 //! decomposition (`concave_pile`: plain `TriMesh`es).
+//! A scene name with `-passes` appended (`pyramid-passes`, `pile-passes`, ...) runs the scene
+//! with tumble's passes instead of Rapier's defaults: as many solver sub-steps as tumble's
+//! `substeps`, as many PGS iterations in each as tumble's `iterations` and as many
+//! stabilization iterations as tumble's `push_out_iterations` (8, 2 and 1 by default, against
+//! Rapier's 4, 1 and 1), so that the two engines' times compare the same solver work.
 //!
-//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile|ragdoll_pile-multibody|concave_pile|concave_pile-vhacd [--steps K] [--n N] [--threads T]`
+//! Usage: `peer-rapier --scene pyramid|large_pyramid|pile|chain|cradle|bowl|bowl-facets|heavy_chain|heavy_chain-multibody|ragdoll_pile|ragdoll_pile-multibody|concave_pile|concave_pile-vhacd[-passes] [--steps K] [--n N] [--threads T]`
 
 use std::time::Instant;
 
@@ -53,6 +58,7 @@ fn settings(w: &PhysicsWorld, steps: usize) -> serde_json::Value {
         "precision": "f32",
         "solver_iterations": p.num_solver_iterations,
         "internal_pgs_iterations": p.num_internal_pgs_iterations,
+        "internal_stabilization_iterations": p.num_internal_stabilization_iterations,
         "materials": "tumble's per body",
         "friction_combine": "geometric mean",
         "restitution_combine": "max",
@@ -86,11 +92,23 @@ fn scene(name: &str, n: usize) -> Result<Scene, String> {
 /// Runs `name` for `steps` steps (default: the scene's own), timing the
 /// step call only, and prints the record with the figures of scenes.md;
 /// deepest penetration and joint error are sampled every 10 steps.
-fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
+fn run(full_name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
+    let passes = full_name.ends_with("-passes");
+    let name = full_name.strip_suffix("-passes").unwrap_or(full_name);
     let scene = scene(name, n)?;
     let multibody = name.ends_with("-multibody");
     let decomposed = name.ends_with("-vhacd");
     let mut sw = rs::build_with(&scene, multibody, decomposed)?;
+    if passes {
+        let p = &mut sw.world.integration_parameters;
+        let s = &scene.settings;
+        if s.substeps == 0 {
+            return Err(format!("{name}: tumble's settings have no sub-steps"));
+        }
+        p.num_solver_iterations = s.substeps as usize;
+        p.num_internal_pgs_iterations = s.iterations as usize;
+        p.num_internal_stabilization_iterations = s.push_out_iterations as usize;
+    }
     let steps = steps.unwrap_or(scene.steps);
     let dynamic: Vec<usize> = (0..scene.bodies.len())
         .filter(|&i| scene.bodies[i].kind == tumble::BodyKind::Dynamic)
@@ -232,7 +250,7 @@ fn run(name: &str, steps: Option<usize>, n: usize) -> Result<(), String> {
         scene: match name {
             "pile" => format!("pile{n}"),
             other => other.to_string(),
-        },
+        } + if passes { "-passes" } else { "" },
         status: "ok",
         settings: set,
         figures,

@@ -1013,12 +1013,12 @@ fn scalar_row_law(law: &JointLaw, i: usize, c: f64, k: f64, h: f64) -> (f64, f64
     match i {
         // A ball's motor: bounded together (`bound_ball_rows`).
         SPRING | MOTOR | BALL_MOTOR_LAST if law.kind == JointKind::Ball => {
-            let k = BALL_MOTOR
+            let axis = BALL_MOTOR
                 .iter()
                 .position(|&s| s == i)
                 .expect("a ball motor slot");
             match law.motor.expect("ball motor row without a motor") {
-                Motor::AngularVelocity { target, .. } => bias = -target[k],
+                Motor::AngularVelocity { target, .. } => bias = -target[axis],
                 Motor::Orientation {
                     stiffness, damping, ..
                 } => {

@@ -454,29 +454,17 @@ impl JointConstraint {
     /// scalar row first acts in the sub-step).
     fn condition(&mut self, ma: f64, ia: &glam::DMat3, mb: f64, ib: &glam::DMat3, h: f64) {
         let m_sum = ma + mb;
-        let equality = (1u16 << self.n_eq) - 1;
-        for i in slots(self.active & equality) {
+        for i in slots(self.active) {
             let r = &mut self.rows[i];
             r.ia = *ia * r.ang_a;
             r.ib = *ib * r.ang_b;
             r.push = 0.0;
-            // Equality rows are solved as a block (the joint's or its
-            // island's): unbounded, rigid, no effective mass of their own.
-            (r.lo, r.hi, r.gamma, r.bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
-        }
-        // The other rows in a loop of their own. Why: in one loop with the
-        // equality rows, which skipped the rest of the body, the compiler
-        // computed the rest (`soft`'s divisions among it) for every row
-        // anyway, from the fields of laws the joint does not have, and
-        // threw it away: divisions by zero and subnormal results, each a
-        // microcode assist of some 150 cycles on Intel cores. Every ball
-        // joint of the heavy chain paid them in every sub-step, a third of
-        // the chain's step on a Xeon (MXCSR's sticky flags showed them).
-        for i in slots(self.active & !equality) {
-            let r = &mut self.rows[i];
-            r.ia = *ia * r.ang_a;
-            r.ib = *ib * r.ang_b;
-            r.push = 0.0;
+            if i < self.n_eq {
+                // Equality rows are solved as a block (the joint's or its
+                // island's): unbounded, rigid, no effective mass of their own.
+                (r.lo, r.hi, r.gamma, r.bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);
+                continue;
+            }
             let k = m_sum * r.lin.length_squared() + r.ang_a.dot(r.ia) + r.ang_b.dot(r.ib);
             let (lo, hi, gamma, bias) = scalar_row_law(&self.law, i, r.c, k, h);
             r.lo = lo;
@@ -1002,11 +990,13 @@ fn slots(mut mask: u16) -> impl Iterator<Item = usize> {
 /// inverse mass `k` and the sub-step `h` (`JointConstraint::condition`).
 ///
 /// Not inlined, on purpose: inlined into `condition`'s loop over the rows,
-/// the compiler computed every arm's arithmetic for every row, from the
-/// fields of motors and springs the joint does not have, and kept one; some
-/// of those values were subnormal, and an operation on a subnormal costs a
-/// microcode assist of some 150 cycles on Intel cores (the ragdoll pile's
-/// elbows and knees, every sub-step). Called, it computes one arm.
+/// the compiler computed every arm's arithmetic for every row, the equality
+/// rows that skip it included, from the fields of motors and springs the
+/// joint does not have, and kept at most one; some of those values were
+/// subnormal, and an operation on a subnormal costs a microcode assist of
+/// some 150 cycles on Intel cores (every joint of the heavy chain and the
+/// ragdoll pile, every sub-step: a third of the heavy chain's step on a
+/// Xeon). Called, it computes one arm, for the rows that need it.
 #[inline(never)]
 fn scalar_row_law(law: &JointLaw, i: usize, c: f64, k: f64, h: f64) -> (f64, f64, f64, f64) {
     let (mut lo, mut hi, mut gamma, mut bias) = (f64::NEG_INFINITY, f64::INFINITY, 0.0, 0.0);

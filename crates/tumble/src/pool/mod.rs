@@ -357,6 +357,10 @@ struct BarrierState {
     /// Per member, the slices of its run not yet taken: `front << 32 |
     /// back` (`front..back`).
     runs: Box<[AtomicU64]>,
+    /// Per member, how many times it has called [`Team::signal`], each
+    /// on a cache line of its own (written by its member, read by the
+    /// others).
+    signals: Box<[Padded]>,
     /// A member panicked: the others leave their barriers by panicking
     /// too, instead of waiting for it forever.
     poisoned: std::sync::atomic::AtomicBool,
@@ -366,10 +370,17 @@ impl BarrierState {
     fn new(size: usize) -> BarrierState {
         BarrierState {
             runs: (0..size).map(|_| AtomicU64::new(0)).collect(),
+            signals: (0..size).map(|_| Padded::default()).collect(),
             ..BarrierState::default()
         }
     }
 }
+
+/// A counter alone on its cache line (128 bytes: adjacent-line prefetch
+/// pulls lines in pairs on x86).
+#[derive(Default)]
+#[repr(align(128))]
+struct Padded(AtomicUsize);
 
 /// Poisons a team's barriers when the member holding it unwinds.
 struct PoisonOnUnwind<'a>(&'a BarrierState);
@@ -426,9 +437,15 @@ impl Team {
             s.generation.store(generation.wrapping_add(1), Ordering::Release);
             return;
         }
+        self.spin_until(|| s.generation.load(Ordering::Acquire) != generation);
+    }
+
+    /// Spins until `done`, then yields between the tests; panics when
+    /// another member has panicked (it will never arrive).
+    fn spin_until(&self, done: impl Fn() -> bool) {
         let mut spins = 0u32;
-        while s.generation.load(Ordering::Acquire) == generation {
-            if s.poisoned.load(Ordering::Acquire) {
+        while !done() {
+            if self.sync.poisoned.load(Ordering::Acquire) {
                 panic!("another member of the thread team panicked");
             }
             if spins < SPINS_BEFORE_YIELD {
@@ -436,6 +453,45 @@ impl Team {
                 spins += 1;
             } else {
                 std::thread::yield_now();
+            }
+        }
+    }
+
+    /// Tells the other members that this thread has done one more step of
+    /// a sequence every member walks alike (see [`Team::await_peers`]).
+    /// What it wrote before is seen by a member that waited for it.
+    pub fn signal(&self) {
+        if self.size > 1 {
+            self.sync.signals[self.index].0.fetch_add(1, Ordering::Release);
+        }
+    }
+
+    /// Whether every other member has signalled at least as often as this
+    /// thread has ([`Team::await_peers`] without the wait).
+    pub fn peers_ready(&self) -> bool {
+        if self.size == 1 {
+            return true;
+        }
+        let s = &self.sync;
+        let mine = s.signals[self.index].0.load(Ordering::Relaxed);
+        s.signals
+            .iter()
+            .enumerate()
+            .all(|(k, peer)| k == self.index || peer.0.load(Ordering::Acquire) >= mine)
+    }
+
+    /// Waits until every other member has signalled at least as often as
+    /// this thread has ([`Team::signal`]): a point-to-point wait, where a
+    /// barrier would also hold back the members that are ahead.
+    pub fn await_peers(&self) {
+        if self.size == 1 {
+            return;
+        }
+        let s = &self.sync;
+        let mine = s.signals[self.index].0.load(Ordering::Relaxed);
+        for (k, peer) in s.signals.iter().enumerate() {
+            if k != self.index {
+                self.spin_until(|| peer.0.load(Ordering::Acquire) >= mine);
             }
         }
     }
@@ -519,32 +575,38 @@ impl Team {
         }
     }
 
-    /// This thread's share of `n` items cut in blocks of `block`: the
-    /// blocks cut in `size` contiguous runs of near-equal length, run
-    /// `index` for thread `index` (a fixed assignment: no atomics, and the
-    /// work of a block never depends on who does it). Below two blocks'
-    /// worth, thread 0 takes all.
+    /// This thread's share of `n` items to be worked in blocks of `block`
+    /// ([`Team::blocks_of`]): the blocks cut in `size` contiguous runs of
+    /// near-equal length, run `index` for thread `index` (a fixed
+    /// assignment: no atomics, and the work of a block never depends on
+    /// who does it). Below two blocks' worth, thread 0 takes all.
     ///
-    /// Why runs and not blocks dealt round-robin: the solver's colours
-    /// give each thread the same stretch of each colour's patches, which
-    /// follow the bodies (`ColorBundles::share`), so a thread that
-    /// integrates a contiguous run of bodies integrates mostly the bodies
-    /// its own patches touch, and their lines stay in its core's cache
-    /// between the passes and the integrations of a sub-step.
-    pub fn blocks(&self, n: usize, block: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+    /// Why runs and not blocks dealt round-robin: a thread that works on a
+    /// contiguous run of bodies in every part of a sub-step keeps their
+    /// lines in its core's cache between the passes and the integrations
+    /// (the solver deals its patches by such runs, `ThreadFlow`).
+    pub fn block_run(&self, n: usize, block: usize) -> std::ops::Range<usize> {
         let block = block.max(1);
-        let (from, to) = if self.size == 1 || n < 2 * block {
+        if self.size == 1 || n < 2 * block {
             if self.index == 0 {
-                (0, n)
+                0..n
             } else {
-                (n, n)
+                n..n
             }
         } else {
             let blocks = n.div_ceil(block);
             let cut = |i: usize| (blocks * i / self.size * block).min(n);
-            (cut(self.index), cut(self.index + 1))
-        };
-        (from..to).step_by(block).map(move |s| s..(s + block).min(to))
+            cut(self.index)..cut(self.index + 1)
+        }
+    }
+
+    /// `run` in blocks of `block` from its start.
+    pub fn blocks_of(
+        run: std::ops::Range<usize>,
+        block: usize,
+    ) -> impl Iterator<Item = std::ops::Range<usize>> {
+        let (block, to) = (block.max(1), run.end);
+        run.step_by(block).map(move |s| s..(s + block).min(to))
     }
 }
 

@@ -86,6 +86,50 @@ fn a_team_in_a_run_has_each_member_once_and_meets_at_barriers() {
 }
 
 #[test]
+fn a_member_that_awaits_its_peers_sees_what_they_wrote_before_signalling() {
+    // Each member writes its round, signals, awaits the others and reads
+    // theirs: every other member must have reached the round (and what it
+    // wrote before signalling must show). Members are held back unevenly,
+    // so that each is sometimes ahead and sometimes behind.
+    for threads in [2, 3, 8] {
+        let pool = WorkerPool::new(threads);
+        for crewed in [false, true] {
+            let check = |pool: &WorkerPool| {
+                let cells: Vec<AtomicUsize> = (0..threads).map(|_| AtomicUsize::new(0)).collect();
+                let late = AtomicUsize::new(0);
+                pool.team(|team: &Team| {
+                    for round in 1..=200 {
+                        if (round + team.index()).is_multiple_of(7) {
+                            std::thread::sleep(std::time::Duration::from_micros(30));
+                        }
+                        cells[team.index()].store(round, Ordering::Relaxed);
+                        team.signal();
+                        team.await_peers();
+                        assert!(team.peers_ready());
+                        for cell in &cells[..team.size()] {
+                            if cell.load(Ordering::Relaxed) < round {
+                                late.fetch_add(1, Ordering::SeqCst);
+                            }
+                        }
+                    }
+                    team.barrier();
+                });
+                assert_eq!(
+                    late.load(Ordering::SeqCst),
+                    0,
+                    "{threads} threads: a member went on early"
+                );
+            };
+            if crewed {
+                pool.run(|crewed| check(crewed));
+            } else {
+                check(&pool);
+            }
+        }
+    }
+}
+
+#[test]
 fn a_team_takes_every_slice_exactly_once_call_after_call() {
     // Slices of unequal cost (the first thread's own run is slow, so the
     // others take from its back), several calls between barriers as the
@@ -224,13 +268,29 @@ fn team_with_a_panic(team: &Team, panicking: usize) {
     team.barrier();
 }
 
+/// As [`team_with_a_panic`], the other member waiting for a signal.
+fn team_with_a_panic_awaited(team: &Team, panicking: usize) {
+    assert_eq!(team.size(), 2, "a team of two");
+    if team.index() == panicking {
+        panic!("member {} fails on purpose", team.index());
+    }
+    team.signal();
+    team.await_peers();
+}
+
 #[test]
 fn a_member_that_panics_fails_the_team_instead_of_hanging_it() {
     for panicking in [0usize, 1] {
-        // A team of the pool's threads.
+        // A team of the pool's threads, at a barrier and at a signal.
         let failed =
             fails_in_time(move || WorkerPool::new(2).team(|team| team_with_a_panic(team, panicking)));
         assert!(failed, "member {panicking}'s panic did not reach the caller");
+        let failed =
+            fails_in_time(move || WorkerPool::new(2).team(|team| team_with_a_panic_awaited(team, panicking)));
+        assert!(
+            failed,
+            "member {panicking}'s panic did not reach the awaiting member"
+        );
         // A team of a run's crew (a helper needs a second core).
         if super::cores() < 2 {
             continue;
@@ -264,7 +324,7 @@ fn blocks_give_each_thread_one_run_of_whole_blocks_covering_every_item_once() {
                     index,
                     sync: Arc::new(BarrierState::new(size)),
                 };
-                let ranges: Vec<_> = team.blocks(n, 64).collect();
+                let ranges: Vec<_> = Team::blocks_of(team.block_run(n, 64), 64).collect();
                 for (k, r) in ranges.iter().enumerate() {
                     // Whole blocks (only the last one of all may be short),
                     // each run contiguous and after the previous thread's.

@@ -62,7 +62,7 @@ mod wide;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use batches::{SolverArrays, VelocityPass};
+pub(crate) use batches::{SolverArrays, ThreadFlow, VelocityPass, BODIES_PER_BLOCK};
 pub use body::{integrate_positions, SolverBody};
 pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
 pub(crate) use coloring::Shared;

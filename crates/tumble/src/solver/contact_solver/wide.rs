@@ -35,7 +35,7 @@ use std::ops::Range;
 use tumble_collide::{DMat3, DVec3};
 
 /// Marks a lane that holds no patch (padding of a colour's last bundle).
-const EMPTY: u32 = u32::MAX;
+pub(super) const EMPTY: u32 = u32::MAX;
 
 /// The angular part of one row in every lane (`RowJacobian`, widened).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -142,9 +142,9 @@ struct PointFrame {
 #[repr(C)]
 pub(crate) struct WidePatch<const N: usize> {
     /// Solver bodies A of the lanes (0, the immovable body, in empty lanes).
-    a: [u32; LANES],
+    pub(super) a: [u32; LANES],
     /// Solver bodies B.
-    b: [u32; LANES],
+    pub(super) b: [u32; LANES],
     friction: Lane,
     inv_mass: [Lane; 2],
     directions: [V3; 2],
@@ -436,30 +436,15 @@ impl ColorBundles {
         [&self.ones, &self.twos, &self.fours, &self.large]
     }
 
+    /// The colour's runs: ranges into the arrays of ones, twos, fours and
+    /// `large`, in that order.
+    pub fn all(&self) -> [Range<usize>; 4] {
+        self.ranges().map(Range::clone)
+    }
+
     /// The colour's work in [`WEIGHTS`] units.
     pub fn weight(&self) -> usize {
         self.ranges().iter().zip(WEIGHTS).map(|(r, w)| r.len() * w).sum()
-    }
-
-    /// Thread `index` of `size`'s share of the colour: the same stretch of
-    /// each of its runs (lone points, two points, faces, large patches),
-    /// each run cut in `size` near-equal parts. Ranges into the arrays of
-    /// ones, twos, fours and `large`, in that order.
-    ///
-    /// Why every run alike rather than the colour's work cut once by
-    /// weight: the runs are in patch order, which follows the bodies, so a
-    /// thread given the same stretch of every run works on the same bodies
-    /// in every kind of patch, colour and pass. Cut once in the order of the
-    /// kinds, one thread took the lone points of every body and the other
-    /// the faces, and a body with both moved between the two cores' caches
-    /// in every pass (the pile of 1,000 on two threads: the sub-step's
-    /// passes 2.13 ms a step on the slower thread, 1.88 cut alike; the
-    /// pile of 10,000 2 % faster; `profile_stages pile1000 400 2`).
-    pub fn share(&self, index: usize, size: usize) -> [Range<usize>; 4] {
-        self.ranges().map(|r| {
-            let cut = |i: usize| r.start + r.len() * i / size;
-            cut(index)..cut(index + 1)
-        })
     }
 }
 
@@ -489,6 +474,17 @@ pub(crate) struct WideBatches {
     /// Colours from this one on are all lighter than
     /// [`MIN_WEIGHT_TO_SPLIT`]: one thread runs them, back to back.
     pub split: usize,
+    /// Per bundle of `ones`, `twos` and `fours`: the key body of its
+    /// first lane's patch (see [`Self::plan`]), by which a team deals the
+    /// bundles (`batches::ThreadFlow`).
+    pub keys: [Vec<u32>; 3],
+    /// The key body of each patch of `large`.
+    pub large_keys: Vec<u32>,
+    /// Per solver body `b`, the work of the colours' patches whose key is
+    /// a body before `b` (in sixteenths of a bundle of lone points, by
+    /// [`WEIGHTS`]; one more entry than bodies): where
+    /// [`Self::body_run`] cuts the bodies.
+    work_before: Vec<u32>,
 }
 
 impl WideBatches {
@@ -499,7 +495,10 @@ impl WideBatches {
     /// Only the lanes' sources are set here; each bundle is then
     /// [`filled`](WidePatch::fill) from the records, by the solver's team
     /// (`SolverArrays::fill`).
-    pub fn plan(&mut self, coloring: &Coloring, kinds: &[BundleKind]) {
+    ///
+    /// `keys` holds each record's key body: the solver index of a dynamic
+    /// body of its patch (the first, where both are), below `bodies`.
+    pub fn plan(&mut self, coloring: &Coloring, kinds: &[BundleKind], keys: &[u32], bodies: usize) {
         // From each record's bundle kind alone (written with the records,
         // on the pool), writing only the small lists of sources: the
         // records (some 200 bytes each) and the bundles (about 7 KB each
@@ -509,22 +508,40 @@ impl WideBatches {
         self.colors.clear();
         self.large.clear();
         self.sources.iter_mut().for_each(Vec::clear);
+        self.keys.iter_mut().for_each(Vec::clear);
+        self.large_keys.clear();
+        self.work_before.clear();
+        self.work_before.resize(bodies + 1, 0);
         let mut by_size: [Vec<u32>; 3] = Default::default();
         for range in &coloring.colors {
             by_size.iter_mut().for_each(Vec::clear);
             let first_large = self.large.len();
             for k in range.clone() {
+                // A patch's share of its bundle's work (a quarter of it in
+                // `WEIGHTS` units), a large patch's whole (four quarters).
+                let work = match kinds[k] {
+                    BundleKind::Ones => WEIGHTS[0],
+                    BundleKind::Twos => WEIGHTS[1],
+                    BundleKind::Fours => WEIGHTS[2],
+                    BundleKind::Large => 4 * WEIGHTS[3],
+                };
+                self.work_before[keys[k] as usize + 1] += work as u32;
                 match kinds[k] {
                     BundleKind::Ones => by_size[0].push(k as u32),
                     BundleKind::Twos => by_size[1].push(k as u32),
                     BundleKind::Fours => by_size[2].push(k as u32),
-                    BundleKind::Large => self.large.push(k as u32),
+                    BundleKind::Large => {
+                        self.large.push(k as u32);
+                        self.large_keys.push(keys[k]);
+                    }
                 }
             }
             let [ones, twos, fours] = std::array::from_fn(|kind| {
                 let sources = &mut self.sources[kind];
                 let first = sources.len();
                 sources.extend(by_size[kind].chunks(LANES).map(lane_sources));
+                let firsts = by_size[kind].chunks(LANES).map(|c| keys[c[0] as usize]);
+                self.keys[kind].extend(firsts);
                 first..sources.len()
             });
             self.colors.push(ColorBundles {
@@ -547,6 +564,9 @@ impl WideBatches {
         for &k in self.sources.iter().flatten().flatten().filter(|&&k| k != EMPTY) {
             self.in_bundle[k as usize] = true;
         }
+        for b in 1..self.work_before.len() {
+            self.work_before[b] += self.work_before[b - 1];
+        }
         size(&mut self.ones, self.sources[0].len());
         size(&mut self.twos, self.sources[1].len());
         size(&mut self.fours, self.sources[2].len());
@@ -559,6 +579,31 @@ impl WideBatches {
                 .rposition(|c| c.weight() >= MIN_WEIGHT_TO_SPLIT)
                 .map_or(0, |c| c + 1)
         };
+    }
+
+    /// Thread `index` of `size`'s run of the solver bodies: the bodies cut
+    /// in `size` contiguous runs whose patches (by their key bodies) carry
+    /// near-equal work. A team deals the patches by it and integrates the
+    /// bodies by it (`batches::ThreadFlow`).
+    ///
+    /// Why by work and not by count: the bodies low in a pile or a pyramid
+    /// (lower indices) touch more patches; cut by count, the first of two
+    /// threads had 10 % more of the pile of 1,000's patch work and 20 %
+    /// more of the pyramid's, and the other waited for it every pass.
+    pub fn body_run(&self, index: usize, size: usize) -> Range<usize> {
+        let n = self.work_before.len().saturating_sub(1);
+        let total = self.work_before.last().copied().unwrap_or(0) as u64;
+        let cut = |i: usize| {
+            if i == 0 {
+                0
+            } else if i >= size {
+                n
+            } else {
+                let target = total * i as u64 / size as u64;
+                self.work_before[..n].partition_point(|&w| (w as u64) < target)
+            }
+        };
+        cut(index)..cut(index + 1)
     }
 }
 
@@ -1624,13 +1669,22 @@ mod tests {
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         let mut wide = WideBatches::default();
         let kinds: Vec<BundleKind> = manifolds.iter().map(BundleKind::of).collect();
-        wide.plan(&coloring, &kinds);
+        let keys: Vec<u32> = pairs
+            .iter()
+            .map(|&(a, b)| if bodies[a as usize].dynamic { a } else { b })
+            .collect();
+        wide.plan(&coloring, &kinds, &keys, bodies.len());
         let (mut ones, mut twos, mut fours) = (
             std::mem::take(&mut wide.ones),
             std::mem::take(&mut wide.twos),
             std::mem::take(&mut wide.fours),
         );
         let empty = super::super::Coloring::default();
+        let mut flows: Vec<super::super::batches::ThreadFlow> =
+            (0..threads).map(|_| Default::default()).collect();
+        let owners: Vec<std::sync::atomic::AtomicU32> = (0..bodies.len())
+            .map(|_| std::sync::atomic::AtomicU32::new(0))
+            .collect();
         let arrays = SolverArrays {
             manifolds: Shared::new(manifolds),
             points: Shared::new(points),
@@ -1645,6 +1699,8 @@ mod tests {
             joint_coloring: &empty,
             gears: Shared::new(&mut []),
             loose_gears: false,
+            flows: Shared::new(&mut flows),
+            owners: &owners,
         };
         let pushed = AtomicUsize::new(0);
         WorkerPool::new(threads).team(|team| {
@@ -1763,28 +1819,61 @@ mod tests {
         }
     }
 
-    /// A colour's shares partition each of its arrays among the threads in
-    /// order, in parts of near-equal length.
+    /// A team's runs of bodies cover every body once, in order, and cut
+    /// the colours' patch work near-evenly: each run's work is within one
+    /// body's work of its share, also where the work piles up on the first
+    /// bodies (the bottom of a pile).
     #[test]
-    fn shares_partition_each_run_of_a_colour_evenly() {
-        let color = ColorBundles {
-            ones: 10..47,
-            twos: 3..9,
-            fours: 2..13,
-            large: 5..8,
-        };
-        for size in 1..6 {
-            let shares: Vec<[Range<usize>; 4]> = (0..size).map(|i| color.share(i, size)).collect();
-            for (k, whole) in color.ranges().iter().enumerate() {
-                let mut next = whole.start;
-                for share in &shares {
-                    assert_eq!(share[k].start, next, "contiguous");
-                    next = share[k].end;
-                    // Near-equal parts: within one item of each other.
-                    assert!(share[k].len().abs_diff(whole.len() / size) <= 1, "{shares:?}");
-                }
-                assert_eq!(next, whole.end, "covers the array");
+    fn body_runs_cover_the_bodies_and_share_the_patch_work_evenly() {
+        let n = 300;
+        let kinds_cycle = [
+            BundleKind::Ones,
+            BundleKind::Twos,
+            BundleKind::Fours,
+            BundleKind::Large,
+        ];
+        let (mut keys, mut kinds) = (Vec::new(), Vec::new());
+        let mut work = vec![0u64; n];
+        for b in 0..n {
+            for p in 0..if b < 60 { 6 } else { 1 } {
+                let kind = kinds_cycle[(b + p) % 4];
+                keys.push(b as u32);
+                kinds.push(kind);
+                // A patch's share of its bundle's work, a large patch's whole.
+                work[b] += match kind {
+                    BundleKind::Ones => 4,
+                    BundleKind::Twos => 6,
+                    BundleKind::Fours => 11,
+                    BundleKind::Large => 20,
+                };
             }
+        }
+        let patches = keys.len();
+        // Two colours, the patches dealt alternately (a colour's order is
+        // the patch order, whatever the keys).
+        let coloring = Coloring {
+            colors: vec![0..patches / 2, patches / 2..patches],
+            overflow: patches..patches,
+            levels: false,
+        };
+        let mut wide = WideBatches::default();
+        wide.plan(&coloring, &kinds, &keys, n);
+        let total: u64 = work.iter().sum();
+        let heaviest = *work.iter().max().unwrap();
+        for size in 1..=5 {
+            let mut next = 0;
+            for index in 0..size {
+                let run = wide.body_run(index, size);
+                assert_eq!(run.start, next, "{size} threads: contiguous");
+                next = run.end;
+                let mine: u64 = work[run.clone()].iter().sum();
+                let share = total / size as u64;
+                assert!(
+                    mine.abs_diff(share) <= heaviest,
+                    "{size} threads, run {index} {run:?}: work {mine} against a share of {share}"
+                );
+            }
+            assert_eq!(next, n, "{size} threads: every body");
         }
     }
 
@@ -1805,6 +1894,14 @@ mod tests {
             for threads in [1, 2, 3] {
                 let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
                 let wide = bundled(fused, threads, &mut b1, &pairs, &mut m1, &mut p1);
+                // Colours heavy enough to split: more than one thread
+                // runs them in flows (`batches::ThreadFlow`).
+                assert!(
+                    wide.split > 1,
+                    "heavy colours: {} of {}",
+                    wide.split,
+                    wide.colors.len()
+                );
                 let sizes = [
                     wide.ones.len(),
                     wide.twos.len(),

@@ -6,7 +6,7 @@ use crate::body::BodyState;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
     BundleKind, Coloring, GearConstraint, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint,
-    SolverBody, WideBatches,
+    SolverBody, ThreadFlow, WideBatches,
 };
 use crate::world::patches::{PatchExtras, PreparedPatch, PreparedPoint};
 use crate::world::report::StepReport;
@@ -175,6 +175,8 @@ impl StepFrame {
 pub(crate) struct StepScratch {
     /// The colour batches in bundles of four patches.
     pub wide: WideBatches,
+    /// Each solver thread's order of the heavy colours' items.
+    pub flows: Vec<ThreadFlow>,
     /// The solver's records compacted for the write-back
     /// (`World::store_impulses`) and the events: written and read within
     /// each step.

@@ -14,14 +14,14 @@ use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
     self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
     ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
-    VelocityPass,
+    ThreadFlow, VelocityPass, BODIES_PER_BLOCK,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::patches::PreparedPatch;
 use crate::world::report::{SolveStage, StepReport};
 use crate::world::step::frame::SolverFrame;
 use crate::world::{Arena, BodyEntry, SolverKind, World, WorldContact};
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 use tumble_collide::{DQuat, DVec3};
@@ -82,12 +82,6 @@ impl PartClock {
     }
 }
 
-/// Bodies per block of the per-body parts (velocity and position updates),
-/// dealt round-robin over the team. Small enough that a pile of 200 meshes
-/// (their turns by the splitting cost about 0.1 us each) is shared by two
-/// threads: with 256 one thread took all of it.
-const BODIES_PER_BLOCK: usize = 64;
-
 /// Per solver body: linear acceleration (gravity and force / mass), torque,
 /// linear and angular damping, constant over the step.
 type Drive = (DVec3, DVec3, f64, f64);
@@ -98,7 +92,7 @@ impl World {
         let s = f.settings.clone();
         let dt = s.dt;
         let semi_implicit = s.integrator == Integrator::SemiImplicitEuler;
-        let (drive, coloring) = self.prepare_solver(f, semi_implicit);
+        let (drive, coloring, keys) = self.prepare_solver(f, semi_implicit);
         let sf = &mut f.solver;
         // Before any row is built: contact rows and joint rows must see the
         // same inertia (see `geometric_stiffness`).
@@ -164,13 +158,21 @@ impl World {
         } else {
             let joint_coloring = std::mem::take(&mut sf.joint_coloring);
             let mut wide = std::mem::take(&mut self.scratch.wide);
-            wide.plan(&coloring, &sf.bundle_kinds);
+            wide.plan(&coloring, &sf.bundle_kinds, &keys, sf.bodies.len());
             let (mut ones, mut twos, mut fours) = (
                 std::mem::take(&mut wide.ones),
                 std::mem::take(&mut wide.twos),
                 std::mem::take(&mut wide.fours),
             );
             let loose_gears = sf.gears.iter().any(|g| !g.direct);
+            let threads = f.pool.threads();
+            let mut flows = std::mem::take(&mut self.scratch.flows);
+            flows.resize_with(threads, ThreadFlow::default);
+            let owners: Vec<AtomicU32> = if threads > 1 {
+                (0..sf.bodies.len()).map(|_| AtomicU32::new(0)).collect()
+            } else {
+                Vec::new()
+            };
             let arrays = SolverArrays {
                 ones: Shared::new(&mut ones),
                 twos: Shared::new(&mut twos),
@@ -185,6 +187,8 @@ impl World {
                 joint_coloring: &joint_coloring,
                 gears: Shared::new(&mut sf.gears),
                 loose_gears,
+                flows: Shared::new(&mut flows),
+                owners: &owners,
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
@@ -225,9 +229,8 @@ impl World {
                     })
                 };
                 lap(SolveStage::Prepare);
-                let n_bodies = arrays.bodies.len();
                 for sub in 0..substeps {
-                    for r in team.blocks(n_bodies, BODIES_PER_BLOCK) {
+                    for r in arrays.body_blocks(team) {
                         // SAFETY: the blocks of bodies are disjoint between threads.
                         let bodies = unsafe { arrays.bodies.range_mut(r.clone()) };
                         for (b, &(a, tau, ld, ad)) in bodies.iter_mut().zip(&drive[r]) {
@@ -306,7 +309,7 @@ impl World {
                         }
                     }
                     lap(SolveStage::Relax);
-                    for r in team.blocks(n_bodies, BODIES_PER_BLOCK) {
+                    for r in arrays.body_blocks(team) {
                         // SAFETY: the blocks of bodies are disjoint between threads.
                         let bodies = unsafe { arrays.bodies.range_mut(r.clone()) };
                         contact_solver::integrate_positions(bodies, &q0[r], h);
@@ -320,6 +323,7 @@ impl World {
             sf.joint_coloring = joint_coloring;
             (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
             self.scratch.wide = wide;
+            self.scratch.flows = flows;
         }
         report.substeps = substeps;
         report.iterations = iterations;
@@ -335,7 +339,7 @@ impl World {
     /// travel through contacts); the patches coloured, and one record per
     /// patch and point laid out in colour order (their rows are prepared
     /// afterwards, by the solve's team: `SolverArrays::prepare`).
-    fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> (Vec<Drive>, Coloring) {
+    fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> (Vec<Drive>, Coloring, Vec<u32>) {
         let n_slots = f.n_slots;
         let sf = &mut f.solver;
         sf.slot_to_solver = vec![0u32; n_slots];
@@ -531,7 +535,16 @@ impl World {
         for island in &mut sf.joint_islands {
             island.renumber_patches(|k| position[k as usize]);
         }
-        (drive, coloring)
+        // Each record's key body, by which a team deals the patches
+        // (`WideBatches::plan`): a dynamic body of its pair.
+        let keys = order
+            .iter()
+            .map(|&i| match pairs[i as usize] {
+                (a, _) if sf.bodies[a as usize].dynamic => a,
+                (_, b) => b,
+            })
+            .collect();
+        (drive, coloring, keys)
     }
 
     /// The joint rows: one record per joint that has a body the solver

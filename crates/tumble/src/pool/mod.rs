@@ -297,7 +297,7 @@ impl WorkerPool {
     /// handle (its index, the team size, barriers), and returns thread 0's
     /// result. With one thread, or while another team holds the pool, `f`
     /// runs here alone as a team of one: callers split work by
-    /// [`Team::blocks`], so the result is the same.
+    /// [`Team::block_run`] and the like, so the result is the same.
     pub fn team<R: Send>(&self, f: impl Fn(&Team) -> R + Sync) -> R {
         if let Some(crew) = &self.crew {
             // The helpers that have joined by now (all, unless a worker

@@ -20,9 +20,9 @@ use super::wide::{self, BundlePass, WideBatches, WidePatch};
 use crate::pool::Team;
 use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
 
-/// Bodies per block of the per-body parts of a step (velocity and
-/// position updates, `Team::blocks`), which also deal the patches over a
-/// team ([`ThreadFlow`]). Small enough that a pile of 200 meshes (their
+/// Bodies per block of the per-body parts of a sub-step (velocity and
+/// position updates, in blocks within each thread's run of bodies:
+/// [`SolverArrays::body_blocks`]). Small enough that a pile of 200 meshes (their
 /// turns by the splitting cost about 0.1 us each) is shared by two
 /// threads: with 256 one thread took all of it.
 pub const BODIES_PER_BLOCK: usize = 64;
@@ -211,11 +211,13 @@ impl SolverArrays<'_> {
     }
 
     /// The start of the solve, by the team: every patch prepared from the
-    /// bodies at the step start (`constraint::prepare`; each thread its run
-    /// of the patches), then, on thread 0, `serial` (restitution, which
-    /// reads every prepared patch with restitution and changes bodies'
-    /// velocities), then the bundles filled from their records (each thread
-    /// its run of each array).
+    /// bodies at the step start (`constraint::prepare`; on a team that
+    /// flows, each thread the patches of its [`ThreadFlow`], dealt here,
+    /// and its run of the rest; else each thread its run of the patches),
+    /// then, on thread 0, `serial` (restitution, which reads every prepared
+    /// patch with restitution and changes bodies' velocities), then the
+    /// bundles filled from their records (each thread those of its flow,
+    /// or its run of each array), and a flow's border put first.
     ///
     /// A patch in a bundle gets its rows, masses and normal block there,
     /// four lanes at a time (`WidePatch::fill`), and not in its record,
@@ -370,7 +372,7 @@ impl SolverArrays<'_> {
     /// This thread's blocks of [`BODIES_PER_BLOCK`] solver bodies for the
     /// per-body parts of a sub-step (velocity and position updates): where
     /// the team flows, its run of the bodies whose patches it solves
-    /// ([`WideBatches::body_run`]), else [`Team::blocks`].
+    /// ([`WideBatches::body_run`]), else [`Team::block_run`].
     pub fn body_blocks(&self, team: &Team) -> impl Iterator<Item = std::ops::Range<usize>> {
         let run = if self.flowing(team) {
             self.wide.body_run(team.index(), team.size())

@@ -484,16 +484,7 @@ impl Team {
     /// this thread has ([`Team::signal`]): a point-to-point wait, where a
     /// barrier would also hold back the members that are ahead.
     pub fn await_peers(&self) {
-        if self.size == 1 {
-            return;
-        }
-        let s = &self.sync;
-        let mine = s.signals[self.index].0.load(Ordering::Relaxed);
-        for (k, peer) in s.signals.iter().enumerate() {
-            if k != self.index {
-                self.spin_until(|| peer.0.load(Ordering::Acquire) >= mine);
-            }
-        }
+        self.spin_until(|| self.peers_ready());
     }
 
     /// This thread's share of `n` items as one contiguous run: the items cut

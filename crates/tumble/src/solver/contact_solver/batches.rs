@@ -151,6 +151,37 @@ enum FlowItem {
     Large(u32),
 }
 
+/// `$bundle` for a bundle item of `$arrays`, with `$w` its bundle and
+/// `$kind` its array (0 ones, 1 twos, 2 fours, as `WideBatches::sources`)
+/// and `$i` its index there; `$large` for a large patch, with `$i` its
+/// index in `WideBatches::large`. The bundles are lane types of three
+/// sizes, so one closure cannot take them all.
+///
+/// Unsafe to expand: `$w` is the bundle from `Shared::get_mut`, which the
+/// caller must hold alone.
+macro_rules! on_item {
+    ($arrays:expr, $item:expr, |$w:ident, $kind:ident, $i:ident| $bundle:expr, |$j:ident| $large:expr) => {
+        match $item {
+            FlowItem::One(i) => {
+                let ($w, $kind, $i) = ($arrays.ones.get_mut(i as usize), 0usize, i as usize);
+                $bundle
+            }
+            FlowItem::Two(i) => {
+                let ($w, $kind, $i) = ($arrays.twos.get_mut(i as usize), 1usize, i as usize);
+                $bundle
+            }
+            FlowItem::Four(i) => {
+                let ($w, $kind, $i) = ($arrays.fours.get_mut(i as usize), 2usize, i as usize);
+                $bundle
+            }
+            FlowItem::Large(j) => {
+                let $j = j as usize;
+                $large
+            }
+        }
+    };
+}
+
 /// Runs `kernel` on every item of `items`, colour by colour, this
 /// thread's run of each, with a barrier after each colour.
 ///
@@ -246,21 +277,19 @@ impl SolverArrays<'_> {
                 // that it fills its bundles from its own cache.
                 let flow = self.flows.get_mut(team.index());
                 self.deal(team, flow);
-                let sources = &self.wide.sources;
                 for &item in &flow.items {
-                    let lanes = match item {
-                        FlowItem::One(i) => sources[0][i as usize],
-                        FlowItem::Two(i) => sources[1][i as usize],
-                        FlowItem::Four(i) => sources[2][i as usize],
-                        FlowItem::Large(i) => {
-                            prepare(self.wide.large[i as usize] as usize);
-                            continue;
-                        }
-                    };
-                    lanes
-                        .iter()
-                        .filter(|&&k| k != wide::EMPTY)
-                        .for_each(|&k| prepare(k as usize));
+                    on_item!(
+                        self,
+                        item,
+                        |_w, kind, i| {
+                            let lanes = self.wide.sources[kind][i];
+                            lanes
+                                .iter()
+                                .filter(|&&k| k != wide::EMPTY)
+                                .for_each(|&k| prepare(k as usize))
+                        },
+                        |j| prepare(self.wide.large[j] as usize)
+                    );
                 }
                 // The overflow batch and the joint islands' patches follow
                 // the colours.
@@ -307,26 +336,13 @@ impl SolverArrays<'_> {
             let flow = self.flows.get(team.index());
             let (manifolds, points) = (self.manifolds.as_slice(), self.points.as_slice());
             let bodies = self.bodies.as_slice();
-            let [ones, twos, fours] = &self.wide.sources;
             for &item in &flow.items {
-                match item {
-                    FlowItem::One(i) => {
-                        self.ones
-                            .get_mut(i as usize)
-                            .fill(ones[i as usize], manifolds, points, bodies)
-                    }
-                    FlowItem::Two(i) => {
-                        self.twos
-                            .get_mut(i as usize)
-                            .fill(twos[i as usize], manifolds, points, bodies)
-                    }
-                    FlowItem::Four(i) => {
-                        self.fours
-                            .get_mut(i as usize)
-                            .fill(fours[i as usize], manifolds, points, bodies)
-                    }
-                    FlowItem::Large(_) => {}
-                }
+                on_item!(
+                    self,
+                    item,
+                    |w, kind, i| w.fill(self.wide.sources[kind][i], manifolds, points, bodies),
+                    |_j| {}
+                );
             }
             self.mark_owners(team, flow);
         }
@@ -385,7 +401,8 @@ impl SolverArrays<'_> {
     /// The dynamic bodies of an item (a body may come twice).
     ///
     /// # Safety
-    /// The item's bundle is filled and nothing writes it or the records.
+    /// The item is this thread's and its bundle filled; nothing else
+    /// touches the bundle, and nothing writes the records meanwhile.
     unsafe fn item_bodies(&self, item: FlowItem, mut visit: impl FnMut(u32)) {
         // SAFETY: the caller's promise; only read.
         let bodies = unsafe { self.bodies.as_slice() };
@@ -396,25 +413,16 @@ impl SolverArrays<'_> {
         };
         // SAFETY: as above.
         unsafe {
-            match item {
-                FlowItem::One(i) => {
-                    let w = self.ones.get(i as usize);
-                    w.a.iter().chain(&w.b).for_each(|&k| dynamic(k));
-                }
-                FlowItem::Two(i) => {
-                    let w = self.twos.get(i as usize);
-                    w.a.iter().chain(&w.b).for_each(|&k| dynamic(k));
-                }
-                FlowItem::Four(i) => {
-                    let w = self.fours.get(i as usize);
-                    w.a.iter().chain(&w.b).for_each(|&k| dynamic(k));
-                }
-                FlowItem::Large(i) => {
-                    let m = self.manifolds.get(self.wide.large[i as usize] as usize);
+            on_item!(
+                self,
+                item,
+                |w, _kind, _i| w.a.iter().chain(&w.b).for_each(|&k| dynamic(k)),
+                |j| {
+                    let m = self.manifolds.get(self.wide.large[j] as usize);
                     dynamic(m.a);
                     dynamic(m.b);
                 }
-            }
+            )
         }
     }
 
@@ -431,19 +439,17 @@ impl SolverArrays<'_> {
             // SAFETY: the caller's promise.
             unsafe {
                 self.item_bodies(item, |k| {
+                    // Unmarked: this thread's; another's: shared.
                     let owner = &self.owners[k as usize];
                     let now = owner.load(Ordering::Relaxed);
-                    if now == me || now == SHARED {
-                        return;
+                    if now != me
+                        && now != SHARED
+                        && owner
+                            .compare_exchange(0, me, Ordering::Relaxed, Ordering::Relaxed)
+                            .is_err()
+                    {
+                        owner.store(SHARED, Ordering::Relaxed);
                     }
-                    if now == 0 {
-                        match owner.compare_exchange(0, me, Ordering::Relaxed, Ordering::Relaxed) {
-                            Ok(_) => return,
-                            Err(other) if other == me || other == SHARED => return,
-                            Err(_) => {}
-                        }
-                    }
-                    owner.store(SHARED, Ordering::Relaxed);
                 })
             };
         }
@@ -497,21 +503,12 @@ impl SolverArrays<'_> {
             if self.flowing(team) {
                 // Each bundle by the thread that solved it.
                 for &item in &self.flows.get(team.index()).items {
-                    match item {
-                        FlowItem::One(i) => self
-                            .ones
-                            .get_mut(i as usize)
-                            .unpack(&self.manifolds, &self.points),
-                        FlowItem::Two(i) => self
-                            .twos
-                            .get_mut(i as usize)
-                            .unpack(&self.manifolds, &self.points),
-                        FlowItem::Four(i) => self
-                            .fours
-                            .get_mut(i as usize)
-                            .unpack(&self.manifolds, &self.points),
-                        FlowItem::Large(_) => {}
-                    }
+                    on_item!(
+                        self,
+                        item,
+                        |w, _kind, _i| w.unpack(&self.manifolds, &self.points),
+                        |_j| {}
+                    );
                 }
             } else {
                 for w in self.ones.range_mut(team.share(self.ones.len(), 1)) {
@@ -610,12 +607,9 @@ impl SolverArrays<'_> {
                 // members that touch an item's bodies are done before it
                 // (`ThreadFlow`).
                 unsafe {
-                    match *item {
-                        FlowItem::One(i) => pass.run(self.ones.get_mut(i as usize), &self.bodies),
-                        FlowItem::Two(i) => pass.run(self.twos.get_mut(i as usize), &self.bodies),
-                        FlowItem::Four(i) => pass.run(self.fours.get_mut(i as usize), &self.bodies),
-                        FlowItem::Large(i) => run(self.wide.large[i as usize] as usize),
-                    }
+                    on_item!(self, *item, |w, _kind, _i| pass.run(w, &self.bodies), |j| run(
+                        self.wide.large[j] as usize
+                    ))
                 }
             };
             for (c, &(start, border)) in flow.colors.iter().enumerate() {

@@ -519,22 +519,21 @@ impl WideBatches {
             for k in range.clone() {
                 // A patch's share of its bundle's work (a quarter of it in
                 // `WEIGHTS` units), a large patch's whole (four quarters).
-                let work = match kinds[k] {
-                    BundleKind::Ones => WEIGHTS[0],
-                    BundleKind::Twos => WEIGHTS[1],
-                    BundleKind::Fours => WEIGHTS[2],
-                    BundleKind::Large => 4 * WEIGHTS[3],
+                let bundled = |by_size: &mut [Vec<u32>; 3], kind: usize| {
+                    by_size[kind].push(k as u32);
+                    WEIGHTS[kind]
                 };
-                self.work_before[keys[k] as usize + 1] += work as u32;
-                match kinds[k] {
-                    BundleKind::Ones => by_size[0].push(k as u32),
-                    BundleKind::Twos => by_size[1].push(k as u32),
-                    BundleKind::Fours => by_size[2].push(k as u32),
+                let work = match kinds[k] {
+                    BundleKind::Ones => bundled(&mut by_size, 0),
+                    BundleKind::Twos => bundled(&mut by_size, 1),
+                    BundleKind::Fours => bundled(&mut by_size, 2),
                     BundleKind::Large => {
                         self.large.push(k as u32);
                         self.large_keys.push(keys[k]);
+                        4 * WEIGHTS[3]
                     }
-                }
+                };
+                self.work_before[keys[k] as usize + 1] += work as u32;
             }
             let [ones, twos, fours] = std::array::from_fn(|kind| {
                 let sources = &mut self.sources[kind];

@@ -16,6 +16,7 @@ use super::island_contacts::PatchArrays;
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
 use super::joint_island::JointIsland;
 use super::passes::{begin_patch, push_patch, solve_patch};
+use super::solved::SolvedWriter;
 use super::wide::{self, BundlePass, WideBatches, WidePatch};
 use crate::pool::Team;
 use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
@@ -78,7 +79,8 @@ pub(crate) struct SolverArrays<'a> {
     /// Patch rows, sorted by colour.
     pub manifolds: Shared<'a, ManifoldConstraint>,
     /// The colours' lone points in bundles of four (their records in
-    /// `manifolds` and `points` are stale until `WideBatches::unpack`).
+    /// `manifolds` and `points` keep the step start's impulses: what the
+    /// step reads of them is [`SolverArrays::solved`]).
     pub ones: Shared<'a, WidePatch<1>>,
     /// The colours' two-point patches in bundles of four.
     pub twos: Shared<'a, WidePatch<2>>,
@@ -112,6 +114,9 @@ pub(crate) struct SolverArrays<'a> {
     /// (as many as the bodies on a team of more than one thread, zeroed;
     /// empty otherwise).
     pub owners: &'a [AtomicU32],
+    /// What the rest of the step reads of the records, written by
+    /// [`SolverArrays::unpack`] (as long as `manifolds` and `points`).
+    pub solved: SolvedWriter<'a>,
 }
 
 /// [`SolverArrays::owners`] of a body that the items of more than one
@@ -491,35 +496,48 @@ impl SolverArrays<'_> {
         }
     }
 
-    /// The end of the solve, by the team: every bundle's impulses written
-    /// back to its patch records (each thread its run of each array).
+    /// The end of the solve, by the team: every record's solved parts
+    /// ([`SolverArrays::solved`]) written, a bundle's patches' from its
+    /// lanes, the others' from their records. On a team that flows, each
+    /// colour's by the thread that solved them, from its cache, and the
+    /// overflow's and the islands' in runs; else the bundles and the other
+    /// records in runs.
     ///
     /// # Safety
     /// As [`SolverArrays::prepare`].
     pub unsafe fn unpack(&self, team: &Team) {
         // SAFETY: a bundle's lanes are distinct patches, each in one bundle,
-        // and the threads' runs of bundles are disjoint.
+        // and the threads' runs of bundles and records are disjoint; no
+        // record is written any more.
         unsafe {
+            let record = |k: usize| {
+                let m = self.manifolds.get(k);
+                self.solved.write(k, m, &self.points.as_slice()[m.range()]);
+            };
             if self.flowing(team) {
-                // Each bundle by the thread that solved it.
                 for &item in &self.flows.get(team.index()).items {
-                    on_item!(
-                        self,
-                        item,
-                        |w, _kind, _i| w.unpack(&self.manifolds, &self.points),
-                        |_j| {}
-                    );
+                    on_item!(self, item, |w, _kind, _i| w.unpack(&self.solved), |j| record(
+                        self.wide.large[j] as usize
+                    ));
                 }
+                // The overflow batch and the joint islands' patches follow
+                // the colours (as in `prepare`).
+                let colored = self.coloring.colors.last().map_or(0, |r| r.end);
+                let rest = team.share(self.manifolds.len() - colored, MIN_PATCHES_TO_SPLIT);
+                (colored + rest.start..colored + rest.end).for_each(record);
             } else {
                 for w in self.ones.range_mut(team.share(self.ones.len(), 1)) {
-                    w.unpack(&self.manifolds, &self.points);
+                    w.unpack(&self.solved);
                 }
                 for w in self.twos.range_mut(team.share(self.twos.len(), 1)) {
-                    w.unpack(&self.manifolds, &self.points);
+                    w.unpack(&self.solved);
                 }
                 for w in self.fours.range_mut(team.share(self.fours.len(), 1)) {
-                    w.unpack(&self.manifolds, &self.points);
+                    w.unpack(&self.solved);
                 }
+                team.share(self.manifolds.len(), MIN_PATCHES_TO_SPLIT)
+                    .filter(|&k| !self.wide.in_bundle[k])
+                    .for_each(record);
             }
         }
         team.barrier();

@@ -57,6 +57,7 @@ mod joint_island;
 mod lanes;
 mod passes;
 mod rolling;
+mod solved;
 mod wide;
 
 #[cfg(test)]
@@ -82,4 +83,5 @@ pub use joint_island::{
     joint_islands, keep_joint_islands, JointIsland, OwnableContact, MAX_OWNED_SUBSTITUTION, MAX_PROFILE,
 };
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};
+pub use solved::{SolvedPatch, SolvedPatches, SolvedPoint, STICKING};
 pub(crate) use wide::{BundleKind, WideBatches};

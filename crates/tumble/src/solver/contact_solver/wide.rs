@@ -31,6 +31,7 @@ use super::coloring::{Coloring, Shared};
 use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_REFRESH};
 use super::lanes::{self, eq, gt, le, lt, recip_or_zero, select, Lane, LANES, M3, V3};
 use super::rolling::Rolling;
+use super::solved::{SolvedPatch, SolvedPoint, SolvedWriter};
 use std::ops::Range;
 use tumble_collide::{DMat3, DVec3};
 
@@ -161,6 +162,10 @@ pub(crate) struct WidePatch<const N: usize> {
     // What the velocity passes do not read.
     /// Index of each lane's patch in the patch array, [`EMPTY`] for none.
     source: [u32; LANES],
+    /// Each lane's first point and point count in the records
+    /// (`ManifoldConstraint::first_point`, `point_count`).
+    first_point: [u32; LANES],
+    point_count: [u32; LANES],
     /// Whether any lane has a round side.
     any_rolling: bool,
     /// Each lane's `rolling::Rolling` in lanes (`ManifoldConstraint::rolling`).
@@ -251,6 +256,8 @@ impl<const N: usize> WidePatch<N> {
             a: [0; LANES],
             b: [0; LANES],
             source,
+            first_point: [0; LANES],
+            point_count: [0; LANES],
             friction: Lane::ZERO,
             twist: TwistLanes::default(),
             roll: RollLanes::default(),
@@ -298,6 +305,8 @@ impl<const N: usize> WidePatch<N> {
             debug_assert!(N > 1 || m.impulses[2] == 0.0, "a lone point bundled with a twist");
             w.a[l] = m.a;
             w.b[l] = m.b;
+            w.first_point[l] = m.first_point;
+            w.point_count[l] = m.point_count;
             set(&mut w.friction, l, m.friction);
             set(&mut w.twist.radius, l, m.twist_radius);
             if let Some(r) = Rolling::of(m.rolling) {
@@ -346,39 +355,41 @@ impl<const N: usize> WidePatch<N> {
         prepare_rows(w, bodies);
     }
 
-    /// Writes every lane's impulses back to its records: what the step
-    /// reads after the sub-steps (warm-start cache, reported impulses,
-    /// contact events). Rows, masses and separations stay in the bundle.
+    /// Writes every lane's solved parts ([`SolvedPatch::from_parts`]):
+    /// what the step reads after the sub-steps (warm-start cache, reported
+    /// impulses, contact events). The records themselves keep the step
+    /// start's impulses.
     ///
     /// # Safety
-    /// No other reference to this bundle's patches and their points exists
-    /// meanwhile.
-    pub(super) unsafe fn unpack(
-        &self,
-        manifolds: &Shared<ManifoldConstraint>,
-        points: &Shared<PointConstraint>,
-    ) {
+    /// No other thread writes this bundle's patches' solved parts meanwhile.
+    pub(super) unsafe fn unpack(&self, solved: &SolvedWriter) {
+        let directions = self.directions.map(V3::to_lanes);
         for l in 0..LANES {
             let k = self.source[l];
             if k == EMPTY {
                 continue;
             }
+            let points: [SolvedPoint; N] = std::array::from_fn(|i| {
+                let p = &self.points[i];
+                SolvedPoint::new(get(p.normal_impulse, l), get(p.max_normal_impulse, l))
+            });
+            let points = &points[..self.point_count[l] as usize];
+            let patch = SolvedPatch::from_parts(
+                [directions[0][l], directions[1][l]],
+                [
+                    get(self.impulses[0], l),
+                    get(self.impulses[1], l),
+                    // A bundle of lone points keeps its records' twist
+                    // impulse (zero) untouched: `BundleKind::of`.
+                    get(self.twist.impulse, l),
+                ],
+                get(self.friction, l),
+                self.first_point[l],
+                [self.a[l], self.b[l]],
+                points.iter().map(|p| p.normal_impulse),
+            );
             // SAFETY: the caller's promise.
-            let (m, pts) = unsafe {
-                let m = manifolds.get_mut(k as usize);
-                let pts = points.range_mut(m.range());
-                (m, pts)
-            };
-            for r in 0..2 {
-                m.impulses[r] = get(self.impulses[r], l);
-            }
-            if N > 1 {
-                m.impulses[2] = get(self.twist.impulse, l);
-            }
-            for (wp, p) in self.points.iter().zip(pts) {
-                p.normal_impulse = get(wp.normal_impulse, l);
-                p.max_normal_impulse = get(wp.max_normal_impulse, l);
-            }
+            unsafe { solved.put(k as usize, patch, points) };
         }
     }
 }
@@ -1483,6 +1494,7 @@ mod tests {
     //! The wide kernels against the scalar ones: the same sub-steps over the
     //! same coloured patches give the same bits, on any thread count.
     use super::super::constraint::BLOCK_POINTS;
+    use super::super::solved::{SolvedPatch, SolvedPatches, SolvedPoint};
     use super::super::{
         begin_substep, color_patches, integrate_positions, prepare, push_out, solve, SolverArrays,
         VelocityPass,
@@ -1659,7 +1671,7 @@ mod tests {
         pairs: &[(u32, u32)],
         manifolds: &mut [ManifoldConstraint],
         points: &mut [PointConstraint],
-    ) -> WideBatches {
+    ) -> (WideBatches, SolvedPatches) {
         let (coloring, order) = color_patches(pairs, bodies);
         assert!(
             order.iter().enumerate().all(|(i, &k)| i == k as usize),
@@ -1684,6 +1696,8 @@ mod tests {
         let owners: Vec<std::sync::atomic::AtomicU32> = (0..bodies.len())
             .map(|_| std::sync::atomic::AtomicU32::new(0))
             .collect();
+        let mut solved = SolvedPatches::default();
+        solved.resize(manifolds.len(), points.len());
         let arrays = SolverArrays {
             manifolds: Shared::new(manifolds),
             points: Shared::new(points),
@@ -1700,6 +1714,7 @@ mod tests {
             loose_gears: false,
             flows: Shared::new(&mut flows),
             owners: &owners,
+            solved: solved.writer(),
         };
         let pushed = AtomicUsize::new(0);
         WorkerPool::new(threads).team(|team| {
@@ -1741,12 +1756,50 @@ mod tests {
         wide.ones.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide.twos.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide.fours.iter().for_each(|w| unpack_rows(w, manifolds, points));
-        wide
+        (wide, solved)
     }
 
-    /// The rest of a bundle's state written to its records (rows, masses,
-    /// blocks, separations, push impulses), so that every field can be
-    /// compared with the scalar kernels'.
+    /// What the team kept of each record at the end of the solve
+    /// (`SolverArrays::unpack`: a bundle's patches from its lanes, the
+    /// others from their records) is what the scalar reference's records
+    /// give, patch `order[k]` of the reference being record `k` (the levels
+    /// reorder), every record and point: the same bits.
+    fn solved_as_the_reference(
+        solved: &SolvedPatches,
+        manifolds: &[ManifoldConstraint],
+        reference: (&[ManifoldConstraint], &[PointConstraint]),
+        order: &[u32],
+        seed: u64,
+        threads: u32,
+    ) {
+        for (k, m) in manifolds.iter().enumerate() {
+            let r = &reference.0[order[k] as usize];
+            let points = &reference.1[r.range()];
+            let ours = solved.patch(k as u32);
+            assert_eq!(
+                ours.first, m.first_point,
+                "patch {k} (seed {seed}, {threads} threads)"
+            );
+            let expected = SolvedPatch {
+                first: m.first_point,
+                ..SolvedPatch::of(r, points)
+            };
+            assert_eq!(
+                *ours, expected,
+                "solved patch {k} (seed {seed}, {threads} threads)"
+            );
+            let expected: Vec<SolvedPoint> = points.iter().map(SolvedPoint::of).collect();
+            assert_eq!(
+                solved.points_of(ours, m.point_count),
+                &expected[..],
+                "solved points of patch {k} (seed {seed}, {threads} threads)"
+            );
+        }
+    }
+
+    /// The rest of a bundle's state written to its records (impulses, rows,
+    /// masses, blocks, separations, push impulses), so that every field can
+    /// be compared with the scalar kernels'.
     fn unpack_rows<const N: usize>(
         w: &WidePatch<N>,
         manifolds: &mut [ManifoldConstraint],
@@ -1755,10 +1808,12 @@ mod tests {
         for l in (0..LANES).filter(|&l| w.source[l] != EMPTY) {
             let m = &mut manifolds[w.source[l] as usize];
             for r in 0..2 {
+                m.impulses[r] = get(w.impulses[r], l);
                 m.rows[r] = get_row(&w.rows[r], l);
                 m.masses[r] = get(w.masses[r], l);
             }
             if N > 1 {
+                m.impulses[2] = get(w.twist.impulse, l);
                 m.rows[2] = get_row(&w.twist.row, l);
                 m.masses[2] = get(w.twist.mass, l);
             }
@@ -1769,6 +1824,8 @@ mod tests {
                 }
             }
             for ((wp, f), p) in w.points.iter().zip(&w.frames).zip(&mut points[m.range()]) {
+                p.normal_impulse = get(wp.normal_impulse, l);
+                p.max_normal_impulse = get(wp.max_normal_impulse, l);
                 p.row = get_row(&wp.row, l);
                 p.separation_now = get(wp.separation_now, l);
                 p.normal_mass = get(wp.normal_mass, l);
@@ -1892,7 +1949,9 @@ mod tests {
             scalar(&mut b0, &mut m0, &mut p0);
             for threads in [1, 2, 3] {
                 let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
-                let wide = bundled(fused, threads, &mut b1, &pairs, &mut m1, &mut p1);
+                let (wide, solved) = bundled(fused, threads, &mut b1, &pairs, &mut m1, &mut p1);
+                let order: Vec<u32> = (0..m1.len() as u32).collect();
+                solved_as_the_reference(&solved, &m1, (&m0, &p0), &order, seed, threads);
                 // Colours heavy enough to split: more than one thread
                 // runs them in flows (`batches::ThreadFlow`).
                 assert!(
@@ -1959,7 +2018,8 @@ mod tests {
             );
             for threads in [1, 2, 3] {
                 let (mut b1, mut m1, mut p1) = (bodies.clone(), manifolds.clone(), points.clone());
-                let wide = bundled(false, threads, &mut b1, &pairs, &mut m1, &mut p1);
+                let (wide, solved) = bundled(false, threads, &mut b1, &pairs, &mut m1, &mut p1);
+                solved_as_the_reference(&solved, &m1, (&m0, &p0), &order, seed, threads);
                 assert!(!wide.ones.is_empty() || !wide.twos.is_empty() || !wide.fours.is_empty());
                 first_difference(&b1, &b0, "body", seed, threads);
                 // Patch k of the levels is patch order[k] of the patch order.

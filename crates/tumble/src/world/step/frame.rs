@@ -180,7 +180,7 @@ pub(crate) struct StepScratch {
     /// The solver's records compacted for the write-back
     /// (`World::store_impulses`) and the events: written and read within
     /// each step.
-    pub solved: super::solve::SolvedPatches,
+    pub solved: crate::solver::contact_solver::SolvedPatches,
     /// The last step's frame arrays, emptied (see [`StepFrame::recycle`]).
     pub frame: FrameBuffers,
     /// The walks that mesh pairs remember (`narrow::MeshPairMemory`: a

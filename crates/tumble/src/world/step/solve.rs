@@ -13,8 +13,8 @@ use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
     self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
-    ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolverArrays, SolverBody, SolverParams,
-    ThreadFlow, VelocityPass, BODIES_PER_BLOCK,
+    ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolvedPatch, SolvedPoint, SolverArrays,
+    SolverBody, SolverParams, ThreadFlow, VelocityPass, BODIES_PER_BLOCK,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
 use crate::world::patches::PreparedPatch;
@@ -155,6 +155,7 @@ impl World {
                 (iterations, push_out_iterations),
                 &params,
             );
+            self.scratch.solved.gather(&sf.manifolds, &sf.points);
         } else {
             let joint_coloring = std::mem::take(&mut sf.joint_coloring);
             let mut wide = std::mem::take(&mut self.scratch.wide);
@@ -173,6 +174,8 @@ impl World {
             } else {
                 Vec::new()
             };
+            let mut solved = std::mem::take(&mut self.scratch.solved);
+            solved.resize(sf.manifolds.len(), sf.points.len());
             let arrays = SolverArrays {
                 ones: Shared::new(&mut ones),
                 twos: Shared::new(&mut twos),
@@ -189,6 +192,7 @@ impl World {
                 loose_gears,
                 flows: Shared::new(&mut flows),
                 owners: &owners,
+                solved: solved.writer(),
             };
             let lead_only = Mutex::new((&mut clock, &mut *report));
             let pushed = AtomicUsize::new(0);
@@ -324,6 +328,7 @@ impl World {
             (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
             self.scratch.wide = wide;
             self.scratch.flows = flows;
+            self.scratch.solved = solved;
         }
         report.substeps = substeps;
         report.iterations = iterations;
@@ -709,56 +714,19 @@ impl World {
     /// patch's friction go to the warm-start cache (sorted by pair), and the
     /// step's contacts are reported with the impulses of the whole step.
     ///
-    /// Two passes. The first reads the solver's records in their own
-    /// (colour) order and keeps what the write-back needs of each in
-    /// `StepScratch::solved` (a patch in 56 bytes, a point in 16). The
-    /// second writes the cache and the contacts in patch order, which is
-    /// the records' order shuffled: read there directly, a patch record
-    /// (about 1 KB) and each of its points (about 250 bytes) was a miss
-    /// from memory on the large pyramid, most of this stage's time.
-    /// Each pass is written by the pool a run at a time, each run its own
-    /// stretch of the arrays it writes (a record depends on its patch
-    /// alone); the arrays keep their length from the last step and are
-    /// only cut or grown, so that each record is written once.
+    /// Reads what the solve kept of its records (`StepScratch::solved`, a
+    /// patch in 56 bytes and a point in 16, written by the thread that
+    /// solved each: `contact_solver::SolvedPatches`) and writes the cache
+    /// and the contacts in patch order, which is the records' order
+    /// shuffled: read there directly, a patch record (about 1 KB) and each
+    /// of its points (about 250 bytes) was a miss from memory on the large
+    /// pyramid, most of this stage's time. Written by the pool a run at a
+    /// time, each run its own stretch of the arrays it writes (a record
+    /// depends on its patch alone); the arrays keep their length from the
+    /// last step and are only cut or grown, so that each record is written
+    /// once.
     fn store_impulses(&mut self, f: &StepFrame, substeps: u32) {
         let sf = &f.solver;
-        let solved = &mut self.scratch.solved;
-        solved.patches.resize(sf.manifolds.len(), SolvedPatch::default());
-        solved.points.resize(sf.points.len(), SolvedPoint::default());
-        let run = (sf.manifolds.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
-        let mut runs = Vec::with_capacity(sf.manifolds.len().div_ceil(run));
-        let (mut patches, mut points) = (&mut solved.patches[..], &mut solved.points[..]);
-        let mut base = 0;
-        for records in sf.manifolds.chunks(run) {
-            // `prepare_solver` lays each record's points out after the last's.
-            let count: usize = records.iter().map(|m| m.point_count as usize).sum();
-            let (run_points, rest) = std::mem::take(&mut points).split_at_mut(count);
-            points = rest;
-            let (run_patches, rest) = std::mem::take(&mut patches).split_at_mut(records.len());
-            patches = rest;
-            runs.push((base, records, run_patches, run_points));
-            base += count;
-        }
-        f.pool
-            .for_each_mut(&mut runs, |_, (base, records, run_patches, run_points)| {
-                let mut at = 0;
-                for (m, out) in records.iter().zip(run_patches.iter_mut()) {
-                    debug_assert_eq!(
-                        m.first_point as usize,
-                        *base + at,
-                        "points laid out in record order"
-                    );
-                    let points = &sf.points[m.range()];
-                    for (n, c) in run_points[at..at + points.len()].iter_mut().zip(points) {
-                        *n = SolvedPoint {
-                            normal_impulse: c.normal_impulse,
-                            pressed: c.max_normal_impulse > 0.0,
-                        };
-                    }
-                    at += points.len();
-                    *out = SolvedPatch::of(m, points);
-                }
-            });
         let solved = &self.scratch.solved;
         let n_points: usize = f.patches.iter().map(|p| p.count as usize).sum();
         let (point, patch, contact) = cache_placeholders();
@@ -831,76 +799,9 @@ impl World {
     }
 }
 
-/// What the write-back reads of a patch's solver record
-/// (`World::store_impulses`), kept compact so that its reads in patch order
-/// stay in the cache.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct SolvedPatch {
-    /// The tangential friction impulse as a world vector (N s).
-    tangent: DVec3,
-    /// The twist friction impulse (N m s).
-    twist: f64,
-    /// The sum of the points' normal impulses (N s).
-    total: f64,
-    /// The first of the patch's points in `SolvedPatches::points`.
-    first: u32,
-    /// Solver bodies A and B.
-    bodies: [u32; 2],
-    /// The friction impulse stayed within [`STICKING`] of the Coulomb disc
-    /// while the patch pressed.
-    sticks: bool,
-}
-
-impl SolvedPatch {
-    fn of(m: &ManifoldConstraint, points: &[PointConstraint]) -> SolvedPatch {
-        let total: f64 = points.iter().map(|c| c.normal_impulse).sum();
-        let used = m.impulses[0].hypot(m.impulses[1]);
-        SolvedPatch {
-            tangent: m.tangent_impulse(),
-            twist: m.impulses[2],
-            total,
-            first: m.first_point,
-            bodies: [m.a, m.b],
-            sticks: total > 0.0 && used < STICKING * m.friction * total,
-        }
-    }
-}
-
-/// What the write-back and the events read of a solver point.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct SolvedPoint {
-    /// Its normal impulse at the end of the solve (N s, per sub-step).
-    pub normal_impulse: f64,
-    /// It carried a normal impulse at some moment of the step (it touched).
-    pub pressed: bool,
-}
-
-/// The solver's records after the solve, compacted for the write-back
-/// (`World::store_impulses`) and the events (`World::events_stage`): a
-/// patch per solver patch record, a point per solver point, both in the
-/// records' order. Scratch kept from step to step.
-#[derive(Debug, Default)]
-pub(crate) struct SolvedPatches {
-    patches: Vec<SolvedPatch>,
-    points: Vec<SolvedPoint>,
-}
-
-impl SolvedPatches {
-    /// The solved record of the patch at `position` in the solver's order
-    /// (`SolverFrame::position`).
-    pub fn patch(&self, position: u32) -> &SolvedPatch {
-        &self.patches[position as usize]
-    }
-
-    /// The `count` points of patch `s`.
-    pub fn points_of(&self, s: &SolvedPatch, count: u32) -> &[SolvedPoint] {
-        &self.points[s.first as usize..][..count as usize]
-    }
-}
-
 /// What a patch remembers of where it stuck (`CachedPatch::anchor`):
 /// the anchor it held, while it sticks (its friction impulse inside
-/// [`STICKING`] of the Coulomb disc); a new one where its two bodies
+/// [`contact_solver::STICKING`] of the Coulomb disc); a new one where its two bodies
 /// meet at the patch's centre at the step's end, when it began to
 /// stick in this step; none while it slides, does not press, or rolls.
 fn anchor_to_keep(
@@ -931,10 +832,6 @@ fn anchor_to_keep(
         poses[k].rotation.inverse() * arm
     }))
 }
-
-/// A patch sticks while its friction impulse stays within this fraction of
-/// the Coulomb disc's radius (`mu` times its normal impulse).
-const STICKING: f64 = 0.95;
 
 /// The sub-steps with the exact normal solve (`SolverKind::Lemke`): serial,
 /// small systems; falls back to the PGS passes if Lemke fails.

@@ -145,6 +145,12 @@ pub(crate) struct ThreadFlow {
     /// Per colour: where its items start in `items` and where its
     /// border ends.
     colors: Vec<(u32, u32)>,
+    /// The items' dynamic bodies as the fill found them, item after item
+    /// in dealt order (a body may come twice), item `k`'s ending at
+    /// `body_ends[k]`: what [`SolverArrays::borders_first`] reads instead of
+    /// the bundles again.
+    bodies: Vec<u32>,
+    body_ends: Vec<u32>,
 }
 
 /// A bundle (by its array) or a large patch, as a [`ThreadFlow`] lists it.
@@ -338,9 +344,11 @@ impl SolverArrays<'_> {
         // partition the bundles); the records and bodies are only read
         // until the barrier.
         unsafe {
-            let flow = self.flows.get(team.index());
+            let flow = self.flows.get_mut(team.index());
             let (manifolds, points) = (self.manifolds.as_slice(), self.points.as_slice());
             let bodies = self.bodies.as_slice();
+            flow.bodies.clear();
+            flow.body_ends.clear();
             for &item in &flow.items {
                 on_item!(
                     self,
@@ -348,8 +356,10 @@ impl SolverArrays<'_> {
                     |w, kind, i| w.fill(self.wide.sources[kind][i], manifolds, points, bodies),
                     |_j| {}
                 );
+                // While the bundle is in the cache.
+                self.mark_owners(team, item, &mut flow.bodies);
+                flow.body_ends.push(flow.bodies.len() as u32);
             }
-            self.mark_owners(team, flow);
         }
         team.barrier();
         // SAFETY: each member reorders its own flow; the owners are
@@ -431,41 +441,39 @@ impl SolverArrays<'_> {
         }
     }
 
-    /// Marks in [`SolverArrays::owners`] the dynamic bodies of the items
-    /// of `flow` (this thread's) as this thread's, or as [`SHARED`] where
-    /// another member's items touch them too.
+    /// Marks in [`SolverArrays::owners`] the dynamic bodies of `item` (this
+    /// thread's) as this thread's, or as [`SHARED`] where another member's
+    /// items touch them too, and appends them to `found`.
     ///
     /// # Safety
-    /// The flow's bundles are filled; nothing writes them, the records or
-    /// the bodies meanwhile.
-    unsafe fn mark_owners(&self, team: &Team, flow: &ThreadFlow) {
+    /// The item's bundle is filled; nothing writes it, the records or the
+    /// bodies meanwhile.
+    unsafe fn mark_owners(&self, team: &Team, item: FlowItem, found: &mut Vec<u32>) {
         let me = team.index() as u32 + 1;
-        for &item in &flow.items {
-            // SAFETY: the caller's promise.
-            unsafe {
-                self.item_bodies(item, |k| {
-                    // Unmarked: this thread's; another's: shared.
-                    let owner = &self.owners[k as usize];
-                    let now = owner.load(Ordering::Relaxed);
-                    if now != me
-                        && now != SHARED
-                        && owner
-                            .compare_exchange(0, me, Ordering::Relaxed, Ordering::Relaxed)
-                            .is_err()
-                    {
-                        owner.store(SHARED, Ordering::Relaxed);
-                    }
-                })
-            };
-        }
+        // SAFETY: the caller's promise.
+        unsafe {
+            self.item_bodies(item, |k| {
+                found.push(k);
+                // Unmarked: this thread's; another's: shared.
+                let owner = &self.owners[k as usize];
+                let now = owner.load(Ordering::Relaxed);
+                if now != me
+                    && now != SHARED
+                    && owner
+                        .compare_exchange(0, me, Ordering::Relaxed, Ordering::Relaxed)
+                        .is_err()
+                {
+                    owner.store(SHARED, Ordering::Relaxed);
+                }
+            })
+        };
     }
 
     /// Reorders each colour of `flow` its border first (the items on a
-    /// [`SHARED`] body), and records where each border ends.
-    ///
-    /// # Safety
-    /// After [`SolverArrays::mark_owners`] on every member and a barrier.
-    unsafe fn borders_first(&self, flow: &mut ThreadFlow) {
+    /// [`SHARED`] body, from the bodies the fill found:
+    /// [`ThreadFlow::bodies`]), and records where each border ends. Called
+    /// after [`SolverArrays::mark_owners`] on every member and a barrier.
+    fn borders_first(&self, flow: &mut ThreadFlow) {
         let mut interior = Vec::new();
         for c in 0..flow.colors.len() {
             let start = flow.colors[c].0 as usize;
@@ -476,14 +484,14 @@ impl SolverArrays<'_> {
             interior.clear();
             let mut border = start;
             for k in start..end {
+                // Items before `k` of this colour may have moved, never
+                // those at `k` and after: `k`'s bodies are those found
+                // for `flow.items[k]`.
+                let first = if k == 0 { 0 } else { flow.body_ends[k - 1] as usize };
+                let shared = flow.bodies[first..flow.body_ends[k] as usize]
+                    .iter()
+                    .any(|&b| self.owners[b as usize].load(Ordering::Relaxed) == SHARED);
                 let item = flow.items[k];
-                let mut shared = false;
-                // SAFETY: the caller's promise.
-                unsafe {
-                    self.item_bodies(item, |b| {
-                        shared |= self.owners[b as usize].load(Ordering::Relaxed) == SHARED
-                    })
-                };
                 if shared {
                     flow.items[border] = item;
                     border += 1;

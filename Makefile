@@ -36,9 +36,11 @@ rust-test:
 	$(CARGO) test --workspace --release
 
 # API docs with every rustdoc warning an error (missing docs, broken or
-# ambiguous intra-doc links); target/doc/tumble/index.html. Reuses clippy's
-# dependency builds, so it takes seconds after `make clippy`.
+# ambiguous intra-doc links), the private items' docs checked first; then
+# the public docs, target/doc/tumble/index.html. Reuses clippy's dependency
+# builds, so it takes seconds after `make clippy`.
 doc:
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --workspace --no-deps --document-private-items
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --workspace --no-deps
 
 # Builds the web viewer and checks it in headless Chromium (installs chromium

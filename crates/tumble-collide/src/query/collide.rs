@@ -2,7 +2,7 @@
 //! 5.1, 5.2; PQP's `PQP_Collide` with its first-contact and all-contacts
 //! flags): both OBBTrees are walked together and every candidate triangle
 //! pair goes through the exact closed triangle-triangle test
-//! ([`tri_tri_overlap`]), and, for contacts, through the triangle contact
+//! ([`tri_tri_overlap`](fn@tri_tri_overlap)), and, for contacts, through the triangle contact
 //! routine (every pair's vertex/face and edge/edge contacts, and the corner
 //! contacts of the corners and edges each pair owns) and [`merge_contacts`].
 //!

@@ -25,7 +25,7 @@ use crate::triangle::{triangle_distance, TriDistance};
 /// in `[d, max((1 + rel_err) d, d + abs_err)]` and the closest points are
 /// those of the pair that gave it. Intersecting meshes are at distance 0
 /// (the walk stops at the first intersecting pair, whose common point is
-/// returned). See [`super::collide`] for an example.
+/// returned). See [`super::collide`](fn@super::collide) for an example.
 ///
 /// # Errors
 /// [`QueryError::BadPose`], [`QueryError::BadOption`] (negative or

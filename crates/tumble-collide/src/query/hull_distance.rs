@@ -1,5 +1,5 @@
 //! Exact distance from a convex polytope (a convex hull or a box) to a mesh:
-//! branch and bound over the mesh's OBBTree ([`crate::bvh::volume_distance`])
+//! branch and bound over the mesh's OBBTree ([`crate::bvh::volume_distance`](fn@crate::bvh::volume_distance))
 //! with the polytope's oriented bounding box as the node bound, and GJK
 //! (Gilbert, Johnson, Keerthi 1988) between the polytope and each triangle
 //! at the leaves. The primitive queries cover spheres, boxes and capsules

@@ -5,12 +5,12 @@
 //! Poses are position + unit quaternion ([`crate::Pose`]), re-checked by every
 //! query.
 //!
-//! - [`collide`]: intersecting triangle pairs, first-contact or all of them,
+//! - [`collide`](fn@collide): intersecting triangle pairs, first-contact or all of them,
 //!   and contacts ([`CollideOptions`], [`ReportMode`]);
-//! - [`distance`]: minimum distance and closest points, exact or with PQP's
+//! - [`distance`](fn@distance): minimum distance and closest points, exact or with PQP's
 //!   relative / absolute error ([`DistanceOptions`]);
 //! - [`within_tolerance`]: whether two meshes come within a distance;
-//! - [`time_of_impact`]: when two moving shapes of any pair first touch
+//! - [`time_of_impact`](fn@time_of_impact): when two moving shapes of any pair first touch
 //!   (continuous collision; [`Motion`], [`ToiOptions`], [`Impact`]);
 //! - [`collide_primitive`], [`distance_primitive`],
 //!   [`within_tolerance_primitive`]: the same for a sphere, box, capsule or
@@ -23,7 +23,7 @@
 //! `input` (pose checks, world triangles), one file per query, `primitive`
 //! (primitive-triangle tests), `primitive_query` and `shape_pair` (the
 //! dispatch over any two shapes). Usage in
-//! `docs/collision.md` and the example on [`collide`].
+//! `docs/collision.md` and the example on [`collide`](fn@collide).
 //!
 //! The query functions read alike at their ends by design. `collide`,
 //! `distance` and `within_tolerance` and their `_primitive` twins share one

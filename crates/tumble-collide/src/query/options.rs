@@ -22,7 +22,7 @@ pub enum ReportMode {
     Contacts,
 }
 
-/// Options of [`super::collide`] and [`super::collide_primitive`].
+/// Options of [`super::collide`](fn@super::collide) and [`super::collide_primitive`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CollideOptions {
     /// Stop at the first intersecting triangle pair (a first-contact query):
@@ -60,7 +60,7 @@ impl CollideOptions {
     }
 }
 
-/// Options of [`super::distance`] and [`super::distance_primitive`]: PQP's
+/// Options of [`super::distance`](fn@super::distance) and [`super::distance_primitive`]: PQP's
 /// approximate distance. A node pair is skipped when its box lower bound
 /// `lb` satisfies `lb * (1 + rel_err) >= best` or `lb + abs_err >= best`, so
 /// the answer lies in `[d, max((1 + rel_err) d, d + abs_err)]` for the true

@@ -44,7 +44,7 @@ fn walk(
 
 /// Collision query between primitive A (a sphere, cuboid, capsule or
 /// half-space [`Shape`]) at `pose_a` and mesh B at `pose_b`, in the modes
-/// of [`super::collide`]. `pairs` holds `(0, triangle of B)` for
+/// of [`super::collide`](fn@super::collide). `pairs` holds `(0, triangle of B)` for
 /// every triangle that shares a point with the solid primitive. In
 /// [`ReportMode::Contacts`] the contacts are the narrow phase's manifold for
 /// the pair (normals from the mesh to the primitive), computed whole even with

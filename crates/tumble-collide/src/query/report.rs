@@ -69,7 +69,7 @@ pub struct DistanceResult {
 }
 
 impl Report {
-    /// Records a hit of the pair `(a, b)` as [`super::collide`] and
+    /// Records a hit of the pair `(a, b)` as [`super::collide`](fn@super::collide) and
     /// [`super::collide_primitive`] both report it in `mode`: `intersect`, the
     /// pair unless in [`ReportMode::Boolean`]; then whether the walk stops.
     #[inline]

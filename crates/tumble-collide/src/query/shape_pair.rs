@@ -1,6 +1,6 @@
 //! The queries over any two [`Shape`]s, for callers that hold shapes rather
 //! than know which query fits (the Python binding, tools): a mesh and a mesh
-//! go to [`collide`], [`distance`] and [`within_tolerance`]; a primitive
+//! go to [`collide`](fn@collide), [`distance`](fn@distance) and [`within_tolerance`]; a primitive
 //! (sphere, cuboid, capsule, half-space) and a mesh, in either order, to the
 //! primitive queries, with the answer turned back into the caller's A / B
 //! order. Two shapes without a mesh are refused ([`QueryError::NoMesh`]:
@@ -42,7 +42,7 @@ fn pairing<'s>(a: &'s Shape, b: &'s Shape, query: &'static str) -> Result<Pairin
     }
 }
 
-/// [`collide`] or [`collide_primitive`], whichever fits `a` and `b`; the
+/// [`collide`](fn@collide) or [`collide_primitive`], whichever fits `a` and `b`; the
 /// report in the caller's order (pairs `(triangle of a, triangle of b)`,
 /// normals from `b` to `a`; a primitive's triangle index is 0).
 ///
@@ -63,7 +63,7 @@ pub fn collide_shapes(
     }
 }
 
-/// [`distance`] or [`distance_primitive`], whichever fits; points and
+/// [`distance`](fn@distance) or [`distance_primitive`], whichever fits; points and
 /// triangles in the caller's order.
 ///
 /// # Errors

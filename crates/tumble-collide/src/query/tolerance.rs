@@ -13,7 +13,7 @@ use crate::triangle::triangle_distance;
 
 /// `true` when mesh A at `pose_a` and mesh B at `pose_b` come within `tol`
 /// (m, finite, >= 0): some triangle pair has [`triangle_distance`] `<= tol`.
-/// Exactly consistent with [`super::distance`] in its exact mode:
+/// Exactly consistent with [`super::distance`](fn@super::distance) in its exact mode:
 /// `within_tolerance(.., tol) == (distance(..) <= tol)`.
 ///
 /// # Errors

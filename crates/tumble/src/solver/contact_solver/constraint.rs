@@ -219,7 +219,7 @@ pub struct ManifoldConstraint {
     /// The patch's block of the Delassus matrix `K = J M^-1 J^T` over its
     /// normal rows (`K[i][j]`: relative normal velocity change at point `i`
     /// per unit impulse at point `j`), filled for patches of at most
-    /// [`BLOCK_POINTS`](super::BLOCK_POINTS) points; the solver then solves the patch's normal
+    /// [`BLOCK_POINTS`] points; the solver then solves the patch's normal
     /// rows together (see `passes::solve_block`).
     pub block: [[f64; BLOCK_POINTS]; BLOCK_POINTS],
     /// The inverse of `block + eps I` (`regularised_inverse`), for the

@@ -523,10 +523,9 @@ impl SolverArrays<'_> {
                 self.solved.write(k, m, &self.points.as_slice()[m.range()]);
             };
             if self.flowing(team) {
+                let large = |j: usize| record(self.wide.large[j] as usize);
                 for &item in &self.flows.get(team.index()).items {
-                    on_item!(self, item, |w, _kind, _i| w.unpack(&self.solved), |j| record(
-                        self.wide.large[j] as usize
-                    ));
+                    on_item!(self, item, |w, _kind, _i| w.unpack(&self.solved), |j| large(j));
                 }
                 // The overflow batch and the joint islands' patches follow
                 // the colours (as in `prepare`).

@@ -329,7 +329,17 @@ impl ManifoldConstraint {
 
     /// The tangential friction impulse as a world vector (N s).
     pub fn tangent_impulse(&self) -> DVec3 {
-        self.directions[0] * self.impulses[0] + self.directions[1] * self.impulses[1]
+        ManifoldConstraint::tangent_along(
+            [self.directions[0], self.directions[1]],
+            [self.impulses[0], self.impulses[1]],
+        )
+    }
+
+    /// The tangential friction impulse of `impulses` along the friction
+    /// `directions`, as a world vector (N s): [`ManifoldConstraint::tangent_impulse`]
+    /// of a record, or of a bundle's lane.
+    pub fn tangent_along(directions: [DVec3; 2], impulses: [f64; 2]) -> DVec3 {
+        directions[0] * impulses[0] + directions[1] * impulses[1]
     }
 }
 

@@ -69,7 +69,7 @@ impl SolvedPatch {
         let total: f64 = normal_impulses.sum();
         let used = impulses[0].hypot(impulses[1]);
         SolvedPatch {
-            tangent: directions[0] * impulses[0] + directions[1] * impulses[1],
+            tangent: ManifoldConstraint::tangent_along(directions, [impulses[0], impulses[1]]),
             twist: impulses[2],
             total,
             first,

@@ -455,7 +455,7 @@ impl World {
                     })
                     .collect()
             };
-        self.prepare_joints(sf, &candidates);
+        self.prepare_joints(sf, &candidates, &f.pool);
         let mut owned = vec![false; pairs.len()];
         for island in &sf.joint_islands {
             island.owned_patches().for_each(|k| owned[k as usize] = true);
@@ -555,7 +555,7 @@ impl World {
     /// The joint rows: one record per joint that has a body the solver
     /// moves (a joint between two resting bodies waits), with the sides'
     /// step-start poses, coloured like the patches.
-    fn prepare_joints(&self, sf: &mut SolverFrame, contacts: &[OwnableContact]) {
+    fn prepare_joints(&self, sf: &mut SolverFrame, contacts: &[OwnableContact], pool: &WorkerPool) {
         // Coloured first, from the body pairs alone, so that each record is
         // built once, in colour order, into the kept array (a joint record
         // is large: built and then copied into place, they cost a ragdoll
@@ -583,22 +583,34 @@ impl World {
         let (coloring, order) = contact_solver::color_joints(&pairs, &sf.bodies);
         // The last step's records renewed in place (`JointConstraint::renew`:
         // whichever joint each was), new ones added after them.
+        // Renewed on the pool a run of records at a time (a record depends
+        // on its joint alone, so the same bits however they are cut).
+        let listed: Vec<u32> = order
+            .into_iter()
+            .filter(|&k| self.joints.at(sides[k as usize].0).is_some())
+            .collect();
         sf.joint_slots.clear();
-        for &k in &order {
+        sf.joint_slots.extend(listed.iter().map(|&k| sides[k as usize].0));
+        sf.joints.truncate(listed.len());
+        let record_of = |k: u32| {
             let (slot, x0, q0) = sides[k as usize];
-            let Some(j) = self.joints.at(slot) else {
-                continue;
-            };
-            let (pair, n) = (pairs[k as usize], sf.joint_slots.len());
-            match sf.joints.get_mut(n) {
-                Some(record) => record.renew(pair, x0, q0, j.local, j.law, &j.impulses),
-                None => sf
-                    .joints
-                    .push(JointConstraint::new(pair, x0, q0, j.local, j.law, &j.impulses)),
+            let j = self.joints.at(slot).expect("listed above");
+            (pairs[k as usize], x0, q0, j)
+        };
+        let run = (listed.len() / (pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
+        let mut runs: Vec<(&[u32], &mut [JointConstraint])> =
+            listed.chunks(run).zip(sf.joints.chunks_mut(run)).collect();
+        pool.for_each_mut(&mut runs, |_, (keys, records)| {
+            for (&k, record) in keys.iter().zip(records.iter_mut()) {
+                let (pair, x0, q0, j) = record_of(k);
+                record.renew(pair, x0, q0, j.local, j.law, &j.impulses);
             }
-            sf.joint_slots.push(slot);
+        });
+        for &k in &listed[sf.joints.len()..] {
+            let (pair, x0, q0, j) = record_of(k);
+            sf.joints
+                .push(JointConstraint::new(pair, x0, q0, j.local, j.law, &j.impulses));
         }
-        sf.joints.truncate(sf.joint_slots.len());
         sf.joint_coloring = coloring;
         self.prepare_gears(sf);
         contact_solver::keep_joint_islands(
@@ -945,13 +957,14 @@ fn apply_geometric_stiffness(bodies: &mut [SolverBody], geometric: &[f64]) {
     }
 }
 
-/// Runs of patches per thread the solver's records are written in
-/// (`World::prepare_solver`): a few, so that a thread slowed by another
-/// process leaves its last run to the others.
+/// Runs per thread the solver's records (patches, their compact copies,
+/// joints) are written in (`World::prepare_solver`, `store_impulses`,
+/// `prepare_joints`): a few, so that a thread slowed by another process
+/// leaves its last run to the others.
 const LAYOUT_RUNS_PER_THREAD: usize = 4;
 
-/// Fewest patches in one run of the records' layout (below it a run costs
-/// more to hand over than to write).
+/// Fewest records in one run of a layout (below it a run costs more to
+/// hand over than to write).
 const LAYOUT_MIN_RUN: usize = 64;
 
 /// Records that fill the warm-start cache and the reported contacts where

@@ -258,22 +258,24 @@ fn fails_in_time(job: impl FnOnce() + Send + 'static) -> bool {
         .expect("the team hung after a member panicked")
 }
 
-/// A team of two in which member `panicking` panics before two barriers.
-fn team_with_a_panic(team: &Team, panicking: usize) {
+/// A team of two in which member `panicking` panics while the other
+/// waits for it in `wait`.
+fn team_with_a_panic(team: &Team, panicking: usize, wait: fn(&Team)) {
     assert_eq!(team.size(), 2, "a team of two");
     if team.index() == panicking {
         panic!("member {} fails on purpose", team.index());
     }
+    wait(team);
+}
+
+/// Two barriers.
+fn at_barriers(team: &Team) {
     team.barrier();
     team.barrier();
 }
 
-/// As [`team_with_a_panic`], the other member waiting for a signal.
-fn team_with_a_panic_awaited(team: &Team, panicking: usize) {
-    assert_eq!(team.size(), 2, "a team of two");
-    if team.index() == panicking {
-        panic!("member {} fails on purpose", team.index());
-    }
+/// A signal, then a wait for the other's.
+fn at_a_signal(team: &Team) {
     team.signal();
     team.await_peers();
 }
@@ -282,11 +284,13 @@ fn team_with_a_panic_awaited(team: &Team, panicking: usize) {
 fn a_member_that_panics_fails_the_team_instead_of_hanging_it() {
     for panicking in [0usize, 1] {
         // A team of the pool's threads, at a barrier and at a signal.
-        let failed =
-            fails_in_time(move || WorkerPool::new(2).team(|team| team_with_a_panic(team, panicking)));
+        let failed = fails_in_time(move || {
+            WorkerPool::new(2).team(|team| team_with_a_panic(team, panicking, at_barriers))
+        });
         assert!(failed, "member {panicking}'s panic did not reach the caller");
-        let failed =
-            fails_in_time(move || WorkerPool::new(2).team(|team| team_with_a_panic_awaited(team, panicking)));
+        let failed = fails_in_time(move || {
+            WorkerPool::new(2).team(|team| team_with_a_panic(team, panicking, at_a_signal))
+        });
         assert!(
             failed,
             "member {panicking}'s panic did not reach the awaiting member"
@@ -302,7 +306,7 @@ fn a_member_that_panics_fails_the_team_instead_of_hanging_it() {
                 while crew.joined() == 0 && start.elapsed().as_secs() < 10 {
                     std::thread::yield_now();
                 }
-                crewed.team(|team| team_with_a_panic(team, panicking))
+                crewed.team(|team| team_with_a_panic(team, panicking, at_barriers))
             })
         });
         assert!(

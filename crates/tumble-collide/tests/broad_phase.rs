@@ -153,6 +153,80 @@ fn default_sap_matches_brute_force_on_random_walks() {
     }
 }
 
+/// Enlarged boxes in the lists (`with_enlargement`) still report the pairs
+/// and events of the boxes as set: random walks whose steps stay within
+/// the enlarged boxes or leave them, with removals, insertions and
+/// teleports, at three enlargements.
+#[test]
+fn enlarged_boxes_match_brute_force_on_random_walks() {
+    for fraction in [0.05, 0.3, 1.0] {
+        for seed in [3, 42] {
+            let mut sap = SweepAndPrune::new().with_enlargement(fraction);
+            let reports = random_walk(seed, &mut sap, 200);
+            assert!(reports.iter().any(|r| r.begins > 0) && reports.iter().any(|r| r.ends > 0));
+        }
+    }
+}
+
+/// What the enlargement is for: a layer of 2,000 boxes with equal z
+/// intervals (a stack's layer) jittering by half a micrometre. Without
+/// it the insertion sorts trade the layer's endpoints, run out of budget
+/// and rebuild; with it nothing is sorted. A box moved out of its
+/// enlarged box is listed again; both give the oracle's events.
+#[test]
+fn enlarged_boxes_that_jitter_in_place_cost_no_sorting() {
+    let mut rng = XorShift(17);
+    let unit = |r: &mut XorShift| (r.below(1 << 20) as f64) / (1u64 << 20) as f64;
+    let (mut plain, mut enlarged) = (SweepAndPrune::new(), SweepAndPrune::new().with_enlargement(0.1));
+    let mut oracle = Oracle::default();
+    let mut ids = Vec::new();
+    for user in 0..2000 {
+        let (x, y) = (unit(&mut rng) * 60.0, unit(&mut rng) * 60.0);
+        let b = Aabb::new(DVec3::new(x, y, 0.0), DVec3::new(x + 1.0, y + 1.0, 1.0)).unwrap();
+        let id = plain.insert(user, b).unwrap();
+        assert_eq!(enlarged.insert(user, b).unwrap(), id);
+        oracle.boxes.insert(id, b);
+        ids.push(id);
+    }
+    let (mut events_plain, mut events_enlarged) = (Vec::new(), Vec::new());
+    plain.update(&mut events_plain);
+    enlarged.update(&mut events_enlarged);
+    assert_eq!(events_enlarged, events_plain);
+    oracle.update();
+    let mut plain_rebuilt = false;
+    for frame in 0..6 {
+        for &id in &ids {
+            let mut jitter = || (unit(&mut rng) - 0.5) * 1e-6;
+            let new = shifted(&oracle.boxes[&id], DVec3::new(jitter(), jitter(), jitter()));
+            plain.set_aabb(id, new).unwrap();
+            enlarged.set_aabb(id, new).unwrap();
+            oracle.boxes.insert(id, new);
+        }
+        if frame == 5 {
+            // Two units over: out of its enlarged box (0.1 a side).
+            let id = ids[7];
+            let new = shifted(&oracle.boxes[&id], DVec3::new(2.0, 0.0, 0.0));
+            plain.set_aabb(id, new).unwrap();
+            enlarged.set_aabb(id, new).unwrap();
+            oracle.boxes.insert(id, new);
+        }
+        let expected = oracle.update();
+        plain_rebuilt |= plain.update(&mut events_plain).rebuilt;
+        let report = enlarged.update(&mut events_enlarged);
+        assert_eq!(events_plain, expected, "frame {frame}");
+        assert_eq!(events_enlarged, expected, "frame {frame}");
+        assert!(enlarged.pairs().eq(plain.pairs()), "frame {frame}");
+        assert_eq!(enlarged.aabb(ids[0]).unwrap(), oracle.boxes[&ids[0]]);
+        assert!(!report.rebuilt, "frame {frame}: {report:?}");
+        if frame < 5 {
+            assert_eq!(report.swaps, 0, "frame {frame}: {report:?}");
+        } else {
+            assert!(report.swaps > 0, "the moved box is sorted in: {report:?}");
+        }
+    }
+    assert!(plain_rebuilt, "without the enlargement the jitter rebuilds");
+}
+
 #[test]
 fn incremental_only_matches_brute_force() {
     // A budget that is never exceeded: every frame, including the first build
@@ -465,11 +539,13 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
 
     /// Arbitrary interleavings of insert/remove/move/update on a tiny integer grid
-    /// (ties everywhere) give the oracle's events, whatever the swap budget.
+    /// (ties everywhere) give the oracle's events and pairs, whatever the swap
+    /// budget and the enlargement.
     #[test]
     fn any_operation_sequence_matches_oracle(ops in prop::collection::vec(op(), 1..80),
-                                             factor in prop_oneof![Just(0u32), Just(2), Just(u32::MAX)]) {
-        let mut sap = SweepAndPrune::with_swap_budget_factor(factor);
+                                             factor in prop_oneof![Just(0u32), Just(2), Just(u32::MAX)],
+                                             enlargement in prop_oneof![Just(0.0), Just(0.25), Just(1.0)]) {
+        let mut sap = SweepAndPrune::with_swap_budget_factor(factor).with_enlargement(enlargement);
         let mut oracle = Oracle::default();
         let mut ids: Vec<ProxyId> = Vec::new();
         let mut events = Vec::new();
@@ -493,6 +569,9 @@ proptest! {
                 Op::Update => {
                     sap.update(&mut events);
                     prop_assert_eq!(&events, &oracle.update());
+                    let pairs: Vec<_> = sap.pairs().collect();
+                    let expected: Vec<_> = oracle.pairs.iter().copied().collect();
+                    prop_assert_eq!(pairs, expected);
                 }
                 _ => {}
             }

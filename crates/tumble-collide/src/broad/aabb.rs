@@ -120,6 +120,18 @@ impl Aabb {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
     }
 
+    /// [`Self::overlaps`] without a branch (for filters whose outcome a
+    /// branch predictor cannot guess).
+    #[inline]
+    pub(crate) fn overlaps_branchless(&self, other: &Aabb) -> bool {
+        (self.min.cmple(other.max) & other.min.cmple(self.max)).all()
+    }
+
+    /// `true` when `other` lies in the closed box.
+    pub fn contains(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.min).all() && other.max.cmple(self.max).all()
+    }
+
     /// `true` when `p` lies in the closed box.
     pub fn contains_point(&self, p: DVec3) -> bool {
         self.min.cmple(p).all() && p.cmple(self.max).all()

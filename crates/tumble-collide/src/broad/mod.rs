@@ -45,10 +45,22 @@
 //!   [`UpdateReport`] says which path was taken, with the predicted and actual
 //!   swaps.
 //!
+//! # Enlarged boxes
+//!
+//! [`SweepAndPrune::with_enlargement`] lists each box grown by a fraction of
+//! its largest side (Bullet's and Box2D's fat boxes). A box set within its
+//! listed box (and not shrunk to under half of it) changes no list, and an
+//! update in which no listed box changed, none came and none went sorts
+//! nothing. The lists' pairs are then a superset; at every update those whose
+//! boxes as set overlap become the pairs reported, and the events are their
+//! set's changes. Without it, bodies resting in layers (equal values that any
+//! jitter reorders) fail the insertion sorts and rebuild at every update.
+//!
 //! Ids are (slot, generation) handles: removing twice, or using an id after its
-//! slot was reused, is a typed error. Memory: 96 bytes of endpoints and about 80
+//! slot was reused, is a typed error. Memory: 96 bytes of endpoints and about 130
 //! bytes of record per proxy, 8 bytes per overlapping pair (plus one scratch set
-//! of the same size); once the buffers have grown, updates do not allocate.
+//! of the same size, and with an enlargement the reported set too); once the
+//! buffers have grown, updates do not allocate.
 
 mod aabb;
 mod axis;

@@ -91,6 +91,13 @@ pub(crate) fn merge_set(set: &[u64], remove: &[u64], add: &[u64], out: &mut Vec<
     out.extend_from_slice(&add[a..]);
 }
 
+/// Makes `next` the pair set `set`, its changes pushed to `changes` (both
+/// sorted); `next` keeps the old set's buffer as scratch.
+pub(crate) fn replace_set(set: &mut Vec<u64>, next: &mut Vec<u64>, changes: &mut Changes) {
+    diff_sets(set, next, &mut changes.begins, &mut changes.ends);
+    std::mem::swap(set, next);
+}
+
 /// Pushes `old \ new` to `ends` and `new \ old` to `begins` (inputs sorted).
 pub(crate) fn diff_sets(old: &[u64], new: &[u64], begins: &mut Vec<u64>, ends: &mut Vec<u64>) {
     let (mut i, mut j) = (0, 0);

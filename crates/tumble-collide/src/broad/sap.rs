@@ -5,8 +5,9 @@ use super::aabb::Aabb;
 use super::axis::AxisList;
 use super::endpoint::MAX_SLOTS;
 use super::error::BroadPhaseError;
+use super::incremental::SortOutcome;
 use super::jobs::{BroadJobs, InOrder};
-use super::pairs::{diff_sets, merge_set, split_key, Changes, PairEvent};
+use super::pairs::{merge_set, replace_set, split_key, Changes, PairEvent};
 use super::proxy::{ProxyId, Slot, SlotState};
 use super::rebuild::{self, SweepPart};
 
@@ -47,9 +48,15 @@ pub struct UpdateReport {
 pub struct SweepAndPrune {
     /// One record per slot ever used (live, removed or free).
     slots: Vec<Slot>,
-    /// Current box per slot (the values also sit in the endpoint lists,
-    /// from the next update on for the slots of `moved`).
+    /// The box in the endpoint lists per slot (from the next update on for
+    /// the slots of `moved`): the box last set, or with an enlargement the
+    /// enlarged box that holds it.
     boxes: Vec<Aabb>,
+    /// The box last set per slot (see [`SweepAndPrune::with_enlargement`]).
+    exact: Vec<Aabb>,
+    /// How much a box set is enlarged by in the lists, as a fraction of its
+    /// largest side (0: not enlarged).
+    enlargement: f64,
     /// Slots whose box `set_aabb` changed since the last update.
     moved: Vec<u32>,
     /// The endpoint lists of x, y, z and each slot's positions in them.
@@ -67,8 +74,12 @@ pub struct SweepAndPrune {
     inv_extent: [f64; 3],
     /// Live proxies.
     live: usize,
-    /// Overlapping pairs as of the last update: sorted, unique pair keys.
+    /// Overlapping pairs of the lists' boxes as of the last update: sorted,
+    /// unique pair keys.
     pairs: Vec<u64>,
+    /// With an enlargement: those of `pairs` whose boxes as set overlap,
+    /// the pairs reported (empty and unused without one).
+    exact_pairs: Vec<u64>,
     /// Number of pairs of each slot as of the last update, plus pairs of removed
     /// partners not yet purged (an upper bound used to skip membership searches).
     pair_counts: Vec<u32>,
@@ -110,6 +121,8 @@ impl SweepAndPrune {
         SweepAndPrune {
             slots: Vec::new(),
             boxes: Vec::new(),
+            exact: Vec::new(),
+            enlargement: 0.0,
             moved: Vec::new(),
             axes: Default::default(),
             free: Vec::new(),
@@ -119,6 +132,7 @@ impl SweepAndPrune {
             inv_extent: [0.0; 3],
             live: 0,
             pairs: Vec::new(),
+            exact_pairs: Vec::new(),
             pair_counts: Vec::new(),
             changes: Changes::default(),
             next_pairs: Vec::new(),
@@ -127,6 +141,44 @@ impl SweepAndPrune {
             aborts_in_a_row: 0,
             rebuilds_ahead: 0,
             swap_budget_factor: factor,
+        }
+    }
+
+    /// This broad phase with its boxes enlarged in the endpoint lists by
+    /// `fraction` of each box's largest side on every side (clamped to
+    /// `[0, 1]`; a non-finite fraction counts as 0), the fat boxes of Bullet's
+    /// and Box2D's broad phases. A box set within its enlarged box leaves
+    /// the lists alone, so bodies that rest or jitter cost no sorting (a
+    /// stack's layers, whose equal values any jitter reorders, otherwise
+    /// make the insertion sorts fail and rebuild every update). The pairs
+    /// and events reported are still those of the boxes as set: the lists'
+    /// pairs, a superset, are filtered by them at every update.
+    pub fn with_enlargement(mut self, fraction: f64) -> SweepAndPrune {
+        self.enlargement = if fraction.is_finite() {
+            fraction.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        self
+    }
+
+    /// The box that goes into the lists for `aabb` set.
+    fn listed(&self, aabb: Aabb) -> Aabb {
+        if self.enlargement == 0.0 {
+            return aabb;
+        }
+        let side = aabb.size().max_element();
+        // A box too large to grow in f64 goes in as it is.
+        aabb.inflate(self.enlargement * side).unwrap_or(aabb)
+    }
+
+    /// The pair keys reported: the lists' pairs, or with an enlargement the
+    /// pairs of the boxes as set.
+    fn reported(&self) -> &[u64] {
+        if self.enlargement == 0.0 {
+            &self.pairs
+        } else {
+            &self.exact_pairs
         }
     }
 
@@ -163,6 +215,7 @@ impl SweepAndPrune {
                     return Err(BroadPhaseError::TooManyProxies { max: MAX_SLOTS });
                 }
                 self.boxes.push(aabb);
+                self.exact.push(aabb);
                 self.slots.push(Slot {
                     user_id,
                     generation: 0,
@@ -173,14 +226,16 @@ impl SweepAndPrune {
                 (self.slots.len() - 1) as u32
             }
         };
-        self.boxes[index as usize] = aabb;
+        let listed = self.listed(aabb);
+        self.boxes[index as usize] = listed;
+        self.exact[index as usize] = aabb;
         let slot = &mut self.slots[index as usize];
         slot.user_id = user_id;
         slot.state = SlotState::Live;
         // Appended after everything: as if the box had been at +infinity, separated
         // from all others, so the old pair set (without it) matches the list order.
         for (axis, a) in self.axes.iter_mut().enumerate() {
-            a.append(index, aabb.min()[axis], aabb.max()[axis]);
+            a.append(index, listed.min()[axis], listed.max()[axis]);
         }
         self.inserted += 1;
         self.live += 1;
@@ -200,10 +255,19 @@ impl SweepAndPrune {
     /// Moves or resizes a proxy's box; takes effect at the next [`Self::update`].
     pub fn set_aabb(&mut self, id: ProxyId, aabb: Aabb) -> Result<(), BroadPhaseError> {
         let index = self.check_live(id)?;
-        let moved = (aabb.center() - self.boxes[index].center()).abs();
+        self.exact[index] = aabb;
+        let listed = self.listed(aabb);
+        let held = &self.boxes[index];
+        // Within its enlarged box, and that box not more than twice the
+        // size it would be given now (a body that fell fast and stopped
+        // would otherwise keep the long box of its fall): the lists stay.
+        if self.enlargement > 0.0 && held.contains(&aabb) && !held.size().cmpgt(2.0 * listed.size()).any() {
+            return Ok(());
+        }
+        let moved = (listed.center() - self.boxes[index].center()).abs();
         self.travel +=
             moved.x * self.inv_extent[0] + moved.y * self.inv_extent[1] + moved.z * self.inv_extent[2];
-        self.boxes[index] = aabb;
+        self.boxes[index] = listed;
         // Written into the axes' lists by the update, each axis on its own.
         if !self.slots[index].moved {
             self.slots[index].moved = true;
@@ -212,9 +276,9 @@ impl SweepAndPrune {
         Ok(())
     }
 
-    /// The current box of a live proxy.
+    /// The box last set of a live proxy.
     pub fn aabb(&self, id: ProxyId) -> Result<Aabb, BroadPhaseError> {
-        Ok(self.boxes[self.check_live(id)?])
+        Ok(self.exact[self.check_live(id)?])
     }
 
     /// The `user_id` given at insertion.
@@ -230,7 +294,7 @@ impl SweepAndPrune {
     /// Overlapping pairs as of the last update, sorted, each as (smaller id,
     /// larger id). Touching boxes count as overlapping.
     pub fn pairs(&self) -> impl ExactSizeIterator<Item = (ProxyId, ProxyId)> + '_ {
-        self.pairs.iter().map(move |&key| self.ids(key))
+        self.reported().iter().map(move |&key| self.ids(key))
     }
 
     /// The overlapping pairs as of the last update by the `user_id`s of
@@ -238,8 +302,9 @@ impl SweepAndPrune {
     /// order of [`Self::pairs`] (sorted when user ids grow with slots, as a
     /// world's body slots do).
     pub fn user_pairs(&self, out: &mut Vec<(u32, u32)>) {
-        out.reserve(self.pairs.len());
-        out.extend(self.pairs.iter().map(|&key| {
+        let pairs = self.reported();
+        out.reserve(pairs.len());
+        out.extend(pairs.iter().map(|&key| {
             let (a, b) = split_key(key);
             let (a, b) = (self.slots[a as usize].user_id, self.slots[b as usize].user_id);
             if a < b {
@@ -252,7 +317,7 @@ impl SweepAndPrune {
 
     /// Number of overlapping pairs as of the last update.
     pub fn pair_count(&self) -> usize {
-        self.pairs.len()
+        self.reported().len()
     }
 
     /// Applies the insertions, removals and box changes made since the last call,
@@ -282,11 +347,23 @@ impl SweepAndPrune {
         // failing: the prediction assumes evenly spread endpoints, and a
         // stack's layers (many equal values, reordered by any jitter) break
         // that every step, where each failed attempt costs a rebuild's work.
-        let batch = estimate > budget as f64 || self.rebuilds_ahead > 0;
+        // Nothing moved, came or went (boxes that rest within their enlarged
+        // boxes): the lists and the pairs stay as they are.
+        let still = self.moved.is_empty() && self.inserted == 0 && self.removed.is_empty();
+        let batch = !still && (estimate > budget as f64 || self.rebuilds_ahead > 0);
         self.rebuilds_ahead = self.rebuilds_ahead.saturating_sub(1);
+        if still {
+            for a in &mut self.axes {
+                a.changes.clear();
+                a.outcome = Some(SortOutcome {
+                    swaps: 0,
+                    finished: true,
+                });
+            }
+        }
         let (boxes, slots, moved) = (&self.boxes, &self.slots, &self.moved);
         let (old_pairs, pair_counts) = (&self.pairs, &self.pair_counts);
-        jobs.each(&mut self.axes, |axis, a| {
+        jobs.each(if still { &mut [] } else { &mut self.axes[..] }, |axis, a| {
             a.write_moved(axis, moved, boxes, slots);
             a.outcome = if batch {
                 a.sort_full();
@@ -321,15 +398,20 @@ impl SweepAndPrune {
                 self.changes.ends.extend_from_slice(&a.changes.ends);
             }
             self.changes.normalize();
-            merge_set(
-                &self.pairs,
-                &self.changes.ends,
-                &self.changes.begins,
-                &mut self.next_pairs,
-            );
-            std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+            if !self.changes.begins.is_empty() || !self.changes.ends.is_empty() {
+                merge_set(
+                    &self.pairs,
+                    &self.changes.ends,
+                    &self.changes.begins,
+                    &mut self.next_pairs,
+                );
+                std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+            }
         }
         self.count_changes();
+        if self.enlargement > 0.0 {
+            self.filter_exact();
+        }
         self.emit(events);
         for index in self.removed.drain(..) {
             self.slots[index as usize].state = SlotState::Free;
@@ -350,8 +432,29 @@ impl SweepAndPrune {
             rebuilt,
             begins: self.changes.begins.len(),
             ends: self.changes.ends.len(),
-            pairs: self.pairs.len(),
+            pairs: self.reported().len(),
         }
+    }
+
+    /// With an enlargement: the lists' pairs whose boxes as set overlap
+    /// become the reported pairs, and the update's changes become theirs
+    /// (what [`Self::emit`] reports; the lists' own changes have already
+    /// gone into `pair_counts`).
+    fn filter_exact(&mut self) {
+        let exact = &self.exact;
+        // Each key written and kept by advancing past it or not: the test
+        // fails for about a third of the pairs, unpredictably, and a branch
+        // on it cost more than the test.
+        self.next_pairs.resize(self.pairs.len(), 0);
+        let mut kept = 0;
+        for &key in &self.pairs {
+            let (a, b) = split_key(key);
+            self.next_pairs[kept] = key;
+            kept += usize::from(exact[a as usize].overlaps_branchless(&exact[b as usize]));
+        }
+        self.next_pairs.truncate(kept);
+        self.changes.clear();
+        replace_set(&mut self.exact_pairs, &mut self.next_pairs, &mut self.changes);
     }
 
     /// Swaps the insertion sorts are expected to need, predicted before sorting.
@@ -431,13 +534,7 @@ impl SweepAndPrune {
             self.last_sweep_tests += part.tests;
         }
         self.next_pairs.sort_unstable();
-        diff_sets(
-            &self.pairs,
-            &self.next_pairs,
-            &mut self.changes.begins,
-            &mut self.changes.ends,
-        );
-        std::mem::swap(&mut self.pairs, &mut self.next_pairs);
+        replace_set(&mut self.pairs, &mut self.next_pairs, &mut self.changes);
     }
 
     /// Applies the begins and ends of this update to the per-slot pair counts.

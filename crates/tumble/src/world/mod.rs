@@ -285,7 +285,7 @@ impl World {
             settings,
             bodies: Arena::new(),
             joints: Arena::new(),
-            broad: SweepAndPrune::new(),
+            broad: step::new_broad_phase(),
             unbounded: Vec::new(),
             cache: Vec::new(),
             patch_cache: Vec::new(),

@@ -34,7 +34,7 @@ use crate::joint::{Gear, JointDesc, JointKind};
 use crate::solver::contact_solver::{JointLaw, JOINT_ROWS};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use tumble_collide::broad::{Aabb, SweepAndPrune};
+use tumble_collide::broad::Aabb;
 use tumble_collide::mesh::TriMesh;
 use tumble_collide::shape::{Capsule, ConvexHull, Cuboid, HalfSpace, MeshShape, Shape, Sphere};
 use tumble_collide::{DVec3, Pose};
@@ -633,7 +633,7 @@ impl World {
                 "the unbounded body list does not match the half-space bodies",
             ));
         }
-        let mut broad = SweepAndPrune::new();
+        let mut broad = super::step::new_broad_phase();
         let mut bodies = bodies;
         for (slot, aabb) in boxes {
             let proxy = broad

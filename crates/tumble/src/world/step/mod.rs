@@ -21,6 +21,7 @@ mod solve;
 mod thread_choice;
 mod writeback;
 
+pub(crate) use broad::new_broad_phase;
 pub use continuous::FAST_FRACTION;
 pub use end_overlap::{END_OVERLAP_SLACK, STRUCK_MARGINS};
 pub(crate) use frame::{StepFrame, StepScratch};

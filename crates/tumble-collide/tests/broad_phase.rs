@@ -172,7 +172,8 @@ fn enlarged_boxes_match_brute_force_on_random_walks() {
 /// intervals (a stack's layer) jittering by half a micrometre. Without
 /// it the insertion sorts trade the layer's endpoints, run out of budget
 /// and rebuild; with it nothing is sorted. A box moved out of its
-/// enlarged box is listed again; both give the oracle's events.
+/// enlarged box is listed again; both give the oracle's events. Then the
+/// enlargement is switched on the one and off the other, boxes in place.
 #[test]
 fn enlarged_boxes_that_jitter_in_place_cost_no_sorting() {
     let mut rng = XorShift(17);
@@ -225,6 +226,31 @@ fn enlarged_boxes_that_jitter_in_place_cost_no_sorting() {
         }
     }
     assert!(plain_rebuilt, "without the enlargement the jitter rebuilds");
+    // Switched on a broad phase that holds boxes: the same pairs and no
+    // event for boxes that did not move, then the oracle's events again.
+    let (mut plain, mut enlarged) = (plain.with_enlargement(0.3), enlarged.with_enlargement(0.0));
+    for frame in 6..8 {
+        if frame == 7 {
+            for &id in ids.iter().step_by(5) {
+                let new = shifted(&oracle.boxes[&id], DVec3::new(0.4, -0.3, 0.0));
+                plain.set_aabb(id, new).unwrap();
+                enlarged.set_aabb(id, new).unwrap();
+                oracle.boxes.insert(id, new);
+            }
+        }
+        let expected = oracle.update();
+        assert_eq!(frame == 6, expected.is_empty());
+        for sap in [&mut plain, &mut enlarged] {
+            let mut events = Vec::new();
+            sap.update(&mut events);
+            assert_eq!(events, expected, "frame {frame}");
+            let pairs: Vec<_> = sap.pairs().collect();
+            assert!(
+                pairs.into_iter().eq(oracle.pairs.iter().copied()),
+                "frame {frame}"
+            );
+        }
+    }
 }
 
 #[test]

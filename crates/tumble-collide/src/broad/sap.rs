@@ -153,12 +153,36 @@ impl SweepAndPrune {
     /// make the insertion sorts fail and rebuild every update). The pairs
     /// and events reported are still those of the boxes as set: the lists'
     /// pairs, a superset, are filtered by them at every update.
+    ///
+    /// On a broad phase that holds boxes already, every box is listed
+    /// again and the next update rebuilds; its events are the changes
+    /// from the pairs reported before (none for boxes that did not move).
     pub fn with_enlargement(mut self, fraction: f64) -> SweepAndPrune {
-        self.enlargement = if fraction.is_finite() {
+        let fraction = if fraction.is_finite() {
             fraction.clamp(0.0, 1.0)
         } else {
             0.0
         };
+        if fraction == self.enlargement {
+            return self;
+        }
+        let reported = self.reported().to_vec();
+        self.enlargement = fraction;
+        for index in 0..self.slots.len() {
+            if self.slots[index].state != SlotState::Live {
+                continue;
+            }
+            self.boxes[index] = self.listed(self.exact[index]);
+            if !self.slots[index].moved {
+                self.slots[index].moved = true;
+                self.moved.push(index as u32);
+            }
+        }
+        // The old pairs the rebuild's changes are found from: those
+        // reported so far (the per-slot counts stay an upper bound).
+        self.rebuilds_ahead = self.rebuilds_ahead.max(1);
+        self.pairs.clone_from(&reported);
+        self.exact_pairs = reported;
         self
     }
 

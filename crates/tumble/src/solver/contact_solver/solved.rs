@@ -136,11 +136,7 @@ impl SolvedPatches {
     pub fn gather(&mut self, manifolds: &[ManifoldConstraint], points: &[PointConstraint]) {
         self.resize(manifolds.len(), points.len());
         for (m, out) in manifolds.iter().zip(&mut self.patches) {
-            let points = &points[m.range()];
-            for (p, out) in points.iter().zip(&mut self.points[m.range()]) {
-                *out = SolvedPoint::of(p);
-            }
-            *out = SolvedPatch::of(m, points);
+            *out = solved_record(m, &points[m.range()], &mut self.points[m.range()]);
         }
     }
 
@@ -167,13 +163,7 @@ impl SolvedWriter<'_> {
     /// meanwhile.
     pub(super) unsafe fn write(&self, k: usize, m: &ManifoldConstraint, points: &[PointConstraint]) {
         // SAFETY: the caller's promise.
-        unsafe {
-            let out = self.points.range_mut(m.range());
-            for (p, out) in points.iter().zip(out) {
-                *out = SolvedPoint::of(p);
-            }
-            *self.patches.get_mut(k) = SolvedPatch::of(m, points);
-        }
+        unsafe { *self.patches.get_mut(k) = solved_record(m, points, self.points.range_mut(m.range())) };
     }
 
     /// Writes record `k`'s solved parts as `patch` and `points` (its
@@ -191,4 +181,12 @@ impl SolvedWriter<'_> {
             *self.patches.get_mut(k) = patch;
         }
     }
+}
+
+/// Record `m`'s solved parts, those of its `points` written to `out`.
+fn solved_record(m: &ManifoldConstraint, points: &[PointConstraint], out: &mut [SolvedPoint]) -> SolvedPatch {
+    for (p, out) in points.iter().zip(out) {
+        *out = SolvedPoint::of(p);
+    }
+    SolvedPatch::of(m, points)
 }

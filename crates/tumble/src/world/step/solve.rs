@@ -957,9 +957,10 @@ fn apply_geometric_stiffness(bodies: &mut [SolverBody], geometric: &[f64]) {
     }
 }
 
-/// Runs per thread the solver's records (patches, their compact copies,
-/// joints) are written in (`World::prepare_solver`, `store_impulses`,
-/// `prepare_joints`): a few, so that a thread slowed by another process
+/// Runs per thread the step's records are written in (the solver's patch
+/// records in `World::prepare_solver`, its joint records in
+/// `prepare_joints`, the warm-start cache and the contacts in
+/// `store_impulses`): a few, so that a thread slowed by another process
 /// leaves its last run to the others.
 const LAYOUT_RUNS_PER_THREAD: usize = 4;
 

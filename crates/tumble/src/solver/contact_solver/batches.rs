@@ -243,6 +243,20 @@ unsafe fn bundles<const N: usize>(
     any
 }
 
+/// Where the solver's records come from: the step writes each record and
+/// its points ([`RecordSource::renew`]) on the thread that prepares it, just
+/// before it is prepared ([`SolverArrays::prepare`]).
+///
+/// Why: written by one pass and prepared by another, each record (about a
+/// kilobyte with its points) went out to memory and came back, and on two
+/// threads it was often written on one core and prepared on the other.
+pub(crate) trait RecordSource: Sync {
+    /// The points of record `k` (colour order): its run of the point array.
+    fn points(&self, k: usize) -> std::ops::Range<usize>;
+    /// Writes record `k` and its points (`points` is its run).
+    fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]);
+}
+
 impl SolverArrays<'_> {
     /// The patch arrays, for the patches joint islands own.
     fn patch_arrays(&self) -> PatchArrays<'_, '_> {
@@ -252,8 +266,8 @@ impl SolverArrays<'_> {
         }
     }
 
-    /// The start of the solve, by the team: every patch prepared from the
-    /// bodies at the step start (`constraint::prepare`; on a team that
+    /// The start of the solve, by the team: every patch's record written
+    /// from `records` and prepared from the bodies at the step start (`constraint::prepare`; on a team that
     /// flows, each thread the patches of its [`ThreadFlow`], dealt here,
     /// and its run of the rest; else each thread its run of the patches),
     /// then, on thread 0, `serial` (restitution, which reads every prepared
@@ -270,7 +284,7 @@ impl SolverArrays<'_> {
     ///
     /// # Safety
     /// Every thread of `team` calls this; nothing else touches the arrays.
-    pub unsafe fn prepare(&self, team: &Team, serial: impl FnOnce(&Self)) {
+    pub unsafe fn prepare(&self, team: &Team, records: &impl RecordSource, serial: impl FnOnce(&Self)) {
         let flowing = self.flowing(team);
         // SAFETY: the bodies are read only until the barrier; each patch owns
         // its run of points, and the threads' patches are disjoint (runs of
@@ -280,8 +294,10 @@ impl SolverArrays<'_> {
             let bodies = self.bodies.as_slice();
             let prepare = |k: usize| {
                 let m = self.manifolds.get_mut(k);
+                let points = self.points.range_mut(records.points(k));
+                records.renew(k, m, points);
                 let rows = !self.wide.in_bundle[k] || m.restitution != 0.0;
-                super::constraint::prepare_patch(m, self.points.range_mut(m.range()), bodies, rows);
+                super::constraint::prepare_patch(m, points, bodies, rows);
             };
             if flowing {
                 // Each thread the records of the patches it will solve, so

@@ -63,7 +63,7 @@ mod wide;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use batches::{SolverArrays, ThreadFlow, VelocityPass, BODIES_PER_BLOCK};
+pub(crate) use batches::{RecordSource, SolverArrays, ThreadFlow, VelocityPass, BODIES_PER_BLOCK};
 pub use body::{integrate_positions, SolverBody};
 pub use collisions::{resolve_collisions, MAX_COLLISION_SWEEPS};
 pub(crate) use coloring::Shared;

@@ -135,7 +135,7 @@ struct PointFrame {
 /// leaves it out and never touches its lines, so that its passes stream
 /// 1.9 of its 3.6 KB rather than 2.4. A lone point's twist row is bounded
 /// by `mu` times its normal impulse times its twist radius, which is zero;
-/// started at zero (the only lone points bundled, [`BundleKind::of`]), it
+/// started at zero (the only lone points bundled, [`BundleKind::for_patch`]), it
 /// only ever adds a signed zero to the angular velocities, which changes
 /// none unless a component is exactly `-0.0` (so the bits are the scalar
 /// kernels' in every scene measured).
@@ -226,19 +226,27 @@ pub enum BundleKind {
 }
 
 impl BundleKind {
-    /// The bundle of patch `m`.
-    #[inline]
+    /// The bundle of record `m` (the tests' way to it).
+    #[cfg(test)]
     pub fn of(m: &ManifoldConstraint) -> BundleKind {
-        if m.is_curved() {
+        BundleKind::for_patch(m.point_count, m.is_curved(), m.impulses[2])
+    }
+
+    /// The bundle of a patch of `points` points, `curved` or not, whose
+    /// warm start carries the twist impulse `twist`, as its record will
+    /// hold them.
+    #[inline]
+    pub fn for_patch(points: u32, curved: bool, twist: f64) -> BundleKind {
+        if curved {
             // Its normals turn every sub-step: rare, and scalar.
             return BundleKind::Large;
         }
-        match m.point_count {
+        match points {
             // A lone point's twist row only ever holds zero (its bound is
             // zero) and the bundles of lone points leave it out; one that
             // starts with a twist (carried over from a larger patch, and
             // taken back by its first pass) is left to the scalar kernels.
-            0 | 1 if m.impulses[2] == 0.0 => BundleKind::Ones,
+            0 | 1 if twist == 0.0 => BundleKind::Ones,
             0 | 1 => BundleKind::Large,
             2 => BundleKind::Twos,
             3 | 4 => BundleKind::Fours,
@@ -380,7 +388,7 @@ impl<const N: usize> WidePatch<N> {
                     get(self.impulses[0], l),
                     get(self.impulses[1], l),
                     // A bundle of lone points keeps its records' twist
-                    // impulse (zero) untouched: `BundleKind::of`.
+                    // impulse (zero) untouched: `BundleKind::for_patch`.
                     get(self.twist.impulse, l),
                 ],
                 get(self.friction, l),
@@ -1661,6 +1669,18 @@ mod tests {
         }
     }
 
+    /// Records already written (the tests build them): each keeps its
+    /// points' run, and nothing is written again.
+    struct KeptRecords(Vec<std::ops::Range<usize>>);
+
+    impl super::super::batches::RecordSource for KeptRecords {
+        fn points(&self, k: usize) -> std::ops::Range<usize> {
+            self.0[k].clone()
+        }
+
+        fn renew(&self, _: usize, _: &mut ManifoldConstraint, _: &mut [PointConstraint]) {}
+    }
+
     /// The same passes by a team of `threads`, bundled; with `fused`, the
     /// push-out pass made with the last velocity pass, as the step makes it
     /// (`VelocityPass::then_push`).
@@ -1698,6 +1718,7 @@ mod tests {
             .collect();
         let mut solved = SolvedPatches::default();
         solved.resize(manifolds.len(), points.len());
+        let records = KeptRecords(manifolds.iter().map(|m| m.range()).collect());
         let arrays = SolverArrays {
             manifolds: Shared::new(manifolds),
             points: Shared::new(points),
@@ -1720,7 +1741,7 @@ mod tests {
         WorkerPool::new(threads).team(|team| {
             // SAFETY: the whole team runs it. (The patches are prepared
             // again, from the same bodies: the same values.)
-            unsafe { arrays.prepare(team, |_| {}) };
+            unsafe { arrays.prepare(team, &records, |_| {}) };
             for sub in 0..SUBSTEPS {
                 if team.index() == 0 {
                     // SAFETY: the others wait at the barrier below.

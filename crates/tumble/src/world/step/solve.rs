@@ -13,18 +13,18 @@ use crate::integrate::Integrator;
 use crate::pool::WorkerPool;
 use crate::solver::contact_solver::{
     self, begin_gears, push_gears, solve_gears, BundleKind, Coloring, GearConstraint, JointConstraint,
-    ManifoldConstraint, OwnableContact, PointConstraint, Shared, SolvedPatch, SolvedPoint, SolverArrays,
-    SolverBody, SolverParams, ThreadFlow, VelocityPass, BODIES_PER_BLOCK,
+    ManifoldConstraint, OwnableContact, PointConstraint, RecordSource, Shared, SolvedPatch, SolvedPoint,
+    SolverArrays, SolverBody, SolverParams, ThreadFlow, VelocityPass, BODIES_PER_BLOCK,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
-use crate::world::patches::PreparedPatch;
+use crate::world::patches::{PatchExtras, PreparedPatch, PreparedPoint};
 use crate::world::report::{SolveStage, StepReport};
 use crate::world::step::frame::SolverFrame;
 use crate::world::{Arena, BodyEntry, SolverKind, World, WorldContact};
 use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
-use tumble_collide::{DQuat, DVec3};
+use tumble_collide::{DMat3, DQuat, DVec3};
 
 /// Overlap (m) that earns a step one more velocity iteration and one more
 /// push-out pass per sub-step, per whole multiple, up to
@@ -92,7 +92,13 @@ impl World {
         let s = f.settings.clone();
         let dt = s.dt;
         let semi_implicit = s.integrator == Integrator::SemiImplicitEuler;
-        let (drive, coloring, keys) = self.prepare_solver(f, semi_implicit);
+        let (drive, coloring, keys, layout) = self.prepare_solver(f, semi_implicit);
+        let records = PatchRecords {
+            layout: &layout,
+            patches: &f.patches,
+            prepared: &f.points,
+            extras: &f.patch_extras,
+        };
         let sf = &mut f.solver;
         // Before any row is built: contact rows and joint rows must see the
         // same inertia (see `geometric_stiffness`).
@@ -138,6 +144,9 @@ impl World {
             };
 
         if exact {
+            for (k, m) in sf.manifolds.iter_mut().enumerate() {
+                records.renew(k, m, &mut sf.points[records.points(k)]);
+            }
             for m in sf.manifolds.iter_mut() {
                 contact_solver::prepare(m, &mut sf.points, &sf.bodies);
             }
@@ -220,7 +229,7 @@ impl World {
                 // SAFETY (here and in every pass): the whole team calls it;
                 // nothing else touches the arrays.
                 unsafe {
-                    arrays.prepare(team, |arrays| {
+                    arrays.prepare(team, &records, |arrays| {
                         lap(SolveStage::Prepare);
                         // SAFETY: thread 0 alone, between two barriers.
                         let (manifolds, points, bodies) = (
@@ -341,10 +350,15 @@ impl World {
     /// the shared immovable body for static and sleeping ones), the forces
     /// of the step; bodies whose forces or velocities are not finite, or
     /// would run away, are frozen (quarantine before solving, so NaN cannot
-    /// travel through contacts); the patches coloured, and one record per
-    /// patch and point laid out in colour order (their rows are prepared
-    /// afterwards, by the solve's team: `SolverArrays::prepare`).
-    fn prepare_solver(&self, f: &mut StepFrame, semi_implicit: bool) -> (Vec<Drive>, Coloring, Vec<u32>) {
+    /// travel through contacts); the patches coloured, and the layout of
+    /// one record per patch and point in colour order ([`RecordLayout`]:
+    /// the solve's team writes each record and prepares its rows,
+    /// `SolverArrays::prepare`).
+    fn prepare_solver(
+        &self,
+        f: &mut StepFrame,
+        semi_implicit: bool,
+    ) -> (Vec<Drive>, Coloring, Vec<u32>, RecordLayout) {
         let n_slots = f.n_slots;
         let sf = &mut f.solver;
         sf.slot_to_solver = vec![0u32; n_slots];
@@ -473,69 +487,23 @@ impl World {
             total += f.patches[i as usize].count;
         }
         firsts.push(total);
-        // The records, written by the pool a run of patches at a time (each
-        // run its own stretch of both arrays; a record depends on its patch
-        // alone, so the arrays are the same bits however they are cut). The
+        // The records are written where they are prepared
+        // (`SolverArrays::prepare`, from `PatchRecords`); here only each
+        // one's bundle, which the plan of the wide batches reads first. The
         // arrays keep their length from the last step (`StepFrame::recycle`)
         // and are only cut or grown to this step's, so that each record is
-        // written once: cleared and extended, this copy was the largest
-        // serial part of the pile of 1,000 on two threads (0.58 ms a step;
-        // now 0.35 on one thread and 0.29 on two, timed inside the step).
+        // written once.
         let (placeholder_point, placeholder_patch) = placeholders();
         sf.points.resize(total as usize, placeholder_point);
         sf.manifolds.resize(order.len(), placeholder_patch);
-        sf.bundle_kinds.resize(order.len(), BundleKind::Large);
-        let run = (order.len() / (f.pool.threads() * LAYOUT_RUNS_PER_THREAD)).max(LAYOUT_MIN_RUN);
-        let mut runs = Vec::with_capacity(order.len().div_ceil(run));
-        let (mut points, mut manifolds) = (&mut sf.points[..], &mut sf.manifolds[..]);
-        let mut bundle_kinds = &mut sf.bundle_kinds[..];
-        for (c, patches) in order.chunks(run).enumerate() {
-            let start = c * run;
-            let count = (firsts[start + patches.len()] - firsts[start]) as usize;
-            let (run_points, rest) = std::mem::take(&mut points).split_at_mut(count);
-            points = rest;
-            let (run_patches, rest) = std::mem::take(&mut manifolds).split_at_mut(patches.len());
-            manifolds = rest;
-            let (run_kinds, rest) = std::mem::take(&mut bundle_kinds).split_at_mut(patches.len());
-            bundle_kinds = rest;
-            runs.push((start, run_points, run_patches, run_kinds));
-        }
-        let (patches, prepared, extras) = (&f.patches, &f.points, &f.patch_extras);
-        f.pool
-            .for_each_mut(&mut runs, |_, (start, run_points, run_patches, run_kinds)| {
-                let mut at = 0;
-                for (j, (m, kind)) in run_patches.iter_mut().zip(run_kinds.iter_mut()).enumerate() {
-                    let i = order[*start + j] as usize;
-                    let p = &patches[i];
-                    let n = p.count as usize;
-                    for (dst, q) in run_points[at..at + n].iter_mut().zip(&prepared[p.range()]) {
-                        q.renew_constraint(dst);
-                    }
-                    at += n;
-                    let (a, b) = pairs[i];
-                    m.renew(
-                        a,
-                        b,
-                        firsts[*start + j],
-                        p.count,
-                        p.normal,
-                        p.friction,
-                        p.restitution,
-                        p.warm_tangent,
-                        p.warm_twist,
-                    );
-                    m.rolling = p.rolling;
-                    if let Some(x) = p.extras(extras) {
-                        m.curvature = x.curvature;
-                        if let Some(anchor) = &x.anchor {
-                            m.anchored = true;
-                            m.anchor_r = anchor.r;
-                            m.anchor_offset = anchor.offset;
-                        }
-                    }
-                    *kind = BundleKind::of(m);
-                }
-            });
+        sf.bundle_kinds.clear();
+        sf.bundle_kinds.extend(order.iter().map(|&i| {
+            let p = &f.patches[i as usize];
+            let curved = p
+                .extras(&f.patch_extras)
+                .is_some_and(|x| x.curvature != DMat3::ZERO);
+            BundleKind::for_patch(p.count, curved, p.warm_twist)
+        }));
         let position = &sf.position;
         for island in &mut sf.joint_islands {
             island.renumber_patches(|k| position[k as usize]);
@@ -549,7 +517,7 @@ impl World {
                 (_, b) => b,
             })
             .collect();
-        (drive, coloring, keys)
+        (drive, coloring, keys, RecordLayout { order, firsts, pairs })
     }
 
     /// The joint rows: one record per joint that has a body the solver
@@ -957,11 +925,64 @@ fn apply_geometric_stiffness(bodies: &mut [SolverBody], geometric: &[f64]) {
     }
 }
 
-/// Runs per thread the step's records are written in (the solver's patch
-/// records in `World::prepare_solver`, its joint records in
-/// `prepare_joints`, the warm-start cache and the contacts in
-/// `store_impulses`): a few, so that a thread slowed by another process
-/// leaves its last run to the others.
+/// Where each solver record of a step comes from: record `k` is patch
+/// `order[k]` of the narrow stage, its points `firsts[k]..firsts[k + 1]`
+/// of the point array, its bodies `pairs[order[k]]` (solver indices).
+struct RecordLayout {
+    order: Vec<u32>,
+    firsts: Vec<u32>,
+    pairs: Vec<(u32, u32)>,
+}
+
+/// The step's records as the solver's team writes them
+/// (`SolverArrays::prepare`): from the narrow stage's patches and points,
+/// laid out by a [`RecordLayout`].
+struct PatchRecords<'a> {
+    layout: &'a RecordLayout,
+    patches: &'a [PreparedPatch],
+    prepared: &'a [PreparedPoint],
+    extras: &'a [PatchExtras],
+}
+
+impl RecordSource for PatchRecords<'_> {
+    fn points(&self, k: usize) -> std::ops::Range<usize> {
+        self.layout.firsts[k] as usize..self.layout.firsts[k + 1] as usize
+    }
+
+    fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]) {
+        let i = self.layout.order[k] as usize;
+        let p = &self.patches[i];
+        for (dst, q) in points.iter_mut().zip(&self.prepared[p.range()]) {
+            q.renew_constraint(dst);
+        }
+        let (a, b) = self.layout.pairs[i];
+        m.renew(
+            a,
+            b,
+            self.layout.firsts[k],
+            p.count,
+            p.normal,
+            p.friction,
+            p.restitution,
+            p.warm_tangent,
+            p.warm_twist,
+        );
+        m.rolling = p.rolling;
+        if let Some(x) = p.extras(self.extras) {
+            m.curvature = x.curvature;
+            if let Some(anchor) = &x.anchor {
+                m.anchored = true;
+                m.anchor_r = anchor.r;
+                m.anchor_offset = anchor.offset;
+            }
+        }
+    }
+}
+
+/// Runs per thread the step's records are written in (the solver's joint
+/// records in `World::prepare_joints`, the warm-start cache and the
+/// contacts in `store_impulses`): a few, so that a thread slowed by
+/// another process leaves its last run to the others.
 const LAYOUT_RUNS_PER_THREAD: usize = 4;
 
 /// Fewest records in one run of a layout (below it a run costs more to

@@ -10,7 +10,7 @@
 
 use super::body::SolverBody;
 use super::coloring::{Coloring, Shared};
-use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams};
+use super::constraint::{ManifoldConstraint, PointConstraint, SolverParams, BLOCK_POINTS};
 use super::gear::GearConstraint;
 use super::island_contacts::PatchArrays;
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
@@ -243,9 +243,17 @@ unsafe fn bundles<const N: usize>(
     any
 }
 
+/// A record and its points written afresh for a bundle's lane
+/// (`SolverArrays::fill_bundle`): every field the lane reads is written
+/// for each patch, so one serves every lane in turn.
+#[derive(Default)]
+struct LaneScratch(ManifoldConstraint, [PointConstraint; BLOCK_POINTS]);
+
 /// Where the solver's records come from: the step writes each record and
 /// its points ([`RecordSource::renew`]) on the thread that prepares it, just
-/// before it is prepared ([`SolverArrays::prepare`]).
+/// before it is prepared ([`SolverArrays::prepare`]), or, for a bundled
+/// patch that does not bounce, into a scratch record that fills its
+/// bundle's lane and is not kept (`SolverArrays::fill_bundle`).
 ///
 /// Why: written by one pass and prepared by another, each record (about a
 /// kilobyte with its points) went out to memory and came back, and on two
@@ -253,6 +261,8 @@ unsafe fn bundles<const N: usize>(
 pub(crate) trait RecordSource: Sync {
     /// The points of record `k` (colour order): its run of the point array.
     fn points(&self, k: usize) -> std::ops::Range<usize>;
+    /// The restitution of record `k`'s patch (`ManifoldConstraint::restitution`).
+    fn restitution(&self, k: usize) -> f64;
     /// Writes record `k` and its points (`points` is its run).
     fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]);
 }
@@ -267,13 +277,16 @@ impl SolverArrays<'_> {
     }
 
     /// The start of the solve, by the team: every patch's record written
-    /// from `records` and prepared from the bodies at the step start (`constraint::prepare`; on a team that
-    /// flows, each thread the patches of its [`ThreadFlow`], dealt here,
-    /// and its run of the rest; else each thread its run of the patches),
-    /// then, on thread 0, `serial` (restitution, which reads every prepared
-    /// patch with restitution and changes bodies' velocities), then the
-    /// bundles filled from their records (each thread those of its flow,
-    /// or its run of each array), and a flow's border put first.
+    /// from `records` and prepared from the bodies at the step start
+    /// (`constraint::prepare`; on a team that flows, each thread the
+    /// patches of its [`ThreadFlow`], dealt here, and its run of the rest;
+    /// else each thread its run of the patches), except a bundled patch's
+    /// that does not bounce, which is only marked empty; then, on thread 0,
+    /// `serial` (restitution, which reads every prepared patch with
+    /// restitution and changes bodies' velocities), then the bundles filled
+    /// (each thread those of its flow, or its run of each array: from the
+    /// records, or from records written afresh, `fill_bundle`), and a
+    /// flow's border put first.
     ///
     /// A patch in a bundle gets its rows, masses and normal block there,
     /// four lanes at a time (`WidePatch::fill`), and not in its record,
@@ -292,8 +305,16 @@ impl SolverArrays<'_> {
         // and runs of the rest).
         unsafe {
             let bodies = self.bodies.as_slice();
+            // A bundled patch that does not bounce needs no record: its
+            // bundle's lane is filled from a record written afresh
+            // (`fill_bundle`). Its record is only marked empty, for the
+            // passes that look at every record (restitution).
             let prepare = |k: usize| {
                 let m = self.manifolds.get_mut(k);
+                if self.wide.in_bundle[k] && records.restitution(k) == 0.0 {
+                    m.leave_empty();
+                    return;
+                }
                 let points = self.points.range_mut(records.points(k));
                 records.renew(k, m, points);
                 let rows = !self.wide.in_bundle[k] || m.restitution != 0.0;
@@ -337,20 +358,19 @@ impl SolverArrays<'_> {
             // SAFETY: the records are only read until the barrier; each
             // thread writes its own run of bundles.
             unsafe {
-                let (manifolds, points) = (self.manifolds.as_slice(), self.points.as_slice());
-                let bodies = self.bodies.as_slice();
+                let mut scratch = LaneScratch::default();
                 let [ones, twos, fours] = &self.wide.sources;
                 let r = team.share(self.ones.len(), 1);
                 for (w, &source) in self.ones.range_mut(r.clone()).iter_mut().zip(&ones[r]) {
-                    w.fill(source, manifolds, points, bodies);
+                    self.fill_bundle(w, source, records, &mut scratch);
                 }
                 let r = team.share(self.twos.len(), 1);
                 for (w, &source) in self.twos.range_mut(r.clone()).iter_mut().zip(&twos[r]) {
-                    w.fill(source, manifolds, points, bodies);
+                    self.fill_bundle(w, source, records, &mut scratch);
                 }
                 let r = team.share(self.fours.len(), 1);
                 for (w, &source) in self.fours.range_mut(r.clone()).iter_mut().zip(&fours[r]) {
-                    w.fill(source, manifolds, points, bodies);
+                    self.fill_bundle(w, source, records, &mut scratch);
                 }
             }
             team.barrier();
@@ -361,15 +381,14 @@ impl SolverArrays<'_> {
         // until the barrier.
         unsafe {
             let flow = self.flows.get_mut(team.index());
-            let (manifolds, points) = (self.manifolds.as_slice(), self.points.as_slice());
-            let bodies = self.bodies.as_slice();
+            let mut scratch = LaneScratch::default();
             flow.bodies.clear();
             flow.body_ends.clear();
             for &item in &flow.items {
                 on_item!(
                     self,
                     item,
-                    |w, kind, i| w.fill(self.wide.sources[kind][i], manifolds, points, bodies),
+                    |w, kind, i| self.fill_bundle(w, self.wide.sources[kind][i], records, &mut scratch),
                     |_j| {}
                 );
                 // While the bundle is in the cache.
@@ -381,6 +400,52 @@ impl SolverArrays<'_> {
         // SAFETY: each member reorders its own flow; the owners are
         // complete and only read.
         unsafe { self.borders_first(self.flows.get_mut(team.index())) };
+    }
+
+    /// Fills bundle `w` for the patches `source`: a lane whose patch
+    /// bounces from its record (prepared, and its points since written by
+    /// restitution); any other from its record written afresh into
+    /// `scratch` and prepared there (`RecordSource::renew`, then
+    /// `constraint::prepare_patch` without rows, which the bundle computes
+    /// itself), the same values that the record arrays would have held,
+    /// which are left unwritten.
+    ///
+    /// Why: such a record was only ever read to fill its lane. Written to
+    /// the arrays (about a kilobyte with its points) and read back, the
+    /// large pyramid's 10,000 took 2 ms a step on one thread to write.
+    ///
+    /// # Safety
+    /// The bundle is this thread's; the records of bouncing patches and
+    /// the bodies are only read meanwhile.
+    unsafe fn fill_bundle<const N: usize>(
+        &self,
+        w: &mut WidePatch<N>,
+        source: [u32; super::lanes::LANES],
+        records: &impl RecordSource,
+        scratch: &mut LaneScratch,
+    ) {
+        // SAFETY: the caller's promise.
+        let (manifolds, points, bodies) = unsafe {
+            (
+                self.manifolds.as_slice(),
+                self.points.as_slice(),
+                self.bodies.as_slice(),
+            )
+        };
+        let lane_record = |k: u32, visit: &mut dyn FnMut(&ManifoldConstraint, &[PointConstraint])| {
+            let k = k as usize;
+            if records.restitution(k) != 0.0 {
+                let m = &manifolds[k];
+                visit(m, &points[m.range()]);
+                return;
+            }
+            let LaneScratch(m, pts) = scratch;
+            let pts = &mut pts[..records.points(k).len()];
+            records.renew(k, m, pts);
+            super::constraint::prepare_patch(m, pts, bodies, false);
+            visit(m, pts);
+        };
+        w.fill(source, lane_record, bodies);
     }
 
     /// Whether the team runs the colours in flows ([`ThreadFlow`]): more

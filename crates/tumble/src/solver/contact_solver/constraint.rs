@@ -314,6 +314,19 @@ impl ManifoldConstraint {
         self.anchor_offset = DVec3::ZERO;
     }
 
+    /// Marks a record that is not written this step (a bundled patch that
+    /// does not bounce: `SolverArrays::prepare`) as a patch of no points,
+    /// without restitution, between the immovable body and itself: what a
+    /// pass over every record then finds there is nothing to do. Only the
+    /// record's first cache line is written.
+    pub fn leave_empty(&mut self) {
+        self.a = 0;
+        self.b = 0;
+        self.first_point = 0;
+        self.point_count = 0;
+        self.restitution = 0.0;
+    }
+
     /// The points of this patch.
     #[inline]
     pub fn range(&self) -> std::ops::Range<usize> {

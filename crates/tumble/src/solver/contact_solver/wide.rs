@@ -291,7 +291,9 @@ impl<const N: usize> WidePatch<N> {
     }
 
     /// Sets every lane from its patch's record, the lanes' patches being
-    /// `source` (as [`WideBatches::plan`] planned them): first everything
+    /// `source` (as [`WideBatches::plan`] planned them), each record and
+    /// its points given to a visitor by `lane_record` (from the record
+    /// arrays, or written afresh: `SolverArrays::prepare`): first everything
     /// else to zero (the empty lanes and the unused points stay so), here
     /// rather than when planned, so that the team clears the bundles it
     /// fills while they are in its cache. The rows, their masses and the
@@ -301,66 +303,70 @@ impl<const N: usize> WidePatch<N> {
     pub(super) fn fill(
         &mut self,
         source: [u32; LANES],
-        manifolds: &[ManifoldConstraint],
-        points: &[PointConstraint],
+        lane_record: impl FnMut(u32, &mut dyn FnMut(&ManifoldConstraint, &[PointConstraint])),
         bodies: &[SolverBody],
     ) {
+        let mut lane_record = lane_record;
         *self = WidePatch::planned(source);
-        let w = self;
-        for (l, k) in w.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
-            let m = &manifolds[k as usize];
-            debug_assert!(m.point_count as usize <= N);
-            debug_assert!(N > 1 || m.impulses[2] == 0.0, "a lone point bundled with a twist");
-            w.a[l] = m.a;
-            w.b[l] = m.b;
-            w.first_point[l] = m.first_point;
-            w.point_count[l] = m.point_count;
-            set(&mut w.friction, l, m.friction);
-            set(&mut w.twist.radius, l, m.twist_radius);
-            if let Some(r) = Rolling::of(m.rolling) {
-                w.any_rolling = true;
-                let ([ra, rb], share) = r.parts();
-                let all = f64::from_bits(u64::MAX);
-                set(&mut w.roll.mask, l, all);
-                set(&mut w.roll.round_a, l, if ra > 0.0 { all } else { 0.0 });
-                set(&mut w.roll.round_b, l, if rb > 0.0 { all } else { 0.0 });
-                set(&mut w.roll.radius_a, l, ra);
-                set(&mut w.roll.radius_b, l, rb);
-                set(&mut w.roll.share_a, l, share);
-                set(&mut w.roll.share_b, l, 1.0 - share);
-            }
-            set(&mut w.half_gap, l, m.half_gap);
-            w.normal.set_lane(l, m.normal);
-            w.directions[0].set_lane(l, m.directions[0]);
-            w.directions[1].set_lane(l, m.directions[1]);
-            w.r_a.set_lane(l, m.r_a);
-            w.r_b.set_lane(l, m.r_b);
-            for r in 0..2 {
-                set(&mut w.impulses[r], l, m.impulses[r]);
-            }
-            set(&mut w.twist.impulse, l, m.impulses[2]);
-            set(&mut w.inv_mass[0], l, m.inv_mass[0]);
-            set(&mut w.inv_mass[1], l, m.inv_mass[1]);
-            if m.anchored {
-                set(&mut w.anchored, l, f64::from_bits(u64::MAX));
-                w.anchor_ra.set_lane(l, m.anchor_r[0]);
-                w.anchor_rb.set_lane(l, m.anchor_r[1]);
-                w.anchor_offset.set_lane(l, m.anchor_offset);
-            }
-            for ((wp, f), p) in w.points.iter_mut().zip(&mut w.frames).zip(&points[m.range()]) {
-                set(&mut f.real, l, f64::from_bits(u64::MAX));
-                wp.normal.set_lane(l, p.normal);
-                f.r_a.set_lane(l, p.r_a);
-                f.r_b.set_lane(l, p.r_b);
-                set(&mut f.separation, l, p.separation);
-                set(&mut wp.separation_now, l, p.separation_now);
-                set(&mut wp.normal_impulse, l, p.normal_impulse);
-                set(&mut wp.max_normal_impulse, l, p.max_normal_impulse);
-                set(&mut f.push_impulse, l, p.push_impulse);
-                set(&mut f.half_gap, l, p.half_gap);
-            }
+        for (l, k) in self.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
+            lane_record(k, &mut |m, pts| self.fill_lane(l, m, pts));
         }
-        prepare_rows(w, bodies);
+        prepare_rows(self, bodies);
+    }
+
+    /// Sets lane `l` from its patch's record `m` and points `pts`.
+    fn fill_lane(&mut self, l: usize, m: &ManifoldConstraint, pts: &[PointConstraint]) {
+        let w = self;
+        debug_assert!(m.point_count as usize <= N);
+        debug_assert!(N > 1 || m.impulses[2] == 0.0, "a lone point bundled with a twist");
+        w.a[l] = m.a;
+        w.b[l] = m.b;
+        w.first_point[l] = m.first_point;
+        w.point_count[l] = m.point_count;
+        set(&mut w.friction, l, m.friction);
+        set(&mut w.twist.radius, l, m.twist_radius);
+        if let Some(r) = Rolling::of(m.rolling) {
+            w.any_rolling = true;
+            let ([ra, rb], share) = r.parts();
+            let all = f64::from_bits(u64::MAX);
+            set(&mut w.roll.mask, l, all);
+            set(&mut w.roll.round_a, l, if ra > 0.0 { all } else { 0.0 });
+            set(&mut w.roll.round_b, l, if rb > 0.0 { all } else { 0.0 });
+            set(&mut w.roll.radius_a, l, ra);
+            set(&mut w.roll.radius_b, l, rb);
+            set(&mut w.roll.share_a, l, share);
+            set(&mut w.roll.share_b, l, 1.0 - share);
+        }
+        set(&mut w.half_gap, l, m.half_gap);
+        w.normal.set_lane(l, m.normal);
+        w.directions[0].set_lane(l, m.directions[0]);
+        w.directions[1].set_lane(l, m.directions[1]);
+        w.r_a.set_lane(l, m.r_a);
+        w.r_b.set_lane(l, m.r_b);
+        for r in 0..2 {
+            set(&mut w.impulses[r], l, m.impulses[r]);
+        }
+        set(&mut w.twist.impulse, l, m.impulses[2]);
+        set(&mut w.inv_mass[0], l, m.inv_mass[0]);
+        set(&mut w.inv_mass[1], l, m.inv_mass[1]);
+        if m.anchored {
+            set(&mut w.anchored, l, f64::from_bits(u64::MAX));
+            w.anchor_ra.set_lane(l, m.anchor_r[0]);
+            w.anchor_rb.set_lane(l, m.anchor_r[1]);
+            w.anchor_offset.set_lane(l, m.anchor_offset);
+        }
+        for ((wp, f), p) in w.points.iter_mut().zip(&mut w.frames).zip(pts) {
+            set(&mut f.real, l, f64::from_bits(u64::MAX));
+            wp.normal.set_lane(l, p.normal);
+            f.r_a.set_lane(l, p.r_a);
+            f.r_b.set_lane(l, p.r_b);
+            set(&mut f.separation, l, p.separation);
+            set(&mut wp.separation_now, l, p.separation_now);
+            set(&mut wp.normal_impulse, l, p.normal_impulse);
+            set(&mut wp.max_normal_impulse, l, p.max_normal_impulse);
+            set(&mut f.push_impulse, l, p.push_impulse);
+            set(&mut f.half_gap, l, p.half_gap);
+        }
     }
 
     /// Writes every lane's solved parts ([`SolvedPatch::from_parts`]):
@@ -1603,7 +1609,10 @@ mod tests {
             } else {
                 0.0
             };
-            let mut m = ManifoldConstraint::new(a, b, first, count, normal, mu, 0.0, tangent, twist);
+            // Every third patch bounces (restitution before the sub-steps:
+            // `bounce`), bundled with others that do not.
+            let restitution = if k % 3 == 0 { 0.4 } else { 0.0 };
+            let mut m = ManifoldConstraint::new(a, b, first, count, normal, mu, restitution, tangent, twist);
             // Round sides (re-aimed by the scalar `Rolling` in the lanes)
             // and curved patches (scalar kernels only) among the others.
             let radius = rng.range(0.05, 0.5);
@@ -1651,12 +1660,22 @@ mod tests {
         }
     }
 
-    /// The reference: the scalar whole-array passes in colour order.
+    /// Restitution on the prepared patches, as the step applies it
+    /// between preparing the records and the sub-steps.
+    fn bounce(manifolds: &[ManifoldConstraint], points: &mut [PointConstraint], bodies: &mut [SolverBody]) {
+        let accel = vec![DVec3::new(0.0, 0.0, -9.81); bodies.len()];
+        let dt = H * SUBSTEPS as f64;
+        super::super::resolve_collisions(manifolds, points, bodies, &accel, &params(), dt, H);
+    }
+
+    /// The reference: restitution, then the scalar whole-array passes in
+    /// colour order.
     fn scalar(
         bodies: &mut [SolverBody],
         manifolds: &mut [ManifoldConstraint],
         points: &mut [PointConstraint],
     ) {
+        bounce(manifolds, points, bodies);
         let q0: Vec<DQuat> = bodies.iter().map(|b| b.q).collect();
         for _ in 0..SUBSTEPS {
             pull(bodies);
@@ -1669,16 +1688,22 @@ mod tests {
         }
     }
 
-    /// Records already written (the tests build them): each keeps its
-    /// points' run, and nothing is written again.
-    struct KeptRecords(Vec<std::ops::Range<usize>>);
+    /// Records the tests built, given again as they were built.
+    struct KeptRecords(Vec<ManifoldConstraint>, Vec<PointConstraint>);
 
     impl super::super::batches::RecordSource for KeptRecords {
         fn points(&self, k: usize) -> std::ops::Range<usize> {
-            self.0[k].clone()
+            self.0[k].range()
         }
 
-        fn renew(&self, _: usize, _: &mut ManifoldConstraint, _: &mut [PointConstraint]) {}
+        fn restitution(&self, k: usize) -> f64 {
+            self.0[k].restitution
+        }
+
+        fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]) {
+            *m = self.0[k];
+            points.copy_from_slice(&self.1[m.range()]);
+        }
     }
 
     /// The same passes by a team of `threads`, bundled; with `fused`, the
@@ -1718,7 +1743,15 @@ mod tests {
             .collect();
         let mut solved = SolvedPatches::default();
         solved.resize(manifolds.len(), points.len());
-        let records = KeptRecords(manifolds.iter().map(|m| m.range()).collect());
+        // The records as built are what the team writes them from; the
+        // arrays start with stale ones (last step's, here out of range and
+        // bouncing), which it must write over or mark empty before
+        // restitution looks at every record.
+        let records = KeptRecords(manifolds.to_vec(), points.to_vec());
+        for m in manifolds.iter_mut() {
+            m.first_point = u32::MAX / 2;
+            m.restitution = 0.7;
+        }
         let arrays = SolverArrays {
             manifolds: Shared::new(manifolds),
             points: Shared::new(points),
@@ -1741,7 +1774,16 @@ mod tests {
         WorkerPool::new(threads).team(|team| {
             // SAFETY: the whole team runs it. (The patches are prepared
             // again, from the same bodies: the same values.)
-            unsafe { arrays.prepare(team, &records, |_| {}) };
+            unsafe {
+                arrays.prepare(team, &records, |arrays| {
+                    // SAFETY: thread 0 alone, between two barriers.
+                    bounce(
+                        arrays.manifolds.as_slice(),
+                        arrays.points.range_mut(0..arrays.points.len()),
+                        arrays.bodies.range_mut(0..arrays.bodies.len()),
+                    )
+                })
+            };
             for sub in 0..SUBSTEPS {
                 if team.index() == 0 {
                     // SAFETY: the others wait at the barrier below.
@@ -1774,6 +1816,19 @@ mod tests {
             unsafe { arrays.unpack(team) };
         });
         (wide.ones, wide.twos, wide.fours) = (ones, twos, fours);
+        // A bundled patch that does not bounce has no record this step
+        // (marked empty); the one built stands for it, its bundle's state
+        // written over it below.
+        for (k, m) in manifolds.iter_mut().enumerate() {
+            if wide.in_bundle[k] && records.0[k].restitution == 0.0 {
+                assert_eq!(
+                    (m.point_count, m.restitution),
+                    (0, 0.0),
+                    "record {k} not marked empty"
+                );
+                *m = records.0[k];
+            }
+        }
         wide.ones.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide.twos.iter().for_each(|w| unpack_rows(w, manifolds, points));
         wide.fours.iter().for_each(|w| unpack_rows(w, manifolds, points));
@@ -1998,6 +2053,17 @@ mod tests {
                 assert!(
                     wide.large.iter().any(twisting_lone_point),
                     "a lone point with a twist, on the scalar kernels"
+                );
+                // Bundles whose lanes bounce and do not (filled from the
+                // records restitution wrote, and from records written
+                // afresh).
+                let bounces = |k: u32| k != EMPTY && manifolds[k as usize].restitution != 0.0;
+                let mixed = |source: &[u32; LANES]| {
+                    source.iter().any(|&k| bounces(k)) && source.iter().any(|&k| k != EMPTY && !bounces(k))
+                };
+                assert!(
+                    wide.fours.iter().any(|w| mixed(&w.source)) && wide.ones.iter().any(|w| mixed(&w.source)),
+                    "bundles of patches that bounce and that do not"
                 );
                 all_rolling += wide.ones.iter().filter(|w| w.roll.mask.all()).count()
                     + wide.twos.iter().filter(|w| w.roll.mask.all()).count()

@@ -949,6 +949,10 @@ impl RecordSource for PatchRecords<'_> {
         self.layout.firsts[k] as usize..self.layout.firsts[k + 1] as usize
     }
 
+    fn restitution(&self, k: usize) -> f64 {
+        self.patches[self.layout.order[k] as usize].restitution
+    }
+
     fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]) {
         let i = self.layout.order[k] as usize;
         let p = &self.patches[i];

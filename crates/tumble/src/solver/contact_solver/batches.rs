@@ -15,6 +15,7 @@ use super::gear::GearConstraint;
 use super::island_contacts::PatchArrays;
 use super::joint::{begin_joint, push_joint, solve_joint, JointConstraint};
 use super::joint_island::JointIsland;
+use super::lanes::LANES;
 use super::passes::{begin_patch, push_patch, solve_patch};
 use super::solved::SolvedWriter;
 use super::wide::{self, BundlePass, WideBatches, WidePatch};
@@ -243,6 +244,22 @@ unsafe fn bundles<const N: usize>(
     any
 }
 
+/// Asks for the sources of the records of the bundle after next
+/// (`two`), and then for their points of the next bundle's (`one`), whose
+/// sources were asked for one bundle earlier: a bundle's four records are
+/// read from patches and points scattered over the narrow stage's arrays
+/// (the large pyramid's 10,000 a step), and asked for ahead their reads
+/// overlap.
+fn prefetch_ahead(records: &impl RecordSource, one: Option<[u32; LANES]>, two: Option<[u32; LANES]>) {
+    let real = |source: Option<[u32; LANES]>| source.into_iter().flatten().filter(|&k| k != wide::EMPTY);
+    for k in real(two) {
+        records.prefetch(k as usize);
+    }
+    for k in real(one) {
+        records.prefetch_points(k as usize);
+    }
+}
+
 /// A record and its points written afresh for a bundle's lane
 /// (`SolverArrays::fill_bundle`): every field the lane reads is written
 /// for each patch, so one serves every lane in turn.
@@ -265,6 +282,10 @@ pub(crate) trait RecordSource: Sync {
     fn restitution(&self, k: usize) -> f64;
     /// Writes record `k` and its points (`points` is its run).
     fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]);
+    /// Asks for what [`RecordSource::renew`] of record `k` reads first.
+    fn prefetch(&self, _k: usize) {}
+    /// Asks for what it reads next (after [`RecordSource::prefetch`]).
+    fn prefetch_points(&self, _k: usize) {}
 }
 
 impl SolverArrays<'_> {
@@ -361,16 +382,22 @@ impl SolverArrays<'_> {
                 let mut scratch = LaneScratch::default();
                 let [ones, twos, fours] = &self.wide.sources;
                 let r = team.share(self.ones.len(), 1);
-                for (w, &source) in self.ones.range_mut(r.clone()).iter_mut().zip(&ones[r]) {
-                    self.fill_bundle(w, source, records, &mut scratch);
+                let sources = &ones[r.clone()];
+                for (j, w) in self.ones.range_mut(r).iter_mut().enumerate() {
+                    prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
+                    self.fill_bundle(w, sources[j], records, &mut scratch);
                 }
                 let r = team.share(self.twos.len(), 1);
-                for (w, &source) in self.twos.range_mut(r.clone()).iter_mut().zip(&twos[r]) {
-                    self.fill_bundle(w, source, records, &mut scratch);
+                let sources = &twos[r.clone()];
+                for (j, w) in self.twos.range_mut(r).iter_mut().enumerate() {
+                    prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
+                    self.fill_bundle(w, sources[j], records, &mut scratch);
                 }
                 let r = team.share(self.fours.len(), 1);
-                for (w, &source) in self.fours.range_mut(r.clone()).iter_mut().zip(&fours[r]) {
-                    self.fill_bundle(w, source, records, &mut scratch);
+                let sources = &fours[r.clone()];
+                for (j, w) in self.fours.range_mut(r).iter_mut().enumerate() {
+                    prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
+                    self.fill_bundle(w, sources[j], records, &mut scratch);
                 }
             }
             team.barrier();
@@ -384,7 +411,14 @@ impl SolverArrays<'_> {
             let mut scratch = LaneScratch::default();
             flow.bodies.clear();
             flow.body_ends.clear();
-            for &item in &flow.items {
+            let source_of = |j: usize| match flow.items.get(j)? {
+                FlowItem::One(i) => Some(self.wide.sources[0][*i as usize]),
+                FlowItem::Two(i) => Some(self.wide.sources[1][*i as usize]),
+                FlowItem::Four(i) => Some(self.wide.sources[2][*i as usize]),
+                FlowItem::Large(_) => None,
+            };
+            for (j, &item) in flow.items.iter().enumerate() {
+                prefetch_ahead(records, source_of(j + 1), source_of(j + 2));
                 on_item!(
                     self,
                     item,

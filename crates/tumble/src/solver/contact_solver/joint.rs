@@ -38,6 +38,7 @@
 
 use super::body::SolverBody;
 use super::coloring::Shared;
+use super::prefetch::prefetch;
 use crate::joint::{frame_rotation, wrap_angle, JointKind, JointPose, Motor, Spring};
 use tumble_collide::{DQuat, DVec3, Pose};
 
@@ -303,20 +304,10 @@ impl JointConstraint {
     /// frames: these lie past the rows, a few KB into the record).
     #[inline(always)]
     pub(super) fn prefetch_start(&self) {
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: a prefetch is a hint; it reads nothing and cannot fault.
-        unsafe {
-            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            let lines = [
-                (self as *const Self).cast::<i8>(),
-                std::ptr::addr_of!(self.x0).cast::<i8>(),
-                std::ptr::addr_of!(self.local).cast::<i8>(),
-                std::ptr::addr_of!(self.law).cast::<i8>(),
-            ];
-            for p in lines {
-                _mm_prefetch(p, _MM_HINT_T0);
-            }
-        }
+        prefetch(self, 1);
+        prefetch(&self.x0, 1);
+        prefetch(&self.local, 1);
+        prefetch(&self.law, 1);
     }
 
     /// The joint's frames where its bodies are now.

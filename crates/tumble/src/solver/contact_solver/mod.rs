@@ -56,6 +56,7 @@ mod joint;
 mod joint_island;
 mod lanes;
 mod passes;
+mod prefetch;
 mod rolling;
 mod solved;
 mod wide;
@@ -83,5 +84,6 @@ pub use joint_island::{
     joint_islands, keep_joint_islands, JointIsland, OwnableContact, MAX_OWNED_SUBSTITUTION, MAX_PROFILE,
 };
 pub use passes::{begin_substep, push_out, residual, solve, solve_friction};
+pub(crate) use prefetch::prefetch;
 pub use solved::{SolvedPatch, SolvedPatches, SolvedPoint, STICKING};
 pub(crate) use wide::{BundleKind, WideBatches};

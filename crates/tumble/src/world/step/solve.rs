@@ -953,6 +953,16 @@ impl RecordSource for PatchRecords<'_> {
         self.patches[self.layout.order[k] as usize].restitution
     }
 
+    fn prefetch(&self, k: usize) {
+        let p = &self.patches[self.layout.order[k] as usize];
+        contact_solver::prefetch(p, usize::MAX);
+    }
+
+    fn prefetch_points(&self, k: usize) {
+        let p = &self.patches[self.layout.order[k] as usize];
+        contact_solver::prefetch(&self.prepared[p.range()], usize::MAX);
+    }
+
     fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]) {
         let i = self.layout.order[k] as usize;
         let p = &self.patches[i];

@@ -352,8 +352,8 @@ impl World {
     /// would run away, are frozen (quarantine before solving, so NaN cannot
     /// travel through contacts); the patches coloured, and the layout of
     /// one record per patch and point in colour order ([`RecordLayout`]:
-    /// the solve's team writes each record and prepares its rows,
-    /// `SolverArrays::prepare`).
+    /// the solve's team writes each record and prepares its rows, or fills
+    /// a bundle's lane from it, `SolverArrays::prepare`).
     fn prepare_solver(
         &self,
         f: &mut StepFrame,
@@ -488,7 +488,8 @@ impl World {
         }
         firsts.push(total);
         // The records are written where they are prepared
-        // (`SolverArrays::prepare`, from `PatchRecords`); here only each
+        // (`SolverArrays::prepare`, from `PatchRecords`; a bundled patch
+        // that does not bounce only into its bundle's lane); here only each
         // one's bundle, which the plan of the wide batches reads first. The
         // arrays keep their length from the last step (`StepFrame::recycle`)
         // and are only cut or grown to this step's, so that each record is

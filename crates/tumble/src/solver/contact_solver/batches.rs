@@ -244,12 +244,11 @@ unsafe fn bundles<const N: usize>(
     any
 }
 
-/// Asks for the sources of the records of the bundle after next
-/// (`two`), and then for their points of the next bundle's (`one`), whose
-/// sources were asked for one bundle earlier: a bundle's four records are
-/// read from patches and points scattered over the narrow stage's arrays
-/// (the large pyramid's 10,000 a step), and asked for ahead their reads
-/// overlap.
+/// Asks the cache for the narrow stage's patches of the bundle after next
+/// (`two`), then for the points of the next bundle (`one`), whose patches
+/// were asked for one bundle earlier: a bundle's four records are written
+/// from patches and points scattered over the narrow stage's arrays (the
+/// large pyramid's 10,000 a step); asked for ahead, their reads overlap.
 fn prefetch_ahead(records: &impl RecordSource, one: Option<[u32; LANES]>, two: Option<[u32; LANES]>) {
     let real = |source: Option<[u32; LANES]>| source.into_iter().flatten().filter(|&k| k != wide::EMPTY);
     for k in real(two) {
@@ -454,7 +453,7 @@ impl SolverArrays<'_> {
     unsafe fn fill_bundle<const N: usize>(
         &self,
         w: &mut WidePatch<N>,
-        source: [u32; super::lanes::LANES],
+        source: [u32; LANES],
         records: &impl RecordSource,
         scratch: &mut LaneScratch,
     ) {

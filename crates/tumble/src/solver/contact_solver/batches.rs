@@ -337,8 +337,10 @@ impl SolverArrays<'_> {
                 }
                 let points = self.points.range_mut(records.points(k));
                 records.renew(k, m, points);
-                let rows = !self.wide.in_bundle[k] || m.restitution != 0.0;
-                super::constraint::prepare_patch(m, points, bodies, rows);
+                // Every record written needs its rows: a patch outside the
+                // bundles is solved from them, a bouncing one's restitution
+                // reads its points' masses.
+                super::constraint::prepare_patch(m, points, bodies, true);
             };
             if flowing {
                 // Each thread the records of the patches it will solve, so
@@ -380,24 +382,9 @@ impl SolverArrays<'_> {
             unsafe {
                 let mut scratch = LaneScratch::default();
                 let [ones, twos, fours] = &self.wide.sources;
-                let r = team.share(self.ones.len(), 1);
-                let sources = &ones[r.clone()];
-                for (j, w) in self.ones.range_mut(r).iter_mut().enumerate() {
-                    prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
-                    self.fill_bundle(w, sources[j], records, &mut scratch);
-                }
-                let r = team.share(self.twos.len(), 1);
-                let sources = &twos[r.clone()];
-                for (j, w) in self.twos.range_mut(r).iter_mut().enumerate() {
-                    prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
-                    self.fill_bundle(w, sources[j], records, &mut scratch);
-                }
-                let r = team.share(self.fours.len(), 1);
-                let sources = &fours[r.clone()];
-                for (j, w) in self.fours.range_mut(r).iter_mut().enumerate() {
-                    prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
-                    self.fill_bundle(w, sources[j], records, &mut scratch);
-                }
+                self.fill_share(team, &self.ones, ones, records, &mut scratch);
+                self.fill_share(team, &self.twos, twos, records, &mut scratch);
+                self.fill_share(team, &self.fours, fours, records, &mut scratch);
             }
             team.barrier();
             return;
@@ -433,6 +420,29 @@ impl SolverArrays<'_> {
         // SAFETY: each member reorders its own flow; the owners are
         // complete and only read.
         unsafe { self.borders_first(self.flows.get_mut(team.index())) };
+    }
+
+    /// Fills this thread's share of the bundles of one array, `sources`
+    /// their lanes' patches, asking for each bundle's records ahead.
+    ///
+    /// # Safety
+    /// As [`SolverArrays::fill_bundle`]; the team's shares are disjoint.
+    unsafe fn fill_share<const N: usize>(
+        &self,
+        team: &Team,
+        bundles: &Shared<WidePatch<N>>,
+        sources: &[[u32; LANES]],
+        records: &impl RecordSource,
+        scratch: &mut LaneScratch,
+    ) {
+        let r = team.share(bundles.len(), 1);
+        let sources = &sources[r.clone()];
+        // SAFETY: the caller's promise.
+        for (j, w) in unsafe { bundles.range_mut(r) }.iter_mut().enumerate() {
+            prefetch_ahead(records, sources.get(j + 1).copied(), sources.get(j + 2).copied());
+            // SAFETY: as above.
+            unsafe { self.fill_bundle(w, sources[j], records, scratch) };
+        }
     }
 
     /// Fills bundle `w` for the patches `source`: a lane whose patch

@@ -303,10 +303,9 @@ impl<const N: usize> WidePatch<N> {
     pub(super) fn fill(
         &mut self,
         source: [u32; LANES],
-        lane_record: impl FnMut(u32, &mut dyn FnMut(&ManifoldConstraint, &[PointConstraint])),
+        mut lane_record: impl FnMut(u32, &mut dyn FnMut(&ManifoldConstraint, &[PointConstraint])),
         bodies: &[SolverBody],
     ) {
-        let mut lane_record = lane_record;
         *self = WidePatch::planned(source);
         for (l, k) in self.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
             lane_record(k, &mut |m, pts| self.fill_lane(l, m, pts));

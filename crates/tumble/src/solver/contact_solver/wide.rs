@@ -1233,11 +1233,16 @@ fn swept_block<const N: usize>(
     let scale = Lane::splat(1e-9) * (Lane::ONE + largest);
     // One row of a sweep; the two orders are spelled out so that every
     // index is a constant and `d` stays in registers. (The scalar sweep also
-    // visits the padding rows, which change nothing.)
+    // visits the padding rows, which change nothing.) The maximum against
+    // zero is the machine's bare `max` (`fast_max`: the second operand
+    // where the two are equal or either is NaN), which gives `f64::max`'s
+    // bits against zero, never NaN, without `Lane::max`'s NaN test and
+    // blend: the pyramid's velocity passes 3-5 % faster (a third of its face
+    // bundles' solves fall back to these sweeps, seven sweeps each).
     let row = |i: usize, d: &mut [Lane; N], change: &mut Lane, active: Lane| {
         let k = &w.block[i];
         let r = (0..N).fold(b[i], |r, j| r + k[j] * d[j]);
-        let new = (lambda[i] + d[i] - mass[i] * r).max(Lane::ZERO) - lambda[i];
+        let new = (lambda[i] + d[i] - mass[i] * r).fast_max(Lane::ZERO) - lambda[i];
         *change = change.max((new - d[i]).abs());
         d[i] = select(active, new, d[i]);
     };
@@ -1368,7 +1373,9 @@ fn push_rows<const N: usize>(
                 continue;
             }
             let vn = vel.along(p.normal, p.row.ra_x_d, p.row.rb_x_d);
-            let new_impulse = (f.push_impulse + p.normal_mass * (target(p) - vn)).max(Lane::ZERO);
+            // `fast_max` against zero, never NaN: `f64::max`'s bits (see
+            // `swept_block`).
+            let new_impulse = (f.push_impulse + p.normal_mass * (target(p) - vn)).fast_max(Lane::ZERO);
             let applied = select(act, new_impulse - f.push_impulse, Lane::ZERO);
             f.push_impulse = select(act, new_impulse, f.push_impulse);
             vel.apply(p.normal, p.row.ia_ra_x_d, p.row.ib_rb_x_d, w.inv_mass, applied);

@@ -223,6 +223,33 @@ pub struct M3 {
 }
 
 impl M3 {
+    /// The identity in every lane.
+    pub const IDENTITY: M3 = M3 {
+        x_axis: V3 {
+            x: Lane::ONE,
+            y: Lane::ZERO,
+            z: Lane::ZERO,
+        },
+        y_axis: V3 {
+            x: Lane::ZERO,
+            y: Lane::ONE,
+            z: Lane::ZERO,
+        },
+        z_axis: V3 {
+            x: Lane::ZERO,
+            y: Lane::ZERO,
+            z: Lane::ONE,
+        },
+    };
+
+    /// Lanewise `self == other` (`DMat3`'s `==`: every entry equal) as a mask.
+    #[inline(always)]
+    pub fn eq_mask(&self, other: &M3) -> Lane {
+        self.x_axis.eq_mask(&other.x_axis)
+            & self.y_axis.eq_mask(&other.y_axis)
+            & self.z_axis.eq_mask(&other.z_axis)
+    }
+
     /// One matrix per lane.
     #[inline(always)]
     pub fn from_lanes(m: [DMat3; LANES]) -> M3 {

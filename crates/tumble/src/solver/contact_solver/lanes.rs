@@ -532,4 +532,39 @@ mod tests {
         assert!(!lt(Lane::splat(1.0), Lane::ZERO).any());
         assert!(le(Lane::ZERO, Lane::ZERO).all() && eq(Lane::ZERO, Lane::splat(-0.0)).all());
     }
+
+    /// `eq_mask` sets a lane exactly where glam's `==` holds: a signed
+    /// zero equals zero, NaN equals nothing, one entry off is enough
+    /// (what `wide::begin` asks of a lane's displacement and turn).
+    #[test]
+    fn equality_masks_agree_with_glams_eq() {
+        let m = |d: f64, entry: usize| {
+            let mut cols = DMat3::IDENTITY.to_cols_array();
+            cols[entry] += d;
+            DMat3::from_cols_array(&cols)
+        };
+        let mut cases = vec![
+            (DMat3::IDENTITY, DVec3::ZERO),
+            (DMat3::IDENTITY, DVec3::new(-0.0, 0.0, -0.0)),
+        ];
+        for entry in 0..9 {
+            cases.push((m(1e-300, entry), DVec3::ZERO));
+            cases.push((m(f64::NAN, entry), DVec3::ZERO));
+            cases.push((m(-1e-16, entry), DVec3::new(0.0, 0.0, f64::MIN_POSITIVE)));
+        }
+        cases.push((DMat3::IDENTITY, DVec3::new(f64::NAN, 0.0, 0.0)));
+        cases.push((DMat3::IDENTITY, DVec3::new(0.0, -1e-300, 0.0)));
+        for four in cases.chunks(LANES) {
+            let (ms, vs): (Vec<DMat3>, Vec<DVec3>) = four.iter().copied().unzip();
+            let pad = |k: usize| k.min(four.len() - 1);
+            let ms: [DMat3; LANES] = std::array::from_fn(|l| ms[pad(l)]);
+            let vs: [DVec3; LANES] = std::array::from_fn(|l| vs[pad(l)]);
+            let at_rest = M3::from_lanes(ms).eq_mask(&M3::IDENTITY) & V3::from_lanes(vs).eq_mask(&V3::ZERO);
+            let bits = at_rest.to_array();
+            for l in 0..LANES {
+                let glam = ms[l] == DMat3::IDENTITY && vs[l] == DVec3::ZERO;
+                assert_eq!(bits[l].to_bits() != 0, glam, "lane {l}: {:?}, {:?}", ms[l], vs[l]);
+            }
+        }
+    }
 }

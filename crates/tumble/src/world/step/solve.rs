@@ -144,10 +144,9 @@ impl World {
             };
 
         if exact {
+            // Each record written, then prepared (its rows read its points only).
             for (k, m) in sf.manifolds.iter_mut().enumerate() {
                 records.renew(k, m, &mut sf.points[records.points(k)]);
-            }
-            for m in sf.manifolds.iter_mut() {
                 contact_solver::prepare(m, &mut sf.points, &sf.bodies);
             }
             clock.lap(report, SolveStage::Prepare);

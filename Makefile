@@ -5,7 +5,7 @@
 CARGO ?= cargo
 export CARGO_TERM_COLOR ?= never
 
-.PHONY: demo test lint fmt-check clippy rust-test doc viewer-test bench-quick bench python-env python-test python-bench manual manual-test soak fuzz
+.PHONY: demo test lint fmt-check clippy feature-check rust-test doc viewer-test bench-quick bench python-env python-test python-bench manual manual-test soak fuzz
 
 # The torus demo first (two tori through exact mesh-mesh contact, then the
 # 21-link torus chain), then domino and Dzhanibekov; finally the web viewer
@@ -24,13 +24,19 @@ demo:
 
 test: lint rust-test doc viewer-test bench-quick python-test manual-test
 
-lint: fmt-check clippy
+lint: fmt-check clippy feature-check
 
 fmt-check:
 	$(CARGO) fmt --all -- --check
 
 clippy:
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
+
+# Every cargo build below (and maturin's) must compile the engine with the
+# workspace's dependency features, or each compiles it again
+# (crates/tumble-workspace-hack; seconds, no build).
+feature-check:
+	python3 scripts/check_feature_unification.py
 
 rust-test:
 	$(CARGO) test --workspace --release
@@ -65,7 +71,8 @@ bench:
 # The Python package: .venv with the pinned tools, `pip install .` of
 # crates/tumble-py (see scripts/python-env.sh), then lint, tests and examples.
 PYTHON_SOURCES = crates/tumble-py/python crates/tumble-py/tests examples/python bench/python_overhead.py \
-	bench/python_query_overhead.py bench/rollout_overhead.py bench/peers bench/test_common.py scripts/manual_blocks.py
+	bench/python_query_overhead.py bench/rollout_overhead.py bench/peers bench/test_common.py scripts/manual_blocks.py \
+	scripts/check_feature_unification.py
 
 python-env:
 	bash scripts/python-env.sh

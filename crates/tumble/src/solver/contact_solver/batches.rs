@@ -259,11 +259,11 @@ fn prefetch_ahead(records: &impl RecordSource, one: Option<[u32; LANES]>, two: O
     }
 }
 
-/// A record and its points written afresh for a bundle's lane
-/// (`SolverArrays::fill_bundle`): every field the lane reads is written
-/// for each patch, so one serves every lane in turn.
+/// A record and its points written afresh for each of a bundle's lanes
+/// (`SolverArrays::fill_bundle`): every field a lane reads is written for
+/// each patch, so the same four serve every bundle in turn.
 #[derive(Default)]
-struct LaneScratch(ManifoldConstraint, [PointConstraint; BLOCK_POINTS]);
+struct LaneScratch([(ManifoldConstraint, [PointConstraint; BLOCK_POINTS]); LANES]);
 
 /// Where the solver's records come from: the step writes each record and
 /// its points ([`RecordSource::renew`]) on the thread that prepares it, just
@@ -475,20 +475,22 @@ impl SolverArrays<'_> {
                 self.bodies.as_slice(),
             )
         };
-        let lane_record = |k: u32, visit: &mut dyn FnMut(&ManifoldConstraint, &[PointConstraint])| {
+        let mut lanes = scratch.0.iter_mut().zip(source).map(|((m, pts), k)| {
             let k = k as usize;
+            if k == wide::EMPTY as usize {
+                return None;
+            }
             if records.restitution(k) != 0.0 {
                 let m = &manifolds[k];
-                visit(m, &points[m.range()]);
-                return;
+                return Some((m, &points[m.range()]));
             }
-            let LaneScratch(m, pts) = scratch;
             let pts = &mut pts[..records.points(k).len()];
             records.renew(k, m, pts);
             super::constraint::prepare_patch(m, pts, bodies, false);
-            visit(m, pts);
-        };
-        w.fill(source, lane_record, bodies);
+            Some((&*m, &*pts))
+        });
+        let lane_records = std::array::from_fn(|_| lanes.next().flatten());
+        w.fill(source, lane_records, bodies);
     }
 
     /// Whether the team runs the colours in flows ([`ThreadFlow`]): more

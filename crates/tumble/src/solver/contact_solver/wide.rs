@@ -291,81 +291,98 @@ impl<const N: usize> WidePatch<N> {
     }
 
     /// Sets every lane from its patch's record, the lanes' patches being
-    /// `source` (as [`WideBatches::plan`] planned them), each record and
-    /// its points given to a visitor by `lane_record` (from the record
-    /// arrays, or written afresh: `SolverArrays::prepare`): first everything
-    /// else to zero (the empty lanes and the unused points stay so), here
-    /// rather than when planned, so that the team clears the bundles it
-    /// fills while they are in its cache. The rows, their masses and the
-    /// normal block are not read from the records but computed here from
-    /// `bodies` at the step start, as `constraint::prepare_patch` computes
-    /// them (see [`prepare_rows`]).
+    /// `source` (as [`WideBatches::plan`] planned them) and `records` each
+    /// lane's record and its points (`None` in the empty lanes, which stay
+    /// zero, as do the points a patch does not have). The rows, their
+    /// masses and the normal block are not read from the records but
+    /// computed here from `bodies` at the step start, as
+    /// `constraint::prepare_patch` computes them (see [`prepare_rows`]).
+    ///
+    /// Every field is written once, whole lanes from the four records at a
+    /// time. Why: zeroing the bundle first and then setting its lanes value
+    /// by value wrote each line twice, and the rows' computation then read
+    /// whole lanes that had just been written in quarters (a store the
+    /// core cannot forward to the wider load).
     pub(super) fn fill(
         &mut self,
         source: [u32; LANES],
-        mut lane_record: impl FnMut(u32, &mut dyn FnMut(&ManifoldConstraint, &[PointConstraint])),
+        records: [Option<(&ManifoldConstraint, &[PointConstraint])>; LANES],
         bodies: &[SolverBody],
     ) {
-        *self = WidePatch::planned(source);
-        for (l, k) in self.source.into_iter().enumerate().filter(|&(_, k)| k != EMPTY) {
-            lane_record(k, &mut |m, pts| self.fill_lane(l, m, pts));
-        }
-        prepare_rows(self, bodies);
-    }
-
-    /// Sets lane `l` from its patch's record `m` and points `pts`.
-    fn fill_lane(&mut self, l: usize, m: &ManifoldConstraint, pts: &[PointConstraint]) {
+        let m = records.map(|r| r.map(|(m, _)| m));
+        let all = f64::from_bits(u64::MAX);
         let w = self;
-        debug_assert!(m.point_count as usize <= N);
-        debug_assert!(N > 1 || m.impulses[2] == 0.0, "a lone point bundled with a twist");
-        w.a[l] = m.a;
-        w.b[l] = m.b;
-        w.first_point[l] = m.first_point;
-        w.point_count[l] = m.point_count;
-        set(&mut w.friction, l, m.friction);
-        set(&mut w.twist.radius, l, m.twist_radius);
-        if let Some(r) = Rolling::of(m.rolling) {
-            w.any_rolling = true;
-            let ([ra, rb], share) = r.parts();
-            let all = f64::from_bits(u64::MAX);
-            set(&mut w.roll.mask, l, all);
-            set(&mut w.roll.round_a, l, if ra > 0.0 { all } else { 0.0 });
-            set(&mut w.roll.round_b, l, if rb > 0.0 { all } else { 0.0 });
-            set(&mut w.roll.radius_a, l, ra);
-            set(&mut w.roll.radius_b, l, rb);
-            set(&mut w.roll.share_a, l, share);
-            set(&mut w.roll.share_b, l, 1.0 - share);
+        w.source = source;
+        w.a = m.map(|m| m.map_or(0, |m| m.a));
+        w.b = m.map(|m| m.map_or(0, |m| m.b));
+        w.first_point = m.map(|m| m.map_or(0, |m| m.first_point));
+        w.point_count = m.map(|m| m.map_or(0, |m| m.point_count));
+        debug_assert!(w.point_count.iter().all(|&c| c as usize <= N));
+        debug_assert!(
+            N > 1 || m.iter().flatten().all(|m| m.impulses[2] == 0.0),
+            "a lone point bundled with a twist"
+        );
+        w.friction = lanes_of(&m, |m| m.friction);
+        w.half_gap = lanes_of(&m, |m| m.half_gap);
+        w.normal = v3_of(&m, |m| m.normal);
+        w.directions = [0, 1].map(|i| v3_of(&m, |m| m.directions[i]));
+        w.r_a = v3_of(&m, |m| m.r_a);
+        w.r_b = v3_of(&m, |m| m.r_b);
+        w.impulses = [0, 1].map(|i| lanes_of(&m, |m| m.impulses[i]));
+        w.inv_mass = [0, 1].map(|i| lanes_of(&m, |m| m.inv_mass[i]));
+        // The parts `prepare_rows` writes where the lanes are real, zero in
+        // the others.
+        w.masses = [Lane::ZERO; 2];
+        w.block = [[Lane::ZERO; N]; N];
+        w.block_inverse = [[Lane::ZERO; N]; N];
+        w.twist = TwistLanes {
+            row: WideRow::default(),
+            mass: Lane::ZERO,
+            impulse: lanes_of(&m, |m| m.impulses[2]),
+            radius: lanes_of(&m, |m| m.twist_radius),
+        };
+        // `rolling::Rolling` of each lane with a round side.
+        let roll = m.map(|m| m.and_then(|m| Rolling::of(m.rolling)).map(|r| r.parts()));
+        w.any_rolling = roll.iter().any(Option::is_some);
+        let rolled = |f: &dyn Fn([f64; 2], f64) -> f64| {
+            Lane::new(roll.map(|r| r.map_or(0.0, |([ra, rb], share)| f([ra, rb], share))))
+        };
+        w.roll = if w.any_rolling {
+            RollLanes {
+                mask: rolled(&|_, _| all),
+                round_a: rolled(&|[ra, _], _| if ra > 0.0 { all } else { 0.0 }),
+                round_b: rolled(&|[_, rb], _| if rb > 0.0 { all } else { 0.0 }),
+                radius_a: rolled(&|[ra, _], _| ra),
+                radius_b: rolled(&|[_, rb], _| rb),
+                share_a: rolled(&|_, share| share),
+                share_b: rolled(&|_, share| 1.0 - share),
+            }
+        } else {
+            RollLanes::default()
+        };
+        // The anchor's parts in the anchored lanes only.
+        let anchored = m.map(|m| m.filter(|m| m.anchored));
+        w.anchored = lanes_of(&anchored, |_| all);
+        w.anchor_ra = v3_of(&anchored, |m| m.anchor_r[0]);
+        w.anchor_rb = v3_of(&anchored, |m| m.anchor_r[1]);
+        w.anchor_offset = v3_of(&anchored, |m| m.anchor_offset);
+        for (i, (wp, f)) in w.points.iter_mut().zip(&mut w.frames).enumerate() {
+            let p = records.map(|r| r.and_then(|(_, pts)| pts.get(i)));
+            *f = PointFrame {
+                real: lanes_of(&p, |_| all),
+                r_a: v3_of(&p, |p| p.r_a),
+                r_b: v3_of(&p, |p| p.r_b),
+                separation: lanes_of(&p, |p| p.separation),
+                push_impulse: lanes_of(&p, |p| p.push_impulse),
+                half_gap: lanes_of(&p, |p| p.half_gap),
+            };
+            wp.normal = v3_of(&p, |p| p.normal);
+            wp.separation_now = lanes_of(&p, |p| p.separation_now);
+            wp.normal_impulse = lanes_of(&p, |p| p.normal_impulse);
+            wp.max_normal_impulse = lanes_of(&p, |p| p.max_normal_impulse);
+            wp.normal_mass = Lane::ZERO;
         }
-        set(&mut w.half_gap, l, m.half_gap);
-        w.normal.set_lane(l, m.normal);
-        w.directions[0].set_lane(l, m.directions[0]);
-        w.directions[1].set_lane(l, m.directions[1]);
-        w.r_a.set_lane(l, m.r_a);
-        w.r_b.set_lane(l, m.r_b);
-        for r in 0..2 {
-            set(&mut w.impulses[r], l, m.impulses[r]);
-        }
-        set(&mut w.twist.impulse, l, m.impulses[2]);
-        set(&mut w.inv_mass[0], l, m.inv_mass[0]);
-        set(&mut w.inv_mass[1], l, m.inv_mass[1]);
-        if m.anchored {
-            set(&mut w.anchored, l, f64::from_bits(u64::MAX));
-            w.anchor_ra.set_lane(l, m.anchor_r[0]);
-            w.anchor_rb.set_lane(l, m.anchor_r[1]);
-            w.anchor_offset.set_lane(l, m.anchor_offset);
-        }
-        for ((wp, f), p) in w.points.iter_mut().zip(&mut w.frames).zip(pts) {
-            set(&mut f.real, l, f64::from_bits(u64::MAX));
-            wp.normal.set_lane(l, p.normal);
-            f.r_a.set_lane(l, p.r_a);
-            f.r_b.set_lane(l, p.r_b);
-            set(&mut f.separation, l, p.separation);
-            set(&mut wp.separation_now, l, p.separation_now);
-            set(&mut wp.normal_impulse, l, p.normal_impulse);
-            set(&mut wp.max_normal_impulse, l, p.max_normal_impulse);
-            set(&mut f.push_impulse, l, p.push_impulse);
-            set(&mut f.half_gap, l, p.half_gap);
-        }
+        prepare_rows(w, bodies);
     }
 
     /// Writes every lane's solved parts ([`SolvedPatch::from_parts`]):
@@ -408,13 +425,20 @@ impl<const N: usize> WidePatch<N> {
 }
 
 #[inline(always)]
-fn set(x: &mut Lane, l: usize, v: f64) {
-    x.as_mut_array()[l] = v;
-}
-
-#[inline(always)]
 fn get(x: Lane, l: usize) -> f64 {
     x.as_array()[l]
+}
+
+/// One value per lane from each lane's item (0 where it has none).
+#[inline(always)]
+fn lanes_of<T>(items: &[Option<&T>; LANES], value: impl Fn(&T) -> f64) -> Lane {
+    Lane::new(items.map(|t| t.map_or(0.0, &value)))
+}
+
+/// One vector per lane from each lane's item (zero where it has none).
+#[inline(always)]
+fn v3_of<T>(items: &[Option<&T>; LANES], value: impl Fn(&T) -> DVec3) -> V3 {
+    V3::from_lanes(items.map(|t| t.map_or(DVec3::ZERO, &value)))
 }
 
 #[cfg(test)]

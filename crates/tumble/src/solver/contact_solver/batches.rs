@@ -475,11 +475,13 @@ impl SolverArrays<'_> {
                 self.bodies.as_slice(),
             )
         };
+        // Each lane's record: a bouncing patch's from the arrays, the
+        // others written into the lane's scratch record; none in an empty lane.
         let mut lanes = scratch.0.iter_mut().zip(source).map(|((m, pts), k)| {
-            let k = k as usize;
-            if k == wide::EMPTY as usize {
+            if k == wide::EMPTY {
                 return None;
             }
+            let k = k as usize;
             if records.restitution(k) != 0.0 {
                 let m = &manifolds[k];
                 return Some((m, &points[m.range()]));

@@ -310,7 +310,6 @@ impl<const N: usize> WidePatch<N> {
         bodies: &[SolverBody],
     ) {
         let m = records.map(|r| r.map(|(m, _)| m));
-        let all = f64::from_bits(u64::MAX);
         let w = self;
         w.source = source;
         w.a = m.map(|m| m.map_or(0, |m| m.a));
@@ -349,9 +348,9 @@ impl<const N: usize> WidePatch<N> {
         };
         w.roll = if w.any_rolling {
             RollLanes {
-                mask: rolled(&|_, _| all),
-                round_a: rolled(&|[ra, _], _| if ra > 0.0 { all } else { 0.0 }),
-                round_b: rolled(&|[_, rb], _| if rb > 0.0 { all } else { 0.0 }),
+                mask: lanes::mask(roll.map(|r| r.is_some())),
+                round_a: lanes::mask(roll.map(|r| r.is_some_and(|([ra, _], _)| ra > 0.0))),
+                round_b: lanes::mask(roll.map(|r| r.is_some_and(|([_, rb], _)| rb > 0.0))),
                 radius_a: rolled(&|[ra, _], _| ra),
                 radius_b: rolled(&|[_, rb], _| rb),
                 share_a: rolled(&|_, share| share),
@@ -362,14 +361,14 @@ impl<const N: usize> WidePatch<N> {
         };
         // The anchor's parts in the anchored lanes only.
         let anchored = m.map(|m| m.filter(|m| m.anchored));
-        w.anchored = lanes_of(&anchored, |_| all);
+        w.anchored = lanes::mask(anchored.map(|m| m.is_some()));
         w.anchor_ra = v3_of(&anchored, |m| m.anchor_r[0]);
         w.anchor_rb = v3_of(&anchored, |m| m.anchor_r[1]);
         w.anchor_offset = v3_of(&anchored, |m| m.anchor_offset);
         for (i, (wp, f)) in w.points.iter_mut().zip(&mut w.frames).enumerate() {
             let p = records.map(|r| r.and_then(|(_, pts)| pts.get(i)));
             *f = PointFrame {
-                real: lanes_of(&p, |_| all),
+                real: lanes::mask(p.map(|p| p.is_some())),
                 r_a: v3_of(&p, |p| p.r_a),
                 r_b: v3_of(&p, |p| p.r_b),
                 separation: lanes_of(&p, |p| p.separation),

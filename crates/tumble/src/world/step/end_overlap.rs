@@ -536,7 +536,9 @@ impl World {
         // apart without giving them speed); this stage takes out only what
         // the step added to it, down to the allowed penetration.
         let closest = PerPair::smallest(f.patches.iter().map(|patch| {
-            let gap = f.points[patch.range()]
+            let gap = f
+                .points
+                .of(patch)
                 .iter()
                 .map(|p| p.contact.distance)
                 .fold(f64::INFINITY, f64::min);
@@ -552,9 +554,9 @@ impl World {
         let slides = PerPair::largest(
             f.patches
                 .iter()
-                .map(|patch| (patch.key.0, patch.key.1, patch.range()))
+                .map(|patch| (patch.key.0, patch.key.1, patch))
                 .filter(|&(a, b, _)| movable(a) && movable(b) && (has_mesh(a) || has_mesh(b)))
-                .map(|(a, b, points)| ((a, b), self.slide(f, (a, b), &f.points[points]))),
+                .map(|(a, b, patch)| ((a, b), self.slide(f, (a, b), f.points.of(patch)))),
         );
         // In the pair's margin where the pair began the step no deeper than
         // END_OVERLAP_CAP allowed penetrations, else in the contact margin

@@ -30,7 +30,9 @@ impl World {
                     for (patch, &k) in f.patches[first..first + run.len()].iter().zip(run) {
                         let s = solved.patch(k);
                         // A patch's points share its bodies: one pair a patch.
-                        let touches = f.points[patch.range()]
+                        let touches = f
+                            .points
+                            .of(patch)
                             .iter()
                             .zip(solved.points_of(s, patch.count))
                             .any(|(p, c)| c.pressed || p.contact.distance <= 0.0);

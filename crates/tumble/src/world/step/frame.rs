@@ -8,7 +8,7 @@ use crate::solver::contact_solver::{
     BundleKind, Coloring, GearConstraint, JointConstraint, JointIsland, ManifoldConstraint, PointConstraint,
     SolverBody, ThreadFlow, WideBatches,
 };
-use crate::world::patches::{PatchExtras, PreparedPatch, PreparedPoint};
+use crate::world::patches::{ContactPoints, PatchExtras, PreparedPatch};
 use crate::world::report::StepReport;
 use crate::world::WorldSettings;
 use tumble_collide::broad::Aabb;
@@ -35,9 +35,10 @@ pub(crate) struct StepFrame {
     /// Broad: body slot pairs whose boxes overlap, sorted, `a < b`.
     pub pairs: Vec<(u32, u32)>,
     /// Narrow: every contact point, one record from the narrow phase to the
-    /// events (geometry, warm-start impulse, cache key), grouped by patch.
-    pub points: Vec<PreparedPoint>,
-    /// Narrow: the contact patches, each a run of `points`.
+    /// events (geometry, warm-start impulse, cache key), grouped by patch,
+    /// in one run per chunk of pairs.
+    pub points: ContactPoints,
+    /// Narrow: the contact patches, each a slice of a run of `points`.
     pub patches: Vec<PreparedPatch>,
     /// Narrow: what only some patches carry (`PreparedPatch::extras`).
     pub patch_extras: Vec<PatchExtras>,
@@ -111,7 +112,7 @@ impl StepFrame {
             before: Vec::new(),
             swept: Vec::new(),
             pairs: Vec::new(),
-            points: Vec::new(),
+            points: ContactPoints::default(),
             patches: Vec::new(),
             patch_extras: Vec::new(),
             labels: Vec::new(),
@@ -192,17 +193,18 @@ pub(crate) struct StepScratch {
     /// (`bvh::front`), by collider pair in key order: their next walks
     /// begin there. They change those walks' cost, never their contacts.
     pub end_fronts: Vec<(MeshPairKey, MeshPairMemory)>,
-    /// The narrow phase's per-chunk buffers on several threads (points,
-    /// patches and patch extras of chunk k at entry k), emptied: what each
-    /// chunk wrote last step, reused.
+    /// The narrow phase's per-chunk buffers on several threads (patches and
+    /// patch extras of chunk k at entry k; its points are run k of the
+    /// frame's `ContactPoints`), emptied: what each chunk wrote last step,
+    /// reused.
     pub narrow_chunks: Vec<NarrowBuffers>,
     /// Whether steps run on the threads or on one (`thread_choice`): where
     /// the work is done, never what it gives.
     pub thread_choice: super::ThreadChoice,
 }
 
-/// One narrow-phase chunk's points, patches and patch extras.
-pub(crate) type NarrowBuffers = (Vec<PreparedPoint>, Vec<PreparedPatch>, Vec<PatchExtras>);
+/// One narrow-phase chunk's patches and patch extras.
+pub(crate) type NarrowBuffers = (Vec<PreparedPatch>, Vec<PatchExtras>);
 
 /// A collider pair: body slots and collider indices `(a, b, ia, ib)`.
 pub(crate) type MeshPairKey = (u32, u32, u16, u16);
@@ -211,7 +213,7 @@ pub(crate) type MeshPairKey = (u32, u32, u16, u16);
 /// records that are overwritten: see [`StepFrame::recycle`]).
 #[derive(Default)]
 pub(crate) struct FrameBuffers {
-    points: Vec<PreparedPoint>,
+    points: ContactPoints,
     patches: Vec<PreparedPatch>,
     patch_extras: Vec<PatchExtras>,
     solver_points: Vec<PointConstraint>,

@@ -22,7 +22,8 @@ use super::StepFrame;
 use crate::pool::WorkerPool;
 use crate::world::manifold::{self, SearchedPair};
 use crate::world::patches::{
-    add_pair, PairInfo, PatchExtras, PatchScratch, PatchSink, PreparedPatch, PreparedPoint, NO_EXTRAS,
+    add_pair, ContactPoints, PairInfo, PatchExtras, PatchScratch, PatchSink, PreparedPatch, PreparedPoint,
+    NO_EXTRAS,
 };
 use crate::world::{Collider, MaterialDesc, World};
 use std::sync::Mutex;
@@ -134,9 +135,9 @@ impl World {
         } else {
             PAIRS_PER_TASK
         };
-        // The frame's arrays, kept from the last step (empty).
-        let (mut points, mut patches, mut extras) = (
-            std::mem::take(&mut f.points),
+        // The frame's arrays, kept from the last step (emptied).
+        let (mut runs, mut patches, mut extras) = (
+            f.points.take_runs(),
             std::mem::take(&mut f.patches),
             std::mem::take(&mut f.patch_extras),
         );
@@ -174,8 +175,15 @@ impl World {
         };
         let several = frame.pool.threads() > 1 && frame.pairs.len() > chunk;
         let mut chunks = if several {
-            spare.resize_with(frame.pairs.len().div_ceil(chunk), Default::default);
-            let buffers: Vec<Mutex<_>> = spare.drain(..).map(Mutex::new).collect();
+            let n_chunks = frame.pairs.len().div_ceil(chunk);
+            spare.resize_with(n_chunks, Default::default);
+            // Each chunk's points into the run it filled last step.
+            runs.resize_with(n_chunks, Vec::new);
+            let buffers: Vec<Mutex<_>> = runs
+                .drain(..)
+                .zip(spare.drain(..))
+                .map(|(points, (patches, extras))| Mutex::new((points, patches, extras)))
+                .collect();
             frame.pool.map_chunks(&frame.pairs, chunk, |first, pairs| {
                 let (mut points, mut patches, extras) =
                     std::mem::take(&mut *buffers[first / chunk].lock().unwrap_or_else(|e| e.into_inner()));
@@ -194,7 +202,7 @@ impl World {
             // One chunk, on this thread: straight into the frame's arrays
             // (kept from the last step).
             let mut out = ChunkContacts {
-                points: std::mem::take(&mut points),
+                points: runs.first_mut().map(std::mem::take).unwrap_or_default(),
                 patches: std::mem::take(&mut patches),
                 extras: std::mem::take(&mut extras),
                 ..ChunkContacts::default()
@@ -204,7 +212,7 @@ impl World {
         };
 
         // Join in pair order, into the kept arrays (a lone chunk is them).
-        (f.points, f.patches, f.patch_extras) = (points, patches, extras);
+        (f.patches, f.patch_extras) = (patches, extras);
         let mut warned = false;
         let mut kept = Vec::new();
         let mut searches = Vec::new();
@@ -241,22 +249,22 @@ impl World {
         if let [chunk] = &mut chunks[..] {
             if !several {
                 // The lone chunk's arrays are the frame's.
-                std::mem::swap(&mut f.points, &mut chunk.points);
+                runs.clear();
+                runs.push(std::mem::take(&mut chunk.points));
                 std::mem::swap(&mut f.patches, &mut chunk.patches);
                 std::mem::swap(&mut f.patch_extras, &mut chunk.extras);
             }
         }
         if several {
-            join_chunks(
-                &f.pool,
-                &mut chunks,
-                &mut f.points,
-                &mut f.patches,
-                &mut f.patch_extras,
-            );
-            spare.extend(chunks.into_iter().map(|c| (c.points, c.patches, c.extras)));
+            join_chunks(&f.pool, &mut chunks, &mut f.patches, &mut f.patch_extras);
+            // The chunks' points stay where they are, one run each.
+            for c in chunks {
+                runs.push(c.points);
+                spare.push((c.patches, c.extras));
+            }
         }
         self.scratch.narrow_chunks = spare;
+        f.points = ContactPoints::from_runs(runs);
         f.report.contacts = f.points.len();
     }
 
@@ -408,65 +416,50 @@ impl World {
     }
 }
 
-/// Moves the chunks' points and patches, in chunk order, into `points`
-/// and `patches` (emptied first), each patch's `first` made an index of
-/// `points` and its `extras` an index of `extras` (joined the same way);
-/// the chunks keep their emptied buffers for the next step. The
-/// chunks are copied on the pool, each into its own run of the joined
-/// arrays: copied by one thread, the 1,000-body pile's 3,000 points and
-/// 1,500 patches (about a megabyte) took 0.3-0.4 ms of its 1.2 ms narrow
-/// phase on two threads.
+/// Moves the chunks' patches, in chunk order, into `patches` (emptied
+/// first), each patch's `run` made its chunk's index (its points stay in
+/// the chunk's list, a run of [`ContactPoints`]) and its `extras` an index
+/// of `extras` (joined the same way); the chunks keep their emptied patch
+/// buffers for the next step. The chunks are copied on the pool, each into
+/// its own run of the joined array: copied by one thread, the 1,000-body
+/// pile's 1,500 patches and (then) its 3,000 points, about a megabyte,
+/// took 0.3-0.4 ms of its 1.2 ms narrow phase on two threads.
 fn join_chunks(
     pool: &WorkerPool,
     chunks: &mut [ChunkContacts],
-    points: &mut Vec<PreparedPoint>,
     patches: &mut Vec<PreparedPatch>,
     extras: &mut Vec<PatchExtras>,
 ) {
-    let n_points: usize = chunks.iter().map(|c| c.points.len()).sum();
     let n_patches: usize = chunks.iter().map(|c| c.patches.len()).sum();
-    points.clear();
     patches.clear();
-    points.reserve(n_points);
     patches.reserve(n_patches);
     {
-        // Each chunk with its slots in the joined arrays and the index of
-        // its first point there.
-        let mut point_slots = &mut points.spare_capacity_mut()[..n_points];
+        // Each chunk with its slots in the joined array, its index and the
+        // index of its first extra there.
         let mut patch_slots = &mut patches.spare_capacity_mut()[..n_patches];
         let mut runs = Vec::with_capacity(chunks.len());
-        let (mut offset, mut extras_offset) = (0u32, 0u32);
-        for chunk in chunks.iter_mut() {
-            let (run_points, rest) = std::mem::take(&mut point_slots).split_at_mut(chunk.points.len());
-            point_slots = rest;
+        let mut extras_offset = 0u32;
+        for (index, chunk) in chunks.iter_mut().enumerate() {
             let (run_patches, rest) = std::mem::take(&mut patch_slots).split_at_mut(chunk.patches.len());
             patch_slots = rest;
-            let next = offset + run_points.len() as u32;
             let next_extras = extras_offset + chunk.extras.len() as u32;
-            runs.push((chunk, run_points, run_patches, (offset, extras_offset)));
-            (offset, extras_offset) = (next, next_extras);
+            runs.push((chunk, run_patches, (index as u32, extras_offset)));
+            extras_offset = next_extras;
         }
-        pool.for_each_mut(
-            &mut runs,
-            |_, (chunk, run_points, run_patches, (offset, extras_offset))| {
-                for (slot, point) in run_points.iter_mut().zip(chunk.points.drain(..)) {
-                    slot.write(point);
+        pool.for_each_mut(&mut runs, |_, (chunk, run_patches, (index, extras_offset))| {
+            for (slot, mut patch) in run_patches.iter_mut().zip(chunk.patches.drain(..)) {
+                patch.run = *index;
+                if patch.extras != NO_EXTRAS {
+                    patch.extras += *extras_offset;
                 }
-                for (slot, mut patch) in run_patches.iter_mut().zip(chunk.patches.drain(..)) {
-                    patch.first += *offset;
-                    if patch.extras != NO_EXTRAS {
-                        patch.extras += *extras_offset;
-                    }
-                    slot.write(patch);
-                }
-            },
-        );
+                slot.write(patch);
+            }
+        });
     }
-    // SAFETY: every slot below the lengths was written above: the runs
+    // SAFETY: every slot below the length was written above: the runs
     // cover them end to end, each as long as its chunk's list, which
     // `drain` yields whole.
     unsafe {
-        points.set_len(n_points);
         patches.set_len(n_patches);
     }
     // The extras are few (mesh patches that stuck, round bodies on smooth

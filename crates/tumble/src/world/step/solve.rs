@@ -17,7 +17,7 @@ use crate::solver::contact_solver::{
     SolverArrays, SolverBody, SolverParams, ThreadFlow, VelocityPass, BODIES_PER_BLOCK,
 };
 use crate::world::manifold::{self, CachedContact, CachedPatch};
-use crate::world::patches::{PatchExtras, PreparedPatch, PreparedPoint};
+use crate::world::patches::{ContactPoints, PatchExtras, PreparedPatch};
 use crate::world::report::{SolveStage, StepReport};
 use crate::world::step::frame::SolverFrame;
 use crate::world::{Arena, BodyEntry, SolverKind, World, WorldContact};
@@ -748,9 +748,7 @@ impl World {
                     };
                     // The patch's friction is reported on its points in
                     // proportion to their normal impulses.
-                    let points = f.points[patch.range()]
-                        .iter()
-                        .zip(solved.points_of(s, patch.count));
+                    let points = f.points.of(patch).iter().zip(solved.points_of(s, patch.count));
                     for (k, (p, &SolvedPoint { normal_impulse, .. })) in points.enumerate() {
                         let share = if s.total > 0.0 {
                             normal_impulse / s.total
@@ -797,7 +795,7 @@ fn anchor_to_keep(
         return Some(anchor.local);
     }
     let sf = &f.solver;
-    let points = &f.points[patch.range()];
+    let points = f.points.of(patch);
     let centre = points.iter().map(|p| p.contact.point).sum::<DVec3>() / points.len() as f64;
     let poses = [
         bodies.at(patch.key.0)?.body.pose(),
@@ -940,7 +938,7 @@ struct RecordLayout {
 struct PatchRecords<'a> {
     layout: &'a RecordLayout,
     patches: &'a [PreparedPatch],
-    prepared: &'a [PreparedPoint],
+    prepared: &'a ContactPoints,
     extras: &'a [PatchExtras],
 }
 
@@ -960,13 +958,13 @@ impl RecordSource for PatchRecords<'_> {
 
     fn prefetch_points(&self, k: usize) {
         let p = &self.patches[self.layout.order[k] as usize];
-        contact_solver::prefetch(&self.prepared[p.range()], usize::MAX);
+        contact_solver::prefetch(self.prepared.of(p), usize::MAX);
     }
 
     fn renew(&self, k: usize, m: &mut ManifoldConstraint, points: &mut [PointConstraint]) {
         let i = self.layout.order[k] as usize;
         let p = &self.patches[i];
-        for (dst, q) in points.iter_mut().zip(&self.prepared[p.range()]) {
+        for (dst, q) in points.iter_mut().zip(self.prepared.of(p)) {
             q.renew_constraint(dst);
         }
         let (a, b) = self.layout.pairs[i];

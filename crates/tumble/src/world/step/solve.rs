@@ -377,6 +377,15 @@ impl World {
                 sf.has_contact[slot as usize] = true;
             }
         }
+        // Each solver body with its forces and quarantine's first check (see
+        // `quarantine`: frozen before solving), in one pass over the slots:
+        // three passes read each body's entry three times, a miss each on
+        // the large pyramid.
+        let (gravity, dt) = (f.settings.gravity, f.settings.dt);
+        let mut drive: Vec<Drive> = Vec::with_capacity(n_slots + 1);
+        drive.push((DVec3::ZERO, DVec3::ZERO, 0.0, 0.0));
+        sf.frozen.clear();
+        sf.frozen.push(false);
         for i in 0..n_slots as u32 {
             let Some(e) = self.bodies.at(i) else { continue };
             if !is_active(e) {
@@ -403,34 +412,25 @@ impl World {
                 SolverBody::new(v, w, 0.0, DVec3::ZERO, e.body.orientation())
             };
             body.kinematic = !dynamic;
-            sf.bodies.push(body);
-        }
-        f.report.awake_bodies = sf.bodies.len() - 1;
-        let gravity = f.settings.gravity;
-        let drive: Vec<Drive> = sf
-            .slots
-            .iter()
-            .map(|&slot| match self.bodies.at(slot) {
-                Some(e) if e.body.kind() == BodyKind::Dynamic => (
+            let (a, tau, linear_damping, angular_damping) = if dynamic {
+                (
                     gravity + e.body.force() * e.body.inv_mass(),
                     e.body.torque(),
                     e.body.linear_damping(),
                     e.body.angular_damping(),
-                ),
-                _ => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
-            })
-            .collect();
-        // Quarantine's first check (see `quarantine`): frozen before solving.
-        let dt = f.settings.dt;
-        sf.frozen = vec![false; sf.bodies.len()];
-        for (k, &(a, tau, _, _)) in drive.iter().enumerate().skip(1) {
-            let b = &sf.bodies[k];
-            let radius = self.bodies.at(sf.slots[k]).map_or(0.0, |e| e.radius);
-            if quarantine::must_freeze(b.v, b.w, a, b.inv_inertia * tau, radius, dt) {
-                sf.frozen[k] = true;
-                sf.bodies[k].freeze();
+                )
+            } else {
+                (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0)
+            };
+            let frozen = quarantine::must_freeze(body.v, body.w, a, body.inv_inertia * tau, e.radius, dt);
+            if frozen {
+                body.freeze();
             }
+            sf.bodies.push(body);
+            drive.push((a, tau, linear_damping, angular_damping));
+            sf.frozen.push(frozen);
         }
+        f.report.awake_bodies = sf.bodies.len() - 1;
         // The joints, and the patches their islands own: those between two
         // bodies of one island, of a block's points at most (the exact
         // solver runs every patch itself).

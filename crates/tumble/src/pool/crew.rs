@@ -19,8 +19,9 @@
 //! both sequentially consistent, means a helper either sees the job open
 //! and is waited for, or sees it closed and never touches it.
 //!
-//! Two kinds of job: shared (any helper that comes takes chunks from an
-//! atomic counter: the caller's result never depends on who ran a chunk),
+//! Two kinds of job: shared (any helper that comes takes chunks, its own
+//! run first, `take_runs`: the caller's result never depends on who ran a
+//! chunk),
 //! and team (exactly the helpers that had joined when the job was posted
 //! take part, each with its index, so that the job may meet at barriers).
 //! A helper that joins late (its worker was busy elsewhere) only takes the

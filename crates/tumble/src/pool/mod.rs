@@ -134,7 +134,8 @@ impl WorkerPool {
     /// `f` over consecutive chunks of `items` (its arguments: the index of
     /// the chunk's first item, and the chunk), results in chunk order. On
     /// one thread `f` sees all items at once; on more, chunks of `chunk`
-    /// items are spread over the threads. Callers write results that do
+    /// items are spread over the threads (in a run, each thread first takes
+    /// its own run of chunks: [`take_runs`]). Callers write results that do
     /// not depend on where the chunks are cut.
     pub fn map_chunks<T: Sync, R: Send>(
         &self,
@@ -147,19 +148,17 @@ impl WorkerPool {
             if items.len() <= chunk {
                 return vec![f(0, items)];
             }
-            // Chunks taken from a counter by whoever is free; each result
-            // kept in its chunk's place.
+            // Chunks taken by runs ([`take_runs`]); each result kept in its
+            // chunk's place.
             let n = items.len().div_ceil(chunk);
             let results: Vec<Mutex<Option<R>>> = (0..n).map(|_| Mutex::new(None)).collect();
-            let next = AtomicUsize::new(0);
-            crew.run_job(usize::MAX, &|_| loop {
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                if k >= n {
-                    break;
-                }
-                let start = k * chunk;
-                let r = f(start, &items[start..(start + chunk).min(items.len())]);
-                *results[k].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+            let runs = runs_of(n, (1 + crew.joined()).min(self.threads));
+            crew.run_job(usize::MAX, &|me| {
+                take_runs(&runs, me, |k| {
+                    let start = k * chunk;
+                    let r = f(start, &items[start..(start + chunk).min(items.len())]);
+                    *results[k].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+                })
             });
             return results
                 .into_iter()
@@ -229,11 +228,11 @@ impl WorkerPool {
         if let Some(crew) = &self.crew {
             if items.len() > 1 {
                 let items: Vec<Mutex<&mut T>> = items.iter_mut().map(Mutex::new).collect();
-                let next = AtomicUsize::new(0);
-                crew.run_job(usize::MAX, &|_| loop {
-                    let k = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(item) = items.get(k) else { break };
-                    f(k, &mut item.lock().unwrap_or_else(|e| e.into_inner()));
+                let runs = runs_of(items.len(), (1 + crew.joined()).min(self.threads));
+                crew.run_job(usize::MAX, &|me| {
+                    take_runs(&runs, me, |k| {
+                        f(k, &mut items[k].lock().unwrap_or_else(|e| e.into_inner()))
+                    })
                 });
                 return;
             }
@@ -345,6 +344,75 @@ impl WorkerPool {
             Some(f(&me))
         });
         results.swap_remove(0).expect("thread 0 ran")
+    }
+}
+
+/// Items `0..n` cut in `members` runs of near-equal length (as
+/// [`Team::share`] cuts them), each packed as [`take_runs`] reads it.
+fn runs_of(n: usize, members: usize) -> Vec<AtomicU64> {
+    assert!(n < 1 << 32, "at most 2^32 items");
+    let members = members.max(1);
+    (0..members)
+        .map(|m| AtomicU64::new((((n * m / members) as u64) << 32) | (n * (m + 1) / members) as u64))
+        .collect()
+}
+
+/// Runs `work` on items of `runs` (each `front << 32 | back`: its items
+/// `front..back` not yet taken) as member `me`: its own run from the front,
+/// then what is left of the others' from their back ends, one item at a
+/// time, until none is left (a member without a run of its own only takes
+/// from the others'). Each item is taken once, by whoever gets it first.
+///
+/// Why runs: neighbouring items touch neighbouring data (pairs and patches
+/// in body order, body slots), so a thread that takes the same run in
+/// every stage of a step finds what it wrote in the last one in its own
+/// core's cache, and the solver's flows give it the same run of bodies
+/// (`WideBatches::body_run`): the narrow stage's contacts of its pairs are
+/// what it fills its bundles from. Taken from one shared counter, the
+/// chunks alternated between the threads; the pile of 1,000 took 3.44-3.56
+/// ms a step on two threads so, 3.27-3.36 by runs (its narrow stage
+/// 0.68-0.75 -> 0.62-0.67 ms, its solve 2.11-2.25 -> 1.99-2.11;
+/// `profile_stages pile1000 300 2`, five alternated rounds).
+fn take_runs(runs: &[AtomicU64], me: usize, mut work: impl FnMut(usize)) {
+    let split = |v: u64| ((v >> 32) as usize, (v & 0xffff_ffff) as usize);
+    // Own run, from the front.
+    if let Some(mine) = runs.get(me) {
+        let mut v = mine.load(Ordering::Acquire);
+        loop {
+            let (front, back) = split(v);
+            if front >= back {
+                break;
+            }
+            match mine.compare_exchange_weak(v, v + (1 << 32), Ordering::AcqRel, Ordering::Acquire) {
+                Ok(_) => {
+                    work(front);
+                    v = mine.load(Ordering::Acquire);
+                }
+                Err(now) => v = now,
+            }
+        }
+    }
+    // The others' runs, from the back.
+    for k in 1..=runs.len() {
+        let other = (me + k) % runs.len().max(1);
+        if other == me {
+            continue;
+        }
+        let theirs = &runs[other];
+        let mut v = theirs.load(Ordering::Acquire);
+        loop {
+            let (front, back) = split(v);
+            if front >= back {
+                break;
+            }
+            match theirs.compare_exchange_weak(v, v - 1, Ordering::AcqRel, Ordering::Acquire) {
+                Ok(_) => {
+                    work(back - 1);
+                    v = theirs.load(Ordering::Acquire);
+                }
+                Err(now) => v = now,
+            }
+        }
     }
 }
 
@@ -517,7 +585,7 @@ impl Team {
     /// and so of their bodies' cache lines, pass after pass, moving only the
     /// meeting point. Which thread does a slice never changes what it
     /// computes, so the result is the same bits.
-    pub fn slices(&self, n: usize, mut work: impl FnMut(usize)) {
+    pub fn slices(&self, n: usize, work: impl FnMut(usize)) {
         if self.size == 1 {
             (0..n).for_each(work);
             return;
@@ -529,41 +597,7 @@ impl Team {
         // every slice before the barrier since), so another thread that
         // reads it before this reset finds nothing to take, which is right.
         runs[self.index].store(((own.start as u64) << 32) | own.end as u64, Ordering::Release);
-        let split = |v: u64| ((v >> 32) as usize, (v & 0xffff_ffff) as usize);
-        // Own run, from the front.
-        let mine = &runs[self.index];
-        let mut v = mine.load(Ordering::Acquire);
-        loop {
-            let (front, back) = split(v);
-            if front >= back {
-                break;
-            }
-            match mine.compare_exchange_weak(v, v + (1 << 32), Ordering::AcqRel, Ordering::Acquire) {
-                Ok(_) => {
-                    work(front);
-                    v = mine.load(Ordering::Acquire);
-                }
-                Err(now) => v = now,
-            }
-        }
-        // The others' runs, from the back.
-        for k in 1..self.size {
-            let theirs = &runs[(self.index + k) % self.size];
-            let mut v = theirs.load(Ordering::Acquire);
-            loop {
-                let (front, back) = split(v);
-                if front >= back {
-                    break;
-                }
-                match theirs.compare_exchange_weak(v, v - 1, Ordering::AcqRel, Ordering::Acquire) {
-                    Ok(_) => {
-                        work(back - 1);
-                        v = theirs.load(Ordering::Acquire);
-                    }
-                    Err(now) => v = now,
-                }
-            }
-        }
+        take_runs(runs, self.index, work);
     }
 
     /// This thread's share of `n` items to be worked in blocks of `block`

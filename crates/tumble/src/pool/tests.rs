@@ -4,7 +4,7 @@
 //! with two runs on one shared pool at once, not with a run inside a run,
 //! not when a member of a team panics (the panic reaches the caller).
 
-use super::{BarrierState, Team, WorkerPool};
+use super::{runs_of, take_runs, BarrierState, Team, WorkerPool};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -168,6 +168,50 @@ fn a_team_takes_every_slice_exactly_once_call_after_call() {
             } else {
                 check(&pool);
             }
+        }
+    }
+}
+
+#[test]
+fn runs_are_taken_own_first_then_from_the_others_backs_each_item_once() {
+    // Alone (the other members never came): member 1 takes its own run
+    // front to back, then the others' runs back to front.
+    let runs = runs_of(10, 3);
+    let mut order = Vec::new();
+    take_runs(&runs, 1, |k| order.push(k));
+    assert_eq!(order, [3, 4, 5, 9, 8, 7, 6, 2, 1, 0]);
+    let mut again = Vec::new();
+    take_runs(&runs, 0, |k| again.push(k));
+    assert!(again.is_empty(), "every item was taken: {again:?}");
+    // A member without a run of its own (a helper beyond the count the runs
+    // were cut for) takes from the others' backs.
+    let runs = runs_of(4, 2);
+    let mut late = Vec::new();
+    take_runs(&runs, 5, |k| late.push(k));
+    assert_eq!(late, [1, 0, 3, 2]);
+    // Members at once, some beyond the runs, unequal costs: each item once.
+    for (n, members, threads) in [(0, 2, 3), (1, 2, 2), (1000, 2, 2), (1000, 3, 5), (37, 8, 3)] {
+        let runs = runs_of(n, members);
+        let taken: Vec<AtomicUsize> = (0..n).map(|_| AtomicUsize::new(0)).collect();
+        std::thread::scope(|scope| {
+            for me in 0..threads {
+                let (runs, taken) = (&runs, &taken);
+                scope.spawn(move || {
+                    take_runs(runs, me, |k| {
+                        taken[k].fetch_add(1, Ordering::SeqCst);
+                        if me == 0 && k % 7 == 0 {
+                            std::thread::sleep(std::time::Duration::from_micros(5));
+                        }
+                    })
+                });
+            }
+        });
+        for (k, t) in taken.iter().enumerate() {
+            assert_eq!(
+                t.load(Ordering::SeqCst),
+                1,
+                "{n} items, {members} runs, {threads} takers: item {k}"
+            );
         }
     }
 }

@@ -372,7 +372,9 @@ fn runs_of(n: usize, members: usize) -> Vec<AtomicU64> {
 /// chunks alternated between the threads; the pile of 1,000 took 3.44-3.56
 /// ms a step on two threads so, 3.27-3.36 by runs (its narrow stage
 /// 0.68-0.75 -> 0.62-0.67 ms, its solve 2.11-2.25 -> 1.99-2.11;
-/// `profile_stages pile1000 300 2`, five alternated rounds).
+/// `PIN_THREADS=1 profile_stages pile1000 300 2`, five alternated rounds).
+/// Threads left to the operating system, which moves them and so their
+/// caches between the cores now and then, gain less: 1-2 %.
 fn take_runs(runs: &[AtomicU64], me: usize, mut work: impl FnMut(usize)) {
     let split = |v: u64| ((v >> 32) as usize, (v & 0xffff_ffff) as usize);
     // Own run, from the front.

@@ -376,44 +376,38 @@ fn runs_of(n: usize, members: usize) -> Vec<AtomicU64> {
 /// Threads left to the operating system, which moves them and so their
 /// caches between the cores now and then, gain less: 1-2 %.
 fn take_runs(runs: &[AtomicU64], me: usize, mut work: impl FnMut(usize)) {
-    let split = |v: u64| ((v >> 32) as usize, (v & 0xffff_ffff) as usize);
-    // Own run, from the front.
     if let Some(mine) = runs.get(me) {
-        let mut v = mine.load(Ordering::Acquire);
-        loop {
-            let (front, back) = split(v);
-            if front >= back {
-                break;
-            }
-            match mine.compare_exchange_weak(v, v + (1 << 32), Ordering::AcqRel, Ordering::Acquire) {
-                Ok(_) => {
-                    work(front);
-                    v = mine.load(Ordering::Acquire);
-                }
-                Err(now) => v = now,
+        while let Some(k) = take_one(mine, true) {
+            work(k);
+        }
+    }
+    for k in 1..=runs.len() {
+        let other = (me + k) % runs.len();
+        if other != me {
+            while let Some(k) = take_one(&runs[other], false) {
+                work(k);
             }
         }
     }
-    // The others' runs, from the back.
-    for k in 1..=runs.len() {
-        let other = (me + k) % runs.len().max(1);
-        if other == me {
-            continue;
+}
+
+/// Takes one item of a run packed as [`take_runs`] reads it, from its
+/// `front` or its back; `None` when the run is empty.
+fn take_one(run: &AtomicU64, front: bool) -> Option<usize> {
+    let mut v = run.load(Ordering::Acquire);
+    loop {
+        let (first, end) = ((v >> 32) as usize, (v & 0xffff_ffff) as usize);
+        if first >= end {
+            return None;
         }
-        let theirs = &runs[other];
-        let mut v = theirs.load(Ordering::Acquire);
-        loop {
-            let (front, back) = split(v);
-            if front >= back {
-                break;
-            }
-            match theirs.compare_exchange_weak(v, v - 1, Ordering::AcqRel, Ordering::Acquire) {
-                Ok(_) => {
-                    work(back - 1);
-                    v = theirs.load(Ordering::Acquire);
-                }
-                Err(now) => v = now,
-            }
+        let (next, item) = if front {
+            (v + (1 << 32), first)
+        } else {
+            (v - 1, end - 1)
+        };
+        match run.compare_exchange_weak(v, next, Ordering::AcqRel, Ordering::Acquire) {
+            Ok(_) => return Some(item),
+            Err(now) => v = now,
         }
     }
 }
